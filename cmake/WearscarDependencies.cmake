@@ -1,0 +1,31 @@
+# All dependencies come from Debian 12 packages (scripts/install-deps).
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)
+find_package(Ceres 2.1 REQUIRED)
+find_package(OpenCV 4.6 REQUIRED COMPONENTS core imgproc imgcodecs)
+# Only components that do not pull VTK: Debian's PCL config fails otherwise.
+find_package(PCL 1.13 REQUIRED COMPONENTS common sample_consensus filters kdtree search octree)
+find_package(fmt REQUIRED)
+find_package(nlohmann_json 3 REQUIRED)
+find_package(CLI11 REQUIRED)
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(LIBZIP REQUIRED IMPORTED_TARGET libzip)
+pkg_check_modules(ZSTD REQUIRED IMPORTED_TARGET libzstd)
+find_package(pugixml REQUIRED)
+
+# fast_float is header-only; Debian ships the header without a CMake config.
+find_path(FASTFLOAT_INCLUDE_DIR fast_float/fast_float.h REQUIRED)
+add_library(wearscar_fast_float INTERFACE)
+target_include_directories(wearscar_fast_float SYSTEM INTERFACE ${FASTFLOAT_INCLUDE_DIR})
+
+# PCL exports include dirs and definitions as variables, not a target.
+add_library(wearscar_pcl INTERFACE)
+target_include_directories(wearscar_pcl SYSTEM INTERFACE ${PCL_INCLUDE_DIRS})
+target_link_libraries(wearscar_pcl INTERFACE ${PCL_LIBRARIES})
+target_compile_definitions(wearscar_pcl INTERFACE ${PCL_DEFINITIONS})
+
+if(WEARSCAR_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+endif()
+if(WEARSCAR_BUILD_BENCHMARKS)
+  find_package(benchmark REQUIRED)
+endif()

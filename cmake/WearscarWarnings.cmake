@@ -1,0 +1,14 @@
+# Non-exported INTERFACE target carrying warnings and sanitizer flags. Every
+# wearscar target links it PRIVATE, so nothing leaks to consumers.
+add_library(wearscar_warnings INTERFACE)
+target_compile_options(wearscar_warnings INTERFACE
+  -Wall -Wextra -Wpedantic -Wshadow
+  $<$<BOOL:${WEARSCAR_WERROR}>:-Werror>)
+
+if(WEARSCAR_SANITIZE)
+  string(REPLACE " " "" _sanitizers "${WEARSCAR_SANITIZE}")
+  target_compile_options(wearscar_warnings INTERFACE
+    -fsanitize=${_sanitizers} -fno-omit-frame-pointer -fno-sanitize-recover=all)
+  target_link_options(wearscar_warnings INTERFACE -fsanitize=${_sanitizers})
+  message(STATUS "wearscar: sanitizers ${_sanitizers}")
+endif()

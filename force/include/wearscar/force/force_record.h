@@ -1,0 +1,46 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace wearscar::force {
+
+// Raised for bad force files and bad user input. The message names the file,
+// the line (and column where it applies), what was found and what was
+// expected.
+class ForceError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// Where a record came from and what the reader saw on the way.
+struct ForceMetadata {
+  std::string source;             // file path, or "simulator"
+  std::string layout;             // "delimited", "rtec", "bruker", ...
+  double sampling_rate_hz = 0.0;  // 0 when unknown
+  // Channel header and unit as found in the file, for time, x, Q and P.
+  std::vector<std::string> channel_names;
+  std::vector<std::string> channel_units;
+  bool time_rebuilt = false;         // no time column; built from a rate
+  bool normal_sign_flipped = false;  // P was negative in compression
+  int clock_restarts_joined = 0;     // Rtec RecipeStep restarts
+  int rows_dropped = 0;              // lenient mode only
+  std::vector<std::string> warnings;
+};
+
+// A reciprocating test in the library's units: seconds, mm, N. Q is the
+// tangential (friction) force, P the normal force, compression positive.
+// Invalid samples are NaN; every vector has the same length.
+struct ForceRecord {
+  Eigen::VectorXd time_s;
+  Eigen::VectorXd x_mm;
+  Eigen::VectorXd tangential_n;  // Q
+  Eigen::VectorXd normal_n;      // P
+  ForceMetadata metadata;
+
+  Eigen::Index size() const { return time_s.size(); }
+};
+
+}  // namespace wearscar::force

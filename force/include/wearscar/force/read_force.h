@@ -1,0 +1,51 @@
+#pragma once
+
+#include <string>
+
+#include "wearscar/force/force_record.h"
+
+namespace wearscar::force {
+
+// How to read a delimited force export. Every field may stay at its default:
+// the reader detects the delimiter, the decimal mark, the header and unit
+// rows and the columns.
+struct ReadForceOptions {
+  // Column overrides: a header name (case-insensitive, exact) or a 1-based
+  // column number written as "#3". Empty = find by pattern.
+  std::string time_column;
+  std::string x_column;
+  std::string tangential_column;
+  std::string normal_column;
+  // Units when the file does not say (the file's own units win).
+  std::string default_x_unit = "mm";
+  std::string default_force_unit = "N";
+  std::string default_time_unit = "s";
+  // Rebuild time from this rate when there is no time column and the
+  // metadata gives none; 0 = required from the file.
+  double sampling_rate_hz = 0.0;
+  // Drop isolated bad rows with a counted warning instead of failing.
+  bool lenient = false;
+  // Lenient mode still fails when more than this fraction of rows is bad.
+  double max_dropped_fraction = 0.01;
+  // Longest run of NaN samples accepted in any channel.
+  int max_nan_run = 50;
+
+  bool IsValid(std::string* why) const;
+};
+
+// Reads a delimited (CSV, semicolon, tab) tribometer export: generic files
+// and the Rtec MFT, Bruker/CETR UMT, Anton Paar TRB and home-built-rig
+// layouts of FORMATS.md. Converts to s, mm, N and makes P positive in
+// compression. Throws ForceError.
+ForceRecord ReadForceFile(const std::string& path,
+                          const ReadForceOptions& options = {});
+
+// Same, from text already in memory; `name` is used in messages.
+ForceRecord ReadForceText(const std::string& text,
+                          const std::string& name,
+                          const ReadForceOptions& options = {});
+
+// Writes time_s, x_mm, Q_N, P_N as CSV (temporary name, then rename).
+void WriteForceCsv(const ForceRecord& record, const std::string& path);
+
+}  // namespace wearscar::force

@@ -1,0 +1,84 @@
+#include "wearscar/force/cof.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace wearscar::force {
+namespace {
+
+// x where Q first crosses zero in the direction of motion within the half.
+double ZeroCrossing(const ForceRecord& r, const HalfCycle& half) {
+  const auto& q = r.tangential_n;
+  const auto& x = r.x_mm;
+  for (Eigen::Index i = half.begin; i + 1 < half.end; ++i) {
+    const double a = half.direction * q[i], b = half.direction * q[i + 1];
+    if (a < 0 && b >= 0) {
+      const double t = a / (a - b);
+      return x[i] + t * (x[i + 1] - x[i]);
+    }
+  }
+  return std::nan("");
+}
+
+}  // namespace
+
+std::vector<CycleCof> ComputeClassicCof(const ForceRecord& record,
+                                        const CycleSet& cycles) {
+  std::vector<CycleCof> out;
+  out.reserve(cycles.cycles.size());
+  const auto& x = record.x_mm;
+  const auto& q = record.tangential_n;
+  const auto& p = record.normal_n;
+  for (const Cycle& c : cycles.cycles) {
+    CycleCof r;
+    r.cycle = c.index;
+    double sum_q = 0, sum_p = 0;
+    long n = 0;
+    for (const HalfCycle* h : {&c.forward, &c.reverse}) {
+      for (Eigen::Index i = h->slip_begin; i < h->slip_end; ++i) {
+        if (!std::isfinite(q[i]) || !std::isfinite(p[i])) continue;
+        sum_q += std::abs(q[i]);
+        sum_p += p[i];
+        ++n;
+      }
+    }
+    r.mean_normal_n = n > 0 ? sum_p / n : std::nan("");
+    r.mu_mean = n > 0 ? sum_q / sum_p : std::nan("");
+    // Loop area, trapezoids over the whole cycle: forward (dx > 0, Q > 0) and
+    // reverse (dx < 0, Q < 0) both add positive work.
+    double area = 0, xmin = INFINITY, xmax = -INFINITY;
+    r.q_max_n = -INFINITY;
+    r.q_min_n = INFINITY;
+    r.p_max_n = -INFINITY;
+    r.p_min_n = INFINITY;
+    for (Eigen::Index i = c.forward.begin; i < c.reverse.end; ++i) {
+      if (i + 1 < c.reverse.end + 1 && i + 1 < record.size() &&
+          std::isfinite(q[i]) && std::isfinite(q[i + 1])) {
+        area += 0.5 * (q[i] + q[i + 1]) * (x[i + 1] - x[i]);
+      }
+      if (std::isfinite(x[i])) {
+        xmin = std::min(xmin, x[i]);
+        xmax = std::max(xmax, x[i]);
+      }
+      if (std::isfinite(q[i])) {
+        r.q_max_n = std::max(r.q_max_n, q[i]);
+        r.q_min_n = std::min(r.q_min_n, q[i]);
+      }
+      if (std::isfinite(p[i])) {
+        r.p_max_n = std::max(r.p_max_n, p[i]);
+        r.p_min_n = std::min(r.p_min_n, p[i]);
+      }
+    }
+    r.dissipated_energy_nmm = area;
+    r.delta_max_mm = 0.5 * (xmax - xmin);
+    const double xf = ZeroCrossing(record, c.forward);
+    const double xr = ZeroCrossing(record, c.reverse);
+    r.delta_g_mm = 0.5 * (xr - xf);
+    r.mu_energy_max = area / (4 * r.mean_normal_n * r.delta_max_mm);
+    r.mu_energy_g = area / (4 * r.mean_normal_n * r.delta_g_mm);
+    out.push_back(r);
+  }
+  return out;
+}
+
+}  // namespace wearscar::force

@@ -1,0 +1,279 @@
+#include "wearscar/force/cycles.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace wearscar::force {
+namespace {
+
+// Quantile of the finite values (q in [0, 1]).
+double Quantile(const Eigen::Ref<const Eigen::VectorXd>& v, double q) {
+  std::vector<double> finite;
+  finite.reserve(static_cast<size_t>(v.size()));
+  for (Eigen::Index i = 0; i < v.size(); ++i) {
+    if (std::isfinite(v[i])) finite.push_back(v[i]);
+  }
+  if (finite.empty()) return std::nan("");
+  const size_t k =
+      static_cast<size_t>(q * static_cast<double>(finite.size() - 1));
+  std::nth_element(
+      finite.begin(), finite.begin() + static_cast<long>(k), finite.end());
+  return finite[k];
+}
+
+// Least-squares slope of q over x on [b, e); NaN when x does not spread.
+double LocalSlope(const Eigen::VectorXd& x,
+                  const Eigen::VectorXd& q,
+                  Eigen::Index b,
+                  Eigen::Index e) {
+  double sx = 0, sq = 0, n = 0;
+  for (Eigen::Index i = b; i < e; ++i) {
+    if (!std::isfinite(x[i]) || !std::isfinite(q[i])) continue;
+    sx += x[i];
+    sq += q[i];
+    ++n;
+  }
+  if (n < 2) return std::nan("");
+  const double mx = sx / n, mq = sq / n;
+  double sxx = 0, sxq = 0;
+  for (Eigen::Index i = b; i < e; ++i) {
+    if (!std::isfinite(x[i]) || !std::isfinite(q[i])) continue;
+    sxx += (x[i] - mx) * (x[i] - mx);
+    sxq += (x[i] - mx) * (q[i] - mq);
+  }
+  return sxx > 0 ? sxq / sxx : std::nan("");
+}
+
+void CentralFallback(const Eigen::VectorXd& x,
+                     double fraction,
+                     HalfCycle* half) {
+  const double x0 = x[half->begin];
+  const double x1 = x[half->end - 1];
+  const double lo = std::min(x0, x1), hi = std::max(x0, x1);
+  const double margin = 0.5 * (1.0 - fraction) * (hi - lo);
+  half->slip_begin = half->end;
+  half->slip_end = half->begin;
+  for (Eigen::Index i = half->begin; i < half->end; ++i) {
+    if (x[i] >= lo + margin && x[i] <= hi - margin) {
+      half->slip_begin = std::min(half->slip_begin, i);
+      half->slip_end = std::max(half->slip_end, i + 1);
+    }
+  }
+  if (half->slip_end < half->slip_begin) half->slip_end = half->slip_begin;
+  half->slip_fallback = true;
+}
+
+void FindHalfSlip(const Eigen::VectorXd& x,
+                  const Eigen::VectorXd& q,
+                  const GrossSlipOptions& o,
+                  HalfCycle* half) {
+  const Eigen::Index b = half->begin, e = half->end;
+  const Eigen::Index n = e - b;
+  const double s = half->direction;
+  const double stroke = std::abs(x[e - 1] - x[b]);
+  if (n < 4 * o.slope_window || !(stroke > 0)) {
+    CentralFallback(x, o.fallback_central_fraction, half);
+    return;
+  }
+  // Q at the reversal and the sliding level (median over the central half of
+  // the stroke), in the direction of motion.
+  const double q_rev = s * q.segment(b, std::min<Eigen::Index>(3, n)).mean();
+  std::vector<double> central;
+  for (Eigen::Index i = b; i < e; ++i) {
+    const double t = std::abs(x[i] - x[b]) / stroke;
+    if (t > 0.25 && t < 0.75 && std::isfinite(q[i]))
+      central.push_back(s * q[i]);
+  }
+  if (central.empty()) {
+    CentralFallback(x, o.fallback_central_fraction, half);
+    return;
+  }
+  std::nth_element(
+      central.begin(), central.begin() + central.size() / 2, central.end());
+  const double q_slide = central[central.size() / 2];
+  const double swing = q_slide - q_rev;
+  if (!(swing > 0) || !std::isfinite(q_rev)) {
+    CentralFallback(x, o.fallback_central_fraction, half);
+    return;
+  }
+  // Stick stiffness: slope of Q over x while Q climbs from 20% to 80% of the
+  // swing (the first contiguous run after the reversal).
+  Eigen::Index i20 = -1, i80 = -1;
+  for (Eigen::Index i = b; i < e; ++i) {
+    const double frac = (s * q[i] - q_rev) / swing;
+    if (i20 < 0 && frac >= 0.2) i20 = i;
+    if (i20 >= 0 && frac >= 0.8) {
+      i80 = i;
+      break;
+    }
+  }
+  if (i20 < 0 || i80 < 0 || i80 - i20 < 2) {
+    // Too few samples in the transition: estimate with a short window.
+    i20 = b;
+    i80 = std::min(e - 1, b + o.stick_samples);
+  }
+  const double k_stick = LocalSlope(x, q, i20, i80 + 1);
+  if (!std::isfinite(k_stick) || k_stick <= 0) {
+    CentralFallback(x, o.fallback_central_fraction, half);
+    return;
+  }
+  const double threshold = o.stiffness_fraction * k_stick;
+  const Eigen::Index h = o.slope_window / 2;
+  Eigen::Index start = -1;
+  for (Eigen::Index i = std::max(i80, b + h); i + h < e; ++i) {
+    // dQ/dx is positive in stick whichever way x moves.
+    const double k_local = LocalSlope(x, q, i - h, i + h + 1);
+    if (std::isfinite(k_local) && k_local < threshold) {
+      start = i;
+      break;
+    }
+  }
+  const Eigen::Index stop = e - o.end_margin_samples;
+  if (start < 0 || stop <= start ||
+      std::abs(x[stop - 1] - x[start]) < o.min_window_fraction * stroke) {
+    CentralFallback(x, o.fallback_central_fraction, half);
+    return;
+  }
+  half->slip_begin = start;
+  half->slip_end = stop;
+  half->slip_fallback = false;
+}
+
+}  // namespace
+
+bool SegmentOptions::IsValid(std::string* why) const {
+  if (!(hysteresis_fraction > 0 && hysteresis_fraction < 0.5)) {
+    if (why) *why = "hysteresis_fraction must be in (0, 0.5)";
+    return false;
+  }
+  if (min_cycles < 1) {
+    if (why) *why = "min_cycles must be >= 1";
+    return false;
+  }
+  return true;
+}
+
+bool GrossSlipOptions::IsValid(std::string* why) const {
+  auto fail = [&](const char* m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (!(stiffness_fraction > 0 && stiffness_fraction < 1)) {
+    return fail("stiffness_fraction must be in (0, 1)");
+  }
+  if (slope_window < 3) return fail("slope_window must be >= 3");
+  if (stick_samples < 2) return fail("stick_samples must be >= 2");
+  if (!(fallback_central_fraction > 0 && fallback_central_fraction <= 1)) {
+    return fail("fallback_central_fraction must be in (0, 1]");
+  }
+  if (!(min_window_fraction >= 0 && min_window_fraction < 1)) {
+    return fail("min_window_fraction must be in [0, 1)");
+  }
+  if (end_margin_samples < 0) return fail("end_margin_samples must be >= 0");
+  return true;
+}
+
+CycleSet SegmentCycles(const Eigen::Ref<const Eigen::VectorXd>& x_mm,
+                       const SegmentOptions& options,
+                       const std::string& source) {
+  std::string why;
+  if (!options.IsValid(&why))
+    throw ForceError("invalid segment options: " + why);
+  CycleSet set;
+  const Eigen::Index n = x_mm.size();
+  const double p01 = Quantile(x_mm, 0.01), p99 = Quantile(x_mm, 0.99);
+  set.stroke_mm = p99 - p01;
+  if (!(set.stroke_mm > 0)) {
+    throw ForceError(fmt::format(
+        "{}: the displacement does not move (robust stroke {} mm); expected a "
+        "reciprocating x",
+        source,
+        set.stroke_mm));
+  }
+  const double h = options.hysteresis_fraction * set.stroke_mm;
+  // Reversals: index and kind (+1 maximum, -1 minimum). An extreme counts
+  // only once x has come back from it by h; the first extreme seen before
+  // any direction is known is the start of the data, not a reversal.
+  struct Reversal {
+    Eigen::Index index;
+    int kind;
+  };
+  std::vector<Reversal> reversals;
+  int state = 0;  // +1 rising, -1 falling, 0 unknown
+  double hi = -INFINITY, lo = INFINITY;
+  Eigen::Index hi_i = -1, lo_i = -1;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double v = x_mm[i];
+    if (!std::isfinite(v)) continue;
+    if (v > hi) {
+      hi = v;
+      hi_i = i;
+    }
+    if (v < lo) {
+      lo = v;
+      lo_i = i;
+    }
+    if (state >= 0 && v < hi - h) {
+      if (state == 1) reversals.push_back({hi_i, +1});
+      state = -1;
+      lo = v;
+      lo_i = i;
+    } else if (state <= 0 && v > lo + h) {
+      if (state == -1) reversals.push_back({lo_i, -1});
+      state = 1;
+      hi = v;
+      hi_i = i;
+    }
+  }
+  size_t first = 0;
+  while (first < reversals.size() && reversals[first].kind != -1) ++first;
+  for (size_t j = first; j + 2 < reversals.size(); j += 2) {
+    Cycle c;
+    c.index = static_cast<int>(set.cycles.size());
+    c.forward = {reversals[j].index, reversals[j + 1].index, +1};
+    c.reverse = {reversals[j + 1].index, reversals[j + 2].index, -1};
+    set.cycles.push_back(c);
+  }
+  if (!set.cycles.empty()) {
+    set.leading_samples_dropped = set.cycles.front().forward.begin;
+    set.trailing_samples_dropped = n - set.cycles.back().reverse.end;
+    if (set.leading_samples_dropped > 0) {
+      set.notes.push_back(
+          fmt::format("dropped {} samples before the first complete cycle",
+                      set.leading_samples_dropped));
+    }
+    if (set.trailing_samples_dropped > 0) {
+      set.notes.push_back(
+          fmt::format("dropped {} samples after the last complete cycle",
+                      set.trailing_samples_dropped));
+    }
+  }
+  if (static_cast<int>(set.cycles.size()) < options.min_cycles) {
+    throw ForceError(fmt::format(
+        "{}: found {} complete cycle(s) in {} samples (stroke {:.3g} mm); "
+        "expected at least {}",
+        source,
+        set.cycles.size(),
+        n,
+        set.stroke_mm,
+        options.min_cycles));
+  }
+  return set;
+}
+
+void FindGrossSlip(const ForceRecord& record,
+                   CycleSet* cycles,
+                   const GrossSlipOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why))
+    throw ForceError("invalid gross-slip options: " + why);
+  for (Cycle& c : cycles->cycles) {
+    FindHalfSlip(record.x_mm, record.tangential_n, options, &c.forward);
+    FindHalfSlip(record.x_mm, record.tangential_n, options, &c.reverse);
+  }
+}
+
+}  // namespace wearscar::force

@@ -1,0 +1,882 @@
+#include "wearscar/force/read_force.h"
+
+#include <fast_float/fast_float.h>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+#include "units.h"
+
+namespace wearscar::force {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// Lines read before the data to find the delimiter, header and units.
+constexpr int kHeadLines = 400;
+
+// ---------------------------------------------------------------------------
+// Line sources: the reader streams the file in blocks so that the text is
+// never held whole next to the numbers (memory stays near the numeric data).
+
+class LineSource {
+ public:
+  virtual ~LineSource() = default;
+  // Next line without its terminator ("\n" or "\r\n"); false at the end.
+  virtual bool Next(std::string_view* line) = 0;
+};
+
+class MemoryLines : public LineSource {
+ public:
+  explicit MemoryLines(std::string_view text) : text_(text) {}
+  bool Next(std::string_view* line) override {
+    if (pos_ >= text_.size()) return false;
+    size_t end = text_.find('\n', pos_);
+    if (end == std::string_view::npos) end = text_.size();
+    *line = text_.substr(pos_, end - pos_);
+    if (!line->empty() && line->back() == '\r') line->remove_suffix(1);
+    pos_ = end + 1;
+    return true;
+  }
+
+ private:
+  std::string_view text_;
+  size_t pos_ = 0;
+};
+
+class FileLines : public LineSource {
+ public:
+  FileLines(std::FILE* file, std::string name)
+      : file_(file), name_(std::move(name)), buffer_(kBlock) {}
+  bool Next(std::string_view* line) override {
+    for (;;) {
+      const char* begin = buffer_.data() + pos_;
+      const char* nl =
+          static_cast<const char*>(std::memchr(begin, '\n', filled_ - pos_));
+      if (nl != nullptr) {
+        *line = std::string_view(begin, static_cast<size_t>(nl - begin));
+        pos_ = static_cast<size_t>(nl - buffer_.data()) + 1;
+        if (!line->empty() && line->back() == '\r') line->remove_suffix(1);
+        return true;
+      }
+      if (eof_) {
+        if (pos_ >= filled_) return false;
+        *line = std::string_view(begin, filled_ - pos_);
+        pos_ = filled_;
+        if (!line->empty() && line->back() == '\r') line->remove_suffix(1);
+        return true;
+      }
+      Refill();
+    }
+  }
+
+ private:
+  static constexpr size_t kBlock = size_t{1} << 20;
+  void Refill() {
+    // Move the partial line to the front; grow only for a very long line.
+    std::memmove(buffer_.data(), buffer_.data() + pos_, filled_ - pos_);
+    filled_ -= pos_;
+    pos_ = 0;
+    if (filled_ == buffer_.size()) buffer_.resize(buffer_.size() * 2);
+    const size_t got = std::fread(
+        buffer_.data() + filled_, 1, buffer_.size() - filled_, file_);
+    if (got == 0) {
+      if (std::ferror(file_)) {
+        throw ForceError(
+            fmt::format("{}: read error: {}", name_, std::strerror(errno)));
+      }
+      eof_ = true;
+    }
+    filled_ += got;
+  }
+  std::FILE* file_;
+  std::string name_;
+  std::vector<char> buffer_;
+  size_t pos_ = 0, filled_ = 0;
+  bool eof_ = false;
+};
+
+struct FileCloser {
+  void operator()(std::FILE* f) const { std::fclose(f); }
+};
+
+// ---------------------------------------------------------------------------
+// Cells.
+
+std::string_view TrimView(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) {
+    s.remove_prefix(1);
+  }
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) {
+    s.remove_suffix(1);
+  }
+  if (s.size() >= 2 && s.front() == '"' && s.back() == '"') {
+    s = s.substr(1, s.size() - 2);
+  }
+  return s;
+}
+
+std::string Lower(std::string_view s) {
+  std::string out(s);
+  std::transform(out.begin(), out.end(), out.begin(), [](char c) {
+    return static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  });
+  return out;
+}
+
+// Splits `line` on `delim` into `cells` (views into line), cells trimmed.
+void Split(std::string_view line,
+           char delim,
+           std::vector<std::string_view>* cells) {
+  cells->clear();
+  size_t start = 0;
+  for (;;) {
+    const size_t end = line.find(delim, start);
+    if (end == std::string_view::npos) {
+      cells->push_back(TrimView(line.substr(start)));
+      break;
+    }
+    cells->push_back(TrimView(line.substr(start, end - start)));
+    start = end + 1;
+  }
+}
+
+// Cells of a row without the empty cell a trailing delimiter adds (Rtec ends
+// every row with one).
+size_t CountWithoutTrailing(const std::vector<std::string_view>& cells) {
+  return cells.size() > 1 && cells.back().empty() ? cells.size() - 1
+                                                  : cells.size();
+}
+
+// Parses a whole cell as a number. Empty cell -> NaN (a gap); "nan" -> NaN.
+// Returns false for text.
+bool ParseCell(std::string_view cell, char decimal, double* value) {
+  if (cell.empty()) {
+    *value = kNaN;
+    return true;
+  }
+  if (cell.front() == '+') cell.remove_prefix(1);
+  const auto result = fast_float::from_chars_advanced(
+      cell.data(),
+      cell.data() + cell.size(),
+      *value,
+      fast_float::parse_options{fast_float::chars_format::general, decimal});
+  return result.ec == std::errc() && result.ptr == cell.data() + cell.size();
+}
+
+// ---------------------------------------------------------------------------
+// Layout detection on the first lines.
+
+struct Layout {
+  char delimiter = ',';
+  char decimal = '.';
+  int header_line = -1;  // index into head lines, -1 = no header
+  int units_line = -1;
+  int first_data_line = 0;
+  std::vector<std::string> names;  // per column
+  std::vector<std::string> units;  // per column ("" unknown)
+  double metadata_rate_hz = 0.0;
+  std::string kind = "delimited";
+};
+
+bool IsNumericRow(std::string_view line,
+                  char delim,
+                  char decimal,
+                  std::vector<std::string_view>* cells) {
+  Split(line, delim, cells);
+  int numeric = 0, text = 0;
+  for (auto c : *cells) {
+    double v;
+    if (c.empty()) continue;
+    if (ParseCell(c, decimal, &v)) {
+      ++numeric;
+    } else {
+      ++text;
+    }
+  }
+  return numeric >= 2 && text == 0;
+}
+
+char DetectDelimiter(const std::vector<std::string>& head) {
+  // Data rows dominate the end of the head; a delimiter that splits them into
+  // the same number (>= 2) of cells is the one. Tab and ';' win over ','
+  // because ',' may be the decimal mark in those files.
+  for (char d : {'\t', ';', ','}) {
+    int lines = 0, consistent = 0;
+    size_t expected = 0;
+    for (auto it = head.rbegin(); it != head.rend() && lines < 20; ++it) {
+      if (it->empty()) continue;
+      ++lines;
+      const size_t n =
+          static_cast<size_t>(std::count(it->begin(), it->end(), d));
+      if (lines == 1) expected = n;
+      if (n >= 1 && n == expected) ++consistent;
+    }
+    if (lines > 0 && expected >= 1 && consistent * 10 >= lines * 8) return d;
+  }
+  return ',';
+}
+
+bool LooksLikeUnit(std::string_view cell) {
+  if (cell.empty()) return true;
+  if ((cell.front() == '(' && cell.back() == ')') ||
+      (cell.front() == '[' && cell.back() == ']')) {
+    return true;
+  }
+  return internal::LengthToMm(cell) || internal::ForceToN(cell) ||
+         internal::TimeToS(cell) || Lower(cell) == "mm/s" ||
+         Lower(cell) == "hz" || Lower(cell) == "c" || cell == "-" ||
+         cell == "()" || Lower(cell) == "deg";
+}
+
+double FindMetadataRate(const std::vector<std::string>& lines, int end) {
+  for (int i = 0; i < end; ++i) {
+    const std::string lower = Lower(lines[i]);
+    const bool names_rate =
+        (lower.find("sampling") != std::string::npos ||
+         lower.find("sample rate") != std::string::npos ||
+         lower.find("acquisition rate") != std::string::npos ||
+         lower.find("data rate") != std::string::npos);
+    if (!names_rate) continue;
+    // The first number after the label's end (':' or '=' or delimiter).
+    size_t pos = lower.find_first_of(":=,;\t");
+    if (pos == std::string::npos) continue;
+    const char* p = lines[i].data() + pos + 1;
+    const char* end_p = lines[i].data() + lines[i].size();
+    while (p < end_p && !(std::isdigit(static_cast<unsigned char>(*p)))) ++p;
+    double rate = 0.0;
+    auto r = fast_float::from_chars(p, end_p, rate);
+    if (r.ec != std::errc() || !(rate > 0)) continue;
+    const bool khz = lower.find("khz") != std::string::npos;
+    return khz ? rate * 1e3 : rate;
+  }
+  return 0.0;
+}
+
+Layout DetectLayout(const std::vector<std::string>& head,
+                    const std::string& name) {
+  Layout layout;
+  if (head.empty()) {
+    throw ForceError(
+        fmt::format("{}: the file is empty; expected a delimited "
+                    "force export (header row, then numbers)",
+                    name));
+  }
+  layout.delimiter = DetectDelimiter(head);
+  layout.decimal = layout.delimiter == ',' ? '.' : '.';
+  std::vector<std::string_view> cells;
+  // Decimal comma: with ';' or tab separators, try ',' when '.' fails.
+  if (layout.delimiter != ',') {
+    int dot_rows = 0, comma_rows = 0;
+    for (const auto& line : head) {
+      if (IsNumericRow(line, layout.delimiter, '.', &cells)) ++dot_rows;
+      if (IsNumericRow(line, layout.delimiter, ',', &cells)) ++comma_rows;
+    }
+    if (comma_rows > dot_rows) layout.decimal = ',';
+  }
+  // First data row: numeric and followed by numeric rows (or the end).
+  const int n = static_cast<int>(head.size());
+  int first = -1;
+  for (int i = 0; i < n && first < 0; ++i) {
+    if (!IsNumericRow(head[i], layout.delimiter, layout.decimal, &cells))
+      continue;
+    int ok = 1;
+    for (int j = i + 1; j < std::min(n, i + 4); ++j) {
+      if (IsNumericRow(head[j], layout.delimiter, layout.decimal, &cells)) ++ok;
+    }
+    if (ok >= std::min(3, n - i)) first = i;
+  }
+  if (first < 0) {
+    throw ForceError(fmt::format(
+        "{}: no numeric data found in the first {} lines; expected rows of at "
+        "least two numbers separated by '{}'",
+        name,
+        n,
+        layout.delimiter == '\t' ? "\\t" : std::string(1, layout.delimiter)));
+  }
+  layout.first_data_line = first;
+  // Header above the data, possibly with a units row between.
+  int above = first - 1;
+  while (above >= 0 && TrimView(head[above]).empty()) --above;
+  if (above >= 0) {
+    Split(head[above], layout.delimiter, &cells);
+    const bool all_units =
+        cells.size() >= 2 &&
+        std::all_of(cells.begin(), cells.end(), LooksLikeUnit) &&
+        std::any_of(cells.begin(), cells.end(), [](std::string_view c) {
+          return !c.empty();
+        });
+    if (all_units && above >= 1) {
+      layout.units_line = above;
+      --above;
+      while (above >= 0 && TrimView(head[above]).empty()) --above;
+    }
+  }
+  if (above >= 0) {
+    Split(head[above], layout.delimiter, &cells);
+    if (cells.size() >= 2) layout.header_line = above;
+  }
+  if (layout.header_line < 0) layout.units_line = -1;
+  // Column names and units.
+  Split(head[layout.header_line >= 0 ? layout.header_line : first],
+        layout.delimiter,
+        &cells);
+  const size_t columns = CountWithoutTrailing(cells);
+  layout.names.assign(columns, "");
+  layout.units.assign(columns, "");
+  if (layout.header_line >= 0) {
+    Split(head[layout.header_line], layout.delimiter, &cells);
+    for (size_t c = 0; c < std::min(columns, cells.size()); ++c) {
+      internal::SplitNameAndUnit(cells[c], &layout.names[c], &layout.units[c]);
+    }
+  }
+  if (layout.units_line >= 0) {
+    Split(head[layout.units_line], layout.delimiter, &cells);
+    for (size_t c = 0; c < std::min(columns, cells.size()); ++c) {
+      std::string unit_name, unit;
+      internal::SplitNameAndUnit(cells[c], &unit_name, &unit);
+      const std::string u = unit.empty() ? unit_name : unit;
+      if (!u.empty()) layout.units[c] = u;
+    }
+  }
+  const int metadata_end =
+      layout.header_line >= 0 ? layout.header_line : layout.first_data_line;
+  layout.metadata_rate_hz = FindMetadataRate(head, metadata_end);
+  // Name the layout for the record (information only; parsing is shared).
+  std::string all_names;
+  for (const auto& nm : layout.names) all_names += Lower(nm) + "|";
+  std::string all_units;
+  for (const auto& u : layout.units) all_units += Lower(u) + "|";
+  if (all_names.find("daq.") != std::string::npos ||
+      all_names.find("recipestep") != std::string::npos) {
+    layout.kind = "rtec";
+  } else if (layout.units_line >= 0 &&
+             (all_units.find("gf|") != std::string::npos ||
+              all_units.find("g|") != std::string::npos)) {
+    layout.kind = "bruker";
+  } else if (layout.delimiter == '\t' &&
+             all_names.find("friction force") != std::string::npos) {
+    layout.kind = "anton-paar";
+  } else if (layout.metadata_rate_hz > 0) {
+    layout.kind = "home-built";
+  }
+  return layout;
+}
+
+// ---------------------------------------------------------------------------
+// Column matching by pattern.
+
+enum Channel { kTime = 0, kX = 1, kQ = 2, kP = 3 };
+constexpr const char* kChannelLabel[] = {
+    "time", "position x", "tangential force Q", "normal force P"};
+
+std::vector<std::string> Tokens(const std::string& name) {
+  std::vector<std::string> tokens;
+  std::string cur;
+  for (char ch : Lower(name)) {
+    if (std::isalnum(static_cast<unsigned char>(ch))) {
+      cur += ch;
+    } else if (!cur.empty()) {
+      tokens.push_back(cur);
+      cur.clear();
+    }
+  }
+  if (!cur.empty()) tokens.push_back(cur);
+  return tokens;
+}
+
+// Score of a header name for a channel: 0 = no match, higher = better.
+int MatchScore(Channel channel, const std::string& name) {
+  const std::string lower = Lower(name);
+  const auto tokens = Tokens(name);
+  auto has = [&](const char* t) {
+    return std::find(tokens.begin(), tokens.end(), t) != tokens.end();
+  };
+  auto contains = [&](const char* s) {
+    return lower.find(s) != std::string::npos;
+  };
+  if (has("cof") || has("mu") || contains("coefficient")) return 0;
+  switch (channel) {
+    case kTime:
+      if (has("timestamp") || lower == "time" || lower == "t") return 3;
+      if (has("time") || has("zeit") || has("temps")) return 2;
+      return 0;
+    case kX:
+      if (contains("piezo x") || has("position") || has("displacement"))
+        return 3;
+      if (lower == "x" || has("pos") || has("stroke") || has("lvdt") ||
+          has("weg"))
+        return 2;
+      if (has("x") && !has("fx")) return 1;
+      return 0;
+    case kQ:
+      if (has("fx") || contains("friction force") || contains("tangential"))
+        return 3;
+      if (has("friction") || has("ff") || has("ft") || lower == "q" ||
+          has("lateral"))
+        return 2;
+      return 0;
+    case kP:
+      if (has("fz") || contains("normal force") || has("fn")) return 3;
+      if (has("normal") || has("load") || lower == "p") return 2;
+      return 0;
+  }
+  return 0;
+}
+
+int FindOverride(const std::string& spec,
+                 const Layout& layout,
+                 const std::string& file,
+                 Channel channel) {
+  if (spec.size() > 1 && spec[0] == '#') {
+    int col = 0;
+    auto r = std::from_chars(spec.data() + 1, spec.data() + spec.size(), col);
+    if (r.ec != std::errc() || col < 1 ||
+        col > static_cast<int>(layout.names.size())) {
+      throw ForceError(
+          fmt::format("{}: column override '{}' for {} is not a "
+                      "column number between 1 and {}",
+                      file,
+                      spec,
+                      kChannelLabel[channel],
+                      layout.names.size()));
+    }
+    return col - 1;
+  }
+  for (size_t c = 0; c < layout.names.size(); ++c) {
+    if (Lower(layout.names[c]) == Lower(spec)) return static_cast<int>(c);
+  }
+  std::string known;
+  for (const auto& nm : layout.names) known += (known.empty() ? "" : ", ") + nm;
+  throw ForceError(
+      fmt::format("{}: no column named '{}' for {}; the header has: {}",
+                  file,
+                  spec,
+                  kChannelLabel[channel],
+                  known));
+}
+
+// ---------------------------------------------------------------------------
+
+struct Scale {
+  double factor = 1.0;
+  std::string unit;
+};
+
+Scale ResolveUnit(Channel channel,
+                  const std::string& found,
+                  const ReadForceOptions& options,
+                  const std::string& file,
+                  const std::string& column) {
+  std::string unit = found;
+  if (unit.empty()) {
+    unit = channel == kTime ? options.default_time_unit
+           : channel == kX  ? options.default_x_unit
+                            : options.default_force_unit;
+  }
+  std::optional<double> f = channel == kTime ? internal::TimeToS(unit)
+                            : channel == kX  ? internal::LengthToMm(unit)
+                                             : internal::ForceToN(unit);
+  if (!f) {
+    const char* expected = channel == kTime ? "s, ms, min"
+                           : channel == kX  ? "mm, um, m"
+                                            : "N, mN, kN, gf";
+    throw ForceError(
+        fmt::format("{}: column '{}' has unit '{}'; expected a {} "
+                    "unit ({})",
+                    file,
+                    column,
+                    unit,
+                    channel == kTime ? "time"
+                    : channel == kX  ? "length"
+                                     : "force",
+                    expected));
+  }
+  return {*f, unit};
+}
+
+ForceRecord Read(LineSource& source,
+                 const std::string& name,
+                 size_t row_capacity_hint,
+                 const ReadForceOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) {
+    throw ForceError(fmt::format("{}: invalid read options: {}", name, why));
+  }
+  // Head lines are copied (the source's views do not outlive a refill).
+  std::vector<std::string> head;
+  std::string_view line;
+  bool more = true;
+  while (static_cast<int>(head.size()) < kHeadLines &&
+         (more = source.Next(&line))) {
+    head.emplace_back(line);
+  }
+  if (!head.empty() && head[0].rfind("\xEF\xBB\xBF", 0) == 0)
+    head[0].erase(0, 3);
+  while (!head.empty() && TrimView(head.back()).empty() && !more)
+    head.pop_back();
+  if (head.empty()) {
+    throw ForceError(
+        fmt::format("{}: the file is empty; expected a delimited "
+                    "force export (header row, then numbers)",
+                    name));
+  }
+  const Layout layout = DetectLayout(head, name);
+
+  // Columns.
+  int column[4] = {-1, -1, -1, -1};
+  const std::string* overrides[4] = {&options.time_column,
+                                     &options.x_column,
+                                     &options.tangential_column,
+                                     &options.normal_column};
+  for (int ch = 0; ch < 4; ++ch) {
+    if (!overrides[ch]->empty()) {
+      column[ch] = FindOverride(*overrides[ch], layout, name, Channel(ch));
+    }
+  }
+  for (int ch = 0; ch < 4; ++ch) {
+    if (column[ch] >= 0) continue;
+    int best = -1, best_score = 0;
+    for (int c = 0; c < static_cast<int>(layout.names.size()); ++c) {
+      if (std::find(std::begin(column), std::end(column), c) !=
+          std::end(column)) {
+        continue;
+      }
+      const int s = MatchScore(Channel(ch), layout.names[c]);
+      if (s > best_score) {
+        best = c;
+        best_score = s;
+      }
+    }
+    column[ch] = best;
+  }
+  std::string known;
+  for (const auto& nm : layout.names) known += (known.empty() ? "" : ", ") + nm;
+  if (layout.header_line < 0) known = "(no header row)";
+  const int header_line_no =
+      (layout.header_line >= 0 ? layout.header_line : 0) + 1;
+  for (int ch = kX; ch <= kP; ++ch) {
+    if (column[ch] < 0) {
+      throw ForceError(fmt::format(
+          "{}: line {}: no column for {}; found columns: {}; expected a header "
+          "such as {} (or give the column explicitly)",
+          name,
+          header_line_no,
+          kChannelLabel[ch],
+          known,
+          ch == kX   ? "'Position (mm)' or 'Piezo X'"
+          : ch == kQ ? "'Fx (N)' or 'Friction Force [N]'"
+                     : "'Fz (N)' or 'Normal force [mN]'"));
+    }
+  }
+  // A RecipeStep column lets the Rtec clock restart.
+  int step_column = -1;
+  for (int c = 0; c < static_cast<int>(layout.names.size()); ++c) {
+    const std::string lower = Lower(layout.names[c]);
+    if (lower.find("recipestep") != std::string::npos || lower == "step") {
+      step_column = c;
+    }
+  }
+
+  ForceRecord record;
+  ForceMetadata& meta = record.metadata;
+  meta.source = name;
+  meta.layout = layout.kind;
+  Scale scale[4];
+  for (int ch = 0; ch < 4; ++ch) {
+    if (column[ch] < 0) continue;
+    scale[ch] = ResolveUnit(Channel(ch),
+                            layout.units[column[ch]],
+                            options,
+                            name,
+                            layout.names[column[ch]]);
+  }
+  for (int ch = 0; ch < 4; ++ch) {
+    meta.channel_names.push_back(column[ch] >= 0 ? layout.names[column[ch]]
+                                                 : "");
+    meta.channel_units.push_back(column[ch] >= 0 ? scale[ch].unit : "");
+  }
+
+  // Storage: exact capacity when the caller counted rows, else grown.
+  std::vector<double> data[4];
+  for (auto& d : data) d.reserve(row_capacity_hint);
+  std::vector<std::string_view> cells;
+  const int needed = *std::max_element(std::begin(column), std::end(column));
+  const size_t columns = layout.names.size();
+
+  // Bad rows: a bad row followed by a good one is an error (or dropped when
+  // lenient); bad text rows at the very end are a footer.
+  std::string pending_error;
+  int pending_bad_rows = 0;
+  int dropped = 0, footer_rows = 0;
+  double previous_time = -std::numeric_limits<double>::infinity();
+  double time_offset = 0.0, last_dt = 0.0;
+  double previous_step = kNaN;
+  int nan_run[4] = {0, 0, 0, 0};
+  int total_rows = 0;
+
+  auto handle_row = [&](std::string_view row, long line_no) {
+    if (TrimView(row).empty()) return;
+    Split(row, layout.delimiter, &cells);
+    double value[4] = {kNaN, kNaN, kNaN, kNaN};
+    std::string error;
+    bool text_row = false;
+    double first_value;
+    const bool text_first = !cells.empty() && !cells[0].empty() &&
+                            !ParseCell(cells[0], layout.decimal, &first_value);
+    const bool trailing_ok =
+        cells.size() == columns + 1 && cells.back().empty();
+    if (text_first) {
+      text_row = true;
+      error = fmt::format(
+          "{}: line {}: found text '{}' where a data row was expected",
+          name,
+          line_no,
+          std::string(cells[0].substr(0, 40)));
+    } else if (static_cast<int>(cells.size()) <= needed ||
+               (cells.size() != columns && !trailing_ok)) {
+      error =
+          fmt::format("{}: line {}: ragged row: found {} fields, expected {}",
+                      name,
+                      line_no,
+                      cells.size(),
+                      columns);
+    } else {
+      for (int ch = 0; ch < 4 && error.empty(); ++ch) {
+        if (column[ch] < 0) continue;
+        const std::string_view cell = cells[column[ch]];
+        if (!ParseCell(cell, layout.decimal, &value[ch])) {
+          error = fmt::format(
+              "{}: line {}, column {} ('{}'): found '{}', expected a number{}",
+              name,
+              line_no,
+              column[ch] + 1,
+              layout.names[column[ch]],
+              std::string(cell.substr(0, 40)),
+              layout.decimal == ',' ? " with a decimal comma" : "");
+        }
+      }
+    }
+    if (error.empty() && column[kTime] >= 0) {
+      double t = value[kTime] * scale[kTime].factor + time_offset;
+      if (std::isfinite(t) && t <= previous_time) {
+        double step = kNaN;
+        if (step_column >= 0 && step_column < static_cast<int>(cells.size())) {
+          ParseCell(cells[step_column], layout.decimal, &step);
+        }
+        const bool step_changed = step_column >= 0 && step != previous_step &&
+                                  !std::isnan(previous_step);
+        if (step_changed) {
+          // Rtec: Timestamp restarts at each RecipeStep; continue the clock.
+          time_offset += previous_time - t + (last_dt > 0 ? last_dt : 0.0);
+          t = value[kTime] * scale[kTime].factor + time_offset;
+          ++meta.clock_restarts_joined;
+        } else {
+          error = fmt::format(
+              "{}: line {}: time {} {} is not after the previous {} {}; "
+              "expected strictly increasing time",
+              name,
+              line_no,
+              value[kTime],
+              scale[kTime].unit,
+              (previous_time - time_offset) / scale[kTime].factor,
+              scale[kTime].unit);
+        }
+      }
+      if (error.empty()) {
+        if (std::isfinite(t)) {
+          if (std::isfinite(previous_time)) last_dt = t - previous_time;
+          previous_time = t;
+        }
+        value[kTime] = t;
+        if (step_column >= 0 && step_column < static_cast<int>(cells.size())) {
+          ParseCell(cells[step_column], layout.decimal, &previous_step);
+        }
+      }
+    }
+    if (!error.empty()) {
+      if (pending_error.empty()) pending_error = error;
+      ++pending_bad_rows;
+      footer_rows += text_row ? 1 : 0;
+      if (!text_row) footer_rows = -1000000;  // a numeric bad row is no footer
+      return;
+    }
+    if (pending_bad_rows > 0) {
+      // Bad rows inside the data.
+      if (!options.lenient) throw ForceError(pending_error);
+      dropped += pending_bad_rows;
+      if (meta.warnings.empty() || dropped == pending_bad_rows) {
+        meta.warnings.push_back("first dropped row: " + pending_error);
+      }
+      pending_error.clear();
+      pending_bad_rows = 0;
+      footer_rows = 0;
+    }
+    for (int ch = 0; ch < 4; ++ch) {
+      if (column[ch] < 0) continue;
+      const double v = ch == kTime ? value[ch] : value[ch] * scale[ch].factor;
+      if (std::isnan(v)) {
+        if (++nan_run[ch] > options.max_nan_run) {
+          throw ForceError(fmt::format(
+              "{}: line {}: more than {} consecutive missing values in '{}'; "
+              "expected isolated gaps at most",
+              name,
+              line_no,
+              options.max_nan_run,
+              layout.names[column[ch]]));
+        }
+      } else {
+        nan_run[ch] = 0;
+      }
+      data[ch].push_back(v);
+    }
+    ++total_rows;
+  };
+
+  long line_no = 0;
+  for (const auto& h : head) {
+    ++line_no;
+    if (line_no - 1 >= layout.first_data_line) handle_row(h, line_no);
+  }
+  if (more) {
+    while (source.Next(&line)) handle_row(line, ++line_no);
+  }
+  if (pending_bad_rows > 0) {
+    if (footer_rows == pending_bad_rows) {
+      meta.warnings.push_back(
+          fmt::format("ignored a footer of {} text lines", footer_rows));
+    } else if (!options.lenient) {
+      throw ForceError(pending_error);
+    } else {
+      dropped += pending_bad_rows;
+    }
+  }
+  if (total_rows < 2) {
+    throw ForceError(fmt::format(
+        "{}: only {} data rows; expected a time series", name, total_rows));
+  }
+  meta.rows_dropped = dropped;
+  if (dropped > 0) {
+    if (dropped > options.max_dropped_fraction * (total_rows + dropped)) {
+      throw ForceError(fmt::format(
+          "{}: {} of {} rows are bad (more than {:.1f}%); first: {}",
+          name,
+          dropped,
+          total_rows + dropped,
+          100 * options.max_dropped_fraction,
+          meta.warnings.empty() ? pending_error : meta.warnings.front()));
+    }
+    meta.warnings.push_back(fmt::format("dropped {} bad rows", dropped));
+  }
+
+  auto to_vector = [](std::vector<double>& v) {
+    Eigen::VectorXd out = Eigen::Map<Eigen::VectorXd>(
+        v.data(), static_cast<Eigen::Index>(v.size()));
+    std::vector<double>().swap(v);
+    return out;
+  };
+  record.x_mm = to_vector(data[kX]);
+  record.tangential_n = to_vector(data[kQ]);
+  record.normal_n = to_vector(data[kP]);
+  if (column[kTime] >= 0) {
+    record.time_s = to_vector(data[kTime]);
+    if (record.size() > 1) {
+      const double span = record.time_s[record.size() - 1] - record.time_s[0];
+      if (span > 0) meta.sampling_rate_hz = (record.size() - 1) / span;
+    }
+  } else {
+    const double rate = layout.metadata_rate_hz > 0 ? layout.metadata_rate_hz
+                                                    : options.sampling_rate_hz;
+    if (!(rate > 0)) {
+      throw ForceError(fmt::format(
+          "{}: no time column and no sampling rate in the metadata; expected a "
+          "'Time' column or a line such as 'Sampling frequency [Hz]: 100' "
+          "(or give the rate explicitly)",
+          name));
+    }
+    meta.sampling_rate_hz = rate;
+    meta.time_rebuilt = true;
+    record.time_s = Eigen::VectorXd::LinSpaced(
+        record.x_mm.size(), 0.0, (record.x_mm.size() - 1) / rate);
+  }
+  // Compression positive, whatever the instrument's sign.
+  std::vector<double> finite;
+  finite.reserve(static_cast<size_t>(record.size()));
+  for (Eigen::Index i = 0; i < record.size();
+       i += std::max<Eigen::Index>(1, record.size() / 4096)) {
+    if (std::isfinite(record.normal_n[i])) finite.push_back(record.normal_n[i]);
+  }
+  if (!finite.empty()) {
+    std::nth_element(
+        finite.begin(), finite.begin() + finite.size() / 2, finite.end());
+    if (finite[finite.size() / 2] < 0) {
+      record.normal_n = -record.normal_n;
+      meta.normal_sign_flipped = true;
+    }
+  }
+  return record;
+}
+
+size_t CountLines(std::FILE* file) {
+  std::vector<char> block(size_t{1} << 20);
+  size_t lines = 1, got;
+  while ((got = std::fread(block.data(), 1, block.size(), file)) > 0) {
+    const char* p = block.data();
+    const char* end = p + got;
+    while ((p = static_cast<const char*>(std::memchr(p, '\n', end - p))) !=
+           nullptr) {
+      ++lines;
+      ++p;
+    }
+  }
+  std::rewind(file);
+  return lines;
+}
+
+}  // namespace
+
+bool ReadForceOptions::IsValid(std::string* why) const {
+  auto fail = [&](const char* m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (sampling_rate_hz < 0) return fail("sampling_rate_hz must be >= 0");
+  if (!(max_dropped_fraction >= 0 && max_dropped_fraction <= 1)) {
+    return fail("max_dropped_fraction must be in [0, 1]");
+  }
+  if (max_nan_run < 0) return fail("max_nan_run must be >= 0");
+  return true;
+}
+
+ForceRecord ReadForceFile(const std::string& path,
+                          const ReadForceOptions& options) {
+  std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
+  if (!file) {
+    throw ForceError(
+        fmt::format("{}: cannot open: {}", path, std::strerror(errno)));
+  }
+  const size_t lines = CountLines(file.get());
+  FileLines source(file.get(), path);
+  return Read(source, path, lines, options);
+}
+
+ForceRecord ReadForceText(const std::string& text,
+                          const std::string& name,
+                          const ReadForceOptions& options) {
+  MemoryLines source(text);
+  const size_t lines =
+      static_cast<size_t>(std::count(text.begin(), text.end(), '\n')) + 1;
+  return Read(source, name, lines, options);
+}
+
+}  // namespace wearscar::force

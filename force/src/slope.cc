@@ -1,0 +1,175 @@
+#include "wearscar/force/slope.h"
+
+#include <Eigen/Dense>
+#include <cmath>
+
+namespace wearscar::force {
+
+const char* DerivativeMethodName(DerivativeMethod method) {
+  switch (method) {
+    case DerivativeMethod::kMovingAverageCentral:
+      return "moving-average + central difference (paper Eq. 5)";
+    case DerivativeMethod::kSavitzkyGolay:
+      return "Savitzky-Golay (local polynomial in x)";
+  }
+  return "?";
+}
+
+bool ParseDerivativeMethod(const std::string& text, DerivativeMethod* method) {
+  if (text == "central" || text == "moving-average" || text == "paper") {
+    *method = DerivativeMethod::kMovingAverageCentral;
+    return true;
+  }
+  if (text == "savgol" || text == "savitzky-golay" || text == "sg") {
+    *method = DerivativeMethod::kSavitzkyGolay;
+    return true;
+  }
+  return false;
+}
+
+bool SlopeOptions::IsValid(std::string* why) const {
+  auto fail = [&](const char* m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (window < 1) return fail("window must be >= 1");
+  if (method == DerivativeMethod::kSavitzkyGolay) {
+    if (window < 3) return fail("Savitzky-Golay window must be >= 3");
+    if (polynomial_order < 1 || polynomial_order >= window) {
+      return fail("polynomial_order must be in [1, window)");
+    }
+  }
+  if (!(min_span_mm >= 0)) return fail("min_span_mm must be >= 0");
+  if (max_half_width < 1) return fail("max_half_width must be >= 1");
+  if (!(spring_stiffness_n_per_mm > 0)) {
+    return fail("spring_stiffness_n_per_mm must be > 0");
+  }
+  return true;
+}
+
+Eigen::VectorXd MovingAverage(const Eigen::Ref<const Eigen::VectorXd>& v,
+                              int window) {
+  const Eigen::Index n = v.size();
+  Eigen::VectorXd out(n);
+  if (window <= 1) {
+    out = v;
+    return out;
+  }
+  // Window [i - window/2, i + (window-1)/2]; for window 10: 5 before, 4 after.
+  const Eigen::Index before = window / 2, after = (window - 1) / 2;
+  // Running sums over finite values.
+  double sum = 0;
+  Eigen::Index count = 0;
+  Eigen::Index lo = 0, hi = -1;  // current window [lo, hi]
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Eigen::Index want_lo = std::max<Eigen::Index>(0, i - before);
+    const Eigen::Index want_hi = std::min<Eigen::Index>(n - 1, i + after);
+    while (hi < want_hi) {
+      ++hi;
+      if (std::isfinite(v[hi])) {
+        sum += v[hi];
+        ++count;
+      }
+    }
+    while (lo < want_lo) {
+      if (std::isfinite(v[lo])) {
+        sum -= v[lo];
+        --count;
+      }
+      ++lo;
+    }
+    out[i] = count > 0 ? sum / static_cast<double>(count) : std::nan("");
+  }
+  return out;
+}
+
+Eigen::VectorXd DerivativeAlongX(
+    const Eigen::Ref<const Eigen::VectorXd>& x_mm,
+    const Eigen::Ref<const Eigen::VectorXd>& signal,
+    Eigen::Index begin,
+    Eigen::Index end,
+    const SlopeOptions& options) {
+  const Eigen::Index n = end - begin;
+  Eigen::VectorXd d =
+      Eigen::VectorXd::Constant(std::max<Eigen::Index>(n, 0), std::nan(""));
+  if (n <= 0) return d;
+  if (options.method == DerivativeMethod::kMovingAverageCentral) {
+    // Smooth a padded stretch so the ends see the same filter as the middle.
+    const Eigen::Index pad = options.window;
+    const Eigen::Index lo = std::max<Eigen::Index>(0, begin - pad - 1);
+    const Eigen::Index hi =
+        std::min<Eigen::Index>(signal.size(), end + pad + 1);
+    const Eigen::VectorXd smooth =
+        MovingAverage(signal.segment(lo, hi - lo), options.window);
+    const Eigen::Index wide = options.max_half_width;
+    const Eigen::Index lo2 = std::max<Eigen::Index>(0, begin - wide - 1);
+    const Eigen::Index hi2 =
+        std::min<Eigen::Index>(signal.size(), end + wide + 1);
+    const bool widen = options.min_span_mm > 0;
+    const Eigen::VectorXd smooth_wide =
+        widen ? MovingAverage(signal.segment(lo2, hi2 - lo2), options.window)
+              : smooth;
+    const Eigen::Index base = widen ? lo2 : lo;
+    const Eigen::VectorXd& sm = widen ? smooth_wide : smooth;
+    for (Eigen::Index i = begin; i < end; ++i) {
+      Eigen::Index m = 1;
+      if (widen) {
+        while (i - m >= lo2 && i + m < hi2 &&
+               !(std::abs(x_mm[i + m] - x_mm[i - m]) >= options.min_span_mm) &&
+               m < options.max_half_width) {
+          ++m;
+        }
+      }
+      if (i - m < base || i + m >= base + sm.size()) continue;
+      const double dx = x_mm[i + m] - x_mm[i - m];
+      if (dx == 0 || !std::isfinite(dx) ||
+          (widen && std::abs(dx) < options.min_span_mm)) {
+        continue;
+      }
+      d[i - begin] = (sm[i + m - base] - sm[i - m - base]) / dx;
+    }
+    return d;
+  }
+  // Savitzky-Golay on the actual x: fit a polynomial of the given order in
+  // (x - x_i) over the window and take its linear coefficient.
+  const Eigen::Index h = options.window / 2;
+  const int p = options.polynomial_order;
+  Eigen::MatrixXd a(2 * h + 1, p + 1);
+  Eigen::VectorXd b(2 * h + 1);
+  for (Eigen::Index i = begin; i < end; ++i) {
+    if (i - h < 0 || i + h >= signal.size()) continue;
+    // Scale x for conditioning; too little x spread means noise only.
+    const double scale = std::abs(x_mm[i + h] - x_mm[i - h]);
+    if (!(scale > 0) || scale < options.min_span_mm) continue;
+    Eigen::Index rows = 0;
+    for (Eigen::Index j = i - h; j <= i + h; ++j) {
+      if (!std::isfinite(signal[j]) || !std::isfinite(x_mm[j])) continue;
+      const double u = (x_mm[j] - x_mm[i]) / scale;
+      double pw = 1.0;
+      for (int c = 0; c <= p; ++c) {
+        a(rows, c) = pw;
+        pw *= u;
+      }
+      b[rows] = signal[j];
+      ++rows;
+    }
+    if (rows <= p) continue;
+    const Eigen::VectorXd coef =
+        a.topRows(rows).colPivHouseholderQr().solve(b.head(rows));
+    d[i - begin] = coef[1] / scale;
+  }
+  return d;
+}
+
+Eigen::VectorXd SlopeFromNormalForce(
+    const Eigen::Ref<const Eigen::VectorXd>& x_mm,
+    const Eigen::Ref<const Eigen::VectorXd>& normal_n,
+    Eigen::Index begin,
+    Eigen::Index end,
+    const SlopeOptions& options) {
+  // k = df/dx with f = P / S (paper Eqs. 4-5).
+  return DerivativeAlongX(x_mm, normal_n, begin, end, options) /
+         options.spring_stiffness_n_per_mm;
+}
+
+}  // namespace wearscar::force

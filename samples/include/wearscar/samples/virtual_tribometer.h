@@ -1,0 +1,128 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "wearscar/force/force_record.h"
+#include "wearscar/scan/height_map.h"
+
+namespace wearscar::samples {
+
+// Hidden effects the simulator can switch on; each has a strength (0 = off).
+// The diagnosis stage must find them.
+struct HiddenEffects {
+  // Ploughing: extra resistance s * c * depth(x), c in N per mm of groove
+  // depth.
+  double ploughing_n_per_mm = 0.0;
+  // Stribeck rise at low speed: mu (1 + rise exp(-(v/v_s)^2)).
+  double stribeck_rise = 0.0;
+  double stribeck_speed_mm_s = 2.0;
+  // Direction asymmetry: mu_forward = mu (1 + a), mu_reverse = mu (1 - a).
+  double direction_asymmetry = 0.0;
+  // Q channel delayed by this time.
+  double q_lag_s = 0.0;
+  // Crosstalk: P_measured = P + c Q.
+  double crosstalk_q_into_p = 0.0;
+  // End-of-stroke hook: s H exp(-(distance to the stroke end)/lambda).
+  double hook_n = 0.0;
+  double hook_length_mm = 0.3;
+  // Viscous resistance s * c * |v|, c in N s/mm.
+  double viscous_n_s_per_mm = 0.0;
+};
+
+enum class Drive { kSine, kTriangle };
+
+// The test case: specimen, machine and sensors. Defaults are the paper's
+// test conditions (Table 1) on a beech RT-R-like specimen.
+struct SimulationOptions {
+  std::string name = "B-RT-R";
+  std::uint64_t seed = 1;
+  // Machine.
+  Drive drive = Drive::kSine;
+  double amplitude_mm = 2.85;  // stroke +-A
+  double frequency_hz = 1.0;
+  double sampling_rate_hz = 2000.0;
+  int cycles = 600;
+  double target_normal_n = 30.0;   // cycle mean held by a slow control
+  double spring_n_per_mm = 10.19;  // S
+  double control_gain = 0.5;  // fraction of the mean error removed per cycle
+  double contact_stiffness_n_per_mm = 150.0;  // tangential (Jenkins element)
+  double sphere_radius_mm = 3.25;
+  // Specimen along the stroke.
+  bool across_rings = true;  // R sliding crosses earlywood/latewood
+  double ring_period_mm = 1.6;
+  double latewood_fraction = 0.3;
+  double hardness_contrast = 1.6;  // latewood / earlywood hardness
+  double texture = 0.05;         // along-ring random hardness variation (rel.)
+  double footprint_mm = 0.5;     // wear averaged over this contact width
+  double final_depth_mm = 0.12;  // mean groove depth after all cycles
+  double running_in_cycles = 40.0;  // depth and mu transients
+  // Elastic penetration varying along the stroke (std, mm): seen by the
+  // spring, invisible to the scan. Large only in the S-RL-R-like case.
+  double elastic_mm = 0.0;
+  // Friction.
+  double mu_initial = 0.16;
+  double mu_steady = 0.11;
+  double mu_drift = 0.01;  // change over the whole test
+  // Sensors.
+  double q_resolution_n = 0.0045;
+  double p_resolution_n = 0.015;
+  double q_noise_n = 0.003;
+  double p_noise_n = 0.003;
+  double x_noise_mm = 0.0002;
+  HiddenEffects effects;
+  // Scanner.
+  int scan_cols = 1024;
+  int scan_rows = 768;
+  double scan_pitch_mm = 0.0074;
+  double scan_angle_deg = 2.0;  // track axis against the scan x axis
+  bool scan_flipped = false;    // scan s runs against plate x
+  double scan_track_offset_mm =
+      0.15;  // track centre from the field centre, along
+  double scan_noise_mm = 0.0008;
+  double scan_invalid_fraction = 0.004;
+  double scan_spike_fraction = 0.0005;
+  double plane_dzdx = 0.004, plane_dzdy = -0.003;  // specimen tilt
+  double plane_z0_mm = 0.05;
+
+  bool IsValid(std::string* why) const;
+};
+
+// What the simulator knows and the analysis must recover.
+struct GroundTruth {
+  Eigen::VectorXd mu_per_cycle;  // Coulomb mu of each complete cycle
+  // Final worn depth and elastic part along the stroke, on a grid.
+  Eigen::VectorXd profile_x_mm;
+  Eigen::VectorXd worn_depth_mm;  // > 0 into the surface
+  Eigen::VectorXd elastic_mm;     // varying part of the penetration
+  // Scan placement: plate x = flip * (s - along_offset) where s is the
+  // along-track coordinate from the track centre (cx, cy) in the scan.
+  double scan_center_x_mm = 0.0, scan_center_y_mm = 0.0;
+  double scan_angle_deg = 0.0;
+  bool scan_flipped = false;
+  double plane_dzdx = 0.0, plane_dzdy = 0.0, plane_z0_mm = 0.0;
+  bool explained_by_wear_scar = true;  // false when the elastic part dominates
+};
+
+struct SimulatedTest {
+  force::ForceRecord record;
+  scan::HeightMap scan;
+  GroundTruth truth;
+};
+
+// Runs the virtual tribometer then scans the worn track. Deterministic for a
+// given seed.
+SimulatedTest Simulate(const SimulationOptions& options);
+
+// The paper's 12 cases (B and S x RT-R, RT-T, RL-R, RL-L, TL-T, TL-L) as
+// option presets; S-RL-R carries a large elastic part when
+// `elastic_in_srlr` is true.
+std::vector<SimulationOptions> PaperCases(bool elastic_in_srlr = true);
+
+// One named case from PaperCases ("B-RT-R", ...); throws std::invalid_argument.
+SimulationOptions PaperCase(const std::string& name,
+                            bool elastic_in_srlr = true);
+
+}  // namespace wearscar::samples

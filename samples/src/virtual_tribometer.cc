@@ -1,0 +1,511 @@
+#include "wearscar/samples/virtual_tribometer.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <stdexcept>
+
+#include "wearscar/fusion/forward_model.h"
+
+namespace wearscar::samples {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Deterministic across platforms: mt19937_64's output is fixed by the
+// standard; the distributions are written here (std:: ones are not).
+class Rng {
+ public:
+  explicit Rng(std::uint64_t seed) : engine_(seed) {}
+  double Uniform() {  // [0, 1)
+    return static_cast<double>(engine_() >> 11) * 0x1.0p-53;
+  }
+  double Normal() {  // Box-Muller
+    if (has_spare_) {
+      has_spare_ = false;
+      return spare_;
+    }
+    double u1 = Uniform();
+    while (u1 <= 0.0) u1 = Uniform();
+    const double u2 = Uniform();
+    const double r = std::sqrt(-2.0 * std::log(u1));
+    spare_ = r * std::sin(2 * kPi * u2);
+    has_spare_ = true;
+    return r * std::cos(2 * kPi * u2);
+  }
+
+ private:
+  std::mt19937_64 engine_;
+  double spare_ = 0.0;
+  bool has_spare_ = false;
+};
+
+// A function of the plate coordinate sampled on a uniform grid, linearly
+// interpolated; values beyond the grid are clamped.
+struct Grid {
+  double x0 = 0, step = 1;
+  Eigen::VectorXd v;
+  double operator()(double x) const {
+    const double t = (x - x0) / step;
+    const Eigen::Index n = v.size();
+    if (t <= 0) return v[0];
+    if (t >= static_cast<double>(n - 1)) return v[n - 1];
+    const Eigen::Index i = static_cast<Eigen::Index>(t);
+    const double w = t - static_cast<double>(i);
+    return (1 - w) * v[i] + w * v[i + 1];
+  }
+  Grid Derivative() const {
+    Grid d{x0, step, Eigen::VectorXd::Zero(v.size())};
+    for (Eigen::Index i = 1; i + 1 < v.size(); ++i) {
+      d.v[i] = (v[i + 1] - v[i - 1]) / (2 * step);
+    }
+    d.v[0] = d.v[1];
+    d.v[v.size() - 1] = d.v[v.size() - 2];
+    return d;
+  }
+};
+
+Eigen::VectorXd GaussianSmooth(const Eigen::VectorXd& v, double sigma_samples) {
+  if (sigma_samples < 0.5) return v;
+  const int h = static_cast<int>(std::ceil(3 * sigma_samples));
+  Eigen::VectorXd kernel(2 * h + 1);
+  for (int j = -h; j <= h; ++j) {
+    kernel[j + h] = std::exp(-0.5 * j * j / (sigma_samples * sigma_samples));
+  }
+  kernel /= kernel.sum();
+  Eigen::VectorXd out(v.size());
+  const Eigen::Index n = v.size();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    double s = 0;
+    for (int j = -h; j <= h; ++j) {
+      const Eigen::Index k = std::clamp<Eigen::Index>(i + j, 0, n - 1);
+      s += kernel[j + h] * v[k];
+    }
+    out[i] = s;
+  }
+  return out;
+}
+
+// Smooth random texture: a sum of sinusoids with wavelengths 0.3-1.5 mm,
+// unit standard deviation.
+Eigen::VectorXd Texture(const Eigen::VectorXd& x, Rng& rng) {
+  Eigen::VectorXd t = Eigen::VectorXd::Zero(x.size());
+  const int kWaves = 8;
+  for (int w = 0; w < kWaves; ++w) {
+    const double wavelength = 0.3 + 1.2 * rng.Uniform();
+    const double phase = 2 * kPi * rng.Uniform();
+    const double amp = rng.Normal();
+    t += amp * (2 * kPi * x.array() / wavelength + phase).sin().matrix();
+  }
+  const double mean = t.mean();
+  const double sd = std::sqrt((t.array() - mean).square().mean());
+  return sd > 0 ? Eigen::VectorXd((t.array() - mean) / sd) : t;
+}
+
+double Quantise(double v, double resolution) {
+  return resolution > 0 ? std::round(v / resolution) * resolution : v;
+}
+
+// Drive position and velocity at time t.
+void DriveAt(const SimulationOptions& o, double t, double* x, double* v) {
+  const double w = 2 * kPi * o.frequency_hz;
+  if (o.drive == Drive::kSine) {
+    *x = o.amplitude_mm * std::sin(w * t);
+    *v = o.amplitude_mm * w * std::cos(w * t);
+    return;
+  }
+  // Triangle with the same extremes and period, starting at 0 going up.
+  double p = std::fmod(t * o.frequency_hz + 0.25, 1.0);  // 0 at x = -A
+  const double speed = 4 * o.amplitude_mm * o.frequency_hz;
+  if (p < 0.5) {
+    *x = -o.amplitude_mm + speed * p / o.frequency_hz;
+    *v = speed;
+  } else {
+    *x = o.amplitude_mm - speed * (p - 0.5) / o.frequency_hz;
+    *v = -speed;
+  }
+}
+
+}  // namespace
+
+bool SimulationOptions::IsValid(std::string* why) const {
+  auto fail = [&](const std::string& m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (!(amplitude_mm > 0)) return fail("amplitude_mm must be > 0");
+  if (!(frequency_hz > 0)) return fail("frequency_hz must be > 0");
+  if (!(sampling_rate_hz >= 20 * frequency_hz)) {
+    return fail("sampling_rate_hz must be at least 20 x frequency_hz");
+  }
+  if (cycles < 2 || cycles > 100000)
+    return fail("cycles must be in [2, 100000]");
+  if (static_cast<double>(cycles + 1) * sampling_rate_hz / frequency_hz > 2e8) {
+    return fail("more than 2e8 samples requested");
+  }
+  if (!(spring_n_per_mm > 0)) return fail("spring_n_per_mm must be > 0");
+  if (!(contact_stiffness_n_per_mm > 0))
+    return fail("contact_stiffness_n_per_mm must be > 0");
+  if (!(ring_period_mm > 0)) return fail("ring_period_mm must be > 0");
+  if (!(latewood_fraction > 0 && latewood_fraction < 1)) {
+    return fail("latewood_fraction must be in (0, 1)");
+  }
+  if (!(hardness_contrast >= 1)) return fail("hardness_contrast must be >= 1");
+  if (!(final_depth_mm >= 0 && final_depth_mm < sphere_radius_mm)) {
+    return fail("final_depth_mm must be in [0, sphere radius)");
+  }
+  if (!(mu_initial >= 0 && mu_steady >= 0)) return fail("mu must be >= 0");
+  if (scan_cols < 16 || scan_rows < 16 ||
+      static_cast<double>(scan_cols) * scan_rows > 1 << 26) {
+    return fail("scan size must be between 16 x 16 and 2^26 pixels");
+  }
+  if (!(scan_pitch_mm > 0)) return fail("scan_pitch_mm must be > 0");
+  if (effects.stribeck_rise != 0 && !(effects.stribeck_speed_mm_s > 0)) {
+    return fail("stribeck_speed_mm_s must be > 0");
+  }
+  if (effects.hook_n != 0 && !(effects.hook_length_mm > 0)) {
+    return fail("hook_length_mm must be > 0");
+  }
+  if (effects.q_lag_s < 0) return fail("q_lag_s must be >= 0");
+  return true;
+}
+
+SimulatedTest Simulate(const SimulationOptions& o) {
+  std::string why;
+  if (!o.IsValid(&why))
+    throw std::invalid_argument("simulation options: " + why);
+  Rng rng(o.seed);
+  SimulatedTest out;
+
+  // ---- Specimen along the stroke: hardness, wear shape, elastic shape.
+  const double margin = o.sphere_radius_mm;
+  const double step = 0.002;
+  const Eigen::Index ng = static_cast<Eigen::Index>(
+                              std::ceil(2 * (o.amplitude_mm + margin) / step)) +
+                          1;
+  const double x0 = -(o.amplitude_mm + margin);
+  const Eigen::VectorXd xg =
+      Eigen::VectorXd::LinSpaced(ng, x0, x0 + (ng - 1) * step);
+  const double ring_phase = o.ring_period_mm * rng.Uniform();
+  const Eigen::VectorXd texture = Texture(xg, rng);
+  const Eigen::VectorXd texture_e = Texture(xg, rng);
+  Eigen::VectorXd hardness(ng), stiffness(ng);
+  for (Eigen::Index i = 0; i < ng; ++i) {
+    double latewood = 0.0;
+    if (o.across_rings) {
+      // Position within the ring, smooth band edges (logistic, 4% of a ring).
+      const double p = std::fmod(xg[i] - ring_phase + 100 * o.ring_period_mm,
+                                 o.ring_period_mm) /
+                       o.ring_period_mm;
+      const double edge = 0.04;
+      const double start = 1.0 - o.latewood_fraction;
+      latewood = 1.0 / (1.0 + std::exp(-(p - start) / edge)) *
+                 (1.0 / (1.0 + std::exp((p - 1.0) / edge)));
+      latewood += 1.0 / (1.0 + std::exp(-(p + 1.0 - start) / edge)) *
+                  (1.0 / (1.0 + std::exp(p / edge)));  // wrap-around band
+    }
+    hardness[i] = (1.0 + (o.hardness_contrast - 1.0) * latewood) *
+                  (1.0 + o.texture * texture[i]);
+    stiffness[i] = (1.0 + (o.hardness_contrast - 1.0) * latewood) *
+                   (1.0 + o.texture * texture_e[i]);
+  }
+  const double sigma = 0.5 * o.footprint_mm / step;
+  Eigen::VectorXd wear = GaussianSmooth(hardness.cwiseInverse(), sigma);
+  // Normalise the wear shape to mean 1 over the stroke.
+  double wear_mean = 0;
+  int nin = 0;
+  for (Eigen::Index i = 0; i < ng; ++i) {
+    if (std::abs(xg[i]) <= o.amplitude_mm) {
+      wear_mean += wear[i];
+      ++nin;
+    }
+  }
+  wear /= wear_mean / nin;
+  // Elastic: compliance over a wider footprint, zero mean, unit sd.
+  Eigen::VectorXd elastic =
+      GaussianSmooth(stiffness.cwiseInverse(), 1.6 * sigma);
+  {
+    double m = 0, s2 = 0;
+    for (Eigen::Index i = 0; i < ng; ++i) {
+      if (std::abs(xg[i]) <= o.amplitude_mm) m += elastic[i];
+    }
+    m /= nin;
+    for (Eigen::Index i = 0; i < ng; ++i) {
+      if (std::abs(xg[i]) <= o.amplitude_mm)
+        s2 += (elastic[i] - m) * (elastic[i] - m);
+    }
+    const double sd = std::sqrt(s2 / nin);
+    elastic = sd > 0 ? Eigen::VectorXd((elastic.array() - m) / sd)
+                     : Eigen::VectorXd::Zero(ng);
+  }
+  const Grid wear_shape{x0, step, wear};
+  const Grid wear_slope = wear_shape.Derivative();
+  const Grid elastic_shape{x0, step, elastic};
+
+  // Depth growth: running-in then slow linear growth, normalised to reach
+  // final_depth after the last cycle.
+  auto growth = [&](double n) {
+    return (1.0 - std::exp(-(n + 1) / o.running_in_cycles)) +
+           0.3 * (n + 1) / o.cycles;
+  };
+  const double depth_scale = o.final_depth_mm / growth(o.cycles - 1);
+  auto mu_of_cycle = [&](int n) {
+    return o.mu_steady +
+           (o.mu_initial - o.mu_steady) * std::exp(-n / o.running_in_cycles) +
+           o.mu_drift * n / std::max(1, o.cycles - 1);
+  };
+
+  // ---- Time loop. x = A sin(2 pi f t) starts at 0 going up; complete
+  // cycles run from minimum to minimum (t = 0.75/f, 1.75/f, ...), so
+  // cycles + 1 periods hold `cycles` complete ones.
+  const Eigen::Index n = static_cast<Eigen::Index>(
+      std::llround((o.cycles + 1) * o.sampling_rate_hz / o.frequency_hz));
+  force::ForceRecord& rec = out.record;
+  rec.time_s.resize(n);
+  rec.x_mm.resize(n);
+  rec.tangential_n.resize(n);
+  rec.normal_n.resize(n);
+  Eigen::VectorXd q_true(n), p_true(n);
+  const HiddenEffects& fx = o.effects;
+  double pc = o.target_normal_n;  // controller's set point for the spring
+  double q = 0.0, x_prev = 0.0;
+  int cycle = -1;
+  double p_sum = 0;
+  long p_count = 0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double t = static_cast<double>(i) / o.sampling_rate_hz;
+    double x, v;
+    DriveAt(o, t, &x, &v);
+    const int c =
+        std::clamp(static_cast<int>(std::floor(t * o.frequency_hz - 0.75)),
+                   0,
+                   o.cycles - 1);
+    if (c != cycle) {
+      // Slow normal-force control: once per cycle, remove part of the error
+      // of the last cycle's mean.
+      if (p_count > 0)
+        pc += o.control_gain * (o.target_normal_n - p_sum / p_count);
+      p_sum = 0;
+      p_count = 0;
+      cycle = c;
+    }
+    const double depth_amp = depth_scale * growth(c);
+    const double mu = mu_of_cycle(c);
+    const double depth = depth_amp * wear_shape(x);
+    // Sphere height f = -(worn depth + elastic penetration); the spring
+    // turns it into P. The contact tilt k follows the worn (geometric) path
+    // only: the elastic part moves the sphere, not the contact plane.
+    const double f = -(depth + o.elastic_mm * elastic_shape(x));
+    const double p = pc + o.spring_n_per_mm * f;
+    const double k = -depth_amp * wear_slope(x);
+    const double speed = std::abs(v);
+    const double stribeck =
+        fx.stribeck_rise != 0
+            ? fusion::StribeckFactor(
+                  speed, fx.stribeck_rise, fx.stribeck_speed_mm_s)
+            : 1.0;
+    const double mu_f = mu * (1 + fx.direction_asymmetry) * stribeck;
+    const double mu_r = mu * (1 - fx.direction_asymmetry) * stribeck;
+    double upper = fusion::WearScarTangentialForce(p, k, mu_f, +1);
+    double lower = fusion::WearScarTangentialForce(p, k, mu_r, -1);
+    const double extra =
+        fx.ploughing_n_per_mm * depth + fx.viscous_n_s_per_mm * speed;
+    upper += extra;
+    lower -= extra;
+    if (fx.hook_n != 0) {
+      upper += fusion::HookForce(
+          o.amplitude_mm - x, fx.hook_n, fx.hook_length_mm, +1);
+      lower += fusion::HookForce(
+          x + o.amplitude_mm, fx.hook_n, fx.hook_length_mm, -1);
+    }
+    // Jenkins element: elastic stick, bounded by the sliding forces.
+    if (i > 0) q += o.contact_stiffness_n_per_mm * (x - x_prev);
+    q = std::clamp(q, lower, upper);
+    x_prev = x;
+    q_true[i] = q;
+    p_true[i] = p;
+    p_sum += p;
+    ++p_count;
+    rec.time_s[i] = t;
+    rec.x_mm[i] = x;
+  }
+  // ---- Sensors: lag, crosstalk, noise, resolution.
+  const double lag_samples = fx.q_lag_s * o.sampling_rate_hz;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    double qm = q_true[i];
+    if (lag_samples > 0) {
+      const double src = static_cast<double>(i) - lag_samples;
+      const Eigen::Index j = static_cast<Eigen::Index>(std::floor(src));
+      const double w = src - static_cast<double>(j);
+      const Eigen::Index j0 = std::clamp<Eigen::Index>(j, 0, n - 1);
+      const Eigen::Index j1 = std::clamp<Eigen::Index>(j + 1, 0, n - 1);
+      qm = (1 - w) * q_true[j0] + w * q_true[j1];
+    }
+    const double pm = p_true[i] + fx.crosstalk_q_into_p * q_true[i];
+    rec.tangential_n[i] =
+        Quantise(qm + o.q_noise_n * rng.Normal(), o.q_resolution_n);
+    rec.normal_n[i] =
+        Quantise(pm + o.p_noise_n * rng.Normal(), o.p_resolution_n);
+    rec.x_mm[i] += o.x_noise_mm * rng.Normal();
+  }
+  rec.metadata.source = "simulator:" + o.name;
+  rec.metadata.layout = "simulated";
+  rec.metadata.sampling_rate_hz = o.sampling_rate_hz;
+  rec.metadata.channel_names = {"time_s", "x_mm", "Q_N", "P_N"};
+  rec.metadata.channel_units = {"s", "mm", "N", "N"};
+
+  // ---- Ground truth.
+  GroundTruth& truth = out.truth;
+  truth.mu_per_cycle.resize(o.cycles);
+  for (int c = 0; c < o.cycles; ++c) truth.mu_per_cycle[c] = mu_of_cycle(c);
+  const double final_amp = depth_scale * growth(o.cycles - 1);
+  {
+    const int np = static_cast<int>(std::round(2 * o.amplitude_mm / 0.01)) + 1;
+    truth.profile_x_mm =
+        Eigen::VectorXd::LinSpaced(np, -o.amplitude_mm, o.amplitude_mm);
+    truth.worn_depth_mm.resize(np);
+    truth.elastic_mm.resize(np);
+    for (int i = 0; i < np; ++i) {
+      truth.worn_depth_mm[i] = final_amp * wear_shape(truth.profile_x_mm[i]);
+      truth.elastic_mm[i] = o.elastic_mm * elastic_shape(truth.profile_x_mm[i]);
+    }
+  }
+  {
+    // The wear-scar hypothesis holds while the elastic part stays small
+    // next to the waviness of the worn profile.
+    const Eigen::ArrayXd d = truth.worn_depth_mm.array();
+    const double sd = std::sqrt((d - d.mean()).square().mean());
+    truth.explained_by_wear_scar = o.elastic_mm < 0.5 * sd;
+  }
+
+  // ---- Scanner: the worn track at the end of the test.
+  scan::HeightMap& map = out.scan;
+  map.height_mm.resize(o.scan_rows, o.scan_cols);
+  map.valid.resize(o.scan_rows, o.scan_cols);
+  map.dx_mm = map.dy_mm = o.scan_pitch_mm;
+  const double theta = o.scan_angle_deg * kPi / 180.0;
+  const double ct = std::cos(theta), st = std::sin(theta);
+  const double cx =
+      0.5 * (o.scan_cols - 1) * o.scan_pitch_mm + o.scan_track_offset_mm * ct;
+  const double cy =
+      0.5 * (o.scan_rows - 1) * o.scan_pitch_mm + o.scan_track_offset_mm * st;
+  const double r = o.sphere_radius_mm;
+  for (int row = 0; row < o.scan_rows; ++row) {
+    for (int col = 0; col < o.scan_cols; ++col) {
+      const double X = col * o.scan_pitch_mm, Y = row * o.scan_pitch_mm;
+      const double s = (X - cx) * ct + (Y - cy) * st;
+      const double w = -(X - cx) * st + (Y - cy) * ct;
+      const double u = o.scan_flipped ? -s : s;
+      double depth;
+      const double ue = std::clamp(u, -o.amplitude_mm, o.amplitude_mm);
+      const double d0 = final_amp * wear_shape(ue);
+      const double du = std::abs(u) - o.amplitude_mm;
+      const double r2 = w * w + (du > 0 ? du * du : 0.0);
+      depth =
+          r2 < r * r ? std::max(0.0, d0 - (r - std::sqrt(r * r - r2))) : 0.0;
+      const double z = o.plane_z0_mm + o.plane_dzdx * X + o.plane_dzdy * Y -
+                       depth + o.scan_noise_mm * rng.Normal();
+      map.height_mm(row, col) = static_cast<float>(z);
+    }
+  }
+  // Invalid clusters (steep walls, dark latewood) and spikes.
+  const long pixels = static_cast<long>(o.scan_rows) * o.scan_cols;
+  const long clusters =
+      static_cast<long>(o.scan_invalid_fraction * pixels / 5.0);
+  for (long k = 0; k < clusters; ++k) {
+    const int rr = static_cast<int>(rng.Uniform() * o.scan_rows);
+    const int cc = static_cast<int>(rng.Uniform() * o.scan_cols);
+    for (int dr = -1; dr <= 1; ++dr) {
+      for (int dc = -1; dc <= 1; ++dc) {
+        if (std::abs(dr) + std::abs(dc) > 1) continue;
+        const int r2i = rr + dr, c2i = cc + dc;
+        if (r2i < 0 || c2i < 0 || r2i >= o.scan_rows || c2i >= o.scan_cols)
+          continue;
+        map.height_mm(r2i, c2i) = std::numeric_limits<float>::quiet_NaN();
+      }
+    }
+  }
+  const long spikes = static_cast<long>(o.scan_spike_fraction * pixels);
+  for (long k = 0; k < spikes; ++k) {
+    const int rr = static_cast<int>(rng.Uniform() * o.scan_rows);
+    const int cc = static_cast<int>(rng.Uniform() * o.scan_cols);
+    map.height_mm(rr, cc) +=
+        static_cast<float>((rng.Uniform() < 0.5 ? -1 : 1) * 0.04);
+  }
+  scan::SyncValidity(&map);
+  map.metadata.source = "simulator:" + o.name;
+  map.metadata.format = "simulated";
+  map.metadata.instrument = "wearscar virtual scanner";
+  truth.scan_center_x_mm = cx;
+  truth.scan_center_y_mm = cy;
+  truth.scan_angle_deg = o.scan_angle_deg;
+  truth.scan_flipped = o.scan_flipped;
+  truth.plane_dzdx = o.plane_dzdx;
+  truth.plane_dzdy = o.plane_dzdy;
+  truth.plane_z0_mm = o.plane_z0_mm;
+  return out;
+}
+
+std::vector<SimulationOptions> PaperCases(bool elastic_in_srlr) {
+  struct Preset {
+    const char* name;
+    bool across;
+    double contrast, depth, mu0, mu_ss, drift, elastic, texture;
+  };
+  // Beech: rings 1.6 mm, latewood 30%, moderate contrast. Spruce: rings
+  // 2.2 mm, latewood 25%, strong contrast, softer (deeper tracks). mu after
+  // running-in in the paper's ranges (beech 0.10-0.12, spruce 0.08-0.16).
+  const Preset presets[] = {
+      {"B-RT-R", true, 1.6, 0.10, 0.15, 0.110, 0.008, 0.0, 0.04},
+      {"B-RT-T", false, 1.6, 0.09, 0.15, 0.105, 0.008, 0.0, 0.05},
+      {"B-RL-R", true, 1.8, 0.13, 0.14, 0.112, 0.006, 0.002, 0.04},
+      {"B-RL-L", false, 1.8, 0.12, 0.08, 0.115, 0.005, 0.0, 0.05},
+      {"B-TL-T", false, 1.6, 0.11, 0.08, 0.116, 0.005, 0.0, 0.08},
+      {"B-TL-L", false, 1.6, 0.10, 0.15, 0.108, 0.008, 0.0, 0.05},
+      {"S-RT-R", true, 3.0, 0.15, 0.18, 0.120, 0.030, 0.0, 0.04},
+      {"S-RT-T", false, 3.0, 0.14, 0.18, 0.130, 0.030, 0.0, 0.05},
+      {"S-RL-R", true, 3.2, 0.18, 0.12, 0.090, 0.005, 0.03, 0.04},
+      {"S-RL-L", false, 3.0, 0.16, 0.18, 0.140, 0.005, 0.0, 0.05},
+      {"S-TL-T", false, 3.0, 0.15, 0.08, 0.100, 0.005, 0.0, 0.06},
+      {"S-TL-L", false, 3.0, 0.15, 0.18, 0.150, 0.005, 0.0, 0.05},
+  };
+  std::vector<SimulationOptions> cases;
+  std::uint64_t seed = 1000;
+  for (const Preset& p : presets) {
+    SimulationOptions o;
+    o.name = p.name;
+    o.seed = ++seed;
+    const bool spruce = p.name[0] == 'S';
+    o.ring_period_mm = spruce ? 2.2 : 1.6;
+    o.latewood_fraction = spruce ? 0.25 : 0.3;
+    o.across_rings = p.across;
+    o.hardness_contrast = p.contrast;
+    o.final_depth_mm = p.depth;
+    o.running_in_cycles = spruce ? 60 : 30;
+    o.mu_initial = p.mu0;
+    o.mu_steady = p.mu_ss;
+    o.mu_drift = p.drift;
+    o.elastic_mm =
+        (std::string(p.name) == "S-RL-R" && !elastic_in_srlr) ? 0.0 : p.elastic;
+    o.texture = p.texture;
+    o.scan_flipped = (seed % 3) == 0;
+    o.scan_angle_deg = -3.0 + 6.0 * static_cast<double>((seed * 7) % 11) / 10.0;
+    cases.push_back(o);
+  }
+  return cases;
+}
+
+SimulationOptions PaperCase(const std::string& name, bool elastic_in_srlr) {
+  for (const auto& c : PaperCases(elastic_in_srlr)) {
+    if (c.name == name) return c;
+  }
+  throw std::invalid_argument(
+      fmt::format("unknown case '{}'; expected one of B|S-RT-R, RT-T, RL-R, "
+                  "RL-L, TL-T, TL-L",
+                  name));
+}
+
+}  // namespace wearscar::samples

@@ -1,0 +1,66 @@
+#include "file_io.h"
+
+#include <fmt/format.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "wearscar/scan/height_map.h"
+
+namespace wearscar::scan::internal {
+
+std::string ReadFileBytes(const std::string& path, size_t max_bytes) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  if (ec)
+    throw ScanError(fmt::format("{}: cannot open: {}", path, ec.message()));
+  if (size > max_bytes) {
+    throw ScanError(
+        fmt::format("{}: file of {} bytes exceeds the limit of {} bytes",
+                    path,
+                    size,
+                    max_bytes));
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in)
+    throw ScanError(
+        fmt::format("{}: cannot open: {}", path, std::strerror(errno)));
+  std::string bytes(size, '\0');
+  in.read(bytes.data(), static_cast<std::streamsize>(size));
+  if (static_cast<size_t>(in.gcount()) != size) {
+    throw ScanError(
+        fmt::format("{}: read {} of {} bytes", path, in.gcount(), size));
+  }
+  return bytes;
+}
+
+void WriteFileAtomically(const std::string& path, const std::string& bytes) {
+  const std::string tmp =
+      fmt::format("{}.tmp-{:08x}", path, std::random_device{}());
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out)
+      throw ScanError(
+          fmt::format("{}: cannot write: {}", path, std::strerror(errno)));
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    out.flush();
+    if (!out) {
+      out.close();
+      std::remove(tmp.c_str());
+      throw ScanError(fmt::format("{}: write failed", path));
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::remove(tmp.c_str());
+    throw ScanError(
+        fmt::format("{}: cannot rename from {}: {}", path, tmp, ec.message()));
+  }
+}
+
+}  // namespace wearscar::scan::internal

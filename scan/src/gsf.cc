@@ -1,0 +1,180 @@
+#include "wearscar/scan/gsf.h"
+
+#include <fmt/format.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <optional>
+
+#include "file_io.h"
+
+namespace wearscar::scan {
+namespace {
+
+constexpr char kMagic[] = "Gwyddion Simple Field 1.0";
+
+// Metres per unit of an SI length unit as Gwyddion writes them.
+std::optional<double> UnitToMm(const std::string& unit) {
+  if (unit.empty() || unit == "m") return 1e3;
+  if (unit == "mm") return 1.0;
+  if (unit == "um" || unit == "\xC2\xB5m" || unit == "\xCE\xBCm") return 1e-3;
+  if (unit == "nm") return 1e-6;
+  return std::nullopt;
+}
+
+std::string Trim(std::string s) {
+  const auto b = s.find_first_not_of(" \t\r");
+  const auto e = s.find_last_not_of(" \t\r");
+  return b == std::string::npos ? "" : s.substr(b, e - b + 1);
+}
+
+}  // namespace
+
+HeightMap ParseGsf(const std::string& bytes, const std::string& name) {
+  if (bytes.compare(0, sizeof(kMagic) - 1, kMagic) != 0) {
+    throw ScanError(
+        fmt::format("{}: byte 0: found '{}', expected the GSF magic '{}'",
+                    name,
+                    bytes.substr(0, std::min<size_t>(25, bytes.size())),
+                    kMagic));
+  }
+  const size_t nul = bytes.find('\0');
+  if (nul == std::string::npos) {
+    throw ScanError(
+        fmt::format("{}: no NUL byte ends the GSF header; expected 1-4 NUL "
+                    "bytes then float32 data",
+                    name));
+  }
+  std::map<std::string, std::string> fields;
+  size_t pos = bytes.find('\n');
+  size_t line_no = 1;
+  while (pos != std::string::npos && pos < nul) {
+    const size_t end = std::min(bytes.find('\n', pos + 1), nul);
+    const std::string line = Trim(bytes.substr(pos + 1, end - pos - 1));
+    ++line_no;
+    pos = end == nul ? std::string::npos : end;
+    if (line.empty()) continue;
+    const size_t eq = line.find('=');
+    if (eq == std::string::npos) {
+      throw ScanError(
+          fmt::format("{}: header line {}: found '{}', expected 'Name = value'",
+                      name,
+                      line_no,
+                      line.substr(0, 60)));
+    }
+    fields[Trim(line.substr(0, eq))] = Trim(line.substr(eq + 1));
+  }
+  auto int_field = [&](const char* key) {
+    auto it = fields.find(key);
+    if (it == fields.end()) {
+      throw ScanError(fmt::format(
+          "{}: header has no {}; expected '{} = <pixels>'", name, key, key));
+    }
+    long long v = 0;
+    auto r = std::from_chars(
+        it->second.data(), it->second.data() + it->second.size(), v);
+    if (r.ec != std::errc() || v <= 0 || v > kMaxPixels) {
+      throw ScanError(
+          fmt::format("{}: {} = '{}'; expected a positive pixel count up to {}",
+                      name,
+                      key,
+                      it->second,
+                      kMaxPixels));
+    }
+    return v;
+  };
+  auto real_field = [&](const char* key, double fallback) {
+    auto it = fields.find(key);
+    if (it == fields.end()) return fallback;
+    char* end = nullptr;
+    const double v = std::strtod(it->second.c_str(), &end);
+    if (end == it->second.c_str() || !(v > 0) || !std::isfinite(v)) {
+      throw ScanError(fmt::format(
+          "{}: {} = '{}'; expected a positive length", name, key, it->second));
+    }
+    return v;
+  };
+  const long long xres = int_field("XRes"), yres = int_field("YRes");
+  if (xres * yres > kMaxPixels) {
+    throw ScanError(fmt::format("{}: XRes x YRes = {} x {} exceeds {} pixels",
+                                name,
+                                xres,
+                                yres,
+                                kMaxPixels));
+  }
+  const auto xy_unit =
+      UnitToMm(fields.count("XYUnits") ? fields["XYUnits"] : "m");
+  const auto z_unit = UnitToMm(fields.count("ZUnits") ? fields["ZUnits"] : "m");
+  if (!xy_unit || !z_unit) {
+    throw ScanError(
+        fmt::format("{}: XYUnits '{}' / ZUnits '{}'; expected m, mm, um or nm",
+                    name,
+                    fields["XYUnits"],
+                    fields["ZUnits"]));
+  }
+  const double xreal = real_field("XReal", 1.0),
+               yreal = real_field("YReal", 1.0);
+  // Data start: the header plus NUL padding is a multiple of 4.
+  const size_t data = (nul / 4 + 1) * 4;
+  const size_t need = static_cast<size_t>(xres * yres) * 4;
+  if (bytes.size() < data + need) {
+    throw ScanError(
+        fmt::format("{}: byte {}: data truncated: {} bytes present, expected "
+                    "{} for {} x {} float32",
+                    name,
+                    data,
+                    bytes.size() > data ? bytes.size() - data : 0,
+                    need,
+                    xres,
+                    yres));
+  }
+  HeightMap map;
+  map.height_mm.resize(yres, xres);
+  const float scale = static_cast<float>(*z_unit);
+  std::memcpy(map.height_mm.data(), bytes.data() + data, need);
+  map.height_mm *= scale;
+  map.dx_mm = xreal * *xy_unit / static_cast<double>(xres);
+  map.dy_mm = yreal * *xy_unit / static_cast<double>(yres);
+  if (bytes.size() > data + need) {
+    map.metadata.warnings.push_back(
+        fmt::format("{} trailing bytes after the data ignored",
+                    bytes.size() - data - need));
+  }
+  SyncValidity(&map);
+  map.metadata.source = name;
+  map.metadata.format = "gsf";
+  if (fields.count("Title")) map.metadata.channel = fields["Title"];
+  return map;
+}
+
+HeightMap ReadGsf(const std::string& path) {
+  return ParseGsf(internal::ReadFileBytes(path), path);
+}
+
+void WriteGsf(const HeightMap& map, const std::string& path) {
+  std::string out = fmt::format(
+      "{}\nXRes = {}\nYRes = {}\nXReal = {:.9g}\nYReal = {:.9g}\nXYUnits = "
+      "m\nZUnits = m\n"
+      "Title = {}\n",
+      kMagic,
+      map.cols(),
+      map.rows(),
+      map.dx_mm * map.cols() * 1e-3,
+      map.dy_mm * map.rows() * 1e-3,
+      map.metadata.channel);
+  out.append(4 - out.size() % 4, '\0');
+  const size_t start = out.size();
+  out.resize(start + static_cast<size_t>(map.height_mm.size()) * 4);
+  HeightMap::Heights metres = map.height_mm * 1e-3f;
+  for (Eigen::Index i = 0; i < metres.size(); ++i) {
+    if (!map.valid.data()[i]) metres.data()[i] = std::nanf("");
+  }
+  std::memcpy(out.data() + start,
+              metres.data(),
+              static_cast<size_t>(metres.size()) * 4);
+  internal::WriteFileAtomically(path, out);
+}
+
+}  // namespace wearscar::scan

@@ -1,0 +1,164 @@
+#include "wearscar/force/cycles.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "wearscar/force/cof.h"
+#include "wearscar/force/slope.h"
+
+namespace wearscar::force {
+namespace {
+
+// A Coulomb test with a Jenkins element: Q follows x with stiffness k_t until
+// it reaches +-mu P. x(t) from `drive`.
+template <typename Drive>
+ForceRecord JenkinsRecord(Drive drive,
+                          double rate,
+                          double periods,
+                          double mu,
+                          double noise_mm = 0.0,
+                          unsigned seed = 7) {
+  const Eigen::Index n = static_cast<Eigen::Index>(periods * rate);
+  ForceRecord r;
+  r.time_s.resize(n);
+  r.x_mm.resize(n);
+  r.tangential_n.resize(n);
+  r.normal_n.resize(n);
+  std::mt19937 gen(seed);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  double q = 0, xp = 0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double t = i / rate;
+    const double x = drive(t);
+    const double p = 30.0;
+    if (i) q += 150.0 * (x - xp);
+    q = std::clamp(q, -mu * p, mu * p);
+    xp = x;
+    r.time_s[i] = t;
+    r.x_mm[i] = x + noise_mm * noise(gen);
+    r.tangential_n[i] = q;
+    r.normal_n[i] = p;
+  }
+  return r;
+}
+
+double Sine(double t) { return 2.85 * std::sin(2 * M_PI * t); }
+double Triangle(double t) {
+  const double p = std::fmod(t + 0.25, 1.0);
+  return p < 0.5 ? -2.85 + 11.4 * p : 2.85 - 11.4 * (p - 0.5);
+}
+
+TEST(SegmentCycles, SineWithNoiseGivesCompleteCyclesOnly) {
+  // 10.5 periods starting at x = 0 going up: minima at 0.75, 1.75, ...,
+  // 9.75 s, so 9 complete cycles; the partial ends are dropped.
+  const ForceRecord r = JenkinsRecord(Sine, 2000, 10.5, 0.12, 0.01);
+  const CycleSet set = SegmentCycles(r.x_mm);
+  ASSERT_EQ(set.cycles.size(), 9u);
+  EXPECT_NEAR(set.cycles[0].forward.begin, 1500, 60);  // t = 0.75 s
+  EXPECT_NEAR(set.cycles[0].reverse.begin, 2500, 60);  // t = 1.25 s
+  EXPECT_GT(set.leading_samples_dropped, 1400);
+  EXPECT_GT(set.trailing_samples_dropped, 1400);
+  EXPECT_NEAR(set.stroke_mm, 5.7, 0.1);
+  for (const Cycle& c : set.cycles) {
+    EXPECT_EQ(c.forward.end, c.reverse.begin);
+    EXPECT_NEAR(c.reverse.end - c.forward.begin, 2000, 60);
+  }
+}
+
+TEST(SegmentCycles, TriangularDriveWithoutSpuriousReversals) {
+  const ForceRecord r = JenkinsRecord(Triangle, 1000, 6.2, 0.1, 0.02);
+  const CycleSet set = SegmentCycles(r.x_mm);
+  ASSERT_EQ(set.cycles.size(), 5u);
+  for (const Cycle& c : set.cycles)
+    EXPECT_NEAR(c.reverse.end - c.forward.begin, 1000, 40);
+}
+
+TEST(SegmentCycles, FewerThanTwoCyclesIsAnError) {
+  const ForceRecord r = JenkinsRecord(Sine, 500, 2.2, 0.1);
+  try {
+    SegmentCycles(r.x_mm, {}, "short.csv");
+    FAIL();
+  } catch (const ForceError& e) {
+    EXPECT_NE(
+        std::string(e.what()).find("short.csv: found 1 complete cycle(s)"),
+        std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(GrossSlip, WindowStartsWhereStickEnds) {
+  // Stick lasts 2 mu P / k_t = 0.048 mm of travel after each reversal.
+  const ForceRecord r = JenkinsRecord(Sine, 2000, 4.5, 0.12);
+  CycleSet set = SegmentCycles(r.x_mm);
+  FindGrossSlip(r, &set);
+  for (const Cycle& c : set.cycles) {
+    for (const HalfCycle* h : {&c.forward, &c.reverse}) {
+      EXPECT_FALSE(h->slip_fallback);
+      const double travel = std::abs(r.x_mm[h->slip_begin] - r.x_mm[h->begin]);
+      EXPECT_GT(travel, 0.048 * 0.99);
+      EXPECT_LT(travel, 0.048 + 0.03);
+      // Every sample in the window slides at +-mu P.
+      for (Eigen::Index i = h->slip_begin; i < h->slip_end; ++i) {
+        ASSERT_NEAR(h->direction * r.tangential_n[i], 0.12 * 30, 1e-9);
+      }
+    }
+  }
+}
+
+TEST(ClassicCof, CoulombLoopGivesMuByMeanAndEnergyWithDeltaG) {
+  const double mu = 0.12;
+  const ForceRecord r = JenkinsRecord(Sine, 2000, 4.5, mu);
+  CycleSet set = SegmentCycles(r.x_mm);
+  FindGrossSlip(r, &set);
+  const auto cof = ComputeClassicCof(r, set);
+  ASSERT_EQ(cof.size(), set.cycles.size());
+  for (const CycleCof& c : cof) {
+    EXPECT_NEAR(c.mu_mean, mu, 1e-9);
+    // E_d = 4 mu P delta_g exactly for a Jenkins loop; delta_max overshoots
+    // by the stick travel: mu_Ed(delta_max) = mu (A - mu P / k_t) / A.
+    EXPECT_NEAR(c.mu_energy_g, mu, 2e-4);
+    EXPECT_NEAR(c.delta_g_mm, 2.85 - mu * 30 / 150, 2e-3);
+    EXPECT_NEAR(c.mu_energy_max, mu * (2.85 - mu * 30 / 150) / 2.85, 2e-4);
+    EXPECT_NEAR(c.q_max_n, mu * 30, 1e-9);
+  }
+}
+
+TEST(Slope, RecoversKnownPathSlopeFromNormalForce) {
+  // P = 30 + S a sin(2 pi x / L): k = (2 pi a / L) cos(2 pi x / L).
+  const double s = 10.19, a = 0.02, len = 1.6;
+  const int n = 4000;
+  Eigen::VectorXd x(n), p(n);
+  for (int i = 0; i < n; ++i) {
+    x[i] =
+        2.85 * std::sin(M_PI * (i / double(n - 1) - 0.5));  // one forward half
+    p[i] = 30 + s * a * std::sin(2 * M_PI * x[i] / len);
+  }
+  for (DerivativeMethod m : {DerivativeMethod::kMovingAverageCentral,
+                             DerivativeMethod::kSavitzkyGolay}) {
+    SlopeOptions o;
+    o.method = m;
+    o.window = m == DerivativeMethod::kSavitzkyGolay ? 21 : 10;
+    o.spring_stiffness_n_per_mm = s;
+    const Eigen::VectorXd k = SlopeFromNormalForce(x, p, 200, n - 200, o);
+    double worst = 0;
+    for (int i = 200; i < n - 200; ++i) {
+      const double truth = 2 * M_PI * a / len * std::cos(2 * M_PI * x[i] / len);
+      worst = std::max(worst, std::abs(k[i - 200] - truth));
+    }
+    EXPECT_LT(worst, 2e-3) << DerivativeMethodName(m);
+  }
+}
+
+TEST(Slope, MovingAverageMatchesDefinition) {
+  Eigen::VectorXd v(6);
+  v << 1, 2, 3, 4, 5, 100;
+  const Eigen::VectorXd m = MovingAverage(v, 3);
+  EXPECT_DOUBLE_EQ(m[0], 1.5);
+  EXPECT_DOUBLE_EQ(m[2], 3.0);
+  EXPECT_DOUBLE_EQ(m[5], 52.5);
+}
+
+}  // namespace
+}  // namespace wearscar::force

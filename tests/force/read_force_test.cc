@@ -136,8 +136,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"bad_nan_run.csv", "more than 50 consecutive missing values"},
         BadCase{"bad_binary.csv", "no numeric data found"},
         BadCase{"does_not_exist.csv", "cannot open"}),
-    [](const ::testing::TestParamInfo<BadCase>& info) {
-      std::string name = info.param.file;
+    [](const ::testing::TestParamInfo<BadCase>& param_info) {
+      std::string name = param_info.param.file;
       name = name.substr(0, name.find('.'));
       for (char& ch : name) {
         if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';

@@ -1,0 +1,50 @@
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "wearscar/scan/height_map.h"
+
+namespace wearscar::scan {
+
+struct ReadScanOptions {
+  // .zag: which measurement (0-based; ListZagMeasurements names them).
+  int measurement_index = 0;
+  // ASCII matrix: pixel pitch (mm) and the unit of the heights.
+  double ascii_pitch_mm = 0.0;  // 0 = required for ASCII matrices
+  std::string ascii_z_unit = "mm";
+  // Archive members decompressing to more than this are refused.
+  std::uint64_t max_member_bytes = std::uint64_t{1} << 31;
+
+  bool IsValid(std::string* why) const;
+};
+
+// Reads any supported height map, chosen by magic bytes (then extension):
+// Keyence .zon / .zag (KPK0, KPK1), .vk4 / .vk6 / .vk7, Keyence VR CSV,
+// ISO 5436-2 .x3p, Gwyddion .gsf, ASCII matrix. Throws ScanError.
+HeightMap ReadScan(const std::string& path,
+                   const ReadScanOptions& options = {});
+
+// The individual readers, over bytes in memory; `name` appears in errors.
+HeightMap ParseX3p(const std::string& bytes,
+                   const std::string& name,
+                   const ReadScanOptions& options = {});
+HeightMap ParseVk4(const std::string& bytes, const std::string& name);
+HeightMap ParseVk67(const std::string& bytes,
+                    const std::string& name,
+                    const ReadScanOptions& options = {});
+HeightMap ParseZon(const std::string& bytes,
+                   const std::string& name,
+                   const ReadScanOptions& options = {});
+HeightMap ParseZag(const std::string& bytes,
+                   const std::string& name,
+                   const ReadScanOptions& options = {});
+std::vector<std::string> ListZagMeasurements(const std::string& bytes,
+                                             const std::string& name);
+HeightMap ParseKeyenceCsv(const std::string& bytes, const std::string& name);
+HeightMap ParseAsciiMatrix(const std::string& bytes,
+                           const std::string& name,
+                           const ReadScanOptions& options);
+
+}  // namespace wearscar::scan

@@ -1,0 +1,402 @@
+// Keyence readers: VK-X (.vk4, .vk6, .vk7) and VR (.zon, .zag). Layouts in
+// FORMATS.md (after Gwyddion keyence.c, SurfaceTopography ZON.py / VK.py).
+#include <fmt/format.h>
+#include <zstd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <pugixml.hpp>
+
+#include "byte_reader.h"
+#include "wearscar/scan/read_scan.h"
+#include "zip_archive.h"
+
+namespace wearscar::scan {
+namespace {
+
+using internal::ByteReader;
+
+constexpr char kZonHeights[] = "4cdb0c75-5706-48cc-a9a1-adf395d609ae";
+constexpr char kZonMask[] = "9e7ca6dd-0e6a-4d7b-8986-f0a7b773c916";
+constexpr char kZonCalibration[] = "686613b8-27b5-4a29-8ffc-438c2780873e";
+constexpr char kZonDevice[] = "cbc1d39b-215f-4d56-a20e-cf8e5f570755";
+constexpr char kZonScan[] = "1d35862b-3b48-4df2-9235-833ef590b043";
+constexpr char kZagInventory[] = "f1724dc6-686c-4502-9227-2a594bc8ed33";
+constexpr char kZagPayload[] = "84b648d7-e44f-4909-ac11-0476720a67ff";
+
+// VK4 offset table entries (absolute offsets; 0 = absent).
+enum Vk4Entry { kMeasurementConditions = 0, kHeight0 = 6 };
+
+}  // namespace
+
+HeightMap ParseVk4(const std::string& bytes, const std::string& name) {
+  ByteReader in(bytes, name);
+  in.Need(0, 12 + 18 * 4, "the VK4 header and offset table");
+  const std::string magic = bytes.substr(0, 4);
+  if (magic != "VK4_" && magic != "VK3_") {
+    throw ScanError(fmt::format(
+        "{}: byte 0: found magic '{}', expected 'VK4_'", name, magic));
+  }
+  const auto conditions =
+      in.At<std::uint32_t>(12 + 4 * kMeasurementConditions, "offset table");
+  const auto height = in.At<std::uint32_t>(12 + 4 * kHeight0, "offset table");
+  if (conditions == 0 || height == 0) {
+    throw ScanError(
+        fmt::format("{}: byte 12: the offset table has no {} block",
+                    name,
+                    conditions == 0 ? "measurement-conditions" : "height"));
+  }
+  // Pitches and z step in picometres at 168/172/176 within the block.
+  const double x_pm =
+      in.At<std::uint32_t>(conditions + 168, "x length per pixel");
+  const double y_pm =
+      in.At<std::uint32_t>(conditions + 172, "y length per pixel");
+  const double z_pm =
+      in.At<std::uint32_t>(conditions + 176, "z length per digit");
+  if (!(x_pm > 0) || !(y_pm > 0) || !(z_pm > 0)) {
+    throw ScanError(fmt::format(
+        "{}: byte {}: calibration x {} pm, y {} pm, z {} pm per digit; "
+        "expected positive values",
+        name,
+        conditions + 168,
+        x_pm,
+        y_pm,
+        z_pm));
+  }
+  const auto w = in.At<std::uint32_t>(height, "height image width");
+  const auto h = in.At<std::uint32_t>(height + 4, "height image height");
+  const auto bits = in.At<std::uint32_t>(height + 8, "bit depth");
+  const auto size = in.At<std::uint32_t>(height + 16, "byte size");
+  if (w == 0 || h == 0 || static_cast<std::int64_t>(w) * h > kMaxPixels) {
+    throw ScanError(fmt::format(
+        "{}: byte {}: height image {} x {}; expected 1 to {} pixels",
+        name,
+        height,
+        w,
+        h,
+        kMaxPixels));
+  }
+  if (bits != 8 && bits != 16 && bits != 32) {
+    throw ScanError(
+        fmt::format("{}: byte {}: bit depth {}; expected 8, 16 or 32",
+                    name,
+                    height + 8,
+                    bits));
+  }
+  const std::uint64_t need = std::uint64_t{w} * h * (bits / 8);
+  if (size != need) {
+    throw ScanError(fmt::format(
+        "{}: byte {}: byte size {} disagrees with {} x {} x {} bits = "
+        "{}",
+        name,
+        height + 16,
+        size,
+        w,
+        h,
+        bits,
+        need));
+  }
+  constexpr std::uint64_t kImageHeader = 796;
+  in.Need(height + kImageHeader, need, "the height pixels");
+  HeightMap map;
+  map.height_mm.resize(h, w);
+  const char* p = in.Data(height + kImageHeader);
+  const double to_mm = z_pm * 1e-9;
+  for (std::uint64_t i = 0; i < std::uint64_t{w} * h; ++i) {
+    std::uint32_t raw = 0;
+    std::memcpy(&raw, p + i * (bits / 8), bits / 8);
+    map.height_mm.data()[i] = static_cast<float>(raw * to_mm);
+  }
+  map.dx_mm = x_pm * 1e-9;
+  map.dy_mm = y_pm * 1e-9;
+  SyncValidity(&map);
+  map.metadata.source = name;
+  map.metadata.format = "vk4";
+  map.metadata.instrument = "Keyence VK-X";
+  return map;
+}
+
+HeightMap ParseVk67(const std::string& bytes,
+                    const std::string& name,
+                    const ReadScanOptions& options) {
+  ByteReader in(bytes, name);
+  in.Need(0, 7, "the VK6/VK7 header");
+  const std::string magic = bytes.substr(0, 3);
+  if (magic != "VK6" && magic != "VK7") {
+    throw ScanError(fmt::format(
+        "{}: byte 0: found magic '{}', expected 'VK6' or 'VK7'", name, magic));
+  }
+  const auto bmp = in.At<std::uint32_t>(3, "BMP size");
+  const std::uint64_t zip_at = 7 + std::uint64_t{bmp};
+  in.Need(zip_at, 4, "the ZIP archive after the thumbnail");
+  internal::ZipArchive zip(bytes.substr(zip_at),
+                           fmt::format("{} (ZIP at byte {})", name, zip_at));
+  if (!zip.Has("Vk4File")) {
+    throw ScanError(
+        fmt::format("{}: the archive has no member 'Vk4File'", name));
+  }
+  HeightMap map = ParseVk4(zip.Read("Vk4File", options.max_member_bytes),
+                           name + ":Vk4File");
+  map.metadata.source = name;
+  map.metadata.format = magic == "VK6" ? "vk6" : "vk7";
+  return map;
+}
+
+namespace {
+
+// A member of a ZON archive; KPK1 members are zstd frames.
+std::string ReadZonMember(const internal::ZipArchive& zip,
+                          const std::string& member,
+                          bool zstd,
+                          const std::string& name,
+                          std::uint64_t limit) {
+  std::string raw = zip.Read(member, limit);
+  if (!zstd) return raw;
+  const unsigned long long size =
+      ZSTD_getFrameContentSize(raw.data(), raw.size());
+  if (size == ZSTD_CONTENTSIZE_ERROR) {
+    throw ScanError(fmt::format(
+        "{}: member '{}' is not a zstd frame (KPK1 compresses every "
+        "member)",
+        name,
+        member));
+  }
+  if (size == ZSTD_CONTENTSIZE_UNKNOWN || size > limit) {
+    throw ScanError(fmt::format(
+        "{}: member '{}' decompresses to {} bytes; the limit is {}",
+        name,
+        member,
+        size == ZSTD_CONTENTSIZE_UNKNOWN ? std::string("an unknown number of")
+                                         : std::to_string(size),
+        limit));
+  }
+  std::string out(static_cast<size_t>(size), '\0');
+  const size_t got =
+      ZSTD_decompress(out.data(), out.size(), raw.data(), raw.size());
+  if (ZSTD_isError(got) || got != size) {
+    throw ScanError(fmt::format(
+        "{}: member '{}': zstd error: {}",
+        name,
+        member,
+        ZSTD_isError(got) ? ZSTD_getErrorName(got) : "short output"));
+  }
+  return out;
+}
+
+struct GridHeader {
+  std::int32_t width, height, element, stride;
+};
+
+GridHeader ReadGridHeader(const std::string& data,
+                          const std::string& where,
+                          int element_size) {
+  ByteReader in(data, where);
+  GridHeader g{in.At<std::int32_t>(0, "width"),
+               in.At<std::int32_t>(4, "height"),
+               in.At<std::int32_t>(8, "element size"),
+               in.At<std::int32_t>(12, "bytes per row")};
+  if (g.width <= 0 || g.height <= 0 ||
+      static_cast<std::int64_t>(g.width) * g.height > kMaxPixels) {
+    throw ScanError(fmt::format("{}: byte 0: {} x {} pixels; expected 1 to {}",
+                                where,
+                                g.width,
+                                g.height,
+                                kMaxPixels));
+  }
+  if (g.element != element_size || g.stride < g.width * element_size) {
+    throw ScanError(fmt::format(
+        "{}: byte 8: element size {} and row stride {}; expected {} and "
+        "at least {}",
+        where,
+        g.element,
+        g.stride,
+        element_size,
+        g.width * element_size));
+  }
+  in.Need(16,
+          static_cast<std::uint64_t>(g.stride) * (g.height - 1) +
+              static_cast<std::uint64_t>(g.width) * element_size,
+          "the pixel rows");
+  return g;
+}
+
+double XmlNumber(const pugi::xml_document& doc, const char* path) {
+  const pugi::xpath_node n = doc.select_node(path);
+  if (!n) return std::nan("");
+  return std::strtod(n.node().child_value(), nullptr);
+}
+
+HeightMap ZonFromArchive(const internal::ZipArchive& zip,
+                         bool zstd,
+                         const std::string& name,
+                         const std::string& prefix,
+                         const ReadScanOptions& options) {
+  const std::string heights_member = prefix + kZonHeights;
+  if (!zip.Has(heights_member)) {
+    throw ScanError(fmt::format(
+        "{}: member '{}' (heights) is missing", name, heights_member));
+  }
+  const std::string calib_member = prefix + kZonCalibration;
+  if (!zip.Has(calib_member)) {
+    throw ScanError(
+        fmt::format("{}: member '{}' (calibration XML) is missing; the pixel "
+                    "size and height scale cannot be known",
+                    name,
+                    calib_member));
+  }
+  pugi::xml_document calib;
+  const std::string calib_xml =
+      ReadZonMember(zip, calib_member, zstd, name, 16u << 20);
+  if (!calib.load_buffer(calib_xml.data(), calib_xml.size())) {
+    throw ScanError(
+        fmt::format("{}: member '{}' is not XML", name, calib_member));
+  }
+  const double m_per_px = XmlNumber(calib, "//XYCalibration/MeterPerPixel");
+  const double m_per_unit = XmlNumber(calib, "//ZCalibration/MeterPerUnit");
+  if (!(m_per_px > 0) || !(m_per_unit > 0)) {
+    throw ScanError(
+        fmt::format("{}: member '{}': XYCalibration/MeterPerPixel = {} and "
+                    "ZCalibration/MeterPerUnit = {}; expected positive numbers",
+                    name,
+                    calib_member,
+                    m_per_px,
+                    m_per_unit));
+  }
+  const std::string data =
+      ReadZonMember(zip, heights_member, zstd, name, options.max_member_bytes);
+  const std::string where =
+      fmt::format("{}: member '{}'", name, heights_member);
+  const GridHeader g = ReadGridHeader(data, where, 4);
+  HeightMap map;
+  map.height_mm.resize(g.height, g.width);
+  const float scale = static_cast<float>(m_per_unit * 1e3);
+  for (int r = 0; r < g.height; ++r) {
+    const char* row =
+        data.data() + 16 + static_cast<std::uint64_t>(r) * g.stride;
+    for (int c = 0; c < g.width; ++c) {
+      std::int32_t v;
+      std::memcpy(&v, row + 4 * c, 4);
+      map.height_mm(r, c) = static_cast<float>(v) * scale;
+    }
+  }
+  const std::string mask_member = prefix + kZonMask;
+  if (zip.Has(mask_member)) {
+    const std::string mask =
+        ReadZonMember(zip, mask_member, zstd, name, options.max_member_bytes);
+    const GridHeader mg = ReadGridHeader(
+        mask, fmt::format("{}: member '{}'", name, mask_member), 1);
+    if (mg.width != g.width || mg.height != g.height) {
+      throw ScanError(fmt::format("{}: mask is {} x {} but heights are {} x {}",
+                                  name,
+                                  mg.width,
+                                  mg.height,
+                                  g.width,
+                                  g.height));
+    }
+    for (int r = 0; r < g.height; ++r) {
+      const char* row =
+          mask.data() + 16 + static_cast<std::uint64_t>(r) * mg.stride;
+      for (int c = 0; c < g.width; ++c) {
+        if (static_cast<unsigned char>(row[c]) & 0x03)
+          map.height_mm(r, c) = NAN;
+      }
+    }
+  } else {
+    map.metadata.warnings.push_back(
+        "no validity mask member; every pixel taken as valid");
+  }
+  map.dx_mm = map.dy_mm = m_per_px * 1e3;
+  SyncValidity(&map);
+  map.metadata.source = name;
+  auto text_of = [&](const char* member, const char* path) -> std::string {
+    if (!zip.Has(prefix + member)) return "";
+    pugi::xml_document d;
+    const std::string x =
+        ReadZonMember(zip, prefix + member, zstd, name, 16u << 20);
+    if (!d.load_buffer(x.data(), x.size())) return "";
+    const pugi::xpath_node n = d.select_node(path);
+    return n ? n.node().child_value() : "";
+  };
+  map.metadata.instrument = text_of(kZonDevice, "//DeviceModelName");
+  map.metadata.date = text_of(kZonScan, "//ScanDateTime");
+  return map;
+}
+
+// KPK0/KPK1 wrapper: magic, BMP size, BMP, then the ZIP.
+std::string ZipOfKpk(const std::string& bytes,
+                     const std::string& name,
+                     bool* zstd) {
+  ByteReader in(bytes, name);
+  in.Need(0, 8, "the KPK header");
+  const std::string magic = bytes.substr(0, 4);
+  if (magic != "KPK0" && magic != "KPK1") {
+    throw ScanError(
+        fmt::format("{}: byte 0: found magic '{}', expected 'KPK0' or 'KPK1'",
+                    name,
+                    magic));
+  }
+  *zstd = magic == "KPK1";
+  const auto bmp = in.At<std::uint32_t>(4, "BMP size");
+  const std::uint64_t zip_at = 8 + std::uint64_t{bmp};
+  in.Need(zip_at, 4, "the ZIP archive after the thumbnail");
+  return bytes.substr(zip_at);
+}
+
+}  // namespace
+
+HeightMap ParseZon(const std::string& bytes,
+                   const std::string& name,
+                   const ReadScanOptions& options) {
+  bool zstd = false;
+  internal::ZipArchive zip(ZipOfKpk(bytes, name, &zstd), name);
+  HeightMap map = ZonFromArchive(zip, zstd, name, "", options);
+  map.metadata.format = zstd ? "zon (KPK1)" : "zon (KPK0)";
+  return map;
+}
+
+std::vector<std::string> ListZagMeasurements(const std::string& bytes,
+                                             const std::string& name) {
+  bool zstd = false;
+  internal::ZipArchive zip(ZipOfKpk(bytes, name, &zstd), name);
+  std::vector<std::string> items;
+  const std::string suffix = std::string("/") + kZagPayload;
+  for (const std::string& m : zip.Members()) {
+    if (m.size() > suffix.size() &&
+        m.compare(m.size() - suffix.size(), suffix.size(), suffix) == 0) {
+      items.push_back(m.substr(0, m.size() - suffix.size()));
+    }
+  }
+  std::sort(items.begin(), items.end());
+  return items;
+}
+
+HeightMap ParseZag(const std::string& bytes,
+                   const std::string& name,
+                   const ReadScanOptions& options) {
+  const std::vector<std::string> items = ListZagMeasurements(bytes, name);
+  if (items.empty()) {
+    throw ScanError(fmt::format(
+        "{}: no measurement payload '*/{}' in the archive", name, kZagPayload));
+  }
+  if (options.measurement_index < 0 ||
+      options.measurement_index >= static_cast<int>(items.size())) {
+    throw ScanError(
+        fmt::format("{}: measurement {} requested; the file holds {} (0-{})",
+                    name,
+                    options.measurement_index,
+                    items.size(),
+                    items.size() - 1));
+  }
+  bool zstd = false;
+  internal::ZipArchive zip(ZipOfKpk(bytes, name, &zstd), name);
+  const std::string member =
+      items[options.measurement_index] + "/" + kZagPayload;
+  std::string payload = zip.Read(member, options.max_member_bytes);
+  const std::string item_name =
+      fmt::format("{}:{}", name, items[options.measurement_index]);
+  HeightMap map = ParseZon(payload, item_name, options);
+  map.metadata.format = "zag";
+  return map;
+}
+
+}  // namespace wearscar::scan

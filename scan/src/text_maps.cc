@@ -1,0 +1,294 @@
+// Text height maps: the Keyence VR CSV export and plain ASCII matrices.
+#include <fast_float/fast_float.h>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+#include "wearscar/scan/read_scan.h"
+
+namespace wearscar::scan {
+namespace {
+
+std::vector<std::string_view> Lines(std::string_view text) {
+  std::vector<std::string_view> lines;
+  size_t pos = 0;
+  while (pos < text.size()) {
+    size_t end = text.find('\n', pos);
+    if (end == std::string_view::npos) end = text.size();
+    std::string_view line = text.substr(pos, end - pos);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    lines.push_back(line);
+    pos = end + 1;
+  }
+  return lines;
+}
+
+std::string_view Trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t'))
+    s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t'))
+    s.remove_suffix(1);
+  if (s.size() >= 2 && s.front() == '"' && s.back() == '"')
+    s = s.substr(1, s.size() - 2);
+  return s;
+}
+
+std::vector<std::string_view> SplitCells(std::string_view line, char delim) {
+  std::vector<std::string_view> cells;
+  size_t start = 0;
+  for (;;) {
+    const size_t end = line.find(delim, start);
+    cells.push_back(Trim(
+        line.substr(start, end == std::string_view::npos ? end : end - start)));
+    if (end == std::string_view::npos) break;
+    start = end + 1;
+  }
+  return cells;
+}
+
+std::optional<double> Number(std::string_view cell, char decimal) {
+  if (cell.empty()) return std::nullopt;
+  if (cell.front() == '+') cell.remove_prefix(1);
+  double v;
+  const auto r = fast_float::from_chars_advanced(
+      cell.data(),
+      cell.data() + cell.size(),
+      v,
+      fast_float::parse_options{fast_float::chars_format::general, decimal});
+  if (r.ec != std::errc() || r.ptr != cell.data() + cell.size())
+    return std::nullopt;
+  return v;
+}
+
+std::string Lower(std::string_view s) {
+  std::string out(s);
+  for (char& c : out)
+    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+// "um", "µm" (UTF-8 or Latin-1), "μm", Shift-JIS "μm" (0x83 0xCA 'm').
+bool IsMicrometre(std::string_view u) {
+  const std::string l = Lower(Trim(u));
+  return l == "um" || l == "\xc2\xb5m" || l == "\xce\xbcm" || l == "\xb5m" ||
+         l == "\x83\xca"
+              "m" ||
+         l == "micrometer" || l == "micrometre";
+}
+
+std::optional<double> UnitToMm(std::string_view u) {
+  const std::string l = Lower(Trim(u));
+  if (IsMicrometre(u)) return 1e-3;
+  if (l == "mm") return 1.0;
+  if (l == "nm") return 1e-6;
+  if (l == "m") return 1e3;
+  return std::nullopt;
+}
+
+}  // namespace
+
+HeightMap ParseKeyenceCsv(const std::string& bytes, const std::string& name) {
+  std::string_view text(bytes);
+  if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.remove_prefix(3);
+  const std::vector<std::string_view> lines = Lines(text);
+  // Delimiter: ';' when the header rows use it (decimal-comma locales).
+  int semis = 0, commas = 0;
+  for (size_t i = 0; i < std::min<size_t>(lines.size(), 30); ++i) {
+    semis +=
+        static_cast<int>(std::count(lines[i].begin(), lines[i].end(), ';'));
+    commas +=
+        static_cast<int>(std::count(lines[i].begin(), lines[i].end(), ','));
+  }
+  const char delim = semis > 0 && semis * 2 >= commas ? ';' : ',';
+  const char decimal = delim == ';' ? ',' : '.';
+  long nx = -1, ny = -1;
+  double pitch_mm = std::nan("");
+  double z_to_mm = 1.0;  // heights in mm unless a unit row says otherwise
+  size_t height_row = lines.size();
+  for (size_t i = 0; i < lines.size(); ++i) {
+    const auto cells = SplitCells(lines[i], delim);
+    if (cells.empty()) continue;
+    const std::string key = Lower(cells[0]);
+    if (key == "height" || key == "\x8d\x82\x82\xb3" /* Shift-JIS 高さ */ ||
+        key == "\xe9\xab\x98\xe3\x81\x95" /* UTF-8 高さ */) {
+      height_row = i;
+      break;
+    }
+    if (cells.size() < 2) continue;
+    const auto value = Number(cells[1], decimal);
+    // Keys in English; in Japanese (Shift-JIS or UTF-8) the pitch row is
+    // recognised by its micrometre unit, the sizes by the data block.
+    if (key == "horizontal" && value) nx = static_cast<long>(*value);
+    if (key == "vertical" && value) ny = static_cast<long>(*value);
+    const bool unit_says_um =
+        (cells.size() >= 3 && IsMicrometre(cells[2])) || IsMicrometre(cells[1]);
+    if ((key.find("xy calibration") != std::string::npos ||
+         (unit_says_um && key.find("calib") != std::string::npos) ||
+         (unit_says_um && value && std::isnan(pitch_mm))) &&
+        value) {
+      pitch_mm = *value * 1e-3;  // um per pixel
+    }
+    if ((key == "unit" || key == "z unit" || key == "height unit") &&
+        UnitToMm(cells[1])) {
+      z_to_mm = *UnitToMm(cells[1]);
+    }
+  }
+  if (height_row == lines.size()) {
+    throw ScanError(fmt::format(
+        "{}: no row starting with 'Height'; expected the Keyence VR CSV "
+        "height export",
+        name));
+  }
+  if (!(pitch_mm > 0)) {
+    throw ScanError(fmt::format(
+        "{}: no 'XY Calibration' row (um per pixel) before line {}; the "
+        "pixel size cannot be known",
+        name,
+        height_row + 1));
+  }
+  // The data block: rows after the Height row, up to trailing empty rows.
+  std::vector<std::vector<float>> rows;
+  size_t first = height_row + 1;
+  // The Height row may carry the first data row after the key.
+  for (size_t i = first; i < lines.size(); ++i) {
+    if (Trim(lines[i]).empty()) continue;
+    const auto cells = SplitCells(lines[i], delim);
+    std::vector<float> row;
+    row.reserve(cells.size());
+    size_t c0 = 0;
+    size_t end = cells.size();
+    while (end > 0 && cells[end - 1].empty() &&
+           (nx < 0 || static_cast<long>(end) > nx))
+      --end;
+    for (size_t c = c0; c < end; ++c) {
+      if (cells[c].empty()) {
+        row.push_back(NAN);
+        continue;
+      }
+      const auto v = Number(cells[c], decimal);
+      if (!v) {
+        throw ScanError(
+            fmt::format("{}: line {}, column {}: found '{}', expected a height",
+                        name,
+                        i + 1,
+                        c + 1,
+                        std::string(cells[c].substr(0, 30))));
+      }
+      row.push_back(static_cast<float>(*v * z_to_mm));
+    }
+    if (nx < 0) nx = static_cast<long>(row.size());
+    if (static_cast<long>(row.size()) != nx) {
+      throw ScanError(
+          fmt::format("{}: line {}: {} values; expected {} (Horizontal)",
+                      name,
+                      i + 1,
+                      row.size(),
+                      nx));
+    }
+    rows.push_back(std::move(row));
+    if (ny > 0 && static_cast<long>(rows.size()) > ny) {
+      throw ScanError(fmt::format(
+          "{}: line {}: more than {} rows (Vertical)", name, i + 1, ny));
+    }
+  }
+  if (ny < 0) ny = static_cast<long>(rows.size());
+  if (static_cast<long>(rows.size()) != ny || ny == 0 || nx <= 0) {
+    throw ScanError(
+        fmt::format("{}: {} height rows after line {}; expected {} (Vertical)",
+                    name,
+                    rows.size(),
+                    height_row + 1,
+                    ny));
+  }
+  HeightMap map;
+  map.height_mm.resize(ny, nx);
+  for (long r = 0; r < ny; ++r) {
+    for (long c = 0; c < nx; ++c) map.height_mm(r, c) = rows[r][c];
+  }
+  map.dx_mm = map.dy_mm = pitch_mm;
+  SyncValidity(&map);
+  map.metadata.source = name;
+  map.metadata.format = "keyence-csv";
+  map.metadata.instrument = "Keyence VR";
+  return map;
+}
+
+HeightMap ParseAsciiMatrix(const std::string& bytes,
+                           const std::string& name,
+                           const ReadScanOptions& options) {
+  if (!(options.ascii_pitch_mm > 0)) {
+    throw ScanError(
+        fmt::format("{}: an ASCII matrix carries no pixel size; give the pitch "
+                    "(mm) explicitly",
+                    name));
+  }
+  const auto unit = UnitToMm(options.ascii_z_unit);
+  if (!unit) {
+    throw ScanError(
+        fmt::format("{}: height unit '{}'; expected mm, um, nm or m",
+                    name,
+                    options.ascii_z_unit));
+  }
+  const std::vector<std::string_view> lines = Lines(bytes);
+  std::vector<float> values;
+  long nx = -1, ny = 0;
+  for (size_t i = 0; i < lines.size(); ++i) {
+    std::string_view line = Trim(lines[i]);
+    if (line.empty() || line.front() == '#') continue;
+    long count = 0;
+    size_t pos = 0;
+    while (pos < line.size()) {
+      while (pos < line.size() && std::string_view(" \t,;").find(line[pos]) !=
+                                      std::string_view::npos) {
+        ++pos;
+      }
+      if (pos >= line.size()) break;
+      size_t end = pos;
+      while (end < line.size() && std::string_view(" \t,;").find(line[end]) ==
+                                      std::string_view::npos) {
+        ++end;
+      }
+      const std::string_view tok = line.substr(pos, end - pos);
+      const auto v = Number(tok, '.');
+      if (!v) {
+        throw ScanError(
+            fmt::format("{}: line {}, value {}: found '{}', expected a number",
+                        name,
+                        i + 1,
+                        count + 1,
+                        std::string(tok.substr(0, 30))));
+      }
+      values.push_back(static_cast<float>(*v * *unit));
+      ++count;
+      pos = end;
+    }
+    if (nx < 0) nx = count;
+    if (count != nx) {
+      throw ScanError(
+          fmt::format("{}: line {}: {} values; expected {} like the first row",
+                      name,
+                      i + 1,
+                      count,
+                      nx));
+    }
+    ++ny;
+    if (static_cast<std::int64_t>(nx) * ny > kMaxPixels) {
+      throw ScanError(fmt::format("{}: more than {} pixels", name, kMaxPixels));
+    }
+  }
+  if (ny == 0 || nx <= 0)
+    throw ScanError(fmt::format("{}: no numbers found", name));
+  HeightMap map;
+  map.height_mm = Eigen::Map<HeightMap::Heights>(values.data(), ny, nx);
+  map.dx_mm = map.dy_mm = options.ascii_pitch_mm;
+  SyncValidity(&map);
+  map.metadata.source = name;
+  map.metadata.format = "ascii";
+  return map;
+}
+
+}  // namespace wearscar::scan

@@ -1,0 +1,116 @@
+#include "zip_archive.h"
+
+#include <fmt/format.h>
+#include <zip.h>
+
+#include "wearscar/scan/height_map.h"
+
+namespace wearscar::scan::internal {
+
+struct ZipArchive::Impl {
+  zip_t* zip = nullptr;
+};
+
+ZipArchive::ZipArchive(std::string bytes, std::string name)
+    : bytes_(std::move(bytes)), impl_(new Impl), name_(std::move(name)) {
+  zip_error_t error;
+  zip_error_init(&error);
+  zip_source_t* src =
+      zip_source_buffer_create(bytes_.data(), bytes_.size(), 0, &error);
+  if (src != nullptr)
+    impl_->zip = zip_open_from_source(src, ZIP_RDONLY, &error);
+  if (impl_->zip == nullptr) {
+    const std::string why = zip_error_strerror(&error);
+    if (src != nullptr) zip_source_free(src);
+    zip_error_fini(&error);
+    delete impl_;
+    throw ScanError(
+        fmt::format("{}: not a readable ZIP archive ({}); expected a ZIP "
+                    "container",
+                    name_,
+                    why));
+  }
+  zip_error_fini(&error);
+}
+
+ZipArchive::~ZipArchive() {
+  zip_discard(impl_->zip);
+  delete impl_;
+}
+
+std::vector<std::string> ZipArchive::Members() const {
+  std::vector<std::string> names;
+  const zip_int64_t n = zip_get_num_entries(impl_->zip, 0);
+  for (zip_int64_t i = 0; i < n; ++i) {
+    const char* nm = zip_get_name(impl_->zip, static_cast<zip_uint64_t>(i), 0);
+    if (nm != nullptr) names.emplace_back(nm);
+  }
+  return names;
+}
+
+bool ZipArchive::Has(const std::string& member) const {
+  return zip_name_locate(impl_->zip, member.c_str(), 0) >= 0;
+}
+
+std::string ZipArchive::Find(const std::string& name) const {
+  if (Has(name)) return name;
+  for (const std::string& m : Members()) {
+    if (m.size() > name.size() &&
+        m.compare(m.size() - name.size(), name.size(), name) == 0 &&
+        m[m.size() - name.size() - 1] == '/' && m.rfind("__MACOSX", 0) != 0) {
+      return m;
+    }
+  }
+  return "";
+}
+
+std::string ZipArchive::Read(const std::string& member,
+                             std::uint64_t max_bytes) const {
+  zip_stat_t st;
+  zip_stat_init(&st);
+  if (zip_stat(impl_->zip, member.c_str(), 0, &st) != 0) {
+    throw ScanError(fmt::format("{}: member '{}' is missing", name_, member));
+  }
+  if ((st.valid & ZIP_STAT_SIZE) && st.size > max_bytes) {
+    throw ScanError(
+        fmt::format("{}: member '{}' decompresses to {} bytes, more than the "
+                    "limit of {}",
+                    name_,
+                    member,
+                    st.size,
+                    max_bytes));
+  }
+  zip_file_t* f = zip_fopen(impl_->zip, member.c_str(), 0);
+  if (f == nullptr) {
+    throw ScanError(fmt::format("{}: member '{}' cannot be opened: {}",
+                                name_,
+                                member,
+                                zip_strerror(impl_->zip)));
+  }
+  std::string out;
+  out.resize(static_cast<size_t>(std::min<std::uint64_t>(st.size, max_bytes)));
+  zip_int64_t got = zip_fread(f, out.data(), out.size());
+  // A header that understates the size must not let more through.
+  char probe;
+  const zip_int64_t extra = got >= 0 ? zip_fread(f, &probe, 1) : 0;
+  zip_fclose(f);
+  if (got < 0 || static_cast<std::uint64_t>(got) != out.size()) {
+    throw ScanError(
+        fmt::format("{}: member '{}' is truncated or corrupt ({} of {} bytes)",
+                    name_,
+                    member,
+                    got,
+                    out.size()));
+  }
+  if (extra > 0) {
+    throw ScanError(
+        fmt::format("{}: member '{}' holds more data than its header says "
+                    "(limit {} bytes)",
+                    name_,
+                    member,
+                    max_bytes));
+  }
+  return out;
+}
+
+}  // namespace wearscar::scan::internal

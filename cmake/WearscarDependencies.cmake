@@ -1,7 +1,7 @@
 # All dependencies come from Debian 12 packages (scripts/install-deps).
 find_package(Eigen3 3.4 REQUIRED NO_MODULE)
 find_package(Ceres 2.1 REQUIRED)
-find_package(OpenCV 4.6 REQUIRED COMPONENTS core imgproc imgcodecs)
+find_package(OpenCV 4.6 REQUIRED COMPONENTS core imgproc imgcodecs photo)
 # Only components that do not pull VTK: Debian's PCL config fails otherwise.
 find_package(PCL 1.13 REQUIRED COMPONENTS common sample_consensus filters kdtree search octree)
 find_package(fmt REQUIRED)

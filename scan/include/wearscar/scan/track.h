@@ -1,0 +1,81 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "wearscar/scan/height_map.h"
+
+namespace wearscar::scan {
+
+// The worn track: an axis through its centre. The along-track coordinate s
+// runs along (cos angle, sin angle) from the centre; across w runs at +90°.
+struct Track {
+  double center_x_mm = 0.0;
+  double center_y_mm = 0.0;
+  double angle_deg = 0.0;  // in (-90, 90]
+  double length_mm = 0.0;
+  double width_mm = 0.0;
+  double max_depth_mm = 0.0;
+  double volume_mm3 = 0.0;  // worn volume below the reference
+  int pixels = 0;
+  double elongation = 0.0;  // sqrt of the PCA eigenvalue ratio
+  bool manual = false;
+  std::string message = "not run";
+};
+
+struct TrackOptions {
+  double smoothing_sigma_px = 2.0;
+  // A pixel belongs to the track when it lies deeper than
+  // max(min_depth_mm, depth_fraction * the 99.5th percentile depth).
+  double min_depth_mm = 0.004;
+  double depth_fraction = 0.25;
+  int morphology_px = 5;        // open then close with an ellipse
+  double min_elongation = 2.0;  // length/width of an accepted component
+  // Manual placement instead of detection (angle in degrees).
+  bool manual = false;
+  double center_x_mm = 0.0, center_y_mm = 0.0, angle_deg = 0.0;
+  double manual_length_mm = 0.0;  // 0 = to the edges of the field
+
+  bool IsValid(std::string* why) const;
+};
+
+// Finds the largest elongated depression of a levelled map (smoothing,
+// threshold, morphology, connected components, PCA). Throws ScanError when
+// no track is found.
+Track FindTrack(const HeightMap& levelled, const TrackOptions& options = {});
+
+// Heights along the track axis.
+struct WearProfile {
+  Eigen::VectorXd s_mm;           // along the axis from the track centre
+  Eigen::VectorXd height_mm;      // band average; NaN where no valid sample
+  Eigen::VectorXi valid_samples;  // samples behind each point
+  double band_width_mm = 0.0;
+  double step_mm = 0.0;
+};
+
+struct ProfileOptions {
+  double step_mm = 0.0;        // 0 = the scan pitch
+  double band_width_mm = 0.1;  // averaged across the track
+  double extend_mm = 0.0;      // beyond the track ends
+  bool IsValid(std::string* why) const;
+};
+
+// Centreline profile: bilinear samples (NaN-aware) averaged over the band.
+WearProfile ExtractCentreline(const HeightMap& levelled,
+                              const Track& track,
+                              const ProfileOptions& options = {});
+
+// Cross-section across the track at along-track position s (mm), over
+// +-half_width_mm.
+WearProfile ExtractCrossSection(const HeightMap& levelled,
+                                const Track& track,
+                                double s_mm,
+                                double half_width_mm,
+                                double step_mm = 0.0);
+
+// Bilinear height at (x, y) mm; NaN when any of the four pixels is invalid
+// or the point is outside.
+double SampleBilinear(const HeightMap& map, double x_mm, double y_mm);
+
+}  // namespace wearscar::scan

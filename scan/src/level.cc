@@ -1,0 +1,177 @@
+#include "wearscar/scan/level.h"
+
+#include <fmt/format.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+#include <pcl/sample_consensus/ransac.h>
+#include <pcl/sample_consensus/sac_model_plane.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/photo.hpp>
+
+namespace wearscar::scan {
+namespace {
+
+// Monomials x^i y^j with i + j <= order, in the documented order.
+Eigen::VectorXd Monomials(double x, double y, int order) {
+  Eigen::VectorXd m((order + 1) * (order + 2) / 2);
+  int k = 0;
+  for (int d = 0; d <= order; ++d) {
+    for (int j = 0; j <= d; ++j) m[k++] = std::pow(x, d - j) * std::pow(y, j);
+  }
+  return m;
+}
+
+}  // namespace
+
+bool LevelOptions::IsValid(std::string* why) const {
+  auto fail = [&](const char* m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (polynomial_order < 1 || polynomial_order > 3)
+    return fail("polynomial_order must be 1-3");
+  if (!(ransac_threshold_mm > 0))
+    return fail("ransac_threshold_mm must be > 0");
+  if (ransac_iterations < 1) return fail("ransac_iterations must be >= 1");
+  if (max_points < 10) return fail("max_points must be >= 10");
+  return true;
+}
+
+LevelSummary LevelHeightMap(HeightMap* map, const LevelOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw ScanError("level options: " + why);
+  LevelSummary summary;
+  summary.order = options.polynomial_order;
+  const Eigen::Index valid = map->ValidCount();
+  if (valid < 10) {
+    throw ScanError(
+        fmt::format("{}: {} valid pixels; at least 10 are needed to level",
+                    map->metadata.source,
+                    valid));
+  }
+  const Eigen::Index stride = std::max<Eigen::Index>(
+      1,
+      static_cast<Eigen::Index>(
+          std::sqrt(static_cast<double>(valid) / options.max_points)));
+  pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
+  for (Eigen::Index r = 0; r < map->rows(); r += stride) {
+    for (Eigen::Index c = 0; c < map->cols(); c += stride) {
+      if (!map->valid(r, c)) continue;
+      cloud->push_back(pcl::PointXYZ(static_cast<float>(c * map->dx_mm),
+                                     static_cast<float>(r * map->dy_mm),
+                                     map->height_mm(r, c)));
+    }
+  }
+  summary.points_used = static_cast<int>(cloud->size());
+  // RANSAC plane (PCL's model draws with a fixed seed: deterministic).
+  pcl::SampleConsensusModelPlane<pcl::PointXYZ>::Ptr model(
+      new pcl::SampleConsensusModelPlane<pcl::PointXYZ>(cloud));
+  pcl::RandomSampleConsensus<pcl::PointXYZ> ransac(model);
+  ransac.setDistanceThreshold(options.ransac_threshold_mm);
+  ransac.setMaxIterations(options.ransac_iterations);
+  std::vector<int> inliers;
+  if (!ransac.computeModel() ||
+      (ransac.getInliers(inliers), inliers.size() < 3)) {
+    throw ScanError(fmt::format(
+        "{}: no plane found on the unworn area (RANSAC, threshold {} mm)",
+        map->metadata.source,
+        options.ransac_threshold_mm));
+  }
+  // Least squares of the chosen order, trimmed: start on the RANSAC inliers,
+  // then keep the points within 2.5 RMS of the current surface (this drops
+  // the shallow groove edges that a fixed band lets in, and follows curved
+  // specimens for orders 2-3).
+  const int order = options.polynomial_order;
+  const int terms = (order + 1) * (order + 2) / 2;
+  Eigen::VectorXd coef;
+  for (int pass = 0; pass < 4; ++pass) {
+    Eigen::MatrixXd a(inliers.size(), terms);
+    Eigen::VectorXd b(inliers.size());
+    for (size_t i = 0; i < inliers.size(); ++i) {
+      const auto& p = (*cloud)[inliers[i]];
+      a.row(static_cast<Eigen::Index>(i)) =
+          Monomials(p.x, p.y, order).transpose();
+      b[static_cast<Eigen::Index>(i)] = p.z;
+    }
+    coef = a.colPivHouseholderQr().solve(b);
+    summary.rms_mm =
+        std::sqrt((a * coef - b).squaredNorm() / static_cast<double>(b.size()));
+    const double band = std::max(2.5 * summary.rms_mm, 1e-9);
+    std::vector<int> next;
+    for (int i = 0; i < static_cast<int>(cloud->size()); ++i) {
+      const auto& p = (*cloud)[i];
+      if (std::abs(Monomials(p.x, p.y, order).dot(coef) - p.z) < band)
+        next.push_back(i);
+    }
+    if (next.size() < static_cast<size_t>(terms) || next == inliers) break;
+    inliers.swap(next);
+  }
+  summary.inliers = static_cast<int>(inliers.size());
+  summary.coefficients = coef;
+  for (Eigen::Index r = 0; r < map->rows(); ++r) {
+    for (Eigen::Index c = 0; c < map->cols(); ++c) {
+      if (!map->valid(r, c)) continue;
+      map->height_mm(r, c) -= static_cast<float>(
+          Monomials(c * map->dx_mm, r * map->dy_mm, order).dot(coef));
+    }
+  }
+  summary.message =
+      fmt::format("order {} fitted on {} of {} points, RMS {:.2g} mm",
+                  order,
+                  summary.inliers,
+                  summary.points_used,
+                  summary.rms_mm);
+  return summary;
+}
+
+int RemoveSpikes(HeightMap* map, const SpikeOptions& options) {
+  const int rows = static_cast<int>(map->rows()),
+            cols = static_cast<int>(map->cols());
+  // OpenCV views the row-major Eigen memory; NaN is replaced by 0 (the
+  // levelled reference) for the median only.
+  cv::Mat z(rows, cols, CV_32F);
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      z.at<float>(r, c) = map->valid(r, c) ? map->height_mm(r, c) : 0.0f;
+    }
+  }
+  cv::Mat median;
+  cv::medianBlur(z, median, options.kernel == 3 ? 3 : 5);
+  int removed = 0;
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      if (!map->valid(r, c)) continue;
+      if (std::abs(map->height_mm(r, c) - median.at<float>(r, c)) >
+          options.threshold_mm) {
+        map->height_mm(r, c) = NAN;
+        map->valid(r, c) = 0;
+        ++removed;
+      }
+    }
+  }
+  return removed;
+}
+
+HeightMap::Heights FilledForDisplay(const HeightMap& map) {
+  const int rows = static_cast<int>(map.rows()),
+            cols = static_cast<int>(map.cols());
+  cv::Mat z(rows, cols, CV_32F), mask(rows, cols, CV_8U), out;
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      const bool ok = map.valid(r, c);
+      z.at<float>(r, c) = ok ? map.height_mm(r, c) : 0.0f;
+      mask.at<std::uint8_t>(r, c) = ok ? 0 : 255;
+    }
+  }
+  cv::inpaint(z, mask, out, 3, cv::INPAINT_TELEA);
+  HeightMap::Heights filled(rows, cols);
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) filled(r, c) = out.at<float>(r, c);
+  }
+  return filled;
+}
+
+}  // namespace wearscar::scan

@@ -1,0 +1,137 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "wearscar/samples/virtual_tribometer.h"
+#include "wearscar/scan/level.h"
+#include "wearscar/scan/track.h"
+
+namespace wearscar::scan {
+namespace {
+
+samples::SimulatedTest Simulated(const std::string& name,
+                                 double angle,
+                                 bool flipped) {
+  samples::SimulationOptions o = samples::PaperCase(name);
+  o.cycles = 30;
+  o.scan_angle_deg = angle;
+  o.scan_flipped = flipped;
+  return samples::Simulate(o);
+}
+
+TEST(Level, RecoversKnownPlaneUnderTheTrack) {
+  samples::SimulatedTest t = Simulated("S-RT-R", 2.5, false);
+  const LevelSummary s = LevelHeightMap(&t.scan);
+  EXPECT_NEAR(s.dzdx(), t.truth.plane_dzdx, 2e-5) << s.message;
+  EXPECT_NEAR(s.dzdy(), t.truth.plane_dzdy, 2e-5) << s.message;
+  EXPECT_NEAR(s.z0_mm(), t.truth.plane_z0_mm, 2e-4) << s.message;
+  EXPECT_LT(s.rms_mm, 0.002);
+}
+
+TEST(Level, SecondOrderSurfaceIsRemoved) {
+  HeightMap m;
+  m.dx_mm = m.dy_mm = 0.01;
+  m.height_mm.resize(200, 300);
+  for (int r = 0; r < 200; ++r) {
+    for (int c = 0; c < 300; ++c) {
+      const double x = c * 0.01, y = r * 0.01;
+      m.height_mm(r, c) =
+          static_cast<float>(0.01 + 0.002 * x - 0.001 * y + 0.0008 * x * x);
+    }
+  }
+  SyncValidity(&m);
+  LevelOptions o;
+  o.polynomial_order = 2;
+  o.ransac_threshold_mm = 0.002;
+  const LevelSummary s = LevelHeightMap(&m, o);
+  EXPECT_NEAR(s.coefficients[3], 0.0008, 1e-6);
+  EXPECT_LT(m.height_mm.abs().maxCoeff(), 1e-5);
+}
+
+TEST(Spikes, MarksIsolatedOutliersOnly) {
+  samples::SimulatedTest t = Simulated("B-RT-T", 0, false);
+  LevelHeightMap(&t.scan);
+  const Eigen::Index before = t.scan.ValidCount();
+  const int removed = RemoveSpikes(&t.scan);
+  // The simulator puts 0.05% spikes of +-40 um: 393 on 1024 x 768.
+  EXPECT_NEAR(removed, 393, 40);
+  EXPECT_EQ(before - removed, t.scan.ValidCount());
+}
+
+class TrackTest : public ::testing::TestWithParam<std::tuple<double, bool>> {};
+
+TEST_P(TrackTest, FindsAxisCentreAndCentrelineOfKnownTrack) {
+  const auto [angle, flipped] = GetParam();
+  samples::SimulatedTest t = Simulated("S-RT-R", angle, flipped);
+  LevelHeightMap(&t.scan);
+  RemoveSpikes(&t.scan);
+  const Track track = FindTrack(t.scan);
+  EXPECT_NEAR(track.angle_deg, angle, 0.3) << track.message;
+  // Across the axis the centre is exact; along it, the detected middle of
+  // the worn extent depends on how deep the two ends are (alignment with the
+  // force side absorbs that shift).
+  const double th = angle * M_PI / 180;
+  const double dx = track.center_x_mm - t.truth.scan_center_x_mm;
+  const double dy = track.center_y_mm - t.truth.scan_center_y_mm;
+  EXPECT_NEAR(-dx * std::sin(th) + dy * std::cos(th), 0.0, 0.01);
+  EXPECT_NEAR(dx * std::cos(th) + dy * std::sin(th), 0.0, 0.15);
+  // Track: the stroke (5.7 mm) plus the sphere's footprint at both ends.
+  EXPECT_GT(track.length_mm, 5.7);
+  EXPECT_LT(track.length_mm, 7.6);
+  const WearProfile p = ExtractCentreline(t.scan, track);
+  // Compare with the true worn depth along the stroke: h(s) = -depth(x),
+  // x = flip * s, for |x| < 2.5 mm.
+  double sum2 = 0;
+  int n = 0;
+  const auto& tx = t.truth.profile_x_mm;
+  for (Eigen::Index i = 0; i < p.s_mm.size(); ++i) {
+    const double x = (flipped ? -1 : 1) *
+                     (p.s_mm[i] + dx * std::cos(th) + dy * std::sin(th));
+    if (std::abs(x) > 2.5 || !std::isfinite(p.height_mm[i])) continue;
+    const Eigen::Index j =
+        static_cast<Eigen::Index>(std::round((x - tx[0]) / (tx[1] - tx[0])));
+    const double e = p.height_mm[i] + t.truth.worn_depth_mm[j];
+    sum2 += e * e;
+    ++n;
+  }
+  ASSERT_GT(n, 500);
+  EXPECT_LT(std::sqrt(sum2 / n), 0.003);
+  // Every point of the centreline rests on valid samples.
+  EXPECT_GT(p.valid_samples.minCoeff(), 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Placements,
+                         TrackTest,
+                         ::testing::Values(std::make_tuple(0.0, false),
+                                           std::make_tuple(3.0, true),
+                                           std::make_tuple(-8.0, false)));
+
+TEST(Track, FlatMapHasNoTrackAndSaysSo) {
+  HeightMap m;
+  m.dx_mm = m.dy_mm = 0.01;
+  m.height_mm = HeightMap::Heights::Zero(100, 100);
+  m.metadata.source = "flat.gsf";
+  SyncValidity(&m);
+  try {
+    FindTrack(m);
+    FAIL();
+  } catch (const ScanError& e) {
+    EXPECT_NE(std::string(e.what()).find("flat.gsf: no worn track found"),
+              std::string::npos);
+  }
+}
+
+TEST(Track, CrossSectionShowsTheSphereShape) {
+  samples::SimulatedTest t = Simulated("B-TL-L", 0, false);
+  LevelHeightMap(&t.scan);
+  const Track track = FindTrack(t.scan);
+  const WearProfile c = ExtractCrossSection(t.scan, track, 0.0, 1.2);
+  // Deepest in the middle, sphere of radius 3.25: h(w) ~ h(0) + w^2 / (2R).
+  const Eigen::Index mid = c.s_mm.size() / 2;
+  const double h0 = c.height_mm[mid];
+  const Eigen::Index q = mid + static_cast<Eigen::Index>(0.4 / c.step_mm);
+  EXPECT_NEAR(c.height_mm[q] - h0, 0.4 * 0.4 / (2 * 3.25), 0.004);
+}
+
+}  // namespace
+}  // namespace wearscar::scan

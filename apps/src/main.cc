@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   version->callback([] { fmt::print("wearscar {}\n", WEARSCAR_VERSION); });
   wearscar::app::AddSimulateCommand(app);
   wearscar::app::AddForceCommand(app);
+  wearscar::app::AddFuseCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -6,11 +6,17 @@
 namespace wearscar::force {
 namespace {
 
-// x where Q first crosses zero in the direction of motion within the half.
+// x where Q crosses zero in the stick transition after the reversal (the
+// loop opening at Q = 0); NaN when Q does not change sign there (a wavy track
+// can keep Q on one side through the reversal; crossings later in gross slip
+// are not the opening).
 double ZeroCrossing(const ForceRecord& r, const HalfCycle& half) {
   const auto& q = r.tangential_n;
   const auto& x = r.x_mm;
-  for (Eigen::Index i = half.begin; i + 1 < half.end; ++i) {
+  const Eigen::Index limit = half.slip_begin > half.begin
+                                 ? std::min(half.end, half.slip_begin + 1)
+                                 : half.end;
+  for (Eigen::Index i = half.begin; i + 1 < limit; ++i) {
     const double a = half.direction * q[i], b = half.direction * q[i + 1];
     if (a < 0 && b >= 0) {
       const double t = a / (a - b);
@@ -73,7 +79,17 @@ std::vector<CycleCof> ComputeClassicCof(const ForceRecord& record,
     r.delta_max_mm = 0.5 * (xmax - xmin);
     const double xf = ZeroCrossing(record, c.forward);
     const double xr = ZeroCrossing(record, c.reverse);
-    r.delta_g_mm = 0.5 * (xr - xf);
+    if (std::isfinite(xf) && std::isfinite(xr)) {
+      r.delta_g_mm = 0.5 * (xr - xf);
+    } else {
+      // No sign change at a reversal: for a Coulomb loop the crossing sits
+      // half-way through the stick travel, so delta_g = delta_max - half the
+      // mean stick travel.
+      const double stick =
+          0.5 * (std::abs(x[c.forward.slip_begin] - x[c.forward.begin]) +
+                 std::abs(x[c.reverse.slip_begin] - x[c.reverse.begin]));
+      r.delta_g_mm = r.delta_max_mm - 0.5 * stick;
+    }
     r.mu_energy_max = area / (4 * r.mean_normal_n * r.delta_max_mm);
     r.mu_energy_g = area / (4 * r.mean_normal_n * r.delta_g_mm);
     out.push_back(r);

@@ -153,7 +153,8 @@ Eigen::VectorXd DerivativeAlongX(
       b[rows] = signal[j];
       ++rows;
     }
-    if (rows <= p) continue;
+    // Too many gaps in the window: the fit would extrapolate.
+    if (rows <= p || rows < h + 1) continue;
     const Eigen::VectorXd coef =
         a.topRows(rows).colPivHouseholderQr().solve(b.head(rows));
     d[i - begin] = coef[1] / scale;

@@ -69,13 +69,61 @@ TEST(Cli, SimulateThenAnalyseRecoversMu) {
   std::ifstream csv(dir + "/out/cycles.csv");
   std::string header;
   std::getline(csv, header);
-  EXPECT_EQ(header.rfind("cycle,mu_hat,J,samples,mu_mean", 0), 0u) << header;
+  EXPECT_EQ(
+      header.rfind(
+          "cycle,mu_hat_force,J_force,mu_hat_scan,J_scan,samples,mu_mean", 0),
+      0u)
+      << header;
   int rows = 0;
   for (std::string line; std::getline(csv, line);) ++rows;
   EXPECT_EQ(rows, 40);
-  EXPECT_NE(f.output.find("mu-hat (wear-scar, k from P)  0.1"),
+  EXPECT_NE(f.output.find("mu-hat, k from P     0.1"), std::string::npos)
+      << f.output;
+  EXPECT_NE(f.output.find("verdict: explained by wear-scar interaction"),
             std::string::npos)
       << f.output;
+}
+
+TEST(Cli, FuseWritesResultsAndFlagsTheElasticCase) {
+  const std::string dir = ::testing::TempDir() + "/cli-fuse";
+  const CommandResult s =
+      Wearscar("simulate --case S-RL-R --cycles 120 -o " + dir);
+  ASSERT_EQ(s.status, 0) << s.output;
+  const CommandResult f =
+      Wearscar("fuse --force " + dir + "/S-RL-R.force.csv --scan " + dir +
+               "/S-RL-R.scan.gsf --running-in 60 --compare-cycles 40 -o " +
+               dir + "/out");
+  ASSERT_EQ(f.status, 0) << f.output;
+  EXPECT_NE(f.output.find("verdict: not explained by wear-scar interaction"),
+            std::string::npos)
+      << f.output;
+  for (const char* file : {"result.json",
+                           "cycles.csv",
+                           "loops.csv",
+                           "detail.csv",
+                           "cost_curve.csv",
+                           "profiles.csv",
+                           "centreline.csv"}) {
+    EXPECT_TRUE(std::filesystem::exists(dir + "/out/" + file)) << file;
+  }
+  // No temporary file left behind.
+  for (const auto& e : std::filesystem::directory_iterator(dir + "/out")) {
+    EXPECT_EQ(e.path().string().find(".tmp-"), std::string::npos) << e.path();
+  }
+}
+
+TEST(Cli, FuseWithUnreadableScanExitsTwoNamingIt) {
+  const std::string dir = ::testing::TempDir() + "/cli-fuse-bad";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir + "/bad.vk4") << "VK4_ but far too short";
+  const CommandResult f =
+      Wearscar("fuse --force " + kData + "generic.csv --scan " + dir +
+               "/bad.vk4 -o " + dir + "/out");
+  EXPECT_EQ(f.status, 2);
+  EXPECT_NE(f.output.find(dir + "/bad.vk4: byte 0: truncated"),
+            std::string::npos)
+      << f.output;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/out"));
 }
 
 }  // namespace

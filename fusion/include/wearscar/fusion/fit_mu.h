@@ -7,6 +7,7 @@
 #include "wearscar/force/cycles.h"
 #include "wearscar/force/force_record.h"
 #include "wearscar/force/slope.h"
+#include "wearscar/fusion/error.h"
 
 namespace wearscar::fusion {
 

@@ -1,16 +1,10 @@
 #pragma once
 
 #include <cmath>
-#include <stdexcept>
+
+#include "wearscar/fusion/error.h"
 
 namespace wearscar::fusion {
-
-// Raised for bad user input to the fusion stage (mismatched inputs, options
-// out of range); numerical failures go in the summaries instead.
-class FusionError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 // Wear-scar interaction (paper Eqs. 1-2 with N eliminated): the tangential
 // force measured while sliding in direction s = sign(dx/dt) over a path of

@@ -1,0 +1,61 @@
+#include <fmt/format.h>
+
+#include "commands.h"
+#include "common_options.h"
+#include "output.h"
+#include "results.h"
+
+namespace wearscar::app {
+namespace {
+
+struct FuseArgs {
+  std::string force_file;
+  std::string scan_file;
+  std::string out;
+  std::string name;
+  WriteOptions write;
+  CommonArgs common;
+};
+
+void RunFuse(FuseArgs a) {
+  FinaliseCommonOptions(&a.common);
+  const force::ForceRecord record =
+      force::ReadForceFile(a.force_file, a.common.read_force);
+  scan::HeightMap map = scan::ReadScan(a.scan_file, a.common.read_scan);
+  const fusion::TestResult r =
+      fusion::AnalyzeTest(record, std::move(map), a.common.fuse);
+  const std::string name = a.name.empty() ? a.force_file : a.name;
+  PrintSummary(name, r);
+  if (a.out.empty()) return;
+  const auto files =
+      WriteTestResults(a.out, name, record, r, a.common.fuse, a.write);
+  fmt::print("wrote {} files to {}/\n", files.size(), a.out);
+}
+
+}  // namespace
+
+void AddFuseCommand(CLI::App& app) {
+  auto args = std::make_shared<FuseArgs>();
+  auto* cmd = app.add_subcommand("fuse",
+                                 "Force record + scan of the worn track: align "
+                                 "the scan centreline with the spring "
+                                 "displacement P/S, fit mu-hat with the slope "
+                                 "from either, report the mismatch and the "
+                                 "wear-scar verdict");
+  cmd->add_option("--force", args->force_file, "Force export")->required();
+  cmd->add_option("--scan",
+                  args->scan_file,
+                  "Height map (zon, zag, vk4/6/7, x3p, gsf, csv, txt)")
+      ->required();
+  cmd->add_option("-o,--out", args->out, "Directory for the results");
+  cmd->add_option("--name", args->name, "Specimen name in the outputs");
+  cmd->add_option("--detail-cycle",
+                  args->write.detail_cycle,
+                  "Cycle for slopes, reconstruction and J(mu) (default: last)");
+  cmd->add_option(
+      "--loops", args->write.loop_cycles, "Cycles whose loops are exported");
+  AddCommonOptions(cmd, &args->common, true);
+  cmd->callback([args] { RunFuse(*args); });
+}
+
+}  // namespace wearscar::app

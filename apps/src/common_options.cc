@@ -1,0 +1,151 @@
+#include "common_options.h"
+
+#include <fmt/format.h>
+
+#include "output.h"
+
+namespace wearscar::app {
+
+void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
+  auto& r = a->read_force;
+  cmd->add_option("--time-column", r.time_column, "Time column name or #N")
+      ->group("Force file");
+  cmd->add_option("--x-column", r.x_column, "Displacement column name or #N")
+      ->group("Force file");
+  cmd->add_option(
+         "--q-column", r.tangential_column, "Friction force column name or #N")
+      ->group("Force file");
+  cmd->add_option(
+         "--p-column", r.normal_column, "Normal force column name or #N")
+      ->group("Force file");
+  cmd->add_option("--rate",
+                  r.sampling_rate_hz,
+                  "Sampling rate (Hz) when there is no time column")
+      ->group("Force file");
+  cmd->add_flag("--lenient", r.lenient, "Drop isolated bad rows with a warning")
+      ->group("Force file");
+  auto& o = a->fuse;
+  auto& s = o.analysis.friction.slope;
+  cmd->add_option("--spring",
+                  s.spring_stiffness_n_per_mm,
+                  "Loading spring stiffness S, N/mm")
+      ->capture_default_str()
+      ->group("Method");
+  cmd->add_option("--window", s.window, "Smoothing window of P, samples")
+      ->capture_default_str()
+      ->group("Method");
+  cmd->add_option("--derivative",
+                  a->derivative,
+                  "Slope of P: central (paper Eq. 5) | savgol")
+      ->capture_default_str()
+      ->group("Method");
+  cmd->add_option(
+         "--min-span",
+         s.min_span_mm,
+         "Widen the difference stencil to span at least this x, mm (0 = paper)")
+      ->capture_default_str()
+      ->group("Method");
+  cmd->add_option("--running-in",
+                  o.analysis.running_in_cycles,
+                  "Running-in cycles excluded from statistics")
+      ->capture_default_str()
+      ->group("Method");
+  cmd->add_option("--mu-max",
+                  o.analysis.friction.fit.mu_max,
+                  "Upper end of the mu search")
+      ->capture_default_str()
+      ->group("Method");
+  cmd->add_option("--max-cost",
+                  o.verdict.max_cost,
+                  "Verdict: largest J after running-in")
+      ->capture_default_str()
+      ->group("Verdict");
+  cmd->add_option("--max-method-difference",
+                  o.verdict.max_method_difference,
+                  "Verdict: largest |mu-hat - mu_energy|")
+      ->capture_default_str()
+      ->group("Verdict");
+  if (!with_scan) return;
+  cmd->add_option("--max-amplitude-ratio",
+                  o.verdict.max_amplitude_ratio,
+                  "Verdict: largest std(P/S) / std(scan profile)")
+      ->capture_default_str()
+      ->group("Verdict");
+  cmd->add_option("--min-correlation",
+                  o.verdict.min_correlation,
+                  "Verdict: smallest correlation of the aligned profiles")
+      ->capture_default_str()
+      ->group("Verdict");
+  cmd->add_option("--compare-cycles",
+                  o.force_profile.cycles,
+                  "Compare the scan with the last N cycles")
+      ->capture_default_str()
+      ->group("Scan");
+  cmd->add_option("--level-order",
+                  o.level.polynomial_order,
+                  "Reference surface order (1-3)")
+      ->capture_default_str()
+      ->group("Scan");
+  cmd->add_option(
+         "--band", o.profile.band_width_mm, "Centreline band width, mm")
+      ->capture_default_str()
+      ->group("Scan");
+  cmd->add_option("--scan-derivative",
+                  a->scan_derivative,
+                  "Slope of the scan: savgol | central")
+      ->capture_default_str()
+      ->group("Scan");
+  cmd->add_option("--scan-window",
+                  o.scan_slope.window,
+                  "Scan slope window, scan samples")
+      ->capture_default_str()
+      ->group("Scan");
+  cmd->add_flag("--manual-track",
+                o.track.manual,
+                "Place the track by hand (--track-x, --track-y, --track-angle)")
+      ->group("Scan");
+  cmd->add_option("--track-angle",
+                  o.track.angle_deg,
+                  "Track angle, degrees (manual placement)")
+      ->group("Scan");
+  cmd->add_option("--track-x",
+                  o.track.center_x_mm,
+                  "Track centre x, mm (manual placement)")
+      ->group("Scan");
+  cmd->add_option("--track-y",
+                  o.track.center_y_mm,
+                  "Track centre y, mm (manual placement)")
+      ->group("Scan");
+  cmd->add_option("--measurement",
+                  a->read_scan.measurement_index,
+                  ".zag measurement index")
+      ->group("Scan");
+  cmd->add_option("--ascii-pitch",
+                  a->read_scan.ascii_pitch_mm,
+                  "ASCII matrix pixel size, mm")
+      ->group("Scan");
+  cmd->add_option(
+         "--ascii-unit", a->read_scan.ascii_z_unit, "ASCII matrix height unit")
+      ->group("Scan");
+}
+
+void FinaliseCommonOptions(CommonArgs* a) {
+  if (!force::ParseDerivativeMethod(a->derivative,
+                                    &a->fuse.analysis.friction.slope.method)) {
+    throw UsageError(fmt::format(
+        "--derivative '{}': expected central or savgol", a->derivative));
+  }
+  if (!force::ParseDerivativeMethod(a->scan_derivative,
+                                    &a->fuse.scan_slope.method)) {
+    throw UsageError(
+        fmt::format("--scan-derivative '{}': expected savgol or central",
+                    a->scan_derivative));
+  }
+  std::string why;
+  if (!a->fuse.IsValid(&why) || !a->read_force.IsValid(&why) ||
+      !a->read_scan.IsValid(&why)) {
+    throw UsageError(why);
+  }
+}
+
+}  // namespace wearscar::app

@@ -1,0 +1,26 @@
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+
+#include "wearscar/force/read_force.h"
+#include "wearscar/fusion/fuse.h"
+#include "wearscar/scan/read_scan.h"
+
+namespace wearscar::app {
+
+// Options shared by force, fuse and audit.
+struct CommonArgs {
+  force::ReadForceOptions read_force;
+  scan::ReadScanOptions read_scan;
+  fusion::FuseOptions fuse;
+  std::string derivative = "central";
+  std::string scan_derivative = "savgol";
+};
+
+void AddCommonOptions(CLI::App* cmd, CommonArgs* args, bool with_scan);
+
+// Applies the string options and checks everything; UsageError when invalid.
+void FinaliseCommonOptions(CommonArgs* args);
+
+}  // namespace wearscar::app

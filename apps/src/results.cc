@@ -1,0 +1,310 @@
+#include "results.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "output.h"
+#include "wearscar/fusion/forward_model.h"
+
+namespace wearscar::app {
+namespace {
+
+nlohmann::json Stat(const fusion::Statistic& s) {
+  return {{"mean", s.mean}, {"sd", s.sd}, {"count", s.count}};
+}
+
+double Nan() { return std::nan(""); }
+
+std::string Path(const std::string& dir, const char* file) {
+  return (std::filesystem::path(dir) / file).string();
+}
+
+}  // namespace
+
+nlohmann::json ResultJson(const std::string& name,
+                          const force::ForceRecord& record,
+                          const fusion::TestResult& r,
+                          const fusion::FuseOptions& o) {
+  nlohmann::json j;
+  j["specimen"] = name;
+  j["force_file"] = record.metadata.source;
+  j["force_layout"] = record.metadata.layout;
+  j["samples"] = record.size();
+  j["sampling_rate_hz"] = record.metadata.sampling_rate_hz;
+  j["cycles"] = r.force.cycles.cycles.size();
+  j["stroke_mm"] = r.force.cycles.stroke_mm;
+  j["slip_fallback_half_cycles"] = r.force.slip_fallbacks;
+  j["options"] = {
+      {"spring_n_per_mm", o.analysis.friction.slope.spring_stiffness_n_per_mm},
+      {"derivative",
+       force::DerivativeMethodName(o.analysis.friction.slope.method)},
+      {"window_samples", o.analysis.friction.slope.window},
+      {"min_span_mm", o.analysis.friction.slope.min_span_mm},
+      {"running_in_cycles", o.analysis.running_in_cycles},
+      {"mu_interval",
+       {o.analysis.friction.fit.mu_min, o.analysis.friction.fit.mu_max}},
+      {"max_cost", o.verdict.max_cost},
+      {"max_amplitude_ratio", o.verdict.max_amplitude_ratio},
+      {"min_correlation", o.verdict.min_correlation},
+      {"max_method_difference", o.verdict.max_method_difference}};
+  j["after_running_in"] = {{"mu_hat", Stat(r.force.mu_hat)},
+                           {"J", Stat(r.force.cost)},
+                           {"mu_mean", Stat(r.force.mu_mean)},
+                           {"mu_energy", Stat(r.force.mu_energy)}};
+  const auto& m = r.mismatch;
+  j["comparison"] = {{"first_cycle", m.first_cycle},
+                     {"last_cycle", m.last_cycle},
+                     {"mu_hat_force", Stat(m.mu_force)},
+                     {"J_force", Stat(m.cost_force)},
+                     {"mu_mean", Stat(m.mu_mean)},
+                     {"mu_energy", Stat(m.mu_energy)},
+                     {"mu_hat_minus_mu_mean", m.mu_force_minus_mean},
+                     {"mu_hat_minus_mu_energy", m.mu_force_minus_energy}};
+  if (r.scan) {
+    const auto& s = *r.scan;
+    j["comparison"]["mu_hat_scan"] = Stat(m.mu_scan);
+    j["comparison"]["J_scan"] = Stat(m.cost_scan);
+    j["comparison"]["mu_hat_force_minus_scan"] = m.mu_force_minus_scan;
+    j["comparison"]["k_rms_difference"] = m.k_rms_difference;
+    j["comparison"]["profile_correlation"] = m.correlation;
+    j["comparison"]["amplitude_ratio"] = m.amplitude_ratio;
+    j["scan"] = {{"level",
+                  {{"order", s.level.order},
+                   {"coefficients",
+                    std::vector<double>(s.level.coefficients.data(),
+                                        s.level.coefficients.data() +
+                                            s.level.coefficients.size())},
+                   {"inliers", s.level.inliers},
+                   {"rms_mm", s.level.rms_mm}}},
+                 {"spikes_removed", s.spikes_removed},
+                 {"track",
+                  {{"center_x_mm", s.track.center_x_mm},
+                   {"center_y_mm", s.track.center_y_mm},
+                   {"angle_deg", s.track.angle_deg},
+                   {"length_mm", s.track.length_mm},
+                   {"width_mm", s.track.width_mm},
+                   {"max_depth_mm", s.track.max_depth_mm},
+                   {"volume_mm3", s.track.volume_mm3},
+                   {"manual", s.track.manual}}},
+                 {"alignment",
+                  {{"shift_mm", s.alignment.shift_mm},
+                   {"flipped", s.alignment.flipped},
+                   {"correlation", s.alignment.correlation},
+                   {"correlation_forward", s.alignment.correlation_forward},
+                   {"correlation_reverse", s.alignment.correlation_reverse},
+                   {"scale", s.alignment.scale},
+                   {"amplitude_ratio", s.alignment.amplitude_ratio},
+                   {"overlap_samples", s.alignment.overlap_samples}}}};
+  }
+  j["verdict"] = {{"explained", r.verdict.explained},
+                  {"summary", r.verdict.Summary()},
+                  {"reasons", r.verdict.reasons}};
+  j["warnings"] = record.metadata.warnings;
+  return j;
+}
+
+std::vector<std::string> WriteTestResults(const std::string& dir,
+                                          const std::string& name,
+                                          const force::ForceRecord& record,
+                                          const fusion::TestResult& r,
+                                          const fusion::FuseOptions& o,
+                                          const WriteOptions& w) {
+  EnsureDirectory(dir);
+  std::vector<std::string> files;
+  auto write = [&](const char* file, const std::string& text) {
+    const std::string p = Path(dir, file);
+    WriteTextAtomically(p, text);
+    files.push_back(p);
+  };
+  const auto& cycles = r.force.cycles.cycles;
+  const int n = static_cast<int>(cycles.size());
+  // Per cycle.
+  Table t;
+  t.columns = {"cycle",
+               "mu_hat_force",
+               "J_force",
+               "mu_hat_scan",
+               "J_scan",
+               "samples",
+               "mu_mean",
+               "mu_energy_max",
+               "mu_energy_g",
+               "E_d_Nmm",
+               "delta_max_mm",
+               "delta_g_mm",
+               "P_mean_N",
+               "Q_max_N",
+               "Q_min_N",
+               "P_max_N",
+               "P_min_N",
+               "slip_fallback"};
+  for (int c = 0; c < n; ++c) {
+    const auto& f = r.force.fit_force[c];
+    const auto& cof = r.force.cof[c];
+    const fusion::MuFit* s = r.scan ? &r.scan->fit_scan[c] : nullptr;
+    t.rows.push_back({static_cast<double>(c),
+                      f.converged ? f.mu_hat : Nan(),
+                      f.converged ? f.cost : Nan(),
+                      s && s->converged ? s->mu_hat : Nan(),
+                      s && s->converged ? s->cost : Nan(),
+                      static_cast<double>(f.samples),
+                      cof.mu_mean,
+                      cof.mu_energy_max,
+                      cof.mu_energy_g,
+                      cof.dissipated_energy_nmm,
+                      cof.delta_max_mm,
+                      cof.delta_g_mm,
+                      cof.mean_normal_n,
+                      cof.q_max_n,
+                      cof.q_min_n,
+                      cof.p_max_n,
+                      cof.p_min_n,
+                      static_cast<double>(cycles[c].forward.slip_fallback +
+                                          cycles[c].reverse.slip_fallback)});
+  }
+  write("cycles.csv", t.ToCsv());
+  // Hysteresis loops.
+  std::vector<int> loops = w.loop_cycles;
+  if (loops.empty())
+    loops = {0, std::min(2, n - 1), std::min(10, n - 1), n - 1};
+  Table l;
+  l.columns = {"cycle", "time_s", "x_mm", "Q_N", "P_N"};
+  for (int c : loops) {
+    if (c < 0 || c >= n) continue;
+    for (Eigen::Index i = cycles[c].forward.begin; i < cycles[c].reverse.end;
+         ++i) {
+      l.rows.push_back({static_cast<double>(c),
+                        record.time_s[i],
+                        record.x_mm[i],
+                        record.tangential_n[i],
+                        record.normal_n[i]});
+    }
+  }
+  write("loops.csv", l.ToCsv());
+  // Detail of one cycle: slopes, measured and reconstructed Q (Figs. 10, 12).
+  const int dc =
+      w.detail_cycle >= 0 && w.detail_cycle < n ? w.detail_cycle : n - 1;
+  const auto& fopt = o.analysis.friction;
+  const fusion::CycleSamples kf = fusion::GatherCycle(
+      record, cycles[dc], fusion::SlopeSource::kForce, fopt);
+  const double mu_f = r.force.fit_force[dc].mu_hat;
+  const double mu_s = r.scan ? r.scan->fit_scan[dc].mu_hat : Nan();
+  Table d;
+  d.columns = {"cycle",
+               "direction",
+               "x_mm",
+               "Q_N",
+               "P_N",
+               "k_force",
+               "k_scan",
+               "Q_model_force_N",
+               "Q_model_scan_N"};
+  for (const fusion::SlipSamples* s : {&kf.forward, &kf.reverse}) {
+    for (Eigen::Index i = 0; i < s->q_n.size(); ++i) {
+      const double ks = r.scan ? r.scan->slope.At(s->x_mm[i]) : Nan();
+      d.rows.push_back({static_cast<double>(dc),
+                        static_cast<double>(s->direction),
+                        s->x_mm[i],
+                        s->q_n[i],
+                        s->p_n[i],
+                        s->k[i],
+                        ks,
+                        fusion::WearScarTangentialForce(
+                            s->p_n[i], s->k[i], mu_f, s->direction),
+                        std::isfinite(ks)
+                            ? fusion::WearScarTangentialForce(
+                                  s->p_n[i], ks, mu_s, s->direction)
+                            : Nan()});
+    }
+  }
+  write("detail.csv", d.ToCsv());
+  // J(mu) (Fig. 11).
+  const Eigen::VectorXd grid =
+      Eigen::VectorXd::LinSpaced(201, fopt.fit.mu_min, fopt.fit.mu_max);
+  const Eigen::VectorXd jf = fusion::CostCurve(kf, grid);
+  Eigen::VectorXd js = Eigen::VectorXd::Constant(grid.size(), Nan());
+  if (r.scan) {
+    js = fusion::CostCurve(fusion::GatherCycle(record,
+                                               cycles[dc],
+                                               fusion::SlopeSource::kScan,
+                                               fopt,
+                                               &r.scan->slope),
+                           grid);
+  }
+  Table cc;
+  cc.columns = {"mu", "J_force", "J_scan"};
+  for (Eigen::Index i = 0; i < grid.size(); ++i)
+    cc.rows.push_back({grid[i], jf[i], js[i]});
+  write("cost_curve.csv", cc.ToCsv());
+  if (r.scan) {
+    const auto& fp = r.scan->force_profile;
+    const Eigen::VectorXd h =
+        fusion::ScanHeightAtPlate(r.scan->profile, r.scan->alignment, fp.x_mm);
+    Table p;
+    p.columns = {"x_mm",
+                 "f_forward_mm",
+                 "f_reverse_mm",
+                 "f_mean_mm",
+                 "h_scan_mm",
+                 "h_scan_scaled_mm",
+                 "k_scan"};
+    const auto& a = r.scan->alignment;
+    for (Eigen::Index i = 0; i < fp.x_mm.size(); ++i) {
+      p.rows.push_back({fp.x_mm[i],
+                        fp.forward_mm[i],
+                        fp.reverse_mm[i],
+                        fp.mean_mm[i],
+                        h[i],
+                        a.scale * h[i] + a.offset_mm,
+                        r.scan->slope.At(fp.x_mm[i])});
+    }
+    write("profiles.csv", p.ToCsv());
+    Table sp;
+    sp.columns = {"s_mm", "h_mm", "valid_samples"};
+    for (Eigen::Index i = 0; i < r.scan->profile.s_mm.size(); ++i) {
+      sp.rows.push_back(
+          {r.scan->profile.s_mm[i],
+           r.scan->profile.height_mm[i],
+           static_cast<double>(r.scan->profile.valid_samples[i])});
+    }
+    write("centreline.csv", sp.ToCsv());
+  }
+  write("result.json", ResultJson(name, record, r, o).dump(2) + "\n");
+  return files;
+}
+
+void PrintSummary(const std::string& name, const fusion::TestResult& r) {
+  const auto& m = r.mismatch;
+  fmt::print("{}: {} cycles; compared over cycles {}-{}\n",
+             name,
+             r.force.cycles.cycles.size(),
+             m.first_cycle,
+             m.last_cycle);
+  fmt::print("  mu-hat, k from P     {:.4f} +- {:.4f}   J {:.3f}\n",
+             m.mu_force.mean,
+             m.mu_force.sd,
+             m.cost_force.mean);
+  if (m.has_scan) {
+    fmt::print("  mu-hat, k from scan  {:.4f} +- {:.4f}   J {:.3f}\n",
+               m.mu_scan.mean,
+               m.mu_scan.sd,
+               m.cost_scan.mean);
+    const auto& a = r.scan->alignment;
+    fmt::print(
+        "  profiles: r = {:.3f}, amplitude ratio {:.2f}, shift {:.3f} mm{}, "
+        "RMS(k_P - "
+        "k_scan) {:.3f}\n",
+        a.correlation,
+        a.amplitude_ratio,
+        a.shift_mm,
+        a.flipped ? " (flipped)" : "",
+        m.k_rms_difference);
+  }
+  fmt::print(
+      "  mu mean {:.4f}, mu energy {:.4f}\n", m.mu_mean.mean, m.mu_energy.mean);
+  fmt::print("  verdict: {}\n", r.verdict.Summary());
+}
+
+}  // namespace wearscar::app

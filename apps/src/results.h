@@ -1,0 +1,38 @@
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "wearscar/force/force_record.h"
+#include "wearscar/fusion/fuse.h"
+
+namespace wearscar::app {
+
+// What to write besides the summary.
+struct WriteOptions {
+  std::vector<int>
+      loop_cycles;  // hysteresis loops to export (empty = 3 early + last)
+  int detail_cycle =
+      -1;  // cycle for slope, reconstruction and J(mu); -1 = last
+};
+
+// Summary of one test as JSON (also the row of the audit table).
+nlohmann::json ResultJson(const std::string& name,
+                          const force::ForceRecord& record,
+                          const fusion::TestResult& result,
+                          const fusion::FuseOptions& options);
+
+// Writes result.json, cycles.csv, loops.csv, detail.csv, cost_curve.csv and,
+// with a scan, profiles.csv into `dir`; returns the files written.
+std::vector<std::string> WriteTestResults(const std::string& dir,
+                                          const std::string& name,
+                                          const force::ForceRecord& record,
+                                          const fusion::TestResult& result,
+                                          const fusion::FuseOptions& options,
+                                          const WriteOptions& write = {});
+
+// Prints the human summary of one test to stdout.
+void PrintSummary(const std::string& name, const fusion::TestResult& result);
+
+}  // namespace wearscar::app

@@ -1,0 +1,83 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+
+#include "wearscar/force/cycles.h"
+#include "wearscar/force/force_record.h"
+#include "wearscar/force/slope.h"
+#include "wearscar/fusion/error.h"
+#include "wearscar/fusion/fit_mu.h"
+#include "wearscar/scan/track.h"
+
+namespace wearscar::fusion {
+
+// The force-side profile: spring displacement f = P / S along the plate
+// coordinate, averaged over a range of cycles in bins of x (gross slip only).
+struct ForceProfile {
+  Eigen::VectorXd x_mm;
+  Eigen::VectorXd forward_mm;  // NaN where a bin is empty
+  Eigen::VectorXd reverse_mm;
+  Eigen::VectorXd
+      mean_mm;  // mean of the two directions (either when one is NaN)
+  int first_cycle = 0, last_cycle = 0;  // inclusive range used
+};
+
+struct ForceProfileOptions {
+  int cycles = 50;  // the last N cycles (closest in time to a post-test scan)
+  int first_cycle = -1;  // explicit range instead, when >= 0
+  int last_cycle = -1;
+  double step_mm = 0.01;  // bin width
+  bool IsValid(std::string* why) const;
+};
+
+ForceProfile ComputeForceProfile(const force::ForceRecord& record,
+                                 const force::CycleSet& cycles,
+                                 double spring_n_per_mm,
+                                 const ForceProfileOptions& options = {});
+
+// Plate x maps to the scan's along-track coordinate s = flip * x + shift.
+struct Alignment {
+  double shift_mm = 0.0;
+  bool flipped = false;
+  double correlation = 0.0;  // normalised cross-correlation at the optimum
+  double correlation_forward = 0.0, correlation_reverse = 0.0;
+  double scale = 0.0;  // least squares f = scale * h + offset
+  double offset_mm = 0.0;
+  double amplitude_ratio = 0.0;  // std(f) / std(h) over the overlap
+  int overlap_samples = 0;
+  std::string message = "not run";
+
+  double ScanCoordinate(double x_mm) const {
+    return (flipped ? -x_mm : x_mm) + shift_mm;
+  }
+};
+
+struct AlignOptions {
+  double max_shift_mm = 1.5;
+  double step_mm = 0.01;              // resampling grid
+  double min_overlap_fraction = 0.6;  // of the force profile's valid points
+  bool allow_flip = true;
+  bool IsValid(std::string* why) const;
+};
+
+// Normalised cross-correlation over shift and orientation, sub-sample shift
+// by a parabola through the peak, least-squares scale on the overlap.
+// Throws FusionError when the profiles cannot overlap enough.
+Alignment AlignProfiles(const ForceProfile& force_profile,
+                        const scan::WearProfile& scan_profile,
+                        const AlignOptions& options = {});
+
+// Slope of the sliding path from the scan in plate coordinates,
+// k_scan(x) = dh/dx, with the chosen derivative (window in scan samples).
+SlopeProfile ScanSlopeInPlate(const scan::WearProfile& scan_profile,
+                              const Alignment& alignment,
+                              const force::SlopeOptions& derivative);
+
+// The scan profile resampled at plate coordinates x (NaN outside).
+Eigen::VectorXd ScanHeightAtPlate(
+    const scan::WearProfile& scan_profile,
+    const Alignment& alignment,
+    const Eigen::Ref<const Eigen::VectorXd>& x_mm);
+
+}  // namespace wearscar::fusion

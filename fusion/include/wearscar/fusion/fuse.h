@@ -1,0 +1,67 @@
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "wearscar/fusion/align.h"
+#include "wearscar/fusion/analysis.h"
+#include "wearscar/fusion/verdict.h"
+#include "wearscar/scan/height_map.h"
+#include "wearscar/scan/level.h"
+#include "wearscar/scan/track.h"
+
+namespace wearscar::fusion {
+
+// Everything that shapes one test's analysis, with the paper's defaults.
+struct FuseOptions {
+  AnalysisOptions analysis;
+  scan::LevelOptions level;
+  scan::SpikeOptions spikes;
+  scan::TrackOptions track;
+  scan::ProfileOptions profile;
+  ForceProfileOptions force_profile;
+  AlignOptions align;
+  // Derivative of the scan profile (window in scan samples).
+  force::SlopeOptions scan_slope{
+      force::DerivativeMethod::kSavitzkyGolay, 15, 2};
+  VerdictOptions verdict;
+
+  bool IsValid(std::string* why) const;
+};
+
+// The scan side of one test.
+struct ScanAnalysis {
+  scan::LevelSummary level;
+  int spikes_removed = 0;
+  scan::Track track;
+  scan::WearProfile profile;
+  ForceProfile force_profile;
+  Alignment alignment;
+  SlopeProfile slope;           // k_scan in plate coordinates
+  std::vector<MuFit> fit_scan;  // mu-hat per cycle with k from the scan
+};
+
+struct TestResult {
+  ForceAnalysis force;
+  std::optional<ScanAnalysis> scan;
+  MismatchReport mismatch;
+  Verdict verdict;
+};
+
+// Force analysis, then (when a scan is given) levelling, spikes, track,
+// centreline, alignment, scan slope and mu-hat with it; then the mismatch
+// report and the verdict. The scan is taken by value (it is levelled).
+TestResult AnalyzeTest(const force::ForceRecord& record,
+                       std::optional<scan::HeightMap> height_map,
+                       const FuseOptions& options = {});
+
+// The mismatch over cycles [first, last] (after running-in by default).
+MismatchReport CompareSlopes(const force::ForceRecord& record,
+                             const ForceAnalysis& force,
+                             const ScanAnalysis* scan,
+                             int first_cycle,
+                             int last_cycle,
+                             const FuseOptions& options);
+
+}  // namespace wearscar::fusion

@@ -1,0 +1,286 @@
+#include "wearscar/fusion/align.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "wearscar/fusion/forward_model.h"
+
+namespace wearscar::fusion {
+namespace {
+
+// Linear interpolation on a uniform grid; NaN outside or next to NaN.
+double Interp(const Eigen::VectorXd& v, double x0, double step, double x) {
+  const double t = (x - x0) / step;
+  if (!(t >= 0) || t > static_cast<double>(v.size() - 1)) return std::nan("");
+  const Eigen::Index i =
+      std::min<Eigen::Index>(static_cast<Eigen::Index>(t), v.size() - 2);
+  const double w = t - static_cast<double>(i);
+  if (w == 0) return v[i];
+  return (1 - w) * v[i] + w * v[i + 1];
+}
+
+struct Ncc {
+  double r = -2;
+  int n = 0;
+};
+
+// NCC of f(x_j) against h(flip x_j + shift) over the finite pairs.
+Ncc Correlate(const Eigen::VectorXd& x,
+              const Eigen::VectorXd& f,
+              const Eigen::VectorXd& h,
+              double h0,
+              double step,
+              int flip,
+              double shift) {
+  double sf = 0, sh = 0, sff = 0, shh = 0, sfh = 0;
+  int n = 0;
+  for (Eigen::Index j = 0; j < x.size(); ++j) {
+    if (!std::isfinite(f[j])) continue;
+    const double hv = Interp(h, h0, step, flip * x[j] + shift);
+    if (!std::isfinite(hv)) continue;
+    sf += f[j];
+    sh += hv;
+    sff += f[j] * f[j];
+    shh += hv * hv;
+    sfh += f[j] * hv;
+    ++n;
+  }
+  Ncc out;
+  out.n = n;
+  if (n < 3) return out;
+  const double cov = sfh - sf * sh / n, vf = sff - sf * sf / n,
+               vh = shh - sh * sh / n;
+  out.r = (vf > 0 && vh > 0) ? cov / std::sqrt(vf * vh) : -2;
+  return out;
+}
+
+}  // namespace
+
+bool ForceProfileOptions::IsValid(std::string* why) const {
+  if (!(step_mm > 0)) {
+    if (why) *why = "force profile step_mm must be > 0";
+    return false;
+  }
+  if (cycles < 1 && first_cycle < 0) {
+    if (why) *why = "force profile needs cycles >= 1 or an explicit range";
+    return false;
+  }
+  return true;
+}
+
+bool AlignOptions::IsValid(std::string* why) const {
+  if (!(step_mm > 0) || !(max_shift_mm >= 0)) {
+    if (why) *why = "alignment step_mm must be > 0 and max_shift_mm >= 0";
+    return false;
+  }
+  if (!(min_overlap_fraction > 0 && min_overlap_fraction <= 1)) {
+    if (why) *why = "min_overlap_fraction must be in (0, 1]";
+    return false;
+  }
+  return true;
+}
+
+ForceProfile ComputeForceProfile(const force::ForceRecord& record,
+                                 const force::CycleSet& cycles,
+                                 double spring_n_per_mm,
+                                 const ForceProfileOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw FusionError(why);
+  const int n = static_cast<int>(cycles.cycles.size());
+  ForceProfile p;
+  if (options.first_cycle >= 0) {
+    p.first_cycle = std::clamp(options.first_cycle, 0, n - 1);
+    p.last_cycle =
+        std::clamp(options.last_cycle >= 0 ? options.last_cycle : n - 1,
+                   p.first_cycle,
+                   n - 1);
+  } else {
+    p.last_cycle = n - 1;
+    p.first_cycle = std::max(0, n - options.cycles);
+  }
+  double lo = INFINITY, hi = -INFINITY;
+  for (int c = p.first_cycle; c <= p.last_cycle; ++c) {
+    for (const force::HalfCycle* h :
+         {&cycles.cycles[c].forward, &cycles.cycles[c].reverse}) {
+      for (Eigen::Index i = h->slip_begin; i < h->slip_end; ++i) {
+        if (!std::isfinite(record.x_mm[i])) continue;
+        lo = std::min(lo, record.x_mm[i]);
+        hi = std::max(hi, record.x_mm[i]);
+      }
+    }
+  }
+  if (!(hi > lo))
+    throw FusionError("no gross-slip samples to build the force-side profile");
+  const double step = options.step_mm;
+  const Eigen::Index bins =
+      static_cast<Eigen::Index>(std::floor((hi - lo) / step)) + 1;
+  p.x_mm = Eigen::VectorXd::LinSpaced(
+      bins, lo + 0.5 * step, lo + (bins - 0.5) * step);
+  Eigen::VectorXd sum[2] = {Eigen::VectorXd::Zero(bins),
+                            Eigen::VectorXd::Zero(bins)};
+  Eigen::VectorXd cnt[2] = {Eigen::VectorXd::Zero(bins),
+                            Eigen::VectorXd::Zero(bins)};
+  for (int c = p.first_cycle; c <= p.last_cycle; ++c) {
+    for (const force::HalfCycle* h :
+         {&cycles.cycles[c].forward, &cycles.cycles[c].reverse}) {
+      const int d = h->direction > 0 ? 0 : 1;
+      for (Eigen::Index i = h->slip_begin; i < h->slip_end; ++i) {
+        const double x = record.x_mm[i], pn = record.normal_n[i];
+        if (!std::isfinite(x) || !std::isfinite(pn)) continue;
+        const Eigen::Index b = std::min<Eigen::Index>(
+            bins - 1, static_cast<Eigen::Index>(std::floor((x - lo) / step)));
+        sum[d][b] += pn / spring_n_per_mm;
+        cnt[d][b] += 1;
+      }
+    }
+  }
+  p.forward_mm.resize(bins);
+  p.reverse_mm.resize(bins);
+  p.mean_mm.resize(bins);
+  for (Eigen::Index b = 0; b < bins; ++b) {
+    p.forward_mm[b] = cnt[0][b] > 0 ? sum[0][b] / cnt[0][b] : std::nan("");
+    p.reverse_mm[b] = cnt[1][b] > 0 ? sum[1][b] / cnt[1][b] : std::nan("");
+    const bool f = std::isfinite(p.forward_mm[b]),
+               r = std::isfinite(p.reverse_mm[b]);
+    p.mean_mm[b] = f && r ? 0.5 * (p.forward_mm[b] + p.reverse_mm[b])
+                   : f    ? p.forward_mm[b]
+                   : r    ? p.reverse_mm[b]
+                          : std::nan("");
+  }
+  return p;
+}
+
+Alignment AlignProfiles(const ForceProfile& fp,
+                        const scan::WearProfile& sp,
+                        const AlignOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw FusionError(why);
+  if (sp.s_mm.size() < 3 || fp.x_mm.size() < 3) {
+    throw FusionError("alignment needs at least 3 points in each profile");
+  }
+  // Scan profile on the alignment grid.
+  const double step = options.step_mm;
+  const double s0 = sp.s_mm[0], s1 = sp.s_mm[sp.s_mm.size() - 1];
+  const Eigen::Index m =
+      static_cast<Eigen::Index>(std::floor((s1 - s0) / step)) + 1;
+  Eigen::VectorXd h(m);
+  for (Eigen::Index i = 0; i < m; ++i)
+    h[i] = Interp(sp.height_mm, s0, sp.step_mm, s0 + i * step);
+  const int valid_force = static_cast<int>(
+      fp.mean_mm
+          .unaryExpr([](double v) { return std::isfinite(v) ? 1.0 : 0.0; })
+          .sum());
+  const int min_overlap =
+      static_cast<int>(std::ceil(options.min_overlap_fraction * valid_force));
+  Alignment best;
+  int best_flip = 1;
+  const int shifts = static_cast<int>(std::floor(options.max_shift_mm / step));
+  for (int flip : {1, -1}) {
+    if (flip < 0 && !options.allow_flip) continue;
+    for (int k = -shifts; k <= shifts; ++k) {
+      const Ncc c = Correlate(fp.x_mm, fp.mean_mm, h, s0, step, flip, k * step);
+      if (c.n < min_overlap || c.r <= best.correlation) continue;
+      best.correlation = c.r;
+      best.shift_mm = k * step;
+      best.overlap_samples = c.n;
+      best_flip = flip;
+    }
+  }
+  if (best.overlap_samples == 0) {
+    throw FusionError(
+        fmt::format("the scan profile ({:.2f} mm) and the force-side profile "
+                    "({:.2f} mm) cannot overlap on "
+                    "{:.0f}% of the force profile within +-{} mm of shift; "
+                    "expected the scan to cover the "
+                    "stroke",
+                    s1 - s0,
+                    fp.x_mm[fp.x_mm.size() - 1] - fp.x_mm[0],
+                    100 * options.min_overlap_fraction,
+                    options.max_shift_mm));
+  }
+  best.flipped = best_flip < 0;
+  // Sub-sample shift: parabola through the peak and its neighbours.
+  const Ncc left = Correlate(
+      fp.x_mm, fp.mean_mm, h, s0, step, best_flip, best.shift_mm - step);
+  const Ncc right = Correlate(
+      fp.x_mm, fp.mean_mm, h, s0, step, best_flip, best.shift_mm + step);
+  if (left.r > -2 && right.r > -2) {
+    const double denom = left.r - 2 * best.correlation + right.r;
+    if (denom < 0) {
+      const double delta = 0.5 * (left.r - right.r) / denom;
+      if (std::abs(delta) < 1) best.shift_mm += delta * step;
+    }
+  }
+  const double shift = best.shift_mm;
+  best.correlation =
+      Correlate(fp.x_mm, fp.mean_mm, h, s0, step, best_flip, shift).r;
+  best.correlation_forward =
+      Correlate(fp.x_mm, fp.forward_mm, h, s0, step, best_flip, shift).r;
+  best.correlation_reverse =
+      Correlate(fp.x_mm, fp.reverse_mm, h, s0, step, best_flip, shift).r;
+  // Least-squares scale and amplitude ratio on the overlap.
+  double sf = 0, sh = 0, sff = 0, shh = 0, sfh = 0;
+  int n = 0;
+  for (Eigen::Index j = 0; j < fp.x_mm.size(); ++j) {
+    const double f = fp.mean_mm[j];
+    const double hv = Interp(h, s0, step, best_flip * fp.x_mm[j] + shift);
+    if (!std::isfinite(f) || !std::isfinite(hv)) continue;
+    sf += f;
+    sh += hv;
+    sff += f * f;
+    shh += hv * hv;
+    sfh += f * hv;
+    ++n;
+  }
+  const double vh = shh - sh * sh / n, vf = sff - sf * sf / n;
+  best.scale = vh > 0 ? (sfh - sf * sh / n) / vh : 0.0;
+  best.offset_mm = (sf - best.scale * sh) / n;
+  best.amplitude_ratio = vh > 0 ? std::sqrt(vf / vh) : 0.0;
+  best.overlap_samples = n;
+  best.message =
+      fmt::format("shift {:.3f} mm{}, r = {:.3f}, scale {:.2f}, {} points",
+                  best.shift_mm,
+                  best.flipped ? " (flipped)" : "",
+                  best.correlation,
+                  best.scale,
+                  n);
+  return best;
+}
+
+Eigen::VectorXd ScanHeightAtPlate(
+    const scan::WearProfile& sp,
+    const Alignment& a,
+    const Eigen::Ref<const Eigen::VectorXd>& x_mm) {
+  Eigen::VectorXd out(x_mm.size());
+  for (Eigen::Index i = 0; i < x_mm.size(); ++i) {
+    out[i] =
+        Interp(sp.height_mm, sp.s_mm[0], sp.step_mm, a.ScanCoordinate(x_mm[i]));
+  }
+  return out;
+}
+
+SlopeProfile ScanSlopeInPlate(const scan::WearProfile& sp,
+                              const Alignment& a,
+                              const force::SlopeOptions& derivative) {
+  force::SlopeOptions d = derivative;
+  d.min_span_mm = 0;  // s is uniform: no widening needed
+  const Eigen::VectorXd dhds =
+      force::DerivativeAlongX(sp.s_mm, sp.height_mm, 0, sp.s_mm.size(), d);
+  // x = flip (s - shift); dh/dx = flip dh/ds. Order by increasing x.
+  const Eigen::Index n = sp.s_mm.size();
+  SlopeProfile k;
+  k.x_mm.resize(n);
+  k.k.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Eigen::Index j = a.flipped ? n - 1 - i : i;
+    const double s = sp.s_mm[j];
+    k.x_mm[i] = a.flipped ? -(s - a.shift_mm) : s - a.shift_mm;
+    k.k[i] = a.flipped ? -dhds[j] : dhds[j];
+  }
+  return k;
+}
+
+}  // namespace wearscar::fusion

@@ -1,0 +1,119 @@
+#include "wearscar/fusion/fuse.h"
+
+#include <cmath>
+
+#include "wearscar/fusion/forward_model.h"
+
+namespace wearscar::fusion {
+
+bool FuseOptions::IsValid(std::string* why) const {
+  return analysis.IsValid(why) && level.IsValid(why) && track.IsValid(why) &&
+         profile.IsValid(why) && force_profile.IsValid(why) &&
+         align.IsValid(why) && scan_slope.IsValid(why) && verdict.IsValid(why);
+}
+
+MismatchReport CompareSlopes(const force::ForceRecord& record,
+                             const ForceAnalysis& force,
+                             const ScanAnalysis* scan,
+                             int first,
+                             int last,
+                             const FuseOptions& options) {
+  MismatchReport r;
+  r.first_cycle = first;
+  r.last_cycle = last;
+  auto stat = [&](auto value) {
+    std::vector<double> v;
+    for (int c = first; c <= last; ++c) v.push_back(value(c));
+    return Summarise(v, 0);
+  };
+  const auto& ff = force.fit_force;
+  r.mu_force = stat(
+      [&](int c) { return ff[c].converged ? ff[c].mu_hat : std::nan(""); });
+  r.cost_force =
+      stat([&](int c) { return ff[c].converged ? ff[c].cost : std::nan(""); });
+  r.mu_mean = stat([&](int c) { return force.cof[c].mu_mean; });
+  r.mu_energy = stat([&](int c) { return force.cof[c].mu_energy_g; });
+  r.mu_force_minus_mean =
+      stat([&](int c) { return ff[c].mu_hat - force.cof[c].mu_mean; }).mean;
+  r.mu_force_minus_energy =
+      stat([&](int c) { return ff[c].mu_hat - force.cof[c].mu_energy_g; }).mean;
+  if (scan == nullptr) return r;
+  r.has_scan = true;
+  r.correlation = scan->alignment.correlation;
+  r.amplitude_ratio = scan->alignment.amplitude_ratio;
+  const auto& fs = scan->fit_scan;
+  r.mu_scan = stat(
+      [&](int c) { return fs[c].converged ? fs[c].mu_hat : std::nan(""); });
+  r.cost_scan =
+      stat([&](int c) { return fs[c].converged ? fs[c].cost : std::nan(""); });
+  r.mu_force_minus_scan = r.mu_force.mean - r.mu_scan.mean;
+  // RMS of k_force - k_scan over the gross-slip samples of the range.
+  double sum2 = 0;
+  long n = 0;
+  for (int c = first; c <= last; ++c) {
+    const CycleSamples kf = GatherCycle(record,
+                                        force.cycles.cycles[c],
+                                        SlopeSource::kForce,
+                                        options.analysis.friction);
+    for (const SlipSamples* s : {&kf.forward, &kf.reverse}) {
+      for (Eigen::Index i = 0; i < s->k.size(); ++i) {
+        const double ks = scan->slope.At(s->x_mm[i]);
+        if (!std::isfinite(ks)) continue;
+        sum2 += (s->k[i] - ks) * (s->k[i] - ks);
+        ++n;
+      }
+    }
+  }
+  r.k_rms_difference = n > 0 ? std::sqrt(sum2 / n) : std::nan("");
+  return r;
+}
+
+TestResult AnalyzeTest(const force::ForceRecord& record,
+                       std::optional<scan::HeightMap> height_map,
+                       const FuseOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw FusionError("fuse options: " + why);
+  TestResult result;
+  result.force = AnalyzeForce(record, options.analysis);
+  const int n = static_cast<int>(result.force.cycles.cycles.size());
+  if (height_map) {
+    ScanAnalysis s;
+    scan::HeightMap& map = *height_map;
+    s.level = scan::LevelHeightMap(&map, options.level);
+    s.spikes_removed = scan::RemoveSpikes(&map, options.spikes);
+    s.track = scan::FindTrack(map, options.track);
+    scan::ProfileOptions po = options.profile;
+    po.extend_mm = std::max(po.extend_mm, 0.5);
+    s.profile = scan::ExtractCentreline(map, s.track, po);
+    s.force_profile = ComputeForceProfile(
+        record,
+        result.force.cycles,
+        options.analysis.friction.slope.spring_stiffness_n_per_mm,
+        options.force_profile);
+    s.alignment = AlignProfiles(s.force_profile, s.profile, options.align);
+    s.slope = ScanSlopeInPlate(s.profile, s.alignment, options.scan_slope);
+    s.fit_scan = FitFrictionPerCycle(record,
+                                     result.force.cycles,
+                                     SlopeSource::kScan,
+                                     options.analysis.friction,
+                                     &s.slope);
+    result.scan = std::move(s);
+  }
+  // Compare over the cycles the scan describes best: the force profile's
+  // range with a scan, else everything after running-in.
+  int first = std::min(options.analysis.running_in_cycles, n / 2), last = n - 1;
+  if (result.scan) {
+    first = result.scan->force_profile.first_cycle;
+    last = result.scan->force_profile.last_cycle;
+  }
+  result.mismatch = CompareSlopes(record,
+                                  result.force,
+                                  result.scan ? &*result.scan : nullptr,
+                                  first,
+                                  last,
+                                  options);
+  result.verdict = Judge(result.mismatch, options.verdict);
+  return result;
+}
+
+}  // namespace wearscar::fusion

@@ -65,7 +65,23 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
                   "Verdict: largest |mu-hat - mu_energy|")
       ->capture_default_str()
       ->group("Verdict");
+  cmd->add_flag("!--no-lugre", o.fit_lugre, "Skip the LuGre comparison")
+      ->group("Method");
+  cmd->add_option(
+         "--lugre-fc", o.lugre.coulomb_n, "LuGre F_c, N (0 = from the cycle)")
+      ->group("Method");
+  cmd->add_option(
+         "--lugre-fs", o.lugre.static_n, "LuGre F_s, N (0 = from the cycle)")
+      ->group("Method");
   if (!with_scan) return;
+  cmd->add_option(
+         "--compare-first",
+         o.force_profile.first_cycle,
+         "Compare from this cycle (with --compare-last) instead of the last N")
+      ->group("Scan");
+  cmd->add_option(
+         "--compare-last", o.force_profile.last_cycle, "Last cycle compared")
+      ->group("Scan");
   cmd->add_option("--max-amplitude-ratio",
                   o.verdict.max_amplitude_ratio,
                   "Verdict: largest std(P/S) / std(scan profile)")

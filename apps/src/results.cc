@@ -98,6 +98,22 @@ nlohmann::json ResultJson(const std::string& name,
                    {"amplitude_ratio", s.alignment.amplitude_ratio},
                    {"overlap_samples", s.alignment.overlap_samples}}}};
   }
+  if (r.lugre) {
+    const auto& p = r.lugre->parameters;
+    j["lugre"] = {
+        {"cycle", r.detail_cycle},
+        {"sigma0_n_per_mm", p.sigma0_n_per_mm},
+        {"sigma1_n_s_per_mm", p.sigma1_n_s_per_mm},
+        {"sigma2_n_s_per_mm", p.sigma2_n_s_per_mm},
+        {"sigma2_negative", p.sigma2_n_s_per_mm < 0},
+        {"stribeck_speed_mm_s", p.stribeck_speed_mm_s},
+        {"F_c_N", p.coulomb_n},
+        {"F_s_N", p.static_n},
+        {"J", r.lugre->cost},
+        {"J_wearscar_same_cycle", r.force.fit_force[r.detail_cycle].cost},
+        {"converged", r.lugre->converged},
+        {"message", r.lugre->message}};
+  }
   j["verdict"] = {{"explained", r.verdict.explained},
                   {"summary", r.verdict.Summary()},
                   {"reasons", r.verdict.reasons}};
@@ -271,6 +287,34 @@ std::vector<std::string> WriteTestResults(const std::string& dir,
     }
     write("centreline.csv", sp.ToCsv());
   }
+  if (r.lugre) {
+    // LuGre against wear-scar on the detail cycle (Fig. 17); the wear-scar
+    // model describes gross slip only.
+    const auto& lg = *r.lugre;
+    Table lt;
+    lt.columns = {"time_s", "x_mm", "Q_N", "Q_lugre_N", "Q_wearscar_N"};
+    const auto& c = cycles[dc];
+    const Eigen::VectorXd k = force::SlopeFromNormalForce(record.x_mm,
+                                                          record.normal_n,
+                                                          c.forward.begin,
+                                                          c.reverse.end,
+                                                          fopt.slope);
+    for (Eigen::Index i = 0; i < lg.time_s.size(); ++i) {
+      const Eigen::Index src = c.forward.begin + i;
+      const force::HalfCycle& h = src < c.forward.end ? c.forward : c.reverse;
+      const bool slip =
+          src >= h.slip_begin && src < h.slip_end && std::isfinite(k[i]);
+      lt.rows.push_back(
+          {lg.time_s[i],
+           lg.x_mm[i],
+           lg.q_measured_n[i],
+           lg.q_lugre_n[i],
+           slip ? fusion::WearScarTangentialForce(
+                      record.normal_n[src], k[i], mu_f, h.direction)
+                : Nan()});
+    }
+    write("lugre.csv", lt.ToCsv());
+  }
   write("result.json", ResultJson(name, record, r, o).dump(2) + "\n");
   return files;
 }
@@ -304,6 +348,10 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
   }
   fmt::print(
       "  mu mean {:.4f}, mu energy {:.4f}\n", m.mu_mean.mean, m.mu_energy.mean);
+  if (r.lugre) {
+    fmt::print(
+        "  LuGre, cycle {}: {}\n", r.detail_cycle, r.lugre->BriefReport());
+  }
   fmt::print("  verdict: {}\n", r.verdict.Summary());
 }
 

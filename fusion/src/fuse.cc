@@ -113,6 +113,13 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
                                   last,
                                   options);
   result.verdict = Judge(result.mismatch, options.verdict);
+  result.detail_cycle = options.detail_cycle >= 0 && options.detail_cycle < n
+                            ? options.detail_cycle
+                            : n - 1;
+  if (options.fit_lugre) {
+    result.lugre = FitLugre(
+        record, result.force.cycles, result.detail_cycle, options.lugre);
+  }
   return result;
 }
 

@@ -6,6 +6,7 @@
 
 #include "wearscar/fusion/align.h"
 #include "wearscar/fusion/analysis.h"
+#include "wearscar/fusion/lugre.h"
 #include "wearscar/fusion/verdict.h"
 #include "wearscar/scan/height_map.h"
 #include "wearscar/scan/level.h"
@@ -26,6 +27,10 @@ struct FuseOptions {
   force::SlopeOptions scan_slope{
       force::DerivativeMethod::kSavitzkyGolay, 15, 2};
   VerdictOptions verdict;
+  // LuGre beside the wear-scar fit (paper Fig. 17) on the detail cycle.
+  bool fit_lugre = true;
+  LugreOptions lugre;
+  int detail_cycle = -1;  // cycle for LuGre and the detail outputs; -1 = last
 
   bool IsValid(std::string* why) const;
 };
@@ -47,6 +52,8 @@ struct TestResult {
   std::optional<ScanAnalysis> scan;
   MismatchReport mismatch;
   Verdict verdict;
+  int detail_cycle = 0;
+  std::optional<LugreFit> lugre;
 };
 
 // Force analysis, then (when a scan is given) levelling, spikes, track,

@@ -2,6 +2,7 @@
 
 #include "commands.h"
 #include "common_options.h"
+#include "figures.h"
 #include "output.h"
 #include "results.h"
 
@@ -14,6 +15,7 @@ struct FuseArgs {
   std::string out;
   std::string name;
   WriteOptions write;
+  bool no_figures = false;
   CommonArgs common;
 };
 
@@ -24,12 +26,19 @@ void RunFuse(FuseArgs a) {
   scan::HeightMap map = scan::ReadScan(a.scan_file, a.common.read_scan);
   const fusion::TestResult r =
       fusion::AnalyzeTest(record, std::move(map), a.common.fuse);
-  const std::string name = a.name.empty() ? a.force_file : a.name;
+  const std::string name = a.name.empty() ? SpecimenName(a.force_file) : a.name;
   PrintSummary(name, r);
   if (a.out.empty()) return;
   const auto files =
       WriteTestResults(a.out, name, record, r, a.common.fuse, a.write);
   fmt::print("wrote {} files to {}/\n", files.size(), a.out);
+  if (!a.no_figures) {
+    const FigureSet figs = DrawTestFigures(a.out, name, r);
+    if (!figs.message.empty())
+      fmt::print(stderr, "wearscar: {}\n", figs.message);
+    fmt::print(
+        "drew {} figures (PNG and SVG) in {}/\n", figs.png.size(), a.out);
+  }
 }
 
 }  // namespace
@@ -54,6 +63,7 @@ void AddFuseCommand(CLI::App& app) {
                   "Cycle for slopes, reconstruction and J(mu) (default: last)");
   cmd->add_option(
       "--loops", args->write.loop_cycles, "Cycles whose loops are exported");
+  cmd->add_flag("--no-figures", args->no_figures, "Skip the figures");
   AddCommonOptions(cmd, &args->common, true);
   cmd->callback([args] { RunFuse(*args); });
 }

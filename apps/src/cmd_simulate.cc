@@ -19,6 +19,7 @@ struct SimulateArgs {
   int cycles = -1;
   double rate_hz = -1;
   int scan_cols = -1, scan_rows = -1;
+  double scan_pitch_mm = -1;
   bool no_elastic = false;
   samples::HiddenEffects effects;
   bool triangle = false;
@@ -78,6 +79,7 @@ void RunSimulate(const SimulateArgs& a) {
     if (a.rate_hz > 0) o.sampling_rate_hz = a.rate_hz;
     if (a.scan_cols > 0) o.scan_cols = a.scan_cols;
     if (a.scan_rows > 0) o.scan_rows = a.scan_rows;
+    if (a.scan_pitch_mm > 0) o.scan_pitch_mm = a.scan_pitch_mm;
     if (a.triangle) o.drive = samples::Drive::kTriangle;
     o.effects = a.effects;
     std::string why;
@@ -118,6 +120,9 @@ void AddSimulateCommand(CLI::App& app) {
       "--scan-cols", args->scan_cols, "Scan width in pixels (default 1024)");
   cmd->add_option(
       "--scan-rows", args->scan_rows, "Scan height in pixels (default 768)");
+  cmd->add_option("--scan-pitch",
+                  args->scan_pitch_mm,
+                  "Scan pixel size, mm (default 0.0074)");
   cmd->add_flag(
       "--triangle", args->triangle, "Triangular drive instead of sine");
   cmd->add_flag(

@@ -8,5 +8,10 @@ namespace wearscar::app {
 void AddSimulateCommand(CLI::App& app);
 void AddForceCommand(CLI::App& app);
 void AddFuseCommand(CLI::App& app);
+void AddAuditCommand(CLI::App& app);
+
+// A subcommand's wish for the process exit status (0 unless set).
+void SetExitStatus(int status);
+int ExitStatus();
 
 }  // namespace wearscar::app

@@ -65,7 +65,7 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
                   "Verdict: largest |mu-hat - mu_energy|")
       ->capture_default_str()
       ->group("Verdict");
-  cmd->add_flag("!--no-lugre", o.fit_lugre, "Skip the LuGre comparison")
+  cmd->add_flag("--no-lugre", a->no_lugre, "Skip the LuGre comparison")
       ->group("Method");
   cmd->add_option(
          "--lugre-fc", o.lugre.coulomb_n, "LuGre F_c, N (0 = from the cycle)")
@@ -146,6 +146,7 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
 }
 
 void FinaliseCommonOptions(CommonArgs* a) {
+  a->fuse.fit_lugre = !a->no_lugre;
   if (!force::ParseDerivativeMethod(a->derivative,
                                     &a->fuse.analysis.friction.slope.method)) {
     throw UsageError(fmt::format(

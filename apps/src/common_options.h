@@ -16,6 +16,7 @@ struct CommonArgs {
   fusion::FuseOptions fuse;
   std::string derivative = "central";
   std::string scan_derivative = "savgol";
+  bool no_lugre = false;
 };
 
 void AddCommonOptions(CLI::App* cmd, CommonArgs* args, bool with_scan);

@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   wearscar::app::AddSimulateCommand(app);
   wearscar::app::AddForceCommand(app);
   wearscar::app::AddFuseCommand(app);
+  wearscar::app::AddAuditCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -35,5 +36,5 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "wearscar: error: {}\n", e.what());
     return 2;
   }
-  return 0;
+  return wearscar::app::ExitStatus();
 }

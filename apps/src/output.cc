@@ -11,7 +11,16 @@
 #include <fstream>
 #include <random>
 
+#include "commands.h"
+
 namespace wearscar::app {
+
+namespace {
+int g_exit_status = 0;
+}  // namespace
+
+void SetExitStatus(int status) { g_exit_status = status; }
+int ExitStatus() { return g_exit_status; }
 
 void WriteTextAtomically(const std::string& path, const std::string& text) {
   const std::string tmp =
@@ -53,6 +62,19 @@ std::string Table::ToCsv() const {
     buf.push_back('\n');
   }
   return fmt::to_string(buf);
+}
+
+std::string SpecimenName(const std::string& path) {
+  std::string stem = std::filesystem::path(path).stem().string();
+  for (const char* suffix :
+       {".force", "_force", "-force", ".scan", "_scan", "-scan"}) {
+    const std::string sfx = suffix;
+    if (stem.size() > sfx.size() &&
+        stem.compare(stem.size() - sfx.size(), sfx.size(), sfx) == 0) {
+      return stem.substr(0, stem.size() - sfx.size());
+    }
+  }
+  return stem;
 }
 
 void EnsureDirectory(const std::string& path) {

@@ -22,6 +22,10 @@ struct Table {
   std::string ToCsv() const;
 };
 
+// A specimen name from a file name: the stem without ".force" / "_force"
+// ("data/B-RT-R.force.csv" -> "B-RT-R").
+std::string SpecimenName(const std::string& path);
+
 // Creates the directory (and parents); UsageError on failure.
 void EnsureDirectory(const std::string& path);
 

@@ -60,8 +60,8 @@ nlohmann::json ResultJson(const std::string& name,
                      {"J_force", Stat(m.cost_force)},
                      {"mu_mean", Stat(m.mu_mean)},
                      {"mu_energy", Stat(m.mu_energy)},
-                     {"mu_hat_minus_mu_mean", m.mu_force_minus_mean},
-                     {"mu_hat_minus_mu_energy", m.mu_force_minus_energy}};
+                     {"mu_hat_minus_mu_mean", Stat(m.mu_force_minus_mean)},
+                     {"mu_hat_minus_mu_energy", Stat(m.mu_force_minus_energy)}};
   if (r.scan) {
     const auto& s = *r.scan;
     j["comparison"]["mu_hat_scan"] = Stat(m.mu_scan);

@@ -33,10 +33,13 @@ MismatchReport CompareSlopes(const force::ForceRecord& record,
       stat([&](int c) { return ff[c].converged ? ff[c].cost : std::nan(""); });
   r.mu_mean = stat([&](int c) { return force.cof[c].mu_mean; });
   r.mu_energy = stat([&](int c) { return force.cof[c].mu_energy_g; });
-  r.mu_force_minus_mean =
-      stat([&](int c) { return ff[c].mu_hat - force.cof[c].mu_mean; }).mean;
-  r.mu_force_minus_energy =
-      stat([&](int c) { return ff[c].mu_hat - force.cof[c].mu_energy_g; }).mean;
+  r.mu_force_minus_mean = stat([&](int c) {
+    return ff[c].converged ? ff[c].mu_hat - force.cof[c].mu_mean : std::nan("");
+  });
+  r.mu_force_minus_energy = stat([&](int c) {
+    return ff[c].converged ? ff[c].mu_hat - force.cof[c].mu_energy_g
+                           : std::nan("");
+  });
   if (scan == nullptr) return r;
   r.has_scan = true;
   r.correlation = scan->alignment.correlation;
@@ -97,6 +100,7 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
                                      SlopeSource::kScan,
                                      options.analysis.friction,
                                      &s.slope);
+    s.levelled = std::move(map);
     result.scan = std::move(s);
   }
   // Compare over the cycles the scan describes best: the force profile's

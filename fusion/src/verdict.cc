@@ -47,7 +47,7 @@ Verdict Judge(const MismatchReport& r, const VerdictOptions& o) {
     }
   }
   if (r.mu_force.count > 0) {
-    if (std::abs(r.mu_force_minus_energy) > o.max_method_difference) {
+    if (std::abs(r.mu_force_minus_energy.mean) > o.max_method_difference) {
       v.reasons.push_back(
           fmt::format("the methods disagree: mu-hat {:.4f} vs energy method "
                       "{:.4f} (limit {:.3f}; mean "

@@ -127,3 +127,132 @@ TEST(Cli, FuseWithUnreadableScanExitsTwoNamingIt) {
 }
 
 }  // namespace
+
+namespace {
+
+std::string Slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+int CountLines(const std::string& text) {
+  return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
+}
+
+// Three small simulated specimens and one whose force file is broken.
+std::string AuditFolder() {
+  static const std::string dir = [] {
+    const std::string d = ::testing::TempDir() + "/audit-in";
+    std::filesystem::remove_all(d);
+    const CommandResult s = Wearscar(
+        "simulate --case B-RT-R --case S-RL-R --case S-TL-L --cycles 60 --rate "
+        "1000 "
+        "--scan-cols 512 --scan-rows 384 --scan-pitch 0.0148 -o " +
+        d);
+    EXPECT_EQ(s.status, 0) << s.output;
+    std::ofstream bad(d + "/B-RL-L.force.csv");
+    bad << "time_s,x_mm,Q_N,P_N\n";
+    for (int i = 0; i < 40; ++i) {
+      bad << i * 0.01 << "," << (i % 7) << "," << (i == 20 ? "abc" : "1.5")
+          << ",30\n";
+    }
+    return d;
+  }();
+  return dir;
+}
+
+TEST(Audit, OneBadSpecimenIsReportedAndTheRestComplete) {
+  const std::string out = ::testing::TempDir() + "/audit-out";
+  std::filesystem::remove_all(out);
+  const CommandResult r =
+      Wearscar("audit " + AuditFolder() +
+               " --running-in 30 --compare-cycles 30 -o " + out);
+  EXPECT_EQ(r.status, 1) << r.output;  // one failed specimen
+  EXPECT_NE(r.output.find("FAILED   B-RL-L"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("FLAGGED  S-RL-R"), std::string::npos) << r.output;
+  EXPECT_NE(
+      r.output.find("4 specimens: 2 explained, 1 not explained, 1 failed"),
+      std::string::npos)
+      << r.output;
+  const std::string csv = Slurp(out + "/summary.csv");
+  EXPECT_EQ(CountLines(csv), 5);
+  EXPECT_NE(csv.find("B-RT-R,beech,RT,R,60,0.1"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("line 22, column 3 ('Q'): found 'abc'"), std::string::npos)
+      << csv;
+  for (const char* f : {"B-RT-R/result.json",
+                        "B-RT-R/fig08ab_scan_map.png",
+                        "B-RT-R/fig12_reconstruction.svg",
+                        "S-TL-L/cycles.csv",
+                        "report.html",
+                        "summary.json",
+                        "audit_fig16_differences.png"}) {
+    EXPECT_TRUE(std::filesystem::exists(out + "/" + f)) << f;
+  }
+}
+
+TEST(Audit, ManifestPairsFilesAndShardsConcatenate) {
+  const std::string in = AuditFolder();
+  const std::string manifest = ::testing::TempDir() + "/manifest.csv";
+  std::ofstream(manifest) << "specimen,force,scan\n"
+                          << "B-RT-R," << in << "/B-RT-R.force.csv," << in
+                          << "/B-RT-R.scan.gsf\n"
+                          << "S-TL-L," << in << "/S-TL-L.force.csv,\n"
+                          << "S-RL-R," << in << "/S-RL-R.force.csv," << in
+                          << "/S-RL-R.scan.gsf\n";
+  std::string tables;
+  for (const char* shard : {"1/2", "2/2"}) {
+    const std::string out =
+        ::testing::TempDir() + "/audit-shard-" + std::string(1, shard[0]);
+    const CommandResult r = Wearscar("audit " + manifest + " --shard " + shard +
+                                     " --no-figures --running-in 30 -o " + out);
+    EXPECT_EQ(r.status, 0) << r.output;
+    tables += Slurp(out + "/summary.csv");
+  }
+  // Header once, then the three specimens.
+  EXPECT_EQ(CountLines(tables), 4) << tables;
+  EXPECT_EQ(tables.rfind("specimen,species,plane,direction", 0), 0u);
+  EXPECT_NE(tables.find("\nS-TL-L,spruce,TL,L,60,"), std::string::npos)
+      << tables;
+}
+
+TEST(Audit, ReportRendersInHeadlessChromium) {
+  if (std::system("command -v chromium > /dev/null 2>&1") != 0) {
+    GTEST_SKIP() << "Debian's chromium is not installed (scripts/install-deps "
+                    "installs it)";
+  }
+  const std::string out = ::testing::TempDir() + "/audit-out";
+  if (!std::filesystem::exists(out + "/report.html")) {
+    Wearscar("audit " + AuditFolder() + " --running-in 30 -o " + out);
+  }
+  const std::string profile = ::testing::TempDir() + "/chromium-profile";
+  const std::string cmd =
+      "chromium --headless --no-sandbox --disable-gpu --disable-quic "
+      "--no-first-run "
+      "--disable-background-networking --disable-component-update "
+      "--disable-sync "
+      "--user-data-dir=" +
+      profile + " --virtual-time-budget=10000 --dump-dom file://" + out +
+      "/report.html 2>/dev/null";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  std::string dom;
+  std::array<char, 65536> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0)
+    dom.append(buf.data(), n);
+  pclose(pipe);
+  // The page's load handler counts decoded images and table rows.
+  const auto at = dom.find("data-images-rendered=\"");
+  ASSERT_NE(at, std::string::npos) << dom.substr(0, 300);
+  const std::string counts =
+      dom.substr(at + 22, dom.find('"', at + 22) - at - 22);
+  const int ok = std::stoi(counts.substr(0, counts.find('/')));
+  const int all = std::stoi(counts.substr(counts.find('/') + 1));
+  EXPECT_GT(all, 30);
+  EXPECT_EQ(ok, all) << counts;
+  EXPECT_NE(dom.find("data-table-rows=\"4\""), std::string::npos);
+  EXPECT_NE(dom.find("<tr class=\"flagged\">"), std::string::npos);
+  EXPECT_NE(dom.find("<tr class=\"failed\">"), std::string::npos);
+}
+
+}  // namespace

@@ -37,6 +37,7 @@ struct FuseOptions {
 
 // The scan side of one test.
 struct ScanAnalysis {
+  scan::HeightMap levelled;  // after levelling and spike removal (for figures)
   scan::LevelSummary level;
   int spikes_removed = 0;
   scan::Track track;

@@ -20,8 +20,8 @@ struct MismatchReport {
   Statistic cost_force, cost_scan;  // J with each slope
   Statistic mu_mean, mu_energy;     // classic methods
   double mu_force_minus_scan = 0.0;
-  double mu_force_minus_mean = 0.0;    // Fig. 16 (a)
-  double mu_force_minus_energy = 0.0;  // Fig. 16 (b)
+  Statistic mu_force_minus_mean;    // per-cycle differences, Fig. 16 (a)
+  Statistic mu_force_minus_energy;  // Fig. 16 (b)
 };
 
 struct VerdictOptions {

@@ -1,0 +1,350 @@
+#include "figures.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include "output.h"
+
+namespace wearscar::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A figure: its file stem, title and gnuplot body (after terminal/output).
+struct Figure {
+  std::string stem, title, body;
+};
+
+std::string Quote(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("''") : std::string(1, c);
+  return out + "'";
+}
+
+// Runs gnuplot on a script that draws every figure twice (PNG, SVG) in
+// `dir`. Returns an error message, empty on success.
+std::string RunGnuplot(const std::string& dir,
+                       const std::vector<Figure>& figures) {
+  std::string script =
+      "set datafile separator ','\nset datafile missing ''\nset grid\nset key "
+      "outside right "
+      "top\nset style data lines\n";
+  for (const Figure& f : figures) {
+    for (const char* term : {"png", "svg"}) {
+      script += std::string(term) == "png"
+                    ? "set terminal pngcairo size 960,560 enhanced font "
+                      "'DejaVu Sans,10'\n"
+                    : "set terminal svg size 960,560 enhanced font 'DejaVu "
+                      "Sans,10' background "
+                      "'white'\n";
+      script += fmt::format("set output {}\nset title {} noenhanced\n",
+                            Quote(f.stem + "." + term),
+                            Quote(f.title));
+      script += f.body + "\nunset output\nreset session\n";
+      script +=
+          "set datafile separator ','\nset datafile missing ''\nset grid\nset "
+          "key outside right "
+          "top\nset style data lines\n";
+    }
+  }
+  const std::string path = (fs::path(dir) / "figures.gp").string();
+  WriteTextAtomically(path, script);
+  const std::string cmd =
+      fmt::format("cd {} && gnuplot figures.gp > figures.log 2>&1",
+                  Quote(fs::absolute(dir).string()));
+  const int status = std::system(cmd.c_str());
+  if (status != 0) {
+    return fmt::format("gnuplot failed (see {}/figures.log)", dir);
+  }
+  return "";
+}
+
+FigureSet Collect(const std::string& dir,
+                  const std::vector<Figure>& figures,
+                  std::string message) {
+  FigureSet set;
+  set.message = std::move(message);
+  for (const Figure& f : figures) {
+    const std::string png = (fs::path(dir) / (f.stem + ".png")).string();
+    if (fs::exists(png)) {
+      set.png.push_back(png);
+      set.titles.push_back(f.title);
+    }
+  }
+  return set;
+}
+
+// The levelled map downsampled to at most 320 columns as float32 for
+// gnuplot's binary array reader (NaN = not measured).
+void WriteScanMap(const std::string& dir,
+                  const fusion::ScanAnalysis& s,
+                  Figure* fig) {
+  const scan::HeightMap& m = s.levelled;
+  const int f = std::max<int>(1, static_cast<int>(std::ceil(m.cols() / 320.0)));
+  const int w = static_cast<int>(m.cols() / f),
+            h = static_cast<int>(m.rows() / f);
+  std::string bytes(static_cast<size_t>(w) * h * 4, '\0');
+  for (int r = 0; r < h; ++r) {
+    for (int c = 0; c < w; ++c) {
+      double sum = 0;
+      int n = 0;
+      for (int dr = 0; dr < f; ++dr) {
+        for (int dc = 0; dc < f; ++dc) {
+          if (m.valid(r * f + dr, c * f + dc)) {
+            sum += m.height_mm(r * f + dr, c * f + dc);
+            ++n;
+          }
+        }
+      }
+      const float v = n > 0 ? static_cast<float>(1e3 * sum / n) : NAN;  // um
+      std::memcpy(bytes.data() + 4 * (static_cast<size_t>(r) * w + c), &v, 4);
+    }
+  }
+  WriteTextAtomically((fs::path(dir) / "scan_map.f32").string(), bytes);
+  const auto& t = s.track;
+  const double th = t.angle_deg * M_PI / 180, ax = std::cos(th),
+               ay = std::sin(th);
+  const double half = 0.5 * t.length_mm, band = 0.5 * s.profile.band_width_mm;
+  // index 0: the axis; index 1: the two edges of the track.
+  std::string track;
+  track += fmt::format("{},{}\n{},{}\n\n\n",
+                       t.center_x_mm - half * ax,
+                       t.center_y_mm - half * ay,
+                       t.center_x_mm + half * ax,
+                       t.center_y_mm + half * ay);
+  for (double side : {-1.0, 1.0}) {
+    const double ox = -ay * side * (0.5 * t.width_mm),
+                 oy = ax * side * (0.5 * t.width_mm);
+    track += fmt::format("{},{}\n{},{}\n\n",
+                         t.center_x_mm - half * ax + ox,
+                         t.center_y_mm - half * ay + oy,
+                         t.center_x_mm + half * ax + ox,
+                         t.center_y_mm + half * ay + oy);
+  }
+  (void)band;
+  WriteTextAtomically((fs::path(dir) / "track.csv").string(), track);
+  const double d = f * m.dx_mm;
+  fig->body = fmt::format(
+      "set size ratio -1\nset xlabel 'x (mm)'\nset ylabel 'y (mm)'\nset "
+      "cblabel 'height (um)'\n"
+      "set palette defined (0 '#2c0e5a', 1 '#3b5ba5', 2 '#2fa39a', 3 "
+      "'#a6d96a', 4 '#fee08b', 5 "
+      "'#f9f9f9')\nset key bottom right inside opaque\n"
+      "plot 'scan_map.f32' binary array=({},{}) dx={} dy={} origin=(0,0) "
+      "format='%float32' with "
+      "image notitle, 'track.csv' index 0 using 1:2 with lines lw 2 lc rgb "
+      "'red' title "
+      "'track axis (centreline)', '' index 1 using 1:2 with lines lw 1 dt 2 lc "
+      "rgb 'black' "
+      "title 'track width'",
+      w,
+      h,
+      d,
+      d);
+}
+
+}  // namespace
+
+bool PlotterAvailable(std::string* why) {
+  static const int status = std::system("gnuplot --version > /dev/null 2>&1");
+  if (status != 0 && why) {
+    *why =
+        "gnuplot was not found: figures are skipped, the numeric outputs are "
+        "complete "
+        "(install the Debian package gnuplot-nox)";
+  }
+  return status == 0;
+}
+
+FigureSet DrawTestFigures(const std::string& dir,
+                          const std::string& name,
+                          const fusion::TestResult& r) {
+  std::string why;
+  if (!PlotterAvailable(&why)) return FigureSet{{}, {}, why};
+  std::vector<Figure> figs;
+  const std::string loops_list = [&] {
+    std::string l;
+    std::ifstream in(fs::path(dir) / "loops.csv");
+    std::string line;
+    std::getline(in, line);
+    std::string last;
+    while (std::getline(in, line)) {
+      const std::string c = line.substr(0, line.find(','));
+      if (c != last) l += (l.empty() ? "" : " ") + c;
+      last = c;
+    }
+    return l;
+  }();
+  figs.push_back(
+      {"fig07_loops",
+       name + ": hysteresis loops (Fig. 7)",
+       fmt::format(
+           "set xlabel 'x (mm)'\nset ylabel 'Q (N)'\nplot for [c in '{}'] "
+           "'loops.csv' skip 1 using ($1==c+0 ? $3 : NaN):4 title 'cycle '.c",
+           loops_list)});
+  figs.push_back({"fig05_q_envelope",
+                  name + ": envelope of Q (Fig. 5)",
+                  "set xlabel 'cycle'\nset ylabel 'Q (N)'\nplot 'cycles.csv' "
+                  "skip 1 using 1:14 "
+                  "title 'Q max', '' skip 1 using 1:15 title 'Q min'"});
+  figs.push_back({"fig06_p_envelope",
+                  name + ": envelope of P (Fig. 6)",
+                  "set xlabel 'cycle'\nset ylabel 'P (N)'\nplot 'cycles.csv' "
+                  "skip 1 using 1:16 "
+                  "title 'P max', '' skip 1 using 1:17 title 'P min'"});
+  if (r.scan) {
+    Figure map{"fig08ab_scan_map",
+               name + ": levelled scan, detected track (Fig. 8a-b)",
+               ""};
+    WriteScanMap(dir, *r.scan, &map);
+    figs.push_back(map);
+    figs.push_back(
+        {"fig08cd_profiles",
+         name +
+             ": spring displacement P/S and aligned scan profile (Fig. 8c-d)",
+         fmt::format("set xlabel 'x (mm)'\nset ylabel 'height (mm)'\nplot "
+                     "'profiles.csv' skip 1 "
+                     "using 1:($2-{0}) title 'P/S forward', '' skip 1 using "
+                     "1:($3-{0}) title "
+                     "'P/S reverse', '' skip 1 using 1:($5*{1}) lw 2 title "
+                     "'scan centreline x "
+                     "{1:.2f}'",
+                     r.scan->alignment.offset_mm,
+                     r.scan->alignment.scale)});
+  }
+  figs.push_back(
+      {"fig10_slope",
+       name + fmt::format(": slope k of the sliding path, cycle {} (Fig. 10)",
+                          r.detail_cycle),
+       "set xlabel 'x (mm)'\nset ylabel 'k'\nplot 'detail.csv' skip 1 using "
+       "3:6 title "
+       "'k from P' lc rgb '#888888', '' skip 1 using 3:7 lw 2 title 'k from "
+       "scan'"});
+  figs.push_back(
+      {"fig11_cost",
+       name + fmt::format(": J(mu), cycle {} (Fig. 11)", r.detail_cycle),
+       "set xlabel 'mu'\nset ylabel 'J'\nset logscale y\nplot 'cost_curve.csv' "
+       "skip 1 "
+       "using 1:2 title 'k from P', '' skip 1 using 1:3 title 'k from scan'"});
+  figs.push_back(
+      {"fig12_reconstruction",
+       name + fmt::format(": measured and reconstructed Q, cycle {} (Fig. 12)",
+                          r.detail_cycle),
+       "set xlabel 'x (mm)'\nset ylabel 'Q (N)'\nplot 'detail.csv' skip 1 "
+       "using 3:8 "
+       "lc rgb '#1f77b4' title 'wear-scar, k from P', '' skip 1 using 3:9 lw 2 "
+       "lc rgb "
+       "'#ff7f0e' title 'wear-scar, k from scan', '' skip 1 using 3:4 with "
+       "points pt 7 "
+       "ps 0.25 lc rgb 'black' title 'measured'"});
+  figs.push_back({"fig13_mu_hat",
+                  name + ": mu-hat per cycle (Fig. 13)",
+                  "set xlabel 'cycle'\nset ylabel 'mu'\nplot 'cycles.csv' skip "
+                  "1 using 1:2 title "
+                  "'mu-hat, k from P', '' skip 1 using 1:4 title 'mu-hat, k "
+                  "from scan', '' skip 1 "
+                  "using 1:7 title 'mean method'"});
+  figs.push_back(
+      {"fig14_cost",
+       name + ": J per cycle (Fig. 14)",
+       fmt::format(
+           "set xlabel 'cycle'\nset ylabel 'J'\nset yrange [0:*]\nplot "
+           "'cycles.csv' skip 1 using 1:3 title 'k from P', '' skip 1 using "
+           "1:5 title 'k from scan', {} dt 2 lc rgb 'red' title 'threshold'",
+           0.4)});
+  figs.push_back({"fig15_energy_cof",
+                  name + ": energy-based COF (Fig. 15)",
+                  "set xlabel 'cycle'\nset ylabel 'mu'\nplot 'cycles.csv' skip "
+                  "1 using 1:9 title "
+                  "'E_d / (4 P delta_g)', '' skip 1 using 1:8 title 'E_d / (4 "
+                  "P delta_max)'"});
+  if (r.lugre) {
+    figs.push_back(
+        {"fig17_lugre",
+         name + fmt::format(": LuGre and wear-scar, cycle {} (Fig. 17)",
+                            r.detail_cycle),
+         "set xlabel 'x (mm)'\nset ylabel 'Q (N)'\nplot 'lugre.csv' skip 1 "
+         "using 2:3 "
+         "lc rgb 'black' title 'measured', '' skip 1 using 2:4 dt 2 lw 2 title "
+         "'LuGre', '' skip 1 using 2:5 dt 4 lw 2 title 'wear-scar'"});
+  }
+  const std::string message = RunGnuplot(dir, figs);
+  return Collect(dir, figs, message);
+}
+
+FigureSet DrawAuditFigures(const std::string& dir,
+                           const std::vector<SpecimenSeries>& specimens) {
+  std::string why;
+  if (!PlotterAvailable(&why)) return FigureSet{{}, {}, why};
+  std::vector<Figure> figs;
+  auto across = [&](const char* stem,
+                    const char* title,
+                    int column,
+                    const char* ylabel) {
+    std::string body =
+        fmt::format("set xlabel 'cycle'\nset ylabel '{}'\nplot ", ylabel);
+    for (size_t i = 0; i < specimens.size(); ++i) {
+      const std::string rel =
+          fs::relative(fs::path(specimens[i].dir) / "cycles.csv", dir).string();
+      // Colour per specimen, dash per species (spruce dashed) so twelve
+      // curves stay apart.
+      const bool spruce =
+          !specimens[i].name.empty() && specimens[i].name[0] == 'S';
+      body +=
+          fmt::format("{}{} skip 1 using 1:{} lc {} dt {} title {} noenhanced",
+                      i ? ", " : "",
+                      Quote(rel),
+                      column,
+                      i % 8 + 1,
+                      spruce ? 2 : 1,
+                      Quote(specimens[i].name));
+    }
+    figs.push_back({stem, title, body});
+  };
+  if (specimens.empty()) return {};
+  across("audit_fig13_mu_hat",
+         "mu-hat per cycle, all specimens (Fig. 13)",
+         2,
+         "mu-hat");
+  across("audit_fig14_cost", "J per cycle, all specimens (Fig. 14)", 3, "J");
+  across("audit_fig15_energy",
+         "energy-based COF, all specimens (Fig. 15)",
+         9,
+         "mu_Ed");
+  // Fig. 16: mean +- sd of the per-cycle differences.
+  std::string data = "index,name,dm,dm_sd,de,de_sd\n";
+  for (size_t i = 0; i < specimens.size(); ++i) {
+    const auto& s = specimens[i];
+    data += fmt::format("{},{},{},{},{},{}\n",
+                        i,
+                        s.name,
+                        s.diff_mean_mean,
+                        s.diff_mean_sd,
+                        s.diff_energy_mean,
+                        s.diff_energy_sd);
+  }
+  WriteTextAtomically((fs::path(dir) / "method_differences.csv").string(),
+                      data);
+  figs.push_back(
+      {"audit_fig16_differences",
+       "mu-hat minus mean and energy COF, mean +- sd over cycles (Fig. 16)",
+       "set ylabel 'difference'\nset xtics rotate by -45 noenhanced\nset "
+       "xrange "
+       "[-0.5:*]\nset offsets 0,0.5,0,0\nplot 'method_differences.csv' skip 1 "
+       "using "
+       "($1-0.1):3:4:xtic(2) with yerrorbars pt 7 title 'mu-hat - mu mean', '' "
+       "skip 1 "
+       "using ($1+0.1):5:6 with yerrorbars pt 5 title 'mu-hat - mu energy', 0 "
+       "lc rgb "
+       "'black' notitle"});
+  const std::string message = RunGnuplot(dir, figs);
+  return Collect(dir, figs, message);
+}
+
+}  // namespace wearscar::app

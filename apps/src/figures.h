@@ -1,0 +1,36 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "wearscar/fusion/fuse.h"
+
+namespace wearscar::app {
+
+// The figures of one test (the paper's Figs. 5-8, 10-15, 17), drawn by
+// gnuplot from the CSV files WriteTestResults wrote into `dir`, as PNG and
+// SVG. Writes the scan map data first when the result has a scan.
+struct FigureSet {
+  std::vector<std::string> png;  // in display order
+  std::vector<std::string> titles;
+  std::string message;  // empty when everything was drawn
+};
+
+// True when gnuplot runs; `why` says what is missing otherwise.
+bool PlotterAvailable(std::string* why);
+
+FigureSet DrawTestFigures(const std::string& dir,
+                          const std::string& name,
+                          const fusion::TestResult& result);
+
+// Figures across specimens (Figs. 13-16 for a batch) into `dir`.
+struct SpecimenSeries {
+  std::string name;
+  std::string dir;  // holding cycles.csv
+  double diff_mean_mean = 0, diff_mean_sd = 0, diff_energy_mean = 0,
+         diff_energy_sd = 0;
+};
+FigureSet DrawAuditFigures(const std::string& dir,
+                           const std::vector<SpecimenSeries>& specimens);
+
+}  // namespace wearscar::app

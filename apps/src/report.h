@@ -1,0 +1,30 @@
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "figures.h"
+
+namespace wearscar::app {
+
+// One specimen's section of the report.
+struct ReportSection {
+  std::string name;
+  nlohmann::json row;  // the summary row (ResultJson subset) or the error
+  bool failed = false;
+  bool flagged = false;  // not explained by wear-scar interaction
+  FigureSet figures;
+};
+
+// A self-contained HTML page (images embedded as data URIs): the summary
+// table with flagged and failed specimens highlighted, the batch figures,
+// then a section per specimen.
+std::string RenderReport(const std::string& title,
+                         const std::vector<ReportSection>& sections,
+                         const FigureSet& batch_figures);
+
+// Base64 of bytes (RFC 4648).
+std::string Base64(const std::string& bytes);
+
+}  // namespace wearscar::app

@@ -9,6 +9,7 @@ void AddSimulateCommand(CLI::App& app);
 void AddForceCommand(CLI::App& app);
 void AddFuseCommand(CLI::App& app);
 void AddAuditCommand(CLI::App& app);
+void AddDiagnoseCommand(CLI::App& app);
 
 // A subcommand's wish for the process exit status (0 unless set).
 void SetExitStatus(int status);

@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   wearscar::app::AddForceCommand(app);
   wearscar::app::AddFuseCommand(app);
   wearscar::app::AddAuditCommand(app);
+  wearscar::app::AddDiagnoseCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

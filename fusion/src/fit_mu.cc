@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "minimize.h"
 #include "wearscar/fusion/forward_model.h"
 
 namespace wearscar::fusion {
@@ -112,82 +113,20 @@ MuFit FitMu(const CycleSamples& samples, const FitMuOptions& o) {
     fit.message = "too few gross-slip samples";
     return fit;
   }
-  // Grid bracketing.
-  const int n = o.grid_points;
-  const double h = (o.mu_max - o.mu_min) / (n - 1);
-  int best = -1;
-  double best_j = kInf;
-  for (int i = 0; i < n; ++i) {
-    const double j = WearScarCost(samples, o.mu_min + i * h);
-    if (j < best_j) {
-      best_j = j;
-      best = i;
-    }
-  }
-  if (best < 0) {
+  const internal::ScalarMinimum m = internal::MinimizeOnInterval(
+      [&](double mu) { return WearScarCost(samples, mu); },
+      o.mu_min,
+      o.mu_max,
+      o.grid_points,
+      o.tolerance,
+      o.max_iterations);
+  if (!m.found) {
     fit.message = "J is infinite on the whole interval (|mu k| >= 1)";
     return fit;
   }
-  // Brent's method (golden section + parabolic steps) in the bracket.
-  double a = o.mu_min + std::max(0, best - 1) * h;
-  double b = o.mu_min + std::min(n - 1, best + 1) * h;
-  constexpr double kGolden = 0.3819660112501051;
-  double x = o.mu_min + best * h, w = x, v = x;
-  double fx = best_j, fw = fx, fv = fx;
-  double d = 0, e = 0;
-  int iter = 0;
-  for (; iter < o.max_iterations; ++iter) {
-    const double m = 0.5 * (a + b);
-    const double tol1 = o.tolerance + 1e-10 * std::abs(x), tol2 = 2 * tol1;
-    if (std::abs(x - m) <= tol2 - 0.5 * (b - a)) {
-      fit.converged = true;
-      break;
-    }
-    bool golden = true;
-    if (std::abs(e) > tol1) {
-      const double r = (x - w) * (fx - fv);
-      double q = (x - v) * (fx - fw);
-      double p = (x - v) * q - (x - w) * r;
-      q = 2 * (q - r);
-      if (q > 0) p = -p;
-      q = std::abs(q);
-      const double etemp = e;
-      e = d;
-      if (std::abs(p) < std::abs(0.5 * q * etemp) && p > q * (a - x) &&
-          p < q * (b - x)) {
-        d = p / q;
-        const double u = x + d;
-        if (u - a < tol2 || b - u < tol2) d = x < m ? tol1 : -tol1;
-        golden = false;
-      }
-    }
-    if (golden) {
-      e = (x >= m ? a : b) - x;
-      d = kGolden * e;
-    }
-    const double u = std::abs(d) >= tol1 ? x + d : x + (d > 0 ? tol1 : -tol1);
-    const double fu = WearScarCost(samples, u);
-    if (fu <= fx) {
-      (u >= x ? a : b) = x;
-      v = w;
-      fv = fw;
-      w = x;
-      fw = fx;
-      x = u;
-      fx = fu;
-    } else {
-      (u < x ? a : b) = u;
-      if (fu <= fw || w == x) {
-        v = w;
-        fv = fw;
-        w = u;
-        fw = fu;
-      } else if (fu <= fv || v == x || v == w) {
-        v = u;
-        fv = fu;
-      }
-    }
-  }
+  const double x = m.x, fx = m.value;
+  const int iter = m.iterations;
+  fit.converged = m.converged;
   fit.mu_hat = x;
   fit.cost = fx;
   fit.iterations = iter;

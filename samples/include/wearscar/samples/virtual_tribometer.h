@@ -18,7 +18,7 @@ struct HiddenEffects {
   double ploughing_n_per_mm = 0.0;
   // Stribeck rise at low speed: mu (1 + rise exp(-(v/v_s)^2)).
   double stribeck_rise = 0.0;
-  double stribeck_speed_mm_s = 2.0;
+  double stribeck_speed_mm_s = 8.0;  // the paper's LuGre fit: 8.09 mm/s
   // Direction asymmetry: mu_forward = mu (1 + a), mu_reverse = mu (1 - a).
   double direction_asymmetry = 0.0;
   // Q channel delayed by this time.

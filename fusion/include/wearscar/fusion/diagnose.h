@@ -1,0 +1,91 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "wearscar/force/cycles.h"
+#include "wearscar/force/force_record.h"
+#include "wearscar/fusion/effects.h"
+#include "wearscar/fusion/fit_mu.h"
+
+namespace wearscar::fusion {
+
+struct DiagnoseOptions {
+  int running_in_cycles = 50;  // diagnosis cycles come after these
+  int max_cycles = 40;         // spread evenly over the rest
+  int decimation = 4;          // every n-th gross-slip sample
+  int folds = 5;               // block cross-validation over whole cycles
+  // A candidate is named when all three agree: the held-out J drops by this
+  // fraction, it drops on this fraction of the held-out cycles, and the
+  // per-cycle BIC falls by more than bic_margin.
+  double min_relative_gain = 0.10;
+  double min_improved_fraction = 0.75;
+  double bic_margin = 6.0;
+  int max_effects = 4;
+  double profile_step_mm =
+      0.01;                 // per-cycle binned P and Q, for the base slope
+  int profile_window = 31;  // cubic Savitzky-Golay window on them, bins
+  bool average_directions = true;  // one slope from both directions' P
+  int position_bins = 40;
+  int reversal_bins = 20;
+  int cycle_blocks = 8;
+  std::vector<std::string> candidates;  // names; empty = the whole library
+  bool IsValid(std::string* why) const;
+};
+
+// Where the residual r = Q_measured - Q_model sits (rows: forward, reverse).
+struct ResidualMap {
+  Eigen::VectorXd x_mm;        // bin centres along the stroke
+  Eigen::MatrixXd mean_abs_n;  // 2 x bins
+  Eigen::MatrixXd mean_n;      // 2 x bins, signed
+  Eigen::VectorXd
+      from_reversal_mm;  // bin centres of the distance from the last reversal
+  Eigen::MatrixXd reversal_mean_abs_n;  // 2 x bins
+  std::vector<int> block_first_cycle;
+  Eigen::VectorXd block_mean_abs_n;
+  double mean_abs_n_all = 0.0;
+  std::string where;  // the same in words
+};
+
+struct CandidateResult {
+  std::string effect;
+  std::vector<std::string> parameter_names;
+  std::vector<double> parameters;     // fitted on all diagnosis cycles
+  std::vector<double> uncertainties;  // jackknife over the folds
+  double heldout_before = 0.0;        // mean held-out J per cycle
+  double heldout_after = 0.0;
+  double relative_gain = 0.0;
+  double improved_fraction = 0.0;
+  double delta_bic = 0.0;
+  bool accepted = false;
+};
+
+struct DiagnosisStep {
+  CandidateResult chosen;              // the best candidate of the step
+  std::vector<CandidateResult> tried;  // every candidate, best first
+};
+
+struct Diagnosis {
+  std::vector<int> cycles;  // the diagnosis cycles
+  std::vector<DiagnosisStep>
+      steps;  // the last one is the rejection that stopped it
+  std::vector<std::string> named;  // accepted effects, in order
+  // Final model: named effects with their parameters.
+  std::vector<CandidateResult> model;
+  double heldout_initial = 0.0, heldout_final = 0.0;
+  ResidualMap before, after;
+  std::string message = "not run";
+};
+
+// Greedy forward selection of the effects that the wear-scar model misses.
+// `depth_mm` gives the groove depth along the plate coordinate (from the
+// scan); without it the force side's profile stands in.
+Diagnosis Diagnose(const force::ForceRecord& record,
+                   const force::CycleSet& cycles,
+                   const FrictionFitOptions& friction,
+                   const SlopeProfile* depth_mm,
+                   const DiagnoseOptions& options = {});
+
+}  // namespace wearscar::fusion

@@ -1,0 +1,55 @@
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace wearscar::fusion {
+
+// What a candidate effect sees of one gross-slip sample, and what it may
+// change before the wear-scar law Q = P (k + s mu_eff) / (1 - s mu_eff k) +
+// extra is applied. Effects only touch the fields their formula names.
+struct EffectContext {
+  // Inputs (read only for effects).
+  double x_mm = 0;          // plate position
+  int s = 1;                // direction of motion
+  double speed_mm_s = 0;    // |dx/dt|
+  double depth_mm = 0;      // groove depth at x (scan, or force side)
+  double to_end_mm = 0;     // distance to the stroke end ahead
+  double q_slope = 0;       // (1/S) dQ/dx of the measured Q (crosstalk)
+  double q_measured_n = 0;  // measured Q at this sample
+  double time_s = 0;
+  // Effects may modify these.
+  double p_n = 0;           // normal force used by the law
+  double k = 0;             // slope of the sliding path used by the law
+  double mu_factor = 1;     // mu_eff = mu * mu_factor
+  double extra_n = 0;       // added to Q in the direction of motion's sign
+  double time_shift_s = 0;  // compare with the measured Q at time + shift
+};
+
+// A named physical term with parameters. Adding an effect to wearscar is
+// one new subclass registered in EffectLibrary(); nothing else changes.
+class Effect {
+ public:
+  virtual ~Effect() = default;
+  virtual std::string Name() const = 0;
+  virtual std::string Formula() const = 0;
+  virtual std::vector<std::string> ParameterNames() const = 0;  // with units
+  virtual std::vector<double> Initial() const = 0;
+  virtual std::vector<double> Lower() const = 0;
+  virtual std::vector<double> Upper() const = 0;
+  // Modifies the context for parameters p (length ParameterNames().size()).
+  virtual void Apply(const double* p, EffectContext* c) const = 0;
+  // The parameter reported as the effect's strength.
+  virtual int StrengthIndex() const { return 0; }
+};
+
+// The library, in a fixed order: ploughing, velocity dependence (Stribeck),
+// viscous term, direction asymmetry, channel time lag, crosstalk of Q into
+// P, end-of-stroke hook, elastic compliance of the track.
+const std::vector<std::unique_ptr<Effect>>& EffectLibrary();
+
+// Finds an effect by name; nullptr when unknown.
+const Effect* FindEffect(const std::string& name);
+
+}  // namespace wearscar::fusion

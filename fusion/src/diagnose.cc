@@ -1,0 +1,641 @@
+#include "wearscar/fusion/diagnose.h"
+
+#include <ceres/ceres.h>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "minimize.h"
+#include "wearscar/fusion/error.h"
+#include "wearscar/fusion/forward_model.h"
+
+namespace wearscar::fusion {
+namespace {
+
+struct Sample {
+  Eigen::Index index;  // into the record
+  int s;
+  double x, t, speed, p, q, k, q_slope, depth, to_end;
+};
+
+struct DiagCycle {
+  int cycle;
+  std::vector<Sample> samples;
+  double norm_forward = 1, norm_reverse = 1;  // ||Q_m|| per direction
+};
+
+// The data every fit reads, plus the record for time-shifted Q.
+struct Data {
+  const force::ForceRecord* record;
+  std::vector<DiagCycle> cycles;
+  double dt = 0;
+};
+
+// The active model: effects and a parameter vector per effect.
+struct Model {
+  std::vector<const Effect*> effects;
+  std::vector<std::vector<double>> params;
+};
+
+double QAt(const Data& d, const Sample& s, double shift) {
+  if (shift == 0) return s.q;
+  // Linear interpolation of the measured Q at t + shift (uniform sampling).
+  const double pos = static_cast<double>(s.index) + shift / d.dt;
+  const Eigen::Index n = d.record->size();
+  const Eigen::Index i = std::clamp<Eigen::Index>(
+      static_cast<Eigen::Index>(std::floor(pos)), 0, n - 2);
+  const double w = std::clamp(pos - static_cast<double>(i), 0.0, 1.0);
+  return (1 - w) * d.record->tangential_n[i] +
+         w * d.record->tangential_n[i + 1];
+}
+
+// Residual Q_measured - Q_model of one sample.
+double Residual(const Data& d,
+                const Sample& s,
+                double mu,
+                const std::vector<const Effect*>& effects,
+                const std::vector<const double*>& params) {
+  EffectContext c;
+  c.x_mm = s.x;
+  c.s = s.s;
+  c.speed_mm_s = s.speed;
+  c.depth_mm = s.depth;
+  c.to_end_mm = s.to_end;
+  c.q_slope = s.q_slope;
+  c.q_measured_n = s.q;
+  c.time_s = s.t;
+  c.p_n = s.p;
+  c.k = s.k;
+  for (size_t e = 0; e < effects.size(); ++e) effects[e]->Apply(params[e], &c);
+  const double mu_eff = mu * c.mu_factor;
+  const double denom = 1.0 - s.s * mu_eff * c.k;
+  const double model =
+      denom > 0
+          ? WearScarTangentialForce(c.p_n, c.k, mu_eff, s.s) + s.s * c.extra_n
+          : 1e6;
+  return QAt(d, s, c.time_shift_s) - model;
+}
+
+// Eq. 6 for one cycle under a model with mu given.
+double CycleJ(const Data& d, const DiagCycle& c, double mu, const Model& m) {
+  std::vector<const double*> p;
+  for (const auto& v : m.params) p.push_back(v.data());
+  double f2 = 0, r2 = 0;
+  for (const Sample& s : c.samples) {
+    const double r = Residual(d, s, mu, m.effects, p);
+    (s.s > 0 ? f2 : r2) += r * r;
+  }
+  return std::sqrt(f2) / c.norm_forward + std::sqrt(r2) / c.norm_reverse;
+}
+
+// mu of one cycle with the effects held fixed.
+double FitCycleMu(const Data& d,
+                  const DiagCycle& c,
+                  const Model& m,
+                  double* j) {
+  const internal::ScalarMinimum best = internal::MinimizeOnInterval(
+      [&](double mu) { return CycleJ(d, c, mu, m); }, 0.0, 1.0, 41, 1e-6, 60);
+  *j = best.value;
+  return best.x;
+}
+
+// Ceres residuals of one cycle, normalised so that their squared sum is
+// J_forward^2 + J_reverse^2.
+struct CycleCost {
+  CycleCost(const Data* d,
+            const DiagCycle* c,
+            std::vector<const Effect*> effects)
+      : d_(d), c_(c), effects_(std::move(effects)) {}
+  bool operator()(double const* const* params, double* residuals) const {
+    std::vector<const double*> p(params + 1, params + 1 + effects_.size());
+    for (size_t i = 0; i < c_->samples.size(); ++i) {
+      const Sample& s = c_->samples[i];
+      residuals[i] = Residual(*d_, s, params[0][0], effects_, p) /
+                     (s.s > 0 ? c_->norm_forward : c_->norm_reverse);
+    }
+    return true;
+  }
+  const Data* d_;
+  const DiagCycle* c_;
+  std::vector<const Effect*> effects_;
+};
+
+// Fits the effect parameters (shared) and one mu per cycle on `train`.
+// Returns the per-cycle mu, updates m.params.
+std::vector<double> FitModel(const Data& d,
+                             const std::vector<int>& train,
+                             Model* m) {
+  std::vector<double> mu(train.size(), 0.1);
+  if (m->effects.empty()) {
+    for (size_t i = 0; i < train.size(); ++i) {
+      double j;
+      mu[i] = FitCycleMu(d, d.cycles[train[i]], *m, &j);
+    }
+    return mu;
+  }
+  // Start mu from the plain fit of each cycle.
+  Model plain;
+  for (size_t i = 0; i < train.size(); ++i) {
+    double j;
+    mu[i] = FitCycleMu(d, d.cycles[train[i]], plain, &j);
+  }
+  ceres::Problem problem;
+  for (size_t i = 0; i < train.size(); ++i) {
+    const DiagCycle& c = d.cycles[train[i]];
+    auto* cost =
+        new ceres::DynamicNumericDiffCostFunction<CycleCost, ceres::CENTRAL>(
+            new CycleCost(&d, &c, m->effects));
+    cost->AddParameterBlock(1);
+    std::vector<double*> blocks = {&mu[i]};
+    for (auto& p : m->params) {
+      cost->AddParameterBlock(static_cast<int>(p.size()));
+      blocks.push_back(p.data());
+    }
+    cost->SetNumResiduals(static_cast<int>(c.samples.size()));
+    problem.AddResidualBlock(cost, nullptr, blocks);
+    problem.SetParameterLowerBound(&mu[i], 0, 0.0);
+    problem.SetParameterUpperBound(&mu[i], 0, 1.0);
+  }
+  for (size_t e = 0; e < m->effects.size(); ++e) {
+    const auto lo = m->effects[e]->Lower(), hi = m->effects[e]->Upper();
+    for (size_t k = 0; k < lo.size(); ++k) {
+      problem.SetParameterLowerBound(
+          m->params[e].data(), static_cast<int>(k), lo[k]);
+      problem.SetParameterUpperBound(
+          m->params[e].data(), static_cast<int>(k), hi[k]);
+    }
+  }
+  ceres::Solver::Options so;
+  so.linear_solver_type = ceres::SPARSE_SCHUR;
+  if (!ceres::IsSparseLinearAlgebraLibraryTypeAvailable(
+          so.sparse_linear_algebra_library_type)) {
+    so.linear_solver_type = ceres::DENSE_SCHUR;
+  }
+  so.max_num_iterations = 50;
+  so.logging_type = ceres::SILENT;
+  so.num_threads = 1;
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  return mu;
+}
+
+// Held-out J per diagnosis cycle (block cross-validation over whole cycles).
+std::vector<double> HeldOut(const Data& d,
+                            const Model& m,
+                            int folds,
+                            std::vector<std::vector<double>>* fold_params) {
+  const int n = static_cast<int>(d.cycles.size());
+  std::vector<double> j(n, 0.0);
+  if (fold_params) fold_params->clear();
+  for (int f = 0; f < folds; ++f) {
+    const int lo = f * n / folds, hi = (f + 1) * n / folds;
+    std::vector<int> train;
+    for (int i = 0; i < n; ++i) {
+      if (i < lo || i >= hi) train.push_back(i);
+    }
+    Model fm = m;
+    FitModel(d, train, &fm);
+    for (int i = lo; i < hi; ++i) FitCycleMu(d, d.cycles[i], fm, &j[i]);
+    if (fold_params) {
+      std::vector<double> flat;
+      for (const auto& p : fm.params)
+        flat.insert(flat.end(), p.begin(), p.end());
+      fold_params->push_back(flat);
+    }
+  }
+  return j;
+}
+
+// Per-cycle BIC of a model fitted on all diagnosis cycles: each cycle counts
+// as one observation (samples within a cycle are strongly correlated).
+double CycleBic(const Data& d, const Model& m, int parameters) {
+  std::vector<int> all(d.cycles.size());
+  std::iota(all.begin(), all.end(), 0);
+  double sum = 0;
+  for (size_t i = 0; i < d.cycles.size(); ++i) {
+    double j;
+    FitCycleMu(d, d.cycles[i], m, &j);
+    sum += j * j;
+  }
+  const double n = static_cast<double>(d.cycles.size());
+  return n * std::log(sum / n) + parameters * std::log(n);
+}
+
+int ParameterCount(const Model& m) {
+  int p = 0;
+  for (const auto& v : m.params) p += static_cast<int>(v.size());
+  return p;
+}
+
+double Mean(const std::vector<double>& v) {
+  return v.empty() ? 0.0
+                   : std::accumulate(v.begin(), v.end(), 0.0) /
+                         static_cast<double>(v.size());
+}
+
+ResidualMap Map(const Data& d,
+                const Model& m,
+                const DiagnoseOptions& o,
+                double x_lo,
+                double x_hi) {
+  ResidualMap map;
+  const int nb = o.position_bins, nr = o.reversal_bins, nk = o.cycle_blocks;
+  map.x_mm = Eigen::VectorXd::LinSpaced(
+      nb, x_lo + 0.5 * (x_hi - x_lo) / nb, x_hi - 0.5 * (x_hi - x_lo) / nb);
+  const double stroke = x_hi - x_lo;
+  map.from_reversal_mm = Eigen::VectorXd::LinSpaced(
+      nr, 0.5 * stroke / nr, stroke - 0.5 * stroke / nr);
+  Eigen::MatrixXd sa = Eigen::MatrixXd::Zero(2, nb), ss = sa, cnt = sa;
+  Eigen::MatrixXd ra = Eigen::MatrixXd::Zero(2, nr), rc = ra;
+  Eigen::VectorXd ka = Eigen::VectorXd::Zero(nk), kc = ka;
+  std::vector<const double*> p;
+  for (const auto& v : m.params) p.push_back(v.data());
+  double all = 0;
+  long all_n = 0;
+  double end_sum = 0, rest_sum = 0, start_sum = 0;
+  long end_n = 0, rest_n = 0, start_n = 0;
+  for (size_t ci = 0; ci < d.cycles.size(); ++ci) {
+    const DiagCycle& c = d.cycles[ci];
+    double j;
+    const double mu = FitCycleMu(d, c, m, &j);
+    const int block = static_cast<int>(ci * nk / d.cycles.size());
+    for (const Sample& s : c.samples) {
+      const double r = Residual(d, s, mu, m.effects, p);
+      const int row = s.s > 0 ? 0 : 1;
+      const int b = std::clamp(
+          static_cast<int>((s.x - x_lo) / (x_hi - x_lo) * nb), 0, nb - 1);
+      sa(row, b) += std::abs(r);
+      ss(row, b) += r;
+      cnt(row, b) += 1;
+      const double from_rev = stroke - s.to_end;
+      const int rb =
+          std::clamp(static_cast<int>(from_rev / stroke * nr), 0, nr - 1);
+      ra(row, rb) += std::abs(r);
+      rc(row, rb) += 1;
+      ka[block] += std::abs(r);
+      kc[block] += 1;
+      all += std::abs(r);
+      ++all_n;
+      if (s.to_end < 0.1 * stroke) {
+        end_sum += std::abs(r);
+        ++end_n;
+      } else if (from_rev < 0.1 * stroke) {
+        start_sum += std::abs(r);
+        ++start_n;
+      } else {
+        rest_sum += std::abs(r);
+        ++rest_n;
+      }
+    }
+  }
+  map.mean_abs_n = sa.cwiseQuotient(cnt.cwiseMax(1.0));
+  map.mean_n = ss.cwiseQuotient(cnt.cwiseMax(1.0));
+  map.reversal_mean_abs_n = ra.cwiseQuotient(rc.cwiseMax(1.0));
+  map.block_mean_abs_n = ka.cwiseQuotient(kc.cwiseMax(1.0));
+  for (int k = 0; k < nk; ++k) {
+    map.block_first_cycle.push_back(d.cycles[k * d.cycles.size() / nk].cycle);
+  }
+  map.mean_abs_n_all = all_n > 0 ? all / all_n : 0.0;
+  // In words.
+  Eigen::Index row, col;
+  map.mean_abs_n.maxCoeff(&row, &col);
+  std::vector<double> bins(map.mean_abs_n.data(),
+                           map.mean_abs_n.data() + map.mean_abs_n.size());
+  std::nth_element(bins.begin(), bins.begin() + bins.size() / 2, bins.end());
+  const double median = std::max(bins[bins.size() / 2], 1e-12);
+  const double fwd = (ss.row(0).sum()) / std::max(1.0, cnt.row(0).sum());
+  const double rev = (ss.row(1).sum()) / std::max(1.0, cnt.row(1).sum());
+  const double rest = rest_n > 0 ? rest_sum / rest_n : 0.0;
+  map.where = fmt::format(
+      "mean |r| {:.3f} N; largest at x = {:.2f} mm moving {} ({:.1f}x the "
+      "median bin); "
+      "approaching the stroke end {:.2f} N, just after a reversal {:.2f} N, "
+      "elsewhere {:.2f} N; "
+      "mean r forward {:+.3f} N, reverse {:+.3f} N; first cycles {:.3f} N, "
+      "last {:.3f} N",
+      map.mean_abs_n_all,
+      map.x_mm[col],
+      row == 0 ? "forward" : "in reverse",
+      map.mean_abs_n(row, col) / median,
+      end_n ? end_sum / end_n : 0.0,
+      start_n ? start_sum / start_n : 0.0,
+      rest,
+      fwd,
+      rev,
+      map.block_mean_abs_n[0],
+      map.block_mean_abs_n[nk - 1]);
+  return map;
+}
+
+// Per-direction binned average of a channel over the diagnosis cycles.
+Eigen::MatrixXd BinProfile(const force::ForceRecord& r,
+                           const force::CycleSet& cycles,
+                           const std::vector<int>& use,
+                           const Eigen::VectorXd& channel,
+                           double x0,
+                           double step,
+                           Eigen::Index bins) {
+  Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(2, bins), cnt = sum;
+  for (int c : use) {
+    for (const force::HalfCycle* h :
+         {&cycles.cycles[c].forward, &cycles.cycles[c].reverse}) {
+      const int row = h->direction > 0 ? 0 : 1;
+      for (Eigen::Index i = h->slip_begin; i < h->slip_end; ++i) {
+        if (!std::isfinite(r.x_mm[i]) || !std::isfinite(channel[i])) continue;
+        const Eigen::Index b =
+            static_cast<Eigen::Index>(std::floor((r.x_mm[i] - x0) / step));
+        if (b < 0 || b >= bins) continue;
+        sum(row, b) += channel[i];
+        cnt(row, b) += 1;
+      }
+    }
+  }
+  Eigen::MatrixXd out(2, bins);
+  for (int row = 0; row < 2; ++row) {
+    for (Eigen::Index b = 0; b < bins; ++b) {
+      out(row, b) = cnt(row, b) > 0 ? sum(row, b) / cnt(row, b) : std::nan("");
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+bool DiagnoseOptions::IsValid(std::string* why) const {
+  auto fail = [&](const char* m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (max_cycles < 2 * folds || folds < 2)
+    return fail("need folds >= 2 and max_cycles >= 2 folds");
+  if (decimation < 1) return fail("decimation must be >= 1");
+  if (!(min_relative_gain > 0 && min_relative_gain < 1))
+    return fail("min_relative_gain in (0,1)");
+  if (!(min_improved_fraction > 0 && min_improved_fraction <= 1)) {
+    return fail("min_improved_fraction in (0, 1]");
+  }
+  if (position_bins < 2 || reversal_bins < 2 || cycle_blocks < 1)
+    return fail("bins must be >= 2");
+  if (profile_window < 5 || profile_window % 2 == 0)
+    return fail("profile_window: odd, >= 5");
+  for (const auto& c : candidates) {
+    if (FindEffect(c) == nullptr) return fail("unknown candidate effect");
+  }
+  return true;
+}
+
+Diagnosis Diagnose(const force::ForceRecord& record,
+                   const force::CycleSet& cycles,
+                   const FrictionFitOptions& friction,
+                   const SlopeProfile* depth,
+                   const DiagnoseOptions& o) {
+  std::string why;
+  if (!o.IsValid(&why)) throw FusionError("diagnose options: " + why);
+  Diagnosis out;
+  const int n = static_cast<int>(cycles.cycles.size());
+  const int first = std::min(o.running_in_cycles, n / 2);
+  const int available = n - first;
+  if (available < 2 * o.folds) {
+    throw FusionError(
+        fmt::format("diagnosis needs at least {} cycles after running-in; the "
+                    "record has {} of {}",
+                    2 * o.folds,
+                    available,
+                    n));
+  }
+  const int m = std::min(o.max_cycles, available);
+  for (int i = 0; i < m; ++i) {
+    out.cycles.push_back(
+        first + static_cast<int>(static_cast<long>(i) * (available - 1) /
+                                 std::max(1, m - 1)));
+  }
+  out.cycles.erase(std::unique(out.cycles.begin(), out.cycles.end()),
+                   out.cycles.end());
+  // Base slope: each cycle's own P (and Q, for crosstalk) binned along x per
+  // direction, smoothed by a cubic Savitzky-Golay filter and differentiated
+  // once. Binning and smoothing keep the noise of a sample-wise derivative
+  // out of the comparison (no effect can win by shrinking noisy slopes),
+  // while each cycle keeps its own track (it deepens between cycles).
+  double x_lo = INFINITY, x_hi = -INFINITY;
+  for (int c : out.cycles) {
+    for (Eigen::Index i = cycles.cycles[c].forward.begin;
+         i < cycles.cycles[c].reverse.end;
+         ++i) {
+      if (!std::isfinite(record.x_mm[i])) continue;
+      x_lo = std::min(x_lo, record.x_mm[i]);
+      x_hi = std::max(x_hi, record.x_mm[i]);
+    }
+  }
+  const double bin = o.profile_step_mm;
+  const Eigen::Index bins =
+      static_cast<Eigen::Index>(std::ceil((x_hi - x_lo) / bin)) + 1;
+  const Eigen::VectorXd centres = Eigen::VectorXd::LinSpaced(
+      bins, x_lo + 0.5 * bin, x_lo + (bins - 0.5) * bin);
+  const Eigen::MatrixXd p_prof =
+      BinProfile(record, cycles, out.cycles, record.normal_n, x_lo, bin, bins);
+  force::SlopeOptions sg = friction.slope;
+  sg.method = force::DerivativeMethod::kSavitzkyGolay;
+  sg.window = o.profile_window;
+  sg.polynomial_order = 3;
+  sg.min_span_mm = 0;
+  const double spring = friction.slope.spring_stiffness_n_per_mm;
+  // Per cycle and direction: P and Q binned along x, smoothed and
+  // differentiated once (k = (1/S) dP/dx, and (1/S) dQ/dx for crosstalk).
+  auto cycle_slopes = [&](int c, SlopeProfile kp[2], SlopeProfile kq[2]) {
+    const Eigen::MatrixXd pc =
+        BinProfile(record, cycles, {c}, record.normal_n, x_lo, bin, bins);
+    const Eigen::MatrixXd qc =
+        BinProfile(record, cycles, {c}, record.tangential_n, x_lo, bin, bins);
+    Eigen::VectorXd kpd[2], kqd[2];
+    for (int row = 0; row < 2; ++row) {
+      const Eigen::VectorXd pr = pc.row(row).transpose(),
+                            qr = qc.row(row).transpose();
+      kpd[row] = force::DerivativeAlongX(centres, pr, 0, bins, sg) / spring;
+      kqd[row] = force::DerivativeAlongX(centres, qr, 0, bins, sg) / spring;
+    }
+    // Both directions slide over the same geometry: their mean slope halves
+    // the noise variance. Crosstalk then enters through the mean of the two
+    // Q slopes (P_dir = P + c Q_dir).
+    const Eigen::VectorXd kp_mean = 0.5 * (kpd[0] + kpd[1]);
+    const Eigen::VectorXd kq_mean = 0.5 * (kqd[0] + kqd[1]);
+    for (int row = 0; row < 2; ++row) {
+      kp[row] = {centres, o.average_directions ? kp_mean : kpd[row]};
+      kq[row] = {centres, o.average_directions ? kq_mean : kqd[row]};
+    }
+  };
+  // Depth without a scan: the force side's mean profile below its highest
+  // point (the constant part is absorbed by mu).
+  SlopeProfile force_depth;
+  if (depth == nullptr) {
+    Eigen::VectorXd f(bins);
+    double top = -INFINITY;
+    for (Eigen::Index b = 0; b < bins; ++b) {
+      const double a = p_prof(0, b), c = p_prof(1, b);
+      f[b] = std::isfinite(a) && std::isfinite(c) ? 0.5 * (a + c) / spring
+             : std::isfinite(a)                   ? a / spring
+                                                  : c / spring;
+      if (std::isfinite(f[b])) top = std::max(top, f[b]);
+    }
+    force_depth = {centres, (top - f.array()).matrix()};
+    depth = &force_depth;
+  }
+  // Samples.
+  Data data;
+  data.record = &record;
+  data.dt = record.size() > 1
+                ? (record.time_s[record.size() - 1] - record.time_s[0]) /
+                      (record.size() - 1)
+                : 1e-3;
+  for (int c : out.cycles) {
+    const force::Cycle& cy = cycles.cycles[c];
+    double cmin = INFINITY, cmax = -INFINITY;
+    for (Eigen::Index i = cy.forward.begin; i < cy.reverse.end; ++i) {
+      if (!std::isfinite(record.x_mm[i])) continue;
+      cmin = std::min(cmin, record.x_mm[i]);
+      cmax = std::max(cmax, record.x_mm[i]);
+    }
+    DiagCycle dc;
+    dc.cycle = c;
+    SlopeProfile kp[2], kq[2];
+    cycle_slopes(c, kp, kq);
+    double f2 = 0, r2 = 0;
+    for (const force::HalfCycle* h : {&cy.forward, &cy.reverse}) {
+      const int row = h->direction > 0 ? 0 : 1;
+      for (Eigen::Index i = h->slip_begin; i < h->slip_end; i += o.decimation) {
+        const Eigen::Index a = std::max<Eigen::Index>(0, i - 2),
+                           b = std::min(record.size() - 1, i + 2);
+        Sample s;
+        s.index = i;
+        s.s = h->direction;
+        s.x = record.x_mm[i];
+        s.t = record.time_s[i];
+        s.speed = std::abs((record.x_mm[b] - record.x_mm[a]) /
+                           (record.time_s[b] - record.time_s[a]));
+        s.p = record.normal_n[i];
+        s.q = record.tangential_n[i];
+        s.k = kp[row].At(s.x);
+        s.q_slope = kq[row].At(s.x);
+        s.depth = depth->At(s.x);
+        s.to_end = h->direction > 0 ? cmax - s.x : s.x - cmin;
+        if (!std::isfinite(s.x) || !std::isfinite(s.p) || !std::isfinite(s.q) ||
+            !std::isfinite(s.k) || !std::isfinite(s.q_slope) ||
+            !std::isfinite(s.depth) || !std::isfinite(s.speed)) {
+          continue;
+        }
+        (h->direction > 0 ? f2 : r2) += s.q * s.q;
+        dc.samples.push_back(s);
+      }
+    }
+    dc.norm_forward = std::sqrt(std::max(f2, 1e-12));
+    dc.norm_reverse = std::sqrt(std::max(r2, 1e-12));
+    if (dc.samples.size() > 10) data.cycles.push_back(std::move(dc));
+  }
+  if (static_cast<int>(data.cycles.size()) < 2 * o.folds) {
+    throw FusionError("too few usable cycles for the diagnosis");
+  }
+  // Greedy forward selection.
+  std::vector<const Effect*> pool;
+  for (const auto& e : EffectLibrary()) {
+    if (o.candidates.empty() ||
+        std::find(o.candidates.begin(), o.candidates.end(), e->Name()) !=
+            o.candidates.end()) {
+      pool.push_back(e.get());
+    }
+  }
+  Model model;
+  std::vector<double> base = HeldOut(data, model, o.folds, nullptr);
+  out.heldout_initial = Mean(base);
+  double base_bic = CycleBic(data, model, 0);
+  out.before = Map(data, model, o, x_lo, x_hi);
+  while (static_cast<int>(model.effects.size()) < o.max_effects) {
+    DiagnosisStep step;
+    Model best_model;
+    std::vector<double> best_heldout;
+    for (const Effect* e : pool) {
+      if (std::find(model.effects.begin(), model.effects.end(), e) !=
+          model.effects.end())
+        continue;
+      Model trial = model;
+      trial.effects.push_back(e);
+      trial.params.push_back(e->Initial());
+      std::vector<std::vector<double>> fold_params;
+      const std::vector<double> h = HeldOut(data, trial, o.folds, &fold_params);
+      CandidateResult r;
+      r.effect = e->Name();
+      r.parameter_names = e->ParameterNames();
+      r.heldout_before = Mean(base);
+      r.heldout_after = Mean(h);
+      r.relative_gain = (r.heldout_before - r.heldout_after) / r.heldout_before;
+      int better = 0;
+      for (size_t i = 0; i < h.size(); ++i) better += h[i] < base[i];
+      r.improved_fraction =
+          static_cast<double>(better) / static_cast<double>(h.size());
+      // Parameters on all cycles; jackknife spread over the folds.
+      std::vector<int> all(data.cycles.size());
+      std::iota(all.begin(), all.end(), 0);
+      FitModel(data, all, &trial);
+      r.parameters = trial.params.back();
+      const size_t offset =
+          static_cast<size_t>(ParameterCount(trial)) - r.parameters.size();
+      r.uncertainties.assign(r.parameters.size(), 0.0);
+      const double k = static_cast<double>(fold_params.size());
+      for (size_t q = 0; q < r.parameters.size(); ++q) {
+        double mean = 0;
+        for (const auto& fp : fold_params) mean += fp[offset + q] / k;
+        double var = 0;
+        for (const auto& fp : fold_params)
+          var += (fp[offset + q] - mean) * (fp[offset + q] - mean);
+        r.uncertainties[q] = std::sqrt((k - 1) / k * var);
+      }
+      r.delta_bic = CycleBic(data, trial, ParameterCount(trial)) - base_bic;
+      r.accepted = r.relative_gain >= o.min_relative_gain &&
+                   r.improved_fraction >= o.min_improved_fraction &&
+                   r.delta_bic < -o.bic_margin;
+      if (step.tried.empty() ||
+          r.heldout_after < step.tried.front().heldout_after) {
+        step.tried.insert(step.tried.begin(), r);
+        best_model = trial;
+        best_heldout = h;
+      } else {
+        step.tried.push_back(r);
+      }
+    }
+    if (step.tried.empty()) break;
+    std::sort(step.tried.begin() + 1,
+              step.tried.end(),
+              [](const auto& a, const auto& b) {
+                return a.heldout_after < b.heldout_after;
+              });
+    step.chosen = step.tried.front();
+    out.steps.push_back(step);
+    if (!step.chosen.accepted) break;
+    model = best_model;
+    base = best_heldout;
+    base_bic += step.chosen.delta_bic;
+    out.named.push_back(step.chosen.effect);
+    out.model.push_back(step.chosen);
+  }
+  // Report the final parameters of every named effect from the last fit.
+  for (size_t e = 0; e < out.model.size(); ++e)
+    out.model[e].parameters = model.params[e];
+  out.heldout_final = Mean(base);
+  out.after = Map(data, model, o, x_lo, x_hi);
+  out.message =
+      out.named.empty()
+          ? fmt::format(
+                "no effect named: the wear-scar model leaves nothing a "
+                "candidate "
+                "explains (held-out J {:.4f})",
+                out.heldout_initial)
+          : fmt::format("named {}; held-out J {:.4f} -> {:.4f} ({:.0f}% lower)",
+                        fmt::join(out.named, ", "),
+                        out.heldout_initial,
+                        out.heldout_final,
+                        100 * (1 - out.heldout_final / out.heldout_initial));
+  return out;
+}
+
+}  // namespace wearscar::fusion

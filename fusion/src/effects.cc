@@ -1,0 +1,171 @@
+#include "wearscar/fusion/effects.h"
+
+#include <cmath>
+
+#include "wearscar/fusion/forward_model.h"
+
+namespace wearscar::fusion {
+namespace {
+
+// Ploughing: the sphere pushes material ahead of it; the resistance grows
+// with the groove depth:  extra = s c_p depth(x).
+class Ploughing : public Effect {
+ public:
+  std::string Name() const override { return "ploughing"; }
+  std::string Formula() const override { return "Q += s c_p depth(x)"; }
+  std::vector<std::string> ParameterNames() const override {
+    return {"c_p_N_per_mm"};
+  }
+  std::vector<double> Initial() const override { return {1.0}; }
+  std::vector<double> Lower() const override { return {-100.0}; }
+  std::vector<double> Upper() const override { return {100.0}; }
+  void Apply(const double* p, EffectContext* c) const override {
+    c->extra_n += p[0] * c->depth_mm;
+  }
+};
+
+// Velocity dependence, Stribeck type: friction rises at low speed,
+//   mu_eff = mu (1 + a exp(-(v / v_s)^2)).
+class Stribeck : public Effect {
+ public:
+  std::string Name() const override { return "velocity dependence (Stribeck)"; }
+  std::string Formula() const override {
+    return "mu_eff = mu (1 + a exp(-(v/v_s)^2))";
+  }
+  std::vector<std::string> ParameterNames() const override {
+    return {"a", "v_s_mm_per_s"};
+  }
+  std::vector<double> Initial() const override { return {0.1, 3.0}; }
+  std::vector<double> Lower() const override { return {-0.9, 0.05}; }
+  std::vector<double> Upper() const override { return {5.0, 30.0}; }
+  void Apply(const double* p, EffectContext* c) const override {
+    c->mu_factor *= StribeckFactor(c->speed_mm_s, p[0], p[1]);
+  }
+};
+
+// Viscous resistance proportional to the sliding speed: extra = s c_v |v|.
+class Viscous : public Effect {
+ public:
+  std::string Name() const override { return "viscous term"; }
+  std::string Formula() const override { return "Q += s c_v |v|"; }
+  std::vector<std::string> ParameterNames() const override {
+    return {"c_v_N_s_per_mm"};
+  }
+  std::vector<double> Initial() const override { return {0.01}; }
+  std::vector<double> Lower() const override { return {-1.0}; }
+  std::vector<double> Upper() const override { return {1.0}; }
+  void Apply(const double* p, EffectContext* c) const override {
+    c->extra_n += p[0] * c->speed_mm_s;
+  }
+};
+
+// Direction asymmetry: mu_forward = mu (1 + a), mu_reverse = mu (1 - a).
+class Asymmetry : public Effect {
+ public:
+  std::string Name() const override { return "direction asymmetry"; }
+  std::string Formula() const override { return "mu_eff = mu (1 + s a)"; }
+  std::vector<std::string> ParameterNames() const override { return {"a"}; }
+  std::vector<double> Initial() const override { return {0.01}; }
+  std::vector<double> Lower() const override { return {-0.9}; }
+  std::vector<double> Upper() const override { return {0.9}; }
+  void Apply(const double* p, EffectContext* c) const override {
+    c->mu_factor *= 1.0 + c->s * p[0];
+  }
+};
+
+// Time lag of the Q channel: the measured Q at t is the force at t - tau,
+// so the model at t is compared with the measurement at t + tau.
+class TimeLag : public Effect {
+ public:
+  std::string Name() const override { return "time lag of the Q channel"; }
+  std::string Formula() const override { return "Q_measured(t) = Q(t - tau)"; }
+  std::vector<std::string> ParameterNames() const override { return {"tau_s"}; }
+  std::vector<double> Initial() const override { return {0.0005}; }
+  std::vector<double> Lower() const override { return {-0.02}; }
+  std::vector<double> Upper() const override { return {0.02}; }
+  void Apply(const double* p, EffectContext* c) const override {
+    c->time_shift_s += p[0];
+  }
+};
+
+// Crosstalk of Q into the P channel: P_measured = P + c Q, which also
+// corrupts the slope: k = (1/S) dP/dx - c (1/S) dQ/dx.
+class Crosstalk : public Effect {
+ public:
+  std::string Name() const override { return "crosstalk of Q into P"; }
+  std::string Formula() const override {
+    return "P = P_measured - c Q_measured, k = k_measured - c (1/S) dQ/dx";
+  }
+  std::vector<std::string> ParameterNames() const override { return {"c"}; }
+  std::vector<double> Initial() const override { return {0.005}; }
+  std::vector<double> Lower() const override { return {-0.5}; }
+  std::vector<double> Upper() const override { return {0.5}; }
+  void Apply(const double* p, EffectContext* c) const override {
+    c->p_n -= p[0] * c->q_measured_n;
+    c->k -= p[0] * c->q_slope;
+  }
+};
+
+// End-of-stroke hook: extra resistance approaching the end of the stroke,
+//   extra = s H exp(-(distance to the end ahead) / lambda).
+class Hook : public Effect {
+ public:
+  std::string Name() const override { return "end-of-stroke hook"; }
+  std::string Formula() const override {
+    return "Q += s H exp(-d_end / lambda)";
+  }
+  std::vector<std::string> ParameterNames() const override {
+    return {"H_N", "lambda_mm"};
+  }
+  std::vector<double> Initial() const override { return {0.2, 0.3}; }
+  std::vector<double> Lower() const override { return {-20.0, 0.02}; }
+  std::vector<double> Upper() const override { return {20.0, 3.0}; }
+  void Apply(const double* p, EffectContext* c) const override {
+    c->extra_n += p[0] * std::exp(-c->to_end_mm / p[1]);
+  }
+};
+
+// Elastic compliance of the track: the spring follows the worn geometry
+// plus an elastic part in phase with it, f = (1 + beta) f_geometric, so the
+// contact tilts by k = k_measured / (1 + beta).
+class ElasticCompliance : public Effect {
+ public:
+  std::string Name() const override {
+    return "elastic compliance of the track";
+  }
+  std::string Formula() const override { return "k = k_measured / (1 + beta)"; }
+  std::vector<std::string> ParameterNames() const override { return {"beta"}; }
+  std::vector<double> Initial() const override { return {0.1}; }
+  std::vector<double> Lower() const override { return {-0.5}; }
+  std::vector<double> Upper() const override { return {20.0}; }
+  void Apply(const double* p, EffectContext* c) const override {
+    c->k /= 1.0 + p[0];
+  }
+};
+
+}  // namespace
+
+const std::vector<std::unique_ptr<Effect>>& EffectLibrary() {
+  static const std::vector<std::unique_ptr<Effect>> library = [] {
+    std::vector<std::unique_ptr<Effect>> v;
+    v.push_back(std::make_unique<Ploughing>());
+    v.push_back(std::make_unique<Stribeck>());
+    v.push_back(std::make_unique<Viscous>());
+    v.push_back(std::make_unique<Asymmetry>());
+    v.push_back(std::make_unique<TimeLag>());
+    v.push_back(std::make_unique<Crosstalk>());
+    v.push_back(std::make_unique<Hook>());
+    v.push_back(std::make_unique<ElasticCompliance>());
+    return v;
+  }();
+  return library;
+}
+
+const Effect* FindEffect(const std::string& name) {
+  for (const auto& e : EffectLibrary()) {
+    if (e->Name() == name) return e.get();
+  }
+  return nullptr;
+}
+
+}  // namespace wearscar::fusion

@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <limits>
@@ -172,6 +173,100 @@ bool ParseCell(std::string_view cell, char decimal, double* value) {
       *value,
       fast_float::parse_options{fast_float::chars_format::general, decimal});
   return result.ec == std::errc() && result.ptr == cell.data() + cell.size();
+}
+
+// Plain fixed-point decimals ("-12.3456"), the bulk of every tribometer
+// export: with at most 15 digits the mantissa is exact, and so is 10^k, so a
+// single division rounds correctly (Clinger's fast path) and gives the same
+// double as fast_float. Anything else (exponents, long mantissas, nan, inf)
+// returns false and goes to fast_float.
+inline bool ParsePlainDecimal(const char* a,
+                              const char* b,
+                              char decimal,
+                              double* out) {
+  static constexpr double kPow10[] = {1e0,
+                                      1e1,
+                                      1e2,
+                                      1e3,
+                                      1e4,
+                                      1e5,
+                                      1e6,
+                                      1e7,
+                                      1e8,
+                                      1e9,
+                                      1e10,
+                                      1e11,
+                                      1e12,
+                                      1e13,
+                                      1e14,
+                                      1e15};
+  bool negative = false;
+  if (a < b && *a == '-') {
+    negative = true;
+    ++a;
+  }
+  std::uint64_t mantissa = 0;
+  int digits = 0, fraction = 0;
+  bool dot = false;
+  for (; a < b; ++a) {
+    const unsigned d = static_cast<unsigned char>(*a) - '0';
+    if (d < 10) {
+      if (++digits > 15) return false;
+      mantissa = mantissa * 10 + d;
+      fraction += dot;
+    } else if (*a == decimal && !dot) {
+      dot = true;
+    } else {
+      return false;
+    }
+  }
+  if (digits == 0) return false;
+  const double v = static_cast<double>(mantissa) / kPow10[fraction];
+  *out = negative ? -v : v;
+  return true;
+}
+
+// One pass over a data row parsing only the fields that `slot_of_field`
+// maps to a slot (-1: skip), trimming blanks. Returns false on anything the
+// careful path must look at: quotes, text, or a field count other than
+// `columns` (plus one empty field after a trailing delimiter).
+bool FastRow(std::string_view row,
+             char delim,
+             char decimal,
+             const std::vector<int>& slot_of_field,
+             double* out) {
+  const char* p = row.data();
+  const char* const end = p + row.size();
+  const size_t columns = slot_of_field.size();
+  const fast_float::parse_options options{fast_float::chars_format::general,
+                                          decimal};
+  size_t field = 0;
+  for (;;) {
+    const char* q = static_cast<const char*>(
+        std::memchr(p, delim, static_cast<size_t>(end - p)));
+    if (q == nullptr) q = end;
+    if (field < columns && slot_of_field[field] >= 0) {
+      const char* a = p;
+      const char* b = q;
+      while (a < b && (*a == ' ' || *a == '\t')) ++a;
+      while (b > a && (b[-1] == ' ' || b[-1] == '\t')) --b;
+      double& v = out[slot_of_field[field]];
+      if (a == b) {
+        v = kNaN;
+      } else {
+        if (*a == '+') ++a;
+        if (!ParsePlainDecimal(a, b, decimal, &v)) {
+          const auto r = fast_float::from_chars_advanced(a, b, v, options);
+          if (r.ec != std::errc() || r.ptr != b) return false;
+        }
+      }
+    }
+    ++field;
+    if (q == end) break;
+    p = q + 1;
+  }
+  return field == columns ||
+         (field == columns + 1 && !row.empty() && row.back() == delim);
 }
 
 // ---------------------------------------------------------------------------
@@ -608,8 +703,20 @@ ForceRecord Read(LineSource& source,
   }
 
   // Storage: exact capacity when the caller counted rows, else grown.
-  std::vector<double> data[4];
-  for (auto& d : data) d.reserve(row_capacity_hint);
+  // Columns written straight into the record's vectors, sized by the line
+  // count (an upper bound on the rows), shrunk at the end: no second copy.
+  Eigen::VectorXd data[4];
+  Eigen::Index rows_stored = 0;
+  const Eigen::Index capacity =
+      static_cast<Eigen::Index>(std::max<size_t>(row_capacity_hint, 16));
+  for (int ch = 0; ch < 4; ++ch) {
+    if (column[ch] >= 0) data[ch].resize(capacity);
+  }
+  auto store = [&](int ch, double x) {
+    if (rows_stored >= data[ch].size())
+      data[ch].conservativeResize(2 * data[ch].size() + 16);
+    data[ch][rows_stored] = x;
+  };
   std::vector<std::string_view> cells;
   const int needed = *std::max_element(std::begin(column), std::end(column));
   const size_t columns = layout.names.size();
@@ -625,7 +732,66 @@ ForceRecord Read(LineSource& source,
   int nan_run[4] = {0, 0, 0, 0};
   int total_rows = 0;
 
+  // Fast path slots: the four channels, the RecipeStep column, and the first
+  // field (a text first field means a footer or a bad row).
+  constexpr int kStepSlot = 4, kFirstSlot = 5;
+  std::vector<int> slot_of_field(columns, -1);
+  slot_of_field[0] = kFirstSlot;
+  for (int ch = 0; ch < 4; ++ch) {
+    if (column[ch] >= 0 && column[ch] < static_cast<int>(columns))
+      slot_of_field[column[ch]] = ch;
+  }
+  if (step_column >= 0 && step_column < static_cast<int>(columns)) {
+    slot_of_field[step_column] = kStepSlot;
+  }
+  const bool fast_possible =
+      *std::max_element(std::begin(column), std::end(column)) <
+      static_cast<int>(columns);
+
   auto handle_row = [&](std::string_view row, long line_no) {
+    // Fast path for the ordinary row; anything unusual goes the careful way.
+    if (fast_possible && pending_bad_rows == 0) {
+      double v[6] = {kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
+      if (FastRow(row, layout.delimiter, layout.decimal, slot_of_field, v)) {
+        const double t = column[kTime] >= 0
+                             ? v[kTime] * scale[kTime].factor + time_offset
+                             : 0.0;
+        const bool time_ok =
+            column[kTime] < 0 || !std::isfinite(t) || t > previous_time;
+        if (time_ok) {
+          if (column[kTime] >= 0) {
+            if (std::isfinite(t)) {
+              if (std::isfinite(previous_time)) last_dt = t - previous_time;
+              previous_time = t;
+            }
+            v[kTime] = t;
+          }
+          if (step_column >= 0) previous_step = v[kStepSlot];
+          for (int ch = 0; ch < 4; ++ch) {
+            if (column[ch] < 0) continue;
+            const double x = ch == kTime ? v[ch] : v[ch] * scale[ch].factor;
+            if (std::isnan(x)) {
+              if (++nan_run[ch] > options.max_nan_run) {
+                throw ForceError(
+                    fmt::format("{}: line {}: more than {} consecutive missing "
+                                "values in '{}'; "
+                                "expected isolated gaps at most",
+                                name,
+                                line_no,
+                                options.max_nan_run,
+                                layout.names[column[ch]]));
+              }
+            } else {
+              nan_run[ch] = 0;
+            }
+            store(ch, x);
+          }
+          ++total_rows;
+          ++rows_stored;
+          return;
+        }
+      }
+    }
     if (TrimView(row).empty()) return;
     Split(row, layout.delimiter, &cells);
     double value[4] = {kNaN, kNaN, kNaN, kNaN};
@@ -738,9 +904,10 @@ ForceRecord Read(LineSource& source,
       } else {
         nan_run[ch] = 0;
       }
-      data[ch].push_back(v);
+      store(ch, v);
     }
     ++total_rows;
+    ++rows_stored;
   };
 
   long line_no = 0;
@@ -779,11 +946,9 @@ ForceRecord Read(LineSource& source,
     meta.warnings.push_back(fmt::format("dropped {} bad rows", dropped));
   }
 
-  auto to_vector = [](std::vector<double>& v) {
-    Eigen::VectorXd out = Eigen::Map<Eigen::VectorXd>(
-        v.data(), static_cast<Eigen::Index>(v.size()));
-    std::vector<double>().swap(v);
-    return out;
+  auto to_vector = [&](Eigen::VectorXd& v) {
+    v.conservativeResize(rows_stored);
+    return std::move(v);
   };
   record.x_mm = to_vector(data[kX]);
   record.tangential_n = to_vector(data[kQ]);

@@ -139,10 +139,11 @@ int CountLines(const std::string& text) {
   return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
 }
 
-// Three small simulated specimens and one whose force file is broken.
-std::string AuditFolder() {
-  static const std::string dir = [] {
-    const std::string d = ::testing::TempDir() + "/audit-in";
+// Three small simulated specimens and one whose force file is broken, in a
+// folder of the calling test's own (ctest runs tests as parallel processes).
+std::string AuditFolder(const std::string& tag) {
+  const std::string dir = [&] {
+    const std::string d = ::testing::TempDir() + "/audit-in-" + tag;
     std::filesystem::remove_all(d);
     const CommandResult s = Wearscar(
         "simulate --case B-RT-R --case S-RL-R --case S-TL-L --cycles 60 --rate "
@@ -165,7 +166,7 @@ TEST(Audit, OneBadSpecimenIsReportedAndTheRestComplete) {
   const std::string out = ::testing::TempDir() + "/audit-out";
   std::filesystem::remove_all(out);
   const CommandResult r =
-      Wearscar("audit " + AuditFolder() +
+      Wearscar("audit " + AuditFolder("bad") +
                " --running-in 30 --compare-cycles 30 -o " + out);
   EXPECT_EQ(r.status, 1) << r.output;  // one failed specimen
   EXPECT_NE(r.output.find("FAILED   B-RL-L"), std::string::npos) << r.output;
@@ -191,7 +192,7 @@ TEST(Audit, OneBadSpecimenIsReportedAndTheRestComplete) {
 }
 
 TEST(Audit, ManifestPairsFilesAndShardsConcatenate) {
-  const std::string in = AuditFolder();
+  const std::string in = AuditFolder("manifest");
   const std::string manifest = ::testing::TempDir() + "/manifest.csv";
   std::ofstream(manifest) << "specimen,force,scan\n"
                           << "B-RT-R," << in << "/B-RT-R.force.csv," << in
@@ -220,11 +221,11 @@ TEST(Audit, ReportRendersInHeadlessChromium) {
     GTEST_SKIP() << "Debian's chromium is not installed (scripts/install-deps "
                     "installs it)";
   }
-  const std::string out = ::testing::TempDir() + "/audit-out";
-  if (!std::filesystem::exists(out + "/report.html")) {
-    Wearscar("audit " + AuditFolder() + " --running-in 30 -o " + out);
-  }
-  const std::string profile = ::testing::TempDir() + "/chromium-profile";
+  const std::string out = ::testing::TempDir() + "/audit-out-browser";
+  std::filesystem::remove_all(out);
+  Wearscar("audit " + AuditFolder("browser") + " --running-in 30 -o " + out);
+  const std::string profile =
+      ::testing::TempDir() + "/chromium-profile-wearscar";
   const std::string cmd =
       "chromium --headless --no-sandbox --disable-gpu --disable-quic "
       "--no-first-run "

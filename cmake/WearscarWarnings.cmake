@@ -12,3 +12,10 @@ if(WEARSCAR_SANITIZE)
   target_link_options(wearscar_warnings INTERFACE -fsanitize=${_sanitizers})
   message(STATUS "wearscar: sanitizers ${_sanitizers}")
 endif()
+
+if(WEARSCAR_FUZZ)
+  # Instrument the libraries for coverage; the targets link the fuzzer.
+  target_compile_options(wearscar_warnings INTERFACE
+    -fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer)
+  target_link_options(wearscar_warnings INTERFACE -fsanitize=address,undefined)
+endif()

@@ -44,7 +44,7 @@ HeightMap ReadScan(const std::string& path, const ReadScanOptions& options) {
        {".zon", ".zag", ".vk4", ".vk6", ".vk7", ".x3p", ".gsf"}) {
     if (ext == e) {
       throw ScanError(fmt::format(
-          "{}: byte 0: found '{}', which is not the magic of a {} file",
+          "{}: byte 0: found {}, which is not the magic of a {} file",
           path,
           fmt::format("{:?}", bytes.substr(0, 4)).substr(0, 20),
           ext));

@@ -5,7 +5,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -254,6 +256,75 @@ TEST(Audit, ReportRendersInHeadlessChromium) {
   EXPECT_NE(dom.find("data-table-rows=\"4\""), std::string::npos);
   EXPECT_NE(dom.find("<tr class=\"flagged\">"), std::string::npos);
   EXPECT_NE(dom.find("<tr class=\"failed\">"), std::string::npos);
+}
+
+}  // namespace
+
+namespace {
+
+// The bad-input catalogue (tests/data/bad/catalogue.csv, written by
+// make_bad.py): every malformed file through the command line gives exit
+// status 2, one line naming the file and the problem, and no output.
+struct BadFile {
+  std::string file, reader, expected;
+};
+
+std::vector<BadFile> LoadCatalogue() {
+  std::vector<BadFile> rows;
+  std::ifstream in(std::string(WEARSCAR_TEST_DATA) + "/bad/catalogue.csv");
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    const size_t a = line.find(','), b = line.find(',', a + 1);
+    BadFile f{
+        line.substr(0, a), line.substr(a + 1, b - a - 1), line.substr(b + 1)};
+    if (f.expected.size() >= 2 && f.expected.front() == '"') {
+      f.expected = f.expected.substr(1, f.expected.size() - 2);
+    }
+    rows.push_back(f);
+  }
+  return rows;
+}
+
+class BadInputCatalogue : public ::testing::TestWithParam<BadFile> {};
+
+TEST_P(BadInputCatalogue, ExitTwoNamingFileAndProblemNoOutput) {
+  const BadFile& f = GetParam();
+  const std::string path = std::string(WEARSCAR_TEST_DATA) + "/bad/" + f.file;
+  const std::string out = ::testing::TempDir() + "/bad-out-" + f.file;
+  std::filesystem::remove_all(out);
+  const std::string cmd = f.reader == "force"
+                              ? "force " + path + " -o " + out
+                              : "fuse --force " + kData +
+                                    "generic.csv --scan " + path + " -o " + out;
+  const CommandResult r = Wearscar(cmd);
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find(path), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(f.expected), std::string::npos) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out))
+      << "output left behind for " << f.file;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Files,
+    BadInputCatalogue,
+    ::testing::ValuesIn(LoadCatalogue()),
+    [](const ::testing::TestParamInfo<BadFile>& param_info) {
+      std::string n = param_info.param.file;
+      for (char& ch : n) {
+        if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+      }
+      return n;
+    });
+
+TEST(BadInputCatalogue, HoldsAtLeastThirtyFilesAcrossTheReaders) {
+  const auto rows = LoadCatalogue();
+  EXPECT_GE(rows.size(), 30u);
+  std::set<std::string> extensions;
+  for (const auto& r : rows)
+    extensions.insert(r.file.substr(r.file.rfind('.')));
+  EXPECT_GE(extensions.size(), 8u);  // csv, gsf, vk4, vk6, zon, zag, x3p, txt
 }
 
 }  // namespace

@@ -1,0 +1,219 @@
+// Speed of wearscar's stages, and the paper's procedure done the simple way
+// (Nelder-Mead per cycle, as MATLAB's fminsearch) next to ours, in one run.
+// Run with scripts/bench; figures and targets are in README.md.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "wearscar/force/read_force.h"
+#include "wearscar/fusion/analysis.h"
+#include "wearscar/fusion/forward_model.h"
+#include "wearscar/fusion/fuse.h"
+#include "wearscar/samples/virtual_tribometer.h"
+#include "wearscar/scan/gsf.h"
+#include "wearscar/scan/level.h"
+#include "wearscar/scan/track.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace wearscar;
+
+const std::string& Scratch() {
+  static const std::string dir = [] {
+    const fs::path d = fs::temp_directory_path() / "wearscar-bench";
+    fs::create_directories(d);
+    return d.string();
+  }();
+  return dir;
+}
+
+// The paper's test: 600 cycles at 2 kHz (1.2 million samples), full scan.
+const samples::SimulatedTest& Test600() {
+  static const samples::SimulatedTest t =
+      samples::Simulate(samples::PaperCase("S-RT-R"));
+  return t;
+}
+
+const std::string& Csv600() {
+  static const std::string path = [] {
+    const std::string p = Scratch() + "/S-RT-R.force.csv";
+    if (!fs::exists(p)) force::WriteForceCsv(Test600().record, p);
+    return p;
+  }();
+  return path;
+}
+
+const force::CycleSet& Cycles600() {
+  static const force::CycleSet c = [] {
+    force::CycleSet s = force::SegmentCycles(Test600().record.x_mm);
+    force::FindGrossSlip(Test600().record, &s);
+    return s;
+  }();
+  return c;
+}
+
+void BM_CsvIngest(benchmark::State& state) {
+  const std::string& path = Csv600();
+  const auto bytes = static_cast<int64_t>(fs::file_size(path));
+  for (auto _ : state) {
+    const force::ForceRecord r = force::ReadForceFile(path);
+    benchmark::DoNotOptimize(r.normal_n.data());
+  }
+  state.SetBytesProcessed(state.iterations() * bytes);
+  state.counters["rows"] = static_cast<double>(Test600().record.size());
+}
+BENCHMARK(BM_CsvIngest)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+
+void BM_SegmentCycles(benchmark::State& state) {
+  const auto& r = Test600().record;
+  for (auto _ : state) {
+    force::CycleSet s = force::SegmentCycles(r.x_mm);
+    force::FindGrossSlip(r, &s);
+    benchmark::DoNotOptimize(s.cycles.data());
+  }
+  state.SetItemsProcessed(state.iterations() * r.size());
+}
+BENCHMARK(BM_SegmentCycles)->Unit(benchmark::kMillisecond);
+
+void BM_MuHat600Cycles(benchmark::State& state) {
+  const auto& r = Test600().record;
+  for (auto _ : state) {
+    const auto fits = fusion::FitFrictionPerCycle(
+        r, Cycles600(), fusion::SlopeSource::kForce);
+    benchmark::DoNotOptimize(fits.data());
+  }
+  state.SetItemsProcessed(state.iterations() * 600);
+}
+BENCHMARK(BM_MuHat600Cycles)->Unit(benchmark::kMillisecond);
+
+// Baseline: the paper's procedure the simple way. The slope is the same
+// (moving average 10 + three-point difference); mu per cycle by Nelder-Mead
+// from mu = 0.5 with fminsearch's defaults (TolX = TolFun = 1e-4, expansion
+// 2, contraction 0.5, initial step 5%), the wear-scar law evaluated with
+// Eqs. 1-2 as written (N from Eq. 2, then Q from Eq. 1).
+double PaperCost(const fusion::CycleSamples& s, double mu) {
+  double cost = 0;
+  for (const fusion::SlipSamples* d : {&s.forward, &s.reverse}) {
+    double num = 0, den = 0;
+    for (Eigen::Index i = 0; i < d->q_n.size(); ++i) {
+      const double k = d->k[i], root = std::sqrt(1 + k * k);
+      const double n = d->p_n[i] * root / (1 - d->direction * mu * k);  // Eq. 2
+      const double q = k * n / root + d->direction * mu * n / root;     // Eq. 1
+      num += (d->q_n[i] - q) * (d->q_n[i] - q);
+      den += d->q_n[i] * d->q_n[i];
+    }
+    cost += std::sqrt(num) / std::sqrt(den);
+  }
+  return cost;
+}
+
+double NelderMead1D(const fusion::CycleSamples& s) {
+  double x[2] = {0.5, 0.5 * 1.05},
+         f[2] = {PaperCost(s, x[0]), PaperCost(s, x[1])};
+  for (int it = 0; it < 200; ++it) {
+    if (f[1] < f[0]) {
+      std::swap(x[0], x[1]);
+      std::swap(f[0], f[1]);
+    }
+    if (std::abs(x[1] - x[0]) <= 1e-4 && std::abs(f[1] - f[0]) <= 1e-4) break;
+    const double xr = 2 * x[0] - x[1], fr = PaperCost(s, xr);
+    if (fr < f[0]) {
+      const double xe = 3 * x[0] - 2 * x[1], fe = PaperCost(s, xe);
+      if (fe < fr) {
+        x[1] = xe;
+        f[1] = fe;
+      } else {
+        x[1] = xr;
+        f[1] = fr;
+      }
+    } else {
+      const double xc = 0.5 * (x[0] + x[1]), fc = PaperCost(s, xc);
+      if (fc < f[1]) {
+        x[1] = xc;
+        f[1] = fc;
+      } else {
+        x[1] = x[0] + 0.5 * (x[1] - x[0]);
+        f[1] = PaperCost(s, x[1]);
+      }
+    }
+  }
+  return f[0] < f[1] ? x[0] : x[1];
+}
+
+void BM_MuHat600CyclesPaperNelderMead(benchmark::State& state) {
+  const auto& r = Test600().record;
+  fusion::FrictionFitOptions o;
+  o.slope.min_span_mm = 0;  // the paper's stencil exactly
+  for (auto _ : state) {
+    double sum = 0;
+    for (const auto& c : Cycles600().cycles) {
+      sum += NelderMead1D(
+          fusion::GatherCycle(r, c, fusion::SlopeSource::kForce, o));
+    }
+    benchmark::DoNotOptimize(sum);
+  }
+  state.SetItemsProcessed(state.iterations() * 600);
+}
+BENCHMARK(BM_MuHat600CyclesPaperNelderMead)->Unit(benchmark::kMillisecond);
+
+// Read + level + spikes + track + centreline of a scan written as GSF.
+void BM_ScanPipeline(benchmark::State& state) {
+  const int cols = static_cast<int>(state.range(0)), rows = cols * 3 / 4;
+  const std::string path = Scratch() + "/scan_" + std::to_string(cols) + ".gsf";
+  if (!fs::exists(path)) {
+    samples::SimulationOptions o = samples::PaperCase("B-RT-R");
+    o.cycles = 2;
+    o.scan_cols = cols;
+    o.scan_rows = rows;
+    o.scan_pitch_mm = 0.0074 * 1024.0 / cols;
+    scan::WriteGsf(samples::Simulate(o).scan, path);
+  }
+  for (auto _ : state) {
+    scan::HeightMap m = scan::ReadGsf(path);
+    scan::LevelHeightMap(&m);
+    scan::RemoveSpikes(&m);
+    const scan::Track t = scan::FindTrack(m);
+    const scan::WearProfile p = scan::ExtractCentreline(m, t);
+    benchmark::DoNotOptimize(p.height_mm.data());
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(cols) *
+                          rows);
+}
+BENCHMARK(BM_ScanPipeline)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond);
+
+void BM_Fuse600Cycles(benchmark::State& state) {
+  const auto& t = Test600();
+  fusion::FuseOptions o;
+  o.fit_lugre = false;
+  for (auto _ : state) {
+    const fusion::TestResult r = fusion::AnalyzeTest(t.record, t.scan, o);
+    benchmark::DoNotOptimize(r.verdict.explained);
+  }
+}
+BENCHMARK(BM_Fuse600Cycles)->Unit(benchmark::kMillisecond);
+
+// The whole command line on the paper's 12 cases (600 cycles, 2 kHz,
+// 1024 x 768 scans), figures and report included.
+void BM_Audit12(benchmark::State& state) {
+  const std::string in = Scratch() + "/twelve";
+  const std::string bin = WEARSCAR_BINARY;
+  if (!fs::exists(in + "/S-TL-T.scan.gsf")) {
+    const std::string cmd =
+        bin + " simulate --all -o " + in + " > /dev/null 2>&1";
+    if (std::system(cmd.c_str()) != 0) state.SkipWithError("simulate failed");
+  }
+  for (auto _ : state) {
+    const std::string cmd =
+        bin + " audit " + in + " -o " + Scratch() + "/audit > /dev/null 2>&1";
+    if (std::system(cmd.c_str()) != 0) state.SkipWithError("audit failed");
+  }
+}
+BENCHMARK(BM_Audit12)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,111 @@
+#!/usr/bin/env python3
+"""Writes the bad-input catalogue (run from this folder): one malformed file
+per class and reader, and catalogue.csv naming, for each, the subcommand
+that reads it ("force" or "scan") and a fragment the error must contain."""
+import io, struct, zipfile
+
+rows = []
+def put(name, data, kind, expected):
+    open(name, 'wb').write(data if isinstance(data, bytes) else data.encode())
+    rows.append((name, kind, expected))
+
+good = ['time_s,x_mm,Q_N,P_N'] + [f'{i*0.01:.2f},{2.85*__import__("math").sin(6.2832*i*0.01):.4f},1.0,30.0' for i in range(400)]
+def csv(lines): return '\n'.join(lines) + '\n'
+
+# ---- force files
+put('empty.csv', '', 'force', 'the file is empty')
+put('no_columns.csv', csv(['alpha,beta,gamma'] + [f'{i},{i},{i}' for i in range(20)]), 'force', 'no column for position x')
+put('non_numeric.csv', csv(good[:50] + ['0.49,1.0,abc,30'] + good[51:]), 'force', "found 'abc', expected a number")
+put('ragged.csv', csv(good[:50] + ['0.49,1.0'] + good[51:]), 'force', 'ragged row: found 2 fields, expected 4')
+put('time_backwards.csv', csv(good[:50] + [good[20]] + good[51:]), 'force', 'is not after the previous')
+put('time_repeats.csv', csv(good[:50] + [good[49]] + good[50:]), 'force', 'is not after the previous')
+put('nan_run.csv', csv(good[:50] + [f'{0.5+i*0.0001:.4f},,,' for i in range(60)]), 'force', 'consecutive missing values')
+put('one_cycle.csv', csv(good[:130]), 'force', 'complete cycle(s)')
+put('binary.csv', bytes(range(256)) * 16, 'force', 'no numeric data found')
+put('unit_unknown.csv', csv(['time (s),x (furlong),Fx (N),Fz (N)'] + [l for l in good[1:]]), 'force', "has unit 'furlong'; expected a length unit")
+put('no_time_no_rate.csv', csv(['x_mm;Q_N;P_N'] + [';'.join(l.split(',')[1:]) for l in good[1:]]), 'force', 'no time column and no sampling rate')
+put('flat_x.csv', csv(['time_s,x_mm,Q_N,P_N'] + [f'{i*0.01:.2f},1.0,1.0,30.0' for i in range(400)]), 'force', 'the displacement does not move')
+put('text_in_data.csv', csv(good[:60] + ['pause,pause,pause,pause'] + good[61:]), 'force', "found text 'pause' where a data row was expected")
+
+# ---- GSF
+def gsf(fields, data=b''):
+    h = ('Gwyddion Simple Field 1.0\n' + fields).encode()
+    return h + b'\0' * (4 - len(h) % 4) + data
+put('bad_magic.gsf', b'Gwyddion Simple Feld 1.0\nXRes = 1\n\0\0\0', 'scan', 'which is not the magic of a .gsf file')
+put('truncated.gsf', gsf('XRes = 4\nYRes = 4\n', b'\0' * 30), 'scan', 'data truncated: 30 bytes present, expected 64')
+put('absurd.gsf', gsf('XRes = 70000\nYRes = 70000\n'), 'scan', 'exceeds 268435456 pixels')
+put('no_nul.gsf', 'Gwyddion Simple Field 1.0\nXRes = 2\nYRes = 2\n', 'scan', 'no NUL byte ends the GSF header')
+put('missing_yres.gsf', gsf('XRes = 2\n', b'\0' * 16), 'scan', 'header has no YRes')
+
+# ---- VK4 / VK6
+def vk4(w, h, bits, size, pixels, magic=b'VK4_', cond_pm=(7413000, 7413000, 100)):
+    b = bytearray(magic + b'\0' * 8 + b'\0' * 72)
+    cond = len(b); b += b'\0' * 200
+    struct.pack_into('<3I', b, cond + 168, *cond_pm)
+    img = len(b); hdr = bytearray(796); struct.pack_into('<5I', hdr, 0, w, h, bits, 0, size)
+    b += hdr + b'\1' * pixels
+    struct.pack_into('<I', b, 12, cond); struct.pack_into('<I', b, 36, img)
+    return bytes(b)
+put('bad_magic.vk4', vk4(2, 2, 32, 16, 16, magic=b'VK9_'), 'scan', "which is not the magic of a .vk4 file")
+put('truncated.vk4', vk4(4, 4, 32, 64, 10), 'scan', 'truncated: the height pixels needs 64 bytes')
+put('size_mismatch.vk4', vk4(4, 4, 32, 60, 64), 'scan', 'byte size 60 disagrees with 4 x 4 x 32 bits = 64')
+put('absurd.vk4', vk4(100000, 100000, 32, 0, 0), 'scan', 'height image 100000 x 100000; expected 1 to 268435456 pixels')
+put('zero_pitch.vk4', vk4(2, 2, 32, 16, 16, cond_pm=(0, 0, 100)), 'scan', 'expected positive values')
+put('truncated.vk6', b'VK6\x10\x00\x00\x00BM', 'scan', 'truncated: the ZIP archive after the thumbnail')
+buf = io.BytesIO()
+with zipfile.ZipFile(buf, 'w') as z: z.writestr('Other', b'x')
+put('no_vk4file.vk6', b'VK6' + struct.pack('<I', 2) + b'BM' + buf.getvalue(), 'scan', "the archive has no member 'Vk4File'")
+
+# ---- ZON / ZAG
+def grid(w, h, elem, stride, n):
+    return struct.pack('<4i', w, h, elem, stride) + b'\0' * n
+CAL = '<C><XYCalibration><MeterPerPixel>7e-6</MeterPerPixel></XYCalibration><ZCalibration><MeterPerUnit>1e-8</MeterPerUnit></ZCalibration></C>'
+def kpk(members, magic=b'KPK0'):
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, 'w') as z:
+        for k, v in members.items(): z.writestr(k, v)
+    return magic + struct.pack('<I', 2) + b'BM' + buf.getvalue()
+HG, CA = '4cdb0c75-5706-48cc-a9a1-adf395d609ae', '686613b8-27b5-4a29-8ffc-438c2780873e'
+put('bad_magic.zon', b'KPX0' + b'\0' * 40, 'scan', 'which is not the magic of a .zon file')
+put('not_zip.zon', b'KPK0' + struct.pack('<I', 0) + b'garbage here', 'scan', 'not a readable ZIP archive')
+put('no_calibration.zon', kpk({HG: grid(2, 2, 4, 8, 16)}), 'scan', '(calibration XML) is missing')
+put('no_heights.zon', kpk({CA: CAL}), 'scan', '(heights) is missing')
+put('absurd.zon', kpk({HG: grid(100000, 100000, 4, 400000, 0), CA: CAL}), 'scan', '100000 x 100000 pixels; expected 1 to 268435456')
+put('short_stride.zon', kpk({HG: grid(4, 2, 4, 8, 32), CA: CAL}), 'scan', 'row stride 8; expected 4 and at least 16')
+put('truncated_rows.zon', kpk({HG: grid(4, 4, 4, 16, 20), CA: CAL}), 'scan', 'truncated: the pixel rows')
+put('bad_calibration.zon', kpk({HG: grid(2, 2, 4, 8, 16), CA: '<C><XYCalibration><MeterPerPixel>-1</MeterPerPixel></XYCalibration></C>'}), 'scan', 'expected positive numbers')
+put('kpk1_not_zstd.zon', kpk({HG: grid(2, 2, 4, 8, 16), CA: CAL}, magic=b'KPK1'), 'scan', 'is not a zstd frame')
+put('empty.zag', kpk({'f1724dc6-686c-4502-9227-2a594bc8ed33': '<Inventory/>'}), 'scan', 'no measurement payload')
+
+# ---- x3p
+def x3p(xml, members=None):
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, 'w') as z:
+        if xml is not None: z.writestr('main.xml', xml)
+        for k, v in (members or {}).items(): z.writestr(k, v)
+    return buf.getvalue()
+def main_xml(sx, sy, dtype='D', link=True):
+    rec3 = (f'<Record3><MatrixDimension><SizeX>{sx}</SizeX><SizeY>{sy}</SizeY><SizeZ>1</SizeZ></MatrixDimension>' +
+            ('<DataLink><PointDataLink>bindata/data.bin</PointDataLink></DataLink>' if link else '') + '</Record3>')
+    return (f'<p:ISO5436_2 xmlns:p="x"><Record1><FeatureType>SUR</FeatureType><Axes>'
+            f'<CX><AxisType>I</AxisType><DataType>D</DataType><Increment>1e-6</Increment></CX>'
+            f'<CY><AxisType>I</AxisType><DataType>D</DataType><Increment>1e-6</Increment></CY>'
+            f'<CZ><AxisType>A</AxisType><DataType>{dtype}</DataType></CZ></Axes></Record1>{rec3}</p:ISO5436_2>')
+put('no_main.x3p', x3p(None, {'other.xml': '<a/>'}), 'scan', 'no main.xml in the archive')
+put('bad_xml.x3p', x3p('<p:ISO5436_2><Record1>'), 'scan', 'XML error')
+put('size_mismatch.x3p', x3p(main_xml(4, 4), {'bindata/data.bin': b'\0' * 100}), 'scan', "has 100 bytes; expected 128 for 4 x 4 values of type D")
+put('absurd.x3p', x3p(main_xml(100000, 100000)), 'scan', 'MatrixDimension 100000 x 100000')
+put('missing_data.x3p', x3p(main_xml(2, 2)), 'scan', "PointDataLink 'bindata/data.bin' is not in the archive")
+put('bad_type.x3p', x3p(main_xml(2, 2, dtype='Q'), {'bindata/data.bin': b'\0' * 32}), 'scan', "CZ DataType 'Q'; expected I, L, F or D")
+
+# ---- Keyence CSV and ASCII
+put('keyence_no_pitch.csv', 'Horizontal,2\nVertical,2\nHeight\n1,2\n3,4\n', 'scan', "no 'XY Calibration' row")
+put('keyence_ragged.csv', 'XY Calibration,7.4,um\nHeight\n1,2,3\n4,5\n', 'scan', 'line 4: 2 values; expected 3')
+put('keyence_text_cell.csv', 'XY Calibration,7.4,um\nHeight\n1,2,3\n4,x,6\n', 'scan', "line 4, column 2: found 'x', expected a height")
+put('ascii_no_pitch.txt', '1 2 3\n4 5 6\n', 'scan', 'carries no pixel size')
+
+with open('catalogue.csv', 'w') as f:
+    f.write('file,reader,expected\n')
+    for name, kind, expected in rows:
+        f.write(f'{name},{kind},"{expected}"\n')
+print(len(rows), 'bad files')

@@ -10,6 +10,11 @@ if(WEARSCAR_SANITIZE)
   target_compile_options(wearscar_warnings INTERFACE
     -fsanitize=${_sanitizers} -fno-omit-frame-pointer -fno-sanitize-recover=all)
   target_link_options(wearscar_warnings INTERFACE -fsanitize=${_sanitizers})
+  # Eigen switches to its own aligned allocator under AddressSanitizer, but
+  # Debian's PCL, OpenCV and Ceres were built with glibc's (already 16-byte
+  # aligned) malloc. Eigen objects crossing that boundary would then be freed
+  # by the wrong allocator; keep ours the same as theirs.
+  target_compile_definitions(wearscar_warnings INTERFACE EIGEN_MALLOC_ALREADY_ALIGNED=1)
   message(STATUS "wearscar: sanitizers ${_sanitizers}")
 endif()
 

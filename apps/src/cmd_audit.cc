@@ -11,6 +11,7 @@
 
 #include "commands.h"
 #include "common_options.h"
+#include "diagnosis_output.h"
 #include "figures.h"
 #include "output.h"
 #include "report.h"
@@ -34,6 +35,8 @@ struct AuditArgs {
   int jobs = 0;
   std::string shard;
   bool no_figures = false;
+  bool diagnose = false;
+  fusion::DiagnoseOptions diagnose_options;
   std::string name_regex = "[BS]-(RT|RL|TL)-[RTL]";
   CommonArgs common;
 };
@@ -233,6 +236,7 @@ SummaryColumns() {
           {"track_width_mm", {"scan", "track", "width_mm"}},
           {"explained", {"verdict", "explained"}},
           {"verdict", {"verdict", "summary"}},
+          {"diagnosis", {"diagnosis"}},
           {"error", {"error"}},
       };
   return kColumns;
@@ -301,8 +305,29 @@ void RunAudit(AuditArgs a) {
                      r.mismatch.mu_force_minus_energy.mean,
                      r.mismatch.mu_force_minus_energy.sd};
         if (!a.no_figures) sec.figures = DrawTestFigures(dir, s.name, r);
+        if (a.diagnose) {
+          // A diagnosis that cannot run is reported; the analysis stands.
+          try {
+            fusion::DiagnoseOptions dopt = a.diagnose_options;
+            dopt.running_in_cycles = a.common.fuse.analysis.running_in_cycles;
+            const fusion::Diagnosis d =
+                DiagnoseTest(record, r, a.common.fuse, dopt);
+            const std::string png =
+                WriteDiagnosis(dir, s.name, d, !a.no_figures);
+            sec.row["missing_effects"] = d.named;
+            sec.row["diagnosis"] = d.message;
+            if (!png.empty()) {
+              sec.figures.png.push_back(png);
+              sec.figures.titles.push_back(
+                  s.name + ": diagnosis, residual map before and after");
+            }
+          } catch (const std::exception& e) {
+            sec.row["diagnosis"] = std::string("not run: ") + e.what();
+          }
+        }
       } catch (const std::exception& e) {
         sec.failed = true;
+        sec.flagged = false;
         sec.row["error"] = e.what();
       }
       std::lock_guard<std::mutex> lock(progress_mutex);
@@ -415,6 +440,10 @@ void AddAuditCommand(CLI::App& app) {
                   "Regular expression naming a specimen in file names")
       ->capture_default_str();
   cmd->add_flag("--no-figures", args->no_figures, "Skip the figures");
+  cmd->add_flag(
+      "--diagnose",
+      args->diagnose,
+      "Also diagnose each specimen (named missing effects, residual maps)");
   AddCommonOptions(cmd, &args->common, true);
   cmd->callback([args] { RunAudit(*args); });
 }

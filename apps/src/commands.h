@@ -10,6 +10,7 @@ void AddForceCommand(CLI::App& app);
 void AddFuseCommand(CLI::App& app);
 void AddAuditCommand(CLI::App& app);
 void AddDiagnoseCommand(CLI::App& app);
+void AddScanCommand(CLI::App& app);
 
 // A subcommand's wish for the process exit status (0 unless set).
 void SetExitStatus(int status);

@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   wearscar::app::AddFuseCommand(app);
   wearscar::app::AddAuditCommand(app);
   wearscar::app::AddDiagnoseCommand(app);
+  wearscar::app::AddScanCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

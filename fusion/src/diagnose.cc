@@ -379,8 +379,9 @@ bool DiagnoseOptions::IsValid(std::string* why) const {
   }
   if (position_bins < 2 || reversal_bins < 2 || cycle_blocks < 1)
     return fail("bins must be >= 2");
-  if (profile_window < 5 || profile_window % 2 == 0)
-    return fail("profile_window: odd, >= 5");
+  if (!(profile_step_mm > 0) || !(profile_span_mm > 0)) {
+    return fail("profile_step_mm and profile_span_mm must be > 0");
+  }
   for (const auto& c : candidates) {
     if (FindEffect(c) == nullptr) return fail("unknown candidate effect");
   }
@@ -429,7 +430,18 @@ Diagnosis Diagnose(const force::ForceRecord& record,
       x_hi = std::max(x_hi, record.x_mm[i]);
     }
   }
-  const double bin = o.profile_step_mm;
+  // Bin width: the option, or the largest x step between samples (so that
+  // every bin holds samples at low sampling rates).
+  double max_step = 0;
+  for (int c : out.cycles) {
+    for (Eigen::Index i = cycles.cycles[c].forward.begin + 1;
+         i < cycles.cycles[c].reverse.end;
+         ++i) {
+      const double dx = std::abs(record.x_mm[i] - record.x_mm[i - 1]);
+      if (std::isfinite(dx)) max_step = std::max(max_step, dx);
+    }
+  }
+  const double bin = std::max(o.profile_step_mm, 1.05 * max_step);
   const Eigen::Index bins =
       static_cast<Eigen::Index>(std::ceil((x_hi - x_lo) / bin)) + 1;
   const Eigen::VectorXd centres = Eigen::VectorXd::LinSpaced(
@@ -438,7 +450,8 @@ Diagnosis Diagnose(const force::ForceRecord& record,
       BinProfile(record, cycles, out.cycles, record.normal_n, x_lo, bin, bins);
   force::SlopeOptions sg = friction.slope;
   sg.method = force::DerivativeMethod::kSavitzkyGolay;
-  sg.window = o.profile_window;
+  sg.window = std::max(
+      7, 2 * static_cast<int>(std::round(0.5 * o.profile_span_mm / bin)) + 1);
   sg.polynomial_order = 3;
   sg.min_span_mm = 0;
   const double spring = friction.slope.spring_stiffness_n_per_mm;

@@ -328,3 +328,40 @@ TEST(BadInputCatalogue, HoldsAtLeastThirtyFilesAcrossTheReaders) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(Samples, CommittedFilesAreTheSimulatorsOutputByteForByte) {
+  const std::string dir = ::testing::TempDir() + "/samples-regen";
+  std::filesystem::remove_all(dir);
+  const std::string cmd = std::string(WEARSCAR_SAMPLES_DIR) +
+                          "/make_samples.sh " + WEARSCAR_BINARY + " " + dir;
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  int compared = 0;
+  for (const auto& e : std::filesystem::directory_iterator(
+           std::string(WEARSCAR_SAMPLES_DIR) + "/data")) {
+    const std::string name = e.path().filename().string();
+    EXPECT_EQ(Slurp(e.path().string()), Slurp(dir + "/" + name)) << name;
+    ++compared;
+  }
+  EXPECT_EQ(compared, 6);  // force.csv, scan.gsf, truth.json for two cases
+}
+
+TEST(Samples, FuseOnTheCommittedSamplesGivesTheExpectedVerdicts) {
+  const std::string data = std::string(WEARSCAR_SAMPLES_DIR) + "/data/";
+  const CommandResult b =
+      Wearscar("fuse --force " + data + "B-RT-R.force.csv --scan " + data +
+               "B-RT-R.scan.gsf --running-in 20 --compare-cycles 20");
+  EXPECT_EQ(b.status, 0) << b.output;
+  EXPECT_NE(b.output.find("verdict: explained by wear-scar interaction"),
+            std::string::npos)
+      << b.output;
+  const CommandResult s =
+      Wearscar("fuse --force " + data + "S-RL-R.force.csv --scan " + data +
+               "S-RL-R.scan.gsf --running-in 20 --compare-cycles 20");
+  EXPECT_EQ(s.status, 0) << s.output;
+  EXPECT_NE(s.output.find("verdict: not explained"), std::string::npos)
+      << s.output;
+}
+
+}  // namespace

@@ -24,9 +24,10 @@ struct DiagnoseOptions {
   double min_improved_fraction = 0.75;
   double bic_margin = 6.0;
   int max_effects = 4;
-  double profile_step_mm =
-      0.01;                 // per-cycle binned P and Q, for the base slope
-  int profile_window = 31;  // cubic Savitzky-Golay window on them, bins
+  // Per-cycle binned P and Q for the base slope: bins of this width, or of
+  // the largest x step between samples when that is wider (low rates).
+  double profile_step_mm = 0.01;
+  double profile_span_mm = 0.3;    // cubic Savitzky-Golay span on the bins
   bool average_directions = true;  // one slope from both directions' P
   int position_bins = 40;
   int reversal_bins = 20;

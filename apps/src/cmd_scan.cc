@@ -1,0 +1,178 @@
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "commands.h"
+#include "output.h"
+#include "wearscar/scan/gsf.h"
+#include "wearscar/scan/level.h"
+#include "wearscar/scan/read_scan.h"
+#include "wearscar/scan/track.h"
+
+namespace wearscar::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ScanArgs {
+  std::string file;
+  std::string out;
+  scan::ReadScanOptions read;
+  scan::LevelOptions level;
+  scan::SpikeOptions spikes;
+  scan::TrackOptions track;
+  scan::ProfileOptions profile;
+  std::vector<double> sections_mm;  // along-track positions of cross-sections
+  double section_half_width_mm = 1.5;
+};
+
+void RunScan(ScanArgs a) {
+  std::string why;
+  if (!a.read.IsValid(&why) || !a.level.IsValid(&why) ||
+      !a.track.IsValid(&why) || !a.profile.IsValid(&why)) {
+    throw UsageError("scan: " + why);
+  }
+  scan::HeightMap map = scan::ReadScan(a.file, a.read);
+  fmt::print(
+      "{}: {} x {} pixels, pitch {:.4g} x {:.4g} um ({}{}{}), {} valid\n",
+      a.file,
+      map.cols(),
+      map.rows(),
+      1e3 * map.dx_mm,
+      1e3 * map.dy_mm,
+      map.metadata.format,
+      map.metadata.instrument.empty() ? "" : ", ",
+      map.metadata.instrument,
+      map.ValidCount());
+  const scan::LevelSummary level = scan::LevelHeightMap(&map, a.level);
+  const int spikes = scan::RemoveSpikes(&map, a.spikes);
+  fmt::print("  levelled: {}; {} spikes removed\n", level.message, spikes);
+  const scan::Track t = scan::FindTrack(map, a.track);
+  fmt::print(
+      "  track: centre ({:.3f}, {:.3f}) mm, angle {:.2f} deg, length {:.3f} "
+      "mm, width "
+      "{:.3f} mm, max depth {:.1f} um, volume {:.4g} mm^3 ({})\n",
+      t.center_x_mm,
+      t.center_y_mm,
+      t.angle_deg,
+      t.length_mm,
+      t.width_mm,
+      1e3 * t.max_depth_mm,
+      t.volume_mm3,
+      t.message);
+  const scan::WearProfile p = scan::ExtractCentreline(map, t, a.profile);
+  if (a.out.empty()) return;
+  EnsureDirectory(a.out);
+  Table c;
+  c.columns = {"s_mm", "h_mm", "valid_samples"};
+  for (Eigen::Index i = 0; i < p.s_mm.size(); ++i) {
+    c.rows.push_back(
+        {p.s_mm[i], p.height_mm[i], static_cast<double>(p.valid_samples[i])});
+  }
+  WriteTextAtomically((fs::path(a.out) / "centreline.csv").string(), c.ToCsv());
+  if (a.sections_mm.empty())
+    a.sections_mm = {-0.25 * t.length_mm, 0.0, 0.25 * t.length_mm};
+  Table x;
+  x.columns = {"s_mm", "w_mm", "h_mm"};
+  for (double s : a.sections_mm) {
+    const scan::WearProfile cs =
+        scan::ExtractCrossSection(map, t, s, a.section_half_width_mm);
+    for (Eigen::Index i = 0; i < cs.s_mm.size(); ++i)
+      x.rows.push_back({s, cs.s_mm[i], cs.height_mm[i]});
+  }
+  WriteTextAtomically((fs::path(a.out) / "cross_sections.csv").string(),
+                      x.ToCsv());
+  scan::WriteGsf(map, (fs::path(a.out) / "levelled.gsf").string());
+  nlohmann::json j = {{"file", a.file},
+                      {"format", map.metadata.format},
+                      {"instrument", map.metadata.instrument},
+                      {"size_px", {map.cols(), map.rows()}},
+                      {"pitch_mm", {map.dx_mm, map.dy_mm}},
+                      {"level",
+                       {{"order", level.order},
+                        {"coefficients",
+                         std::vector<double>(level.coefficients.data(),
+                                             level.coefficients.data() +
+                                                 level.coefficients.size())},
+                        {"inliers", level.inliers},
+                        {"rms_mm", level.rms_mm}}},
+                      {"spikes_removed", spikes},
+                      {"track",
+                       {{"center_x_mm", t.center_x_mm},
+                        {"center_y_mm", t.center_y_mm},
+                        {"angle_deg", t.angle_deg},
+                        {"length_mm", t.length_mm},
+                        {"width_mm", t.width_mm},
+                        {"max_depth_mm", t.max_depth_mm},
+                        {"volume_mm3", t.volume_mm3},
+                        {"manual", t.manual}}},
+                      {"warnings", map.metadata.warnings}};
+  WriteTextAtomically((fs::path(a.out) / "scan.json").string(),
+                      j.dump(2) + "\n");
+  fmt::print(
+      "wrote centreline.csv, cross_sections.csv, levelled.gsf and scan.json to "
+      "{}/\n",
+      a.out);
+}
+
+}  // namespace
+
+void AddScanCommand(CLI::App& app) {
+  auto args = std::make_shared<ScanArgs>();
+  auto* cmd =
+      app.add_subcommand("scan",
+                         "Analyse a height map alone: level on the unworn "
+                         "area, remove spikes, find the worn "
+                         "track, extract its centreline and cross-sections");
+  cmd->add_option("file",
+                  args->file,
+                  "Height map (zon, zag, vk4/6/7, x3p, gsf, csv, txt)")
+      ->required();
+  cmd->add_option("-o,--out", args->out, "Directory for the results");
+  cmd->add_option(
+      "--measurement", args->read.measurement_index, ".zag measurement index");
+  cmd->add_option("--ascii-pitch",
+                  args->read.ascii_pitch_mm,
+                  "ASCII matrix pixel size, mm");
+  cmd->add_option(
+      "--ascii-unit", args->read.ascii_z_unit, "ASCII matrix height unit");
+  cmd->add_option("--level-order",
+                  args->level.polynomial_order,
+                  "Reference surface order (1-3)")
+      ->capture_default_str();
+  cmd->add_option("--ransac-threshold",
+                  args->level.ransac_threshold_mm,
+                  "RANSAC inlier band, mm")
+      ->capture_default_str();
+  cmd->add_option(
+         "--spike-threshold", args->spikes.threshold_mm, "Spike height, mm")
+      ->capture_default_str();
+  cmd->add_option(
+         "--min-depth", args->track.min_depth_mm, "Track: least depth, mm")
+      ->capture_default_str();
+  cmd->add_flag(
+      "--manual-track", args->track.manual, "Place the track by hand");
+  cmd->add_option("--track-x", args->track.center_x_mm, "Track centre x, mm");
+  cmd->add_option("--track-y", args->track.center_y_mm, "Track centre y, mm");
+  cmd->add_option(
+      "--track-angle", args->track.angle_deg, "Track angle, degrees");
+  cmd->add_option("--track-length",
+                  args->track.manual_length_mm,
+                  "Track length, mm (manual)");
+  cmd->add_option(
+         "--band", args->profile.band_width_mm, "Centreline band width, mm")
+      ->capture_default_str();
+  cmd->add_option(
+      "--step", args->profile.step_mm, "Centreline step, mm (0 = pitch)");
+  cmd->add_option("--sections",
+                  args->sections_mm,
+                  "Cross-sections at these s positions, mm");
+  cmd->add_option("--section-half-width",
+                  args->section_half_width_mm,
+                  "Cross-section half width, mm")
+      ->capture_default_str();
+  cmd->callback([args] { RunScan(*args); });
+}
+
+}  // namespace wearscar::app

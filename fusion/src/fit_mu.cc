@@ -16,17 +16,14 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // |Qm - Qw| / |Qm| over one direction.
 double DirectionCost(const SlipSamples& s, double mu) {
-  double num = 0, den = 0;
-  for (Eigen::Index i = 0; i < s.q_n.size(); ++i) {
-    const double sm = s.direction * mu;
-    const double denom = 1.0 - sm * s.k[i];
-    if (denom <= 0) return kInf;
-    const double qw =
-        WearScarTangentialForce(s.p_n[i], s.k[i], mu, s.direction);
-    const double r = s.q_n[i] - qw;
-    num += r * r;
-    den += s.q_n[i] * s.q_n[i];
-  }
+  // Vectorised form of |Qm - P (k + s mu) / (1 - s mu k)| / |Qm|.
+  const double sm = s.direction * mu;
+  const auto k = s.k.array();
+  const auto denom = 1.0 - sm * k;
+  if (s.k.size() == 0 || (denom <= 0.0).any()) return kInf;
+  const double num =
+      (s.q_n.array() - s.p_n.array() * (k + sm) / denom).square().sum();
+  const double den = s.q_n.squaredNorm();
   return den > 0 ? std::sqrt(num / den) : kInf;
 }
 

@@ -54,7 +54,7 @@ TEST(FitMu, RecoversKnownMuExactlyWithoutNoise) {
     const MuFit f = FitMu(ModelSamples(mu, 0.0, 1));
     EXPECT_TRUE(f.converged) << f.BriefReport();
     EXPECT_NEAR(f.mu_hat, mu, 1e-6) << f.BriefReport();
-    EXPECT_LT(f.cost, 1e-6);
+    EXPECT_LT(f.cost, 1e-5);  // J ~ 19 |mu - mu_true| here; tolerance 1e-7
     EXPECT_FALSE(f.at_bound);
     EXPECT_EQ(f.samples, 1600);
   }

@@ -35,7 +35,7 @@ double WearScarCost(const CycleSamples& samples, double mu);
 struct FitMuOptions {
   double mu_min = 0.0;  // search interval
   double mu_max = 1.0;
-  int grid_points = 21;     // bracketing grid over the interval (step 0.05)
+  int grid_points = 11;     // bracketing grid over the interval (step 0.1)
   double tolerance = 1e-7;  // Brent, absolute in mu
   int max_iterations = 100;
 

@@ -25,8 +25,9 @@ namespace fs = std::filesystem;
 struct Specimen {
   std::string name;
   std::string force;
-  std::string scan;   // empty: force-only analysis
-  std::string error;  // pairing problem
+  std::string scan;                   // empty: force-only analysis
+  int force_rank = 0, scan_rank = 0;  // pairing preference of the files
+  std::string error;                  // pairing problem
 };
 
 struct AuditArgs {
@@ -78,21 +79,32 @@ std::vector<Specimen> PairFolder(const std::string& dir,
     const bool text = HasExtension(p, {".csv", ".txt", ".tsv", ".dat"});
     if (!binary_scan && !text) continue;
     const bool text_scan = text && (lower.find("scan") != std::string::npos ||
-                                    lower.find("height") != std::string::npos);
+                                    lower.find("height") != std::string::npos ||
+                                    lower.find("keyence") != std::string::npos);
     std::smatch m;
     const std::string key =
         std::regex_search(file, m, re) ? m.str(0) : SpecimenName(file);
     Specimen& s = by_key[key];
     s.name = key;
-    std::string& slot = (binary_scan || text_scan) ? s.scan : s.force;
-    if (!slot.empty()) {
+    const bool is_scan = binary_scan || text_scan;
+    std::string& slot = is_scan ? s.scan : s.force;
+    // Several candidates for one role: a binary scan beats a text export of
+    // the same map, a file named "force" beats other text; a tie is an error.
+    const int rank = is_scan
+                         ? (binary_scan ? 2 : 1)
+                         : (lower.find("force") != std::string::npos ? 2 : 1);
+    int& slot_rank = is_scan ? s.scan_rank : s.force_rank;
+    if (!slot.empty() && rank == slot_rank) {
       s.error = fmt::format("two {} files match '{}': {} and {}",
-                            &slot == &s.scan ? "scan" : "force",
+                            is_scan ? "scan" : "force",
                             key,
                             fs::path(slot).filename().string(),
                             file);
     }
-    slot = p.string();
+    if (slot.empty() || rank >= slot_rank) {
+      slot = p.string();
+      slot_rank = rank;
+    }
   }
   std::vector<Specimen> out;
   for (auto& [k, s] : by_key) {

@@ -1,5 +1,8 @@
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
@@ -21,9 +24,73 @@ struct SimulateArgs {
   int scan_cols = -1, scan_rows = -1;
   double scan_pitch_mm = -1;
   bool no_elastic = false;
-  samples::HiddenEffects effects;
+  std::vector<std::string> effect_settings;  // name=value
   bool triangle = false;
+  long long seed = -1;
+  std::vector<std::string> formats = {"csv", "rtec", "gsf", "keyence-csv"};
 };
+
+// The hidden effects by name, for --effect name=value.
+struct EffectField {
+  const char* name;
+  double samples::HiddenEffects::*field;
+  const char* unit;
+};
+constexpr EffectField kEffectFields[] = {
+    {"ploughing", &samples::HiddenEffects::ploughing_n_per_mm, "N/mm"},
+    {"stribeck", &samples::HiddenEffects::stribeck_rise, "relative"},
+    {"stribeck_speed", &samples::HiddenEffects::stribeck_speed_mm_s, "mm/s"},
+    {"asymmetry", &samples::HiddenEffects::direction_asymmetry, "relative"},
+    {"q_lag", &samples::HiddenEffects::q_lag_s, "s"},
+    {"crosstalk", &samples::HiddenEffects::crosstalk_q_into_p, "N/N"},
+    {"hook", &samples::HiddenEffects::hook_n, "N"},
+    {"hook_length", &samples::HiddenEffects::hook_length_mm, "mm"},
+    {"viscous", &samples::HiddenEffects::viscous_n_s_per_mm, "N s/mm"},
+};
+
+std::string EffectNames() {
+  std::string names;
+  for (const auto& f : kEffectFields) {
+    if (!names.empty()) names += ", ";
+    names += fmt::format("{} ({})", f.name, f.unit);
+  }
+  return names;
+}
+
+void ApplyEffectSetting(const std::string& setting,
+                        samples::HiddenEffects* effects) {
+  const size_t eq = setting.find('=');
+  std::string name = setting.substr(0, eq);
+  std::replace(name.begin(), name.end(), '-', '_');
+  if (eq == std::string::npos) {
+    throw UsageError(fmt::format(
+        "simulate: --effect '{}': expected name=value, e.g. ploughing=1.0",
+        setting));
+  }
+  const std::string value = setting.substr(eq + 1);
+  double v = 0;
+  size_t used = 0;
+  try {
+    v = std::stod(value, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != value.size() || !std::isfinite(v)) {
+    throw UsageError(fmt::format(
+        "simulate: --effect '{}': '{}' is not a number", setting, value));
+  }
+  for (const auto& f : kEffectFields) {
+    if (name == f.name) {
+      effects->*(f.field) = v;
+      return;
+    }
+  }
+  throw UsageError(fmt::format(
+      "simulate: --effect '{}': unknown effect '{}'; expected one of {}",
+      setting,
+      name,
+      EffectNames()));
+}
 
 nlohmann::json TruthJson(const samples::SimulationOptions& o,
                          const samples::SimulatedTest& t) {
@@ -36,7 +103,26 @@ nlohmann::json TruthJson(const samples::SimulationOptions& o,
   j["explained_by_wear_scar"] = t.truth.explained_by_wear_scar;
   j["elastic_mm"] = o.elastic_mm;
   j["spring_n_per_mm"] = o.spring_n_per_mm;
-  j["scan"] = {{"center_x_mm", t.truth.scan_center_x_mm},
+  j["amplitudes"] = {{"force_profile_sd_mm", t.truth.force_profile_sd_mm},
+                     {"force_profile_range_mm", t.truth.force_profile_range_mm},
+                     {"force_profile_range_n",
+                      t.truth.force_profile_range_mm * o.spring_n_per_mm},
+                     {"scan_profile_sd_mm", t.truth.scan_profile_sd_mm},
+                     {"scan_profile_range_mm", t.truth.scan_profile_range_mm}};
+  j["plate_to_pixel"] = {
+      {"note",
+       "col = origin_col + col_per_mm * x, row = origin_row + "
+       "row_per_mm * x; pixel centres at index * pitch"},
+      {"origin_col", t.truth.origin_col},
+      {"origin_row", t.truth.origin_row},
+      {"col_per_mm", t.truth.col_per_mm},
+      {"row_per_mm", t.truth.row_per_mm},
+      {"angle_deg", t.truth.scan_angle_deg},
+      {"flipped", t.truth.scan_flipped}};
+  j["scan"] = {{"pitch_mm", t.truth.scan_pitch_mm},
+               {"cols", o.scan_cols},
+               {"rows", o.scan_rows},
+               {"center_x_mm", t.truth.scan_center_x_mm},
                {"center_y_mm", t.truth.scan_center_y_mm},
                {"angle_deg", t.truth.scan_angle_deg},
                {"flipped", t.truth.scan_flipped},
@@ -71,6 +157,12 @@ void RunSimulate(const SimulateArgs& a) {
       }
     }
   }
+  samples::HiddenEffects effects;
+  for (const auto& setting : a.effect_settings)
+    ApplyEffectSetting(setting, &effects);
+  auto wants = [&](const char* f) {
+    return std::find(a.formats.begin(), a.formats.end(), f) != a.formats.end();
+  };
   EnsureDirectory(a.out);
   Progress progress("simulate", static_cast<long>(cases.size()));
   long done = 0;
@@ -81,23 +173,32 @@ void RunSimulate(const SimulateArgs& a) {
     if (a.scan_rows > 0) o.scan_rows = a.scan_rows;
     if (a.scan_pitch_mm > 0) o.scan_pitch_mm = a.scan_pitch_mm;
     if (a.triangle) o.drive = samples::Drive::kTriangle;
-    o.effects = a.effects;
+    o.effects = effects;
+    if (a.seed >= 0) o.seed = static_cast<std::uint64_t>(a.seed);
     std::string why;
     if (!o.IsValid(&why)) throw UsageError("simulate: " + why);
     const samples::SimulatedTest test = samples::Simulate(o);
     const std::string base = (std::filesystem::path(a.out) / o.name).string();
-    force::WriteForceCsv(test.record, base + ".force.csv");
-    scan::WriteGsf(test.scan, base + ".scan.gsf");
+    if (wants("csv")) force::WriteForceCsv(test.record, base + ".force.csv");
+    if (wants("rtec")) force::WriteRtecCsv(test.record, base + ".rtec.csv");
+    if (wants("gsf")) scan::WriteGsf(test.scan, base + ".scan.gsf");
+    if (wants("keyence-csv"))
+      scan::WriteKeyenceCsv(test.scan, base + ".keyence.csv");
     WriteTextAtomically(base + ".truth.json",
                         TruthJson(o, test).dump(2) + "\n");
     progress.Update(++done);
   }
   progress.Finish();
-  fmt::print(
-      "wrote {} case(s) to {}/ (<case>.force.csv, <case>.scan.gsf, "
-      "<case>.truth.json)\n",
-      cases.size(),
-      a.out);
+  std::vector<std::string> files;
+  if (wants("csv")) files.push_back("<case>.force.csv");
+  if (wants("rtec")) files.push_back("<case>.rtec.csv");
+  if (wants("gsf")) files.push_back("<case>.scan.gsf");
+  if (wants("keyence-csv")) files.push_back("<case>.keyence.csv");
+  files.push_back("<case>.truth.json");
+  fmt::print("wrote {} case(s) to {}/ ({})\n",
+             cases.size(),
+             a.out,
+             fmt::join(files, ", "));
 }
 
 }  // namespace
@@ -122,29 +223,27 @@ void AddSimulateCommand(CLI::App& app) {
       "--scan-rows", args->scan_rows, "Scan height in pixels (default 768)");
   cmd->add_option("--scan-pitch",
                   args->scan_pitch_mm,
-                  "Scan pixel size, mm (default 0.0074)");
+                  "Scan pixel size, mm (default 0.007413)");
   cmd->add_flag(
       "--triangle", args->triangle, "Triangular drive instead of sine");
   cmd->add_flag(
       "--no-elastic",
       args->no_elastic,
       "No elastic part in S-RL-R (every case explained by wear-scar)");
-  auto& e = args->effects;
-  cmd->add_option(
-      "--ploughing", e.ploughing_n_per_mm, "Hidden ploughing, N per mm depth");
-  cmd->add_option(
-      "--stribeck", e.stribeck_rise, "Hidden Stribeck rise (relative)");
-  cmd->add_option(
-      "--stribeck-speed", e.stribeck_speed_mm_s, "Stribeck speed, mm/s");
-  cmd->add_option(
-      "--asymmetry", e.direction_asymmetry, "Hidden direction asymmetry");
-  cmd->add_option("--q-lag", e.q_lag_s, "Hidden time lag of Q, s");
-  cmd->add_option(
-      "--crosstalk", e.crosstalk_q_into_p, "Hidden crosstalk of Q into P");
-  cmd->add_option("--hook", e.hook_n, "Hidden end-of-stroke hook, N");
-  cmd->add_option("--hook-length", e.hook_length_mm, "Hook decay length, mm");
-  cmd->add_option(
-      "--viscous", e.viscous_n_s_per_mm, "Hidden viscous term, N s/mm");
+  cmd->add_option("--seed",
+                  args->seed,
+                  "Random seed for every case (default: each case's own)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--effect",
+                  args->effect_settings,
+                  "Hidden effect as name=value (repeatable): " + EffectNames());
+  cmd->add_option("--formats",
+                  args->formats,
+                  "Files to write: csv (time_s,x_mm,Q_N,P_N), rtec (Rtec "
+                  "MFT-like), gsf, keyence-csv (Keyence VR height export)")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"csv", "rtec", "gsf", "keyence-csv"}))
+      ->capture_default_str();
   cmd->callback([args] { RunSimulate(*args); });
 }
 

@@ -1,6 +1,7 @@
 #include <fmt/format.h>
 
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -10,10 +11,16 @@
 #include "wearscar/force/read_force.h"
 
 namespace wearscar::force {
+namespace {
 
-void WriteForceCsv(const ForceRecord& record, const std::string& path) {
-  // Write to a temporary name beside the target, then rename: a reader never
-  // sees a half-written file.
+// Streams rows made by `emit(i, buffer)` to a temporary name beside `path`,
+// then renames it: a reader never sees a half-written file.
+template <typename Header, typename Row, typename Footer>
+void WriteRowsAtomically(const ForceRecord& record,
+                         const std::string& path,
+                         Header&& header,
+                         Row&& row,
+                         Footer&& footer) {
   const std::string tmp =
       fmt::format("{}.tmp-{:08x}", path, std::random_device{}());
   {
@@ -24,20 +31,16 @@ void WriteForceCsv(const ForceRecord& record, const std::string& path) {
           fmt::format("{}: cannot write: {}", path, std::strerror(errno)));
     }
     fmt::memory_buffer buf;
-    fmt::format_to(std::back_inserter(buf), "time_s,x_mm,Q_N,P_N\n");
+    header(buf);
     bool ok = true;
     for (Eigen::Index i = 0; i < record.size() && ok; ++i) {
-      fmt::format_to(std::back_inserter(buf),
-                     "{:.6f},{:.6f},{:.5f},{:.5f}\n",
-                     record.time_s[i],
-                     record.x_mm[i],
-                     record.tangential_n[i],
-                     record.normal_n[i]);
+      row(i, buf);
       if (buf.size() > (1u << 20)) {
         ok = std::fwrite(buf.data(), 1, buf.size(), f.get()) == buf.size();
         buf.clear();
       }
     }
+    footer(buf);
     ok = ok && std::fwrite(buf.data(), 1, buf.size(), f.get()) == buf.size();
     ok = (std::fflush(f.get()) == 0) && ok;
     if (!ok) {
@@ -53,6 +56,63 @@ void WriteForceCsv(const ForceRecord& record, const std::string& path) {
     throw ForceError(
         fmt::format("{}: cannot rename from {}: {}", path, tmp, ec.message()));
   }
+}
+
+}  // namespace
+
+void WriteForceCsv(const ForceRecord& record, const std::string& path) {
+  WriteRowsAtomically(
+      record,
+      path,
+      [](fmt::memory_buffer& b) {
+        fmt::format_to(std::back_inserter(b), "time_s,x_mm,Q_N,P_N\n");
+      },
+      [&](Eigen::Index i, fmt::memory_buffer& b) {
+        fmt::format_to(std::back_inserter(b),
+                       "{:.6f},{:.6f},{:.5f},{:.5f}\n",
+                       record.time_s[i],
+                       record.x_mm[i],
+                       record.tangential_n[i],
+                       record.normal_n[i]);
+      },
+      [](fmt::memory_buffer&) {});
+}
+
+void WriteRtecCsv(const ForceRecord& record,
+                  const std::string& path,
+                  double step_s) {
+  if (!(step_s > 0)) {
+    throw ForceError(fmt::format("{}: recipe step must be > 0 s", path));
+  }
+  const double t0 = record.size() > 0 ? record.time_s[0] : 0.0;
+  WriteRowsAtomically(
+      record,
+      path,
+      [&](fmt::memory_buffer& b) {
+        fmt::format_to(std::back_inserter(b),
+                       "Recipe: reciprocating {},Operator: wearscar,"
+                       "Source: {}\n"
+                       "RecipeStep,Timestamp,DAQ.Fx (N),DAQ.Fz (N),DAQ.COF (),"
+                       "Piezo X (mm),\n",
+                       record.metadata.source,
+                       record.metadata.layout);
+      },
+      [&](Eigen::Index i, fmt::memory_buffer& b) {
+        const double t = record.time_s[i] - t0;
+        const double step = std::floor(t / step_s + 1e-9);
+        const double p = record.normal_n[i], q = record.tangential_n[i];
+        fmt::format_to(std::back_inserter(b),
+                       "{},{:.4f},{:.4f},{:.4f},{:.4f},{:.5f},\n",
+                       static_cast<long>(step) + 1,
+                       t - step * step_s,
+                       q,
+                       -p,
+                       p != 0 ? q / std::abs(p) : 0.0,
+                       record.x_mm[i]);
+      },
+      [](fmt::memory_buffer& b) {
+        fmt::format_to(std::back_inserter(b), "End of data\n");
+      });
 }
 
 }  // namespace wearscar::force

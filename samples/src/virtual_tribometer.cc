@@ -7,6 +7,7 @@
 #include <limits>
 #include <random>
 #include <stdexcept>
+#include <vector>
 
 #include "wearscar/fusion/forward_model.h"
 
@@ -89,6 +90,42 @@ Eigen::VectorXd GaussianSmooth(const Eigen::VectorXd& v, double sigma_samples) {
   return out;
 }
 
+// Separable Gaussian blur of an image, edges clamped.
+void BlurInPlace(scan::HeightMap::Heights* image, double sigma_px) {
+  if (sigma_px < 0.3) return;
+  const int h = static_cast<int>(std::ceil(3 * sigma_px));
+  std::vector<float> kernel(2 * h + 1);
+  float sum = 0;
+  for (int j = -h; j <= h; ++j) {
+    kernel[j + h] =
+        static_cast<float>(std::exp(-0.5 * j * j / (sigma_px * sigma_px)));
+    sum += kernel[j + h];
+  }
+  for (float& k : kernel) k /= sum;
+  const Eigen::Index rows = image->rows(), cols = image->cols();
+  scan::HeightMap::Heights tmp(rows, cols);
+  for (Eigen::Index r = 0; r < rows; ++r) {
+    for (Eigen::Index c = 0; c < cols; ++c) {
+      float acc = 0;
+      for (int j = -h; j <= h; ++j) {
+        acc += kernel[j + h] *
+               (*image)(r, std::clamp<Eigen::Index>(c + j, 0, cols - 1));
+      }
+      tmp(r, c) = acc;
+    }
+  }
+  for (Eigen::Index r = 0; r < rows; ++r) {
+    for (Eigen::Index c = 0; c < cols; ++c) {
+      float acc = 0;
+      for (int j = -h; j <= h; ++j) {
+        acc += kernel[j + h] *
+               tmp(std::clamp<Eigen::Index>(r + j, 0, rows - 1), c);
+      }
+      (*image)(r, c) = acc;
+    }
+  }
+}
+
 // Smooth random texture: a sum of sinusoids with wavelengths 0.3-1.5 mm,
 // unit standard deviation.
 Eigen::VectorXd Texture(const Eigen::VectorXd& x, Rng& rng) {
@@ -163,6 +200,12 @@ bool SimulationOptions::IsValid(std::string* why) const {
     return fail("scan size must be between 16 x 16 and 2^26 pixels");
   }
   if (!(scan_pitch_mm > 0)) return fail("scan_pitch_mm must be > 0");
+  if (!(roughness_mm >= 0 && roughness_length_mm >= 0 &&
+        fibre_amplitude_mm >= 0 && fibre_width_mm > 0 && rim_fraction >= 0 &&
+        rim_width_mm > 0 && scan_invalid_fraction >= 0 &&
+        scan_invalid_fraction < 0.5 && scan_invalid_cluster_mm >= 0)) {
+    return fail("scan texture, rim and invalid-pixel settings out of range");
+  }
   if (effects.stribeck_rise != 0 && !(effects.stribeck_speed_mm_s > 0)) {
     return fail("stribeck_speed_mm_s must be > 0");
   }
@@ -379,59 +422,125 @@ SimulatedTest Simulate(const SimulationOptions& o) {
     const Eigen::ArrayXd d = truth.worn_depth_mm.array();
     const double sd = std::sqrt((d - d.mean()).square().mean());
     truth.explained_by_wear_scar = o.elastic_mm < 0.5 * sd;
+    const Eigen::ArrayXd f = d + truth.elastic_mm.array();
+    auto sd_of = [](const Eigen::ArrayXd& v) {
+      return std::sqrt((v - v.mean()).square().mean());
+    };
+    truth.force_profile_sd_mm = sd_of(f);
+    truth.force_profile_range_mm = f.maxCoeff() - f.minCoeff();
+    truth.scan_profile_sd_mm = sd_of(d);
+    truth.scan_profile_range_mm = d.maxCoeff() - d.minCoeff();
   }
 
   // ---- Scanner: the worn track at the end of the test.
   scan::HeightMap& map = out.scan;
-  map.height_mm.resize(o.scan_rows, o.scan_cols);
-  map.valid.resize(o.scan_rows, o.scan_cols);
-  map.dx_mm = map.dy_mm = o.scan_pitch_mm;
+  const int rows = o.scan_rows, cols = o.scan_cols;
+  const double pitch = o.scan_pitch_mm;
+  map.height_mm.resize(rows, cols);
+  map.valid.resize(rows, cols);
+  map.dx_mm = map.dy_mm = pitch;
   const double theta = o.scan_angle_deg * kPi / 180.0;
   const double ct = std::cos(theta), st = std::sin(theta);
-  const double cx =
-      0.5 * (o.scan_cols - 1) * o.scan_pitch_mm + o.scan_track_offset_mm * ct;
-  const double cy =
-      0.5 * (o.scan_rows - 1) * o.scan_pitch_mm + o.scan_track_offset_mm * st;
+  const double cx = 0.5 * (cols - 1) * pitch + o.scan_track_offset_mm * ct;
+  const double cy = 0.5 * (rows - 1) * pitch + o.scan_track_offset_mm * st;
   const double r = o.sphere_radius_mm;
-  for (int row = 0; row < o.scan_rows; ++row) {
-    for (int col = 0; col < o.scan_cols; ++col) {
-      const double X = col * o.scan_pitch_mm, Y = row * o.scan_pitch_mm;
+  // Texture of the unworn surface: correlated isotropic roughness ...
+  scan::HeightMap::Heights texture_map(rows, cols);
+  for (Eigen::Index i = 0; i < texture_map.size(); ++i) {
+    texture_map.data()[i] = static_cast<float>(rng.Normal());
+  }
+  BlurInPlace(&texture_map, o.roughness_length_mm / pitch);
+  {
+    const double sd = std::sqrt(
+        (texture_map.cast<double>() - texture_map.cast<double>().mean())
+            .square()
+            .mean());
+    if (sd > 0) texture_map *= static_cast<float>(o.roughness_mm / sd);
+  }
+  // ... and fibres: a random ridge profile across the fibre direction.
+  const double phi = theta + o.fibre_angle_deg * kPi / 180.0;
+  const double cf = std::cos(phi), sf = std::sin(phi);
+  Grid fibres{0.0, 1.0, Eigen::VectorXd::Zero(2)};
+  if (o.fibre_amplitude_mm > 0) {
+    const double half = std::hypot(cols * pitch, rows * pitch) + pitch;
+    fibres.step = std::min(pitch, o.fibre_width_mm) / 2;
+    fibres.x0 = -half;
+    const Eigen::Index nf =
+        static_cast<Eigen::Index>(std::ceil(2 * half / fibres.step)) + 1;
+    Eigen::VectorXd white(nf);
+    for (Eigen::Index i = 0; i < nf; ++i) white[i] = rng.Normal();
+    Eigen::VectorXd f = GaussianSmooth(white, o.fibre_width_mm / fibres.step);
+    const double m = f.mean();
+    const double sd = std::sqrt((f.array() - m).square().mean());
+    fibres.v =
+        sd > 0 ? Eigen::VectorXd((f.array() - m) * (o.fibre_amplitude_mm / sd))
+               : Eigen::VectorXd::Zero(nf);
+  }
+  for (int row = 0; row < rows; ++row) {
+    for (int col = 0; col < cols; ++col) {
+      const double X = col * pitch, Y = row * pitch;
       const double s = (X - cx) * ct + (Y - cy) * st;
       const double w = -(X - cx) * st + (Y - cy) * ct;
       const double u = o.scan_flipped ? -s : s;
-      double depth;
       const double ue = std::clamp(u, -o.amplitude_mm, o.amplitude_mm);
       const double d0 = final_amp * wear_shape(ue);
       const double du = std::abs(u) - o.amplitude_mm;
       const double r2 = w * w + (du > 0 ? du * du : 0.0);
-      depth =
+      const double depth =
           r2 < r * r ? std::max(0.0, d0 - (r - std::sqrt(r * r - r2))) : 0.0;
+      // Rim: material pushed up along the edge of the groove.
+      double rim = 0.0;
+      if (o.rim_fraction > 0 && d0 > 0 && d0 < r) {
+        const double edge = std::sqrt(r * r - (r - d0) * (r - d0));
+        const double t = (std::sqrt(r2) - edge) / o.rim_width_mm;
+        rim = o.rim_fraction * d0 * std::exp(-t * t);
+      }
+      // The worn surface keeps little of the texture.
+      const double surface =
+          (texture_map(row, col) +
+           (o.fibre_amplitude_mm > 0 ? fibres(-X * sf + Y * cf) : 0.0)) /
+          (1.0 + depth / 0.01);
       const double z = o.plane_z0_mm + o.plane_dzdx * X + o.plane_dzdy * Y -
-                       depth + o.scan_noise_mm * rng.Normal();
+                       depth + rim + surface + o.scan_noise_mm * rng.Normal();
       map.height_mm(row, col) = static_cast<float>(z);
     }
   }
-  // Invalid clusters (steep walls, dark latewood) and spikes.
-  const long pixels = static_cast<long>(o.scan_rows) * o.scan_cols;
+  // Invalid pixels: small scattered clusters (steep walls, dark latewood)
+  // and one large cluster (a pore, a shadow), then a few spikes.
+  const float kNaN = std::numeric_limits<float>::quiet_NaN();
+  const long pixels = static_cast<long>(rows) * cols;
   const long clusters =
       static_cast<long>(o.scan_invalid_fraction * pixels / 5.0);
   for (long k = 0; k < clusters; ++k) {
-    const int rr = static_cast<int>(rng.Uniform() * o.scan_rows);
-    const int cc = static_cast<int>(rng.Uniform() * o.scan_cols);
+    const int rr = static_cast<int>(rng.Uniform() * rows);
+    const int cc = static_cast<int>(rng.Uniform() * cols);
     for (int dr = -1; dr <= 1; ++dr) {
       for (int dc = -1; dc <= 1; ++dc) {
         if (std::abs(dr) + std::abs(dc) > 1) continue;
         const int r2i = rr + dr, c2i = cc + dc;
-        if (r2i < 0 || c2i < 0 || r2i >= o.scan_rows || c2i >= o.scan_cols)
-          continue;
-        map.height_mm(r2i, c2i) = std::numeric_limits<float>::quiet_NaN();
+        if (r2i < 0 || c2i < 0 || r2i >= rows || c2i >= cols) continue;
+        map.height_mm(r2i, c2i) = kNaN;
+      }
+    }
+  }
+  if (o.scan_invalid_cluster_mm > 0) {
+    const double ccx = rng.Uniform() * cols * pitch;
+    const double ccy = rng.Uniform() * rows * pitch;
+    const double rad = o.scan_invalid_cluster_mm;
+    for (int row = 0; row < rows; ++row) {
+      for (int col = 0; col < cols; ++col) {
+        // A blob, not a disc: the radius wobbles with the angle.
+        const double dx = col * pitch - ccx, dy = row * pitch - ccy;
+        const double a = std::atan2(dy, dx);
+        const double rr = rad * (1.0 + 0.25 * std::sin(3 * a + 1.0));
+        if (dx * dx + dy * dy < rr * rr) map.height_mm(row, col) = kNaN;
       }
     }
   }
   const long spikes = static_cast<long>(o.scan_spike_fraction * pixels);
   for (long k = 0; k < spikes; ++k) {
-    const int rr = static_cast<int>(rng.Uniform() * o.scan_rows);
-    const int cc = static_cast<int>(rng.Uniform() * o.scan_cols);
+    const int rr = static_cast<int>(rng.Uniform() * rows);
+    const int cc = static_cast<int>(rng.Uniform() * cols);
     map.height_mm(rr, cc) +=
         static_cast<float>((rng.Uniform() < 0.5 ? -1 : 1) * 0.04);
   }
@@ -446,6 +555,12 @@ SimulatedTest Simulate(const SimulationOptions& o) {
   truth.plane_dzdx = o.plane_dzdx;
   truth.plane_dzdy = o.plane_dzdy;
   truth.plane_z0_mm = o.plane_z0_mm;
+  truth.scan_pitch_mm = pitch;
+  truth.origin_col = cx / pitch;
+  truth.origin_row = cy / pitch;
+  const double flip = o.scan_flipped ? -1.0 : 1.0;
+  truth.col_per_mm = flip * ct / pitch;
+  truth.row_per_mm = flip * st / pitch;
   return out;
 }
 
@@ -459,13 +574,13 @@ std::vector<SimulationOptions> PaperCases(bool elastic_in_srlr) {
   // 2.2 mm, latewood 25%, strong contrast, softer (deeper tracks). mu after
   // running-in in the paper's ranges (beech 0.10-0.12, spruce 0.08-0.16).
   const Preset presets[] = {
-      {"B-RT-R", true, 1.6, 0.10, 0.15, 0.110, 0.008, 0.0, 0.04},
+      {"B-RT-R", true, 1.9, 0.12, 0.15, 0.110, 0.008, 0.0, 0.04},
       {"B-RT-T", false, 1.6, 0.09, 0.15, 0.105, 0.008, 0.0, 0.05},
       {"B-RL-R", true, 1.8, 0.13, 0.14, 0.112, 0.006, 0.002, 0.04},
       {"B-RL-L", false, 1.8, 0.12, 0.08, 0.115, 0.005, 0.0, 0.05},
       {"B-TL-T", false, 1.6, 0.11, 0.08, 0.116, 0.005, 0.0, 0.08},
       {"B-TL-L", false, 1.6, 0.10, 0.15, 0.108, 0.008, 0.0, 0.05},
-      {"S-RT-R", true, 3.0, 0.15, 0.18, 0.120, 0.030, 0.0, 0.04},
+      {"S-RT-R", true, 3.0, 0.21, 0.18, 0.120, 0.030, 0.0, 0.04},
       {"S-RT-T", false, 3.0, 0.14, 0.18, 0.130, 0.030, 0.0, 0.05},
       {"S-RL-R", true, 3.2, 0.18, 0.12, 0.090, 0.005, 0.03, 0.04},
       {"S-RL-L", false, 3.0, 0.16, 0.18, 0.140, 0.005, 0.0, 0.05},
@@ -491,6 +606,16 @@ std::vector<SimulationOptions> PaperCases(bool elastic_in_srlr) {
     o.elastic_mm =
         (std::string(p.name) == "S-RL-R" && !elastic_in_srlr) ? 0.0 : p.elastic;
     o.texture = p.texture;
+    // The cut plane decides the surface texture: end grain (RT) shows open
+    // cells, no fibres; RL and TL planes hold fibres along L, so sliding in
+    // R or T crosses them and sliding in L follows them.
+    const std::string name = p.name;
+    if (name.compare(2, 2, "RT") == 0) {
+      o.fibre_amplitude_mm = 0.0;
+      o.roughness_mm = 0.0025;
+    } else {
+      o.fibre_angle_deg = name.back() == 'L' ? 0.0 : 90.0;
+    }
     o.scan_flipped = (seed % 3) == 0;
     o.scan_angle_deg = -3.0 + 6.0 * static_cast<double>((seed * 7) % 11) / 10.0;
     cases.push_back(o);

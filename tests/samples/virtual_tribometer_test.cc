@@ -47,8 +47,9 @@ TEST(VirtualTribometer, PaperTestConditions) {
   EXPECT_EQ(r.size(), 21 * 2000);  // cycles + 1 periods at 2 kHz
   EXPECT_NEAR(r.x_mm.maxCoeff(), 2.85, 0.002);
   EXPECT_NEAR(r.x_mm.minCoeff(), -2.85, 0.002);
-  // The slow control holds the mean normal force at 30 N after running-in.
-  EXPECT_NEAR(r.normal_n.tail(4000).mean(), 30.0, 0.1);
+  // The slow control holds the mean normal force at 30 N: within 0.15 N
+  // while the track still deepens fast (cycle 20), 0.02 N later.
+  EXPECT_NEAR(r.normal_n.tail(4000).mean(), 30.0, 0.15);
   // Resolution of the channels (4.5 mN, 15 mN).
   const double q = r.tangential_n[1234] / 0.0045;
   EXPECT_NEAR(q, std::round(q), 1e-6);

@@ -25,7 +25,9 @@ TEST(Level, RecoversKnownPlaneUnderTheTrack) {
   EXPECT_NEAR(s.dzdx(), t.truth.plane_dzdx, 2e-5) << s.message;
   EXPECT_NEAR(s.dzdy(), t.truth.plane_dzdy, 2e-5) << s.message;
   EXPECT_NEAR(s.z0_mm(), t.truth.plane_z0_mm, 2e-4) << s.message;
-  EXPECT_LT(s.rms_mm, 0.002);
+  // Residual: the simulated texture and noise, nothing of the plane left.
+  const samples::SimulationOptions o = samples::PaperCase("S-RT-R");
+  EXPECT_LT(s.rms_mm, 1.2 * std::hypot(o.roughness_mm, o.scan_noise_mm));
 }
 
 TEST(Level, SecondOrderSurfaceIsRemoved) {

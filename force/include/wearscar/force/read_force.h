@@ -48,4 +48,12 @@ ForceRecord ReadForceText(const std::string& text,
 // Writes time_s, x_mm, Q_N, P_N as CSV (temporary name, then rename).
 void WriteForceCsv(const ForceRecord& record, const std::string& path);
 
+// Writes an Rtec MFT-like recipe CSV: a recipe line, `RecipeStep,Timestamp,
+// DAQ.Fx (N),DAQ.Fz (N),DAQ.COF (),Piezo X (mm),` with trailing commas, Fz
+// negative in compression, the Timestamp restarting with every recipe step
+// (steps of `step_s` seconds), and a footer. ReadForceFile reads it back.
+void WriteRtecCsv(const ForceRecord& record,
+                  const std::string& path,
+                  double step_s = 10.0);
+
 }  // namespace wearscar::force

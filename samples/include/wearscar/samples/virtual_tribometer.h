@@ -76,14 +76,26 @@ struct SimulationOptions {
   // Scanner.
   int scan_cols = 1024;
   int scan_rows = 768;
-  double scan_pitch_mm = 0.0074;
+  double scan_pitch_mm = 0.007413;  // Keyence VR-6000, low magnification
   double scan_angle_deg = 2.0;  // track axis against the scan x axis
   bool scan_flipped = false;    // scan s runs against plate x
   double scan_track_offset_mm =
-      0.15;  // track centre from the field centre, along
-  double scan_noise_mm = 0.0008;
-  double scan_invalid_fraction = 0.004;
+      0.15;                       // track centre from the field centre, along
+  double scan_noise_mm = 0.0005;  // white instrument noise (sd)
+  // Surface texture of the unworn wood (also inside the track, where it is
+  // partly worn away): isotropic roughness correlated over a few um, and
+  // fibres (ridges along the fibre direction) where the surface holds them.
+  double roughness_mm = 0.0015;           // sd
+  double roughness_length_mm = 0.012;     // correlation length
+  double fibre_amplitude_mm = 0.002;      // sd; 0 on end grain (RT)
+  double fibre_width_mm = 0.025;          // across-fibre correlation length
+  double fibre_angle_deg = 90.0;          // against the sliding direction
+  double scan_invalid_fraction = 0.01;    // small scattered clusters
+  double scan_invalid_cluster_mm = 0.12;  // radius of one large cluster
   double scan_spike_fraction = 0.0005;
+  // Rims along the groove edges: height as a fraction of the local depth.
+  double rim_fraction = 0.08;
+  double rim_width_mm = 0.06;
   double plane_dzdx = 0.004, plane_dzdy = -0.003;  // specimen tilt
   double plane_z0_mm = 0.05;
 
@@ -103,6 +115,16 @@ struct GroundTruth {
   double scan_angle_deg = 0.0;
   bool scan_flipped = false;
   double plane_dzdx = 0.0, plane_dzdy = 0.0, plane_z0_mm = 0.0;
+  double scan_pitch_mm = 0.0;
+  // Plate x to scan pixel: col = origin_col + col_per_mm * x, row likewise
+  // (pixel centres at col * pitch); the flip is in the sign.
+  double origin_col = 0.0, origin_row = 0.0;
+  double col_per_mm = 0.0, row_per_mm = 0.0;
+  // Amplitudes of the final profiles over the stroke (sd and peak to peak):
+  // the force side sees worn depth plus elastic part, the scan the worn
+  // depth alone.
+  double force_profile_sd_mm = 0.0, force_profile_range_mm = 0.0;
+  double scan_profile_sd_mm = 0.0, scan_profile_range_mm = 0.0;
   bool explained_by_wear_scar = true;  // false when the elastic part dominates
 };
 

@@ -16,4 +16,10 @@ HeightMap ParseGsf(const std::string& bytes, const std::string& name);
 // rename.
 void WriteGsf(const HeightMap& map, const std::string& path);
 
+// Writes a Keyence VR CSV height export (FORMATS.md): `key,value` header rows
+// (Horizontal, Vertical, XY Calibration in um, Unit mm), a `Height` row, then
+// one row of heights in mm per scan row; invalid pixels are empty cells.
+// ReadScan reads it back to the written precision (0.1 nm).
+void WriteKeyenceCsv(const HeightMap& map, const std::string& path);
+
 }  // namespace wearscar::scan

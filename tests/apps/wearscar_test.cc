@@ -344,21 +344,21 @@ TEST(Samples, CommittedFilesAreTheSimulatorsOutputByteForByte) {
     EXPECT_EQ(Slurp(e.path().string()), Slurp(dir + "/" + name)) << name;
     ++compared;
   }
-  EXPECT_EQ(compared, 6);  // force.csv, scan.gsf, truth.json for two cases
+  EXPECT_EQ(compared, 36);  // force.csv, scan.gsf, truth.json for 12 cases
 }
 
 TEST(Samples, FuseOnTheCommittedSamplesGivesTheExpectedVerdicts) {
   const std::string data = std::string(WEARSCAR_SAMPLES_DIR) + "/data/";
   const CommandResult b =
       Wearscar("fuse --force " + data + "B-RT-R.force.csv --scan " + data +
-               "B-RT-R.scan.gsf --running-in 20 --compare-cycles 20");
+               "B-RT-R.scan.gsf --running-in 5 --compare-cycles 15");
   EXPECT_EQ(b.status, 0) << b.output;
   EXPECT_NE(b.output.find("verdict: explained by wear-scar interaction"),
             std::string::npos)
       << b.output;
   const CommandResult s =
       Wearscar("fuse --force " + data + "S-RL-R.force.csv --scan " + data +
-               "S-RL-R.scan.gsf --running-in 20 --compare-cycles 20");
+               "S-RL-R.scan.gsf --running-in 5 --compare-cycles 15");
   EXPECT_EQ(s.status, 0) << s.output;
   EXPECT_NE(s.output.find("verdict: not explained"), std::string::npos)
       << s.output;

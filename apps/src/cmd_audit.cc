@@ -321,7 +321,7 @@ void RunAudit(AuditArgs a) {
           // A diagnosis that cannot run is reported; the analysis stands.
           try {
             fusion::DiagnoseOptions dopt = a.diagnose_options;
-            dopt.running_in_cycles = a.common.fuse.analysis.running_in_cycles;
+            dopt.running_in_cycles = r.force.running_in.cycles;
             const fusion::Diagnosis d =
                 DiagnoseTest(record, r, a.common.fuse, dopt);
             const std::string png =

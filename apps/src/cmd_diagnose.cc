@@ -19,7 +19,6 @@ struct DiagnoseArgs {
 
 void RunDiagnose(DiagnoseArgs a) {
   FinaliseCommonOptions(&a.common);
-  a.diagnose.running_in_cycles = a.common.fuse.analysis.running_in_cycles;
   std::string why;
   if (!a.diagnose.IsValid(&why)) throw UsageError("diagnose: " + why);
   const force::ForceRecord record =
@@ -30,7 +29,9 @@ void RunDiagnose(DiagnoseArgs a) {
   fusion::FuseOptions fo = a.common.fuse;
   fo.fit_lugre = false;
   const fusion::TestResult r = fusion::AnalyzeTest(record, std::move(map), fo);
-  const fusion::Diagnosis d = DiagnoseTest(record, r, fo, a.diagnose);
+  fusion::DiagnoseOptions dopt = a.diagnose;
+  dopt.running_in_cycles = r.force.running_in.cycles;  // given or detected
+  const fusion::Diagnosis d = DiagnoseTest(record, r, fo, dopt);
   const std::string name = SpecimenName(a.force_file);
   PrintDiagnosis(name, d, r.scan.has_value());
   if (a.out.empty()) return;

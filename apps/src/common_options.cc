@@ -18,6 +18,11 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
   cmd->add_option(
          "--p-column", r.normal_column, "Normal force column name or #N")
       ->group("Force file");
+  cmd->add_option("--columns",
+                  a->columns,
+                  "Column overrides in one go: time=NAME,x=NAME,q=NAME,p=NAME "
+                  "(names or #N; any subset)")
+      ->group("Force file");
   cmd->add_option("--rate",
                   r.sampling_rate_hz,
                   "Sampling rate (Hz) when there is no time column")
@@ -46,8 +51,16 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
       ->capture_default_str()
       ->group("Method");
   cmd->add_option("--running-in",
-                  o.analysis.running_in_cycles,
-                  "Running-in cycles excluded from statistics")
+                  a->running_in,
+                  "Running-in cycles excluded from statistics: a number, or "
+                  "auto (the friction settles within --running-in-tolerance "
+                  "of the steady trend)")
+      ->capture_default_str()
+      ->group("Method");
+  cmd->add_option("--running-in-tolerance",
+                  o.analysis.running_in_tolerance,
+                  "Band around the steady friction trend that ends "
+                  "running-in (auto)")
       ->capture_default_str()
       ->group("Method");
   cmd->add_option("--mu-max",
@@ -157,6 +170,48 @@ void FinaliseCommonOptions(CommonArgs* a) {
     throw UsageError(
         fmt::format("--scan-derivative '{}': expected savgol or central",
                     a->scan_derivative));
+  }
+  if (a->running_in == "auto") {
+    a->fuse.analysis.running_in_cycles = -1;
+  } else {
+    size_t used = 0;
+    int n = -1;
+    try {
+      n = std::stoi(a->running_in, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != a->running_in.size() || n < 0) {
+      throw UsageError(fmt::format(
+          "--running-in '{}': expected auto or a number of cycles >= 0",
+          a->running_in));
+    }
+    a->fuse.analysis.running_in_cycles = n;
+  }
+  if (!a->columns.empty()) {
+    std::string rest = a->columns;
+    while (!rest.empty()) {
+      const size_t comma = rest.find(',');
+      const std::string item = rest.substr(0, comma);
+      rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
+      const size_t eq = item.find('=');
+      const std::string key = item.substr(0, eq);
+      const std::string value =
+          eq == std::string::npos ? "" : item.substr(eq + 1);
+      std::string* slot = key == "time" ? &a->read_force.time_column
+                          : key == "x"  ? &a->read_force.x_column
+                          : key == "q"  ? &a->read_force.tangential_column
+                          : key == "p"  ? &a->read_force.normal_column
+                                        : nullptr;
+      if (!slot || value.empty()) {
+        throw UsageError(fmt::format(
+            "--columns '{}': found '{}', expected time=, x=, q= or p= "
+            "followed by a column name or #N",
+            a->columns,
+            item));
+      }
+      *slot = value;
+    }
   }
   std::string why;
   if (!a->fuse.IsValid(&why) || !a->read_force.IsValid(&why) ||

@@ -17,6 +17,8 @@ struct CommonArgs {
   std::string derivative = "central";
   std::string scan_derivative = "savgol";
   bool no_lugre = false;
+  std::string running_in = "auto";  // or a number of cycles
+  std::string columns;  // time=NAME,x=NAME,q=NAME,p=NAME (names or #N)
 };
 
 void AddCommonOptions(CLI::App* cmd, CommonArgs* args, bool with_scan);

@@ -42,13 +42,23 @@ nlohmann::json ResultJson(const std::string& name,
        force::DerivativeMethodName(o.analysis.friction.slope.method)},
       {"window_samples", o.analysis.friction.slope.window},
       {"min_span_mm", o.analysis.friction.slope.min_span_mm},
-      {"running_in_cycles", o.analysis.running_in_cycles},
+      {"running_in_cycles",
+       o.analysis.running_in_cycles < 0
+           ? nlohmann::json("auto")
+           : nlohmann::json(o.analysis.running_in_cycles)},
+      {"running_in_tolerance", o.analysis.running_in_tolerance},
       {"mu_interval",
        {o.analysis.friction.fit.mu_min, o.analysis.friction.fit.mu_max}},
       {"max_cost", o.verdict.max_cost},
       {"max_amplitude_ratio", o.verdict.max_amplitude_ratio},
       {"min_correlation", o.verdict.min_correlation},
       {"max_method_difference", o.verdict.max_method_difference}};
+  j["running_in"] = {
+      {"cycles", r.force.running_in.cycles},
+      {"detected", r.force.running_in.detected},
+      {"tolerance", r.force.running_in.tolerance},
+      {"steady_slope_per_cycle", r.force.running_in.steady_slope},
+      {"rule", r.force.running_in.rule}};
   j["after_running_in"] = {{"mu_hat", Stat(r.force.mu_hat)},
                            {"J", Stat(r.force.cost)},
                            {"mu_mean", Stat(r.force.mu_mean)},
@@ -138,24 +148,13 @@ std::vector<std::string> WriteTestResults(const std::string& dir,
   const int n = static_cast<int>(cycles.size());
   // Per cycle.
   Table t;
-  t.columns = {"cycle",
-               "mu_hat_force",
-               "J_force",
-               "mu_hat_scan",
-               "J_scan",
-               "samples",
-               "mu_mean",
-               "mu_energy_max",
-               "mu_energy_g",
-               "E_d_Nmm",
-               "delta_max_mm",
-               "delta_g_mm",
-               "P_mean_N",
-               "Q_max_N",
-               "Q_min_N",
-               "P_max_N",
-               "P_min_N",
-               "slip_fallback"};
+  t.columns = {"cycle",          "mu_hat_force",  "J_force",
+               "mu_hat_scan",    "J_scan",        "samples",
+               "mu_mean",        "mu_energy_max", "mu_energy_g",
+               "E_d_Nmm",        "delta_max_mm",  "delta_g_mm",
+               "P_mean_N",       "Q_max_N",       "Q_min_N",
+               "P_max_N",        "P_min_N",       "P_range_N",
+               "QP_correlation", "running_in",    "slip_fallback"};
   for (int c = 0; c < n; ++c) {
     const auto& f = r.force.fit_force[c];
     const auto& cof = r.force.cof[c];
@@ -177,6 +176,9 @@ std::vector<std::string> WriteTestResults(const std::string& dir,
                       cof.q_min_n,
                       cof.p_max_n,
                       cof.p_min_n,
+                      cof.p_range_n,
+                      cof.qp_correlation,
+                      c < r.force.running_in.cycles ? 1.0 : 0.0,
                       static_cast<double>(cycles[c].forward.slip_fallback +
                                           cycles[c].reverse.slip_fallback)});
   }
@@ -321,11 +323,12 @@ std::vector<std::string> WriteTestResults(const std::string& dir,
 
 void PrintSummary(const std::string& name, const fusion::TestResult& r) {
   const auto& m = r.mismatch;
-  fmt::print("{}: {} cycles; compared over cycles {}-{}\n",
+  fmt::print("{}: {} cycles; compared over cycles {}-{}\n  {}\n",
              name,
              r.force.cycles.cycles.size(),
              m.first_cycle,
-             m.last_cycle);
+             m.last_cycle,
+             r.force.running_in.rule);
   fmt::print("  mu-hat, k from P     {:.4f} +- {:.4f}   J {:.3f}\n",
              m.mu_force.mean,
              m.mu_force.sd,

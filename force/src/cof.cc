@@ -26,6 +26,27 @@ double ZeroCrossing(const ForceRecord& r, const HalfCycle& half) {
   return std::nan("");
 }
 
+// Correlation of |Q| with P over a half's gross-slip samples; NaN when
+// either is constant or fewer than 3 samples are finite.
+double QpCorrelation(const ForceRecord& r, const HalfCycle& h) {
+  double sq = 0, sp = 0, sqq = 0, spp = 0, sqp = 0;
+  long n = 0;
+  for (Eigen::Index i = h.slip_begin; i < h.slip_end; ++i) {
+    const double q = std::abs(r.tangential_n[i]), p = r.normal_n[i];
+    if (!std::isfinite(q) || !std::isfinite(p)) continue;
+    sq += q;
+    sp += p;
+    sqq += q * q;
+    spp += p * p;
+    sqp += q * p;
+    ++n;
+  }
+  if (n < 3) return std::nan("");
+  const double cov = sqp - sq * sp / n;
+  const double vq = sqq - sq * sq / n, vp = spp - sp * sp / n;
+  return vq > 0 && vp > 0 ? cov / std::sqrt(vq * vp) : std::nan("");
+}
+
 }  // namespace
 
 std::vector<CycleCof> ComputeClassicCof(const ForceRecord& record,
@@ -74,6 +95,14 @@ std::vector<CycleCof> ComputeClassicCof(const ForceRecord& record,
         r.p_max_n = std::max(r.p_max_n, p[i]);
         r.p_min_n = std::min(r.p_min_n, p[i]);
       }
+    }
+    r.p_range_n = r.p_max_n - r.p_min_n;
+    {
+      const double f = QpCorrelation(record, c.forward);
+      const double b = QpCorrelation(record, c.reverse);
+      r.qp_correlation = std::isfinite(f) && std::isfinite(b) ? 0.5 * (f + b)
+                         : std::isfinite(f)                   ? f
+                                                              : b;
     }
     r.dissipated_energy_nmm = area;
     r.delta_max_mm = 0.5 * (xmax - xmin);

@@ -1,5 +1,8 @@
 #include "wearscar/fusion/analysis.h"
 
+#include <fmt/format.h>
+
+#include <algorithm>
 #include <cmath>
 
 #include "wearscar/fusion/forward_model.h"
@@ -9,8 +12,12 @@ namespace wearscar::fusion {
 bool AnalysisOptions::IsValid(std::string* why) const {
   if (!segment.IsValid(why) || !slip.IsValid(why) || !friction.IsValid(why))
     return false;
-  if (running_in_cycles < 0) {
-    if (why) *why = "running_in_cycles must be >= 0";
+  if (running_in_cycles < -1) {
+    if (why) *why = "running_in_cycles must be >= 0, or -1 to detect";
+    return false;
+  }
+  if (!(running_in_tolerance > 0)) {
+    if (why) *why = "running_in_tolerance must be > 0";
     return false;
   }
   return true;
@@ -35,6 +42,71 @@ Statistic Summarise(const std::vector<double>& values, int first) {
   return s;
 }
 
+RunningIn DetectRunningIn(const std::vector<double>& v, double tolerance) {
+  RunningIn r;
+  const int n = static_cast<int>(v.size());
+  if (n < 6) {
+    r.rule = fmt::format(
+        "running-in: 0 cycles ({} cycles are too few to detect it)", n);
+    return r;
+  }
+  r.detected = true;
+  // Steady trend: least-squares line over the finite values of the second
+  // half.
+  const int half = n / 2;
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  int m = 0;
+  for (int c = half; c < n; ++c) {
+    if (!std::isfinite(v[c])) continue;
+    sx += c;
+    sy += v[c];
+    sxx += static_cast<double>(c) * c;
+    sxy += c * v[c];
+    ++m;
+  }
+  if (m < 3) {
+    r.detected = false;
+    r.rule = "running-in: 0 cycles (too few finite cycles to detect it)";
+    return r;
+  }
+  const double slope = (m * sxy - sx * sy) / (m * sxx - sx * sx);
+  const double icpt = (sy - slope * sx) / m;
+  std::vector<double> res;
+  for (int c = half; c < n; ++c) {
+    if (std::isfinite(v[c])) res.push_back(std::abs(v[c] - icpt - slope * c));
+  }
+  std::nth_element(res.begin(), res.begin() + res.size() / 2, res.end());
+  const double mad = res[res.size() / 2];
+  r.tolerance = std::max(tolerance, 3 * 1.4826 * mad);
+  r.steady_slope = slope;
+  // Running median of 3, then the last cycle outside the band + 1.
+  int end = 0;
+  for (int c = 0; c < n; ++c) {
+    double w[3];
+    int k = 0;
+    for (int j = std::max(0, c - 1); j <= std::min(n - 1, c + 1); ++j) {
+      if (std::isfinite(v[j])) w[k++] = v[j];
+    }
+    if (k == 0) continue;
+    // Median of up to three values.
+    const double med = k == 1 ? w[0]
+                       : k == 2
+                           ? 0.5 * (w[0] + w[1])
+                           : std::max(std::min(w[0], w[1]),
+                                      std::min(std::max(w[0], w[1]), w[2]));
+    if (std::abs(med - icpt - slope * c) > r.tolerance) end = c + 1;
+  }
+  r.cycles = std::min(end, half);
+  r.rule = fmt::format(
+      "running-in: {} cycles (friction within {:.4f} of the steady trend "
+      "{:+.2e}/cycle from cycle {} on)",
+      r.cycles,
+      r.tolerance,
+      slope,
+      r.cycles);
+  return r;
+}
+
 ForceAnalysis AnalyzeForce(const force::ForceRecord& record,
                            const AnalysisOptions& options) {
   std::string why;
@@ -51,7 +123,16 @@ ForceAnalysis AnalyzeForce(const force::ForceRecord& record,
       record, a.cycles, SlopeSource::kForce, options.friction);
   // Running-in never swallows the whole test: keep at least the last half.
   const int n = static_cast<int>(a.cycles.cycles.size());
-  const int first = std::min(options.running_in_cycles, n / 2);
+  if (options.running_in_cycles >= 0) {
+    a.running_in.cycles = std::min(options.running_in_cycles, n / 2);
+    a.running_in.rule =
+        fmt::format("running-in: {} cycles (given)", a.running_in.cycles);
+  } else {
+    std::vector<double> friction;
+    for (const auto& c : a.cof) friction.push_back(c.mu_mean);
+    a.running_in = DetectRunningIn(friction, options.running_in_tolerance);
+  }
+  const int first = a.running_in.cycles;
   std::vector<double> mu, j, mm, me;
   for (int i = 0; i < n; ++i) {
     const bool ok = a.fit_force[i].converged;

@@ -88,11 +88,19 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
     scan::ProfileOptions po = options.profile;
     po.extend_mm = std::max(po.extend_mm, 0.5);
     s.profile = scan::ExtractCentreline(map, s.track, po);
+    // The last N cycles, but none of the running-in.
+    ForceProfileOptions fpo = options.force_profile;
+    const int nc = static_cast<int>(result.force.cycles.cycles.size());
+    if (fpo.first_cycle < 0 && nc > 0) {
+      fpo.first_cycle = std::max(
+          nc - fpo.cycles, std::min(result.force.running_in.cycles, nc - 1));
+      fpo.last_cycle = nc - 1;
+    }
     s.force_profile = ComputeForceProfile(
         record,
         result.force.cycles,
         options.analysis.friction.slope.spring_stiffness_n_per_mm,
-        options.force_profile);
+        fpo);
     s.alignment = AlignProfiles(s.force_profile, s.profile, options.align);
     s.slope = ScanSlopeInPlate(s.profile, s.alignment, options.scan_slope);
     s.fit_scan = FitFrictionPerCycle(record,
@@ -105,7 +113,7 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
   }
   // Compare over the cycles the scan describes best: the force profile's
   // range with a scan, else everything after running-in.
-  int first = std::min(options.analysis.running_in_cycles, n / 2), last = n - 1;
+  int first = result.force.running_in.cycles, last = n - 1;
   if (result.scan) {
     first = result.scan->force_profile.first_cycle;
     last = result.scan->force_profile.last_cycle;

@@ -32,6 +32,11 @@ CommandResult Wearscar(const std::string& args) {
 
 const std::string kData = std::string(WEARSCAR_TEST_DATA) + "/force/";
 
+std::string Slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
 TEST(Cli, VersionAndHelp) {
   CommandResult v = Wearscar("version");
   EXPECT_EQ(v.status, 0);
@@ -86,6 +91,45 @@ TEST(Cli, SimulateThenAnalyseRecoversMu) {
       << f.output;
 }
 
+TEST(Cli, ColumnsOptionMapsUnnamedColumnsAndRunningInIsReported) {
+  const std::string dir = ::testing::TempDir() + "/cli-columns";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  // The generic fixture with names no pattern knows.
+  std::string text = Slurp(kData + "generic.csv");
+  text.replace(0, text.find('\n'), "c1,c2,c3,c4");
+  {
+    std::ofstream f(dir + "/odd.csv");
+    f << text;
+  }
+  const CommandResult none = Wearscar("force " + dir + "/odd.csv");
+  EXPECT_EQ(none.status, 2) << none.output;
+  const CommandResult a =
+      Wearscar("force " + dir +
+               "/odd.csv --columns time=c1,x=#2,q=c3,p=c4 -o " + dir + "/a");
+  ASSERT_EQ(a.status, 0) << a.output;
+  const CommandResult b = Wearscar("force " + kData + "generic.csv -o " + dir +
+                                   "/b --running-in auto");
+  ASSERT_EQ(b.status, 0) << b.output;
+  EXPECT_EQ(Slurp(dir + "/a/cycles.csv"), Slurp(dir + "/b/cycles.csv"));
+  EXPECT_NE(a.output.find("running-in: "), std::string::npos) << a.output;
+  const std::string csv = Slurp(dir + "/a/cycles.csv");
+  EXPECT_NE(csv.find(",P_range_N,QP_correlation,running_in,"),
+            std::string::npos)
+      << csv.substr(0, 300);
+  const CommandResult bad =
+      Wearscar("force " + kData + "generic.csv --columns q");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.output.find("expected time=, x=, q= or p="), std::string::npos)
+      << bad.output;
+  const CommandResult ri =
+      Wearscar("force " + kData + "generic.csv --running-in soon");
+  EXPECT_EQ(ri.status, 2);
+  EXPECT_NE(ri.output.find("expected auto or a number of cycles"),
+            std::string::npos)
+      << ri.output;
+}
+
 TEST(Cli, FuseWritesResultsAndFlagsTheElasticCase) {
   const std::string dir = ::testing::TempDir() + "/cli-fuse";
   const CommandResult s =
@@ -132,9 +176,53 @@ TEST(Cli, FuseWithUnreadableScanExitsTwoNamingIt) {
 
 namespace {
 
-std::string Slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
+TEST(Cli, SimulateEffectAndSeedAreDeterministicAndRecorded) {
+  const std::string base = ::testing::TempDir() + "/cli-sim-seed";
+  std::filesystem::remove_all(base);
+  const std::string args =
+      "simulate --case S-RT-R --cycles 5 --rate 500 --scan-cols 64 "
+      "--scan-rows 48 --effect ploughing=1.0 --effect hook-length=0.2 "
+      "--seed 7 --out ";
+  ASSERT_EQ(Wearscar(args + base + "/a").status, 0);
+  ASSERT_EQ(Wearscar(args + base + "/b").status, 0);
+  for (const char* f : {"S-RT-R.force.csv",
+                        "S-RT-R.rtec.csv",
+                        "S-RT-R.scan.gsf",
+                        "S-RT-R.keyence.csv",
+                        "S-RT-R.truth.json"}) {
+    const std::string a = Slurp(base + "/a/" + f);
+    EXPECT_FALSE(a.empty()) << f;
+    EXPECT_EQ(a, Slurp(base + "/b/" + f)) << f;  // same seed, same bytes
+  }
+  const std::string truth = Slurp(base + "/a/S-RT-R.truth.json");
+  for (const char* key : {"\"seed\": 7",
+                          "\"ploughing_n_per_mm\": 1.0",
+                          "\"hook_length_mm\": 0.2",
+                          "\"pitch_mm\"",
+                          "\"col_per_mm\"",
+                          "\"force_profile_range_mm\"",
+                          "\"scan_profile_sd_mm\""}) {
+    EXPECT_NE(truth.find(key), std::string::npos) << key << "\n" << truth;
+  }
+  ASSERT_EQ(Wearscar("simulate --case S-RT-R --cycles 5 --rate 500 "
+                     "--scan-cols 64 --scan-rows 48 --seed 8 --out " +
+                     base + "/c")
+                .status,
+            0);
+  EXPECT_NE(Slurp(base + "/a/S-RT-R.force.csv"),
+            Slurp(base + "/c/S-RT-R.force.csv"));
+  const CommandResult bad = Wearscar(
+      "simulate --case S-RT-R --effect plowing=2 --out " + base + "/d");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.output.find("unknown effect 'plowing'; expected one of "
+                            "ploughing (N/mm)"),
+            std::string::npos)
+      << bad.output;
+  const CommandResult nan =
+      Wearscar("simulate --case S-RT-R --effect hook=abc --out " + base + "/d");
+  EXPECT_EQ(nan.status, 2);
+  EXPECT_NE(nan.output.find("'abc' is not a number"), std::string::npos)
+      << nan.output;
 }
 
 int CountLines(const std::string& text) {

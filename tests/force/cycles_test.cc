@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -19,7 +20,8 @@ ForceRecord JenkinsRecord(Drive drive,
                           double periods,
                           double mu,
                           double noise_mm = 0.0,
-                          unsigned seed = 7) {
+                          unsigned seed = 7,
+                          double p_wave_n = 0.0) {
   const Eigen::Index n = static_cast<Eigen::Index>(periods * rate);
   ForceRecord r;
   r.time_s.resize(n);
@@ -32,7 +34,8 @@ ForceRecord JenkinsRecord(Drive drive,
   for (Eigen::Index i = 0; i < n; ++i) {
     const double t = i / rate;
     const double x = drive(t);
-    const double p = 30.0;
+    // P may vary along the stroke (a wavy track under a pure Coulomb law).
+    const double p = 30.0 + p_wave_n * std::sin(2 * M_PI * x / 1.6);
     if (i) q += 150.0 * (x - xp);
     q = std::clamp(q, -mu * p, mu * p);
     xp = x;
@@ -122,6 +125,41 @@ TEST(ClassicCof, CoulombLoopGivesMuByMeanAndEnergyWithDeltaG) {
     EXPECT_NEAR(c.delta_g_mm, 2.85 - mu * 30 / 150, 2e-3);
     EXPECT_NEAR(c.mu_energy_max, mu * (2.85 - mu * 30 / 150) / 2.85, 2e-4);
     EXPECT_NEAR(c.q_max_n, mu * 30, 1e-9);
+  }
+}
+
+TEST(ClassicCof, PRangeAndQpCorrelationTellCoulombFromWearScar) {
+  // Pure Coulomb with P varying along the stroke: Q = mu P follows P.
+  const ForceRecord r =
+      JenkinsRecord(Sine, 2000, 4.5, 0.12, 0.0, 7, /*p_wave_n=*/0.6);
+  CycleSet set = SegmentCycles(r.x_mm);
+  FindGrossSlip(r, &set);
+  for (const CycleCof& c : ComputeClassicCof(r, set)) {
+    EXPECT_NEAR(c.p_range_n, 1.2, 0.01);
+    EXPECT_GT(c.qp_correlation, 0.99);
+  }
+  // Wear-scar interaction: Q = P (k + s mu) / (1 - s mu k) with P = P0 - S d
+  // and k = d'(x) for a track d(x) = a sin(2 pi x / L); the fluctuations of
+  // Q follow the slope, a quarter wave away from P: little correlation.
+  ForceRecord w = r;
+  const double s_n_per_mm = 10.19, a = 0.03, len = 1.6, mu = 0.12;
+  double q = 0;
+  for (Eigen::Index i = 0; i < w.size(); ++i) {
+    const double x = w.x_mm[i];
+    const double p = 30 - s_n_per_mm * a * std::sin(2 * M_PI * x / len);
+    const double k = a * 2 * M_PI / len * std::cos(2 * M_PI * x / len);
+    const double upper = p * (k + mu) / (1 - mu * k);
+    const double lower = p * (k - mu) / (1 + mu * k);
+    if (i) q += 150.0 * (w.x_mm[i] - w.x_mm[i - 1]);
+    q = std::clamp(q, lower, upper);
+    w.tangential_n[i] = q;
+    w.normal_n[i] = p;
+  }
+  CycleSet ws = SegmentCycles(w.x_mm);
+  FindGrossSlip(w, &ws);
+  for (const CycleCof& c : ComputeClassicCof(w, ws)) {
+    EXPECT_NEAR(c.p_range_n, 2 * s_n_per_mm * a, 0.01);
+    EXPECT_LT(std::abs(c.qp_correlation), 0.35) << c.cycle;
   }
 }
 

@@ -2,8 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
+
+#include "wearscar/force/cycles.h"
 
 namespace wearscar::force {
 namespace {
@@ -71,6 +74,38 @@ TEST(ReadForce, HomeBuiltRigRateFromMetadataMicrometres) {
   EXPECT_TRUE(r.metadata.time_rebuilt);
   EXPECT_DOUBLE_EQ(r.metadata.sampling_rate_hz, 200.0);
   ExpectReferenceSeries(r, 1e-9);
+}
+
+TEST(ReadForce, TriangularDriveAt100HzInMicrometresWithoutTimeSegments) {
+  // A home-built rig: 100 Hz, position in um, no time column, a triangular
+  // drive of +-2.85 mm at 1 Hz for 9 periods from x = 0 going up; Q from a
+  // Jenkins element.
+  std::string text = "Sampling frequency [Hz]: 100 (home-built rig)\n";
+  text += "Position [um];Friction [N];Load [N]\n";
+  double q = 0, xp = 0;
+  const int n = 900;
+  for (int i = 0; i < n; ++i) {
+    const double ph = std::fmod(i / 100.0 + 0.25, 1.0);  // 0 at x = -A
+    const double x = ph < 0.5 ? -2.85 + 11.4 * ph : 2.85 - 11.4 * (ph - 0.5);
+    q = std::clamp(q + 150.0 * (x - xp), -3.6, 3.6);
+    xp = x;
+    text += std::to_string(x * 1000) + ";" + std::to_string(q) + ";30\n";
+  }
+  const ForceRecord r = ReadForceText(text, "rig.txt");
+  EXPECT_TRUE(r.metadata.time_rebuilt);
+  EXPECT_DOUBLE_EQ(r.metadata.sampling_rate_hz, 100.0);
+  ASSERT_EQ(r.size(), n);
+  EXPECT_NEAR(r.time_s[n - 1], (n - 1) / 100.0, 1e-9);
+  EXPECT_NEAR(r.x_mm.maxCoeff(), 2.85, 1e-6);  // um converted to mm
+  const CycleSet set = SegmentCycles(r.x_mm, {}, "rig.txt");
+  // Minima at samples 75, 175, ..., 875: 8 complete cycles of 100 samples,
+  // reversals at the triangle's corners; the partial ends are dropped.
+  ASSERT_EQ(set.cycles.size(), 8u);
+  for (const Cycle& c : set.cycles) {
+    EXPECT_NEAR(c.forward.begin, 75 + 100 * c.index, 2);
+    EXPECT_NEAR(c.reverse.begin, 125 + 100 * c.index, 2);
+    EXPECT_NEAR(c.reverse.end, 175 + 100 * c.index, 2);
+  }
 }
 
 TEST(ReadForce, ColumnOverridesByNameAndNumber) {

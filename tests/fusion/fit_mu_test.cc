@@ -108,6 +108,39 @@ TEST(AnalyzeForce, RecoversSimulatedMuPerCycleOnBeechRtR) {
   EXPECT_LT(r.cost.mean, 0.4);  // explained (paper's threshold)
 }
 
+TEST(RunningIn, EndsWhereTheTransientFallsInsideTheBand) {
+  // 0.11 + 0.04 exp(-c / 20) with a slow drift and scatter: the transient
+  // drops below the 0.005 band at c = 20 ln 8 = 41.6.
+  std::mt19937 gen(5);
+  std::normal_distribution<double> noise(0, 0.0005);
+  std::vector<double> v;
+  for (int c = 0; c < 300; ++c)
+    v.push_back(0.11 + 0.04 * std::exp(-c / 20.0) + 2e-5 * c + noise(gen));
+  const RunningIn r = DetectRunningIn(v, 0.005);
+  EXPECT_TRUE(r.detected);
+  EXPECT_NEAR(r.cycles, 42, 4) << r.rule;
+  EXPECT_NEAR(r.steady_slope, 2e-5, 5e-6);
+  EXPECT_DOUBLE_EQ(r.tolerance, 0.005);
+  // No transient: no running-in. Too few cycles: none, and said so.
+  std::vector<double> flat(100, 0.12);
+  EXPECT_EQ(DetectRunningIn(flat, 0.005).cycles, 0);
+  const RunningIn few = DetectRunningIn({0.2, 0.15, 0.12}, 0.005);
+  EXPECT_FALSE(few.detected);
+  EXPECT_NE(few.rule.find("too few"), std::string::npos);
+}
+
+TEST(RunningIn, DetectedOnTheSimulatorNearTheTrueTransient) {
+  // B-RT-R: mu = 0.110 + 0.04 exp(-n / 30) + drift; the transient is inside
+  // 0.005 from n = 30 ln 8 = 62.
+  samples::SimulationOptions o = samples::PaperCase("B-RT-R");
+  o.cycles = 200;
+  o.scan_cols = o.scan_rows = 32;
+  const ForceAnalysis r =
+      AnalyzeForce(samples::Simulate(o).record, AnalysisOptions{});
+  EXPECT_TRUE(r.running_in.detected);
+  EXPECT_NEAR(r.running_in.cycles, 62, 12) << r.running_in.rule;
+}
+
 TEST(AnalyzeForce, LargeElasticPartRaisesJAboveThreshold) {
   samples::SimulationOptions o = samples::PaperCase("S-RL-R");
   o.cycles = 80;

@@ -2,9 +2,17 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
 #include <set>
 
 #include "wearscar/force/cycles.h"
+#include "wearscar/force/read_force.h"
+#include "wearscar/fusion/analysis.h"
+#include "wearscar/scan/gsf.h"
+#include "wearscar/scan/read_scan.h"
 
 namespace wearscar::samples {
 namespace {
@@ -110,6 +118,330 @@ TEST(VirtualTribometer, ScanShowsTrackAtKnownDepthOnKnownPlane) {
   const double truth_depth =
       t.truth.worn_depth_mm[t.truth.worn_depth_mm.size() / 2];
   EXPECT_NEAR(plane - h(row, col), truth_depth, 0.01);
+}
+
+// ---- The loops, the normal-force fluctuation and the paper's procedure.
+
+// Mean over the last `cycles` periods of the per-period range of P.
+double MeanPRange(const SimulatedTest& t, double rate_hz, int cycles) {
+  const Eigen::Index per = static_cast<Eigen::Index>(std::lround(rate_hz));
+  double sum = 0;
+  for (int c = 1; c <= cycles; ++c) {
+    const Eigen::VectorXd p =
+        t.record.normal_n.segment(t.record.size() - c * per, per);
+    sum += p.maxCoeff() - p.minCoeff();
+  }
+  return sum / cycles;
+}
+
+TEST(VirtualTribometer, NormalForceVariesAsInThePaper) {
+  // The paper: P varies by about 0.5 N on beech RT-R and 1.5 N on spruce
+  // RT-R; sliding along the rings (no bands crossed) much less.
+  std::map<std::string, double> range;
+  for (const char* name :
+       {"B-RT-R", "S-RT-R", "B-RT-T", "S-RT-T", "B-TL-L", "S-RL-L"}) {
+    SimulationOptions o = Small(name);
+    o.cycles = 100;
+    range[name] = MeanPRange(Simulate(o), o.sampling_rate_hz, 10);
+  }
+  EXPECT_NEAR(range["B-RT-R"], 0.5, 0.15);
+  EXPECT_NEAR(range["S-RT-R"], 1.5, 0.3);
+  for (const char* along : {"B-RT-T", "B-TL-L"})
+    EXPECT_LT(range[along], range["B-RT-R"] / 3) << along;
+  for (const char* along : {"S-RT-T", "S-RL-L"})
+    EXPECT_LT(range[along], range["S-RT-R"] / 3) << along;
+}
+
+TEST(VirtualTribometer, LoopsShowStickAtReversalsAndGrossSlipBetween) {
+  SimulationOptions o = Small("B-RT-R");
+  o.q_noise_n = o.p_noise_n = o.x_noise_mm = 0;
+  o.q_resolution_n = o.p_resolution_n = 0;
+  const SimulatedTest t = Simulate(o);
+  const auto& r = t.record;
+  const force::CycleSet set = force::SegmentCycles(r.x_mm);
+  const force::HalfCycle& h = set.cycles.back().forward;
+  // Stick: right after the reversal Q follows x with the contact stiffness.
+  const Eigen::Index b = h.begin + 20;
+  const double stick_slope = (r.tangential_n[b + 10] - r.tangential_n[b]) /
+                             (r.x_mm[b + 10] - r.x_mm[b]);
+  EXPECT_NEAR(stick_slope,
+              o.contact_stiffness_n_per_mm,
+              0.02 * o.contact_stiffness_n_per_mm);
+  // Gross slip mid-stroke: Q is positive and changes with x far more
+  // slowly than in stick (it follows P and the slope of the track only).
+  int checked = 0, sliding = 0;
+  for (Eigen::Index i = h.begin; i + 20 < h.end; i += 20) {
+    if (std::abs(r.x_mm[i]) > 2.0) continue;
+    ++checked;
+    const double slope = (r.tangential_n[i + 20] - r.tangential_n[i]) /
+                         (r.x_mm[i + 20] - r.x_mm[i]);
+    if (r.tangential_n[i] > 0 &&
+        std::abs(slope) < 0.25 * o.contact_stiffness_n_per_mm)
+      ++sliding;
+  }
+  EXPECT_EQ(sliding, checked);
+  EXPECT_GT(checked, 20);
+  const double mu = t.truth.mu_per_cycle[set.cycles.size() - 1];
+  // Reverse half mirrors it: Q negative while sliding back.
+  const force::HalfCycle& rv = set.cycles.back().reverse;
+  const Eigen::Index m = (rv.begin + rv.end) / 2;
+  EXPECT_LT(r.tangential_n[m], -0.5 * mu * r.normal_n[m]);
+}
+
+TEST(VirtualTribometer, PaperProcedureRecoversMuOnCleanData) {
+  // Moving average 10, three-point slope (no widening), Eq. 6.
+  for (const char* name : {"B-RT-R", "S-RT-R", "B-RL-R", "S-TL-T"}) {
+    // Clean: no sensor noise, no quantisation, no hidden effect.
+    SimulationOptions o = PaperCase(name);
+    o.cycles = 100;
+    o.scan_cols = o.scan_rows = 32;
+    o.q_noise_n = o.p_noise_n = o.x_noise_mm = 0;
+    o.q_resolution_n = o.p_resolution_n = 0;
+    const SimulatedTest t = Simulate(o);
+    fusion::AnalysisOptions a;
+    a.friction.slope.window = 10;
+    a.friction.slope.min_span_mm = 0;
+    a.running_in_cycles = 50;
+    const fusion::ForceAnalysis fa = fusion::AnalyzeForce(t.record, a);
+    ASSERT_EQ(fa.fit_force.size(), 100u);
+    std::vector<double> err;
+    for (int c = 50; c < 100; ++c)
+      err.push_back(std::abs(fa.fit_force[c].mu_hat - t.truth.mu_per_cycle[c]));
+    std::nth_element(err.begin(), err.begin() + 25, err.end());
+    EXPECT_LT(err[25], 0.005) << name;
+    EXPECT_LT(*std::max_element(err.begin(), err.end()), 0.01) << name;
+  }
+}
+
+// ---- Each hidden effect changes the signal the way its name says. The
+// runs share the seed, so sensor noise is identical and differences are
+// the effect alone.
+
+struct Pair {
+  SimulatedTest off, on;
+  SimulationOptions o;
+};
+
+Pair WithAndWithout(const HiddenEffects& e) {
+  Pair p;
+  p.o = Small("S-RT-R");
+  p.o.scan_cols = p.o.scan_rows = 32;
+  p.off = Simulate(p.o);
+  SimulationOptions with = p.o;
+  with.effects = e;
+  p.on = Simulate(with);
+  return p;
+}
+
+// Samples of the last 5 cycles with the drive speed in [vmin, vmax) and
+// moving in `direction`; x in (xmin, xmax).
+std::vector<Eigen::Index> Select(const Pair& p,
+                                 int direction,
+                                 double vmin,
+                                 double vmax,
+                                 double xmin = -10,
+                                 double xmax = 10) {
+  std::vector<Eigen::Index> idx;
+  const auto& r = p.off.record;
+  const double w = 2 * M_PI * p.o.frequency_hz;
+  const Eigen::Index first =
+      r.size() - static_cast<Eigen::Index>(5 * p.o.sampling_rate_hz);
+  for (Eigen::Index i = first; i < r.size(); ++i) {
+    const double v = p.o.amplitude_mm * w * std::cos(w * r.time_s[i]);
+    if ((v > 0 ? 1 : -1) != direction) continue;
+    if (std::abs(v) < vmin || std::abs(v) >= vmax) continue;
+    if (r.x_mm[i] <= xmin || r.x_mm[i] >= xmax) continue;
+    idx.push_back(i);
+  }
+  return idx;
+}
+
+double MeanDiffQ(const Pair& p, const std::vector<Eigen::Index>& idx) {
+  double s = 0;
+  for (Eigen::Index i : idx)
+    s += p.on.record.tangential_n[i] - p.off.record.tangential_n[i];
+  return idx.empty() ? std::nan("") : s / idx.size();
+}
+
+TEST(HiddenEffects, PloughingAddsResistanceGrowingWithDepth) {
+  HiddenEffects e;
+  e.ploughing_n_per_mm = 8;
+  const Pair p = WithAndWithout(e);
+  // Mid-stroke the extra force is c * depth(x): forward +, reverse -.
+  const auto fwd = Select(p, +1, 10, 100, -2, 2);
+  const auto rev = Select(p, -1, 10, 100, -2, 2);
+  double ratio = 0;
+  for (Eigen::Index i : fwd) {
+    const double x = p.off.record.x_mm[i];
+    const auto& g = p.off.truth.profile_x_mm;
+    const Eigen::Index k = std::clamp<Eigen::Index>(
+        std::lround((x - g[0]) / (g[1] - g[0])), 0, g.size() - 1);
+    ratio += (p.on.record.tangential_n[i] - p.off.record.tangential_n[i]) /
+             p.off.truth.worn_depth_mm[k];
+  }
+  ratio /= fwd.size();
+  EXPECT_NEAR(ratio, 8.0, 0.6);  // N per mm of depth (last cycles ~ final)
+  EXPECT_LT(MeanDiffQ(p, rev), -0.5);
+}
+
+TEST(HiddenEffects, StribeckRaisesFrictionAtLowSpeedOnly) {
+  HiddenEffects e;
+  e.stribeck_rise = 0.3;
+  const Pair p = WithAndWithout(e);
+  const double slow = MeanDiffQ(p, Select(p, +1, 5, 8));
+  const double fast = MeanDiffQ(p, Select(p, +1, 16, 100));
+  EXPECT_GT(slow, 0.3);
+  EXPECT_GT(slow, 3 * fast);
+  EXPECT_LT(MeanDiffQ(p, Select(p, -1, 5, 8)), -0.3);
+}
+
+TEST(HiddenEffects, ViscousTermGrowsWithSpeed) {
+  HiddenEffects e;
+  e.viscous_n_s_per_mm = 0.03;
+  const Pair p = WithAndWithout(e);
+  const double slow = MeanDiffQ(p, Select(p, +1, 5, 8));
+  const auto fast_idx = Select(p, +1, 16, 100);
+  const double fast = MeanDiffQ(p, fast_idx);
+  EXPECT_GT(fast, 2 * slow);
+  // c |v| at about 17 mm/s.
+  EXPECT_NEAR(fast, 0.03 * 17.2, 0.05);
+}
+
+TEST(HiddenEffects, DirectionAsymmetryRaisesForwardLowersReverse) {
+  HiddenEffects e;
+  e.direction_asymmetry = 0.1;
+  const Pair p = WithAndWithout(e);
+  double fwd_on = 0, fwd_off = 0, rev_on = 0, rev_off = 0;
+  for (Eigen::Index i : Select(p, +1, 10, 100, -2, 2)) {
+    fwd_on += p.on.record.tangential_n[i];
+    fwd_off += p.off.record.tangential_n[i];
+  }
+  for (Eigen::Index i : Select(p, -1, 10, 100, -2, 2)) {
+    rev_on += p.on.record.tangential_n[i];
+    rev_off += p.off.record.tangential_n[i];
+  }
+  EXPECT_NEAR(fwd_on / fwd_off, 1.1, 0.03);  // |Q| up about 10% forward
+  EXPECT_NEAR(rev_on / rev_off, 0.9, 0.03);  // and down about 10% back
+}
+
+TEST(HiddenEffects, QLagDelaysTheTangentialChannel) {
+  HiddenEffects e;
+  e.q_lag_s = 0.003;
+  const Pair p = WithAndWithout(e);
+  // The shift that best maps the lagged channel onto the clean one.
+  const auto& a = p.on.record.tangential_n;
+  const auto& b = p.off.record.tangential_n;
+  const Eigen::Index n = a.size();
+  int best = -1;
+  double best_err = 1e300;
+  for (int lag = 0; lag <= 20; ++lag) {
+    const double err =
+        (a.segment(lag, n - 40) - b.segment(0, n - 40)).squaredNorm();
+    if (err < best_err) {
+      best_err = err;
+      best = lag;
+    }
+  }
+  EXPECT_EQ(best, 6);  // 3 ms at 2 kHz
+  EXPECT_EQ(p.on.record.normal_n, p.off.record.normal_n);
+}
+
+TEST(HiddenEffects, CrosstalkLeaksTangentialIntoNormal) {
+  HiddenEffects e;
+  e.crosstalk_q_into_p = 0.05;
+  const Pair p = WithAndWithout(e);
+  const Eigen::ArrayXd dp =
+      (p.on.record.normal_n - p.off.record.normal_n).array();
+  const Eigen::ArrayXd q = p.off.record.tangential_n.array();
+  const double slope = (dp * q).sum() / (q * q).sum();
+  EXPECT_NEAR(slope, 0.05, 0.002);
+  EXPECT_EQ(p.on.record.tangential_n, p.off.record.tangential_n);
+}
+
+TEST(HiddenEffects, HookAddsResistanceOnlyNearTheStrokeEnd) {
+  HiddenEffects e;
+  e.hook_n = 1.0;
+  e.hook_length_mm = 0.3;
+  const Pair p = WithAndWithout(e);
+  const double a = p.o.amplitude_mm;
+  const double near_end = MeanDiffQ(p, Select(p, +1, 4, 100, a - 0.3, a));
+  const double middle = MeanDiffQ(p, Select(p, +1, 4, 100, -1, 1));
+  EXPECT_GT(near_end, 0.4);
+  EXPECT_LT(std::abs(middle), 0.01);
+  EXPECT_LT(MeanDiffQ(p, Select(p, -1, 4, 100, -a, -a + 0.3)), -0.4);
+}
+
+// ---- The export layouts read back to what was written.
+
+TEST(SimulatorOutputs, RtecAndKeyenceExportsReadBack) {
+  SimulationOptions o = Small("B-RL-R");
+  o.cycles = 25;  // > 2 recipe steps of 10 s
+  const SimulatedTest t = Simulate(o);
+  const std::string dir = ::testing::TempDir() + "/sim-exports";
+  std::filesystem::create_directories(dir);
+  force::WriteRtecCsv(t.record, dir + "/b.rtec.csv", 10.0);
+  const force::ForceRecord r = force::ReadForceFile(dir + "/b.rtec.csv");
+  ASSERT_EQ(r.size(), t.record.size());
+  EXPECT_LT((r.time_s - t.record.time_s).cwiseAbs().maxCoeff(), 1e-4);
+  EXPECT_LT((r.x_mm - t.record.x_mm).cwiseAbs().maxCoeff(), 1e-5);
+  EXPECT_LT((r.tangential_n - t.record.tangential_n).cwiseAbs().maxCoeff(),
+            1e-4);
+  EXPECT_LT((r.normal_n - t.record.normal_n).cwiseAbs().maxCoeff(), 1e-4);
+  EXPECT_GT(r.normal_n.mean(), 0);  // Fz negative in the file
+
+  scan::WriteKeyenceCsv(t.scan, dir + "/b.keyence.csv");
+  const scan::HeightMap m = scan::ReadScan(dir + "/b.keyence.csv");
+  ASSERT_EQ(m.rows(), t.scan.rows());
+  ASSERT_EQ(m.cols(), t.scan.cols());
+  EXPECT_NEAR(m.dx_mm, t.scan.dx_mm, 1e-9);
+  EXPECT_TRUE((m.valid == t.scan.valid).all());
+  double worst = 0;
+  for (Eigen::Index i = 0; i < m.height_mm.size(); ++i) {
+    if (m.valid.data()[i])
+      worst = std::max<double>(
+          worst, std::abs(m.height_mm.data()[i] - t.scan.height_mm.data()[i]));
+  }
+  EXPECT_LT(worst, 1e-6);
+}
+
+TEST(VirtualTribometer, ScanHasTheRealisticDefects) {
+  const SimulationOptions o = PaperCase("S-TL-T");  // fibres across
+  SimulationOptions s = o;
+  s.cycles = 20;
+  const SimulatedTest t = Simulate(s);
+  EXPECT_EQ(t.scan.rows(), 768);
+  EXPECT_EQ(t.scan.cols(), 1024);
+  EXPECT_NEAR(t.scan.dx_mm, 0.007413, 1e-9);
+  const double invalid =
+      1.0 - static_cast<double>(t.scan.ValidCount()) / t.scan.height_mm.size();
+  EXPECT_GT(invalid, 0.008);  // about 1% scattered plus one cluster
+  EXPECT_LT(invalid, 0.03);
+  // Rims: just outside the groove the surface stands above the plane.
+  const auto& tr = t.truth;
+  const double d0 = tr.worn_depth_mm[tr.worn_depth_mm.size() / 2];
+  const double r = s.sphere_radius_mm;
+  const double edge = std::sqrt(r * r - (r - d0) * (r - d0));
+  double rim = 0;
+  int n = 0;
+  for (int k = -20; k <= 20; ++k) {
+    // Points on the normal to the track at the rim, both sides.
+    for (int side : {-1, 1}) {
+      const double s_mm = k * 0.02;
+      const double th = tr.scan_angle_deg * M_PI / 180;
+      const double X = tr.scan_center_x_mm + s_mm * std::cos(th) -
+                       side * edge * std::sin(th);
+      const double Y = tr.scan_center_y_mm + s_mm * std::sin(th) +
+                       side * edge * std::cos(th);
+      const int c = static_cast<int>(std::lround(X / s.scan_pitch_mm));
+      const int rr = static_cast<int>(std::lround(Y / s.scan_pitch_mm));
+      if (!t.scan.valid(rr, c)) continue;
+      rim += t.scan.height_mm(rr, c) -
+             (tr.plane_z0_mm + tr.plane_dzdx * c * s.scan_pitch_mm +
+              tr.plane_dzdy * rr * s.scan_pitch_mm);
+      ++n;
+    }
+  }
+  EXPECT_NEAR(rim / n, s.rim_fraction * d0, 0.35 * s.rim_fraction * d0);
 }
 
 }  // namespace

@@ -21,6 +21,12 @@ struct CycleCof {
   double mu_energy_g = 0.0;    // with delta_g
   // Envelopes (Figs. 5-6).
   double q_max_n = 0.0, q_min_n = 0.0, p_max_n = 0.0, p_min_n = 0.0;
+  double p_range_n = 0.0;  // p_max_n - p_min_n over the cycle
+  // Pearson correlation of the fluctuations of |Q| and P during gross slip,
+  // each direction separately, averaged (the argument of the paper's Figs.
+  // 7e-f): near +1 when Q follows P (wear-scar interaction or Coulomb), near
+  // 0 when Q fluctuates on its own.
+  double qp_correlation = 0.0;
 };
 
 std::vector<CycleCof> ComputeClassicCof(const ForceRecord& record,

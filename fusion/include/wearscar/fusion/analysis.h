@@ -15,8 +15,11 @@ struct AnalysisOptions {
   force::GrossSlipOptions slip;
   FrictionFitOptions friction;
   // Cycles treated as running-in: excluded from the after-running-in
-  // statistics and the verdict.
-  int running_in_cycles = 50;
+  // statistics and the verdict. -1 = detect them (DetectRunningIn).
+  int running_in_cycles = -1;
+  // Detection: the per-cycle friction has settled when it stays within this
+  // much (or 3 robust sd of its scatter, if larger) of the steady trend.
+  double running_in_tolerance = 0.005;
 
   bool IsValid(std::string* why) const;
 };
@@ -29,10 +32,30 @@ struct Statistic {
 };
 
 // Everything the force side of one test yields.
+// Where running-in ends, and how that was decided.
+struct RunningIn {
+  int cycles = 0;             // cycles [0, cycles) are running-in
+  bool detected = false;      // false: given by the user (or too few cycles)
+  double steady_slope = 0.0;  // trend after running-in, per cycle
+  double tolerance = 0.0;     // band actually used
+  std::string rule;           // one line for reports
+};
+
+// Running-in from the per-cycle friction coefficient (mu_mean): a straight
+// line is fitted to the second half of the test (the steady trend, slow drift
+// allowed); running-in ends at the first cycle from which the 3-cycle
+// running median stays within the tolerance band around that line
+// extrapolated backwards. The band is max(tolerance, 3 x 1.4826 MAD of the
+// residuals on the second half). Never more than half the cycles; fewer than
+// 6 cycles give 0.
+RunningIn DetectRunningIn(const std::vector<double>& friction_per_cycle,
+                          double tolerance);
+
 struct ForceAnalysis {
   force::CycleSet cycles;
   std::vector<force::CycleCof> cof;
   std::vector<MuFit> fit_force;  // mu-hat with k from the force channel
+  RunningIn running_in;
   Statistic mu_hat, cost, mu_mean, mu_energy;
   int slip_fallbacks = 0;  // half cycles where the central fallback was used
 };

@@ -7,6 +7,7 @@
 #include "output.h"
 #include "wearscar/scan/gsf.h"
 #include "wearscar/scan/level.h"
+#include "wearscar/scan/preview.h"
 #include "wearscar/scan/read_scan.h"
 #include "wearscar/scan/track.h"
 
@@ -51,13 +52,14 @@ void RunScan(ScanArgs a) {
   const scan::Track t = scan::FindTrack(map, a.track);
   fmt::print(
       "  track: centre ({:.3f}, {:.3f}) mm, angle {:.2f} deg, length {:.3f} "
-      "mm, width "
-      "{:.3f} mm, max depth {:.1f} um, volume {:.4g} mm^3 ({})\n",
+      "mm, width {:.3f} mm, mean depth {:.1f} um, max depth {:.1f} um, "
+      "volume {:.4g} mm^3 ({})\n",
       t.center_x_mm,
       t.center_y_mm,
       t.angle_deg,
       t.length_mm,
       t.width_mm,
+      1e3 * t.mean_depth_mm,
       1e3 * t.max_depth_mm,
       t.volume_mm3,
       t.message);
@@ -65,7 +67,7 @@ void RunScan(ScanArgs a) {
   if (a.out.empty()) return;
   EnsureDirectory(a.out);
   Table c;
-  c.columns = {"s_mm", "h_mm", "valid_samples"};
+  c.columns = {"s_mm", "h_mm", "n_valid"};
   for (Eigen::Index i = 0; i < p.s_mm.size(); ++i) {
     c.rows.push_back(
         {p.s_mm[i], p.height_mm[i], static_cast<double>(p.valid_samples[i])});
@@ -104,15 +106,18 @@ void RunScan(ScanArgs a) {
                         {"angle_deg", t.angle_deg},
                         {"length_mm", t.length_mm},
                         {"width_mm", t.width_mm},
+                        {"mean_depth_mm", t.mean_depth_mm},
                         {"max_depth_mm", t.max_depth_mm},
                         {"volume_mm3", t.volume_mm3},
                         {"manual", t.manual}}},
                       {"warnings", map.metadata.warnings}};
+  scan::WriteTrackPreviewPng(
+      map, t, (fs::path(a.out) / "preview.png").string());
   WriteTextAtomically((fs::path(a.out) / "scan.json").string(),
                       j.dump(2) + "\n");
   fmt::print(
-      "wrote centreline.csv, cross_sections.csv, levelled.gsf and scan.json to "
-      "{}/\n",
+      "wrote centreline.csv (s_mm, h_mm, n_valid), cross_sections.csv, "
+      "levelled.gsf, preview.png and scan.json to {}/\n",
       a.out);
 }
 

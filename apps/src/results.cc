@@ -95,6 +95,7 @@ nlohmann::json ResultJson(const std::string& name,
                    {"angle_deg", s.track.angle_deg},
                    {"length_mm", s.track.length_mm},
                    {"width_mm", s.track.width_mm},
+                   {"mean_depth_mm", s.track.mean_depth_mm},
                    {"max_depth_mm", s.track.max_depth_mm},
                    {"volume_mm3", s.track.volume_mm3},
                    {"manual", s.track.manual}}},
@@ -280,7 +281,7 @@ std::vector<std::string> WriteTestResults(const std::string& dir,
     }
     write("profiles.csv", p.ToCsv());
     Table sp;
-    sp.columns = {"s_mm", "h_mm", "valid_samples"};
+    sp.columns = {"s_mm", "h_mm", "n_valid"};
     for (Eigen::Index i = 0; i < r.scan->profile.s_mm.size(); ++i) {
       sp.rows.push_back(
           {r.scan->profile.s_mm[i],

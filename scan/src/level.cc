@@ -14,14 +14,51 @@
 namespace wearscar::scan {
 namespace {
 
-// Monomials x^i y^j with i + j <= order, in the documented order.
-Eigen::VectorXd Monomials(double x, double y, int order) {
-  Eigen::VectorXd m((order + 1) * (order + 2) / 2);
+constexpr int kMaxOrder = 3;
+constexpr int kMaxTerms = (kMaxOrder + 1) * (kMaxOrder + 2) / 2;
+using Terms = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxTerms, 1>;
+
+// Monomials x^i y^j with i + j <= order, in the documented order (no heap).
+Terms Monomials(double x, double y, int order) {
+  Terms m((order + 1) * (order + 2) / 2);
+  double xp[kMaxOrder + 1], yp[kMaxOrder + 1];
+  xp[0] = yp[0] = 1.0;
+  for (int i = 1; i <= order; ++i) {
+    xp[i] = xp[i - 1] * x;
+    yp[i] = yp[i - 1] * y;
+  }
   int k = 0;
   for (int d = 0; d <= order; ++d) {
-    for (int j = 0; j <= d; ++j) m[k++] = std::pow(x, d - j) * std::pow(y, j);
+    for (int j = 0; j <= d; ++j) m[k++] = xp[d - j] * yp[j];
   }
   return m;
+}
+
+// Subtracts the surface from every valid pixel: per row, the polynomial in
+// x with y folded in, then Horner's rule along the row.
+void SubtractSurface(const Eigen::VectorXd& coef, int order, HeightMap* map) {
+  double px[kMaxOrder + 1];
+  for (Eigen::Index r = 0; r < map->rows(); ++r) {
+    const double y = static_cast<double>(r) * map->dy_mm;
+    for (int i = 0; i <= order; ++i) {
+      px[i] = 0.0;
+      double yj = 1.0;
+      for (int j = 0; i + j <= order; ++j) {
+        const int d = i + j;
+        px[i] += coef[d * (d + 1) / 2 + j] * yj;
+        yj *= y;
+      }
+    }
+    float* row = &map->height_mm(r, 0);
+    const std::uint8_t* ok = &map->valid(r, 0);
+    for (Eigen::Index c = 0; c < map->cols(); ++c) {
+      if (!ok[c]) continue;
+      const double x = static_cast<double>(c) * map->dx_mm;
+      double z = px[order];
+      for (int i = order - 1; i >= 0; --i) z = z * x + px[i];
+      row[c] -= static_cast<float>(z);
+    }
+  }
 }
 
 }  // namespace
@@ -111,13 +148,7 @@ LevelSummary LevelHeightMap(HeightMap* map, const LevelOptions& options) {
   }
   summary.inliers = static_cast<int>(inliers.size());
   summary.coefficients = coef;
-  for (Eigen::Index r = 0; r < map->rows(); ++r) {
-    for (Eigen::Index c = 0; c < map->cols(); ++c) {
-      if (!map->valid(r, c)) continue;
-      map->height_mm(r, c) -= static_cast<float>(
-          Monomials(c * map->dx_mm, r * map->dy_mm, order).dot(coef));
-    }
-  }
+  SubtractSurface(coef, order, map);
   summary.message =
       fmt::format("order {} fitted on {} of {} points, RMS {:.2g} mm",
                   order,

@@ -188,6 +188,19 @@ Track FindTrack(const HeightMap& map, const TrackOptions& options) {
   t.width_mm = Percentile(across, 0.995) - Percentile(across, 0.005);
   t.max_depth_mm = max_depth;
   t.volume_mm3 = volume;
+  {
+    const double step = std::min(map.dx_mm, map.dy_mm);
+    double sum = 0;
+    int n_ok = 0;
+    for (double s = -0.4 * t.length_mm; s <= 0.4 * t.length_mm; s += step) {
+      const double z = SampleBilinear(
+          map, t.center_x_mm + s * a.x(), t.center_y_mm + s * a.y());
+      if (!std::isfinite(z)) continue;
+      sum += -z;
+      ++n_ok;
+    }
+    t.mean_depth_mm = n_ok > 0 ? sum / n_ok : std::nan("");
+  }
   t.message =
       fmt::format("found: {} px, elongation {:.1f}, depth threshold {:.4f} mm",
                   t.pixels,

@@ -2,6 +2,7 @@
 #include <sys/wait.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -156,6 +157,33 @@ TEST(Cli, FuseWritesResultsAndFlagsTheElasticCase) {
   for (const auto& e : std::filesystem::directory_iterator(dir + "/out")) {
     EXPECT_EQ(e.path().string().find(".tmp-"), std::string::npos) << e.path();
   }
+}
+
+TEST(Cli, ScanWritesProfilePreviewAndSummaryOfTheKnownTrack) {
+  const std::string data = std::string(WEARSCAR_SAMPLES_DIR) + "/data/";
+  const std::string out = ::testing::TempDir() + "/cli-scan";
+  std::filesystem::remove_all(out);
+  const CommandResult r =
+      Wearscar("scan " + data + "B-RT-T.scan.gsf -o " + out);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("mean depth"), std::string::npos) << r.output;
+  const std::string csv = Slurp(out + "/centreline.csv");
+  EXPECT_EQ(csv.rfind("s_mm,h_mm,n_valid\n", 0), 0u) << csv.substr(0, 80);
+  const std::string png = Slurp(out + "/preview.png");
+  EXPECT_EQ(png.substr(1, 3), "PNG");
+  // The summary's track angle is the simulator's.
+  const std::string json = Slurp(out + "/scan.json");
+  const std::string truth = Slurp(data + "B-RT-T.truth.json");
+  auto number_after = [](const std::string& text, const std::string& key) {
+    const size_t at = text.find("\"" + key + "\":");
+    return at == std::string::npos
+               ? std::nan("")
+               : std::stod(text.substr(at + key.size() + 3));
+  };
+  EXPECT_NEAR(
+      number_after(json, "angle_deg"), number_after(truth, "angle_deg"), 0.5);
+  EXPECT_GT(number_after(json, "mean_depth_mm"), 0.03);
+  EXPECT_TRUE(std::filesystem::exists(out + "/levelled.gsf"));
 }
 
 TEST(Cli, FuseWithUnreadableScanExitsTwoNamingIt) {

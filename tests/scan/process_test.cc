@@ -1,9 +1,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "wearscar/samples/virtual_tribometer.h"
 #include "wearscar/scan/level.h"
+#include "wearscar/scan/preview.h"
 #include "wearscar/scan/track.h"
 
 namespace wearscar::scan {
@@ -107,6 +109,67 @@ INSTANTIATE_TEST_SUITE_P(Placements,
                          ::testing::Values(std::make_tuple(0.0, false),
                                            std::make_tuple(3.0, true),
                                            std::make_tuple(-8.0, false)));
+
+// An analytic case: a tilted plane carrying a straight groove of a sphere's
+// cross-section (R 3.25 mm, depth D) with rounded ends, at a known angle and
+// a known offset from the field centre.
+TEST(Track, AnalyticGrooveOnTiltedPlane) {
+  const double pitch = 0.0074, depth = 0.05, r = 3.25, half_len = 2.85;
+  const double angle = 12.5, cx = 3.8 + 0.37, cy = 2.85 - 0.21;
+  const double th = angle * M_PI / 180;
+  HeightMap m;
+  m.dx_mm = m.dy_mm = pitch;
+  m.metadata.source = "analytic";
+  m.height_mm.resize(768, 1024);
+  std::mt19937 gen(3);
+  std::normal_distribution<double> noise(0, 0.0003);
+  for (int row = 0; row < 768; ++row) {
+    for (int col = 0; col < 1024; ++col) {
+      const double x = col * pitch, y = row * pitch;
+      const double s = (x - cx) * std::cos(th) + (y - cy) * std::sin(th);
+      const double w = -(x - cx) * std::sin(th) + (y - cy) * std::cos(th);
+      const double ds = std::max(0.0, std::abs(s) - half_len);
+      const double r2 = w * w + ds * ds;
+      const double g =
+          r2 < r * r ? std::max(0.0, depth - (r - std::sqrt(r * r - r2))) : 0.0;
+      m.height_mm(row, col) =
+          static_cast<float>(0.03 + 0.0035 * x - 0.0022 * y - g + noise(gen));
+    }
+  }
+  SyncValidity(&m);
+  const LevelSummary lv = LevelHeightMap(&m);
+  EXPECT_NEAR(lv.dzdx(), 0.0035, 2e-5);
+  EXPECT_NEAR(lv.dzdy(), -0.0022, 2e-5);
+  const Track t = FindTrack(m);
+  EXPECT_NEAR(t.angle_deg, angle, 0.2) << t.message;
+  EXPECT_NEAR(t.center_x_mm, cx, pitch) << t.message;  // within 1 pixel
+  EXPECT_NEAR(t.center_y_mm, cy, pitch) << t.message;
+  EXPECT_NEAR(t.mean_depth_mm, depth, 0.02 * depth);
+  EXPECT_NEAR(t.max_depth_mm, depth, 0.02 * depth + 0.0015);  // + noise peak
+  // Width where the depth exceeds the detection threshold (25% of the
+  // depth): the chord of the sphere at D - 0.25 D, 0.98 mm.
+  const double e = 0.75 * depth;
+  EXPECT_NEAR(t.width_mm, 2 * std::sqrt(2 * r * e - e * e), 0.03);
+  // Centreline: flat at -D over the stroke.
+  const WearProfile p = ExtractCentreline(m, t);
+  for (Eigen::Index i = 0; i < p.s_mm.size(); ++i) {
+    if (std::abs(p.s_mm[i]) < 2.0) {
+      ASSERT_NEAR(p.height_mm[i], -depth, 0.001) << p.s_mm[i];
+    }
+  }
+  // The preview is a PNG of the map's size (under the width limit).
+  const std::string png = EncodeTrackPreviewPng(m, t);
+  ASSERT_GT(png.size(), 1000u);
+  EXPECT_EQ(png.substr(1, 3), "PNG");
+  auto be32 = [&](size_t at) {
+    return (static_cast<unsigned char>(png[at]) << 24) |
+           (static_cast<unsigned char>(png[at + 1]) << 16) |
+           (static_cast<unsigned char>(png[at + 2]) << 8) |
+           static_cast<unsigned char>(png[at + 3]);
+  };
+  EXPECT_EQ(be32(16), 1024u);  // IHDR width
+  EXPECT_EQ(be32(20), 768u);   // IHDR height
+}
 
 TEST(Track, FlatMapHasNoTrackAndSaysSo) {
   HeightMap m;

@@ -15,8 +15,11 @@ struct Track {
   double center_y_mm = 0.0;
   double angle_deg = 0.0;  // in (-90, 90]
   double length_mm = 0.0;
-  double width_mm = 0.0;
+  double width_mm = 0.0;  // where the depth exceeds the detection threshold
   double max_depth_mm = 0.0;
+  // Mean depth along the axis over the central 80% of the length (the
+  // groove bottom where the stroke is fully worn).
+  double mean_depth_mm = 0.0;
   double volume_mm3 = 0.0;  // worn volume below the reference
   int pixels = 0;
   double elongation = 0.0;  // sqrt of the PCA eigenvalue ratio

@@ -1,0 +1,125 @@
+#include "wearscar/scan/preview.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <vector>
+
+#include "file_io.h"
+#include "wearscar/scan/level.h"
+
+namespace wearscar::scan {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+}  // namespace
+
+std::string EncodeTrackPreviewPng(const HeightMap& map,
+                                  const Track& track,
+                                  const PreviewOptions& o) {
+  const int rows = static_cast<int>(map.rows()),
+            cols = static_cast<int>(map.cols());
+  if (rows < 2 || cols < 2 || o.max_width_px < 16) {
+    throw ScanError(fmt::format(
+        "{}: preview: map of {} x {} pixels (or width limit {}) too small",
+        map.metadata.source,
+        cols,
+        rows,
+        o.max_width_px));
+  }
+  // Colour scale from percentiles of a subsample of the valid heights.
+  std::vector<float> values;
+  const Eigen::Index stride =
+      std::max<Eigen::Index>(1, map.height_mm.size() / 200000);
+  for (Eigen::Index i = 0; i < map.height_mm.size(); i += stride) {
+    if (map.valid.data()[i]) values.push_back(map.height_mm.data()[i]);
+  }
+  float lo = -1, hi = 1;
+  if (!values.empty()) {
+    auto at = [&](double q) {
+      const size_t k = std::min(values.size() - 1,
+                                static_cast<size_t>(q * (values.size() - 1)));
+      std::nth_element(values.begin(), values.begin() + k, values.end());
+      return values[k];
+    };
+    lo = at(o.low_percentile);
+    hi = at(o.high_percentile);
+    if (!(hi > lo)) hi = lo + 1e-6f;
+  }
+  cv::Mat grey(rows, cols, CV_8U);
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      const float z = map.height_mm(r, c);
+      const float t = map.valid(r, c) ? (z - lo) / (hi - lo) : 0.0f;
+      grey.at<std::uint8_t>(r, c) =
+          static_cast<std::uint8_t>(std::clamp(t, 0.0f, 1.0f) * 255.0f);
+    }
+  }
+  cv::Mat image;
+  cv::applyColorMap(grey, image, cv::COLORMAP_VIRIDIS);
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      if (!map.valid(r, c))
+        image.at<cv::Vec3b>(r, c) = cv::Vec3b(128, 128, 128);
+    }
+  }
+  double scale = 1.0;
+  if (cols > o.max_width_px) {
+    scale = static_cast<double>(o.max_width_px) / cols;
+    cv::resize(image, image, cv::Size(), scale, scale, cv::INTER_AREA);
+  }
+  // Track geometry in output pixels.
+  const double px = scale / map.dx_mm, py = scale / map.dy_mm;
+  const double th = track.angle_deg * kPi / 180.0;
+  const double ax = std::cos(th), ay = std::sin(th);
+  auto to_px = [&](double s, double w) {
+    const double x = track.center_x_mm + s * ax - w * ay;
+    const double y = track.center_y_mm + s * ay + w * ax;
+    return cv::Point2d(x * px, y * py);
+  };
+  const int thick = std::max(1, image.cols / 500);
+  const double hl = 0.5 * track.length_mm, hw = 0.5 * track.width_mm;
+  const cv::Point2d corners[4] = {
+      to_px(-hl, -hw), to_px(hl, -hw), to_px(hl, hw), to_px(-hl, hw)};
+  for (int i = 0; i < 4; ++i) {
+    cv::line(image,
+             corners[i],
+             corners[(i + 1) % 4],
+             cv::Scalar(255, 255, 255),
+             thick,
+             cv::LINE_AA);
+  }
+  cv::line(image,
+           to_px(-hl, 0),
+           to_px(hl, 0),
+           cv::Scalar(0, 0, 255),
+           thick,
+           cv::LINE_AA);
+  cv::drawMarker(image,
+                 to_px(0, 0),
+                 cv::Scalar(0, 0, 255),
+                 cv::MARKER_CROSS,
+                 12 * thick,
+                 thick);
+  std::vector<std::uint8_t> png;
+  if (!cv::imencode(".png", image, png)) {
+    throw ScanError(
+        fmt::format("{}: preview: PNG encoding failed", map.metadata.source));
+  }
+  return std::string(png.begin(), png.end());
+}
+
+void WriteTrackPreviewPng(const HeightMap& levelled,
+                          const Track& track,
+                          const std::string& path,
+                          const PreviewOptions& options) {
+  internal::WriteFileAtomically(
+      path, EncodeTrackPreviewPng(levelled, track, options));
+}
+
+}  // namespace wearscar::scan

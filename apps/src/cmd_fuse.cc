@@ -1,5 +1,7 @@
 #include <fmt/format.h>
 
+#include <optional>
+
 #include "commands.h"
 #include "common_options.h"
 #include "figures.h"
@@ -23,7 +25,12 @@ void RunFuse(FuseArgs a) {
   FinaliseCommonOptions(&a.common);
   const force::ForceRecord record =
       force::ReadForceFile(a.force_file, a.common.read_force);
-  scan::HeightMap map = scan::ReadScan(a.scan_file, a.common.read_scan);
+  std::optional<scan::HeightMap> map;
+  if (!a.scan_file.empty()) {
+    map = scan::ReadScan(a.scan_file, a.common.read_scan);
+  } else if (a.common.fuse.slopes == fusion::SlopeChoice::kScan) {
+    throw UsageError("fuse: --slope scan needs --scan");
+  }
   const fusion::TestResult r =
       fusion::AnalyzeTest(record, std::move(map), a.common.fuse);
   const std::string name = a.name.empty() ? SpecimenName(a.force_file) : a.name;
@@ -54,8 +61,8 @@ void AddFuseCommand(CLI::App& app) {
   cmd->add_option("--force", args->force_file, "Force export")->required();
   cmd->add_option("--scan",
                   args->scan_file,
-                  "Height map (zon, zag, vk4/6/7, x3p, gsf, csv, txt)")
-      ->required();
+                  "Height map (zon, zag, vk4/6/7, x3p, gsf, csv, txt); "
+                  "without it, the force slope only");
   cmd->add_option("-o,--out", args->out, "Directory for the results");
   cmd->add_option("--name", args->name, "Specimen name in the outputs");
   cmd->add_option("--detail-cycle",

@@ -87,6 +87,13 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
          "--lugre-fs", o.lugre.static_n, "LuGre F_s, N (0 = from the cycle)")
       ->group("Method");
   if (!with_scan) return;
+  cmd->add_option("--slope",
+                  a->slope,
+                  "Slope of the sliding path for mu-hat: force (k = dP/dx / "
+                  "S), scan (the aligned centreline) or both")
+      ->check(CLI::IsMember({"force", "scan", "both"}))
+      ->capture_default_str()
+      ->group("Method");
   cmd->add_option(
          "--compare-first",
          o.force_profile.first_cycle,
@@ -170,6 +177,10 @@ void FinaliseCommonOptions(CommonArgs* a) {
     throw UsageError(
         fmt::format("--scan-derivative '{}': expected savgol or central",
                     a->scan_derivative));
+  }
+  if (!fusion::ParseSlopeChoice(a->slope, &a->fuse.slopes)) {
+    throw UsageError(
+        fmt::format("--slope '{}': expected force, scan or both", a->slope));
   }
   if (a->running_in == "auto") {
     a->fuse.analysis.running_in_cycles = -1;

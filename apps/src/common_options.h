@@ -17,8 +17,9 @@ struct CommonArgs {
   std::string derivative = "central";
   std::string scan_derivative = "savgol";
   bool no_lugre = false;
-  std::string running_in = "auto";  // or a number of cycles
-  std::string columns;  // time=NAME,x=NAME,q=NAME,p=NAME (names or #N)
+  std::string running_in = "auto";
+  std::string slope = "both";  // force | scan | both  // or a number of cycles
+  std::string columns;         // time=NAME,x=NAME,q=NAME,p=NAME (names or #N)
 };
 
 void AddCommonOptions(CLI::App* cmd, CommonArgs* args, bool with_scan);

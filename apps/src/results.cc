@@ -330,15 +330,23 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
              m.first_cycle,
              m.last_cycle,
              r.force.running_in.rule);
-  fmt::print("  mu-hat, k from P     {:.4f} +- {:.4f}   J {:.3f}\n",
-             m.mu_force.mean,
-             m.mu_force.sd,
-             m.cost_force.mean);
+  if (m.mu_force.count > 0) {
+    fmt::print("  mu-hat, k from P     {:.4f} +- {:.4f}   J {:.3f}\n",
+               m.mu_force.mean,
+               m.mu_force.sd,
+               m.cost_force.mean);
+  } else {
+    fmt::print("  mu-hat, k from P     not fitted (--slope scan)\n");
+  }
   if (m.has_scan) {
-    fmt::print("  mu-hat, k from scan  {:.4f} +- {:.4f}   J {:.3f}\n",
-               m.mu_scan.mean,
-               m.mu_scan.sd,
-               m.cost_scan.mean);
+    if (m.mu_scan.count > 0) {
+      fmt::print("  mu-hat, k from scan  {:.4f} +- {:.4f}   J {:.3f}\n",
+                 m.mu_scan.mean,
+                 m.mu_scan.sd,
+                 m.cost_scan.mean);
+    } else {
+      fmt::print("  mu-hat, k from scan  not fitted (--slope force)\n");
+    }
     const auto& a = r.scan->alignment;
     fmt::print(
         "  profiles: r = {:.3f}, amplitude ratio {:.2f}, shift {:.3f} mm{}, "

@@ -119,8 +119,13 @@ ForceAnalysis AnalyzeForce(const force::ForceRecord& record,
     a.slip_fallbacks += c.forward.slip_fallback + c.reverse.slip_fallback;
   }
   a.cof = force::ComputeClassicCof(record, a.cycles);
-  a.fit_force = FitFrictionPerCycle(
-      record, a.cycles, SlopeSource::kForce, options.friction);
+  if (options.fit_force_slope) {
+    a.fit_force = FitFrictionPerCycle(
+        record, a.cycles, SlopeSource::kForce, options.friction);
+  } else {
+    a.fit_force.assign(a.cycles.cycles.size(), MuFit{});
+    for (auto& f : a.fit_force) f.message = "not fitted (scan slope only)";
+  }
   // Running-in never swallows the whole test: keep at least the last half.
   const int n = static_cast<int>(a.cycles.cycles.size());
   if (options.running_in_cycles >= 0) {

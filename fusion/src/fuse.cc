@@ -71,13 +71,31 @@ MismatchReport CompareSlopes(const force::ForceRecord& record,
   return r;
 }
 
+bool ParseSlopeChoice(const std::string& name, SlopeChoice* choice) {
+  if (name == "force") {
+    *choice = SlopeChoice::kForce;
+  } else if (name == "scan") {
+    *choice = SlopeChoice::kScan;
+  } else if (name == "both") {
+    *choice = SlopeChoice::kBoth;
+  } else {
+    return false;
+  }
+  return true;
+}
+
 TestResult AnalyzeTest(const force::ForceRecord& record,
                        std::optional<scan::HeightMap> height_map,
                        const FuseOptions& options) {
   std::string why;
   if (!options.IsValid(&why)) throw FusionError("fuse options: " + why);
   TestResult result;
-  result.force = AnalyzeForce(record, options.analysis);
+  if (options.slopes == SlopeChoice::kScan && !height_map) {
+    throw FusionError("mu-hat with the scan slope only, but no scan given");
+  }
+  AnalysisOptions ao = options.analysis;
+  ao.fit_force_slope = options.slopes != SlopeChoice::kScan;
+  result.force = AnalyzeForce(record, ao);
   const int n = static_cast<int>(result.force.cycles.cycles.size());
   if (height_map) {
     ScanAnalysis s;
@@ -103,11 +121,16 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
         fpo);
     s.alignment = AlignProfiles(s.force_profile, s.profile, options.align);
     s.slope = ScanSlopeInPlate(s.profile, s.alignment, options.scan_slope);
-    s.fit_scan = FitFrictionPerCycle(record,
-                                     result.force.cycles,
-                                     SlopeSource::kScan,
-                                     options.analysis.friction,
-                                     &s.slope);
+    if (options.slopes != SlopeChoice::kForce) {
+      s.fit_scan = FitFrictionPerCycle(record,
+                                       result.force.cycles,
+                                       SlopeSource::kScan,
+                                       options.analysis.friction,
+                                       &s.slope);
+    } else {
+      s.fit_scan.assign(result.force.cycles.cycles.size(), MuFit{});
+      for (auto& f : s.fit_scan) f.message = "not fitted (force slope only)";
+    }
     s.levelled = std::move(map);
     result.scan = std::move(s);
   }

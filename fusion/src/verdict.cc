@@ -24,10 +24,16 @@ std::string Verdict::Summary() const {
 
 Verdict Judge(const MismatchReport& r, const VerdictOptions& o) {
   Verdict v;
-  if (r.cost_force.count > 0 && r.cost_force.mean > o.max_cost) {
+  // J and mu-hat from the force-side slope when it was fitted, else from
+  // the scan's (--slope scan).
+  const bool from_force = r.cost_force.count > 0;
+  const Statistic& cost = from_force ? r.cost_force : r.cost_scan;
+  const char* source = from_force ? "k from P" : "k from the scan";
+  if (cost.count > 0 && cost.mean > o.max_cost) {
     v.reasons.push_back(
-        fmt::format("J = {:.3f} after running-in (k from P) exceeds {:.2f}",
-                    r.cost_force.mean,
+        fmt::format("J = {:.3f} after running-in ({}) exceeds {:.2f}",
+                    cost.mean,
+                    source,
                     o.max_cost));
   }
   if (r.has_scan) {
@@ -46,17 +52,18 @@ Verdict Judge(const MismatchReport& r, const VerdictOptions& o) {
                       o.min_correlation));
     }
   }
-  if (r.mu_force.count > 0) {
-    if (std::abs(r.mu_force_minus_energy.mean) > o.max_method_difference) {
-      v.reasons.push_back(
-          fmt::format("the methods disagree: mu-hat {:.4f} vs energy method "
-                      "{:.4f} (limit {:.3f}; mean "
-                      "method {:.4f})",
-                      r.mu_force.mean,
-                      r.mu_energy.mean,
-                      o.max_method_difference,
-                      r.mu_mean.mean));
-    }
+  const Statistic& mu = from_force ? r.mu_force : r.mu_scan;
+  const double difference = from_force ? r.mu_force_minus_energy.mean
+                                       : r.mu_scan.mean - r.mu_energy.mean;
+  if (mu.count > 0 && std::abs(difference) > o.max_method_difference) {
+    v.reasons.push_back(
+        fmt::format("the methods disagree: mu-hat {:.4f} ({}) vs energy "
+                    "method {:.4f} (limit {:.3f}; mean method {:.4f})",
+                    mu.mean,
+                    source,
+                    r.mu_energy.mean,
+                    o.max_method_difference,
+                    r.mu_mean.mean));
   }
   v.explained = v.reasons.empty();
   return v;

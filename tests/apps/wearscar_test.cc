@@ -186,6 +186,32 @@ TEST(Cli, ScanWritesProfilePreviewAndSummaryOfTheKnownTrack) {
   EXPECT_TRUE(std::filesystem::exists(out + "/levelled.gsf"));
 }
 
+TEST(Cli, FuseSlopeChoiceFitsOnlyWhatIsAsked) {
+  const std::string data = std::string(WEARSCAR_SAMPLES_DIR) + "/data/";
+  const std::string base =
+      "fuse --force " + data + "B-RT-R.force.csv --no-lugre";
+  const std::string scan = " --scan " + data + "B-RT-R.scan.gsf";
+  const CommandResult f = Wearscar(base + scan + " --slope force");
+  ASSERT_EQ(f.status, 0) << f.output;
+  EXPECT_NE(f.output.find("mu-hat, k from P     0.1"), std::string::npos);
+  EXPECT_NE(f.output.find("k from scan  not fitted"), std::string::npos)
+      << f.output;
+  const CommandResult s = Wearscar(base + scan + " --slope scan");
+  ASSERT_EQ(s.status, 0) << s.output;
+  EXPECT_NE(s.output.find("k from P     not fitted"), std::string::npos)
+      << s.output;
+  EXPECT_NE(s.output.find("mu-hat, k from scan  0.1"), std::string::npos)
+      << s.output;
+  // Without a scan: the force slope only; asking for the scan's is an error.
+  const CommandResult alone = Wearscar(base);
+  EXPECT_EQ(alone.status, 0) << alone.output;
+  EXPECT_EQ(alone.output.find("k from scan"), std::string::npos);
+  const CommandResult bad = Wearscar(base + " --slope scan");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.output.find("--slope scan needs --scan"), std::string::npos)
+      << bad.output;
+}
+
 TEST(Cli, FuseWithUnreadableScanExitsTwoNamingIt) {
   const std::string dir = ::testing::TempDir() + "/cli-fuse-bad";
   std::filesystem::create_directories(dir);

@@ -20,6 +20,8 @@ struct AnalysisOptions {
   // Detection: the per-cycle friction has settled when it stays within this
   // much (or 3 robust sd of its scatter, if larger) of the steady trend.
   double running_in_tolerance = 0.005;
+  // Fit mu-hat with the force-side slope (false: only with the scan's).
+  bool fit_force_slope = true;
 
   bool IsValid(std::string* why) const;
 };

@@ -15,6 +15,11 @@
 namespace wearscar::fusion {
 
 // Everything that shapes one test's analysis, with the paper's defaults.
+enum class SlopeChoice { kForce, kScan, kBoth };
+
+// "force", "scan", "both"; false for anything else.
+bool ParseSlopeChoice(const std::string& name, SlopeChoice* choice);
+
 struct FuseOptions {
   AnalysisOptions analysis;
   scan::LevelOptions level;
@@ -27,6 +32,9 @@ struct FuseOptions {
   force::SlopeOptions scan_slope{
       force::DerivativeMethod::kSavitzkyGolay, 15, 2};
   VerdictOptions verdict;
+  // Which slope mu-hat is fitted with when a scan is given: the force
+  // side's k = (1/S) dP/dx, the scan's, or both (without a scan: force).
+  SlopeChoice slopes = SlopeChoice::kBoth;
   // LuGre beside the wear-scar fit (paper Fig. 17) on the detail cycle.
   bool fit_lugre = true;
   LugreOptions lugre;

@@ -1,5 +1,8 @@
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "commands.h"
 #include "common_options.h"
 #include "output.h"
@@ -28,7 +31,36 @@ void RunForce(ForceArgs a) {
              r.force.cycles.stroke_mm);
   for (const auto& w : record.metadata.warnings) fmt::print("  note: {}\n", w);
   PrintSummary(a.file, r);
-  if (a.out.empty()) return;
+  if (a.out.empty()) {
+    // A short per-cycle table: the first cycles, every n-th, the last ones.
+    const int n = static_cast<int>(r.force.cycles.cycles.size());
+    const int every = std::max(1, n / 10);
+    fmt::print("\n  {:>5} {:>8} {:>7} {:>8} {:>9} {:>9} {:>8}\n",
+               "cycle",
+               "mu_hat",
+               "J",
+               "mu_mean",
+               "mu_energy",
+               "P_range_N",
+               "QP_corr");
+    for (int c = 0; c < n; ++c) {
+      if (!(c < 3 || c >= n - 3 || c % every == 0)) continue;
+      const auto& f = r.force.fit_force[c];
+      const auto& cof = r.force.cof[c];
+      fmt::print(
+          "  {:>5} {:>8.4f} {:>7.3f} {:>8.4f} {:>9.4f} {:>9.3f} {:>8.2f}{}\n",
+          c,
+          f.converged ? f.mu_hat : std::nan(""),
+          f.converged ? f.cost : std::nan(""),
+          cof.mu_mean,
+          cof.mu_energy_g,
+          cof.p_range_n,
+          cof.qp_correlation,
+          c < r.force.running_in.cycles ? "  running-in" : "");
+    }
+    fmt::print("  (all cycles and more columns: --out DIR)\n");
+    return;
+  }
   const auto files = WriteTestResults(a.out, a.file, record, r, a.common.fuse);
   fmt::print("wrote {} files to {}/\n", files.size(), a.out);
 }

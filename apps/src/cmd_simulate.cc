@@ -21,6 +21,7 @@ struct SimulateArgs {
   std::string out = "simulated";
   int cycles = -1;
   double rate_hz = -1;
+  double amplitude_mm = -1, frequency_hz = -1;
   int scan_cols = -1, scan_rows = -1;
   double scan_pitch_mm = -1;
   bool no_elastic = false;
@@ -169,6 +170,8 @@ void RunSimulate(const SimulateArgs& a) {
   for (auto& o : cases) {
     if (a.cycles > 0) o.cycles = a.cycles;
     if (a.rate_hz > 0) o.sampling_rate_hz = a.rate_hz;
+    if (a.amplitude_mm > 0) o.amplitude_mm = a.amplitude_mm;
+    if (a.frequency_hz > 0) o.frequency_hz = a.frequency_hz;
     if (a.scan_cols > 0) o.scan_cols = a.scan_cols;
     if (a.scan_rows > 0) o.scan_rows = a.scan_rows;
     if (a.scan_pitch_mm > 0) o.scan_pitch_mm = a.scan_pitch_mm;
@@ -217,6 +220,13 @@ void AddSimulateCommand(CLI::App& app) {
   cmd->add_option("--cycles", args->cycles, "Cycles (default 600)");
   cmd->add_option(
       "--rate", args->rate_hz, "Sampling rate in Hz (default 2000)");
+  cmd->add_option("--amplitude",
+                  args->amplitude_mm,
+                  "Stroke amplitude A, mm: x = +-A (default 2.85)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option(
+         "--frequency", args->frequency_hz, "Drive frequency, Hz (default 1)")
+      ->check(CLI::PositiveNumber);
   cmd->add_option(
       "--scan-cols", args->scan_cols, "Scan width in pixels (default 1024)");
   cmd->add_option(

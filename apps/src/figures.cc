@@ -27,40 +27,39 @@ std::string Quote(const std::string& s) {
   return out + "'";
 }
 
-// Runs gnuplot on a script that draws every figure twice (PNG, SVG) in
-// `dir`. Returns an error message, empty on success.
+// Runs gnuplot on two scripts, one drawing every figure as PNG and one as
+// SVG, side by side (two processes). Returns an error message, empty on
+// success.
 std::string RunGnuplot(const std::string& dir,
                        const std::vector<Figure>& figures) {
-  std::string script =
-      "set datafile separator ','\nset datafile missing ''\nset grid\nset key "
-      "outside right "
-      "top\nset style data lines\n";
-  for (const Figure& f : figures) {
-    for (const char* term : {"png", "svg"}) {
+  const std::string preamble =
+      "set datafile separator ','\nset datafile missing ''\nset grid\nset "
+      "key outside right top\nset style data lines\n";
+  for (const char* term : {"png", "svg"}) {
+    std::string script = preamble;
+    for (const Figure& f : figures) {
       script += std::string(term) == "png"
                     ? "set terminal pngcairo size 960,560 enhanced font "
                       "'DejaVu Sans,10'\n"
                     : "set terminal svg size 960,560 enhanced font 'DejaVu "
-                      "Sans,10' background "
-                      "'white'\n";
+                      "Sans,10' background 'white'\n";
       script += fmt::format("set output {}\nset title {} noenhanced\n",
                             Quote(f.stem + "." + term),
                             Quote(f.title));
-      script += f.body + "\nunset output\nreset session\n";
-      script +=
-          "set datafile separator ','\nset datafile missing ''\nset grid\nset "
-          "key outside right "
-          "top\nset style data lines\n";
+      script += f.body + "\nunset output\nreset session\n" + preamble;
     }
+    WriteTextAtomically(
+        (fs::path(dir) / fmt::format("figures_{}.gp", term)).string(), script);
   }
-  const std::string path = (fs::path(dir) / "figures.gp").string();
-  WriteTextAtomically(path, script);
-  const std::string cmd =
-      fmt::format("cd {} && gnuplot figures.gp > figures.log 2>&1",
-                  Quote(fs::absolute(dir).string()));
+  const std::string cmd = fmt::format(
+      "cd {} && {{ gnuplot figures_png.gp > figures_png.log 2>&1 & p=$!; "
+      "gnuplot figures_svg.gp > figures_svg.log 2>&1; s=$?; wait $p && exit "
+      "$s; }}",
+      Quote(fs::absolute(dir).string()));
   const int status = std::system(cmd.c_str());
   if (status != 0) {
-    return fmt::format("gnuplot failed (see {}/figures.log)", dir);
+    return fmt::format(
+        "gnuplot failed (see {}/figures_png.log and figures_svg.log)", dir);
   }
   return "";
 }

@@ -618,6 +618,9 @@ std::vector<SimulationOptions> PaperCases(bool elastic_in_srlr) {
     }
     o.scan_flipped = (seed % 3) == 0;
     o.scan_angle_deg = -3.0 + 6.0 * static_cast<double>((seed * 7) % 11) / 10.0;
+    // The operator never centres the track exactly: -0.3 ... +0.3 mm.
+    o.scan_track_offset_mm =
+        -0.3 + 0.6 * static_cast<double>((seed * 5) % 7) / 6.0;
     cases.push_back(o);
   }
   return cases;

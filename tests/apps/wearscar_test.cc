@@ -123,6 +123,13 @@ TEST(Cli, ColumnsOptionMapsUnnamedColumnsAndRunningInIsReported) {
   EXPECT_EQ(bad.status, 2);
   EXPECT_NE(bad.output.find("expected time=, x=, q= or p="), std::string::npos)
       << bad.output;
+  // Without --out: a short per-cycle table on stdout.
+  const CommandResult table = Wearscar("force " + kData + "generic.csv");
+  EXPECT_EQ(table.status, 0);
+  EXPECT_NE(table.output.find("cycle   mu_hat       J  mu_mean mu_energy "
+                              "P_range_N  QP_corr"),
+            std::string::npos)
+      << table.output;
   const CommandResult ri =
       Wearscar("force " + kData + "generic.csv --running-in soon");
   EXPECT_EQ(ri.status, 2);
@@ -210,6 +217,31 @@ TEST(Cli, FuseSlopeChoiceFitsOnlyWhatIsAsked) {
   EXPECT_EQ(bad.status, 2);
   EXPECT_NE(bad.output.find("--slope scan needs --scan"), std::string::npos)
       << bad.output;
+}
+
+TEST(Cli, WithoutGnuplotTheNumbersStillAppearAndTheMessageSaysWhy) {
+  const std::string data = std::string(WEARSCAR_SAMPLES_DIR) + "/data/";
+  const std::string out = ::testing::TempDir() + "/cli-no-plotter";
+  std::filesystem::remove_all(out);
+  // An empty PATH: the shell finds no gnuplot.
+  const std::string cmd = "env PATH=/nonexistent " +
+                          std::string(WEARSCAR_BINARY) + " fuse --force " +
+                          data + "B-RT-R.force.csv --scan " + data +
+                          "B-RT-R.scan.gsf --no-lugre -o " + out + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  std::string output;
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0)
+    output.append(buf.data(), n);
+  const int st = pclose(pipe);
+  ASSERT_TRUE(WIFEXITED(st));
+  EXPECT_EQ(WEXITSTATUS(st), 0) << output;
+  EXPECT_NE(output.find("gnuplot was not found"), std::string::npos) << output;
+  EXPECT_TRUE(std::filesystem::exists(out + "/cycles.csv"));
+  EXPECT_TRUE(std::filesystem::exists(out + "/result.json"));
+  EXPECT_FALSE(std::filesystem::exists(out + "/fig13_mu_hat.png"));
 }
 
 TEST(Cli, FuseWithUnreadableScanExitsTwoNamingIt) {

@@ -1,7 +1,9 @@
 # All dependencies come from Debian 12 packages (scripts/install-deps).
 find_package(Eigen3 3.4 REQUIRED NO_MODULE)
 find_package(Ceres 2.1 REQUIRED)
-find_package(OpenCV 4.6 REQUIRED COMPONENTS core imgproc imgcodecs photo)
+# imgcodecs is not linked: it pulls ~140 libraries (GDAL, ...) into every
+# process; PNGs are written with libpng.
+find_package(OpenCV 4.6 REQUIRED COMPONENTS core imgproc photo)
 # Only components that do not pull VTK: Debian's PCL config fails otherwise.
 find_package(PCL 1.13 REQUIRED COMPONENTS common sample_consensus filters kdtree search octree)
 find_package(fmt REQUIRED)
@@ -10,6 +12,7 @@ find_package(CLI11 REQUIRED)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(LIBZIP REQUIRED IMPORTED_TARGET libzip)
 pkg_check_modules(ZSTD REQUIRED IMPORTED_TARGET libzstd)
+pkg_check_modules(LIBPNG REQUIRED IMPORTED_TARGET libpng)
 find_package(pugixml REQUIRED)
 
 # fast_float is header-only; Debian ships the header without a CMake config.

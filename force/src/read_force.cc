@@ -748,6 +748,31 @@ ForceRecord Read(LineSource& source,
       *std::max_element(std::begin(column), std::end(column)) <
       static_cast<int>(columns);
 
+  // One accepted row: time already on the joined clock, the other channels
+  // converted to N and mm here; runs of missing values are bounded.
+  auto store_row = [&](const double* values, long line_no) {
+    for (int ch = 0; ch < 4; ++ch) {
+      if (column[ch] < 0) continue;
+      const double x = ch == kTime ? values[ch] : values[ch] * scale[ch].factor;
+      if (std::isnan(x)) {
+        if (++nan_run[ch] > options.max_nan_run) {
+          throw ForceError(fmt::format(
+              "{}: line {}: more than {} consecutive missing values in '{}'; "
+              "expected isolated gaps at most",
+              name,
+              line_no,
+              options.max_nan_run,
+              layout.names[column[ch]]));
+        }
+      } else {
+        nan_run[ch] = 0;
+      }
+      store(ch, x);
+    }
+    ++total_rows;
+    ++rows_stored;
+  };
+
   auto handle_row = [&](std::string_view row, long line_no) {
     // Fast path for the ordinary row; anything unusual goes the careful way.
     if (fast_possible && pending_bad_rows == 0) {
@@ -767,27 +792,7 @@ ForceRecord Read(LineSource& source,
             v[kTime] = t;
           }
           if (step_column >= 0) previous_step = v[kStepSlot];
-          for (int ch = 0; ch < 4; ++ch) {
-            if (column[ch] < 0) continue;
-            const double x = ch == kTime ? v[ch] : v[ch] * scale[ch].factor;
-            if (std::isnan(x)) {
-              if (++nan_run[ch] > options.max_nan_run) {
-                throw ForceError(
-                    fmt::format("{}: line {}: more than {} consecutive missing "
-                                "values in '{}'; "
-                                "expected isolated gaps at most",
-                                name,
-                                line_no,
-                                options.max_nan_run,
-                                layout.names[column[ch]]));
-              }
-            } else {
-              nan_run[ch] = 0;
-            }
-            store(ch, x);
-          }
-          ++total_rows;
-          ++rows_stored;
+          store_row(v, line_no);
           return;
         }
       }
@@ -888,26 +893,7 @@ ForceRecord Read(LineSource& source,
       pending_bad_rows = 0;
       footer_rows = 0;
     }
-    for (int ch = 0; ch < 4; ++ch) {
-      if (column[ch] < 0) continue;
-      const double v = ch == kTime ? value[ch] : value[ch] * scale[ch].factor;
-      if (std::isnan(v)) {
-        if (++nan_run[ch] > options.max_nan_run) {
-          throw ForceError(fmt::format(
-              "{}: line {}: more than {} consecutive missing values in '{}'; "
-              "expected isolated gaps at most",
-              name,
-              line_no,
-              options.max_nan_run,
-              layout.names[column[ch]]));
-        }
-      } else {
-        nan_run[ch] = 0;
-      }
-      store(ch, v);
-    }
-    ++total_rows;
-    ++rows_stored;
+    store_row(value, line_no);
   };
 
   long line_no = 0;

@@ -136,13 +136,20 @@ Eigen::VectorXd DerivativeAlongX(
   const int p = options.polynomial_order;
   Eigen::MatrixXd a(2 * h + 1, p + 1);
   Eigen::VectorXd b(2 * h + 1);
+  if (signal.size() < 2 * h + 1) return d;
   for (Eigen::Index i = begin; i < end; ++i) {
-    if (i - h < 0 || i + h >= signal.size()) continue;
+    // The window is centred on i; where the signal ends it is NaN, or shifted
+    // inward on request (the polynomial's slope is still taken at x_i).
+    if (!options.shift_window_at_ends && (i - h < 0 || i + h >= signal.size()))
+      continue;
+    const Eigen::Index lo =
+        std::clamp<Eigen::Index>(i - h, 0, signal.size() - 1 - 2 * h);
+    const Eigen::Index hi = lo + 2 * h;
     // Scale x for conditioning; too little x spread means noise only.
-    const double scale = std::abs(x_mm[i + h] - x_mm[i - h]);
+    const double scale = std::abs(x_mm[hi] - x_mm[lo]);
     if (!(scale > 0) || scale < options.min_span_mm) continue;
     Eigen::Index rows = 0;
-    for (Eigen::Index j = i - h; j <= i + h; ++j) {
+    for (Eigen::Index j = lo; j <= hi; ++j) {
       if (!std::isfinite(signal[j]) || !std::isfinite(x_mm[j])) continue;
       const double u = (x_mm[j] - x_mm[i]) / scale;
       double pw = 1.0;

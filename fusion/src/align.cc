@@ -264,22 +264,51 @@ Eigen::VectorXd ScanHeightAtPlate(
 
 SlopeProfile ScanSlopeInPlate(const scan::WearProfile& sp,
                               const Alignment& a,
-                              const force::SlopeOptions& derivative) {
+                              const force::SlopeOptions& derivative,
+                              double stroke_min_mm,
+                              double stroke_max_mm) {
   force::SlopeOptions d = derivative;
-  d.min_span_mm = 0;  // s is uniform: no widening needed
-  const Eigen::VectorXd dhds =
-      force::DerivativeAlongX(sp.s_mm, sp.height_mm, 0, sp.s_mm.size(), d);
-  // x = flip (s - shift); dh/dx = flip dh/ds. Order by increasing x.
-  const Eigen::Index n = sp.s_mm.size();
-  SlopeProfile k;
-  k.x_mm.resize(n);
-  k.k.resize(n);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const Eigen::Index j = a.flipped ? n - 1 - i : i;
-    const double s = sp.s_mm[j];
-    k.x_mm[i] = a.flipped ? -(s - a.shift_mm) : s - a.shift_mm;
-    k.k[i] = a.flipped ? -dhds[j] : dhds[j];
+  d.min_span_mm = 0;              // s is uniform: no widening needed
+  d.shift_window_at_ends = true;  // only the path's own samples enter
+  // x = flip (s - shift); dh/dx = flip dh/ds.
+  auto plate_x = [&](double s) {
+    return a.flipped ? -(s - a.shift_mm) : s - a.shift_mm;
+  };
+  // Samples on the sliding path; s increases, so they are a run.
+  const Eigen::Index m = sp.s_mm.size();
+  auto on_path = [&](Eigen::Index i) {
+    const double x = plate_x(sp.s_mm[i]);
+    return x >= stroke_min_mm && x <= stroke_max_mm;
+  };
+  Eigen::Index lo = 0, hi = m;
+  while (lo < m && !on_path(lo)) ++lo;
+  while (hi > lo && !on_path(hi - 1)) --hi;
+  if (hi - lo < 2) return {};
+  const Eigen::Index n = hi - lo;
+  const Eigen::VectorXd dhds = force::DerivativeAlongX(
+      sp.s_mm.segment(lo, n), sp.height_mm.segment(lo, n), 0, n, d);
+  // In s order: the neighbour beyond each end of the path (when the scan
+  // has one) carries the end's slope, so every x of the stroke lies between
+  // two slopes; then order by increasing x.
+  std::vector<double> xs, ks;
+  xs.reserve(n + 2);
+  ks.reserve(n + 2);
+  auto add = [&](Eigen::Index i, double dh) {
+    xs.push_back(plate_x(sp.s_mm[i]));
+    ks.push_back(a.flipped ? -dh : dh);
+  };
+  if (lo > 0) add(lo - 1, dhds[0]);
+  for (Eigen::Index i = 0; i < n; ++i) add(lo + i, dhds[i]);
+  if (hi < m) add(hi, dhds[n - 1]);
+  if (a.flipped) {
+    std::reverse(xs.begin(), xs.end());
+    std::reverse(ks.begin(), ks.end());
   }
+  SlopeProfile k;
+  k.x_mm = Eigen::Map<const Eigen::VectorXd>(
+      xs.data(), static_cast<Eigen::Index>(xs.size()));
+  k.k = Eigen::Map<const Eigen::VectorXd>(ks.data(),
+                                          static_cast<Eigen::Index>(ks.size()));
   return k;
 }
 

@@ -1,6 +1,7 @@
 #include "wearscar/fusion/fuse.h"
 
 #include <cmath>
+#include <limits>
 
 #include "wearscar/fusion/forward_model.h"
 
@@ -120,7 +121,24 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
         options.analysis.friction.slope.spring_stiffness_n_per_mm,
         fpo);
     s.alignment = AlignProfiles(s.force_profile, s.profile, options.align);
-    s.slope = ScanSlopeInPlate(s.profile, s.alignment, options.scan_slope);
+    // The sphere's excursion over the complete cycles bounds the sliding
+    // path: the scan beyond it is the groove's end walls.
+    double stroke_min = -std::numeric_limits<double>::infinity();
+    double stroke_max = std::numeric_limits<double>::infinity();
+    if (nc > 0) {
+      const Eigen::Index b = result.force.cycles.cycles.front().forward.begin;
+      const Eigen::Index e = result.force.cycles.cycles.back().reverse.end;
+      stroke_min = std::numeric_limits<double>::infinity();
+      stroke_max = -stroke_min;
+      for (Eigen::Index i = b; i < e; ++i) {
+        const double x = record.x_mm[i];
+        if (!std::isfinite(x)) continue;  // isolated gaps are allowed
+        stroke_min = std::min(stroke_min, x);
+        stroke_max = std::max(stroke_max, x);
+      }
+    }
+    s.slope = ScanSlopeInPlate(
+        s.profile, s.alignment, options.scan_slope, stroke_min, stroke_max);
     if (options.slopes != SlopeChoice::kForce) {
       s.fit_scan = FitFrictionPerCycle(record,
                                        result.force.cycles,

@@ -189,6 +189,35 @@ TEST(Slope, RecoversKnownPathSlopeFromNormalForce) {
   }
 }
 
+TEST(Slope, SavitzkyGolayWindowShiftsInwardAtTheSignalEndsOnRequest) {
+  // A quadratic f = 0.3 x^2 - 0.1 x on uneven x: its slope 0.6 x - 0.1 is
+  // exact for an order-2 window, at the first and last samples too, where
+  // the window cannot be centred.
+  const int n = 40;
+  Eigen::VectorXd x(n), f(n);
+  for (int i = 0; i < n; ++i) {
+    x[i] = 0.05 * i + 0.01 * std::sin(1.7 * i);
+    f[i] = 0.3 * x[i] * x[i] - 0.1 * x[i];
+  }
+  SlopeOptions o;
+  o.method = DerivativeMethod::kSavitzkyGolay;
+  o.window = 9;
+  o.min_span_mm = 0;
+  // By default the ends, where the window cannot be centred, are NaN.
+  const Eigen::VectorXd centred = DerivativeAlongX(x, f, 0, n, o);
+  EXPECT_TRUE(std::isnan(centred[0]));
+  EXPECT_TRUE(std::isnan(centred[n - 1]));
+  EXPECT_NEAR(centred[20], 0.6 * x[20] - 0.1, 1e-9);
+  o.shift_window_at_ends = true;
+  const Eigen::VectorXd k = DerivativeAlongX(x, f, 0, n, o);
+  for (int i : {0, 1, 3, 4, 20, n - 4, n - 1}) {
+    EXPECT_NEAR(k[i], 0.6 * x[i] - 0.1, 1e-9) << i;
+  }
+  // Shorter than one window: nothing can be fitted.
+  const Eigen::VectorXd few = DerivativeAlongX(x.head(8), f.head(8), 0, 8, o);
+  EXPECT_TRUE(few.array().isNaN().all());
+}
+
 TEST(Slope, MovingAverageMatchesDefinition) {
   Eigen::VectorXd v(6);
   v << 1, 2, 3, 4, 5, 100;

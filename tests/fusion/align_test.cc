@@ -80,6 +80,43 @@ INSTANTIATE_TEST_SUITE_P(
         // Noisy with an invalid stretch.
         Case{-0.2, false, 1.2, -3.6, 3.6, 0.001, true}));
 
+TEST(Align, ScanSlopeStopsAtTheStrokeEnds) {
+  // The worn path rises at a constant slope 0.02 over the stroke +-2.85 mm;
+  // beyond it the groove ends in the sphere's shape (R 3.25 mm), a wall the
+  // sphere never climbs. The scan slope over the stroke must be 0.02 up to
+  // its ends; a window reaching into the walls would tilt it there.
+  const double stroke = 2.85, radius = 3.25, slope = 0.02;
+  scan::WearProfile sp;
+  sp.step_mm = 0.0074;
+  const int m = 1000;
+  sp.s_mm = Eigen::VectorXd::LinSpaced(m, -3.7, -3.7 + (m - 1) * sp.step_mm);
+  sp.height_mm.resize(m);
+  Alignment a;
+  a.shift_mm = 0.0123;
+  a.flipped = true;  // x = -(s - shift)
+  for (int i = 0; i < m; ++i) {
+    const double x = -(sp.s_mm[i] - a.shift_mm);
+    const double u = std::clamp(x, -stroke, stroke);
+    const double beyond = std::abs(x) - stroke;
+    sp.height_mm[i] =
+        -0.1 + slope * u +
+        (beyond > 0 ? radius - std::sqrt(radius * radius - beyond * beyond)
+                    : 0.0);
+  }
+  const force::SlopeOptions d{force::DerivativeMethod::kSavitzkyGolay, 15, 2};
+  const SlopeProfile k = ScanSlopeInPlate(sp, a, d, -stroke, stroke);
+  ASSERT_GT(k.x_mm.size(), 2);
+  EXPECT_LT(k.x_mm[0], -stroke);  // one sample beyond each end
+  EXPECT_GT(k.x_mm[k.x_mm.size() - 1], stroke);
+  EXPECT_GT(k.x_mm[1], -stroke);
+  for (double x : {-stroke, -stroke + 0.01, 0.0, stroke - 0.01, stroke}) {
+    EXPECT_NEAR(k.At(x), slope, 1e-4) << x;
+  }
+  // Without the stroke, the same window bends k at the ends.
+  const SlopeProfile whole = ScanSlopeInPlate(sp, a, d);
+  EXPECT_GT(std::abs(whole.At(stroke - 0.01) - slope), 5e-4);
+}
+
 TEST(Align, TooLittleOverlapIsAnError) {
   ForceProfile fp;
   fp.x_mm = Eigen::VectorXd::LinSpaced(100, -2.8, 2.8);
@@ -115,8 +152,7 @@ TEST_P(VerdictOnPaperCases, OnlyTheElasticCaseIsNotExplained) {
   EXPECT_EQ(r.scan->alignment.flipped, o.scan_flipped);
   if (r.verdict.explained) {
     // mu-hat within 0.002 (slope from P) and 0.004 (slope from the scan) of
-    // the truth over the compared cycles. The scan side carries a bias of
-    // about -0.002 on the deepest tracks (S-RT-R, S-RL-R, 0.2 mm).
+    // the truth over the compared cycles.
     double truth = 0;
     for (int c = r.mismatch.first_cycle; c <= r.mismatch.last_cycle; ++c) {
       truth += t.truth.mu_per_cycle[c];
@@ -178,7 +214,11 @@ TEST_P(FullSizeAccuracy, MuHatWithEitherSlopeAndAlignmentMatchTheTruth) {
     return v[v.size() / 2];
   };
   EXPECT_LE(median(ef), 0.002) << r.force.running_in.rule;
-  EXPECT_LE(median(es), 0.004) << r.force.running_in.rule;
+  // Target 0.004. At most 0.00045 on 11 cases since the scan slope stops at
+  // the stroke ends (S-RT-R was 0.0026 while the groove's end walls entered
+  // it); S-RL-R 0.0021, the final scan against a track that deepened after
+  // running-in (0.0002 over the last 20 cycles).
+  EXPECT_LE(median(es), 0.003) << r.force.running_in.rule;
   // Alignment: s = flip(x) + shift with s measured from the detected track
   // centre along the detected axis; the truth puts x = 0 at its centre.
   const auto& a = r.scan->alignment;

@@ -28,6 +28,10 @@ struct SlopeOptions {
   // distance, mm. 0 = the paper's fixed three-point stencil.
   double min_span_mm = 0.01;
   int max_half_width = 200;  // samples; wider than this gives NaN
+  // Savitzky-Golay only: where the signal ends, shift the window inward
+  // (the local polynomial's slope is still taken at the sample) instead of
+  // giving NaN. For a signal cut to a range whose outside must not enter.
+  bool shift_window_at_ends = false;
 
   bool IsValid(std::string* why) const;
 };
@@ -37,8 +41,9 @@ struct SlopeOptions {
 Eigen::VectorXd MovingAverage(const Eigen::Ref<const Eigen::VectorXd>& v,
                               int window);
 
-// d(signal)/dx over samples [begin, end) of a monotonic stretch of x. Samples
-// at the ends, where the stencil does not fit, are NaN.
+// d(signal)/dx over samples [begin, end) of a monotonic stretch of x. At the
+// ends of `signal`, where the stencil does not fit, the result is NaN (or,
+// with shift_window_at_ends, a Savitzky-Golay window shifted inward).
 Eigen::VectorXd DerivativeAlongX(
     const Eigen::Ref<const Eigen::VectorXd>& x_mm,
     const Eigen::Ref<const Eigen::VectorXd>& signal,

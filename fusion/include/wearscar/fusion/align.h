@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 #include <string>
 
 #include "wearscar/force/cycles.h"
@@ -70,9 +71,18 @@ Alignment AlignProfiles(const ForceProfile& force_profile,
 
 // Slope of the sliding path from the scan in plate coordinates,
 // k_scan(x) = dh/dx, with the chosen derivative (window in scan samples).
-SlopeProfile ScanSlopeInPlate(const scan::WearProfile& scan_profile,
-                              const Alignment& alignment,
-                              const force::SlopeOptions& derivative);
+// Only the scan over the stroke [stroke_min_mm, stroke_max_mm] (plate x, the
+// sphere centre's excursion) is differentiated, with Savitzky-Golay windows
+// shifted inward at its ends: the groove's end walls beyond the stroke,
+// which the sphere never climbs, would otherwise tilt k near the reversals
+// and bias mu-hat low (by 0.002 on a 0.2 mm deep track). The profile covers
+// the stroke; the scan sample just beyond each end repeats the end's slope.
+SlopeProfile ScanSlopeInPlate(
+    const scan::WearProfile& scan_profile,
+    const Alignment& alignment,
+    const force::SlopeOptions& derivative,
+    double stroke_min_mm = -std::numeric_limits<double>::infinity(),
+    double stroke_max_mm = std::numeric_limits<double>::infinity());
 
 // The scan profile resampled at plate coordinates x (NaN outside).
 Eigen::VectorXd ScanHeightAtPlate(

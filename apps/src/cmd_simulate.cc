@@ -208,6 +208,7 @@ void RunSimulate(const SimulateArgs& a) {
 
 void AddSimulateCommand(CLI::App& app) {
   auto args = std::make_shared<SimulateArgs>();
+  const samples::SimulationOptions defaults;  // the help shows its values
   auto* cmd = app.add_subcommand("simulate",
                                  "Run the virtual tribometer and profilometer: "
                                  "the paper's 12 cases (B|S x RT-R, "
@@ -217,23 +218,35 @@ void AddSimulateCommand(CLI::App& app) {
   cmd->add_flag("--all", args->all, "All 12 cases");
   cmd->add_option("-o,--out", args->out, "Output directory")
       ->capture_default_str();
-  cmd->add_option("--cycles", args->cycles, "Cycles (default 600)");
-  cmd->add_option(
-      "--rate", args->rate_hz, "Sampling rate in Hz (default 2000)");
+  cmd->add_option("--cycles",
+                  args->cycles,
+                  fmt::format("Cycles (default {})", defaults.cycles));
+  cmd->add_option("--rate",
+                  args->rate_hz,
+                  fmt::format("Sampling rate in Hz (default {})",
+                              defaults.sampling_rate_hz));
   cmd->add_option("--amplitude",
                   args->amplitude_mm,
-                  "Stroke amplitude A, mm: x = +-A (default 2.85)")
+                  fmt::format("Stroke amplitude A, mm: x = +-A (default {})",
+                              defaults.amplitude_mm))
       ->check(CLI::PositiveNumber);
   cmd->add_option(
-         "--frequency", args->frequency_hz, "Drive frequency, Hz (default 1)")
+         "--frequency",
+         args->frequency_hz,
+         fmt::format("Drive frequency, Hz (default {})", defaults.frequency_hz))
       ->check(CLI::PositiveNumber);
   cmd->add_option(
-      "--scan-cols", args->scan_cols, "Scan width in pixels (default 1024)");
+      "--scan-cols",
+      args->scan_cols,
+      fmt::format("Scan width in pixels (default {})", defaults.scan_cols));
   cmd->add_option(
-      "--scan-rows", args->scan_rows, "Scan height in pixels (default 768)");
-  cmd->add_option("--scan-pitch",
-                  args->scan_pitch_mm,
-                  "Scan pixel size, mm (default 0.007413)");
+      "--scan-rows",
+      args->scan_rows,
+      fmt::format("Scan height in pixels (default {})", defaults.scan_rows));
+  cmd->add_option(
+      "--scan-pitch",
+      args->scan_pitch_mm,
+      fmt::format("Scan pixel size, mm (default {})", defaults.scan_pitch_mm));
   cmd->add_flag(
       "--triangle", args->triangle, "Triangular drive instead of sine");
   cmd->add_flag(

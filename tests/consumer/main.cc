@@ -13,7 +13,8 @@ int main() {
   map.height_mm.resize(64, 96);
   for (int r = 0; r < 64; ++r)
     for (int c = 0; c < 96; ++c)
-      map.height_mm(r, c) = static_cast<float>(0.002 * c * 0.01 - 0.001 * r * 0.01);
+      map.height_mm(r, c) =
+          static_cast<float>(0.002 * c * 0.01 - 0.001 * r * 0.01);
   wearscar::scan::SyncValidity(&map);
   const auto level = wearscar::scan::LevelHeightMap(&map);
 
@@ -34,7 +35,9 @@ int main() {
     }
   }
   const auto fit = wearscar::fusion::FitMu(s);
-  std::printf("dz/dx %.5f, dz/dy %.5f; %s\n", level.dzdx(), level.dzdy(),
+  std::printf("dz/dx %.5f, dz/dy %.5f; %s\n",
+              level.dzdx(),
+              level.dzdy(),
               fit.BriefReport().c_str());
   const bool ok = std::abs(level.dzdx() - 0.002) < 1e-6 &&
                   std::abs(level.dzdy() + 0.001) < 1e-6 &&

@@ -77,8 +77,8 @@ struct SimulationOptions {
   int scan_cols = 1024;
   int scan_rows = 768;
   double scan_pitch_mm = 0.007413;  // Keyence VR-6000, low magnification
-  double scan_angle_deg = 2.0;  // track axis against the scan x axis
-  bool scan_flipped = false;    // scan s runs against plate x
+  double scan_angle_deg = 2.0;      // track axis against the scan x axis
+  bool scan_flipped = false;        // scan s runs against plate x
   double scan_track_offset_mm =
       0.15;                       // track centre from the field centre, along
   double scan_noise_mm = 0.0005;  // white instrument noise (sd)

@@ -5,12 +5,27 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <string>
+#include <vector>
 
 #include "wearscar/fusion/fuse.h"
 #include "wearscar/samples/virtual_tribometer.h"
 
 namespace wearscar::fusion {
 namespace {
+
+// The paper's 12 cases, for the parameterised suites below.
+std::vector<std::string> TwelveCases() {
+  std::vector<std::string> names;
+  for (const auto& o : samples::PaperCases()) names.push_back(o.name);
+  return names;
+}
+
+// "B-RT-R" -> "B_RT_R": a GoogleTest parameter name.
+std::string TestName(std::string case_name) {
+  std::replace(case_name.begin(), case_name.end(), '-', '_');
+  return case_name;
+}
 
 double Surface(double u) {
   return 0.03 * std::sin(2 * M_PI * u / 1.7) +
@@ -163,30 +178,14 @@ TEST_P(VerdictOnPaperCases, OnlyTheElasticCaseIsNotExplained) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Twelve,
-                         VerdictOnPaperCases,
-                         ::testing::Combine(::testing::Values("B-RT-R",
-                                                              "B-RT-T",
-                                                              "B-RL-R",
-                                                              "B-RL-L",
-                                                              "B-TL-T",
-                                                              "B-TL-L",
-                                                              "S-RT-R",
-                                                              "S-RT-T",
-                                                              "S-RL-R",
-                                                              "S-RL-L",
-                                                              "S-TL-T",
-                                                              "S-TL-L"),
-                                            ::testing::Bool()),
-                         [](const auto& param_info) {
-                           std::string n = std::get<0>(param_info.param);
-                           for (char& ch : n) {
-                             if (ch == '-') ch = '_';
-                           }
-                           return n + (std::get<1>(param_info.param)
-                                           ? "_elastic"
-                                           : "_no_elastic");
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    Twelve,
+    VerdictOnPaperCases,
+    ::testing::Combine(::testing::ValuesIn(TwelveCases()), ::testing::Bool()),
+    [](const auto& param_info) {
+      return TestName(std::get<0>(param_info.param)) +
+             (std::get<1>(param_info.param) ? "_elastic" : "_no_elastic");
+    });
 
 // The paper's 12 cases at full size (600 cycles at 2 kHz, 1024 x 768 scans),
 // no hidden effect and no elastic part: mu-hat after the detected running-in
@@ -236,22 +235,9 @@ TEST_P(FullSizeAccuracy, MuHatWithEitherSlopeAndAlignmentMatchTheTruth) {
 
 INSTANTIATE_TEST_SUITE_P(Twelve,
                          FullSizeAccuracy,
-                         ::testing::Values("B-RT-R",
-                                           "B-RT-T",
-                                           "B-RL-R",
-                                           "B-RL-L",
-                                           "B-TL-T",
-                                           "B-TL-L",
-                                           "S-RT-R",
-                                           "S-RT-T",
-                                           "S-RL-R",
-                                           "S-RL-L",
-                                           "S-TL-T",
-                                           "S-TL-L"),
+                         ::testing::ValuesIn(TwelveCases()),
                          [](const auto& param_info) {
-                           std::string n = param_info.param;
-                           std::replace(n.begin(), n.end(), '-', '_');
-                           return n;
+                           return TestName(param_info.param);
                          });
 
 }  // namespace

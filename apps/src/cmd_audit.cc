@@ -240,7 +240,10 @@ SummaryColumns() {
           {"mu_mean", {"comparison", "mu_mean", "mean"}},
           {"mu_energy", {"comparison", "mu_energy", "mean"}},
           {"J", {"comparison", "J_force", "mean"}},
+          {"J_noise_floor", {"comparison", "J_force_split", "noise_floor"}},
+          {"J_excess", {"comparison", "J_force_split", "excess"}},
           {"J_scan", {"comparison", "J_scan", "mean"}},
+          {"J_scan_excess", {"comparison", "J_scan_split", "excess"}},
           {"profile_correlation", {"comparison", "profile_correlation"}},
           {"amplitude_ratio", {"comparison", "amplitude_ratio"}},
           {"k_rms_difference", {"comparison", "k_rms_difference"}},
@@ -317,7 +320,8 @@ void RunAudit(AuditArgs a) {
                      r.mismatch.mu_force_minus_mean.sd,
                      r.mismatch.mu_force_minus_energy.mean,
                      r.mismatch.mu_force_minus_energy.sd};
-        if (!a.no_figures) sec.figures = DrawTestFigures(dir, s.name, r);
+        if (!a.no_figures)
+          sec.figures = DrawTestFigures(dir, s.name, r, a.common.fuse);
         if (a.diagnose) {
           // A diagnosis that cannot run is reported; the analysis stands.
           try {
@@ -404,11 +408,13 @@ void RunAudit(AuditArgs a) {
           "  FAILED   {}: {}\n", sec.name, sec.row["error"].get<std::string>());
     } else {
       fmt::print(
-          "  {:8} {}: mu-hat {:.4f}, J {:.3f}{}\n",
+          "  {:8} {}: mu-hat {:.4f}, J {:.3f} (noise floor {:.3f}){}\n",
           sec.flagged ? "FLAGGED" : "ok",
           sec.name,
           Dig(sec.row, {"comparison", "mu_hat_force", "mean"}).get<double>(),
           Dig(sec.row, {"comparison", "J_force", "mean"}).get<double>(),
+          Dig(sec.row, {"comparison", "J_force_split", "noise_floor"})
+              .get<double>(),
           sec.flagged ? " - " + sec.row["verdict"]["summary"].get<std::string>()
                       : "");
     }

@@ -40,7 +40,7 @@ void RunFuse(FuseArgs a) {
       WriteTestResults(a.out, name, record, r, a.common.fuse, a.write);
   fmt::print("wrote {} files to {}/\n", files.size(), a.out);
   if (!a.no_figures) {
-    const FigureSet figs = DrawTestFigures(a.out, name, r);
+    const FigureSet figs = DrawTestFigures(a.out, name, r, a.common.fuse);
     if (!figs.message.empty())
       fmt::print(stderr, "wearscar: {}\n", figs.message);
     fmt::print(

@@ -25,6 +25,8 @@ struct SimulateArgs {
   int scan_cols = -1, scan_rows = -1;
   double scan_pitch_mm = -1;
   bool no_elastic = false;
+  double noise = -1;             // scale of the calibrated sensor noise
+  double elastic_fraction = -1;  // S-RL-R-like elastic part, of the profile
   std::vector<std::string> effect_settings;  // name=value
   bool triangle = false;
   long long seed = -1;
@@ -103,6 +105,13 @@ nlohmann::json TruthJson(const samples::SimulationOptions& o,
       t.truth.mu_per_cycle.data() + t.truth.mu_per_cycle.size());
   j["explained_by_wear_scar"] = t.truth.explained_by_wear_scar;
   j["elastic_mm"] = o.elastic_mm;
+  j["elastic_fraction"] =
+      o.elastic_fraction >= 0 ? nlohmann::json(o.elastic_fraction) : nullptr;
+  j["noise"] = {{"scale", o.noise_scale},
+                {"p_noise_n", o.noise_scale * o.p_noise_n},
+                {"q_noise_n", o.noise_scale * o.q_noise_n},
+                {"p_resolution_n", o.p_resolution_n},
+                {"q_resolution_n", o.q_resolution_n}};
   j["spring_n_per_mm"] = o.spring_n_per_mm;
   j["amplitudes"] = {{"force_profile_sd_mm", t.truth.force_profile_sd_mm},
                      {"force_profile_range_mm", t.truth.force_profile_range_mm},
@@ -176,6 +185,8 @@ void RunSimulate(const SimulateArgs& a) {
     if (a.scan_rows > 0) o.scan_rows = a.scan_rows;
     if (a.scan_pitch_mm > 0) o.scan_pitch_mm = a.scan_pitch_mm;
     if (a.triangle) o.drive = samples::Drive::kTriangle;
+    if (a.noise >= 0) o.noise_scale = a.noise;
+    if (a.elastic_fraction >= 0) o.elastic_fraction = a.elastic_fraction;
     o.effects = effects;
     if (a.seed >= 0) o.seed = static_cast<std::uint64_t>(a.seed);
     std::string why;
@@ -253,6 +264,19 @@ void AddSimulateCommand(CLI::App& app) {
       "--no-elastic",
       args->no_elastic,
       "No elastic part in S-RL-R (every case explained by wear-scar)");
+  cmd->add_option("--noise",
+                  args->noise,
+                  fmt::format("Scale of the sensor noise; 1 = calibrated to "
+                              "the paper's J (P {} N, Q {} N sd on beech, "
+                              "more on spruce)",
+                              defaults.p_noise_n,
+                              defaults.q_noise_n))
+      ->check(CLI::Range(0.0, 1000.0));
+  cmd->add_option("--elastic",
+                  args->elastic_fraction,
+                  "Elastic part of the normal displacement as a fraction of "
+                  "the worn profile's sd (0.25 = 25%), in every case")
+      ->check(CLI::Range(0.0, 10.0));
   cmd->add_option("--seed",
                   args->seed,
                   "Random seed for every case (default: each case's own)")

@@ -36,7 +36,38 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
                   "Loading spring stiffness S, N/mm")
       ->capture_default_str()
       ->group("Method");
-  cmd->add_option("--window", s.window, "Smoothing window of P, samples")
+  cmd->add_option("--k-estimate",
+                  a->k_estimate,
+                  "Slope of P: ensemble (P(x) averaged over neighbouring "
+                  "cycles) | cycle (each cycle's own P, the paper)")
+      ->check(CLI::IsMember({"ensemble", "cycle"}))
+      ->capture_default_str()
+      ->group("Method");
+  cmd->add_option("--ensemble-cycles",
+                  o.analysis.friction.ensemble.cycles,
+                  "Cycles averaged for the ensemble slope (odd)")
+      ->capture_default_str()
+      ->group("Method");
+  cmd->add_option("--ensemble-span",
+                  o.analysis.friction.ensemble.span_mm,
+                  "Span of x of the ensemble slope's local fit, mm")
+      ->capture_default_str()
+      ->group("Method");
+  cmd->add_option("--window-ms",
+                  s.window_ms,
+                  "Smoothing window of P in time, ms (cycle estimate; 5 ms = "
+                  "the paper's 10 samples at 2 kHz)")
+      ->capture_default_str()
+      ->group("Method");
+  cmd->add_option("--window",
+                  s.window,
+                  "Smoothing window of P in samples instead of --window-ms "
+                  "(the paper: 10)")
+      ->group("Method");
+  cmd->add_option("--difference-ms",
+                  s.half_span_ms,
+                  "Half span of the central difference, ms (0.5 ms = the "
+                  "paper's Eq. 5 at 2 kHz)")
       ->capture_default_str()
       ->group("Method");
   cmd->add_option("--derivative",
@@ -68,14 +99,30 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
                   "Upper end of the mu search")
       ->capture_default_str()
       ->group("Method");
+  cmd->add_option("--verdict-cost",
+                  a->verdict_cost,
+                  "Verdict on J: excess (the part of J this test's noise "
+                  "does not explain, --max-excess) | paper (J itself, "
+                  "--max-cost)")
+      ->check(CLI::IsMember({"excess", "paper"}))
+      ->capture_default_str()
+      ->group("Verdict");
+  cmd->add_option("--max-excess",
+                  o.verdict.max_cost_excess,
+                  "Verdict: largest J above its noise floor (lower end of "
+                  "its 95% interval)")
+      ->capture_default_str()
+      ->group("Verdict");
   cmd->add_option("--max-cost",
                   o.verdict.max_cost,
-                  "Verdict: largest J after running-in")
+                  "Verdict with --verdict-cost paper: largest J after "
+                  "running-in")
       ->capture_default_str()
       ->group("Verdict");
   cmd->add_option("--max-method-difference",
                   o.verdict.max_method_difference,
-                  "Verdict: largest |mu-hat - mu_energy|")
+                  "Verdict: largest |mu-hat - mu_energy| (its whole 95% "
+                  "interval beyond it)")
       ->capture_default_str()
       ->group("Verdict");
   cmd->add_flag("--no-lugre", a->no_lugre, "Skip the LuGre comparison")
@@ -104,7 +151,8 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
       ->group("Scan");
   cmd->add_option("--max-amplitude-ratio",
                   o.verdict.max_amplitude_ratio,
-                  "Verdict: largest std(P/S) / std(scan profile)")
+                  "Verdict: largest std(P/S) / std(scan profile) (lower end "
+                  "of its 95% interval)")
       ->capture_default_str()
       ->group("Verdict");
   cmd->add_option("--min-correlation",
@@ -177,6 +225,16 @@ void FinaliseCommonOptions(CommonArgs* a) {
     throw UsageError(
         fmt::format("--scan-derivative '{}': expected savgol or central",
                     a->scan_derivative));
+  }
+  if (!fusion::ParseKEstimate(a->k_estimate,
+                              &a->fuse.analysis.friction.k_estimate)) {
+    throw UsageError(fmt::format(
+        "--k-estimate '{}': expected ensemble or cycle", a->k_estimate));
+  }
+  if (!fusion::ParseCostCriterion(a->verdict_cost,
+                                  &a->fuse.verdict.cost_criterion)) {
+    throw UsageError(fmt::format(
+        "--verdict-cost '{}': expected excess or paper", a->verdict_cost));
   }
   if (!fusion::ParseSlopeChoice(a->slope, &a->fuse.slopes)) {
     throw UsageError(

@@ -18,6 +18,8 @@ struct CommonArgs {
   std::string scan_derivative = "savgol";
   bool no_lugre = false;
   std::string running_in = "auto";
+  std::string k_estimate = "ensemble";  // ensemble | cycle
+  std::string verdict_cost = "excess";  // excess | paper
   std::string slope = "both";  // force | scan | both  // or a number of cycles
   std::string columns;         // time=NAME,x=NAME,q=NAME,p=NAME (names or #N)
 };

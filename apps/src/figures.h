@@ -21,7 +21,8 @@ bool PlotterAvailable(std::string* why);
 
 FigureSet DrawTestFigures(const std::string& dir,
                           const std::string& name,
-                          const fusion::TestResult& result);
+                          const fusion::TestResult& result,
+                          const fusion::FuseOptions& options);
 
 // Figures across specimens (Figs. 13-16 for a batch) into `dir`.
 struct SpecimenSeries {

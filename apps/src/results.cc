@@ -2,11 +2,26 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 
 #include "output.h"
 #include "wearscar/fusion/forward_model.h"
+
+// A broken invariant of the program itself (not of its input).
+#define WEARSCAR_APP_CHECK(condition)         \
+  do {                                        \
+    if (!(condition)) {                       \
+      fmt::print(stderr,                      \
+                 "{}:{}: check failed: {}\n", \
+                 __FILE__,                    \
+                 __LINE__,                    \
+                 #condition);                 \
+      std::abort();                           \
+    }                                         \
+  } while (false)
 
 namespace wearscar::app {
 namespace {
@@ -17,11 +32,49 @@ nlohmann::json Stat(const fusion::Statistic& s) {
 
 double Nan() { return std::nan(""); }
 
+nlohmann::json Split(const fusion::CostSplit& s) {
+  return {{"J", s.cost},
+          {"noise_floor", s.floor},
+          {"excess", s.excess},
+          {"excess_interval", {s.excess_low, s.excess_high}},
+          {"cycles", s.cycles},
+          {"note",
+           "J^2 = floor^2 + excess^2 per direction; the floor is what "
+           "this test's measurement noise explains, the excess what "
+           "repeats at the same x from cycle to cycle"}};
+}
+
+nlohmann::json Range(const fusion::Interval& i) {
+  return {{"mean", i.mean},
+          {"interval", {i.low, i.high}},
+          {"count", i.count},
+          {"batches", i.batches}};
+}
+
 std::string Path(const std::string& dir, const char* file) {
   return (std::filesystem::path(dir) / file).string();
 }
 
 }  // namespace
+
+const std::vector<std::string>& CycleColumns() {
+  static const std::vector<std::string> kColumns = {
+      "cycle",          "mu_hat_force", "J_force",        "J_force_floor",
+      "J_force_excess", "mu_hat_scan",  "J_scan",         "J_scan_floor",
+      "J_scan_excess",  "samples",      "mu_mean",        "mu_energy_max",
+      "mu_energy_g",    "E_d_Nmm",      "delta_max_mm",   "delta_g_mm",
+      "P_mean_N",       "Q_max_N",      "Q_min_N",        "P_max_N",
+      "P_min_N",        "P_range_N",    "QP_correlation", "running_in",
+      "slip_fallback"};
+  return kColumns;
+}
+
+int CycleColumn(const std::string& name) {
+  const auto& c = CycleColumns();
+  const auto it = std::find(c.begin(), c.end(), name);
+  WEARSCAR_APP_CHECK(it != c.end());
+  return static_cast<int>(it - c.begin()) + 1;
+}
 
 nlohmann::json ResultJson(const std::string& name,
                           const force::ForceRecord& record,
@@ -38,10 +91,20 @@ nlohmann::json ResultJson(const std::string& name,
   j["slip_fallback_half_cycles"] = r.force.slip_fallbacks;
   j["options"] = {
       {"spring_n_per_mm", o.analysis.friction.slope.spring_stiffness_n_per_mm},
+      {"k_estimate", fusion::KEstimateName(o.analysis.friction.k_estimate)},
+      {"ensemble_cycles", o.analysis.friction.ensemble.cycles},
+      {"ensemble_bin_mm", o.analysis.friction.ensemble.bin_mm},
+      {"ensemble_span_mm", o.analysis.friction.ensemble.span_mm},
       {"derivative",
        force::DerivativeMethodName(o.analysis.friction.slope.method)},
-      {"window_samples", o.analysis.friction.slope.window},
+      {"window_samples",
+       o.analysis.friction.slope.ForSamplingRate(fusion::SamplingRateOf(record))
+           .window},
+      {"window_ms", o.analysis.friction.slope.window_ms},
+      {"difference_half_span_ms", o.analysis.friction.slope.half_span_ms},
       {"min_span_mm", o.analysis.friction.slope.min_span_mm},
+      {"noise_template_cycles",
+       o.analysis.friction.repeatability.template_cycles},
       {"running_in_cycles",
        o.analysis.running_in_cycles < 0
            ? nlohmann::json("auto")
@@ -49,6 +112,8 @@ nlohmann::json ResultJson(const std::string& name,
       {"running_in_tolerance", o.analysis.running_in_tolerance},
       {"mu_interval",
        {o.analysis.friction.fit.mu_min, o.analysis.friction.fit.mu_max}},
+      {"verdict_cost", fusion::CostCriterionName(o.verdict.cost_criterion)},
+      {"max_excess", o.verdict.max_cost_excess},
       {"max_cost", o.verdict.max_cost},
       {"max_amplitude_ratio", o.verdict.max_amplitude_ratio},
       {"min_correlation", o.verdict.min_correlation},
@@ -59,6 +124,9 @@ nlohmann::json ResultJson(const std::string& name,
       {"tolerance", r.force.running_in.tolerance},
       {"steady_slope_per_cycle", r.force.running_in.steady_slope},
       {"rule", r.force.running_in.rule}};
+  j["slope_estimate"] = r.force.slope_estimate;
+  j["k_rms"] = {{"repeatable", r.force.k_signal_rms},
+                {"noise", r.force.k_noise_rms}};
   j["after_running_in"] = {{"mu_hat", Stat(r.force.mu_hat)},
                            {"J", Stat(r.force.cost)},
                            {"mu_mean", Stat(r.force.mu_mean)},
@@ -71,11 +139,16 @@ nlohmann::json ResultJson(const std::string& name,
                      {"mu_mean", Stat(m.mu_mean)},
                      {"mu_energy", Stat(m.mu_energy)},
                      {"mu_hat_minus_mu_mean", Stat(m.mu_force_minus_mean)},
-                     {"mu_hat_minus_mu_energy", Stat(m.mu_force_minus_energy)}};
+                     {"mu_hat_minus_mu_energy", Stat(m.mu_force_minus_energy)},
+                     {"J_force_split", Split(m.split_force)},
+                     {"method_difference", Range(m.method_difference)}};
   if (r.scan) {
     const auto& s = *r.scan;
     j["comparison"]["mu_hat_scan"] = Stat(m.mu_scan);
     j["comparison"]["J_scan"] = Stat(m.cost_scan);
+    j["comparison"]["J_scan_split"] = Split(m.split_scan);
+    j["comparison"]["amplitude_ratio_interval"] = {m.amplitude_ratio_low,
+                                                   m.amplitude_ratio_high};
     j["comparison"]["mu_hat_force_minus_scan"] = m.mu_force_minus_scan;
     j["comparison"]["k_rms_difference"] = m.k_rms_difference;
     j["comparison"]["profile_correlation"] = m.correlation;
@@ -128,7 +201,9 @@ nlohmann::json ResultJson(const std::string& name,
   j["verdict"] = {{"explained", r.verdict.explained},
                   {"summary", r.verdict.Summary()},
                   {"reasons", r.verdict.reasons}};
-  j["warnings"] = record.metadata.warnings;
+  std::vector<std::string> warnings = record.metadata.warnings;
+  warnings.insert(warnings.end(), r.warnings.begin(), r.warnings.end());
+  j["warnings"] = warnings;
   return j;
 }
 
@@ -149,13 +224,7 @@ std::vector<std::string> WriteTestResults(const std::string& dir,
   const int n = static_cast<int>(cycles.size());
   // Per cycle.
   Table t;
-  t.columns = {"cycle",          "mu_hat_force",  "J_force",
-               "mu_hat_scan",    "J_scan",        "samples",
-               "mu_mean",        "mu_energy_max", "mu_energy_g",
-               "E_d_Nmm",        "delta_max_mm",  "delta_g_mm",
-               "P_mean_N",       "Q_max_N",       "Q_min_N",
-               "P_max_N",        "P_min_N",       "P_range_N",
-               "QP_correlation", "running_in",    "slip_fallback"};
+  t.columns = CycleColumns();
   for (int c = 0; c < n; ++c) {
     const auto& f = r.force.fit_force[c];
     const auto& cof = r.force.cof[c];
@@ -163,8 +232,12 @@ std::vector<std::string> WriteTestResults(const std::string& dir,
     t.rows.push_back({static_cast<double>(c),
                       f.converged ? f.mu_hat : Nan(),
                       f.converged ? f.cost : Nan(),
+                      f.converged ? f.cost_floor : Nan(),
+                      f.converged ? f.cost_excess : Nan(),
                       s && s->converged ? s->mu_hat : Nan(),
                       s && s->converged ? s->cost : Nan(),
+                      s && s->converged ? s->cost_floor : Nan(),
+                      s && s->converged ? s->cost_excess : Nan(),
                       static_cast<double>(f.samples),
                       cof.mu_mean,
                       cof.mu_energy_max,
@@ -206,8 +279,8 @@ std::vector<std::string> WriteTestResults(const std::string& dir,
   const int dc =
       w.detail_cycle >= 0 && w.detail_cycle < n ? w.detail_cycle : n - 1;
   const auto& fopt = o.analysis.friction;
-  const fusion::CycleSamples kf = fusion::GatherCycle(
-      record, cycles[dc], fusion::SlopeSource::kForce, fopt);
+  const fusion::ForceSlopes force_slopes(record, r.force.cycles, fopt, dc, dc);
+  const fusion::CycleSamples kf = force_slopes.Gather(dc);
   const double mu_f = r.force.fit_force[dc].mu_hat;
   const double mu_s = r.scan ? r.scan->fit_scan[dc].mu_hat : Nan();
   Table d;
@@ -296,25 +369,31 @@ std::vector<std::string> WriteTestResults(const std::string& dir,
     const auto& lg = *r.lugre;
     Table lt;
     lt.columns = {"time_s", "x_mm", "Q_N", "Q_lugre_N", "Q_wearscar_N"};
+    // The wear-scar model at the gross-slip samples of the detail cycle
+    // (detail.csv's k). The gathered samples keep the record's order, so
+    // one pointer per direction walks them alongside.
     const auto& c = cycles[dc];
-    const Eigen::VectorXd k = force::SlopeFromNormalForce(record.x_mm,
-                                                          record.normal_n,
-                                                          c.forward.begin,
-                                                          c.reverse.end,
-                                                          fopt.slope);
+    Eigen::Index next[2] = {0, 0};
+    auto model_at = [&](Eigen::Index src) {
+      const bool forward = src < c.forward.end;
+      const force::HalfCycle& h = forward ? c.forward : c.reverse;
+      if (src < h.slip_begin || src >= h.slip_end) return Nan();
+      const fusion::SlipSamples& s = forward ? kf.forward : kf.reverse;
+      Eigen::Index& j = next[forward ? 0 : 1];
+      if (j < s.x_mm.size() && s.x_mm[j] == record.x_mm[src] &&
+          s.p_n[j] == record.normal_n[src]) {
+        ++j;
+        return fusion::WearScarTangentialForce(
+            s.p_n[j - 1], s.k[j - 1], mu_f, s.direction);
+      }
+      return Nan();  // a sample the fit did not use (no finite k)
+    };
     for (Eigen::Index i = 0; i < lg.time_s.size(); ++i) {
-      const Eigen::Index src = c.forward.begin + i;
-      const force::HalfCycle& h = src < c.forward.end ? c.forward : c.reverse;
-      const bool slip =
-          src >= h.slip_begin && src < h.slip_end && std::isfinite(k[i]);
-      lt.rows.push_back(
-          {lg.time_s[i],
-           lg.x_mm[i],
-           lg.q_measured_n[i],
-           lg.q_lugre_n[i],
-           slip ? fusion::WearScarTangentialForce(
-                      record.normal_n[src], k[i], mu_f, h.direction)
-                : Nan()});
+      lt.rows.push_back({lg.time_s[i],
+                         lg.x_mm[i],
+                         lg.q_measured_n[i],
+                         lg.q_lugre_n[i],
+                         model_at(c.forward.begin + i)});
     }
     write("lugre.csv", lt.ToCsv());
   }
@@ -331,19 +410,28 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
              m.last_cycle,
              r.force.running_in.rule);
   if (m.mu_force.count > 0) {
-    fmt::print("  mu-hat, k from P     {:.4f} +- {:.4f}   J {:.3f}\n",
-               m.mu_force.mean,
-               m.mu_force.sd,
-               m.cost_force.mean);
+    fmt::print(
+        "  mu-hat, k from P     {:.4f} +- {:.4f}   J {:.3f} (noise floor "
+        "{:.3f}, excess {:.3f})\n",
+        m.mu_force.mean,
+        m.mu_force.sd,
+        m.cost_force.mean,
+        m.split_force.floor,
+        m.split_force.excess);
+    fmt::print("    {}\n", r.force.slope_estimate);
   } else {
     fmt::print("  mu-hat, k from P     not fitted (--slope scan)\n");
   }
   if (m.has_scan) {
     if (m.mu_scan.count > 0) {
-      fmt::print("  mu-hat, k from scan  {:.4f} +- {:.4f}   J {:.3f}\n",
-                 m.mu_scan.mean,
-                 m.mu_scan.sd,
-                 m.cost_scan.mean);
+      fmt::print(
+          "  mu-hat, k from scan  {:.4f} +- {:.4f}   J {:.3f} (noise floor "
+          "{:.3f}, excess {:.3f})\n",
+          m.mu_scan.mean,
+          m.mu_scan.sd,
+          m.cost_scan.mean,
+          m.split_scan.floor,
+          m.split_scan.excess);
     } else {
       fmt::print("  mu-hat, k from scan  not fitted (--slope force)\n");
     }
@@ -365,6 +453,7 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
         "  LuGre, cycle {}: {}\n", r.detail_cycle, r.lugre->BriefReport());
   }
   fmt::print("  verdict: {}\n", r.verdict.Summary());
+  for (const auto& w : r.warnings) fmt::print("  warning: {}\n", w);
 }
 
 }  // namespace wearscar::app

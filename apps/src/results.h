@@ -17,6 +17,11 @@ struct WriteOptions {
       -1;  // cycle for slope, reconstruction and J(mu); -1 = last
 };
 
+// The columns of cycles.csv, and the 1-based index of one of them (for
+// the figures' gnuplot scripts; aborts on a name that is not a column).
+const std::vector<std::string>& CycleColumns();
+int CycleColumn(const std::string& name);
+
 // Summary of one test as JSON (also the row of the audit table).
 nlohmann::json ResultJson(const std::string& name,
                           const force::ForceRecord& record,

@@ -271,8 +271,14 @@ void FindGrossSlip(const ForceRecord& record,
   if (!options.IsValid(&why))
     throw ForceError("invalid gross-slip options: " + why);
   for (Cycle& c : cycles->cycles) {
-    FindHalfSlip(record.x_mm, record.tangential_n, options, &c.forward);
-    FindHalfSlip(record.x_mm, record.tangential_n, options, &c.reverse);
+    for (HalfCycle* half : {&c.forward, &c.reverse}) {
+      if (options.central_fraction_only) {
+        CentralFallback(record.x_mm, options.fallback_central_fraction, half);
+        half->slip_fallback = false;  // asked for, not a fallback
+      } else {
+        FindHalfSlip(record.x_mm, record.tangential_n, options, half);
+      }
+    }
   }
 }
 

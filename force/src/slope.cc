@@ -1,6 +1,9 @@
 #include "wearscar/force/slope.h"
 
+#include <fmt/format.h>
+
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 
 namespace wearscar::force {
@@ -32,10 +35,19 @@ bool SlopeOptions::IsValid(std::string* why) const {
     if (why) *why = m;
     return false;
   };
-  if (window < 1) return fail("window must be >= 1");
+  if (window < 0) return fail("window must be >= 0 (0 = from window_ms)");
+  if (half_width < 0)
+    return fail("half_width must be >= 0 (0 = from half_span_ms)");
+  if (window == 0 && !(window_ms > 0 && window_ms <= 1e4))
+    return fail("window_ms must be in (0, 10000]");
+  if (half_width == 0 && !(half_span_ms > 0 && half_span_ms <= 1e4))
+    return fail("half_span_ms must be in (0, 10000]");
+  if (window > 100000 || half_width > 100000)
+    return fail("window and half_width must be at most 100000 samples");
   if (method == DerivativeMethod::kSavitzkyGolay) {
-    if (window < 3) return fail("Savitzky-Golay window must be >= 3");
-    if (polynomial_order < 1 || polynomial_order >= window) {
+    if (window != 0 && window < 3)
+      return fail("Savitzky-Golay window must be >= 3");
+    if (polynomial_order < 1 || (window != 0 && polynomial_order >= window)) {
       return fail("polynomial_order must be in [1, window)");
     }
   }
@@ -45,6 +57,36 @@ bool SlopeOptions::IsValid(std::string* why) const {
     return fail("spring_stiffness_n_per_mm must be > 0");
   }
   return true;
+}
+
+SlopeOptions SlopeOptions::ForSamplingRate(double rate_hz) const {
+  SlopeOptions o = *this;
+  const bool rate_known = rate_hz > 0 && std::isfinite(rate_hz);
+  auto samples = [&](double ms, int paper) {
+    if (!rate_known) return paper;
+    const double n = std::round(ms * 1e-3 * rate_hz);
+    return static_cast<int>(std::clamp(n, 1.0, 100000.0));
+  };
+  if (o.window == 0) o.window = samples(window_ms, 10);
+  if (o.half_width == 0) o.half_width = samples(half_span_ms, 1);
+  if (o.method == DerivativeMethod::kSavitzkyGolay) {
+    o.window = std::max(o.window | 1, std::max(3, polynomial_order + 1) | 1);
+  }
+  return o;
+}
+
+std::string SlopeOptions::Describe() const {
+  if (method == DerivativeMethod::kSavitzkyGolay) {
+    return fmt::format(
+        "Savitzky-Golay, order {}, {} samples", polynomial_order, window);
+  }
+  return fmt::format(
+      "moving average {} samples, central difference +-{} sample{}{}",
+      window,
+      half_width,
+      half_width == 1 ? "" : "s",
+      min_span_mm > 0 ? fmt::format(" (widened to span {} mm)", min_span_mm)
+                      : std::string());
 }
 
 Eigen::VectorXd MovingAverage(const Eigen::Ref<const Eigen::VectorXd>& v,
@@ -93,30 +135,32 @@ Eigen::VectorXd DerivativeAlongX(
   Eigen::VectorXd d =
       Eigen::VectorXd::Constant(std::max<Eigen::Index>(n, 0), std::nan(""));
   if (n <= 0) return d;
+  const Eigen::Index h0 = std::max(1, options.half_width);
+  const int window = options.window > 0 ? options.window : 10;
   if (options.method == DerivativeMethod::kMovingAverageCentral) {
     // Smooth a padded stretch so the ends see the same filter as the middle.
-    const Eigen::Index pad = options.window;
+    const Eigen::Index pad = window + h0;
     const Eigen::Index lo = std::max<Eigen::Index>(0, begin - pad - 1);
     const Eigen::Index hi =
         std::min<Eigen::Index>(signal.size(), end + pad + 1);
     const Eigen::VectorXd smooth =
-        MovingAverage(signal.segment(lo, hi - lo), options.window);
-    const Eigen::Index wide = options.max_half_width;
+        MovingAverage(signal.segment(lo, hi - lo), window);
+    const Eigen::Index wide =
+        std::max<Eigen::Index>(options.max_half_width, h0);
     const Eigen::Index lo2 = std::max<Eigen::Index>(0, begin - wide - 1);
     const Eigen::Index hi2 =
         std::min<Eigen::Index>(signal.size(), end + wide + 1);
     const bool widen = options.min_span_mm > 0;
     const Eigen::VectorXd smooth_wide =
-        widen ? MovingAverage(signal.segment(lo2, hi2 - lo2), options.window)
-              : smooth;
+        widen ? MovingAverage(signal.segment(lo2, hi2 - lo2), window) : smooth;
     const Eigen::Index base = widen ? lo2 : lo;
     const Eigen::VectorXd& sm = widen ? smooth_wide : smooth;
     for (Eigen::Index i = begin; i < end; ++i) {
-      Eigen::Index m = 1;
+      Eigen::Index m = h0;
       if (widen) {
         while (i - m >= lo2 && i + m < hi2 &&
                !(std::abs(x_mm[i + m] - x_mm[i - m]) >= options.min_span_mm) &&
-               m < options.max_half_width) {
+               m < wide) {
           ++m;
         }
       }
@@ -132,7 +176,7 @@ Eigen::VectorXd DerivativeAlongX(
   }
   // Savitzky-Golay on the actual x: fit a polynomial of the given order in
   // (x - x_i) over the window and take its linear coefficient.
-  const Eigen::Index h = options.window / 2;
+  const Eigen::Index h = std::max(window, options.polynomial_order + 1) / 2;
   const int p = options.polynomial_order;
   Eigen::MatrixXd a(2 * h + 1, p + 1);
   Eigen::VectorXd b(2 * h + 1);

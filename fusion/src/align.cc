@@ -6,6 +6,7 @@
 #include <cmath>
 #include <vector>
 
+#include "student_t.h"
 #include "wearscar/fusion/forward_model.h"
 
 namespace wearscar::fusion {
@@ -80,6 +81,10 @@ bool AlignOptions::IsValid(std::string* why) const {
     if (why) *why = "min_overlap_fraction must be in (0, 1]";
     return false;
   }
+  if (ratio_blocks < 3 || ratio_blocks > 100) {
+    if (why) *why = "ratio_blocks must be in [3, 100]";
+    return false;
+  }
   return true;
 }
 
@@ -123,6 +128,8 @@ ForceProfile ComputeForceProfile(const force::ForceRecord& record,
                             Eigen::VectorXd::Zero(bins)};
   Eigen::VectorXd cnt[2] = {Eigen::VectorXd::Zero(bins),
                             Eigen::VectorXd::Zero(bins)};
+  Eigen::VectorXd sum2[2] = {Eigen::VectorXd::Zero(bins),
+                             Eigen::VectorXd::Zero(bins)};
   for (int c = p.first_cycle; c <= p.last_cycle; ++c) {
     for (const force::HalfCycle* h :
          {&cycles.cycles[c].forward, &cycles.cycles[c].reverse}) {
@@ -132,7 +139,9 @@ ForceProfile ComputeForceProfile(const force::ForceRecord& record,
         if (!std::isfinite(x) || !std::isfinite(pn)) continue;
         const Eigen::Index b = std::min<Eigen::Index>(
             bins - 1, static_cast<Eigen::Index>(std::floor((x - lo) / step)));
-        sum[d][b] += pn / spring_n_per_mm;
+        const double f = pn / spring_n_per_mm;
+        sum[d][b] += f;
+        sum2[d][b] += f * f;
         cnt[d][b] += 1;
       }
     }
@@ -140,7 +149,18 @@ ForceProfile ComputeForceProfile(const force::ForceRecord& record,
   p.forward_mm.resize(bins);
   p.reverse_mm.resize(bins);
   p.mean_mm.resize(bins);
+  double noise = 0;
+  int noise_bins = 0;
   for (Eigen::Index b = 0; b < bins; ++b) {
+    if (cnt[0][b] > 1 && cnt[1][b] > 1) {
+      double v = 0;
+      for (int d = 0; d < 2; ++d) {
+        const double n = cnt[d][b], m = sum[d][b] / n;
+        v += 0.25 * std::max(0.0, sum2[d][b] - n * m * m) / (n - 1) / n;
+      }
+      noise += v;
+      ++noise_bins;
+    }
     p.forward_mm[b] = cnt[0][b] > 0 ? sum[0][b] / cnt[0][b] : std::nan("");
     p.reverse_mm[b] = cnt[1][b] > 0 ? sum[1][b] / cnt[1][b] : std::nan("");
     const bool f = std::isfinite(p.forward_mm[b]),
@@ -150,6 +170,7 @@ ForceProfile ComputeForceProfile(const force::ForceRecord& record,
                    : r    ? p.reverse_mm[b]
                           : std::nan("");
   }
+  p.noise_variance_mm2 = noise_bins > 0 ? noise / noise_bins : 0.0;
   return p;
 }
 
@@ -222,24 +243,67 @@ Alignment AlignProfiles(const ForceProfile& fp,
   best.correlation_reverse =
       Correlate(fp.x_mm, fp.reverse_mm, h, s0, step, best_flip, shift).r;
   // Least-squares scale and amplitude ratio on the overlap.
-  double sf = 0, sh = 0, sff = 0, shh = 0, sfh = 0;
-  int n = 0;
+  std::vector<double> fs, hs;
   for (Eigen::Index j = 0; j < fp.x_mm.size(); ++j) {
     const double f = fp.mean_mm[j];
     const double hv = Interp(h, s0, step, best_flip * fp.x_mm[j] + shift);
     if (!std::isfinite(f) || !std::isfinite(hv)) continue;
-    sf += f;
-    sh += hv;
-    sff += f * f;
-    shh += hv * hv;
-    sfh += f * hv;
-    ++n;
+    fs.push_back(f);
+    hs.push_back(hv);
   }
-  const double vh = shh - sh * sh / n, vf = sff - sf * sf / n;
-  best.scale = vh > 0 ? (sfh - sf * sh / n) / vh : 0.0;
-  best.offset_mm = (sf - best.scale * sh) / n;
-  best.amplitude_ratio = vh > 0 ? std::sqrt(vf / vh) : 0.0;
+  const int n = static_cast<int>(fs.size());
+  // Sums over the overlap without the samples [skip_begin, skip_end).
+  auto moments = [&](int skip_begin, int skip_end) {
+    double sf = 0, sh = 0, sff = 0, shh = 0, sfh = 0;
+    int m = 0;
+    for (int j = 0; j < n; ++j) {
+      if (j >= skip_begin && j < skip_end) continue;
+      sf += fs[j];
+      sh += hs[j];
+      sff += fs[j] * fs[j];
+      shh += hs[j] * hs[j];
+      sfh += fs[j] * hs[j];
+      ++m;
+    }
+    struct {
+      double vf, vh, cfh, mf, mh;
+    } r{sff - sf * sf / m,
+        shh - sh * sh / m,
+        sfh - sf * sh / m,
+        sf / m,
+        sh / m};
+    return r;
+  };
+  // std(f) / std(h) with f's variance less its noise (sums over m points).
+  auto ratio = [&](double vf, double vh, int m) {
+    const double signal = std::max(0.0, vf - m * fp.noise_variance_mm2);
+    return vh > 0 ? std::sqrt(signal / vh) : 0.0;
+  };
+  const auto all = moments(0, 0);
+  best.scale = all.vh > 0 ? all.cfh / all.vh : 0.0;
+  best.offset_mm = all.mf - best.scale * all.mh;
+  best.amplitude_ratio = ratio(all.vf, all.vh, n);
   best.overlap_samples = n;
+  // 95% interval of the ratio: delete-a-block jackknife over contiguous
+  // stretches of the overlap (neighbouring points are correlated; each
+  // block holds several features of the track).
+  const int blocks = options.ratio_blocks;
+  if (n >= 4 * blocks && all.vh > 0) {
+    std::vector<double> r(blocks);
+    double mean = 0;
+    for (int b = 0; b < blocks; ++b) {
+      const int skip = (b + 1) * n / blocks - b * n / blocks;
+      const auto m = moments(b * n / blocks, (b + 1) * n / blocks);
+      r[b] = m.vh > 0 ? ratio(m.vf, m.vh, n - skip) : best.amplitude_ratio;
+      mean += r[b] / blocks;
+    }
+    double ss = 0;
+    for (double v : r) ss += (v - mean) * (v - mean);
+    const double se = std::sqrt((blocks - 1.0) / blocks * ss);
+    const double t = internal::StudentT975(blocks - 1);
+    best.amplitude_ratio_low = best.amplitude_ratio - t * se;
+    best.amplitude_ratio_high = best.amplitude_ratio + t * se;
+  }
   best.message =
       fmt::format("shift {:.3f} mm{}, r = {:.3f}, scale {:.2f}, {} points",
                   best.shift_mm,

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "student_t.h"
 #include "wearscar/fusion/forward_model.h"
 
 namespace wearscar::fusion {
@@ -38,6 +39,70 @@ Statistic Summarise(const std::vector<double>& values, int first) {
     s.sd = s.count > 1 ? std::sqrt(std::max(
                              0.0, (sum2 - sum * sum / s.count) / (s.count - 1)))
                        : 0.0;
+  }
+  return s;
+}
+
+Interval MeanInterval(const std::vector<double>& values,
+                      int first,
+                      int last,
+                      int batches) {
+  Interval r;
+  std::vector<double> v;
+  first = std::max(first, 0);
+  last = std::min(last, static_cast<int>(values.size()) - 1);
+  for (int i = first; i <= last; ++i) {
+    if (std::isfinite(values[i])) v.push_back(values[i]);
+  }
+  r.count = static_cast<int>(v.size());
+  if (v.empty()) return r;
+  double sum = 0;
+  for (double x : v) sum += x;
+  r.mean = r.low = r.high = sum / r.count;
+  const int b = std::min(batches, r.count / 2);
+  if (b < 3) return r;
+  std::vector<double> means(b, 0.0);
+  for (int j = 0; j < b; ++j) {
+    const int lo = j * r.count / b, hi = (j + 1) * r.count / b;
+    for (int i = lo; i < hi; ++i) means[j] += v[i];
+    means[j] /= hi - lo;
+  }
+  double ss = 0;
+  for (double m : means) ss += (m - r.mean) * (m - r.mean);
+  const double se = std::sqrt(ss / (b - 1) / b);
+  const double t = internal::StudentT975(b - 1);
+  r.low = r.mean - t * se;
+  r.high = r.mean + t * se;
+  r.batches = b;
+  return r;
+}
+
+CostSplit SplitCost(const std::vector<MuFit>& fits, int first, int last) {
+  CostSplit s;
+  std::vector<double> j, noise[2], repeat[2];
+  for (const MuFit& f : fits) {
+    const bool ok = f.converged;
+    j.push_back(ok ? f.cost : std::nan(""));
+    for (int d = 0; d < 2; ++d) {
+      repeat[d].push_back(ok ? f.repeat_sq[d] : std::nan(""));
+      noise[d].push_back(ok ? f.misfit_sq[d] - f.repeat_sq[d] : std::nan(""));
+    }
+  }
+  const Interval cost = MeanInterval(j, first, last);
+  s.cost = cost.mean;
+  s.cycles = cost.count;
+  if (cost.count == 0) return s;
+  s.floor = s.excess = s.excess_low = s.excess_high = 0.0;
+  for (int d = 0; d < 2; ++d) {
+    const Interval rep = MeanInterval(repeat[d], first, last);
+    const Interval noi = MeanInterval(noise[d], first, last);
+    auto root = [](double v) {
+      return std::isfinite(v) ? std::sqrt(std::max(0.0, v)) : std::nan("");
+    };
+    s.floor += root(noi.mean);
+    s.excess += root(rep.mean);
+    s.excess_low += root(rep.low);
+    s.excess_high += root(rep.high);
   }
   return s;
 }
@@ -120,8 +185,12 @@ ForceAnalysis AnalyzeForce(const force::ForceRecord& record,
   }
   a.cof = force::ComputeClassicCof(record, a.cycles);
   if (options.fit_force_slope) {
-    a.fit_force = FitFrictionPerCycle(
-        record, a.cycles, SlopeSource::kForce, options.friction);
+    FrictionFits fits =
+        FitFriction(record, a.cycles, SlopeSource::kForce, options.friction);
+    a.fit_force = std::move(fits.cycles);
+    a.slope_estimate = std::move(fits.slope);
+    a.k_signal_rms = fits.k_signal_rms;
+    a.k_noise_rms = fits.k_noise_rms;
   } else {
     a.fit_force.assign(a.cycles.cycles.size(), MuFit{});
     for (auto& f : a.fit_force) f.message = "not fitted (scan slope only)";

@@ -457,11 +457,21 @@ Diagnosis Diagnose(const force::ForceRecord& record,
   const double spring = friction.slope.spring_stiffness_n_per_mm;
   // Per cycle and direction: P and Q binned along x, smoothed and
   // differentiated once (k = (1/S) dP/dx, and (1/S) dQ/dx for crosstalk).
+  // The cycle and its neighbours (the ensemble of FrictionFitOptions): the
+  // track changes slowly, and at the paper's noise one cycle's slope is
+  // noisy enough that shrinking it (an apparent elastic compliance) would
+  // lower the cost on clean data.
+  const int half = friction.k_estimate == KEstimate::kEnsemble
+                       ? friction.ensemble.cycles / 2
+                       : 0;
   auto cycle_slopes = [&](int c, SlopeProfile kp[2], SlopeProfile kq[2]) {
+    std::vector<int> window;
+    for (int j = std::max(0, c - half); j <= std::min(n - 1, c + half); ++j)
+      window.push_back(j);
     const Eigen::MatrixXd pc =
-        BinProfile(record, cycles, {c}, record.normal_n, x_lo, bin, bins);
-    const Eigen::MatrixXd qc =
-        BinProfile(record, cycles, {c}, record.tangential_n, x_lo, bin, bins);
+        BinProfile(record, cycles, window, record.normal_n, x_lo, bin, bins);
+    const Eigen::MatrixXd qc = BinProfile(
+        record, cycles, window, record.tangential_n, x_lo, bin, bins);
     Eigen::VectorXd kpd[2], kqd[2];
     for (int row = 0; row < 2; ++row) {
       const Eigen::VectorXd pr = pc.row(row).transpose(),

@@ -31,16 +31,16 @@ void AppendSlip(const force::ForceRecord& r,
                 const force::HalfCycle& half,
                 SlopeSource source,
                 const FrictionFitOptions& o,
-                const SlopeProfile* scan_slope,
+                const SlopeProfile* profile,
                 SlipSamples* out) {
   out->direction = half.direction;
   const Eigen::Index b = half.slip_begin, e = half.slip_end;
   Eigen::VectorXd k;
-  if (source == SlopeSource::kForce) {
+  if (profile == nullptr) {
     k = force::SlopeFromNormalForce(r.x_mm, r.normal_n, b, e, o.slope);
   } else {
     k.resize(e - b);
-    for (Eigen::Index i = b; i < e; ++i) k[i - b] = scan_slope->At(r.x_mm[i]);
+    for (Eigen::Index i = b; i < e; ++i) k[i - b] = profile->At(r.x_mm[i]);
   }
   // Keep the samples where everything is finite.
   Eigen::Index n = 0;
@@ -61,6 +61,12 @@ void AppendSlip(const force::ForceRecord& r,
   out->p_n.conservativeResize(n);
   out->k.conservativeResize(n);
   out->x_mm.conservativeResize(n);
+}
+
+FrictionFitOptions Resolved(const FrictionFitOptions& o, double rate_hz) {
+  FrictionFitOptions r = o;
+  r.slope = o.slope.ForSamplingRate(rate_hz);
+  return r;
 }
 
 }  // namespace
@@ -84,7 +90,8 @@ bool FitMuOptions::IsValid(std::string* why) const {
 }
 
 bool FrictionFitOptions::IsValid(std::string* why) const {
-  return slope.IsValid(why) && fit.IsValid(why);
+  return slope.IsValid(why) && ensemble.IsValid(why) && fit.IsValid(why) &&
+         repeatability.IsValid(why);
 }
 
 std::string MuFit::BriefReport() const {
@@ -141,29 +148,211 @@ Eigen::VectorXd CostCurve(const CycleSamples& samples,
   return j;
 }
 
-double SlopeProfile::At(double x) const {
-  const Eigen::Index n = x_mm.size();
-  if (n < 2 || !(x >= x_mm[0] && x <= x_mm[n - 1])) return std::nan("");
-  const double* begin = x_mm.data();
-  const double* it = std::upper_bound(begin, begin + n, x);
-  Eigen::Index i = std::clamp<Eigen::Index>((it - begin) - 1, 0, n - 2);
-  const double t = (x - x_mm[i]) / (x_mm[i + 1] - x_mm[i]);
-  return (1 - t) * k[i] + t * k[i + 1];
+double SamplingRateOf(const force::ForceRecord& record) {
+  const double stated = record.metadata.sampling_rate_hz;
+  if (stated > 0 && std::isfinite(stated)) return stated;
+  const Eigen::Index n = record.time_s.size();
+  if (n < 2) return 0.0;
+  const double span = record.time_s[n - 1] - record.time_s[0];
+  return span > 0 && std::isfinite(span) ? (n - 1) / span : 0.0;
 }
 
 CycleSamples GatherCycle(const force::ForceRecord& record,
                          const force::Cycle& cycle,
                          SlopeSource source,
                          const FrictionFitOptions& options,
-                         const SlopeProfile* scan_slope) {
+                         const SlopeProfile* scan_slope,
+                         const std::array<SlopeProfile, 2>* force_slopes) {
   if (source == SlopeSource::kScan && scan_slope == nullptr) {
     throw FusionError(
         "slope from the scan requested but no scan slope profile given");
   }
+  const FrictionFitOptions o =
+      options.slope.window > 0 && options.slope.half_width > 0
+          ? options
+          : Resolved(options, SamplingRateOf(record));
+  const SlopeProfile* forward = nullptr;
+  const SlopeProfile* reverse = nullptr;
+  if (source == SlopeSource::kScan) {
+    forward = reverse = scan_slope;
+  } else if (force_slopes != nullptr) {
+    forward = &(*force_slopes)[0];
+    reverse = &(*force_slopes)[1];
+  }
   CycleSamples s;
-  AppendSlip(record, cycle.forward, source, options, scan_slope, &s.forward);
-  AppendSlip(record, cycle.reverse, source, options, scan_slope, &s.reverse);
+  AppendSlip(record, cycle.forward, source, o, forward, &s.forward);
+  AppendSlip(record, cycle.reverse, source, o, reverse, &s.reverse);
   return s;
+}
+
+ForceSlopes::ForceSlopes(const force::ForceRecord& record,
+                         const force::CycleSet& cycles,
+                         const FrictionFitOptions& options,
+                         int first,
+                         int last)
+    : record_(record),
+      cycles_(cycles),
+      options_(Resolved(options, SamplingRateOf(record))) {
+  const int n = static_cast<int>(cycles.cycles.size());
+  if (last < 0 || last >= n) last = n - 1;
+  first = std::clamp(first, 0, std::max(0, n - 1));
+  if (options_.k_estimate != KEstimate::kEnsemble || n == 0) return;
+  // A short test keeps room for the noise split's template (cycles whose
+  // ensembles share no sample): at most a third of the cycles, odd.
+  int& window = options_.ensemble.cycles;
+  window = std::max(1, std::min(window, ((n / 3) - 1) | 1));
+  // P of the cycles any ensemble in [first, last] reaches, binned along x.
+  const int half = options_.ensemble.cycles / 2;
+  const int lo = std::max(0, first - half), hi = std::min(n - 1, last + half);
+  normal_bins_.emplace(
+      PlateGrid::Covering(record, cycles, options_.ensemble.bin_mm), lo, hi);
+  for (int c = lo; c <= hi; ++c) {
+    for (const force::HalfCycle* h :
+         {&cycles.cycles[c].forward, &cycles.cycles[c].reverse}) {
+      for (Eigen::Index i = h->begin; i < h->end; ++i) {
+        normal_bins_->Add(c, h->direction, record.x_mm[i], record.normal_n[i]);
+      }
+    }
+  }
+}
+
+CycleSamples ForceSlopes::Gather(int c) const {
+  const force::Cycle& cycle = cycles_.cycles.at(static_cast<std::size_t>(c));
+  if (!normal_bins_) {
+    return GatherCycle(record_, cycle, SlopeSource::kForce, options_);
+  }
+  const std::array<SlopeProfile, 2> k =
+      EnsembleSlopeAt(*normal_bins_,
+                      c,
+                      options_.slope.spring_stiffness_n_per_mm,
+                      options_.ensemble);
+  return GatherCycle(
+      record_, cycle, SlopeSource::kForce, options_, nullptr, &k);
+}
+
+std::string ForceSlopes::Describe() const {
+  const double s = options_.slope.spring_stiffness_n_per_mm;
+  if (normal_bins_) {
+    return fmt::format(
+        "k = (1/S) dP/dx, S = {} N/mm, from P(x) averaged over {} "
+        "neighbouring cycles per direction in {} mm bins, local quadratic "
+        "over {} mm (ensemble)",
+        s,
+        options_.ensemble.cycles,
+        options_.ensemble.bin_mm,
+        options_.ensemble.span_mm);
+  }
+  return fmt::format(
+      "k = (1/S) dP/dx, S = {} N/mm, from each cycle's own P: {} "
+      "(cycle)",
+      s,
+      options_.slope.Describe());
+}
+
+int ForceSlopes::SharedCycles() const {
+  return normal_bins_ ? options_.ensemble.cycles : 1;
+}
+
+FrictionFits FitFriction(const force::ForceRecord& record,
+                         const force::CycleSet& cycles,
+                         SlopeSource source,
+                         const FrictionFitOptions& options,
+                         const SlopeProfile* scan_slope) {
+  std::string why;
+  if (!options.IsValid(&why)) throw FusionError("friction fit options: " + why);
+  if (source == SlopeSource::kScan && scan_slope == nullptr) {
+    throw FusionError(
+        "slope from the scan requested but no scan slope profile given");
+  }
+  const int n = static_cast<int>(cycles.cycles.size());
+  FrictionFits out;
+  out.cycles.reserve(static_cast<std::size_t>(n));
+  std::optional<ForceSlopes> force_slopes;
+  int shared = 1;
+  if (source == SlopeSource::kForce) {
+    force_slopes.emplace(record, cycles, options);
+    out.slope = force_slopes->Describe();
+    shared = force_slopes->SharedCycles();
+  } else {
+    out.slope = "k = dh/dx of the scan's centreline in plate coordinates";
+  }
+  const FrictionFitOptions resolved = Resolved(options, SamplingRateOf(record));
+  // The misfit Qm - Qw and k of every cycle, binned along x for the noise
+  // split (sums of squares per cycle and direction beside).
+  const PlateGrid grid =
+      PlateGrid::Covering(record, cycles, options.repeatability.bin_mm);
+  CycleBins misfit(grid, 0, n - 1), slope(grid, 0, n - 1);
+  std::vector<std::array<double, 2>> misfit_total(n), q_total(n), k_total(n);
+  for (int c = 0; c < n; ++c) {
+    const CycleSamples s = force_slopes ? force_slopes->Gather(c)
+                                        : GatherCycle(record,
+                                                      cycles.cycles[c],
+                                                      SlopeSource::kScan,
+                                                      resolved,
+                                                      scan_slope);
+    MuFit fit = FitMu(s, options.fit);
+    int d = 0;
+    for (const SlipSamples* h : {&s.forward, &s.reverse}) {
+      double rr = 0, qq = 0, kk = 0;
+      for (Eigen::Index i = 0; i < h->q_n.size(); ++i) {
+        const double r =
+            fit.converged
+                ? h->q_n[i] - WearScarTangentialForce(
+                                  h->p_n[i], h->k[i], fit.mu_hat, h->direction)
+                : std::nan("");
+        if (std::isfinite(r)) {
+          misfit.Add(c, h->direction, h->x_mm[i], r);
+          rr += r * r;
+        }
+        qq += h->q_n[i] * h->q_n[i];
+        slope.Add(c, h->direction, h->x_mm[i], h->k[i]);
+        kk += h->k[i] * h->k[i];
+      }
+      misfit_total[c][d] = rr;
+      q_total[c][d] = qq;
+      k_total[c][d] = kk;
+      ++d;
+    }
+    out.cycles.push_back(std::move(fit));
+  }
+  // The split: other cycles at the same x whose k shares no P sample with
+  // this cycle's form the template.
+  const auto split_r =
+      SplitRepeatable(misfit, misfit_total, shared, options.repeatability);
+  for (int c = 0; c < n; ++c) {
+    MuFit& f = out.cycles[c];
+    if (!f.converged) continue;
+    double floor = 0, excess = 0;
+    for (int d = 0; d < 2; ++d) {
+      const double qq = q_total[c][d];
+      const RepeatSplit& r = split_r[c][d];
+      f.misfit_sq[d] = qq > 0 ? r.total / qq : std::nan("");
+      f.repeat_sq[d] = qq > 0 ? r.repeat / qq : std::nan("");
+      floor += std::sqrt(std::max(0.0, f.misfit_sq[d] - f.repeat_sq[d]));
+      excess += std::sqrt(std::max(0.0, f.repeat_sq[d]));
+    }
+    f.cost_floor = floor;
+    f.cost_excess = excess;
+  }
+  if (source == SlopeSource::kForce) {
+    const auto split_k =
+        SplitRepeatable(slope, k_total, shared, options.repeatability);
+    double total = 0, repeat = 0;
+    long samples = 0;
+    for (const auto& cycle : split_k) {
+      for (const RepeatSplit& r : cycle) {
+        if (!std::isfinite(r.repeat)) continue;
+        total += r.total;
+        repeat += r.repeat;
+        samples += r.samples;
+      }
+    }
+    if (samples > 0) {
+      out.k_signal_rms = std::sqrt(std::max(0.0, repeat) / samples);
+      out.k_noise_rms = std::sqrt(std::max(0.0, total - repeat) / samples);
+    }
+  }
+  return out;
 }
 
 std::vector<MuFit> FitFrictionPerCycle(const force::ForceRecord& record,
@@ -171,15 +360,7 @@ std::vector<MuFit> FitFrictionPerCycle(const force::ForceRecord& record,
                                        SlopeSource source,
                                        const FrictionFitOptions& options,
                                        const SlopeProfile* scan_slope) {
-  std::string why;
-  if (!options.IsValid(&why)) throw FusionError("friction fit options: " + why);
-  std::vector<MuFit> fits;
-  fits.reserve(cycles.cycles.size());
-  for (const force::Cycle& c : cycles.cycles) {
-    fits.push_back(FitMu(GatherCycle(record, c, source, options, scan_slope),
-                         options.fit));
-  }
-  return fits;
+  return FitFriction(record, cycles, source, options, scan_slope).cycles;
 }
 
 }  // namespace wearscar::fusion

@@ -10,7 +10,8 @@ namespace wearscar::fusion {
 bool FuseOptions::IsValid(std::string* why) const {
   return analysis.IsValid(why) && level.IsValid(why) && track.IsValid(why) &&
          profile.IsValid(why) && force_profile.IsValid(why) &&
-         align.IsValid(why) && scan_slope.IsValid(why) && verdict.IsValid(why);
+         align.IsValid(why) && scan_slope.IsValid(why) &&
+         verdict.IsValid(why) && warnings.IsValid(why);
 }
 
 MismatchReport CompareSlopes(const force::ForceRecord& record,
@@ -41,11 +42,25 @@ MismatchReport CompareSlopes(const force::ForceRecord& record,
     return ff[c].converged ? ff[c].mu_hat - force.cof[c].mu_energy_g
                            : std::nan("");
   });
+  r.split_force = SplitCost(ff, first, last);
+  // mu-hat minus mu_energy with the slope the verdict judges.
+  auto method_difference = [&](const std::vector<MuFit>& fits) {
+    std::vector<double> d(fits.size(), std::nan(""));
+    for (int c = first; c <= last && c < static_cast<int>(fits.size()); ++c) {
+      if (fits[c].converged) d[c] = fits[c].mu_hat - force.cof[c].mu_energy_g;
+    }
+    return MeanInterval(d, first, last);
+  };
+  r.method_difference = method_difference(ff);
   if (scan == nullptr) return r;
   r.has_scan = true;
   r.correlation = scan->alignment.correlation;
   r.amplitude_ratio = scan->alignment.amplitude_ratio;
+  r.amplitude_ratio_low = scan->alignment.amplitude_ratio_low;
+  r.amplitude_ratio_high = scan->alignment.amplitude_ratio_high;
   const auto& fs = scan->fit_scan;
+  r.split_scan = SplitCost(fs, first, last);
+  if (r.cost_force.count == 0) r.method_difference = method_difference(fs);
   r.mu_scan = stat(
       [&](int c) { return fs[c].converged ? fs[c].mu_hat : std::nan(""); });
   r.cost_scan =
@@ -54,11 +69,10 @@ MismatchReport CompareSlopes(const force::ForceRecord& record,
   // RMS of k_force - k_scan over the gross-slip samples of the range.
   double sum2 = 0;
   long n = 0;
+  const ForceSlopes force_slopes(
+      record, force.cycles, options.analysis.friction, first, last);
   for (int c = first; c <= last; ++c) {
-    const CycleSamples kf = GatherCycle(record,
-                                        force.cycles.cycles[c],
-                                        SlopeSource::kForce,
-                                        options.analysis.friction);
+    const CycleSamples kf = force_slopes.Gather(c);
     for (const SlipSamples* s : {&kf.forward, &kf.reverse}) {
       for (Eigen::Index i = 0; i < s->k.size(); ++i) {
         const double ks = scan->slope.At(s->x_mm[i]);
@@ -166,6 +180,8 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
                                   last,
                                   options);
   result.verdict = Judge(result.mismatch, options.verdict);
+  result.warnings =
+      DataWarnings(result.force, result.mismatch, options.warnings);
   result.detail_cycle = options.detail_cycle >= 0 && options.detail_cycle < n
                             ? options.detail_cycle
                             : n - 1;

@@ -6,10 +6,35 @@
 
 namespace wearscar::fusion {
 
+const char* CostCriterionName(CostCriterion c) {
+  return c == CostCriterion::kPaperJ ? "paper" : "excess";
+}
+
+bool ParseCostCriterion(const std::string& text, CostCriterion* c) {
+  if (text == "excess" || text == "noise") {
+    *c = CostCriterion::kNoiseExcess;
+  } else if (text == "paper") {
+    *c = CostCriterion::kPaperJ;
+  } else {
+    return false;
+  }
+  return true;
+}
+
 bool VerdictOptions::IsValid(std::string* why) const {
-  if (!(max_cost > 0) || !(max_amplitude_ratio > 0) ||
+  if (!(max_cost > 0) || !(max_cost_excess > 0) || !(max_amplitude_ratio > 0) ||
       !(min_correlation > -1) || !(max_method_difference > 0)) {
     if (why) *why = "verdict thresholds must be positive (correlation > -1)";
+    return false;
+  }
+  return true;
+}
+
+bool DataWarningOptions::IsValid(std::string* why) const {
+  if (min_samples_per_stroke < 0 ||
+      !(max_fallback_fraction >= 0 && max_fallback_fraction <= 1) ||
+      !(elastic_ratio > 0)) {
+    if (why) *why = "data warning limits out of range";
     return false;
   }
   return true;
@@ -22,28 +47,60 @@ std::string Verdict::Summary() const {
   return s;
 }
 
+namespace {
+
+// "[0.012, 0.034]" or "" when there is no interval.
+std::string IntervalText(double low, double high, const char* format) {
+  if (!std::isfinite(low) || !std::isfinite(high)) return "";
+  return fmt::format(fmt::runtime(std::string(" (95% interval ") + format +
+                                  " to " + format + ")"),
+                     low,
+                     high);
+}
+
+}  // namespace
+
 Verdict Judge(const MismatchReport& r, const VerdictOptions& o) {
   Verdict v;
   // J and mu-hat from the force-side slope when it was fitted, else from
   // the scan's (--slope scan).
   const bool from_force = r.cost_force.count > 0;
   const Statistic& cost = from_force ? r.cost_force : r.cost_scan;
+  const CostSplit& split = from_force ? r.split_force : r.split_scan;
   const char* source = from_force ? "k from P" : "k from the scan";
-  if (cost.count > 0 && cost.mean > o.max_cost) {
-    v.reasons.push_back(
-        fmt::format("J = {:.3f} after running-in ({}) exceeds {:.2f}",
-                    cost.mean,
-                    source,
-                    o.max_cost));
+  if (o.cost_criterion == CostCriterion::kPaperJ) {
+    if (cost.count > 0 && cost.mean > o.max_cost) {
+      v.reasons.push_back(
+          fmt::format("J = {:.3f} after running-in ({}) exceeds {:.2f} (the "
+                      "paper's criterion; its noise floor is {:.3f})",
+                      cost.mean,
+                      source,
+                      o.max_cost,
+                      split.floor));
+    }
+  } else if (split.cycles > 0 && split.excess_low > o.max_cost_excess) {
+    v.reasons.push_back(fmt::format(
+        "J = {:.3f} ({}) exceeds what the measurement noise explains: noise "
+        "floor {:.3f}, excess {:.3f}{} above the limit {:.2f}",
+        split.cost,
+        source,
+        split.floor,
+        split.excess,
+        IntervalText(split.excess_low, split.excess_high, "{:.3f}"),
+        o.max_cost_excess));
   }
   if (r.has_scan) {
-    if (r.amplitude_ratio > o.max_amplitude_ratio) {
-      v.reasons.push_back(
-          fmt::format("the spring displacement varies {:.2f}x as much as the "
-                      "scanned profile (limit {:.2f}): "
-                      "part of the normal displacement is not worn geometry",
-                      r.amplitude_ratio,
-                      o.max_amplitude_ratio));
+    const bool has_interval = std::isfinite(r.amplitude_ratio_low);
+    const double ratio_low =
+        has_interval ? r.amplitude_ratio_low : r.amplitude_ratio;
+    if (ratio_low > o.max_amplitude_ratio) {
+      v.reasons.push_back(fmt::format(
+          "the spring displacement varies {:.2f}x as much as the scanned "
+          "profile{} (limit {:.2f}): part of the normal displacement is not "
+          "worn geometry",
+          r.amplitude_ratio,
+          IntervalText(r.amplitude_ratio_low, r.amplitude_ratio_high, "{:.2f}"),
+          o.max_amplitude_ratio));
     }
     if (r.correlation < o.min_correlation) {
       v.reasons.push_back(
@@ -53,20 +110,74 @@ Verdict Judge(const MismatchReport& r, const VerdictOptions& o) {
     }
   }
   const Statistic& mu = from_force ? r.mu_force : r.mu_scan;
-  const double difference = from_force ? r.mu_force_minus_energy.mean
-                                       : r.mu_scan.mean - r.mu_energy.mean;
-  if (mu.count > 0 && std::abs(difference) > o.max_method_difference) {
+  const Interval& d = r.method_difference;
+  // The whole interval beyond the limit (one value: the value itself).
+  const double nearest = d.low > 0 ? d.low : (d.high < 0 ? d.high : 0.0);
+  if (mu.count > 0 && d.count > 0 &&
+      std::abs(nearest) > o.max_method_difference) {
     v.reasons.push_back(
         fmt::format("the methods disagree: mu-hat {:.4f} ({}) vs energy "
-                    "method {:.4f} (limit {:.3f}; mean method {:.4f})",
+                    "method {:.4f}, difference {:+.4f}{} beyond +-{:.3f} "
+                    "(mean method {:.4f})",
                     mu.mean,
                     source,
                     r.mu_energy.mean,
+                    d.mean,
+                    IntervalText(d.low, d.high, "{:+.4f}"),
                     o.max_method_difference,
                     r.mu_mean.mean));
   }
   v.explained = v.reasons.empty();
   return v;
+}
+
+std::vector<std::string> DataWarnings(const ForceAnalysis& force,
+                                      const MismatchReport& r,
+                                      const DataWarningOptions& o) {
+  std::vector<std::string> w;
+  const auto& cycles = force.cycles.cycles;
+  if (!cycles.empty()) {
+    double samples = 0;
+    for (const auto& c : cycles) {
+      samples += static_cast<double>(c.forward.end - c.forward.begin) +
+                 static_cast<double>(c.reverse.end - c.reverse.begin);
+    }
+    samples /= 2.0 * static_cast<double>(cycles.size());
+    if (samples < o.min_samples_per_stroke) {
+      w.push_back(fmt::format(
+          "{:.0f} samples per stroke (fewer than {}): the slope of P is "
+          "taken over few points and smooths the track's features; sample "
+          "faster or use the ensemble estimate over more cycles",
+          samples,
+          o.min_samples_per_stroke));
+    }
+    const double halves = 2.0 * static_cast<double>(cycles.size());
+    if (force.slip_fallbacks > o.max_fallback_fraction * halves) {
+      w.push_back(fmt::format(
+          "gross slip was found by the central-fraction fallback on {} of {} "
+          "half cycles: the loops show no clear stick-to-slip transition",
+          force.slip_fallbacks,
+          static_cast<long>(halves)));
+    }
+  }
+  if (std::isfinite(force.k_noise_rms) && std::isfinite(force.k_signal_rms) &&
+      force.k_noise_rms > force.k_signal_rms) {
+    w.push_back(fmt::format(
+        "k from P is dominated by noise: its noise {:.4f} exceeds the part "
+        "that repeats from cycle to cycle {:.4f} (rms); mu-hat and J with it "
+        "rest on the noise split",
+        force.k_noise_rms,
+        force.k_signal_rms));
+  }
+  if (r.has_scan && r.amplitude_ratio > o.elastic_ratio) {
+    w.push_back(fmt::format(
+        "the spring displacement varies {:.2f}x as much as the scanned "
+        "profile: an elastic part of about {:.0f}% of the profile moves the "
+        "sphere without tilting the contact",
+        r.amplitude_ratio,
+        100 * (r.amplitude_ratio - 1)));
+  }
+  return w;
 }
 
 }  // namespace wearscar::fusion

@@ -213,6 +213,11 @@ bool SimulationOptions::IsValid(std::string* why) const {
     return fail("hook_length_mm must be > 0");
   }
   if (effects.q_lag_s < 0) return fail("q_lag_s must be >= 0");
+  if (!(noise_scale >= 0 && noise_scale <= 1000))
+    return fail("noise_scale must be in [0, 1000]");
+  if (!(q_noise_n >= 0 && p_noise_n >= 0 && x_noise_mm >= 0))
+    return fail("sensor noise must be >= 0");
+  if (!(elastic_fraction <= 10)) return fail("elastic_fraction must be <= 10");
   return true;
 }
 
@@ -295,6 +300,22 @@ SimulatedTest Simulate(const SimulationOptions& o) {
            0.3 * (n + 1) / o.cycles;
   };
   const double depth_scale = o.final_depth_mm / growth(o.cycles - 1);
+  // The elastic part's amplitude, given or relative to the final profile.
+  double elastic_sd_mm = o.elastic_mm;
+  if (o.elastic_fraction >= 0) {
+    double m = 0, m2 = 0;
+    int count = 0;
+    for (Eigen::Index i = 0; i < ng; ++i) {
+      if (std::abs(xg[i]) > o.amplitude_mm) continue;
+      m += wear[i];
+      m2 += wear[i] * wear[i];
+      ++count;
+    }
+    m /= count;
+    const double sd = std::sqrt(std::max(0.0, m2 / count - m * m));
+    elastic_sd_mm =
+        o.elastic_fraction * depth_scale * growth(o.cycles - 1) * sd;
+  }
   auto mu_of_cycle = [&](int n) {
     return o.mu_steady +
            (o.mu_initial - o.mu_steady) * std::exp(-n / o.running_in_cycles) +
@@ -341,7 +362,7 @@ SimulatedTest Simulate(const SimulationOptions& o) {
     // Sphere height f = -(worn depth + elastic penetration); the spring
     // turns it into P. The contact tilt k follows the worn (geometric) path
     // only: the elastic part moves the sphere, not the contact plane.
-    const double f = -(depth + o.elastic_mm * elastic_shape(x));
+    const double f = -(depth + elastic_sd_mm * elastic_shape(x));
     const double p = pc + o.spring_n_per_mm * f;
     const double k = -depth_amp * wear_slope(x);
     const double speed = std::abs(v);
@@ -388,10 +409,10 @@ SimulatedTest Simulate(const SimulationOptions& o) {
       qm = (1 - w) * q_true[j0] + w * q_true[j1];
     }
     const double pm = p_true[i] + fx.crosstalk_q_into_p * q_true[i];
-    rec.tangential_n[i] =
-        Quantise(qm + o.q_noise_n * rng.Normal(), o.q_resolution_n);
-    rec.normal_n[i] =
-        Quantise(pm + o.p_noise_n * rng.Normal(), o.p_resolution_n);
+    rec.tangential_n[i] = Quantise(
+        qm + o.noise_scale * o.q_noise_n * rng.Normal(), o.q_resolution_n);
+    rec.normal_n[i] = Quantise(pm + o.noise_scale * o.p_noise_n * rng.Normal(),
+                               o.p_resolution_n);
     rec.x_mm[i] += o.x_noise_mm * rng.Normal();
   }
   rec.metadata.source = "simulator:" + o.name;
@@ -413,7 +434,8 @@ SimulatedTest Simulate(const SimulationOptions& o) {
     truth.elastic_mm.resize(np);
     for (int i = 0; i < np; ++i) {
       truth.worn_depth_mm[i] = final_amp * wear_shape(truth.profile_x_mm[i]);
-      truth.elastic_mm[i] = o.elastic_mm * elastic_shape(truth.profile_x_mm[i]);
+      truth.elastic_mm[i] =
+          elastic_sd_mm * elastic_shape(truth.profile_x_mm[i]);
     }
   }
   {
@@ -421,7 +443,7 @@ SimulatedTest Simulate(const SimulationOptions& o) {
     // next to the waviness of the worn profile.
     const Eigen::ArrayXd d = truth.worn_depth_mm.array();
     const double sd = std::sqrt((d - d.mean()).square().mean());
-    truth.explained_by_wear_scar = o.elastic_mm < 0.5 * sd;
+    truth.explained_by_wear_scar = elastic_sd_mm < 0.5 * sd;
     const Eigen::ArrayXd f = d + truth.elastic_mm.array();
     auto sd_of = [](const Eigen::ArrayXd& v) {
       return std::sqrt((v - v.mean()).square().mean());
@@ -580,7 +602,7 @@ std::vector<SimulationOptions> PaperCases(bool elastic_in_srlr) {
       {"B-RL-L", false, 1.8, 0.12, 0.08, 0.115, 0.005, 0.0, 0.05},
       {"B-TL-T", false, 1.6, 0.11, 0.08, 0.116, 0.005, 0.0, 0.08},
       {"B-TL-L", false, 1.6, 0.10, 0.15, 0.108, 0.008, 0.0, 0.05},
-      {"S-RT-R", true, 3.0, 0.21, 0.18, 0.120, 0.030, 0.0, 0.04},
+      {"S-RT-R", true, 3.0, 0.21, 0.18, 0.100, 0.024, 0.0, 0.04},
       {"S-RT-T", false, 3.0, 0.14, 0.18, 0.130, 0.030, 0.0, 0.05},
       {"S-RL-R", true, 3.2, 0.18, 0.12, 0.090, 0.005, 0.03, 0.04},
       {"S-RL-L", false, 3.0, 0.16, 0.18, 0.140, 0.005, 0.0, 0.05},
@@ -606,6 +628,10 @@ std::vector<SimulationOptions> PaperCases(bool elastic_in_srlr) {
     o.elastic_mm =
         (std::string(p.name) == "S-RL-R" && !elastic_in_srlr) ? 0.0 : p.elastic;
     o.texture = p.texture;
+    if (spruce) {  // calibrated to the paper's J (SimulationOptions)
+      o.p_noise_n = 0.027;
+      o.q_noise_n = 0.008;
+    }
     // The cut plane decides the surface texture: end grain (RT) shows open
     // cells, no fibres; RL and TL planes hold fibres along L, so sliding in
     // R or T crosses them and sliding in L follows them.

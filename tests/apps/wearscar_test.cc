@@ -78,8 +78,10 @@ TEST(Cli, SimulateThenAnalyseRecoversMu) {
   std::string header;
   std::getline(csv, header);
   EXPECT_EQ(
-      header.rfind(
-          "cycle,mu_hat_force,J_force,mu_hat_scan,J_scan,samples,mu_mean", 0),
+      header.rfind("cycle,mu_hat_force,J_force,J_force_floor,J_force_excess,"
+                   "mu_hat_scan,J_scan,J_scan_floor,J_scan_excess,samples,"
+                   "mu_mean",
+                   0),
       0u)
       << header;
   int rows = 0;
@@ -90,6 +92,9 @@ TEST(Cli, SimulateThenAnalyseRecoversMu) {
   EXPECT_NE(f.output.find("verdict: explained by wear-scar interaction"),
             std::string::npos)
       << f.output;
+  // The summary says how k was estimated and what the noise explains.
+  EXPECT_NE(f.output.find("(ensemble)"), std::string::npos) << f.output;
+  EXPECT_NE(f.output.find("(noise floor "), std::string::npos) << f.output;
 }
 
 TEST(Cli, ColumnsOptionMapsUnnamedColumnsAndRunningInIsReported) {

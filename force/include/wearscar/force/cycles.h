@@ -71,6 +71,10 @@ struct GrossSlipOptions {
   double fallback_central_fraction = 0.8;
   // Samples dropped before the next reversal (0 = slip to the end).
   int end_margin_samples = 0;
+  // The paper's procedure: gross slip is the central fraction of every
+  // half's stroke (fallback_central_fraction), no stiffness criterion. Such
+  // windows are not counted as fallbacks.
+  bool central_fraction_only = false;
 
   bool IsValid(std::string* why) const;
 };

@@ -20,8 +20,18 @@ bool ParseDerivativeMethod(const std::string& text, DerivativeMethod* method);
 
 struct SlopeOptions {
   DerivativeMethod method = DerivativeMethod::kMovingAverageCentral;
-  int window = 10;           // samples: moving average, or SG window (odd)
-  int polynomial_order = 2;  // Savitzky-Golay only
+  // Smoothing span in samples: moving average, or SG window (odd). 0 = from
+  // window_ms and the record's sampling rate (ForSamplingRate).
+  int window = 0;
+  // Smoothing span in time, ms, used when window is 0: 5 ms is the paper's
+  // 10 samples at 2 kHz. In time, not samples, so that a record sampled at
+  // another rate is smoothed over the same stretch of the stroke.
+  double window_ms = 5.0;
+  // Central difference f[i+h] - f[i-h] over x[i+h] - x[i-h]: h in samples;
+  // 0 = from half_span_ms (0.5 ms: the paper's Eq. 5, h = 1, at 2 kHz).
+  int half_width = 0;
+  double half_span_ms = 0.5;
+  int polynomial_order = 2;                  // Savitzky-Golay only
   double spring_stiffness_n_per_mm = 10.19;  // S, paper Table 1
   // Near a reversal x barely moves and noise dominates a fixed stencil: the
   // difference (or SG window) widens until it spans at least this x
@@ -34,6 +44,12 @@ struct SlopeOptions {
   bool shift_window_at_ends = false;
 
   bool IsValid(std::string* why) const;
+  // The spans in samples for a record sampled at rate_hz (> 0): window and
+  // half_width kept when given, else from window_ms and half_span_ms, at
+  // least 1 sample (3, odd, for Savitzky-Golay).
+  SlopeOptions ForSamplingRate(double rate_hz) const;
+  // "moving average 10 samples (5.0 ms), central difference +-1 sample".
+  std::string Describe() const;
 };
 
 // Centred moving average over `window` samples (shrinking at the ends),
@@ -41,7 +57,9 @@ struct SlopeOptions {
 Eigen::VectorXd MovingAverage(const Eigen::Ref<const Eigen::VectorXd>& v,
                               int window);
 
-// d(signal)/dx over samples [begin, end) of a monotonic stretch of x. At the
+// d(signal)/dx over samples [begin, end) of a monotonic stretch of x, with
+// the spans in samples (options.window and half_width >= 1: see
+// ForSamplingRate; 0 is taken as the paper's 10 and 1). At the
 // ends of `signal`, where the stencil does not fit, the result is NaN (or,
 // with shift_window_at_ends, a Savitzky-Golay window shifted inward).
 Eigen::VectorXd DerivativeAlongX(

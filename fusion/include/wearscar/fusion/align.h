@@ -22,6 +22,9 @@ struct ForceProfile {
   Eigen::VectorXd
       mean_mm;  // mean of the two directions (either when one is NaN)
   int first_cycle = 0, last_cycle = 0;  // inclusive range used
+  // Variance of mean_mm that the noise leaves (the scatter of the samples
+  // in a bin over their count), averaged over the bins, mm^2.
+  double noise_variance_mm2 = 0.0;
 };
 
 struct ForceProfileOptions {
@@ -45,7 +48,13 @@ struct Alignment {
   double correlation_forward = 0.0, correlation_reverse = 0.0;
   double scale = 0.0;  // least squares f = scale * h + offset
   double offset_mm = 0.0;
-  double amplitude_ratio = 0.0;  // std(f) / std(h) over the overlap
+  // std(f) / std(h) over the overlap, f's variance less what its noise
+  // contributes (ForceProfile::noise_variance_mm2)
+  double amplitude_ratio = 0.0;
+  // Its 95% interval (delete-a-block jackknife along the overlap); NaN when
+  // the overlap is too short for the blocks.
+  double amplitude_ratio_low = std::numeric_limits<double>::quiet_NaN();
+  double amplitude_ratio_high = std::numeric_limits<double>::quiet_NaN();
   int overlap_samples = 0;
   std::string message = "not run";
 
@@ -59,6 +68,7 @@ struct AlignOptions {
   double step_mm = 0.01;              // resampling grid
   double min_overlap_fraction = 0.6;  // of the force profile's valid points
   bool allow_flip = true;
+  int ratio_blocks = 10;  // jackknife blocks for the amplitude ratio's interval
   bool IsValid(std::string* why) const;
 };
 

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,40 @@ struct Statistic {
   int count = 0;
 };
 
+// A mean over cycles with its 95% interval, from the means of consecutive
+// batches of cycles (successive cycles are correlated: the track, the
+// template of the noise split and the ensemble slope span several).
+struct Interval {
+  double mean = std::numeric_limits<double>::quiet_NaN();
+  double low = std::numeric_limits<double>::quiet_NaN();
+  double high = std::numeric_limits<double>::quiet_NaN();
+  int count = 0;    // finite values
+  int batches = 0;  // 0: too few values for an interval (low = high = mean)
+};
+
+// Mean of the finite values[first..last] and its interval from `batches`
+// consecutive batches (Student's t on the batch means; fewer than 2 values
+// per batch: fewer batches; fewer than 3 batches: no interval).
+Interval MeanInterval(const std::vector<double>& values,
+                      int first,
+                      int last,
+                      int batches = 10);
+
+// J over a range of cycles split into the part measurement noise explains
+// (its floor) and the excess it does not, per direction in quadrature:
+// J_dir^2 = floor_dir^2 + excess_dir^2 (MuFit::misfit_sq, repeat_sq).
+struct CostSplit {
+  double cost = std::numeric_limits<double>::quiet_NaN();  // mean J (Eq. 6)
+  double floor = std::numeric_limits<double>::quiet_NaN();
+  double excess = std::numeric_limits<double>::quiet_NaN();
+  // 95% interval of the excess (batch means of the per-direction repeat
+  // parts); equal to excess when there are too few cycles for it.
+  double excess_low = std::numeric_limits<double>::quiet_NaN();
+  double excess_high = std::numeric_limits<double>::quiet_NaN();
+  int cycles = 0;
+};
+CostSplit SplitCost(const std::vector<MuFit>& fits, int first, int last);
+
 // Everything the force side of one test yields.
 // Where running-in ends, and how that was decided.
 struct RunningIn {
@@ -60,6 +95,11 @@ struct ForceAnalysis {
   RunningIn running_in;
   Statistic mu_hat, cost, mu_mean, mu_energy;
   int slip_fallbacks = 0;  // half cycles where the central fallback was used
+  // How the force side's k was estimated (FrictionFits::slope) and the
+  // root mean square of its repeatable part and of its noise.
+  std::string slope_estimate;
+  double k_signal_rms = MuFit::kNotComputed;
+  double k_noise_rms = MuFit::kNotComputed;
 };
 
 // Segments, finds gross slip, computes the classic COFs and fits mu-hat per

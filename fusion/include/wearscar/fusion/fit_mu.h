@@ -1,12 +1,16 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
+#include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "wearscar/force/cycles.h"
 #include "wearscar/force/force_record.h"
 #include "wearscar/force/slope.h"
+#include "wearscar/fusion/ensemble.h"
 #include "wearscar/fusion/error.h"
 
 namespace wearscar::fusion {
@@ -51,6 +55,20 @@ struct MuFit {
   bool converged = false;
   bool at_bound = false;  // the minimum sits on mu_min or mu_max
   std::string message = "not run";
+  // J split into what measurement noise explains and what repeats at the
+  // same x in other cycles (SplitRepeatable on the misfit Qm - Qw), per
+  // direction ([0] forward, [1] reverse), relative to |Qm|^2: J_dir^2 =
+  // misfit_sq = noise part + repeat_sq. NaN when not computed.
+  std::array<double, 2> misfit_sq{kNotComputed, kNotComputed};
+  std::array<double, 2> repeat_sq{kNotComputed, kNotComputed};
+  // The J noise alone gives (sum over directions of sqrt(misfit_sq -
+  // repeat_sq)) and the J it does not explain (of sqrt(max(0, repeat_sq))):
+  // cost^2 ~ floor^2 + excess^2 per direction.
+  double cost_floor = kNotComputed;
+  double cost_excess = kNotComputed;
+
+  static constexpr double kNotComputed =
+      std::numeric_limits<double>::quiet_NaN();
 
   std::string BriefReport() const;
 };
@@ -62,31 +80,81 @@ MuFit FitMu(const CycleSamples& samples, const FitMuOptions& options = {});
 Eigen::VectorXd CostCurve(const CycleSamples& samples,
                           const Eigen::VectorXd& mu_grid);
 
-// A slope of the sliding path known along the plate coordinate (from the
-// scan), linearly interpolated; NaN outside.
-struct SlopeProfile {
-  Eigen::VectorXd x_mm;  // increasing
-  Eigen::VectorXd k;
-  double At(double x) const;
-};
-
 enum class SlopeSource { kForce, kScan };
 
 struct FrictionFitOptions {
-  force::SlopeOptions slope;  // derivative and S for the force-side slope
+  // Derivative and S for the force-side slope of one cycle (kCycle).
+  force::SlopeOptions slope;
+  // k from each cycle's own P (the paper) or from the ensemble of its
+  // neighbouring cycles (a fraction of the noise).
+  KEstimate k_estimate = KEstimate::kEnsemble;
+  EnsembleSlopeOptions ensemble;
   FitMuOptions fit;
+  // The noise split of J (MuFit::cost_floor, cost_excess).
+  RepeatabilityOptions repeatability;
   bool IsValid(std::string* why) const;
 };
 
 // Gathers the gross-slip samples of a cycle with k from the force channel,
-// k = (1/S) dP/dx, or from a scan slope profile.
-CycleSamples GatherCycle(const force::ForceRecord& record,
-                         const force::Cycle& cycle,
+// k = (1/S) dP/dx of this cycle's own P (options.slope, spans resolved for
+// the record's sampling rate), from a scan slope profile, or (source kForce
+// with force_slopes) from given force-side profiles per direction.
+CycleSamples GatherCycle(
+    const force::ForceRecord& record,
+    const force::Cycle& cycle,
+    SlopeSource source,
+    const FrictionFitOptions& options,
+    const SlopeProfile* scan_slope = nullptr,
+    const std::array<SlopeProfile, 2>* force_slopes = nullptr);
+
+// The sampling rate of a record: the stated one, else from its clock
+// (0 when neither is known).
+double SamplingRateOf(const force::ForceRecord& record);
+
+// The force side's k for the cycles [first, last] of a test, estimated as
+// options.k_estimate says: each cycle from its own P, or each from the
+// ensemble of its neighbours (P binned per cycle once, here).
+class ForceSlopes {
+ public:
+  ForceSlopes(const force::ForceRecord& record,
+              const force::CycleSet& cycles,
+              const FrictionFitOptions& options,
+              int first = 0,
+              int last = -1);
+  // Gross-slip samples of cycle c (in [first, last]) with the force's k.
+  CycleSamples Gather(int c) const;
+  // One line: which estimate, with its spans.
+  std::string Describe() const;
+  // Cycles whose k shares P samples with cycle c's: |c' - c| < this.
+  int SharedCycles() const;
+
+ private:
+  const force::ForceRecord& record_;
+  const force::CycleSet& cycles_;
+  FrictionFitOptions options_;  // the derivative's spans resolved
+  std::optional<CycleBins> normal_bins_;
+};
+
+// Everything the per-cycle fits of one test give.
+struct FrictionFits {
+  std::vector<MuFit> cycles;  // mu-hat per cycle
+  std::string slope;          // how k was obtained (ForceSlopes::Describe)
+  // k over the gross-slip samples of all cycles: root mean square of its
+  // part that repeats at the same x in other cycles, and of the rest
+  // (noise). Force side only; NaN for the scan's.
+  double k_signal_rms = MuFit::kNotComputed;
+  double k_noise_rms = MuFit::kNotComputed;
+};
+
+// mu-hat for every cycle (Eq. 6), slope from the chosen source, with the
+// noise split of every cycle's J.
+FrictionFits FitFriction(const force::ForceRecord& record,
+                         const force::CycleSet& cycles,
                          SlopeSource source,
-                         const FrictionFitOptions& options,
+                         const FrictionFitOptions& options = {},
                          const SlopeProfile* scan_slope = nullptr);
 
-// mu-hat for every cycle (Eq. 6), slope from the chosen source.
+// FitFriction's per-cycle fits.
 std::vector<MuFit> FitFrictionPerCycle(
     const force::ForceRecord& record,
     const force::CycleSet& cycles,

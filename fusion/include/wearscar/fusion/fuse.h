@@ -32,6 +32,7 @@ struct FuseOptions {
   force::SlopeOptions scan_slope{
       force::DerivativeMethod::kSavitzkyGolay, 15, 2};
   VerdictOptions verdict;
+  DataWarningOptions warnings;
   // Which slope mu-hat is fitted with when a scan is given: the force
   // side's k = (1/S) dP/dx, the scan's, or both (without a scan: force).
   SlopeChoice slopes = SlopeChoice::kBoth;
@@ -61,6 +62,8 @@ struct TestResult {
   std::optional<ScanAnalysis> scan;
   MismatchReport mismatch;
   Verdict verdict;
+  // How well the data carry the method (DataWarnings).
+  std::vector<std::string> warnings;
   int detail_cycle = 0;
   std::optional<LugreFit> lugre;
 };

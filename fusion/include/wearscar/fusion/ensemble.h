@@ -1,0 +1,148 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "wearscar/force/cycles.h"
+#include "wearscar/force/force_record.h"
+
+namespace wearscar::fusion {
+
+// What repeats from cycle to cycle at the same place on the track, and what
+// does not. The track changes slowly, so a quantity measured along the
+// stroke (P, k, the misfit of the model) is, in neighbouring cycles, the
+// same function of x plus independent sensor noise. Averaging neighbouring
+// cycles at the same x lowers the noise; correlating one cycle with the
+// others at the same x measures the part that is not noise.
+
+// Bins of equal width along the plate coordinate.
+struct PlateGrid {
+  double x0_mm = 0.0;  // left edge of bin 0
+  double bin_mm = 0.01;
+  int bins = 0;
+  // Bin of x, or -1 outside the grid (or x not finite).
+  int Bin(double x_mm) const;
+  // A grid covering the samples of the complete cycles (at most max_bins).
+  static PlateGrid Covering(const force::ForceRecord& record,
+                            const force::CycleSet& cycles,
+                            double bin_mm,
+                            int max_bins = 200000);
+};
+
+// Per cycle and direction, the sum of a quantity, of x and the count of
+// samples in each bin. Cycles are added in any order; sums over ranges of
+// cycles are taken afterwards.
+class CycleBins {
+ public:
+  CycleBins(const PlateGrid& grid, int first_cycle, int last_cycle);
+
+  // direction +1 (forward) or -1 (reverse); samples outside the grid or the
+  // cycle range, or with a non-finite value, are ignored.
+  void Add(int cycle, int direction, double x_mm, double value);
+
+  struct Sums {
+    std::vector<double> value, x;
+    std::vector<int> count;
+  };
+  // Sums over the cycles in [first, last] (clipped to the range held),
+  // skipping those in [skip_first, skip_last] (an empty skip when
+  // skip_first > skip_last), for one direction.
+  Sums Window(int direction,
+              int first,
+              int last,
+              int skip_first = 1,
+              int skip_last = 0) const;
+  // One cycle's own sums.
+  Sums Cycle(int cycle, int direction) const {
+    return Window(direction, cycle, cycle);
+  }
+
+  const PlateGrid& grid() const { return grid_; }
+  int first_cycle() const { return first_; }
+  int last_cycle() const { return last_; }
+
+ private:
+  std::size_t Offset(int cycle, int direction) const;
+  PlateGrid grid_;
+  int first_ = 0, last_ = -1;
+  std::vector<float> value_, x_;
+  std::vector<std::uint16_t> count_;
+};
+
+// A slope of the sliding path known along the plate coordinate (from the
+// scan, or from an ensemble of cycles), linearly interpolated; NaN outside.
+struct SlopeProfile {
+  Eigen::VectorXd x_mm;  // increasing
+  Eigen::VectorXd k;
+  double At(double x) const;
+};
+
+struct EnsembleSlopeOptions {
+  // Neighbouring cycles averaged, centred on the cycle (odd; fewer at the
+  // ends of the test). The noise of k falls about as 1/sqrt(cycles).
+  int cycles = 11;
+  double bin_mm = 0.01;  // P(x) is averaged in bins this wide, mm
+  // dP/dx is the slope of a weighted local quadratic over this span of x,
+  // mm, widened until it holds min_bins non-empty bins.
+  double span_mm = 0.1;
+  int min_bins = 5;
+  bool IsValid(std::string* why) const;
+};
+
+// k = (1/S) dP/dx of one cycle per direction ([0] forward, [1] reverse)
+// from P(x) averaged over the cycles of `normal_bins` (P binned per cycle
+// and direction) around `cycle`.
+std::array<SlopeProfile, 2> EnsembleSlopeAt(
+    const CycleBins& normal_bins,
+    int cycle,
+    double spring_n_per_mm,
+    const EnsembleSlopeOptions& options);
+
+// How the force side's k = (1/S) dP/dx is estimated.
+enum class KEstimate {
+  // From each cycle's own P (the paper's Eqs. 4-5: smoothing, then a
+  // central difference; force::SlopeOptions).
+  kCycle,
+  // From P(x) averaged per direction over neighbouring cycles at the same x
+  // (EnsembleSlopeOptions): a fraction of the noise of one cycle, at the
+  // cost of following the track's change only over that many cycles.
+  kEnsemble,
+};
+const char* KEstimateName(KEstimate estimate);  // "cycle", "ensemble"
+bool ParseKEstimate(const std::string& text, KEstimate* estimate);
+
+// How much of a quantity repeats at the same x in other cycles.
+struct RepeatabilityOptions {
+  double bin_mm = 0.01;
+  // Other cycles in the template, the nearest ones whose estimate shares no
+  // sample with the cycle judged (an ensemble slope of N cycles shares
+  // samples with its N - 1 neighbours on either side).
+  int template_cycles = 10;
+  bool IsValid(std::string* why) const;
+};
+
+// One cycle and direction of a quantity v along the stroke: total = sum of
+// v^2 over its samples; repeat = sum of v times the mean of v at the same x
+// in the template cycles. With v = s(x) + noise and noise independent
+// between cycles, E[repeat] = sum s^2 (the template's own noise averages
+// out), E[total - repeat] = sum noise^2.
+struct RepeatSplit {
+  double total = 0.0;
+  double repeat = 0.0;
+  int samples = 0;
+};
+
+// For every cycle of `bins` (and each direction, [0] forward, [1] reverse),
+// `total` given per cycle and direction (sum of v^2 over the cycle's
+// samples), returns the split. Cycles within `min_separation` - 1 of the
+// cycle judged are not in its template (min_separation 1: all others).
+std::vector<std::array<RepeatSplit, 2>> SplitRepeatable(
+    const CycleBins& bins,
+    const std::vector<std::array<double, 2>>& total,
+    int min_separation,
+    const RepeatabilityOptions& options);
+
+}  // namespace wearscar::fusion

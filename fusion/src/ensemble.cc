@@ -1,0 +1,285 @@
+#include "wearscar/fusion/ensemble.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "wearscar/fusion/error.h"
+
+namespace wearscar::fusion {
+
+int PlateGrid::Bin(double x_mm) const {
+  if (!std::isfinite(x_mm) || bins <= 0) return -1;
+  const double t = (x_mm - x0_mm) / bin_mm;
+  if (!(t >= 0) || t >= bins) return -1;
+  return static_cast<int>(t);
+}
+
+PlateGrid PlateGrid::Covering(const force::ForceRecord& record,
+                              const force::CycleSet& cycles,
+                              double bin_mm,
+                              int max_bins) {
+  PlateGrid g;
+  g.bin_mm = bin_mm;
+  if (cycles.cycles.empty() || !(bin_mm > 0)) return g;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  const Eigen::Index b = cycles.cycles.front().forward.begin;
+  const Eigen::Index e = cycles.cycles.back().reverse.end;
+  for (Eigen::Index i = b; i < e; ++i) {
+    const double x = record.x_mm[i];
+    if (!std::isfinite(x)) continue;
+    lo = std::min(lo, x);
+    hi = std::max(hi, x);
+  }
+  if (!(hi >= lo)) return g;
+  const double span = hi - lo;
+  // Wider bins rather than an unbounded grid (a stroke of metres in
+  // micrometre bins is a unit error caught elsewhere, not an allocation).
+  if (span / bin_mm + 2 > max_bins) g.bin_mm = span / (max_bins - 2);
+  g.x0_mm = lo - 0.5 * g.bin_mm;
+  g.bins = static_cast<int>(std::floor(span / g.bin_mm)) + 2;
+  return g;
+}
+
+CycleBins::CycleBins(const PlateGrid& grid, int first_cycle, int last_cycle)
+    : grid_(grid), first_(first_cycle), last_(last_cycle) {
+  if (last_ < first_ || grid_.bins <= 0) {
+    last_ = first_ - 1;
+    return;
+  }
+  const std::size_t n = static_cast<std::size_t>(last_ - first_ + 1) * 2 *
+                        static_cast<std::size_t>(grid_.bins);
+  value_.assign(n, 0.0f);
+  x_.assign(n, 0.0f);
+  count_.assign(n, 0);
+}
+
+std::size_t CycleBins::Offset(int cycle, int direction) const {
+  return (static_cast<std::size_t>(cycle - first_) * 2 +
+          (direction > 0 ? 0 : 1)) *
+         static_cast<std::size_t>(grid_.bins);
+}
+
+void CycleBins::Add(int cycle, int direction, double x_mm, double value) {
+  if (cycle < first_ || cycle > last_ || !std::isfinite(value)) return;
+  const int b = grid_.Bin(x_mm);
+  if (b < 0) return;
+  const std::size_t o = Offset(cycle, direction) + static_cast<std::size_t>(b);
+  if (count_[o] == std::numeric_limits<std::uint16_t>::max()) return;
+  value_[o] += static_cast<float>(value);
+  // x relative to the bin's left edge keeps float precision on any stroke.
+  x_[o] += static_cast<float>(x_mm - (grid_.x0_mm + b * grid_.bin_mm));
+  ++count_[o];
+}
+
+CycleBins::Sums CycleBins::Window(
+    int direction, int first, int last, int skip_first, int skip_last) const {
+  Sums s;
+  const std::size_t nb = static_cast<std::size_t>(std::max(grid_.bins, 0));
+  s.value.assign(nb, 0.0);
+  s.x.assign(nb, 0.0);
+  s.count.assign(nb, 0);
+  first = std::max(first, first_);
+  last = std::min(last, last_);
+  for (int c = first; c <= last; ++c) {
+    if (c >= skip_first && c <= skip_last) continue;
+    const std::size_t o = Offset(c, direction);
+    for (std::size_t b = 0; b < nb; ++b) {
+      s.value[b] += value_[o + b];
+      s.x[b] += x_[o + b];
+      s.count[b] += count_[o + b];
+    }
+  }
+  // Mean x relative to the edge back to plate x, times the count.
+  for (std::size_t b = 0; b < nb; ++b) {
+    s.x[b] +=
+        s.count[b] * (grid_.x0_mm + static_cast<double>(b) * grid_.bin_mm);
+  }
+  return s;
+}
+
+double SlopeProfile::At(double x) const {
+  const Eigen::Index n = x_mm.size();
+  if (n < 2 || !(x >= x_mm[0] && x <= x_mm[n - 1])) return std::nan("");
+  const double* begin = x_mm.data();
+  const double* it = std::upper_bound(begin, begin + n, x);
+  Eigen::Index i = std::clamp<Eigen::Index>((it - begin) - 1, 0, n - 2);
+  const double t = (x - x_mm[i]) / (x_mm[i + 1] - x_mm[i]);
+  return (1 - t) * k[i] + t * k[i + 1];
+}
+
+bool EnsembleSlopeOptions::IsValid(std::string* why) const {
+  auto fail = [&](const char* m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (cycles < 1 || cycles > 10001 || cycles % 2 == 0)
+    return fail("ensemble cycles must be odd, in [1, 10001]");
+  if (!(bin_mm > 0 && bin_mm <= 1))
+    return fail("ensemble bin must be in (0, 1] mm");
+  if (!(span_mm >= 2 * bin_mm && span_mm <= 10))
+    return fail("ensemble span must be in [2 bins, 10 mm]");
+  if (min_bins < 3 || min_bins > 1000)
+    return fail("ensemble min_bins must be in [3, 1000]");
+  return true;
+}
+
+namespace {
+
+// Slope at each non-empty bin of a binned profile (mean x, mean value,
+// count): weighted least-squares quadratic over the bins within span / 2,
+// widened up to 4x until it holds min_bins non-empty bins.
+SlopeProfile SlopeOfBinnedProfile(const CycleBins::Sums& s,
+                                  double bin_mm,
+                                  const EnsembleSlopeOptions& o,
+                                  double spring) {
+  const int nb = static_cast<int>(s.count.size());
+  std::vector<int> used;
+  used.reserve(nb);
+  for (int b = 0; b < nb; ++b) {
+    if (s.count[b] > 0) used.push_back(b);
+  }
+  SlopeProfile p;
+  p.x_mm.resize(static_cast<Eigen::Index>(used.size()));
+  p.k.resize(static_cast<Eigen::Index>(used.size()));
+  const int half0 =
+      std::max(1, static_cast<int>(std::lround(0.5 * o.span_mm / bin_mm)));
+  Eigen::Index m = 0;
+  for (std::size_t u = 0; u < used.size(); ++u) {
+    const int b = used[u];
+    const double xb = s.x[b] / s.count[b];
+    double k = std::nan("");
+    for (int half = half0; half <= 4 * half0; half *= 2) {
+      // Neighbouring non-empty bins within +-half bins.
+      std::size_t lo = u, hi = u;
+      while (lo > 0 && used[lo - 1] >= b - half) --lo;
+      while (hi + 1 < used.size() && used[hi + 1] <= b + half) ++hi;
+      if (static_cast<int>(hi - lo + 1) < o.min_bins) continue;
+      // Normal equations of a + c1 u + c2 u^2, u = (x - xb) / (half bin).
+      Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+      Eigen::Vector3d r = Eigen::Vector3d::Zero();
+      const double scale = half * bin_mm;
+      for (std::size_t j = lo; j <= hi; ++j) {
+        const int bj = used[j];
+        const double w = s.count[bj];
+        const double uu = (s.x[bj] / w - xb) / scale;
+        const double y = s.value[bj] / w;
+        const Eigen::Vector3d phi(1.0, uu, uu * uu);
+        a.noalias() += w * phi * phi.transpose();
+        r.noalias() += w * y * phi;
+      }
+      const Eigen::Vector3d c = a.ldlt().solve(r);
+      if (c.allFinite()) k = c[1] / scale / spring;
+      break;
+    }
+    if (!std::isfinite(k)) continue;
+    // Mean x of successive bins increases (bins are ordered and disjoint).
+    p.x_mm[m] = xb;
+    p.k[m] = k;
+    ++m;
+  }
+  p.x_mm.conservativeResize(m);
+  p.k.conservativeResize(m);
+  return p;
+}
+
+}  // namespace
+
+std::array<SlopeProfile, 2> EnsembleSlopeAt(const CycleBins& normal_bins,
+                                            int cycle,
+                                            double spring,
+                                            const EnsembleSlopeOptions& o) {
+  std::string why;
+  if (!o.IsValid(&why)) throw FusionError("ensemble slope options: " + why);
+  // Centred, and narrower at the ends of the test rather than shifted: the
+  // windows of two cycles then share P samples only when the cycles are
+  // less than o.cycles apart (the noise split relies on it).
+  const int half = o.cycles / 2;
+  const int first = std::max(cycle - half, normal_bins.first_cycle());
+  const int last = std::min(cycle + half, normal_bins.last_cycle());
+  std::array<SlopeProfile, 2> out;
+  for (int d = 0; d < 2; ++d) {
+    const CycleBins::Sums s = normal_bins.Window(d == 0 ? +1 : -1, first, last);
+    out[d] = SlopeOfBinnedProfile(s, normal_bins.grid().bin_mm, o, spring);
+  }
+  return out;
+}
+
+const char* KEstimateName(KEstimate estimate) {
+  return estimate == KEstimate::kEnsemble ? "ensemble" : "cycle";
+}
+
+bool ParseKEstimate(const std::string& text, KEstimate* estimate) {
+  if (text == "ensemble") {
+    *estimate = KEstimate::kEnsemble;
+  } else if (text == "cycle" || text == "paper") {
+    *estimate = KEstimate::kCycle;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+bool RepeatabilityOptions::IsValid(std::string* why) const {
+  if (!(bin_mm > 0 && bin_mm <= 1) || template_cycles < 2 ||
+      template_cycles > 10000) {
+    if (why)
+      *why = "repeatability: bin in (0, 1] mm, template cycles in [2, 10000]";
+    return false;
+  }
+  return true;
+}
+
+std::vector<std::array<RepeatSplit, 2>> SplitRepeatable(
+    const CycleBins& bins,
+    const std::vector<std::array<double, 2>>& total,
+    int min_separation,
+    const RepeatabilityOptions& options) {
+  const int first = bins.first_cycle(), last = bins.last_cycle();
+  const int n = last - first + 1;
+  std::vector<std::array<RepeatSplit, 2>> out(
+      static_cast<std::size_t>(std::max(n, 0)));
+  const int sep = std::max(1, min_separation);
+  const int t = options.template_cycles;
+  for (int c = first; c <= last; ++c) {
+    // The template: the t nearest cycles at distance >= sep, as balanced as
+    // the ends of the test allow: [lo, hi] without (c - sep, c + sep).
+    int left = t / 2, right = t - t / 2;
+    const int room_left = std::max(0, c - sep - first + 1);
+    const int room_right = std::max(0, last - (c + sep) + 1);
+    if (left > room_left) {
+      right += left - room_left;
+      left = room_left;
+    }
+    if (right > room_right) {
+      left = std::min(room_left, left + right - room_right);
+      right = room_right;
+    }
+    const int lo = c - sep - left + 1, hi = c + sep + right - 1;
+    for (int d = 0; d < 2; ++d) {
+      const int dir = d == 0 ? +1 : -1;
+      RepeatSplit& r = out[static_cast<std::size_t>(c - first)][d];
+      r.total = total[static_cast<std::size_t>(c - first)][d];
+      if (left + right == 0) {
+        r.repeat = std::nan("");
+        continue;
+      }
+      const CycleBins::Sums own = bins.Cycle(c, dir);
+      const CycleBins::Sums tpl =
+          bins.Window(dir, lo, hi, c - sep + 1, c + sep - 1);
+      double cross = 0.0;
+      int samples = 0;
+      for (std::size_t b = 0; b < own.count.size(); ++b) {
+        if (own.count[b] == 0 || tpl.count[b] == 0) continue;
+        cross += own.value[b] * (tpl.value[b] / tpl.count[b]);
+        samples += own.count[b];
+      }
+      r.repeat = cross;
+      r.samples = samples;
+    }
+  }
+  return out;
+}
+
+}  // namespace wearscar::fusion

@@ -152,6 +152,8 @@ nlohmann::json ResultJson(const std::string& name,
     j["comparison"]["mu_hat_force_minus_scan"] = m.mu_force_minus_scan;
     j["comparison"]["k_rms_difference"] = m.k_rms_difference;
     j["comparison"]["profile_correlation"] = m.correlation;
+    j["comparison"]["profile_correlation_noise_corrected"] =
+        m.correlation_noise_corrected;
     j["comparison"]["amplitude_ratio"] = m.amplitude_ratio;
     j["scan"] = {{"level",
                   {{"order", s.level.order},

@@ -155,8 +155,9 @@ ForceProfile ComputeForceProfile(const force::ForceRecord& record,
     if (cnt[0][b] > 1 && cnt[1][b] > 1) {
       double v = 0;
       for (int d = 0; d < 2; ++d) {
-        const double n = cnt[d][b], m = sum[d][b] / n;
-        v += 0.25 * std::max(0.0, sum2[d][b] - n * m * m) / (n - 1) / n;
+        const double count = cnt[d][b], mean = sum[d][b] / count;
+        v += 0.25 * std::max(0.0, sum2[d][b] - count * mean * mean) /
+             (count - 1) / count;
       }
       noise += v;
       ++noise_bins;
@@ -255,7 +256,7 @@ Alignment AlignProfiles(const ForceProfile& fp,
   // Sums over the overlap without the samples [skip_begin, skip_end).
   auto moments = [&](int skip_begin, int skip_end) {
     double sf = 0, sh = 0, sff = 0, shh = 0, sfh = 0;
-    int m = 0;
+    int k = 0;
     for (int j = 0; j < n; ++j) {
       if (j >= skip_begin && j < skip_end) continue;
       sf += fs[j];
@@ -263,26 +264,32 @@ Alignment AlignProfiles(const ForceProfile& fp,
       sff += fs[j] * fs[j];
       shh += hs[j] * hs[j];
       sfh += fs[j] * hs[j];
-      ++m;
+      ++k;
     }
     struct {
       double vf, vh, cfh, mf, mh;
-    } r{sff - sf * sf / m,
-        shh - sh * sh / m,
-        sfh - sf * sh / m,
-        sf / m,
-        sh / m};
+    } r{sff - sf * sf / k,
+        shh - sh * sh / k,
+        sfh - sf * sh / k,
+        sf / k,
+        sh / k};
     return r;
   };
-  // std(f) / std(h) with f's variance less its noise (sums over m points).
-  auto ratio = [&](double vf, double vh, int m) {
-    const double signal = std::max(0.0, vf - m * fp.noise_variance_mm2);
+  // std(f) / std(h) with f's variance less its noise (sums over `points`).
+  auto ratio = [&](double vf, double vh, int points) {
+    const double signal = std::max(0.0, vf - points * fp.noise_variance_mm2);
     return vh > 0 ? std::sqrt(signal / vh) : 0.0;
   };
   const auto all = moments(0, 0);
   best.scale = all.vh > 0 ? all.cfh / all.vh : 0.0;
   best.offset_mm = all.mf - best.scale * all.mh;
   best.amplitude_ratio = ratio(all.vf, all.vh, n);
+  const double noise_share =
+      all.vf > 0 ? n * fp.noise_variance_mm2 / all.vf : 0.0;
+  best.correlation_noise_corrected =
+      noise_share < 0.99
+          ? std::min(1.0, best.correlation / std::sqrt(1.0 - noise_share))
+          : best.correlation;
   best.overlap_samples = n;
   // 95% interval of the ratio: delete-a-block jackknife over contiguous
   // stretches of the overlap (neighbouring points are correlated; each
@@ -293,8 +300,9 @@ Alignment AlignProfiles(const ForceProfile& fp,
     double mean = 0;
     for (int b = 0; b < blocks; ++b) {
       const int skip = (b + 1) * n / blocks - b * n / blocks;
-      const auto m = moments(b * n / blocks, (b + 1) * n / blocks);
-      r[b] = m.vh > 0 ? ratio(m.vf, m.vh, n - skip) : best.amplitude_ratio;
+      const auto part = moments(b * n / blocks, (b + 1) * n / blocks);
+      r[b] = part.vh > 0 ? ratio(part.vf, part.vh, n - skip)
+                         : best.amplitude_ratio;
       mean += r[b] / blocks;
     }
     double ss = 0;

@@ -29,7 +29,6 @@ double DirectionCost(const SlipSamples& s, double mu) {
 
 void AppendSlip(const force::ForceRecord& r,
                 const force::HalfCycle& half,
-                SlopeSource source,
                 const FrictionFitOptions& o,
                 const SlopeProfile* profile,
                 SlipSamples* out) {
@@ -180,8 +179,8 @@ CycleSamples GatherCycle(const force::ForceRecord& record,
     reverse = &(*force_slopes)[1];
   }
   CycleSamples s;
-  AppendSlip(record, cycle.forward, source, o, forward, &s.forward);
-  AppendSlip(record, cycle.reverse, source, o, reverse, &s.reverse);
+  AppendSlip(record, cycle.forward, o, forward, &s.forward);
+  AppendSlip(record, cycle.reverse, o, reverse, &s.reverse);
   return s;
 }
 

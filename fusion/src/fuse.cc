@@ -55,6 +55,7 @@ MismatchReport CompareSlopes(const force::ForceRecord& record,
   if (scan == nullptr) return r;
   r.has_scan = true;
   r.correlation = scan->alignment.correlation;
+  r.correlation_noise_corrected = scan->alignment.correlation_noise_corrected;
   r.amplitude_ratio = scan->alignment.amplitude_ratio;
   r.amplitude_ratio_low = scan->alignment.amplitude_ratio_low;
   r.amplitude_ratio_high = scan->alignment.amplitude_ratio_high;

@@ -102,11 +102,13 @@ Verdict Judge(const MismatchReport& r, const VerdictOptions& o) {
           IntervalText(r.amplitude_ratio_low, r.amplitude_ratio_high, "{:.2f}"),
           o.max_amplitude_ratio));
     }
-    if (r.correlation < o.min_correlation) {
-      v.reasons.push_back(
-          fmt::format("the aligned profiles correlate at r = {:.2f} < {:.2f}",
-                      r.correlation,
-                      o.min_correlation));
+    if (r.correlation_noise_corrected < o.min_correlation) {
+      v.reasons.push_back(fmt::format(
+          "the aligned profiles correlate at r = {:.2f} ({:.2f} corrected for "
+          "the noise of the force profile) < {:.2f}",
+          r.correlation,
+          r.correlation_noise_corrected,
+          o.min_correlation));
     }
   }
   const Statistic& mu = from_force ? r.mu_force : r.mu_scan;
@@ -169,7 +171,10 @@ std::vector<std::string> DataWarnings(const ForceAnalysis& force,
         force.k_noise_rms,
         force.k_signal_rms));
   }
-  if (r.has_scan && r.amplitude_ratio > o.elastic_ratio) {
+  const double ratio_low = std::isfinite(r.amplitude_ratio_low)
+                               ? r.amplitude_ratio_low
+                               : r.amplitude_ratio;
+  if (r.has_scan && ratio_low > o.elastic_ratio) {
     w.push_back(fmt::format(
         "the spring displacement varies {:.2f}x as much as the scanned "
         "profile: an elastic part of about {:.0f}% of the profile moves the "

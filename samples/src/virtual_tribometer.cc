@@ -440,10 +440,13 @@ SimulatedTest Simulate(const SimulationOptions& o) {
   }
   {
     // The wear-scar hypothesis holds while the elastic part stays small
-    // next to the waviness of the worn profile.
+    // next to the waviness of the worn profile: the verdict must pass an
+    // elastic part of 10% of the profile's sd and flag one of 25%; the truth
+    // puts the line between them.
+    constexpr double kElasticLimit = 0.175;
     const Eigen::ArrayXd d = truth.worn_depth_mm.array();
     const double sd = std::sqrt((d - d.mean()).square().mean());
-    truth.explained_by_wear_scar = elastic_sd_mm < 0.5 * sd;
+    truth.explained_by_wear_scar = elastic_sd_mm < kElasticLimit * sd;
     const Eigen::ArrayXd f = d + truth.elastic_mm.array();
     auto sd_of = [](const Eigen::ArrayXd& v) {
       return std::sqrt((v - v.mean()).square().mean());

@@ -229,3 +229,73 @@ TEST(Slope, MovingAverageMatchesDefinition) {
 
 }  // namespace
 }  // namespace wearscar::force
+
+namespace wearscar::force {
+namespace {
+
+TEST(Slope, SpansInTimeAreThePapersSamplesAt2kHzAndScaleWithTheRate) {
+  const SlopeOptions o;  // 5 ms smoothing, +-0.5 ms difference
+  const SlopeOptions at2k = o.ForSamplingRate(2000);
+  EXPECT_EQ(at2k.window, 10);
+  EXPECT_EQ(at2k.half_width, 1);
+  const SlopeOptions at10k = o.ForSamplingRate(10000);
+  EXPECT_EQ(at10k.window, 50);
+  EXPECT_EQ(at10k.half_width, 5);
+  const SlopeOptions at100 = o.ForSamplingRate(100);
+  EXPECT_EQ(at100.window, 1);  // never below one sample
+  EXPECT_EQ(at100.half_width, 1);
+  // Given in samples, they stay.
+  SlopeOptions given;
+  given.window = 7;
+  given.half_width = 2;
+  EXPECT_EQ(given.ForSamplingRate(10000).window, 7);
+  EXPECT_EQ(given.ForSamplingRate(10000).half_width, 2);
+  // Savitzky-Golay windows are odd.
+  SlopeOptions sg;
+  sg.method = DerivativeMethod::kSavitzkyGolay;
+  EXPECT_EQ(sg.ForSamplingRate(2000).window, 11);
+  EXPECT_NE(at2k.Describe().find("moving average 10 samples"),
+            std::string::npos);
+}
+
+TEST(Slope, TheSameStretchOfStrokeAtFiveTimesTheRate) {
+  // A sine drive over a wavy path, P = S f(x) + white noise of the same sd
+  // per sample at 2 kHz and 10 kHz. Spans in samples (the paper's 10 and 1)
+  // leave five times less x per stencil at 10 kHz and a noisier slope;
+  // spans in time keep the stretch, and the slope's error falls.
+  const double spring = 10.19;
+  auto path = [](double x) { return 0.02 * std::sin(2 * M_PI * x / 1.6); };
+  auto slope = [](double x) {
+    return 0.02 * 2 * M_PI / 1.6 * std::cos(2 * M_PI * x / 1.6);
+  };
+  auto rms_error = [&](double rate, const SlopeOptions& o) {
+    const int n = static_cast<int>(rate);  // one period
+    Eigen::VectorXd x(n), p(n);
+    std::mt19937 rng(5);
+    std::normal_distribution<double> noise(0.0, 0.02);
+    for (int i = 0; i < n; ++i) {
+      x[i] = 2.85 * std::sin(2 * M_PI * i / rate - M_PI / 2);  // -A .. A
+      p[i] = 30 + spring * path(x[i]) + noise(rng);
+    }
+    const SlopeOptions r = o.ForSamplingRate(rate);
+    const Eigen::Index b = n / 10, e = n / 2 - n / 10;  // mid-stroke, up
+    const Eigen::VectorXd k = SlopeFromNormalForce(x, p, b, e, r);
+    double s = 0;
+    for (Eigen::Index i = b; i < e; ++i)
+      s += std::pow(k[i - b] - slope(x[i]), 2);
+    return std::sqrt(s / (e - b));
+  };
+  SlopeOptions in_time;
+  SlopeOptions in_samples;
+  in_samples.window = 10;
+  in_samples.half_width = 1;
+  const double t2 = rms_error(2000, in_time);
+  const double t10 = rms_error(10000, in_time);
+  const double s10 = rms_error(10000, in_samples);
+  EXPECT_NEAR(rms_error(2000, in_samples), t2, 1e-12);  // the same at 2 kHz
+  EXPECT_LT(t10, 0.6 * t2);
+  EXPECT_LT(t10, 0.2 * s10);
+}
+
+}  // namespace
+}  // namespace wearscar::force

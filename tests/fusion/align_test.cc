@@ -9,23 +9,11 @@
 #include <vector>
 
 #include "wearscar/fusion/fuse.h"
+#include "paper_cases.h"
 #include "wearscar/samples/virtual_tribometer.h"
 
 namespace wearscar::fusion {
 namespace {
-
-// The paper's 12 cases, for the parameterised suites below.
-std::vector<std::string> TwelveCases() {
-  std::vector<std::string> names;
-  for (const auto& o : samples::PaperCases()) names.push_back(o.name);
-  return names;
-}
-
-// "B-RT-R" -> "B_RT_R": a GoogleTest parameter name.
-std::string TestName(std::string case_name) {
-  std::replace(case_name.begin(), case_name.end(), '-', '_');
-  return case_name;
-}
 
 double Surface(double u) {
   return 0.03 * std::sin(2 * M_PI * u / 1.7) +
@@ -143,49 +131,6 @@ TEST(Align, TooLittleOverlapIsAnError) {
   sp.height_mm = sp.s_mm;
   EXPECT_THROW(AlignProfiles(fp, sp), FusionError);
 }
-
-// The acceptance of the verdict on the simulator's 12 cases: with a large
-// elastic part in S-RL-R only, exactly that case is flagged; with none, none.
-class VerdictOnPaperCases
-    : public ::testing::TestWithParam<std::tuple<std::string, bool>> {};
-
-TEST_P(VerdictOnPaperCases, OnlyTheElasticCaseIsNotExplained) {
-  const auto [name, elastic] = GetParam();
-  samples::SimulationOptions o = samples::PaperCase(name, elastic);
-  o.cycles = 150;
-  const samples::SimulatedTest t = samples::Simulate(o);
-  FuseOptions f;
-  // Compare the last 20 cycles: the track still deepens (about 5% over
-  // them), and the scan sees its final state.
-  f.analysis.running_in_cycles = 130;
-  f.force_profile.cycles = 20;
-  const TestResult r = AnalyzeTest(t.record, t.scan, f);
-  EXPECT_EQ(r.verdict.explained, t.truth.explained_by_wear_scar)
-      << r.verdict.Summary();
-  EXPECT_EQ(r.verdict.explained, !(elastic && name == "S-RL-R"))
-      << r.verdict.Summary();
-  EXPECT_EQ(r.scan->alignment.flipped, o.scan_flipped);
-  if (r.verdict.explained) {
-    // mu-hat within 0.002 (slope from P) and 0.004 (slope from the scan) of
-    // the truth over the compared cycles.
-    double truth = 0;
-    for (int c = r.mismatch.first_cycle; c <= r.mismatch.last_cycle; ++c) {
-      truth += t.truth.mu_per_cycle[c];
-    }
-    truth /= r.mismatch.last_cycle - r.mismatch.first_cycle + 1;
-    EXPECT_NEAR(r.mismatch.mu_force.mean, truth, 0.002);
-    EXPECT_NEAR(r.mismatch.mu_scan.mean, truth, 0.004);
-  }
-}
-
-INSTANTIATE_TEST_SUITE_P(
-    Twelve,
-    VerdictOnPaperCases,
-    ::testing::Combine(::testing::ValuesIn(TwelveCases()), ::testing::Bool()),
-    [](const auto& param_info) {
-      return TestName(std::get<0>(param_info.param)) +
-             (std::get<1>(param_info.param) ? "_elastic" : "_no_elastic");
-    });
 
 // The paper's 12 cases at full size (600 cycles at 2 kHz, 1024 x 768 scans),
 // no hidden effect and no elastic part: mu-hat after the detected running-in

@@ -45,6 +45,10 @@ struct Alignment {
   double shift_mm = 0.0;
   bool flipped = false;
   double correlation = 0.0;  // normalised cross-correlation at the optimum
+  // The same corrected for the noise left in the force profile (Spearman's
+  // disattenuation, r / sqrt(1 - noise variance / variance of f), at most
+  // 1): what the correlation would be with a noise-free force profile.
+  double correlation_noise_corrected = 0.0;
   double correlation_forward = 0.0, correlation_reverse = 0.0;
   double scale = 0.0;  // least squares f = scale * h + offset
   double offset_mm = 0.0;

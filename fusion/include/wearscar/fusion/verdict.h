@@ -14,6 +14,7 @@ struct MismatchReport {
   bool has_scan = false;
   int first_cycle = 0, last_cycle = 0;
   double correlation = 0.0;         // aligned profiles
+  double correlation_noise_corrected = 0.0;  // Alignment's
   double amplitude_ratio = 0.0;     // std(f) / std(h)
   double k_rms_difference = 0.0;    // RMS of k_force - k_scan over gross slip
   Statistic mu_force, mu_scan;      // mu-hat with each slope
@@ -53,7 +54,8 @@ struct VerdictOptions {
   // The spring varies more than the scan: flagged when the lower end of the
   // ratio's 95% interval exceeds this.
   double max_amplitude_ratio = 1.15;
-  double min_correlation = 0.7;  // aligned profiles
+  // Aligned profiles, corrected for the force profile's noise.
+  double min_correlation = 0.7;
   // |mu-hat - mu_energy| (energy method with delta_g). The mean method is
   // not judged: on a strongly wavy track mean|P (k + s mu)| exceeds mu P
   // even when the wear-scar model holds exactly, so its difference is
@@ -68,9 +70,9 @@ struct VerdictOptions {
 struct DataWarningOptions {
   int min_samples_per_stroke = 100;    // per half cycle, for the slope
   double max_fallback_fraction = 0.5;  // half cycles on the central fallback
-  // Warn of an elastic part when the amplitude ratio exceeds this (below the
-  // verdict's margin).
-  double elastic_ratio = 1.08;
+  // Warn of an elastic part when the lower end of the amplitude ratio's 95%
+  // interval exceeds this (below the verdict's margin).
+  double elastic_ratio = 1.05;
   bool IsValid(std::string* why) const;
 };
 

@@ -137,7 +137,9 @@ struct GroundTruth {
   // depth alone.
   double force_profile_sd_mm = 0.0, force_profile_range_mm = 0.0;
   double scan_profile_sd_mm = 0.0, scan_profile_range_mm = 0.0;
-  bool explained_by_wear_scar = true;  // false when the elastic part dominates
+  // False when the elastic part's sd exceeds 17.5% of the worn profile's
+  // (between the 10% the verdict must pass and the 25% it must flag).
+  bool explained_by_wear_scar = true;
 };
 
 struct SimulatedTest {

@@ -1,6 +1,5 @@
 #include "wearscar/fusion/ensemble.h"
 
-#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -73,8 +72,28 @@ void CycleBins::Add(int cycle, int direction, double x_mm, double value) {
   ++count_[o];
 }
 
-CycleBins::Sums CycleBins::Window(
-    int direction, int first, int last, int skip_first, int skip_last) const {
+void CycleBins::Accumulate(Sums* sums,
+                           int cycle,
+                           int direction,
+                           int sign) const {
+  if (cycle < first_ || cycle > last_) return;
+  const std::size_t nb = static_cast<std::size_t>(std::max(grid_.bins, 0));
+  const std::size_t o = Offset(cycle, direction);
+  const float* v = value_.data() + o;
+  const float* x = x_.data() + o;
+  const std::uint16_t* n = count_.data() + o;
+  for (std::size_t b = 0; b < nb; ++b) {
+    sums->value[b] += sign * static_cast<double>(v[b]);
+    sums->x[b] += sign * static_cast<double>(x[b]);
+    sums->count[b] += sign * static_cast<int>(n[b]);
+  }
+}
+
+CycleBins::Sums CycleBins::Window(int direction,
+                                  int first,
+                                  int last,
+                                  int skip_first,
+                                  int skip_last) const {
   Sums s;
   const std::size_t nb = static_cast<std::size_t>(std::max(grid_.bins, 0));
   s.value.assign(nb, 0.0);
@@ -84,17 +103,7 @@ CycleBins::Sums CycleBins::Window(
   last = std::min(last, last_);
   for (int c = first; c <= last; ++c) {
     if (c >= skip_first && c <= skip_last) continue;
-    const std::size_t o = Offset(c, direction);
-    for (std::size_t b = 0; b < nb; ++b) {
-      s.value[b] += value_[o + b];
-      s.x[b] += x_[o + b];
-      s.count[b] += count_[o + b];
-    }
-  }
-  // Mean x relative to the edge back to plate x, times the count.
-  for (std::size_t b = 0; b < nb; ++b) {
-    s.x[b] +=
-        s.count[b] * (grid_.x0_mm + static_cast<double>(b) * grid_.bin_mm);
+    Accumulate(&s, c, direction, +1);
   }
   return s;
 }
@@ -130,10 +139,11 @@ namespace {
 // Slope at each non-empty bin of a binned profile (mean x, mean value,
 // count): weighted least-squares quadratic over the bins within span / 2,
 // widened up to 4x until it holds min_bins non-empty bins.
-SlopeProfile SlopeOfBinnedProfile(const CycleBins::Sums& s,
-                                  double bin_mm,
+SlopeProfile SlopeOfBinnedProfile(const CycleBins& bins,
+                                  const CycleBins::Sums& s,
                                   const EnsembleSlopeOptions& o,
                                   double spring) {
+  const double bin_mm = bins.grid().bin_mm;
   const int nb = static_cast<int>(s.count.size());
   std::vector<int> used;
   used.reserve(nb);
@@ -148,7 +158,7 @@ SlopeProfile SlopeOfBinnedProfile(const CycleBins::Sums& s,
   Eigen::Index m = 0;
   for (std::size_t u = 0; u < used.size(); ++u) {
     const int b = used[u];
-    const double xb = s.x[b] / s.count[b];
+    const double xb = bins.MeanX(s, b);
     double k = std::nan("");
     for (int half = half0; half <= 4 * half0; half *= 2) {
       // Neighbouring non-empty bins within +-half bins.
@@ -156,21 +166,31 @@ SlopeProfile SlopeOfBinnedProfile(const CycleBins::Sums& s,
       while (lo > 0 && used[lo - 1] >= b - half) --lo;
       while (hi + 1 < used.size() && used[hi + 1] <= b + half) ++hi;
       if (static_cast<int>(hi - lo + 1) < o.min_bins) continue;
-      // Normal equations of a + c1 u + c2 u^2, u = (x - xb) / (half bin).
-      Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
-      Eigen::Vector3d r = Eigen::Vector3d::Zero();
+      // Weighted normal equations of a + c1 u + c2 u^2, u = (x - xb) /
+      // (half bins), solved for c1 by Cramer's rule (the 3x3 system is
+      // symmetric: moments m0..m4 of u, and t0..t2 of y u^p).
       const double scale = half * bin_mm;
+      double m0 = 0, m1 = 0, m2 = 0, m3 = 0, m4 = 0, t0 = 0, t1 = 0, t2 = 0;
       for (std::size_t j = lo; j <= hi; ++j) {
         const int bj = used[j];
         const double w = s.count[bj];
-        const double uu = (s.x[bj] / w - xb) / scale;
-        const double y = s.value[bj] / w;
-        const Eigen::Vector3d phi(1.0, uu, uu * uu);
-        a.noalias() += w * phi * phi.transpose();
-        r.noalias() += w * y * phi;
+        const double uu = (bins.MeanX(s, bj) - xb) / scale;
+        const double y = s.value[bj];  // = w * mean
+        const double u2 = uu * uu;
+        m0 += w;
+        m1 += w * uu;
+        m2 += w * u2;
+        m3 += w * u2 * uu;
+        m4 += w * u2 * u2;
+        t0 += y;
+        t1 += y * uu;
+        t2 += y * u2;
       }
-      const Eigen::Vector3d c = a.ldlt().solve(r);
-      if (c.allFinite()) k = c[1] / scale / spring;
+      const double det = m0 * (m2 * m4 - m3 * m3) - m1 * (m1 * m4 - m3 * m2) +
+                         m2 * (m1 * m3 - m2 * m2);
+      const double det1 = m0 * (t1 * m4 - m3 * t2) - t0 * (m1 * m4 - m3 * m2) +
+                          m2 * (m1 * t2 - t1 * m2);
+      if (std::abs(det) > 1e-12 * m0 * m0 * m0) k = det1 / det / scale / spring;
       break;
     }
     if (!std::isfinite(k)) continue;
@@ -186,24 +206,35 @@ SlopeProfile SlopeOfBinnedProfile(const CycleBins::Sums& s,
 
 }  // namespace
 
+std::pair<int, int> EnsembleWindow(const CycleBins& normal_bins,
+                                   int cycle,
+                                   const EnsembleSlopeOptions& o) {
+  const int half = o.cycles / 2;
+  return {std::max(cycle - half, normal_bins.first_cycle()),
+          std::min(cycle + half, normal_bins.last_cycle())};
+}
+
+std::array<SlopeProfile, 2> EnsembleSlopeFromSums(
+    const CycleBins& normal_bins,
+    const std::array<CycleBins::Sums, 2>& sums,
+    double spring,
+    const EnsembleSlopeOptions& o) {
+  std::string why;
+  if (!o.IsValid(&why)) throw FusionError("ensemble slope options: " + why);
+  return {SlopeOfBinnedProfile(normal_bins, sums[0], o, spring),
+          SlopeOfBinnedProfile(normal_bins, sums[1], o, spring)};
+}
+
 std::array<SlopeProfile, 2> EnsembleSlopeAt(const CycleBins& normal_bins,
                                             int cycle,
                                             double spring,
                                             const EnsembleSlopeOptions& o) {
-  std::string why;
-  if (!o.IsValid(&why)) throw FusionError("ensemble slope options: " + why);
-  // Centred, and narrower at the ends of the test rather than shifted: the
-  // windows of two cycles then share P samples only when the cycles are
-  // less than o.cycles apart (the noise split relies on it).
-  const int half = o.cycles / 2;
-  const int first = std::max(cycle - half, normal_bins.first_cycle());
-  const int last = std::min(cycle + half, normal_bins.last_cycle());
-  std::array<SlopeProfile, 2> out;
-  for (int d = 0; d < 2; ++d) {
-    const CycleBins::Sums s = normal_bins.Window(d == 0 ? +1 : -1, first, last);
-    out[d] = SlopeOfBinnedProfile(s, normal_bins.grid().bin_mm, o, spring);
-  }
-  return out;
+  const auto [first, last] = EnsembleWindow(normal_bins, cycle, o);
+  return EnsembleSlopeFromSums(normal_bins,
+                               {normal_bins.Window(+1, first, last),
+                                normal_bins.Window(-1, first, last)},
+                               spring,
+                               o);
 }
 
 const char* KEstimateName(KEstimate estimate) {

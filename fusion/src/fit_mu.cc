@@ -220,11 +220,34 @@ CycleSamples ForceSlopes::Gather(int c) const {
   if (!normal_bins_) {
     return GatherCycle(record_, cycle, SlopeSource::kForce, options_);
   }
+  const auto [first, last] =
+      EnsembleWindow(*normal_bins_, c, options_.ensemble);
+  const bool overlaps = window_last_ >= window_first_ &&
+                        first <= window_last_ && last >= window_first_;
+  for (int d = 0; d < 2; ++d) {
+    const int direction = d == 0 ? +1 : -1;
+    CycleBins::Sums& s = window_sums_[d];
+    if (!overlaps) {
+      s = normal_bins_->Window(direction, first, last);
+      continue;
+    }
+    // Slide: remove the cycles that left the window, add those that came.
+    for (int j = window_first_; j < first; ++j)
+      normal_bins_->Accumulate(&s, j, direction, -1);
+    for (int j = last + 1; j <= window_last_; ++j)
+      normal_bins_->Accumulate(&s, j, direction, -1);
+    for (int j = first; j < window_first_; ++j)
+      normal_bins_->Accumulate(&s, j, direction, +1);
+    for (int j = window_last_ + 1; j <= last; ++j)
+      normal_bins_->Accumulate(&s, j, direction, +1);
+  }
+  window_first_ = first;
+  window_last_ = last;
   const std::array<SlopeProfile, 2> k =
-      EnsembleSlopeAt(*normal_bins_,
-                      c,
-                      options_.slope.spring_stiffness_n_per_mm,
-                      options_.ensemble);
+      EnsembleSlopeFromSums(*normal_bins_,
+                            window_sums_,
+                            options_.slope.spring_stiffness_n_per_mm,
+                            options_.ensemble);
   return GatherCycle(
       record_, cycle, SlopeSource::kForce, options_, nullptr, &k);
 }

@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "wearscar/force/cycles.h"
@@ -43,10 +44,16 @@ class CycleBins {
   // cycle range, or with a non-finite value, are ignored.
   void Add(int cycle, int direction, double x_mm, double value);
 
+  // Sums per bin; x relative to the bin's left edge (MeanX gives plate x).
   struct Sums {
     std::vector<double> value, x;
     std::vector<int> count;
   };
+  double MeanX(const Sums& sums, int bin) const {
+    return grid_.x0_mm + bin * grid_.bin_mm + sums.x[bin] / sums.count[bin];
+  }
+  // Adds (sign +1) or removes (sign -1) one cycle's sums of one direction.
+  void Accumulate(Sums* sums, int cycle, int direction, int sign) const;
   // Sums over the cycles in [first, last] (clipped to the range held),
   // skipping those in [skip_first, skip_last] (an empty skip when
   // skip_first > skip_last), for one direction.
@@ -98,6 +105,18 @@ struct EnsembleSlopeOptions {
 std::array<SlopeProfile, 2> EnsembleSlopeAt(
     const CycleBins& normal_bins,
     int cycle,
+    double spring_n_per_mm,
+    const EnsembleSlopeOptions& options);
+// The cycles [first, last] averaged for `cycle`: centred, narrower at the
+// ends of the test rather than shifted, so that the windows of two cycles
+// share P samples only when the cycles are less than options.cycles apart.
+std::pair<int, int> EnsembleWindow(const CycleBins& normal_bins,
+                                   int cycle,
+                                   const EnsembleSlopeOptions& options);
+// k per direction from P summed over a window (sums[0] forward, [1] reverse).
+std::array<SlopeProfile, 2> EnsembleSlopeFromSums(
+    const CycleBins& normal_bins,
+    const std::array<CycleBins::Sums, 2>& sums,
     double spring_n_per_mm,
     const EnsembleSlopeOptions& options);
 

@@ -113,7 +113,9 @@ double SamplingRateOf(const force::ForceRecord& record);
 
 // The force side's k for the cycles [first, last] of a test, estimated as
 // options.k_estimate says: each cycle from its own P, or each from the
-// ensemble of its neighbours (P binned per cycle once, here).
+// ensemble of its neighbours (P binned per cycle once, here; cycles asked
+// for in order slide the ensemble's sums instead of summing them anew, so
+// one ForceSlopes is not for concurrent use).
 class ForceSlopes {
  public:
   ForceSlopes(const force::ForceRecord& record,
@@ -133,6 +135,9 @@ class ForceSlopes {
   const force::CycleSet& cycles_;
   FrictionFitOptions options_;  // the derivative's spans resolved
   std::optional<CycleBins> normal_bins_;
+  // The ensemble sums of the last window asked for, per direction.
+  mutable std::array<CycleBins::Sums, 2> window_sums_;
+  mutable int window_first_ = 0, window_last_ = -1;
 };
 
 // Everything the per-cycle fits of one test give.

@@ -197,6 +197,14 @@ nlohmann::json Identity(const std::string& name) {
 }
 
 std::string CsvCell(const nlohmann::json& j) {
+  if (j.is_array()) {  // a list of sentences: one cell, "; " between them
+    std::string joined;
+    for (const auto& item : j) {
+      if (!item.is_string()) continue;
+      joined += (joined.empty() ? "" : "; ") + item.get<std::string>();
+    }
+    return CsvCell(nlohmann::json(joined));
+  }
   if (j.is_number()) {
     const double v = j.get<double>();
     return std::isfinite(v) ? fmt::format("{:.6g}", v) : "";
@@ -252,6 +260,7 @@ SummaryColumns() {
           {"track_width_mm", {"scan", "track", "width_mm"}},
           {"explained", {"verdict", "explained"}},
           {"verdict", {"verdict", "summary"}},
+          {"warnings", {"warnings"}},
           {"diagnosis", {"diagnosis"}},
           {"error", {"error"}},
       };

@@ -283,10 +283,10 @@ FigureSet DrawTestFigures(const std::string& dir,
        fmt::format(
            "set xlabel 'cycle'\nset ylabel 'J'\nset yrange [0:*]\nplot "
            "'cycles.csv' skip 1 using 1:{} lc rgb '#1f77b4' title 'J, k from "
-           "P', '' skip 1 using 1:{} with lines lw 2 lc rgb '#1f77b4' dt 2 "
-           "title 'noise floor, k from P', '' skip 1 using 1:{} lc rgb "
-           "'#ff7f0e' title 'J, k from scan', '' skip 1 using 1:{} with lines "
-           "lw 2 lc rgb '#ff7f0e' dt 2 title 'noise floor, k from scan'{}",
+           "P', '' skip 1 using 1:{} with lines lw 2 lc rgb 'black' dt 2 "
+           "title 'its noise floor', '' skip 1 using 1:{} lc rgb '#ff7f0e' "
+           "title 'J, k from scan', '' skip 1 using 1:{} with lines lw 2 lc "
+           "rgb '#d62728' dt 3 title 'its noise floor'{}",
            CycleColumn("J_force"),
            CycleColumn("J_force_floor"),
            CycleColumn("J_scan"),

@@ -103,7 +103,7 @@ mu-hat: the wear-scar coefficient of friction (Eq. 6) with the slope of the slid
 normal force (k = dP/dx / S) and, with a scan, from the worn track's centreline.</p>
 <table id="summary"><thead><tr><th>specimen</th><th>species</th><th>plane</th><th>direction</th>
 <th>mu-hat (k from P)</th><th>sd</th><th>mu-hat (k from scan)</th><th>mu mean</th><th>mu energy</th>
-<th>J</th><th>r profiles</th><th>amplitude ratio</th><th>verdict</th></tr></thead><tbody>
+<th>J</th><th>J noise floor</th><th>J excess</th><th>J (k from scan)</th><th>r profiles</th><th>amplitude ratio</th><th>verdict</th></tr></thead><tbody>
 )",
                               Escape(title),
                               sections.size(),
@@ -131,8 +131,8 @@ normal force (k = dP/dx / S) and, with a scan, from the worn track's centreline.
         "class=\"text\">{}</td>"
         "<td class=\"text\">{}</td><td "
         "class=\"text\">{}</td><td>{}</td><td>{}</td><td>{}</td>"
-        "<td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td "
-        "class=\"text\">{}</td></tr>\n",
+        "<td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
+        "<td>{}</td><td>{}</td><td class=\"text\">{}</td></tr>\n",
         cls,
         Escape(s.name),
         Escape(s.name),
@@ -148,6 +148,9 @@ normal force (k = dP/dx / S) and, with a scan, from the worn track's centreline.
         Number(get("comparison", "mu_mean", "mean")),
         Number(get("comparison", "mu_energy", "mean")),
         Number(get("comparison", "J_force", "mean"), "{:.3f}"),
+        Number(get("comparison", "J_force_split", "noise_floor"), "{:.3f}"),
+        Number(get("comparison", "J_force_split", "excess"), "{:.3f}"),
+        Number(get("comparison", "J_scan", "mean"), "{:.3f}"),
         Number(get("comparison", "profile_correlation"), "{:.3f}"),
         Number(get("comparison", "amplitude_ratio"), "{:.2f}"),
         Escape(verdict));
@@ -168,6 +171,18 @@ normal force (k = dP/dx / S) and, with a scan, from the worn track's centreline.
     }
     h += "<p>" + Escape(s.row["verdict"]["summary"].get<std::string>()) +
          "</p>\n";
+    if (s.row.contains("slope_estimate") && s.row["slope_estimate"].is_string())
+      h += "<p class=\"note\">" +
+           Escape(s.row["slope_estimate"].get<std::string>()) + "</p>\n";
+    if (s.row.contains("warnings") && s.row["warnings"].is_array() &&
+        !s.row["warnings"].empty()) {
+      h += "<ul class=\"warnings\">\n";
+      for (const auto& w : s.row["warnings"]) {
+        if (w.is_string())
+          h += "<li>warning: " + Escape(w.get<std::string>()) + "</li>\n";
+      }
+      h += "</ul>\n";
+    }
     if (!s.figures.message.empty())
       h += "<p>" + Escape(s.figures.message) + "</p>\n";
     for (size_t i = 0; i < s.figures.png.size(); ++i) {

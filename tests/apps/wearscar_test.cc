@@ -169,6 +169,37 @@ TEST(Cli, FuseWritesResultsAndFlagsTheElasticCase) {
   for (const auto& e : std::filesystem::directory_iterator(dir + "/out")) {
     EXPECT_EQ(e.path().string().find(".tmp-"), std::string::npos) << e.path();
   }
+  // The verdict's figures: J, its noise floor and excess with an interval,
+  // the amplitude ratio's interval, the estimate of k, and the warning of an
+  // elastic part; the reasons state floor, interval and limit.
+  const std::string json = Slurp(dir + "/out/result.json");
+  for (const char* key : {"\"J_force_split\"",
+                          "\"noise_floor\"",
+                          "\"excess_interval\"",
+                          "\"amplitude_ratio_interval\"",
+                          "\"method_difference\"",
+                          "\"slope_estimate\"",
+                          "\"k_estimate\": \"ensemble\"",
+                          "\"verdict_cost\": \"excess\"",
+                          "an elastic part of about",
+                          "exceeds what the measurement noise explains"}) {
+    EXPECT_NE(json.find(key), std::string::npos) << key;
+  }
+  EXPECT_NE(f.output.find("warning: the spring displacement varies"),
+            std::string::npos)
+      << f.output;
+  // The paper's criterion on request, named as such.
+  const CommandResult p = Wearscar(
+      "fuse --force " + dir + "/S-RL-R.force.csv --running-in 60 "
+      "--verdict-cost paper --k-estimate cycle --no-lugre");
+  EXPECT_EQ(p.status, 0) << p.output;
+  EXPECT_NE(p.output.find("(the paper's criterion; its noise floor is"),
+            std::string::npos)
+      << p.output;
+  EXPECT_NE(p.output.find("(cycle)"), std::string::npos) << p.output;
+  const CommandResult bad = Wearscar("fuse --force " + dir +
+                                     "/S-RL-R.force.csv --k-estimate median");
+  EXPECT_EQ(bad.status, 2) << bad.output;
 }
 
 TEST(Cli, ScanWritesProfilePreviewAndSummaryOfTheKnownTrack) {

@@ -1,7 +1,9 @@
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "commands.h"
 #include "output.h"
@@ -49,48 +51,88 @@ void RunScan(ScanArgs a) {
   const scan::LevelSummary level = scan::LevelHeightMap(&map, a.level);
   const int spikes = scan::RemoveSpikes(&map, a.spikes);
   fmt::print("  levelled: {}; {} spikes removed\n", level.message, spikes);
-  const scan::Track t = scan::FindTrack(map, a.track);
-  fmt::print(
-      "  track: centre ({:.3f}, {:.3f}) mm, angle {:.2f} deg, length {:.3f} "
-      "mm, width {:.3f} mm, mean depth {:.1f} um, max depth {:.1f} um, "
-      "volume {:.4g} mm^3 ({})\n",
-      t.center_x_mm,
-      t.center_y_mm,
-      t.angle_deg,
-      t.length_mm,
-      t.width_mm,
-      1e3 * t.mean_depth_mm,
-      1e3 * t.max_depth_mm,
-      t.volume_mm3,
-      t.message);
-  const scan::WearProfile p = scan::ExtractCentreline(map, t, a.profile);
+  // No track: everything that does not need one is still written, with
+  // "track": null and the reason, and the command exits 0 with a warning.
+  std::optional<scan::Track> track;
+  std::string no_track;
+  try {
+    track = scan::FindTrack(map, a.track);
+  } catch (const scan::NoTrackError& e) {
+    no_track = e.what();
+  }
+  nlohmann::json track_json = nullptr;
+  scan::WearProfile p;
+  if (track) {
+    const scan::Track& t = *track;
+    fmt::print(
+        "  track: centre ({:.3f}, {:.3f}) mm, angle {:.2f} deg, length {:.3f} "
+        "mm, width {:.3f} mm, mean depth {:.1f} um, max depth {:.1f} um, "
+        "volume {:.4g} mm^3 ({})\n",
+        t.center_x_mm,
+        t.center_y_mm,
+        t.angle_deg,
+        t.length_mm,
+        t.width_mm,
+        1e3 * t.mean_depth_mm,
+        1e3 * t.max_depth_mm,
+        t.volume_mm3,
+        t.message);
+    if (t.low_confidence)
+      fmt::print(stderr, "wearscar: warning: {}: {}\n", a.file, t.message);
+    p = scan::ExtractCentreline(map, t, a.profile);
+    track_json = {{"center_x_mm", t.center_x_mm},
+                  {"center_y_mm", t.center_y_mm},
+                  {"angle_deg", t.angle_deg},
+                  {"length_mm", t.length_mm},
+                  {"width_mm", t.width_mm},
+                  {"mean_depth_mm", t.mean_depth_mm},
+                  {"max_depth_mm", t.max_depth_mm},
+                  {"volume_mm3", t.volume_mm3},
+                  {"elongation", t.elongation},
+                  {"roughness_mm", t.roughness_mm},
+                  {"depth_to_roughness", t.depth_to_roughness},
+                  {"low_confidence", t.low_confidence},
+                  {"message", t.message},
+                  {"manual", t.manual}};
+  } else {
+    fmt::print(stderr, "wearscar: warning: {}\n", no_track);
+  }
   if (a.out.empty()) return;
   EnsureDirectory(a.out);
-  Table c;
-  c.columns = {"s_mm", "h_mm", "n_valid"};
-  for (Eigen::Index i = 0; i < p.s_mm.size(); ++i) {
-    c.rows.push_back(
-        {p.s_mm[i], p.height_mm[i], static_cast<double>(p.valid_samples[i])});
+  std::vector<std::string> written;
+  auto path = [&](const char* file) {
+    written.push_back(file);
+    return (fs::path(a.out) / file).string();
+  };
+  if (track) {
+    const scan::Track& t = *track;
+    Table c;
+    c.columns = {"s_mm", "h_mm", "n_valid"};
+    for (Eigen::Index i = 0; i < p.s_mm.size(); ++i) {
+      c.rows.push_back(
+          {p.s_mm[i], p.height_mm[i], static_cast<double>(p.valid_samples[i])});
+    }
+    WriteTextAtomically(path("centreline.csv"), c.ToCsv());
+    if (a.sections_mm.empty())
+      a.sections_mm = {-0.25 * t.length_mm, 0.0, 0.25 * t.length_mm};
+    Table x;
+    x.columns = {"s_mm", "w_mm", "h_mm"};
+    for (double s : a.sections_mm) {
+      const scan::WearProfile cs =
+          scan::ExtractCrossSection(map, t, s, a.section_half_width_mm);
+      for (Eigen::Index i = 0; i < cs.s_mm.size(); ++i)
+        x.rows.push_back({s, cs.s_mm[i], cs.height_mm[i]});
+    }
+    WriteTextAtomically(path("cross_sections.csv"), x.ToCsv());
   }
-  WriteTextAtomically((fs::path(a.out) / "centreline.csv").string(), c.ToCsv());
-  if (a.sections_mm.empty())
-    a.sections_mm = {-0.25 * t.length_mm, 0.0, 0.25 * t.length_mm};
-  Table x;
-  x.columns = {"s_mm", "w_mm", "h_mm"};
-  for (double s : a.sections_mm) {
-    const scan::WearProfile cs =
-        scan::ExtractCrossSection(map, t, s, a.section_half_width_mm);
-    for (Eigen::Index i = 0; i < cs.s_mm.size(); ++i)
-      x.rows.push_back({s, cs.s_mm[i], cs.height_mm[i]});
-  }
-  WriteTextAtomically((fs::path(a.out) / "cross_sections.csv").string(),
-                      x.ToCsv());
-  scan::WriteGsf(map, (fs::path(a.out) / "levelled.gsf").string());
+  scan::WriteGsf(map, path("levelled.gsf"));
   nlohmann::json j = {{"file", a.file},
                       {"format", map.metadata.format},
                       {"instrument", map.metadata.instrument},
+                      {"date", map.metadata.date},
                       {"size_px", {map.cols(), map.rows()}},
                       {"pitch_mm", {map.dx_mm, map.dy_mm}},
+                      {"valid_points", map.ValidCount()},
                       {"level",
                        {{"order", level.order},
                         {"coefficients",
@@ -100,25 +142,13 @@ void RunScan(ScanArgs a) {
                         {"inliers", level.inliers},
                         {"rms_mm", level.rms_mm}}},
                       {"spikes_removed", spikes},
-                      {"track",
-                       {{"center_x_mm", t.center_x_mm},
-                        {"center_y_mm", t.center_y_mm},
-                        {"angle_deg", t.angle_deg},
-                        {"length_mm", t.length_mm},
-                        {"width_mm", t.width_mm},
-                        {"mean_depth_mm", t.mean_depth_mm},
-                        {"max_depth_mm", t.max_depth_mm},
-                        {"volume_mm3", t.volume_mm3},
-                        {"manual", t.manual}}},
+                      {"track", track_json},
                       {"warnings", map.metadata.warnings}};
+  if (!track) j["track_missing"] = no_track;
   scan::WriteTrackPreviewPng(
-      map, t, (fs::path(a.out) / "preview.png").string());
-  WriteTextAtomically((fs::path(a.out) / "scan.json").string(),
-                      j.dump(2) + "\n");
-  fmt::print(
-      "wrote centreline.csv (s_mm, h_mm, n_valid), cross_sections.csv, "
-      "levelled.gsf, preview.png and scan.json to {}/\n",
-      a.out);
+      map, track ? *track : scan::Track{}, path("preview.png"));
+  WriteTextAtomically(path("scan.json"), j.dump(2) + "\n");
+  fmt::print("wrote {} to {}/\n", fmt::join(written, ", "), a.out);
 }
 
 }  // namespace
@@ -155,6 +185,10 @@ void AddScanCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option(
          "--min-depth", args->track.min_depth_mm, "Track: least depth, mm")
+      ->capture_default_str();
+  cmd->add_option("--min-elongation",
+                  args->track.min_elongation,
+                  "Track: least length/width of the depression")
       ->capture_default_str();
   cmd->add_flag(
       "--manual-track", args->track.manual, "Place the track by hand");

@@ -184,6 +184,18 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
                   "Scan slope window, scan samples")
       ->capture_default_str()
       ->group("Scan");
+  cmd->add_option("--min-depth", o.track.min_depth_mm, "Track: least depth, mm")
+      ->capture_default_str()
+      ->group("Scan");
+  cmd->add_option("--min-elongation",
+                  o.track.min_elongation,
+                  "Track: least length/width of the depression")
+      ->capture_default_str()
+      ->group("Scan");
+  cmd->add_option("--track-length",
+                  o.track.manual_length_mm,
+                  "Track length, mm (manual placement; 0 = across the field)")
+      ->group("Scan");
   cmd->add_flag("--manual-track",
                 o.track.manual,
                 "Place the track by hand (--track-x, --track-y, --track-angle)")

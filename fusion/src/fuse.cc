@@ -1,5 +1,7 @@
 #include "wearscar/fusion/fuse.h"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <limits>
 
@@ -100,6 +102,70 @@ bool ParseSlopeChoice(const std::string& name, SlopeChoice* choice) {
   return true;
 }
 
+namespace {
+
+// The scan side of one test (levelling, track, centreline, alignment, scan
+// slope, mu-hat with it). Throws scan::NoTrackError when the map holds no
+// track, FusionError when its profile cannot be aligned with the force's.
+ScanAnalysis AnalyzeScan(const force::ForceRecord& record,
+                         const ForceAnalysis& force,
+                         scan::HeightMap map,
+                         const FuseOptions& options) {
+  ScanAnalysis s;
+  s.level = scan::LevelHeightMap(&map, options.level);
+  s.spikes_removed = scan::RemoveSpikes(&map, options.spikes);
+  s.track = scan::FindTrack(map, options.track);
+  scan::ProfileOptions po = options.profile;
+  po.extend_mm = std::max(po.extend_mm, 0.5);
+  s.profile = scan::ExtractCentreline(map, s.track, po);
+  // The last N cycles, but none of the running-in.
+  ForceProfileOptions fpo = options.force_profile;
+  const int nc = static_cast<int>(force.cycles.cycles.size());
+  if (fpo.first_cycle < 0 && nc > 0) {
+    fpo.first_cycle =
+        std::max(nc - fpo.cycles, std::min(force.running_in.cycles, nc - 1));
+    fpo.last_cycle = nc - 1;
+  }
+  s.force_profile = ComputeForceProfile(
+      record,
+      force.cycles,
+      options.analysis.friction.slope.spring_stiffness_n_per_mm,
+      fpo);
+  s.alignment = AlignProfiles(s.force_profile, s.profile, options.align);
+  // The sphere's excursion over the complete cycles bounds the sliding
+  // path: the scan beyond it is the groove's end walls.
+  double stroke_min = -std::numeric_limits<double>::infinity();
+  double stroke_max = std::numeric_limits<double>::infinity();
+  if (nc > 0) {
+    const Eigen::Index b = force.cycles.cycles.front().forward.begin;
+    const Eigen::Index e = force.cycles.cycles.back().reverse.end;
+    stroke_min = std::numeric_limits<double>::infinity();
+    stroke_max = -stroke_min;
+    for (Eigen::Index i = b; i < e; ++i) {
+      const double x = record.x_mm[i];
+      if (!std::isfinite(x)) continue;  // isolated gaps are allowed
+      stroke_min = std::min(stroke_min, x);
+      stroke_max = std::max(stroke_max, x);
+    }
+  }
+  s.slope = ScanSlopeInPlate(
+      s.profile, s.alignment, options.scan_slope, stroke_min, stroke_max);
+  if (options.slopes != SlopeChoice::kForce) {
+    s.fit_scan = FitFrictionPerCycle(record,
+                                     force.cycles,
+                                     SlopeSource::kScan,
+                                     options.analysis.friction,
+                                     &s.slope);
+  } else {
+    s.fit_scan.assign(force.cycles.cycles.size(), MuFit{});
+    for (auto& f : s.fit_scan) f.message = "not fitted (force slope only)";
+  }
+  s.levelled = std::move(map);
+  return s;
+}
+
+}  // namespace
+
 TestResult AnalyzeTest(const force::ForceRecord& record,
                        std::optional<scan::HeightMap> height_map,
                        const FuseOptions& options) {
@@ -114,58 +180,20 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
   result.force = AnalyzeForce(record, ao);
   const int n = static_cast<int>(result.force.cycles.cycles.size());
   if (height_map) {
-    ScanAnalysis s;
-    scan::HeightMap& map = *height_map;
-    s.level = scan::LevelHeightMap(&map, options.level);
-    s.spikes_removed = scan::RemoveSpikes(&map, options.spikes);
-    s.track = scan::FindTrack(map, options.track);
-    scan::ProfileOptions po = options.profile;
-    po.extend_mm = std::max(po.extend_mm, 0.5);
-    s.profile = scan::ExtractCentreline(map, s.track, po);
-    // The last N cycles, but none of the running-in.
-    ForceProfileOptions fpo = options.force_profile;
-    const int nc = static_cast<int>(result.force.cycles.cycles.size());
-    if (fpo.first_cycle < 0 && nc > 0) {
-      fpo.first_cycle = std::max(
-          nc - fpo.cycles, std::min(result.force.running_in.cycles, nc - 1));
-      fpo.last_cycle = nc - 1;
+    // A scan that cannot serve (no track, no overlap with the stroke) does
+    // not lose the test: the force side stands, with a warning that says
+    // why (unless the scan's slope alone was asked for).
+    const std::string file = height_map->metadata.source;
+    try {
+      result.scan =
+          AnalyzeScan(record, result.force, std::move(*height_map), options);
+    } catch (const std::exception& e) {
+      if (options.slopes == SlopeChoice::kScan) throw;
+      result.scan_skipped = fmt::format(
+          "the scan was not used ({}); mu-hat and the verdict rest on k "
+          "from P alone",
+          e.what());
     }
-    s.force_profile = ComputeForceProfile(
-        record,
-        result.force.cycles,
-        options.analysis.friction.slope.spring_stiffness_n_per_mm,
-        fpo);
-    s.alignment = AlignProfiles(s.force_profile, s.profile, options.align);
-    // The sphere's excursion over the complete cycles bounds the sliding
-    // path: the scan beyond it is the groove's end walls.
-    double stroke_min = -std::numeric_limits<double>::infinity();
-    double stroke_max = std::numeric_limits<double>::infinity();
-    if (nc > 0) {
-      const Eigen::Index b = result.force.cycles.cycles.front().forward.begin;
-      const Eigen::Index e = result.force.cycles.cycles.back().reverse.end;
-      stroke_min = std::numeric_limits<double>::infinity();
-      stroke_max = -stroke_min;
-      for (Eigen::Index i = b; i < e; ++i) {
-        const double x = record.x_mm[i];
-        if (!std::isfinite(x)) continue;  // isolated gaps are allowed
-        stroke_min = std::min(stroke_min, x);
-        stroke_max = std::max(stroke_max, x);
-      }
-    }
-    s.slope = ScanSlopeInPlate(
-        s.profile, s.alignment, options.scan_slope, stroke_min, stroke_max);
-    if (options.slopes != SlopeChoice::kForce) {
-      s.fit_scan = FitFrictionPerCycle(record,
-                                       result.force.cycles,
-                                       SlopeSource::kScan,
-                                       options.analysis.friction,
-                                       &s.slope);
-    } else {
-      s.fit_scan.assign(result.force.cycles.cycles.size(), MuFit{});
-      for (auto& f : s.fit_scan) f.message = "not fitted (force slope only)";
-    }
-    s.levelled = std::move(map);
-    result.scan = std::move(s);
   }
   // Compare over the cycles the scan describes best: the force profile's
   // range with a scan, else everything after running-in.
@@ -183,6 +211,13 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
   result.verdict = Judge(result.mismatch, options.verdict);
   result.warnings =
       DataWarnings(result.force, result.mismatch, options.warnings);
+  if (!result.scan_skipped.empty()) {
+    result.warnings.insert(result.warnings.begin(), result.scan_skipped);
+  }
+  if (result.scan && result.scan->track.low_confidence) {
+    result.warnings.push_back("the scan's track: " +
+                              result.scan->track.message);
+  }
   result.detail_cycle = options.detail_cycle >= 0 && options.detail_cycle < n
                             ? options.detail_cycle
                             : n - 1;

@@ -1,7 +1,6 @@
 // Keyence readers: VK-X (.vk4, .vk6, .vk7) and VR (.zon, .zag). Layouts in
 // FORMATS.md (after Gwyddion keyence.c, SurfaceTopography ZON.py / VK.py).
 #include <fmt/format.h>
-#include <zstd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -130,13 +129,13 @@ HeightMap ParseVk67(const std::string& bytes,
   const std::uint64_t zip_at = 7 + std::uint64_t{bmp};
   in.Need(zip_at, 4, "the ZIP archive after the thumbnail");
   internal::ZipArchive zip(bytes.substr(zip_at),
-                           fmt::format("{} (ZIP at byte {})", name, zip_at));
+                           fmt::format("{} (ZIP at byte {})", name, zip_at),
+                           options);
   if (!zip.Has("Vk4File")) {
     throw ScanError(
         fmt::format("{}: the archive has no member 'Vk4File'", name));
   }
-  HeightMap map = ParseVk4(zip.Read("Vk4File", options.max_member_bytes),
-                           name + ":Vk4File");
+  HeightMap map = ParseVk4(zip.Read("Vk4File"), name + ":Vk4File");
   map.metadata.source = name;
   map.metadata.format = magic == "VK6" ? "vk6" : "vk7";
   return map;
@@ -144,43 +143,21 @@ HeightMap ParseVk67(const std::string& bytes,
 
 namespace {
 
+constexpr std::uint64_t kNoCap = std::numeric_limits<std::uint64_t>::max();
+constexpr std::uint64_t kXmlCap = std::uint64_t{16} << 20;
+
 // A member of a ZON archive; KPK1 members are zstd frames.
 std::string ReadZonMember(const internal::ZipArchive& zip,
                           const std::string& member,
                           bool zstd,
-                          const std::string& name,
-                          std::uint64_t limit) {
-  std::string raw = zip.Read(member, limit);
+                          std::uint64_t cap = kNoCap) {
+  std::string raw = zip.Read(member, cap);
   if (!zstd) return raw;
-  const unsigned long long size =
-      ZSTD_getFrameContentSize(raw.data(), raw.size());
-  if (size == ZSTD_CONTENTSIZE_ERROR) {
-    throw ScanError(fmt::format(
-        "{}: member '{}' is not a zstd frame (KPK1 compresses every "
-        "member)",
-        name,
-        member));
-  }
-  if (size == ZSTD_CONTENTSIZE_UNKNOWN || size > limit) {
-    throw ScanError(fmt::format(
-        "{}: member '{}' decompresses to {} bytes; the limit is {}",
-        name,
-        member,
-        size == ZSTD_CONTENTSIZE_UNKNOWN ? std::string("an unknown number of")
-                                         : std::to_string(size),
-        limit));
-  }
-  std::string out(static_cast<size_t>(size), '\0');
-  const size_t got =
-      ZSTD_decompress(out.data(), out.size(), raw.data(), raw.size());
-  if (ZSTD_isError(got) || got != size) {
-    throw ScanError(fmt::format(
-        "{}: member '{}': zstd error: {}",
-        name,
-        member,
-        ZSTD_isError(got) ? ZSTD_getErrorName(got) : "short output"));
-  }
-  return out;
+  return internal::ZstdDecompress(
+      raw,
+      &zip.budget(),
+      cap,
+      fmt::format("{}: member '{}' (zstd)", zip.name(), member));
 }
 
 struct GridHeader {
@@ -229,8 +206,7 @@ double XmlNumber(const pugi::xml_document& doc, const char* path) {
 HeightMap ZonFromArchive(const internal::ZipArchive& zip,
                          bool zstd,
                          const std::string& name,
-                         const std::string& prefix,
-                         const ReadScanOptions& options) {
+                         const std::string& prefix) {
   const std::string heights_member = prefix + kZonHeights;
   if (!zip.Has(heights_member)) {
     throw ScanError(fmt::format(
@@ -245,8 +221,7 @@ HeightMap ZonFromArchive(const internal::ZipArchive& zip,
                     calib_member));
   }
   pugi::xml_document calib;
-  const std::string calib_xml =
-      ReadZonMember(zip, calib_member, zstd, name, 16u << 20);
+  const std::string calib_xml = ReadZonMember(zip, calib_member, zstd, kXmlCap);
   if (!calib.load_buffer(calib_xml.data(), calib_xml.size())) {
     throw ScanError(
         fmt::format("{}: member '{}' is not XML", name, calib_member));
@@ -262,8 +237,7 @@ HeightMap ZonFromArchive(const internal::ZipArchive& zip,
                     m_per_px,
                     m_per_unit));
   }
-  const std::string data =
-      ReadZonMember(zip, heights_member, zstd, name, options.max_member_bytes);
+  const std::string data = ReadZonMember(zip, heights_member, zstd);
   const std::string where =
       fmt::format("{}: member '{}'", name, heights_member);
   const GridHeader g = ReadGridHeader(data, where, 4);
@@ -281,8 +255,7 @@ HeightMap ZonFromArchive(const internal::ZipArchive& zip,
   }
   const std::string mask_member = prefix + kZonMask;
   if (zip.Has(mask_member)) {
-    const std::string mask =
-        ReadZonMember(zip, mask_member, zstd, name, options.max_member_bytes);
+    const std::string mask = ReadZonMember(zip, mask_member, zstd);
     const GridHeader mg = ReadGridHeader(
         mask, fmt::format("{}: member '{}'", name, mask_member), 1);
     if (mg.width != g.width || mg.height != g.height) {
@@ -311,8 +284,7 @@ HeightMap ZonFromArchive(const internal::ZipArchive& zip,
   auto text_of = [&](const char* member, const char* path) -> std::string {
     if (!zip.Has(prefix + member)) return "";
     pugi::xml_document d;
-    const std::string x =
-        ReadZonMember(zip, prefix + member, zstd, name, 16u << 20);
+    const std::string x = ReadZonMember(zip, prefix + member, zstd, kXmlCap);
     if (!d.load_buffer(x.data(), x.size())) return "";
     const pugi::xpath_node n = d.select_node(path);
     return n ? n.node().child_value() : "";
@@ -322,7 +294,10 @@ HeightMap ZonFromArchive(const internal::ZipArchive& zip,
   return map;
 }
 
-// KPK0/KPK1 wrapper: magic, BMP size, BMP, then the ZIP.
+// KPK0/KPK1 wrapper: magic, BMP size, BMP, (a few bytes,) then the ZIP.
+constexpr std::uint64_t kKpkBmpSizeOffset = 4;
+constexpr std::uint64_t kKpkBmpOffset = 8;
+constexpr std::uint64_t kKpkMaxGap = 4096;
 std::string ZipOfKpk(const std::string& bytes,
                      const std::string& name,
                      bool* zstd) {
@@ -336,9 +311,23 @@ std::string ZipOfKpk(const std::string& bytes,
                     magic));
   }
   *zstd = magic == "KPK1";
-  const auto bmp = in.At<std::uint32_t>(4, "BMP size");
-  const std::uint64_t zip_at = 8 + std::uint64_t{bmp};
-  in.Need(zip_at, 4, "the ZIP archive after the thumbnail");
+  const auto bmp = in.At<std::uint32_t>(kKpkBmpSizeOffset, "BMP size");
+  const std::uint64_t after_bmp = kKpkBmpOffset + std::uint64_t{bmp};
+  in.Need(after_bmp, 4, "the ZIP archive after the thumbnail");
+  // Real files put a few bytes between the BMP and the ZIP (a VR-6100 file:
+  // two uint32, 4 and 2): the ZIP starts at the first local-file header
+  // after the BMP, within a short distance of it.
+  static const std::string kLocalHeader("PK\x03\x04", 4);
+  const std::size_t zip_at = bytes.find(kLocalHeader, after_bmp);
+  if (zip_at == std::string::npos || zip_at - after_bmp > kKpkMaxGap) {
+    throw ScanError(fmt::format(
+        "{}: byte {}: no ZIP local-file header (PK\\3\\4) within {} bytes "
+        "after the {}-byte thumbnail; expected the ZIP container",
+        name,
+        after_bmp,
+        kKpkMaxGap,
+        bmp));
+  }
   return bytes.substr(zip_at);
 }
 
@@ -348,8 +337,8 @@ HeightMap ParseZon(const std::string& bytes,
                    const std::string& name,
                    const ReadScanOptions& options) {
   bool zstd = false;
-  internal::ZipArchive zip(ZipOfKpk(bytes, name, &zstd), name);
-  HeightMap map = ZonFromArchive(zip, zstd, name, "", options);
+  internal::ZipArchive zip(ZipOfKpk(bytes, name, &zstd), name, options);
+  HeightMap map = ZonFromArchive(zip, zstd, name, "");
   map.metadata.format = zstd ? "zon (KPK1)" : "zon (KPK0)";
   return map;
 }
@@ -357,7 +346,8 @@ HeightMap ParseZon(const std::string& bytes,
 std::vector<std::string> ListZagMeasurements(const std::string& bytes,
                                              const std::string& name) {
   bool zstd = false;
-  internal::ZipArchive zip(ZipOfKpk(bytes, name, &zstd), name);
+  const ReadScanOptions defaults;  // only names are read
+  internal::ZipArchive zip(ZipOfKpk(bytes, name, &zstd), name, defaults);
   std::vector<std::string> items;
   const std::string suffix = std::string("/") + kZagPayload;
   for (const std::string& m : zip.Members()) {
@@ -388,10 +378,10 @@ HeightMap ParseZag(const std::string& bytes,
                     items.size() - 1));
   }
   bool zstd = false;
-  internal::ZipArchive zip(ZipOfKpk(bytes, name, &zstd), name);
+  internal::ZipArchive zip(ZipOfKpk(bytes, name, &zstd), name, options);
   const std::string member =
       items[options.measurement_index] + "/" + kZagPayload;
-  std::string payload = zip.Read(member, options.max_member_bytes);
+  std::string payload = zip.Read(member);
   const std::string item_name =
       fmt::format("{}:{}", name, items[options.measurement_index]);
   HeightMap map = ParseZon(payload, item_name, options);

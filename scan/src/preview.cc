@@ -20,6 +20,40 @@ constexpr double kPi = 3.14159265358979323846;
 
 }  // namespace
 
+namespace {
+
+// PNG by libpng's simplified API (OpenCV's imgcodecs would pull in a
+// hundred libraries, GDAL among them, for this one call).
+std::string EncodePng(const cv::Mat& image, const std::string& source) {
+  png_image png;
+  std::memset(&png, 0, sizeof(png));
+  png.version = PNG_IMAGE_VERSION;
+  png.width = static_cast<png_uint_32>(image.cols);
+  png.height = static_cast<png_uint_32>(image.rows);
+  png.format = PNG_FORMAT_BGR;
+  const png_int_32 row_stride = static_cast<png_int_32>(image.step);
+  png_alloc_size_t size = 0;
+  std::string out;
+  if (png_image_write_to_memory(
+          &png, nullptr, &size, 0, image.data, row_stride, nullptr)) {
+    out.resize(size);
+    if (!png_image_write_to_memory(
+            &png, out.data(), &size, 0, image.data, row_stride, nullptr)) {
+      out.clear();
+    }
+    out.resize(size);
+  }
+  if (out.empty()) {
+    const std::string why = png.message;
+    png_image_free(&png);
+    throw ScanError(
+        fmt::format("{}: preview: PNG encoding failed: {}", source, why));
+  }
+  return out;
+}
+
+}  // namespace
+
 std::string EncodeTrackPreviewPng(const HeightMap& map,
                                   const Track& track,
                                   const PreviewOptions& o) {
@@ -74,6 +108,7 @@ std::string EncodeTrackPreviewPng(const HeightMap& map,
     scale = static_cast<double>(o.max_width_px) / cols;
     cv::resize(image, image, cv::Size(), scale, scale, cv::INTER_AREA);
   }
+  if (!(track.length_mm > 0)) return EncodePng(image, map.metadata.source);
   // Track geometry in output pixels.
   const double px = scale / map.dx_mm, py = scale / map.dy_mm;
   const double th = track.angle_deg * kPi / 180.0;
@@ -107,33 +142,7 @@ std::string EncodeTrackPreviewPng(const HeightMap& map,
                  cv::MARKER_CROSS,
                  12 * thick,
                  thick);
-  // PNG by libpng's simplified API (OpenCV's imgcodecs would pull in a
-  // hundred libraries, GDAL among them, for this one call).
-  png_image png;
-  std::memset(&png, 0, sizeof(png));
-  png.version = PNG_IMAGE_VERSION;
-  png.width = static_cast<png_uint_32>(image.cols);
-  png.height = static_cast<png_uint_32>(image.rows);
-  png.format = PNG_FORMAT_BGR;
-  const png_int_32 row_stride = static_cast<png_int_32>(image.step);
-  png_alloc_size_t size = 0;
-  std::string out;
-  if (png_image_write_to_memory(
-          &png, nullptr, &size, 0, image.data, row_stride, nullptr)) {
-    out.resize(size);
-    if (!png_image_write_to_memory(
-            &png, out.data(), &size, 0, image.data, row_stride, nullptr)) {
-      out.clear();
-    }
-    out.resize(size);
-  }
-  if (out.empty()) {
-    const std::string why = png.message;
-    png_image_free(&png);
-    throw ScanError(fmt::format(
-        "{}: preview: PNG encoding failed: {}", map.metadata.source, why));
-  }
-  return out;
+  return EncodePng(image, map.metadata.source);
 }
 
 void WriteTrackPreviewPng(const HeightMap& levelled,

@@ -19,6 +19,11 @@ bool ReadScanOptions::IsValid(std::string* why) const {
     if (why) *why = "ascii_pitch_mm must be >= 0";
     return false;
   }
+  if (max_member_bytes == 0 || max_total_bytes == 0 ||
+      !(max_expansion_ratio >= 1)) {
+    if (why) *why = "decompression limits must be positive (ratio >= 1)";
+    return false;
+  }
   return true;
 }
 

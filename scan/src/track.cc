@@ -32,6 +32,9 @@ bool TrackOptions::IsValid(std::string* why) const {
   if (!(depth_fraction > 0 && depth_fraction < 1))
     return fail("depth_fraction must be in (0, 1)");
   if (morphology_px < 0) return fail("morphology_px must be >= 0");
+  if (!(min_elongation >= 1)) return fail("min_elongation must be >= 1");
+  if (!(confident_depth_to_roughness >= 0 && confident_elongation >= 1))
+    return fail("track confidence limits out of range");
   return true;
 }
 
@@ -147,7 +150,7 @@ Track FindTrack(const HeightMap& map, const TrackOptions& options) {
     }
   }
   if (best < 0) {
-    throw ScanError(fmt::format(
+    throw NoTrackError(fmt::format(
         "{}: no worn track found: no elongated depression deeper than {:.4f} "
         "mm (length/width >= "
         "{}); place it by hand (centre and angle) or lower the depth threshold",
@@ -201,11 +204,43 @@ Track FindTrack(const HeightMap& map, const TrackOptions& options) {
     }
     t.mean_depth_mm = n_ok > 0 ? sum / n_ok : std::nan("");
   }
-  t.message =
-      fmt::format("found: {} px, elongation {:.1f}, depth threshold {:.4f} mm",
-                  t.pixels,
-                  t.elongation,
-                  threshold);
+  // Roughness outside the track (every 4th valid pixel away from it).
+  {
+    std::vector<double> outside;
+    outside.reserve(depths.size());
+    for (int r = 0; r < rows; ++r) {
+      for (int c = 0; c < cols; ++c) {
+        if ((r * cols + c) % 4 != 0 || !map.valid(r, c) ||
+            mask.at<unsigned char>(r, c) != 0)
+          continue;
+        outside.push_back(map.height_mm(r, c));
+      }
+    }
+    if (outside.size() >= 10) {
+      const double median = Percentile(outside, 0.5);
+      for (double& v : outside) v = std::abs(v - median);
+      t.roughness_mm = 1.4826 * Percentile(outside, 0.5);
+    }
+    t.depth_to_roughness =
+        t.roughness_mm > 0 ? t.mean_depth_mm / t.roughness_mm : std::nan("");
+  }
+  t.message = fmt::format(
+      "found: {} px, elongation {:.1f}, depth threshold {:.4f} mm, "
+      "mean depth {:.1f}x the roughness",
+      t.pixels,
+      t.elongation,
+      threshold,
+      t.depth_to_roughness);
+  if (!(t.depth_to_roughness >= options.confident_depth_to_roughness) ||
+      t.elongation < options.confident_elongation) {
+    t.low_confidence = true;
+    t.message += fmt::format(
+        "; low confidence (expected a depth of at least {}x the roughness "
+        "and an elongation of at least {}): it may be texture, not a wear "
+        "track",
+        options.confident_depth_to_roughness,
+        options.confident_elongation);
+  }
   return t;
 }
 

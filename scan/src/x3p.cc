@@ -61,7 +61,7 @@ double ToMetres(const Axis& z, double raw) {
 HeightMap ParseX3p(const std::string& bytes,
                    const std::string& name,
                    const ReadScanOptions& options) {
-  internal::ZipArchive zip(bytes, name);
+  internal::ZipArchive zip(bytes, name, options);
   const std::string main_xml = zip.Find("main.xml");
   if (main_xml.empty()) {
     throw ScanError(fmt::format(
@@ -131,7 +131,7 @@ HeightMap ParseX3p(const std::string& bytes,
                       name,
                       link.child_value("PointDataLink")));
     }
-    const std::string data = zip.Read(member, options.max_member_bytes);
+    const std::string data = zip.Read(member);
     if (data.size() != n * zbytes) {
       throw ScanError(
           fmt::format("{}: member '{}' has {} bytes; expected {} for {} x {} "

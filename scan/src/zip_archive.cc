@@ -11,8 +11,13 @@ struct ZipArchive::Impl {
   zip_t* zip = nullptr;
 };
 
-ZipArchive::ZipArchive(std::string bytes, std::string name)
-    : bytes_(std::move(bytes)), impl_(new Impl), name_(std::move(name)) {
+ZipArchive::ZipArchive(std::string bytes,
+                       std::string name,
+                       const ReadScanOptions& options)
+    : bytes_(std::move(bytes)),
+      impl_(new Impl),
+      name_(std::move(name)),
+      budget_(options) {
   zip_error_t error;
   zip_error_init(&error);
   zip_source_t* src =
@@ -65,51 +70,46 @@ std::string ZipArchive::Find(const std::string& name) const {
 }
 
 std::string ZipArchive::Read(const std::string& member,
-                             std::uint64_t max_bytes) const {
+                             std::uint64_t cap) const {
   zip_stat_t st;
   zip_stat_init(&st);
   if (zip_stat(impl_->zip, member.c_str(), 0, &st) != 0) {
     throw ScanError(fmt::format("{}: member '{}' is missing", name_, member));
   }
-  if ((st.valid & ZIP_STAT_SIZE) && st.size > max_bytes) {
-    throw ScanError(
-        fmt::format("{}: member '{}' decompresses to {} bytes, more than the "
-                    "limit of {}",
-                    name_,
-                    member,
-                    st.size,
-                    max_bytes));
+  const std::string where = fmt::format("{}: member '{}'", name_, member);
+  if (!(st.valid & ZIP_STAT_SIZE) || !(st.valid & ZIP_STAT_COMP_SIZE)) {
+    throw ScanError(where + ": the archive states no size for it");
   }
+  // The stated sizes are checked before anything is inflated; the read
+  // below then refuses a member that holds more than stated.
+  budget_.Check(st.comp_size, st.size, cap, where);
   zip_file_t* f = zip_fopen(impl_->zip, member.c_str(), 0);
   if (f == nullptr) {
-    throw ScanError(fmt::format("{}: member '{}' cannot be opened: {}",
-                                name_,
-                                member,
-                                zip_strerror(impl_->zip)));
+    throw ScanError(fmt::format(
+        "{}: cannot be opened: {}", where, zip_strerror(impl_->zip)));
   }
   std::string out;
-  out.resize(static_cast<size_t>(std::min<std::uint64_t>(st.size, max_bytes)));
+  out.resize(static_cast<size_t>(st.size));
   zip_int64_t got = zip_fread(f, out.data(), out.size());
   // A header that understates the size must not let more through.
   char probe;
   const zip_int64_t extra = got >= 0 ? zip_fread(f, &probe, 1) : 0;
   zip_fclose(f);
   if (got < 0 || static_cast<std::uint64_t>(got) != out.size()) {
-    throw ScanError(
-        fmt::format("{}: member '{}' is truncated or corrupt ({} of {} bytes)",
-                    name_,
-                    member,
-                    got,
-                    out.size()));
+    throw ScanError(fmt::format(
+        "{}: truncated or corrupt: {} of the {} bytes its header states "
+        "could be inflated",
+        where,
+        got < 0 ? 0 : got,
+        out.size()));
   }
   if (extra > 0) {
     throw ScanError(
-        fmt::format("{}: member '{}' holds more data than its header says "
-                    "(limit {} bytes)",
-                    name_,
-                    member,
-                    max_bytes));
+        fmt::format("{}: holds more data than the {} bytes its header states",
+                    where,
+                    out.size()));
   }
+  budget_.Spend(out.size());
   return out;
 }
 

@@ -189,16 +189,17 @@ TEST(Cli, FuseWritesResultsAndFlagsTheElasticCase) {
             std::string::npos)
       << f.output;
   // The paper's criterion on request, named as such.
-  const CommandResult p = Wearscar(
-      "fuse --force " + dir + "/S-RL-R.force.csv --running-in 60 "
-      "--verdict-cost paper --k-estimate cycle --no-lugre");
+  const CommandResult p =
+      Wearscar("fuse --force " + dir +
+               "/S-RL-R.force.csv --running-in 60 "
+               "--verdict-cost paper --k-estimate cycle --no-lugre");
   EXPECT_EQ(p.status, 0) << p.output;
   EXPECT_NE(p.output.find("(the paper's criterion; its noise floor is"),
             std::string::npos)
       << p.output;
   EXPECT_NE(p.output.find("(cycle)"), std::string::npos) << p.output;
-  const CommandResult bad = Wearscar("fuse --force " + dir +
-                                     "/S-RL-R.force.csv --k-estimate median");
+  const CommandResult bad =
+      Wearscar("fuse --force " + dir + "/S-RL-R.force.csv --k-estimate median");
   EXPECT_EQ(bad.status, 2) << bad.output;
 }
 
@@ -278,6 +279,50 @@ TEST(Cli, WithoutGnuplotTheNumbersStillAppearAndTheMessageSaysWhy) {
   EXPECT_TRUE(std::filesystem::exists(out + "/cycles.csv"));
   EXPECT_TRUE(std::filesystem::exists(out + "/result.json"));
   EXPECT_FALSE(std::filesystem::exists(out + "/fig13_mu_hat.png"));
+}
+
+TEST(Cli, AScanWithoutATrackDoesNotLoseTheTest) {
+  // The real VR-6100 file holds a machined crater, no wear track.
+  const std::string zon =
+      std::string(WEARSCAR_SHARED_DATA) + "/keyence/vr6100_test_1.zon";
+  if (!std::filesystem::exists(zon))
+    GTEST_SKIP() << "../shared/data is absent (real instrument files)";
+  const std::string dir = ::testing::TempDir() + "/cli-notrack";
+  std::filesystem::remove_all(dir);
+  // scan: everything that needs no track, "track": null with the reason.
+  const CommandResult s = Wearscar("scan " + zon + " -o " + dir + "/scan");
+  EXPECT_EQ(s.status, 0) << s.output;
+  EXPECT_NE(s.output.find("warning: " + zon + ": no worn track found"),
+            std::string::npos)
+      << s.output;
+  for (const char* file : {"levelled.gsf", "preview.png", "scan.json"})
+    EXPECT_TRUE(std::filesystem::exists(dir + "/scan/" + file)) << file;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/scan/centreline.csv"));
+  const std::string json = Slurp(dir + "/scan/scan.json");
+  EXPECT_NE(json.find("\"track\": null"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"instrument\": \"VR-6100\""), std::string::npos);
+  // fuse: the force side stands, with the reason in the summary and
+  // result.json; --slope scan cannot stand without it.
+  ASSERT_EQ(Wearscar("simulate --case B-TL-L --cycles 40 --scan-cols 64 "
+                     "--scan-rows 48 --formats csv -o " +
+                     dir)
+                .status,
+            0);
+  const std::string force = dir + "/B-TL-L.force.csv";
+  const CommandResult f =
+      Wearscar("fuse --force " + force + " --scan " + zon +
+               " --no-lugre --no-figures -o " + dir + "/fuse");
+  EXPECT_EQ(f.status, 0) << f.output;
+  EXPECT_NE(f.output.find("warning: the scan was not used (" + zon +
+                          ": no worn track found"),
+            std::string::npos)
+      << f.output;
+  EXPECT_NE(Slurp(dir + "/fuse/result.json").find("the scan was not used"),
+            std::string::npos);
+  const CommandResult only =
+      Wearscar("fuse --force " + force + " --scan " + zon + " --slope scan");
+  EXPECT_EQ(only.status, 2) << only.output;
+  EXPECT_NE(only.output.find("no worn track found"), std::string::npos);
 }
 
 TEST(Cli, FuseWithUnreadableScanExitsTwoNamingIt) {

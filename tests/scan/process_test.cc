@@ -200,3 +200,37 @@ TEST(Track, CrossSectionShowsTheSphereShape) {
 
 }  // namespace
 }  // namespace wearscar::scan
+
+namespace wearscar::scan {
+namespace {
+
+TEST(TrackConfidence, AShallowDepressionInRoughWoodIsFoundWithLowConfidence) {
+  // The simulator's B-RT-R scan: a track 0.12 mm deep in wood of 2.5 um
+  // roughness is found with confidence; the same specimen worn only 4 um
+  // deep is texture-deep: refused or flagged, never a confident track.
+  for (double depth : {0.12, 0.004}) {
+    samples::SimulationOptions o = samples::PaperCase("B-RT-R");
+    o.cycles = 4;
+    o.sampling_rate_hz = 200;
+    o.scan_cols = 512;
+    o.scan_rows = 384;
+    o.scan_pitch_mm = 0.0148;
+    o.final_depth_mm = depth;
+    HeightMap map = samples::Simulate(o).scan;
+    LevelHeightMap(&map);
+    RemoveSpikes(&map);
+    try {
+      const Track t = FindTrack(map);
+      EXPECT_EQ(t.low_confidence, depth < 0.01) << t.message;
+      if (depth > 0.1) {
+        EXPECT_GT(t.depth_to_roughness, 10.0) << t.message;
+        EXPECT_NEAR(t.roughness_mm, 0.0025, 0.0015) << t.message;
+      }
+    } catch (const NoTrackError& e) {
+      EXPECT_LT(depth, 0.01) << e.what();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace wearscar::scan

@@ -67,14 +67,15 @@ def kpk(members, magic=b'KPK0'):
     return magic + struct.pack('<I', 2) + b'BM' + buf.getvalue()
 HG, CA = '4cdb0c75-5706-48cc-a9a1-adf395d609ae', '686613b8-27b5-4a29-8ffc-438c2780873e'
 put('bad_magic.zon', b'KPX0' + b'\0' * 40, 'scan', 'which is not the magic of a .zon file')
-put('not_zip.zon', b'KPK0' + struct.pack('<I', 0) + b'garbage here', 'scan', 'not a readable ZIP archive')
+put('not_zip.zon', b'KPK0' + struct.pack('<I', 0) + b'garbage here', 'scan', 'byte 8: no ZIP local-file header')
+put('broken_zip.zon', b'KPK0' + struct.pack('<I', 0) + b'PK\x03\x04' + b'garbage here', 'scan', 'not a readable ZIP archive')
 put('no_calibration.zon', kpk({HG: grid(2, 2, 4, 8, 16)}), 'scan', '(calibration XML) is missing')
 put('no_heights.zon', kpk({CA: CAL}), 'scan', '(heights) is missing')
 put('absurd.zon', kpk({HG: grid(100000, 100000, 4, 400000, 0), CA: CAL}), 'scan', '100000 x 100000 pixels; expected 1 to 268435456')
 put('short_stride.zon', kpk({HG: grid(4, 2, 4, 8, 32), CA: CAL}), 'scan', 'row stride 8; expected 4 and at least 16')
 put('truncated_rows.zon', kpk({HG: grid(4, 4, 4, 16, 20), CA: CAL}), 'scan', 'truncated: the pixel rows')
 put('bad_calibration.zon', kpk({HG: grid(2, 2, 4, 8, 16), CA: '<C><XYCalibration><MeterPerPixel>-1</MeterPerPixel></XYCalibration></C>'}), 'scan', 'expected positive numbers')
-put('kpk1_not_zstd.zon', kpk({HG: grid(2, 2, 4, 8, 16), CA: CAL}, magic=b'KPK1'), 'scan', 'is not a zstd frame')
+put('kpk1_not_zstd.zon', kpk({HG: grid(2, 2, 4, 8, 16), CA: CAL}, magic=b'KPK1'), 'scan', '(zstd): not a zstd frame')
 put('empty.zag', kpk({'f1724dc6-686c-4502-9227-2a594bc8ed33': '<Inventory/>'}), 'scan', 'no measurement payload')
 
 # ---- x3p

@@ -62,15 +62,20 @@ struct TestResult {
   std::optional<ScanAnalysis> scan;
   MismatchReport mismatch;
   Verdict verdict;
-  // How well the data carry the method (DataWarnings).
+  // How well the data carry the method (DataWarnings), and why a scan
+  // given was not used (scan_skipped, also the first warning).
   std::vector<std::string> warnings;
+  std::string scan_skipped;
   int detail_cycle = 0;
   std::optional<LugreFit> lugre;
 };
 
 // Force analysis, then (when a scan is given) levelling, spikes, track,
 // centreline, alignment, scan slope and mu-hat with it; then the mismatch
-// report and the verdict. The scan is taken by value (it is levelled).
+// report and the verdict. The scan is taken by value (it is levelled). A
+// scan without a findable track, or whose profile cannot be aligned with
+// the stroke, is left out with the reason in scan_skipped and the warnings
+// (with SlopeChoice::kScan it is an error).
 TestResult AnalyzeTest(const force::ForceRecord& record,
                        std::optional<scan::HeightMap> height_map,
                        const FuseOptions& options = {});

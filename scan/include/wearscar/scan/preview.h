@@ -16,6 +16,7 @@ struct PreviewOptions {
 // A PNG preview of a levelled map: heights in colour (viridis; invalid
 // pixels grey), the detected track's outline (length x width, white), its
 // centreline (red) and centre (cross). Returns the PNG bytes.
+// A Track of zero length (none was found) draws the map alone.
 std::string EncodeTrackPreviewPng(const HeightMap& levelled,
                                   const Track& track,
                                   const PreviewOptions& options = {});

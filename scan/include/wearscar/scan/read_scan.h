@@ -14,8 +14,16 @@ struct ReadScanOptions {
   // ASCII matrix: pixel pitch (mm) and the unit of the heights.
   double ascii_pitch_mm = 0.0;  // 0 = required for ASCII matrices
   std::string ascii_z_unit = "mm";
-  // Archive members decompressing to more than this are refused.
-  std::uint64_t max_member_bytes = std::uint64_t{1} << 31;
+  // Decompression limits (archive members, zstd frames), checked before
+  // inflating where the container states the size and while inflating
+  // where it does not: a member expands to at most max_member_bytes; beyond
+  // free_expansion_bytes, to at most max_expansion_ratio times its
+  // compressed size; the members of one file to at most max_total_bytes
+  // together. A 8192 x 8192 map of float64 is 512 MiB.
+  std::uint64_t max_member_bytes = std::uint64_t{1} << 30;
+  std::uint64_t max_total_bytes = std::uint64_t{3} << 29;  // 1.5 GiB
+  std::uint64_t free_expansion_bytes = std::uint64_t{64} << 20;
+  double max_expansion_ratio = 100.0;
 
   bool IsValid(std::string* why) const;
 };

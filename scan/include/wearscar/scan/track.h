@@ -23,6 +23,13 @@ struct Track {
   double volume_mm3 = 0.0;  // worn volume below the reference
   int pixels = 0;
   double elongation = 0.0;  // sqrt of the PCA eigenvalue ratio
+  // Confidence: the roughness of the surface outside the track (robust sd,
+  // 1.4826 MAD of the levelled heights) and the mean depth over it. A
+  // depression barely deeper than the roughness, or barely elongated, may
+  // be texture rather than wear (low_confidence, with the reason).
+  double roughness_mm = 0.0;
+  double depth_to_roughness = 0.0;
+  bool low_confidence = false;
   bool manual = false;
   std::string message = "not run";
 };
@@ -35,6 +42,9 @@ struct TrackOptions {
   double depth_fraction = 0.25;
   int morphology_px = 5;        // open then close with an ellipse
   double min_elongation = 2.0;  // length/width of an accepted component
+  // A track is found with low confidence below these (a warning).
+  double confident_depth_to_roughness = 3.0;
+  double confident_elongation = 3.0;
   // Manual placement instead of detection (angle in degrees).
   bool manual = false;
   double center_x_mm = 0.0, center_y_mm = 0.0, angle_deg = 0.0;
@@ -44,9 +54,15 @@ struct TrackOptions {
 };
 
 // Finds the largest elongated depression of a levelled map (smoothing,
-// threshold, morphology, connected components, PCA). Throws ScanError when
-// no track is found.
+// threshold, morphology, connected components, PCA). Throws NoTrackError
+// (a ScanError) when no track is found.
 Track FindTrack(const HeightMap& levelled, const TrackOptions& options = {});
+
+// No track in the map: everything that does not need one still stands.
+class NoTrackError : public ScanError {
+ public:
+  using ScanError::ScanError;
+};
 
 // Heights along the track axis.
 struct WearProfile {

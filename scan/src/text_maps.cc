@@ -91,6 +91,11 @@ std::optional<double> UnitToMm(std::string_view u) {
   return std::nullopt;
 }
 
+// Fields of view, mm: refused outside the first pair, warned of outside
+// what a Keyence VR measures.
+constexpr double kMinField = 0.01, kMaxField = 1000.0;
+constexpr double kVrMinField = 1.0, kVrMaxField = 100.0;
+
 }  // namespace
 
 HeightMap ParseKeyenceCsv(const std::string& bytes, const std::string& name) {
@@ -109,6 +114,7 @@ HeightMap ParseKeyenceCsv(const std::string& bytes, const std::string& name) {
   const char decimal = delim == ';' ? ',' : '.';
   long nx = -1, ny = -1;
   double pitch_mm = std::nan("");
+  size_t pitch_key_row = 0, fallback_pitch_row = 0;  // 1-based lines
   double z_to_mm = 1.0;  // heights in mm unless a unit row says otherwise
   size_t height_row = lines.size();
   for (size_t i = 0; i < lines.size(); ++i) {
@@ -128,11 +134,17 @@ HeightMap ParseKeyenceCsv(const std::string& bytes, const std::string& name) {
     if (key == "vertical" && value) ny = static_cast<long>(*value);
     const bool unit_says_um =
         (cells.size() >= 3 && IsMicrometre(cells[2])) || IsMicrometre(cells[1]);
-    if ((key.find("xy calibration") != std::string::npos ||
-         (unit_says_um && key.find("calib") != std::string::npos) ||
-         (unit_says_um && value && std::isnan(pitch_mm))) &&
-        value) {
+    // The pixel size: the key "XY Calibration" whole (other calibration rows,
+    // a Z calibration in um per digit, are not the pixel); without an
+    // English key (Japanese headers), a row in um whose key names XY.
+    if (value && key == "xy calibration") {
       pitch_mm = *value * 1e-3;  // um per pixel
+      pitch_key_row = i + 1;
+    } else if (value && unit_says_um && pitch_key_row == 0 &&
+               key.find("xy") != std::string::npos &&
+               key.find('z') == std::string::npos && std::isnan(pitch_mm)) {
+      pitch_mm = *value * 1e-3;
+      fallback_pitch_row = i + 1;
     }
     if ((key == "unit" || key == "z unit" || key == "height unit") &&
         UnitToMm(cells[1])) {
@@ -206,7 +218,36 @@ HeightMap ParseKeyenceCsv(const std::string& bytes, const std::string& name) {
                     height_row + 1,
                     ny));
   }
+  // The field of view the pixel implies: a Keyence VR sees 1 to 100 mm; a
+  // wrong calibration row scales every length and slope.
+  const size_t pitch_row = pitch_key_row ? pitch_key_row : fallback_pitch_row;
+  const double field_mm = std::max(nx, ny) * pitch_mm;
+  if (!(field_mm >= kMinField && field_mm <= kMaxField)) {
+    throw ScanError(fmt::format(
+        "{}: line {}: a pixel of {:.4g} um makes the {} x {} map {:.4g} mm "
+        "wide; expected a field of view of {} to {} mm (is line {} the XY "
+        "calibration in um per pixel?)",
+        name,
+        pitch_row,
+        pitch_mm * 1e3,
+        nx,
+        ny,
+        field_mm,
+        kMinField,
+        kMaxField,
+        pitch_row));
+  }
   HeightMap map;
+  if (field_mm < kVrMinField || field_mm > kVrMaxField) {
+    map.metadata.warnings.push_back(fmt::format(
+        "line {}: a pixel of {:.4g} um makes the map {:.4g} mm wide; a "
+        "Keyence VR sees {} to {} mm: check the XY calibration",
+        pitch_row,
+        pitch_mm * 1e3,
+        field_mm,
+        kVrMinField,
+        kVrMaxField));
+  }
   map.height_mm.resize(ny, nx);
   for (long r = 0; r < ny; ++r) {
     for (long c = 0; c < nx; ++c) map.height_mm(r, c) = rows[r][c];

@@ -308,12 +308,12 @@ TEST(KeyenceCsv, ShiftJisKeysSemicolonsDecimalComma) {
   // the size by the data block under the Shift-JIS 'Height' (高さ) row.
   const std::string text =
       "\x90\x85\x95\xbd;3\n\x90\x82\x92\xbc;"
-      "2\nXY\x83\x4c\x83\x83\x83\x8a\x83\x75;1,853;"
+      "2\nXY\x83\x4c\x83\x83\x83\x8a\x83\x75;18,53;"
       "\x83\xca"
       "m\n\x8d\x82\x82\xb3\n0,1;0,2;0,3\n0,4;;0,6\n";
   const HeightMap h = ParseKeyenceCsv(text, "jp.csv");
   ASSERT_EQ(h.cols(), 3);
-  EXPECT_NEAR(h.dx_mm, 1.853e-3, 1e-12);
+  EXPECT_NEAR(h.dx_mm, 18.53e-3, 1e-12);
   EXPECT_NEAR(h.height_mm(1, 2), 0.6, 1e-7);
   EXPECT_FALSE(h.valid(1, 1));
 }
@@ -442,6 +442,77 @@ TEST(ScanBadInput, ZipMemberOverTheLimitIsRefused) {
     EXPECT_NE(std::string(e.what()).find("big1.zon: member"), std::string::npos)
         << e.what();
   }
+}
+
+}  // namespace
+}  // namespace wearscar::scan
+
+namespace wearscar::scan {
+namespace {
+
+// A Keyence VR CSV header as the instrument writes it (quoted cells, a Z
+// calibration row in um after the XY one, a magnification) over nx x 2
+// heights.
+std::string VrCsv(const std::string& header_rows, int nx) {
+  std::string s = "\"Measurement\",\"sample 1\"\n" + header_rows +
+                  "\"Horizontal\",\"" + std::to_string(nx) +
+                  "\"\n\"Vertical\",\"2\"\n\"Magnification\",\"12\",\"x\"\n"
+                  "\"Height\"\n";
+  for (int r = 0; r < 2; ++r) {
+    for (int c = 0; c < nx; ++c) s += (c ? "," : "") + std::to_string(0.001 * c);
+    s += "\n";
+  }
+  return s;
+}
+
+TEST(KeyenceCsv, OnlyTheXyCalibrationRowIsThePixel) {
+  // Before: any calibration row in um was taken, the Z one last, and every
+  // length came out 74x too small.
+  const HeightMap m = ParseKeyenceCsv(
+      VrCsv("\"XY Calibration\",\"7.413\",\"um\"\n\"Z "
+            "Calibration\",\"0.1\",\"um\"\n",
+            1024),
+      "vr.csv");
+  EXPECT_NEAR(m.dx_mm, 0.007413, 1e-12);
+  EXPECT_TRUE(m.metadata.warnings.empty());
+  // The same rows the other way round.
+  const HeightMap r = ParseKeyenceCsv(
+      VrCsv("\"Z Calibration\",\"0.1\",\"um\"\n\"XY "
+            "Calibration\",\"7.413\",\"um\"\n",
+            1024),
+      "vr.csv");
+  EXPECT_NEAR(r.dx_mm, 0.007413, 1e-12);
+}
+
+TEST(KeyenceCsv, AnImplausibleFieldOfViewIsRefusedOrWarnedOf) {
+  // No XY row: a Z calibration is never the pixel.
+  try {
+    ParseKeyenceCsv(VrCsv("\"Z Calibration\",\"0.1\",\"um\"\n", 1024),
+                    "z.csv");
+    FAIL();
+  } catch (const ScanError& e) {
+    EXPECT_NE(std::string(e.what()).find("z.csv: no 'XY Calibration' row"),
+              std::string::npos)
+        << e.what();
+  }
+  // 0.005 um on 1024 pixels: 5 um wide, refused with the line.
+  try {
+    ParseKeyenceCsv(VrCsv("\"XY Calibration\",\"0.005\",\"um\"\n", 1024),
+                    "tiny.csv");
+    FAIL();
+  } catch (const ScanError& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  "tiny.csv: line 2: a pixel of 0.005 um makes the 1024 x 2 "
+                  "map 0.00512 mm wide"),
+              std::string::npos)
+        << e.what();
+  }
+  // 0.1 um: 0.1 mm wide, read with a warning.
+  const HeightMap w = ParseKeyenceCsv(
+      VrCsv("\"XY Calibration\",\"0.1\",\"um\"\n", 1024), "small.csv");
+  ASSERT_EQ(w.metadata.warnings.size(), 1u);
+  EXPECT_NE(w.metadata.warnings[0].find("a Keyence VR sees 1 to 100 mm"),
+            std::string::npos);
 }
 
 }  // namespace

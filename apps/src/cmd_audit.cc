@@ -124,18 +124,30 @@ std::vector<Specimen> ReadManifest(const std::string& path) {
   if (!in) throw UsageError(fmt::format("{}: cannot open the manifest", path));
   std::string line;
   std::getline(in, line);
+  // RFC 4180: a quoted cell may hold commas and doubled quotes (a path
+  // "C:\\tests\\beech, run 2\\B-RT-R.csv").
   auto split = [](const std::string& l) {
-    std::vector<std::string> cells;
-    std::string cur;
-    for (char c : l) {
-      if (c == ',') {
-        cells.push_back(cur);
-        cur.clear();
-      } else if (c != '\r' && c != '"') {
-        cur += c;
+    std::vector<std::string> cells(1);
+    bool quoted = false;
+    for (size_t i = 0; i < l.size(); ++i) {
+      const char c = l[i];
+      if (quoted) {
+        if (c == '"' && i + 1 < l.size() && l[i + 1] == '"') {
+          cells.back() += '"';
+          ++i;
+        } else if (c == '"') {
+          quoted = false;
+        } else {
+          cells.back() += c;
+        }
+      } else if (c == '"') {
+        quoted = true;
+      } else if (c == ',') {
+        cells.emplace_back();
+      } else if (c != '\r') {
+        cells.back() += c;
       }
     }
-    cells.push_back(cur);
     for (auto& c : cells) {
       c.erase(0, c.find_first_not_of(' '));
       c.erase(c.find_last_not_of(' ') + 1);

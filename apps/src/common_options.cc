@@ -21,7 +21,23 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
   cmd->add_option("--columns",
                   a->columns,
                   "Column overrides in one go: time=NAME,x=NAME,q=NAME,p=NAME "
-                  "(names or #N; any subset)")
+                  "(names or #N; any subset), each optionally with its unit: "
+                  "x=Pos:um")
+      ->group("Force file");
+  cmd->add_option("--x-unit",
+                  r.x_unit,
+                  "Unit of the displacement (mm, um, m); default: the file's, "
+                  "else inferred from a plausible stroke with a warning")
+      ->group("Force file");
+  cmd->add_option("--force-unit",
+                  r.force_unit,
+                  "Unit of both forces (N, mN, kN, gf); default: the file's, "
+                  "else inferred")
+      ->group("Force file");
+  cmd->add_option("--time-unit",
+                  r.time_unit,
+                  "Unit of the time column (s, ms, min); default: the file's, "
+                  "else inferred")
       ->group("Force file");
   cmd->add_option("--rate",
                   r.sampling_rate_hz,
@@ -284,17 +300,53 @@ void FinaliseCommonOptions(CommonArgs* a) {
                           : key == "q"  ? &a->read_force.tangential_column
                           : key == "p"  ? &a->read_force.normal_column
                                         : nullptr;
-      if (!slot || value.empty()) {
+      // NAME:UNIT (a column name may hold a colon; the unit is after the
+      // last one when it reads as a unit).
+      std::string column = value, unit;
+      const size_t colon = value.rfind(':');
+      if (colon != std::string::npos && colon > 0 && colon + 1 < value.size()) {
+        column = value.substr(0, colon);
+        unit = value.substr(colon + 1);
+      }
+      if (!slot || column.empty()) {
         throw UsageError(fmt::format(
             "--columns '{}': found '{}', expected time=, x=, q= or p= "
-            "followed by a column name or #N",
+            "followed by a column name or #N (and :UNIT)",
             a->columns,
             item));
       }
-      *slot = value;
+      *slot = column;
+      if (!unit.empty()) {
+        std::string* unit_slot = key == "time" ? &a->read_force.time_unit
+                                 : key == "x"  ? &a->read_force.x_unit
+                                               : &a->read_force.force_unit;
+        if (!unit_slot->empty() && *unit_slot != unit) {
+          throw UsageError(fmt::format(
+              "--columns '{}': '{}' gives unit '{}' but another setting "
+              "says '{}'; expected one unit for both forces",
+              a->columns,
+              item,
+              unit,
+              *unit_slot));
+        }
+        *unit_slot = unit;
+      }
     }
   }
   std::string why;
+  // Units by the option's own name.
+  for (auto [option, field] :
+       {std::pair<const char*, std::string force::ReadForceOptions::*>{
+            "--x-unit", &force::ReadForceOptions::x_unit},
+        {"--force-unit", &force::ReadForceOptions::force_unit},
+        {"--time-unit", &force::ReadForceOptions::time_unit}}) {
+    force::ReadForceOptions probe;
+    probe.*field = a->read_force.*field;
+    if (!probe.IsValid(&why)) {
+      throw UsageError(
+          fmt::format("{} '{}': {}", option, a->read_force.*field, why));
+    }
+  }
   if (!a->fuse.IsValid(&why) || !a->read_force.IsValid(&why) ||
       !a->read_scan.IsValid(&why)) {
     throw UsageError(why);

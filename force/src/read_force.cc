@@ -135,14 +135,35 @@ std::string Lower(std::string_view s) {
   return out;
 }
 
-// Splits `line` on `delim` into `cells` (views into line), cells trimmed.
+// Splits `line` on `delim` into `cells` (views into line), cells trimmed,
+// by RFC 4180: a cell in double quotes may hold the delimiter ("Time, s");
+// its view keeps a doubled quote as two characters.
 void Split(std::string_view line,
            char delim,
            std::vector<std::string_view>* cells) {
   cells->clear();
   size_t start = 0;
   for (;;) {
-    const size_t end = line.find(delim, start);
+    size_t scan = start;
+    while (scan < line.size() && (line[scan] == ' ' || line[scan] == '\t') &&
+           line[scan] != delim)
+      ++scan;
+    if (scan < line.size() && line[scan] == '"') {
+      // Quoted: up to the closing quote (a doubled quote is an escape).
+      size_t q = scan + 1;
+      while (q < line.size()) {
+        if (line[q] == '"') {
+          if (q + 1 < line.size() && line[q + 1] == '"') {
+            q += 2;
+            continue;
+          }
+          break;
+        }
+        ++q;
+      }
+      scan = q < line.size() ? q + 1 : q;
+    }
+    const size_t end = line.find(delim, scan);
     if (end == std::string_view::npos) {
       cells->push_back(TrimView(line.substr(start)));
       break;
@@ -328,10 +349,23 @@ bool LooksLikeUnit(std::string_view cell) {
       (cell.front() == '[' && cell.back() == ']')) {
     return true;
   }
-  return internal::LengthToMm(cell) || internal::ForceToN(cell) ||
-         internal::TimeToS(cell) || Lower(cell) == "mm/s" ||
-         Lower(cell) == "hz" || Lower(cell) == "c" || cell == "-" ||
-         cell == "()" || Lower(cell) == "deg";
+  auto simple = [](std::string_view u) {
+    const std::string l = Lower(u);
+    return internal::LengthToMm(u) || internal::ForceToN(u) ||
+           internal::TimeToS(u) || l == "hz" || l == "c" ||
+           l == "\xb0"
+                "c" ||
+           l == "\xc2\xb0"
+                "c" ||
+           l == "%" || l == "-" || l == "()" || l == "deg" || l == "rpm" ||
+           l == "v" || l == "mv" || l == "um" || l == "n/a" || l == "cycles" ||
+           l == "cycle";
+  };
+  if (simple(cell)) return true;
+  // Rates and ratios: "mm/sec" (CETR), "mm/s", "N/mm", "g/cm".
+  const size_t slash = cell.find('/');
+  return slash != std::string_view::npos && slash > 0 &&
+         simple(cell.substr(0, slash)) && simple(cell.substr(slash + 1));
 }
 
 double FindMetadataRate(const std::vector<std::string>& lines, int end) {
@@ -566,22 +600,27 @@ int FindOverride(const std::string& spec,
 struct Scale {
   double factor = 1.0;
   std::string unit;
+  bool inferred = false;  // no unit in the file or options: infer at the end
 };
+
+std::optional<double> UnitFactor(Channel channel, const std::string& unit) {
+  return channel == kTime ? internal::TimeToS(unit)
+         : channel == kX  ? internal::LengthToMm(unit)
+                          : internal::ForceToN(unit);
+}
 
 Scale ResolveUnit(Channel channel,
                   const std::string& found,
                   const ReadForceOptions& options,
                   const std::string& file,
-                  const std::string& column) {
-  std::string unit = found;
-  if (unit.empty()) {
-    unit = channel == kTime ? options.default_time_unit
-           : channel == kX  ? options.default_x_unit
-                            : options.default_force_unit;
-  }
-  std::optional<double> f = channel == kTime ? internal::TimeToS(unit)
-                            : channel == kX  ? internal::LengthToMm(unit)
-                                             : internal::ForceToN(unit);
+                  const std::string& column,
+                  std::vector<std::string>* warnings) {
+  const std::string& given = channel == kTime ? options.time_unit
+                             : channel == kX  ? options.x_unit
+                                              : options.force_unit;
+  const std::string unit = given.empty() ? found : given;
+  if (unit.empty()) return {1.0, "", true};
+  const std::optional<double> f = UnitFactor(channel, unit);
   if (!f) {
     const char* expected = channel == kTime ? "s, ms, min"
                            : channel == kX  ? "mm, um, m"
@@ -597,7 +636,163 @@ Scale ResolveUnit(Channel channel,
                                      : "force",
                     expected));
   }
-  return {*f, unit};
+  if (!given.empty() && !found.empty()) {
+    const std::optional<double> ff = UnitFactor(channel, found);
+    if (!ff || std::abs(*ff - *f) > 1e-12 * std::abs(*f)) {
+      warnings->push_back(
+          fmt::format("column '{}' says '{}'; read as '{}' as the options ask",
+                      column,
+                      found,
+                      given));
+    }
+  }
+  return {*f, unit, false};
+}
+
+// Robust spread of a channel (99th minus 1st percentile of a subsample) and
+// the median of its magnitude.
+void Spread(const Eigen::VectorXd& v, double* span, double* median_abs) {
+  std::vector<double> s, a;
+  const Eigen::Index step = std::max<Eigen::Index>(1, v.size() / 20000);
+  for (Eigen::Index i = 0; i < v.size(); i += step) {
+    if (!std::isfinite(v[i])) continue;
+    s.push_back(v[i]);
+    a.push_back(std::abs(v[i]));
+  }
+  *span = *median_abs = std::nan("");
+  if (s.empty()) return;
+  auto at = [](std::vector<double>& w, double q) {
+    const std::size_t k = static_cast<std::size_t>(q * (w.size() - 1));
+    std::nth_element(w.begin(), w.begin() + k, w.end());
+    return w[k];
+  };
+  *span = at(s, 0.99) - at(s, 0.01);
+  *median_abs = at(a, 0.5);
+}
+
+// Units of the channels that state none, from plausibility: the first unit
+// (in the order of the list) that makes the figure land in the range. The
+// record's values are scaled in place; a warning names each assumption.
+struct Plausible {
+  const char* what;  // "stroke", "load", ...
+  double lo, hi;     // plausible range in mm, N or Hz
+};
+
+void InferUnits(Eigen::VectorXd* data,
+                Scale* scale,
+                const int* column,
+                const Layout& layout,
+                const std::string& file,
+                ForceMetadata* meta) {
+  auto name = [&](int ch) { return layout.names[column[ch]]; };
+  auto refuse = [&](int ch,
+                    const std::string& figure,
+                    const char* range,
+                    const char* units) {
+    throw ForceError(fmt::format(
+        "{}: column '{}' states no unit and {}: no unit makes it plausible "
+        "({} as {}); give the unit (e.g. --columns {}=NAME:UNIT)",
+        file,
+        name(ch),
+        figure,
+        range,
+        units,
+        ch == kX      ? "x"
+        : ch == kTime ? "time"
+        : ch == kQ    ? "q"
+                      : "p"));
+  };
+  auto apply =
+      [&](int ch, const char* unit, double factor, const std::string& because) {
+        data[ch] *= factor;
+        scale[ch] = {factor, unit, false};
+        meta->warnings.push_back(
+            fmt::format("column '{}' states no unit: taken as {} ({})",
+                        name(ch),
+                        unit,
+                        because));
+      };
+  double span, median;
+  if (column[kX] >= 0 && scale[kX].inferred) {
+    Spread(data[kX], &span, &median);
+    bool done = false;
+    for (const auto& [unit, f] : {std::pair<const char*, double>{"mm", 1.0},
+                                  {"um", 1e-3},
+                                  {"m", 1e3}}) {
+      if (span * f >= 0.05 && span * f <= 50) {
+        apply(kX,
+              unit,
+              f,
+              fmt::format("a stroke of {:.3g} mm; tribometer strokes are "
+                          "0.05-50 mm",
+                          span * f));
+        done = true;
+        break;
+      }
+    }
+    if (!done)
+      refuse(kX,
+             fmt::format("its values span {:.4g}", span),
+             "a stroke of 0.05-50 mm",
+             "mm, um or m");
+  }
+  // Forces: P first; Q without a unit takes P's when that is plausible.
+  for (int ch : {kP, kQ}) {
+    if (column[ch] < 0 || !scale[ch].inferred) continue;
+    Spread(data[ch], &span, &median);
+    if (ch == kQ && !scale[kP].unit.empty() && !scale[kP].inferred) {
+      const double f = scale[kP].factor;
+      apply(kQ,
+            scale[kP].unit.c_str(),
+            f,
+            fmt::format("the normal force's unit; |Q| {:.3g} N at the "
+                        "median",
+                        median * f));
+      continue;
+    }
+    bool done = false;
+    for (const auto& [unit, f] : {std::pair<const char*, double>{"N", 1.0},
+                                  {"mN", 1e-3},
+                                  {"kN", 1e3}}) {
+      if (median * f >= 0.01 && median * f <= 5000) {
+        apply(ch,
+              unit,
+              f,
+              fmt::format("{} of {:.3g} N at the median; loads are "
+                          "0.01-5000 N",
+                          ch == kP ? "a load" : "a force",
+                          median * f));
+        done = true;
+        break;
+      }
+    }
+    if (!done)
+      refuse(ch,
+             fmt::format("its median magnitude is {:.4g}", median),
+             "a load of 0.01-5000 N",
+             "N, mN or kN");
+  }
+  if (column[kTime] >= 0 && scale[kTime].inferred) {
+    const Eigen::VectorXd& t = data[kTime];
+    const double raw = t.size() > 1 ? t[t.size() - 1] - t[0] : 0.0;
+    const double rate = raw > 0 ? (t.size() - 1) / raw : 0.0;
+    bool done = false;
+    for (const auto& [unit, f] : {std::pair<const char*, double>{"s", 1.0},
+                                  {"ms", 1e-3},
+                                  {"us", 1e-6},
+                                  {"min", 60.0}}) {
+      if (rate / f >= 1 && rate / f <= 1e6) {
+        apply(kTime, unit, f, fmt::format("sampling at {:.4g} Hz", rate / f));
+        done = true;
+        break;
+      }
+    }
+    if (!done)
+      refuse(kTime,
+             fmt::format("its samples come {:.4g} per unit", rate),
+             "sampling at 1 Hz-1 MHz",
+             "s, ms, us or min");
+  }
 }
 
 ForceRecord Read(LineSource& source,
@@ -660,19 +855,37 @@ ForceRecord Read(LineSource& source,
   if (layout.header_line < 0) known = "(no header row)";
   const int header_line_no =
       (layout.header_line >= 0 ? layout.header_line : 0) + 1;
+  // What the method needs: a reciprocating displacement and the two forces.
+  std::vector<std::string> missing;
   for (int ch = kX; ch <= kP; ++ch) {
-    if (column[ch] < 0) {
-      throw ForceError(fmt::format(
-          "{}: line {}: no column for {}; found columns: {}; expected a header "
-          "such as {} (or give the column explicitly)",
-          name,
-          header_line_no,
-          kChannelLabel[ch],
-          known,
-          ch == kX   ? "'Position (mm)' or 'Piezo X'"
-          : ch == kQ ? "'Fx (N)' or 'Friction Force [N]'"
-                     : "'Fz (N)' or 'Normal force [mN]'"));
+    if (column[ch] < 0) missing.push_back(kChannelLabel[ch]);
+  }
+  if (!missing.empty()) {
+    bool has_cof = false;
+    for (const auto& nm : layout.names) {
+      const auto t = Tokens(nm);
+      has_cof |= std::find(t.begin(), t.end(), "cof") != t.end() ||
+                 std::find(t.begin(), t.end(), "mu") != t.end();
     }
+    std::string list;
+    for (size_t i = 0; i < missing.size(); ++i) {
+      list += (i == 0                    ? ""
+               : i + 1 == missing.size() ? " or "
+                                         : ", ") +
+              missing[i];
+    }
+    throw ForceError(fmt::format(
+        "{}: line {}: no column for {}; the method needs a reciprocating "
+        "displacement and the tangential and normal forces, and the file "
+        "has: {}{} (give a column explicitly if it is there under another "
+        "name, e.g. --columns x=NAME)",
+        name,
+        header_line_no,
+        list,
+        known,
+        has_cof && column[kQ] < 0
+            ? "; a friction coefficient alone cannot carry the method"
+            : ""));
   }
   // A RecipeStep column lets the Rtec clock restart.
   int step_column = -1;
@@ -694,7 +907,8 @@ ForceRecord Read(LineSource& source,
                             layout.units[column[ch]],
                             options,
                             name,
-                            layout.names[column[ch]]);
+                            layout.names[column[ch]],
+                            &meta.warnings);
   }
   for (int ch = 0; ch < 4; ++ch) {
     meta.channel_names.push_back(column[ch] >= 0 ? layout.names[column[ch]]
@@ -729,6 +943,10 @@ ForceRecord Read(LineSource& source,
   double previous_time = -std::numeric_limits<double>::infinity();
   double time_offset = 0.0, last_dt = 0.0;
   double previous_step = kNaN;
+  // Repeated blocks (see handle_row).
+  const std::string* header_text =
+      layout.header_line >= 0 ? &head[layout.header_line] : nullptr;
+  bool in_repeated_header = false, block_restart = false;
   int nan_run[4] = {0, 0, 0, 0};
   int total_rows = 0;
 
@@ -798,7 +1016,33 @@ ForceRecord Read(LineSource& source,
       }
     }
     if (TrimView(row).empty()) return;
+    // A repeated block (Bruker/CETR: every test step repeats its header
+    // block, names row, units row, then data whose clock restarts): the
+    // names row again ends the text lines before it, which were that
+    // block's header, not bad rows; the text up to the next data row is
+    // skipped and the clock may restart once.
+    if (header_text != nullptr && TrimView(row) == TrimView(*header_text)) {
+      if (pending_bad_rows > 0 && footer_rows == pending_bad_rows) {
+        pending_error.clear();
+        pending_bad_rows = 0;
+        footer_rows = 0;
+      }
+      in_repeated_header = true;
+      block_restart = true;
+      ++meta.blocks_joined;
+      return;
+    }
     Split(row, layout.delimiter, &cells);
+    double first_cell;
+    if (in_repeated_header && !cells.empty() &&
+        !ParseCell(cells[0], layout.decimal, &first_cell)) {
+      return;  // the repeated block's units row
+    }
+    if (in_repeated_header && !cells.empty() && cells[0].empty() &&
+        std::all_of(cells.begin(), cells.end(), LooksLikeUnit)) {
+      return;
+    }
+    in_repeated_header = false;
     double value[4] = {kNaN, kNaN, kNaN, kNaN};
     std::string error;
     bool text_row = false;
@@ -845,10 +1089,12 @@ ForceRecord Read(LineSource& source,
         if (step_column >= 0 && step_column < static_cast<int>(cells.size())) {
           ParseCell(cells[step_column], layout.decimal, &step);
         }
-        const bool step_changed = step_column >= 0 && step != previous_step &&
-                                  !std::isnan(previous_step);
+        const bool step_changed = (step_column >= 0 && step != previous_step &&
+                                   !std::isnan(previous_step)) ||
+                                  block_restart;
         if (step_changed) {
-          // Rtec: Timestamp restarts at each RecipeStep; continue the clock.
+          // Rtec: Timestamp restarts at each RecipeStep; CETR: T restarts
+          // with every step's block. Continue the clock.
           time_offset += previous_time - t + (last_dt > 0 ? last_dt : 0.0);
           t = value[kTime] * scale[kTime].factor + time_offset;
           ++meta.clock_restarts_joined;
@@ -865,6 +1111,7 @@ ForceRecord Read(LineSource& source,
         }
       }
       if (error.empty()) {
+        block_restart = false;
         if (std::isfinite(t)) {
           if (std::isfinite(previous_time)) last_dt = t - previous_time;
           previous_time = t;
@@ -936,6 +1183,13 @@ ForceRecord Read(LineSource& source,
     v.conservativeResize(rows_stored);
     return std::move(v);
   };
+  for (int ch = 0; ch < 4; ++ch) {
+    if (column[ch] >= 0) data[ch].conservativeResize(rows_stored);
+  }
+  InferUnits(data, scale, column, layout, name, &meta);
+  for (int ch = 0; ch < 4; ++ch) {
+    meta.channel_units[ch] = column[ch] >= 0 ? scale[ch].unit : "";
+  }
   record.x_mm = to_vector(data[kX]);
   record.tangential_n = to_vector(data[kQ]);
   record.normal_n = to_vector(data[kP]);
@@ -1006,6 +1260,12 @@ bool ReadForceOptions::IsValid(std::string* why) const {
     return fail("max_dropped_fraction must be in [0, 1]");
   }
   if (max_nan_run < 0) return fail("max_nan_run must be >= 0");
+  if (!x_unit.empty() && !internal::LengthToMm(x_unit))
+    return fail("the x unit is not a length unit (mm, um, m, ...)");
+  if (!force_unit.empty() && !internal::ForceToN(force_unit))
+    return fail("the force unit is not a force unit (N, mN, kN, gf, ...)");
+  if (!time_unit.empty() && !internal::TimeToS(time_unit))
+    return fail("the time unit is not a time unit (s, ms, min, ...)");
   return true;
 }
 

@@ -106,6 +106,16 @@ void SplitNameAndUnit(std::string_view header,
       h = Trim(std::string_view(h).substr(0, pos));
     }
   }
+  // "Time, s" (a quoted header cell holding the delimiter), "Position / mm".
+  for (const char* sep : {",", "/"}) {
+    const size_t at = h.rfind(sep);
+    if (!unit->empty() || at == std::string::npos || at == 0) continue;
+    const std::string tail = Trim(std::string_view(h).substr(at + 1));
+    if (LengthToMm(tail) || ForceToN(tail) || TimeToS(tail)) {
+      *unit = tail;
+      h = Trim(std::string_view(h).substr(0, at));
+    }
+  }
   // Our own writers (and many scripts) use a unit suffix: "x_mm", "Q_N".
   const size_t us = h.rfind('_');
   if (unit->empty() && us != std::string::npos && us > 0 && us + 1 < h.size()) {

@@ -131,7 +131,26 @@ ScanAnalysis AnalyzeScan(const force::ForceRecord& record,
       force.cycles,
       options.analysis.friction.slope.spring_stiffness_n_per_mm,
       fpo);
-  s.alignment = AlignProfiles(s.force_profile, s.profile, options.align);
+  try {
+    s.alignment = AlignProfiles(s.force_profile, s.profile, options.align);
+  } catch (const FusionError& e) {
+    // Name both files and the figures that decide the overlap: a wrong
+    // pixel size shrinks the scan, a wrong x unit stretches the stroke.
+    throw FusionError(fmt::format(
+        "{}: {} (the scan: {} x {} pixels of {:.4g} um, {:.3g} x {:.3g} mm, "
+        "track {:.3g} mm long; the stroke of {}: {:.3g} mm); check the scan's "
+        "pixel size and the force file's x unit",
+        map.metadata.source,
+        e.what(),
+        map.cols(),
+        map.rows(),
+        1e3 * map.dx_mm,
+        map.cols() * map.dx_mm,
+        map.rows() * map.dy_mm,
+        s.track.length_mm,
+        record.metadata.source,
+        force.cycles.stroke_mm));
+  }
   // The sphere's excursion over the complete cycles bounds the sliding
   // path: the scan beyond it is the groove's end walls.
   double stroke_min = -std::numeric_limits<double>::infinity();

@@ -325,6 +325,40 @@ TEST(Cli, AScanWithoutATrackDoesNotLoseTheTest) {
   EXPECT_NE(only.output.find("no worn track found"), std::string::npos);
 }
 
+TEST(Cli, UnitsGivenPerColumnAndAManifestWithQuotedCommas) {
+  const std::string data = std::string(WEARSCAR_TEST_DATA) + "/force/";
+  // x in um under a header without a unit, stated with --columns.
+  const CommandResult f = Wearscar("force " + data +
+                                   "home_built_um.csv --columns "
+                                   "x=x-Position:um --no-lugre");
+  EXPECT_EQ(f.status, 0) << f.output;
+  EXPECT_NE(f.output.find("stroke 5.697 mm"), std::string::npos) << f.output;
+  EXPECT_EQ(f.output.find("'x-Position' states no unit"), std::string::npos)
+      << f.output;
+  const CommandResult bad =
+      Wearscar("force " + data + "home_built_um.csv --x-unit furlong");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.output.find("--x-unit 'furlong': the x unit is not a length "
+                            "unit"),
+            std::string::npos)
+      << bad.output;
+  // A manifest whose quoted path holds a comma (RFC 4180).
+  const std::string dir = ::testing::TempDir() + "/cli-manifest-quoted";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir + "/beech, run 2");
+  std::filesystem::copy_file(data + "quoted_header.csv",
+                             dir + "/beech, run 2/B-RT-R.csv");
+  {
+    std::ofstream m(dir + "/manifest.csv");
+    m << "specimen,force,scan\nB-RT-R,\"beech, run 2/B-RT-R.csv\",\n";
+  }
+  const CommandResult a = Wearscar("audit " + dir + "/manifest.csv -o " + dir +
+                                   "/out --no-figures --no-lugre");
+  EXPECT_EQ(a.status, 0) << a.output;
+  EXPECT_NE(a.output.find("1 specimens: 1 explained"), std::string::npos)
+      << a.output;
+}
+
 TEST(Cli, FuseWithUnreadableScanExitsTwoNamingIt) {
   const std::string dir = ::testing::TempDir() + "/cli-fuse-bad";
   std::filesystem::create_directories(dir);

@@ -25,7 +25,8 @@ struct ForceMetadata {
   std::vector<std::string> channel_units;
   bool time_rebuilt = false;         // no time column; built from a rate
   bool normal_sign_flipped = false;  // P was negative in compression
-  int clock_restarts_joined = 0;     // Rtec RecipeStep restarts
+  int clock_restarts_joined = 0;     // Rtec RecipeStep, CETR step restarts
+  int blocks_joined = 0;             // repeated header blocks (CETR test steps)
   int rows_dropped = 0;              // lenient mode only
   std::vector<std::string> warnings;
 };

@@ -16,10 +16,14 @@ struct ReadForceOptions {
   std::string x_column;
   std::string tangential_column;
   std::string normal_column;
-  // Units when the file does not say (the file's own units win).
-  std::string default_x_unit = "mm";
-  std::string default_force_unit = "N";
-  std::string default_time_unit = "s";
+  // Units of x, of both forces and of time: empty = the file's; where the
+  // file states none, inferred from plausibility (tribometer strokes of
+  // 0.05-50 mm, loads of 0.01-5000 N, sampling at 1 Hz-1 MHz) with a
+  // warning naming the assumption, refused when no unit is plausible. A
+  // unit given here overrides the file's (a warning says when they differ).
+  std::string x_unit;
+  std::string force_unit;
+  std::string time_unit;
   // Rebuild time from this rate when there is no time column and the
   // metadata gives none; 0 = required from the file.
   double sampling_rate_hz = 0.0;

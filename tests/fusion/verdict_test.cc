@@ -49,8 +49,7 @@ double TrueSlope(const samples::GroundTruth& t, double x) {
   return -(t.worn_depth_mm[i + 1] - t.worn_depth_mm[i - 1]) / (2 * step);
 }
 
-double RmsSlopeError(const samples::SimulatedTest& t,
-                     const CycleSamples& s) {
+double RmsSlopeError(const samples::SimulatedTest& t, const CycleSamples& s) {
   double sum = 0;
   long n = 0;
   for (const SlipSamples* h : {&s.forward, &s.reverse}) {
@@ -98,7 +97,8 @@ TEST(NoiseSplit, FloorFollowsTheNoiseTheExcessDoesNot) {
     const auto t = samples::Simulate(Case("B-RT-R", noise, 0));
     const TestResult r = AnalyzeTest(t.record, std::nullopt, NoLugre());
     const CostSplit& s = r.mismatch.split_force;
-    EXPECT_NEAR(s.cost * s.cost, s.floor * s.floor + s.excess * s.excess,
+    EXPECT_NEAR(s.cost * s.cost,
+                s.floor * s.floor + s.excess * s.excess,
                 0.2 * s.cost * s.cost);
     EXPECT_LT(s.excess_low, 0.05) << noise;
     if (noise == 1) floor1 = s.floor;
@@ -131,9 +131,9 @@ TEST_P(VerdictOnCleanCases, NothingIsFlagged) {
   const auto [name, noise] = GetParam();
   const samples::SimulatedTest t = samples::Simulate(Case(name, noise, 0));
   for (bool with_scan : {false, true}) {
-    const TestResult r =
-        with_scan ? AnalyzeTest(t.record, t.scan, NoLugre())
-                  : AnalyzeTest(t.record, std::nullopt, NoLugre());
+    const TestResult r = with_scan
+                             ? AnalyzeTest(t.record, t.scan, NoLugre())
+                             : AnalyzeTest(t.record, std::nullopt, NoLugre());
     EXPECT_TRUE(r.verdict.explained)
         << (with_scan ? "with scan: " : "without scan: ")
         << r.verdict.Summary();
@@ -152,15 +152,16 @@ TEST_P(VerdictOnCleanCases, NothingIsFlagged) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Twelve,
-    VerdictOnCleanCases,
-    ::testing::Combine(::testing::ValuesIn(TwelveCases()),
-                       ::testing::Values(1.0, 2.0)),
-    [](const auto& param_info) {
-      return TestName(std::get<0>(param_info.param)) + "_noise" +
-             std::to_string(static_cast<int>(std::get<1>(param_info.param)));
-    });
+INSTANTIATE_TEST_SUITE_P(Twelve,
+                         VerdictOnCleanCases,
+                         ::testing::Combine(::testing::ValuesIn(TwelveCases()),
+                                            ::testing::Values(1.0, 2.0)),
+                         [](const auto& param_info) {
+                           return TestName(std::get<0>(param_info.param)) +
+                                  "_noise" +
+                                  std::to_string(static_cast<int>(
+                                      std::get<1>(param_info.param)));
+                         });
 
 TEST(Verdict, PapersFixedThresholdFlagsCleanTestsAtTwiceThePapersNoise) {
   // The defect this verdict replaces: J itself against 0.4 with k from each
@@ -190,17 +191,16 @@ TEST_P(VerdictOnElasticPart, IsFlaggedWithAndWithoutTheScan) {
       samples::Simulate(Case("S-RL-R", noise, 0.25));
   EXPECT_TRUE(t.truth.explained_by_wear_scar == false);
   for (bool with_scan : {false, true}) {
-    const TestResult r =
-        with_scan ? AnalyzeTest(t.record, t.scan, NoLugre())
-                  : AnalyzeTest(t.record, std::nullopt, NoLugre());
+    const TestResult r = with_scan
+                             ? AnalyzeTest(t.record, t.scan, NoLugre())
+                             : AnalyzeTest(t.record, std::nullopt, NoLugre());
     EXPECT_FALSE(r.verdict.explained) << noise << " " << with_scan;
     const std::string s = r.verdict.Summary();
     EXPECT_NE(s.find("noise floor"), std::string::npos) << s;
     EXPECT_NE(s.find("95% interval"), std::string::npos) << s;
     EXPECT_NE(s.find("above the limit 0.30"), std::string::npos) << s;
     if (with_scan) {
-      EXPECT_NE(s.find("the spring displacement varies 1.2"),
-                std::string::npos)
+      EXPECT_NE(s.find("the spring displacement varies 1.2"), std::string::npos)
           << s;
     }
   }
@@ -304,7 +304,9 @@ TEST_P(DiagnoseAtTwiceThePapersNoise, NamesNothingOnACleanCase) {
 INSTANTIATE_TEST_SUITE_P(Cases,
                          DiagnoseAtTwiceThePapersNoise,
                          ::testing::Values("B-RT-R", "S-RT-R", "S-TL-T"),
-                         [](const auto& param_info) { return TestName(param_info.param); });
+                         [](const auto& param_info) {
+                           return TestName(param_info.param);
+                         });
 
 TEST(DiagnoseAtTwiceThePapersNoise, NamesAHiddenPloughingFirst) {
   samples::SimulationOptions o = Case("S-RT-R", 2.0, 0);
@@ -312,6 +314,43 @@ TEST(DiagnoseAtTwiceThePapersNoise, NamesAHiddenPloughingFirst) {
   const Diagnosis d = DiagnoseSimulated(o);
   ASSERT_FALSE(d.named.empty()) << d.message;
   EXPECT_EQ(d.named.front(), "ploughing") << d.message;
+}
+
+}  // namespace
+}  // namespace wearscar::fusion
+
+namespace wearscar::fusion {
+namespace {
+
+TEST(ScanThatCannotServe, LeavesTheForceSideStandingAndSaysWhy) {
+  // A scan whose pixel is read 10x too small (a wrong calibration row)
+  // cannot cover the stroke: the test goes on with k from P, and the
+  // warning names the scan, its pixel and field of view, and the stroke.
+  samples::SimulationOptions o = samples::PaperCase("B-RT-R", false);
+  o.cycles = 40;
+  samples::SimulatedTest t = samples::Simulate(o);
+  t.scan.dx_mm /= 10;
+  t.scan.dy_mm /= 10;
+  t.scan.metadata.source = "wrong-pixel.gsf";
+  t.record.metadata.source = "B-RT-R.force.csv";
+  FuseOptions f;
+  f.fit_lugre = false;
+  const TestResult r = AnalyzeTest(t.record, t.scan, f);
+  EXPECT_FALSE(r.scan.has_value());
+  ASSERT_FALSE(r.warnings.empty());
+  const std::string& w = r.warnings.front();
+  for (const char* part :
+       {"the scan was not used (wrong-pixel.gsf: the scan profile",
+        "pixels of 0.7413 um",
+        "the stroke of B-RT-R.force.csv: 5.7 mm",
+        "check the scan's pixel size and the force file's x unit",
+        "mu-hat and the verdict rest on k from P alone"}) {
+    EXPECT_NE(w.find(part), std::string::npos) << part << "\n" << w;
+  }
+  EXPECT_EQ(r.force.fit_force.size(), 40u);
+  // With the scan's slope alone asked for, it is an error.
+  f.slopes = SlopeChoice::kScan;
+  EXPECT_THROW(AnalyzeTest(t.record, t.scan, f), FusionError);
 }
 
 }  // namespace

@@ -167,6 +167,11 @@ void AddScanCommand(CLI::App& app) {
   cmd->add_option("-o,--out", args->out, "Directory for the results");
   cmd->add_option(
       "--measurement", args->read.measurement_index, ".zag measurement index");
+  cmd->add_option("--max-pixel-aspect",
+                  args->read.max_pixel_aspect,
+                  "Refuse pixels longer one way than this times the other "
+                  "(raise it for genuinely unequal pitches)")
+      ->capture_default_str();
   cmd->add_option("--ascii-pitch",
                   args->read.ascii_pitch_mm,
                   "ASCII matrix pixel size, mm");

@@ -228,6 +228,12 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
                   o.track.center_y_mm,
                   "Track centre y, mm (manual placement)")
       ->group("Scan");
+  cmd->add_option("--max-pixel-aspect",
+                  a->read_scan.max_pixel_aspect,
+                  "Refuse scan pixels longer one way than this times the "
+                  "other")
+      ->capture_default_str()
+      ->group("Scan");
   cmd->add_option("--measurement",
                   a->read_scan.measurement_index,
                   ".zag measurement index")

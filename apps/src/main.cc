@@ -6,6 +6,7 @@
 #include <exception>
 
 #include "commands.h"
+#include "wearscar/fusion/logging.h"
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -16,6 +17,8 @@ int main(int argc, char** argv) {
       "and a profilometer scan of the worn track (wear-scar interaction, "
       "Q = P (k + s mu) / (1 - s mu k))."};
   app.require_subcommand(1);
+  // One line on stderr for an error, nothing from the solvers' own logs.
+  wearscar::fusion::QuietSolverLogging();
   auto* version = app.add_subcommand("version", "Print the version and exit");
   version->callback([] { fmt::print("wearscar {}\n", WEARSCAR_VERSION); });
   wearscar::app::AddSimulateCommand(app);

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -39,11 +40,21 @@ class LineSource {
 
 class MemoryLines : public LineSource {
  public:
-  explicit MemoryLines(std::string_view text) : text_(text) {}
+  MemoryLines(std::string_view text, std::string name, size_t max_line)
+      : text_(text), name_(std::move(name)), max_line_(max_line) {}
   bool Next(std::string_view* line) override {
     if (pos_ >= text_.size()) return false;
     size_t end = text_.find('\n', pos_);
     if (end == std::string_view::npos) end = text_.size();
+    ++lines_;
+    if (end - pos_ > max_line_) {
+      throw ForceError(fmt::format(
+          "{}: line {}: more than {} bytes without a line break; expected a "
+          "delimited text export",
+          name_,
+          lines_,
+          max_line_));
+    }
     *line = text_.substr(pos_, end - pos_);
     if (!line->empty() && line->back() == '\r') line->remove_suffix(1);
     pos_ = end + 1;
@@ -52,13 +63,19 @@ class MemoryLines : public LineSource {
 
  private:
   std::string_view text_;
+  std::string name_;
+  size_t max_line_;
   size_t pos_ = 0;
+  long lines_ = 0;
 };
 
 class FileLines : public LineSource {
  public:
-  FileLines(std::FILE* file, std::string name)
-      : file_(file), name_(std::move(name)), buffer_(kBlock) {}
+  FileLines(std::FILE* file, std::string name, size_t max_line)
+      : file_(file),
+        name_(std::move(name)),
+        max_line_(max_line),
+        buffer_(std::min(kBlock, std::max<size_t>(max_line, 1024))) {}
   bool Next(std::string_view* line) override {
     for (;;) {
       const char* begin = buffer_.data() + pos_;
@@ -67,6 +84,7 @@ class FileLines : public LineSource {
       if (nl != nullptr) {
         *line = std::string_view(begin, static_cast<size_t>(nl - begin));
         pos_ = static_cast<size_t>(nl - buffer_.data()) + 1;
+        ++lines_;
         if (!line->empty() && line->back() == '\r') line->remove_suffix(1);
         return true;
       }
@@ -84,11 +102,23 @@ class FileLines : public LineSource {
  private:
   static constexpr size_t kBlock = size_t{1} << 20;
   void Refill() {
-    // Move the partial line to the front; grow only for a very long line.
+    // Move the partial line to the front; grow only for a long line, up to
+    // kMaxLineBytes (a text export's lines are short; one without breaks
+    // is not a text export).
     std::memmove(buffer_.data(), buffer_.data() + pos_, filled_ - pos_);
     filled_ -= pos_;
     pos_ = 0;
-    if (filled_ == buffer_.size()) buffer_.resize(buffer_.size() * 2);
+    if (filled_ == buffer_.size()) {
+      if (buffer_.size() >= max_line_) {
+        throw ForceError(fmt::format(
+            "{}: line {}: more than {} bytes without a line break; expected "
+            "a delimited text export",
+            name_,
+            lines_ + 1,
+            max_line_));
+      }
+      buffer_.resize(buffer_.size() * 2);
+    }
     const size_t got = std::fread(
         buffer_.data() + filled_, 1, buffer_.size() - filled_, file_);
     if (got == 0) {
@@ -102,8 +132,10 @@ class FileLines : public LineSource {
   }
   std::FILE* file_;
   std::string name_;
+  size_t max_line_;
   std::vector<char> buffer_;
   size_t pos_ = 0, filled_ = 0;
+  long lines_ = 0;
   bool eof_ = false;
 };
 
@@ -795,6 +827,75 @@ void InferUnits(Eigen::VectorXd* data,
   }
 }
 
+// What a reciprocating tribometer can have measured: refused outside the
+// hard limits (a unit or file error), warned of outside the usual ranges.
+void CheckPlausible(ForceRecord& r, const std::string& file) {
+  constexpr double kMaxForceN = 1e5, kMaxAbsXMm = 1e4;
+  auto where = [&](Eigen::Index i) {
+    return fmt::format("sample {} (t = {:.6g} s)", i + 1, r.time_s[i]);
+  };
+  for (Eigen::Index i = 0; i < r.size(); ++i) {
+    if (std::abs(r.tangential_n[i]) > kMaxForceN ||
+        std::abs(r.normal_n[i]) > kMaxForceN) {
+      throw ForceError(fmt::format(
+          "{}: {}: a force of {:.4g} N; expected at most {:.0e} N in "
+          "magnitude",
+          file,
+          where(i),
+          std::abs(r.tangential_n[i]) > kMaxForceN ? r.tangential_n[i]
+                                                   : r.normal_n[i],
+          kMaxForceN));
+    }
+    if (std::abs(r.x_mm[i]) > kMaxAbsXMm) {
+      throw ForceError(fmt::format(
+          "{}: {}: x = {:.4g} mm; expected a position within +-{:.0e} mm "
+          "(check the x unit)",
+          file,
+          where(i),
+          r.x_mm[i],
+          kMaxAbsXMm));
+    }
+  }
+  double span, median;
+  Spread(r.x_mm, &span, &median);
+  if (!(span >= 0.01 && span <= 100)) {
+    throw ForceError(fmt::format(
+        "{}: a stroke of {:.4g} mm (robust peak to peak of x); expected 0.05 "
+        "to 50 mm for a reciprocating test (check the x unit)",
+        file,
+        span));
+  }
+  if (span < 0.05 || span > 50) {
+    r.metadata.warnings.push_back(fmt::format(
+        "a stroke of {:.4g} mm, outside the usual 0.05-50 mm", span));
+  }
+  Spread(r.normal_n, &span, &median);
+  if (!(median >= 1e-3)) {
+    throw ForceError(fmt::format(
+        "{}: the normal force is {:.3g} N at the median; expected a load (the "
+        "method divides by it)",
+        file,
+        median));
+  }
+  if (median < 0.01 || median > 5000) {
+    r.metadata.warnings.push_back(fmt::format(
+        "a load of {:.4g} N at the median, outside the usual 0.01-5000 N",
+        median));
+  }
+  const Eigen::Index n = r.size();
+  const double duration = n > 1 ? r.time_s[n - 1] - r.time_s[0] : 0.0;
+  const double rate = duration > 0 ? (n - 1) / duration : 0.0;
+  if (!(rate >= 0.1 && rate <= 1e7)) {
+    throw ForceError(fmt::format(
+        "{}: {} samples over {:.4g} s: a sampling rate of {:.4g} Hz; expected "
+        "0.1 Hz to 10 MHz (check the time column and its unit)",
+        file,
+        n,
+        duration,
+        rate));
+  }
+}
+
 ForceRecord Read(LineSource& source,
                  const std::string& name,
                  size_t row_capacity_hint,
@@ -1214,6 +1315,7 @@ ForceRecord Read(LineSource& source,
     record.time_s = Eigen::VectorXd::LinSpaced(
         record.x_mm.size(), 0.0, (record.x_mm.size() - 1) / rate);
   }
+  CheckPlausible(record, name);
   // Compression positive, whatever the instrument's sign.
   std::vector<double> finite;
   finite.reserve(static_cast<size_t>(record.size()));
@@ -1260,6 +1362,7 @@ bool ReadForceOptions::IsValid(std::string* why) const {
     return fail("max_dropped_fraction must be in [0, 1]");
   }
   if (max_nan_run < 0) return fail("max_nan_run must be >= 0");
+  if (max_line_bytes < 64) return fail("max_line_bytes must be >= 64");
   if (!x_unit.empty() && !internal::LengthToMm(x_unit))
     return fail("the x unit is not a length unit (mm, um, m, ...)");
   if (!force_unit.empty() && !internal::ForceToN(force_unit))
@@ -1271,20 +1374,36 @@ bool ReadForceOptions::IsValid(std::string* why) const {
 
 ForceRecord ReadForceFile(const std::string& path,
                           const ReadForceOptions& options) {
+  // A FIFO would block on open, /dev/zero never end: regular files only.
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (!ec && !std::filesystem::is_regular_file(status)) {
+    const auto type = status.type();
+    throw ForceError(fmt::format(
+        "{}: not a regular file ({}); expected a force export",
+        path,
+        type == std::filesystem::file_type::directory   ? "a directory"
+        : type == std::filesystem::file_type::fifo      ? "a FIFO"
+        : type == std::filesystem::file_type::character ? "a character device"
+        : type == std::filesystem::file_type::block     ? "a block device"
+        : type == std::filesystem::file_type::socket    ? "a socket"
+        : type == std::filesystem::file_type::not_found ? "not found"
+                                                        : "not a file"));
+  }
   std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
   if (!file) {
     throw ForceError(
         fmt::format("{}: cannot open: {}", path, std::strerror(errno)));
   }
   const size_t lines = CountLines(file.get());
-  FileLines source(file.get(), path);
+  FileLines source(file.get(), path, options.max_line_bytes);
   return Read(source, path, lines, options);
 }
 
 ForceRecord ReadForceText(const std::string& text,
                           const std::string& name,
                           const ReadForceOptions& options) {
-  MemoryLines source(text);
+  MemoryLines source(text, name, options.max_line_bytes);
   const size_t lines =
       static_cast<size_t>(std::count(text.begin(), text.end(), '\n')) + 1;
   return Read(source, name, lines, options);

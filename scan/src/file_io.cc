@@ -13,8 +13,37 @@
 
 namespace wearscar::scan::internal {
 
+const char* DescribeFileType(std::filesystem::file_type type) {
+  switch (type) {
+    case std::filesystem::file_type::directory:
+      return "a directory";
+    case std::filesystem::file_type::fifo:
+      return "a FIFO";
+    case std::filesystem::file_type::character:
+      return "a character device";
+    case std::filesystem::file_type::block:
+      return "a block device";
+    case std::filesystem::file_type::socket:
+      return "a socket";
+    case std::filesystem::file_type::not_found:
+      return "not found";
+    default:
+      return "not a file";
+  }
+}
+
 std::string ReadFileBytes(const std::string& path, size_t max_bytes) {
   std::error_code ec;
+  // A FIFO would block, a device never end: regular files only.
+  const auto status = std::filesystem::status(path, ec);
+  if (ec)
+    throw ScanError(fmt::format("{}: cannot open: {}", path, ec.message()));
+  if (!std::filesystem::is_regular_file(status)) {
+    throw ScanError(
+        fmt::format("{}: not a regular file ({}); expected a height map file",
+                    path,
+                    DescribeFileType(status.type())));
+  }
   const auto size = std::filesystem::file_size(path, ec);
   if (ec)
     throw ScanError(fmt::format("{}: cannot open: {}", path, ec.message()));

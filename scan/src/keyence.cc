@@ -28,6 +28,11 @@ enum Vk4Entry { kMeasurementConditions = 0, kHeight0 = 6 };
 
 }  // namespace
 
+// Offsets within the VK4 measurement-conditions block.
+constexpr std::uint64_t kConditionsXPitch = 168;
+constexpr std::uint64_t kConditionsYPitch = 172;
+constexpr std::uint64_t kConditionsZStep = 176;
+
 HeightMap ParseVk4(const std::string& bytes, const std::string& name) {
   ByteReader in(bytes, name);
   in.Need(0, 12 + 18 * 4, "the VK4 header and offset table");
@@ -36,28 +41,31 @@ HeightMap ParseVk4(const std::string& bytes, const std::string& name) {
     throw ScanError(fmt::format(
         "{}: byte 0: found magic '{}', expected 'VK4_'", name, magic));
   }
-  const auto conditions =
+  // Offsets are uint32 in the file; every sum below is 64-bit (a block near
+  // 4 GiB must not wrap to a small offset).
+  const std::uint64_t conditions =
       in.At<std::uint32_t>(12 + 4 * kMeasurementConditions, "offset table");
-  const auto height = in.At<std::uint32_t>(12 + 4 * kHeight0, "offset table");
+  const std::uint64_t height =
+      in.At<std::uint32_t>(12 + 4 * kHeight0, "offset table");
   if (conditions == 0 || height == 0) {
     throw ScanError(
         fmt::format("{}: byte 12: the offset table has no {} block",
                     name,
                     conditions == 0 ? "measurement-conditions" : "height"));
   }
-  // Pitches and z step in picometres at 168/172/176 within the block.
-  const double x_pm =
-      in.At<std::uint32_t>(conditions + 168, "x length per pixel");
-  const double y_pm =
-      in.At<std::uint32_t>(conditions + 172, "y length per pixel");
+  // Pitches and z step in picometres within the conditions block.
+  const double x_pm = in.At<std::uint32_t>(conditions + kConditionsXPitch,
+                                           "x length per pixel");
+  const double y_pm = in.At<std::uint32_t>(conditions + kConditionsYPitch,
+                                           "y length per pixel");
   const double z_pm =
-      in.At<std::uint32_t>(conditions + 176, "z length per digit");
+      in.At<std::uint32_t>(conditions + kConditionsZStep, "z length per digit");
   if (!(x_pm > 0) || !(y_pm > 0) || !(z_pm > 0)) {
     throw ScanError(fmt::format(
         "{}: byte {}: calibration x {} pm, y {} pm, z {} pm per digit; "
         "expected positive values",
         name,
-        conditions + 168,
+        conditions + kConditionsXPitch,
         x_pm,
         y_pm,
         z_pm));

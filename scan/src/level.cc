@@ -1,6 +1,7 @@
 #include "wearscar/scan/level.h"
 
 #include <fmt/format.h>
+#include <pcl/console/print.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 #include <pcl/sample_consensus/ransac.h>
@@ -93,6 +94,9 @@ LevelSummary LevelHeightMap(HeightMap* map, const LevelOptions& options) {
       1,
       static_cast<Eigen::Index>(
           std::sqrt(static_cast<double>(valid) / options.max_points)));
+  // PCL prints to stderr ("Sample points too similar or collinear!", once
+  // per failed draw): wearscar reports through LevelSummary instead.
+  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
   pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
   for (Eigen::Index r = 0; r < map->rows(); r += stride) {
     for (Eigen::Index c = 0; c < map->cols(); c += stride) {

@@ -94,6 +94,7 @@ std::optional<double> UnitToMm(std::string_view u) {
 // Fields of view, mm: refused outside the first pair, warned of outside
 // what a Keyence VR measures.
 constexpr double kMinField = 0.01, kMaxField = 1000.0;
+constexpr double kMaxSide = 1 << 16;  // pixels
 constexpr double kVrMinField = 1.0, kVrMaxField = 100.0;
 
 }  // namespace
@@ -130,8 +131,21 @@ HeightMap ParseKeyenceCsv(const std::string& bytes, const std::string& name) {
     const auto value = Number(cells[1], decimal);
     // Keys in English; in Japanese (Shift-JIS or UTF-8) the pitch row is
     // recognised by its micrometre unit, the sizes by the data block.
-    if (key == "horizontal" && value) nx = static_cast<long>(*value);
-    if (key == "vertical" && value) ny = static_cast<long>(*value);
+    if ((key == "horizontal" || key == "vertical") && value) {
+      // A size before any cast: whole, positive, at most kMaxSide.
+      if (!(*value >= 1 && *value <= kMaxSide) ||
+          *value != std::floor(*value)) {
+        throw ScanError(fmt::format(
+            "{}: line {}: {} = {}; expected a whole number of pixels from 1 "
+            "to {}",
+            name,
+            i + 1,
+            std::string(cells[0]),
+            std::string(cells[1].substr(0, 30)),
+            kMaxSide));
+      }
+      (key == "horizontal" ? nx : ny) = static_cast<long>(*value);
+    }
     const bool unit_says_um =
         (cells.size() >= 3 && IsMicrometre(cells[2])) || IsMicrometre(cells[1]);
     // The pixel size: the key "XY Calibration" whole (other calibration rows,

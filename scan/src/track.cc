@@ -39,8 +39,14 @@ bool TrackOptions::IsValid(std::string* why) const {
 }
 
 bool ProfileOptions::IsValid(std::string* why) const {
-  if (step_mm < 0 || band_width_mm < 0 || extend_mm < 0) {
-    if (why) *why = "step_mm, band_width_mm and extend_mm must be >= 0";
+  if (!(step_mm == 0 || (step_mm >= 1e-6 && step_mm <= 10)) ||
+      !(band_width_mm >= 0 && band_width_mm <= 100) ||
+      !(extend_mm >= 0 && extend_mm <= 100)) {
+    if (why) {
+      *why =
+          "the centreline step must be 0 (the pitch) or 1e-6 to 10 mm, the "
+          "band 0 to 100 mm, the extension 0 to 100 mm";
+    }
     return false;
   }
   return true;
@@ -246,6 +252,8 @@ Track FindTrack(const HeightMap& map, const TrackOptions& options) {
 
 namespace {
 
+constexpr double kMaxProfileSamples = 1e7;
+
 WearProfile SampleLine(const HeightMap& map,
                        const Track& t,
                        double s0,
@@ -257,15 +265,31 @@ WearProfile SampleLine(const HeightMap& map,
   WearProfile p;
   p.step_mm = step;
   p.band_width_mm = band;
-  const int n = std::max(1, static_cast<int>(std::floor((s1 - s0) / step)) + 1);
+  // Bounded before any cast: a profile of more than kMaxProfileSamples
+  // points, or a band of more than as many pixels, is a wrong size.
+  const double count = std::floor((s1 - s0) / step) + 1;
+  const double pitch = std::min(map.dx_mm, map.dy_mm);
+  const double across = band > 0 ? std::round(band / pitch) : 0.0;
+  if (!(count <= kMaxProfileSamples) || !(across <= kMaxProfileSamples)) {
+    throw ScanError(fmt::format(
+        "{}: a profile of {:.4g} mm in steps of {:.4g} mm over a band of "
+        "{:.4g} mm needs {:.4g} x {:.4g} samples; expected at most {} each "
+        "(check the step, the band and the pixel size)",
+        map.metadata.source,
+        s1 - s0,
+        step,
+        band,
+        count,
+        2 * across + 1,
+        kMaxProfileSamples));
+  }
+  const int n = std::max(1, static_cast<int>(count));
   p.s_mm.resize(n);
   p.height_mm.resize(n);
   p.valid_samples.resize(n);
   const double th = t.angle_deg * kPi / 180.0;
   const double ax = std::cos(th), ay = std::sin(th);
-  const double pitch = std::min(map.dx_mm, map.dy_mm);
-  const int m =
-      band > 0 ? std::max(1, static_cast<int>(std::round(band / pitch))) : 0;
+  const int m = band > 0 ? std::max(1, static_cast<int>(across)) : 0;
   for (int i = 0; i < n; ++i) {
     const double s = s0 + i * step;
     double sum = 0;

@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 
 #include <array>
@@ -357,6 +358,30 @@ TEST(Cli, UnitsGivenPerColumnAndAManifestWithQuotedCommas) {
   EXPECT_EQ(a.status, 0) << a.output;
   EXPECT_NE(a.output.find("1 specimens: 1 explained"), std::string::npos)
       << a.output;
+}
+
+TEST(Cli, SpecialFilesAreRefusedNotReadForever) {
+  // A FIFO would block the reader, /dev/zero never end.
+  const std::string fifo = ::testing::TempDir() + "/cli-fifo";
+  std::filesystem::remove(fifo);
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  for (const std::string& cmd :
+       {"force " + fifo, "scan " + fifo, "fuse --force " + fifo}) {
+    const CommandResult r = Wearscar(cmd);
+    EXPECT_EQ(r.status, 2) << cmd;
+    EXPECT_NE(r.output.find(fifo + ": not a regular file (a FIFO)"),
+              std::string::npos)
+        << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1)
+        << r.output;
+  }
+  const CommandResult z = Wearscar("force /dev/zero");
+  EXPECT_EQ(z.status, 2);
+  EXPECT_NE(z.output.find("/dev/zero: not a regular file (a character "
+                          "device)"),
+            std::string::npos)
+      << z.output;
+  std::filesystem::remove(fifo);
 }
 
 TEST(Cli, FuseWithUnreadableScanExitsTwoNamingIt) {

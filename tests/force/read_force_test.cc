@@ -142,6 +142,32 @@ TEST(ReadForce, NoPlausibleUnitIsRefused) {
   }
 }
 
+TEST(ReadForce, ALineWithoutBreaksIsRefusedAtTheLimit) {
+  ReadForceOptions o;
+  o.max_line_bytes = 1000;
+  const std::string text = "time_s,x_mm,Q_N,P_N\n" + std::string(5000, '1');
+  for (bool from_file : {false, true}) {
+    try {
+      if (from_file) {
+        const std::string path = ::testing::TempDir() + "/long_line.csv";
+        std::FILE* f = std::fopen(path.c_str(), "wb");
+        std::fwrite(text.data(), 1, text.size(), f);
+        std::fclose(f);
+        ReadForceFile(path, o);
+      } else {
+        ReadForceText(text, "long_line.csv", o);
+      }
+      FAIL();
+    } catch (const ForceError& e) {
+      EXPECT_NE(std::string(e.what()).find(
+                    "long_line.csv: line 2: more than 1000 bytes without a "
+                    "line break"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+}
+
 TEST(ReadForce, ExportsThatCannotCarryTheMethodAreRefused) {
   // A pin-on-disk export and an Rtec recipe logging only the COF and Fz.
   const struct {

@@ -2,7 +2,13 @@
 """Writes the bad-input catalogue (run from this folder): one malformed file
 per class and reader, and catalogue.csv naming, for each, the subcommand
 that reads it ("force" or "scan") and a fragment the error must contain."""
-import io, struct, zipfile
+import io, math, struct, zipfile
+
+def entry(name, deflate=False):
+    """A ZIP entry with a fixed date, so that the files are reproducible."""
+    i = zipfile.ZipInfo(name, date_time=(1980, 1, 1, 0, 0, 0))
+    i.compress_type = zipfile.ZIP_DEFLATED if deflate else zipfile.ZIP_STORED
+    return i
 
 rows = []
 def put(name, data, kind, expected):
@@ -24,7 +30,7 @@ put('one_cycle.csv', csv(good[:130]), 'force', 'complete cycle(s)')
 put('binary.csv', bytes(range(256)) * 16, 'force', 'no numeric data found')
 put('unit_unknown.csv', csv(['time (s),x (furlong),Fx (N),Fz (N)'] + [l for l in good[1:]]), 'force', "has unit 'furlong'; expected a length unit")
 put('no_time_no_rate.csv', csv(['x_mm;Q_N;P_N'] + [';'.join(l.split(',')[1:]) for l in good[1:]]), 'force', 'no time column and no sampling rate')
-put('flat_x.csv', csv(['time_s,x_mm,Q_N,P_N'] + [f'{i*0.01:.2f},1.0,1.0,30.0' for i in range(400)]), 'force', 'the displacement does not move')
+put('flat_x.csv', csv(['time_s,x_mm,Q_N,P_N'] + [f'{i*0.01:.2f},1.0,1.0,30.0' for i in range(400)]), 'force', 'a stroke of 0 mm (robust peak to peak of x)')
 put('text_in_data.csv', csv(good[:60] + ['pause,pause,pause,pause'] + good[61:]), 'force', "found text 'pause' where a data row was expected")
 
 # ---- GSF
@@ -53,7 +59,7 @@ put('absurd.vk4', vk4(100000, 100000, 32, 0, 0), 'scan', 'height image 100000 x 
 put('zero_pitch.vk4', vk4(2, 2, 32, 16, 16, cond_pm=(0, 0, 100)), 'scan', 'expected positive values')
 put('truncated.vk6', b'VK6\x10\x00\x00\x00BM', 'scan', 'truncated: the ZIP archive after the thumbnail')
 buf = io.BytesIO()
-with zipfile.ZipFile(buf, 'w') as z: z.writestr('Other', b'x')
+with zipfile.ZipFile(buf, 'w') as z: z.writestr(entry('Other'), b'x')
 put('no_vk4file.vk6', b'VK6' + struct.pack('<I', 2) + b'BM' + buf.getvalue(), 'scan', "the archive has no member 'Vk4File'")
 
 # ---- ZON / ZAG
@@ -63,7 +69,7 @@ CAL = '<C><XYCalibration><MeterPerPixel>7e-6</MeterPerPixel></XYCalibration><ZCa
 def kpk(members, magic=b'KPK0'):
     buf = io.BytesIO()
     with zipfile.ZipFile(buf, 'w') as z:
-        for k, v in members.items(): z.writestr(k, v)
+        for k, v in members.items(): z.writestr(entry(k), v)
     return magic + struct.pack('<I', 2) + b'BM' + buf.getvalue()
 HG, CA = '4cdb0c75-5706-48cc-a9a1-adf395d609ae', '686613b8-27b5-4a29-8ffc-438c2780873e'
 put('bad_magic.zon', b'KPX0' + b'\0' * 40, 'scan', 'which is not the magic of a .zon file')
@@ -82,8 +88,9 @@ put('empty.zag', kpk({'f1724dc6-686c-4502-9227-2a594bc8ed33': '<Inventory/>'}), 
 def x3p(xml, members=None):
     buf = io.BytesIO()
     with zipfile.ZipFile(buf, 'w') as z:
-        if xml is not None: z.writestr('main.xml', xml)
-        for k, v in (members or {}).items(): z.writestr(k, v)
+        if xml is not None: z.writestr(entry('main.xml'), xml)
+        for k, v in (members or {}).items():
+            z.writestr(entry(k, deflate=len(v) > 1 << 20), v)
     return buf.getvalue()
 def main_xml(sx, sy, dtype='D', link=True):
     rec3 = (f'<Record3><MatrixDimension><SizeX>{sx}</SizeX><SizeY>{sy}</SizeY><SizeZ>1</SizeZ></MatrixDimension>' +
@@ -104,6 +111,42 @@ put('keyence_no_pitch.csv', 'Horizontal,2\nVertical,2\nHeight\n1,2\n3,4\n', 'sca
 put('keyence_ragged.csv', 'XY Calibration,7.4,um\nHeight\n1,2,3\n4,5\n', 'scan', 'line 4: 2 values; expected 3')
 put('keyence_text_cell.csv', 'XY Calibration,7.4,um\nHeight\n1,2,3\n4,x,6\n', 'scan', "line 4, column 2: found 'x', expected a height")
 put('ascii_no_pitch.txt', '1 2 3\n4 5 6\n', 'scan', 'carries no pixel size')
+
+# ---- hostile files: implausible data, special sizes, decompression bombs
+t_x = [(i * 0.005, 2.85 * math.sin(2 * math.pi * i * 0.005)) for i in range(1000)]
+def force_rows(fn): return csv(['time_s,x_mm,Q_N,P_N'] + [','.join(repr(v) for v in fn(i, t, x)) for i, (t, x) in enumerate(t_x)])
+put('zero_load.csv', force_rows(lambda i, t, x: (t, x, 3.6, 0.0)), 'force', 'the normal force is 0 N at the median; expected a load')
+put('huge_force.csv', force_rows(lambda i, t, x: (t, x, 1.7e308 if i == 500 else 3.6, 30.0)), 'force', 'sample 501 (t = 2.5 s): a force of 1.7e+308 N')
+put('nm_stroke.csv', force_rows(lambda i, t, x: (t, x * 2e-6, 3.6, 30.0)), 'force', 'expected 0.05 to 50 mm for a reciprocating test')
+put('um_as_mm.csv', force_rows(lambda i, t, x: (t, 1000 * x, 3.6, 30.0)), 'force', 'a stroke of 5697 mm (robust peak to peak of x)')
+put('time_1e300.csv', force_rows(lambda i, t, x: (1e300 + t, x, 3.6, 30.0)), 'force', 'is not after the previous')
+put('unequal_pitch.gsf', gsf('XRes = 4\nYRes = 4\nXReal = 0.03\nYReal = 3e-04\nXYUnits = mm\n', b'\0' * 64), 'scan', 'times longer one way than the other')
+put('tiny_pitch.gsf', gsf('XRes = 4\nYRes = 4\nXReal = 3e-12\nYReal = 3e-12\nXYUnits = mm\n', b'\0' * 64), 'scan', 'expected 1e-06 to 100 mm')
+put('keyence_huge_size.csv', 'XY Calibration,7.4,um\nHorizontal,1e30\nVertical,nan\nHeight\n1,2\n', 'scan', 'Horizontal = 1e30; expected a whole number of pixels')
+# A VK4 whose conditions offset sits 156 bytes below 4 GiB: conditions + 168
+# must not wrap to a small offset inside the file.
+b = bytearray(vk4(2, 2, 32, 16, 16)); struct.pack_into('<I', b, 12, 0xFFFFFF64)
+put('offset_wrap.vk4', bytes(b), 'scan', 'byte 4294967308: truncated: x length per pixel needs 4 bytes')
+def zstd_rle(total, stated=True):
+    """A zstd frame of `total` zero bytes in RLE blocks: a few bytes that
+    expand to anything."""
+    head = bytes([0xE0]) + struct.pack('<Q', total) if stated else bytes([0x00, 0x38])
+    blocks, left = b'', total
+    while left > 0:
+        n = min(left, 128 * 1024); left -= n
+        blocks += struct.pack('<I', (1 if left == 0 else 0) | (1 << 1) | (n << 3))[:3] + b'\0'
+    return struct.pack('<I', 0xFD2FB528) + head + blocks
+def zstd_raw(data):
+    """A zstd frame holding `data` in one raw block, size stated."""
+    return (struct.pack('<I', 0xFD2FB528) + bytes([0xE0]) + struct.pack('<Q', len(data)) +
+            struct.pack('<I', 1 | (len(data) << 3))[:3] + data)
+BOMB = 100 << 20  # 100 MiB
+put('bomb_stated.zon', kpk({HG: zstd_rle(BOMB), CA: zstd_raw(CAL.encode())}, magic=b'KPK1'), 'scan', 'a ratio above 100 (a decompression bomb?)')
+put('bomb_stream.zon', kpk({HG: zstd_rle(BOMB, stated=False), CA: zstd_raw(CAL.encode())}, magic=b'KPK1'), 'scan', 'a ratio above 100 (a decompression bomb?)')
+put('bomb.x3p', x3p(main_xml(3620, 3620), {'bindata/data.bin': bytes(BOMB)}), 'scan', 'a ratio above 100 (a decompression bomb?)')
+vbuf = io.BytesIO()
+with zipfile.ZipFile(vbuf, 'w') as z: z.writestr(entry('Vk4File', deflate=True), bytes(BOMB))
+put('bomb.vk6', b'VK6' + struct.pack('<I', 2) + b'BM' + vbuf.getvalue(), 'scan', 'a ratio above 100 (a decompression bomb?)')
 
 with open('catalogue.csv', 'w') as f:
     f.write('file,reader,expected\n')

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstddef>
 #include <string>
 
 #include "wearscar/force/force_record.h"
@@ -33,6 +34,9 @@ struct ReadForceOptions {
   double max_dropped_fraction = 0.01;
   // Longest run of NaN samples accepted in any channel.
   int max_nan_run = 50;
+  // Longest line, bytes: a file without line breaks is not a text export
+  // (and is refused before it fills the memory).
+  std::size_t max_line_bytes = std::size_t{1} << 22;
 
   bool IsValid(std::string* why) const;
 };

@@ -24,6 +24,13 @@ struct ReadScanOptions {
   std::uint64_t max_total_bytes = std::uint64_t{3} << 29;  // 1.5 GiB
   std::uint64_t free_expansion_bytes = std::uint64_t{64} << 20;
   double max_expansion_ratio = 100.0;
+  // Pixels: refused outside [min, max] mm or when one side is more than
+  // max_pixel_aspect times the other (a wrong size in a header); a map
+  // narrower than warn_field_mm is read with a warning.
+  double min_pitch_mm = 1e-6;
+  double max_pitch_mm = 100.0;
+  double max_pixel_aspect = 20.0;
+  double warn_field_mm = 0.5;
 
   bool IsValid(std::string* why) const;
 };
@@ -33,6 +40,10 @@ struct ReadScanOptions {
 // ISO 5436-2 .x3p, Gwyddion .gsf, ASCII matrix. Throws ScanError.
 HeightMap ReadScan(const std::string& path,
                    const ReadScanOptions& options = {});
+
+// The checks ReadScan applies to every map it returns (pixel size, aspect,
+// field of view); throws ScanError, or adds a warning.
+void CheckPixels(HeightMap* map, const ReadScanOptions& options);
 
 // The individual readers, over bytes in memory; `name` appears in errors.
 HeightMap ParseX3p(const std::string& bytes,

@@ -7,6 +7,11 @@ target_compile_options(wearscar_warnings INTERFACE
 
 if(WEARSCAR_SANITIZE)
   string(REPLACE " " "" _sanitizers "${WEARSCAR_SANITIZE}")
+  # -fsanitize=undefined leaves out float-cast-overflow (a double beyond an
+  # int's range cast to int): ask for it by name, GCC and clang alike.
+  if(_sanitizers MATCHES "undefined" AND NOT _sanitizers MATCHES "float-cast-overflow")
+    string(APPEND _sanitizers ",float-cast-overflow")
+  endif()
   target_compile_options(wearscar_warnings INTERFACE
     -fsanitize=${_sanitizers} -fno-omit-frame-pointer -fno-sanitize-recover=all)
   target_link_options(wearscar_warnings INTERFACE -fsanitize=${_sanitizers})
@@ -26,6 +31,8 @@ endif()
 if(WEARSCAR_FUZZ)
   # Instrument the libraries for coverage; the targets link the fuzzer.
   target_compile_options(wearscar_warnings INTERFACE
-    -fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer)
-  target_link_options(wearscar_warnings INTERFACE -fsanitize=address,undefined)
+    -fsanitize=fuzzer-no-link,address,undefined,float-cast-overflow
+    -fno-omit-frame-pointer)
+  target_link_options(wearscar_warnings INTERFACE
+    -fsanitize=address,undefined,float-cast-overflow)
 endif()

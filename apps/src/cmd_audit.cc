@@ -171,6 +171,7 @@ std::vector<Specimen> ReadManifest(const std::string& path) {
   }
   const fs::path base = fs::path(path).parent_path();
   std::vector<Specimen> out;
+  std::vector<int> lines;  // of each specimen, for the duplicate message
   int line_no = 1;
   while (std::getline(in, line)) {
     ++line_no;
@@ -187,9 +188,37 @@ std::vector<Specimen> ReadManifest(const std::string& path) {
     s.force = resolve(cell(iforce));
     s.scan = resolve(cell(iscan));
     s.name = cell(is).empty() ? SpecimenName(s.force) : cell(is);
+    // A specimen's name is its folder under --out: one path component,
+    // never "..", never hidden.
+    const std::string bad = s.name.empty() ? "it is empty"
+                            : s.name.find_first_of("/\\") != std::string::npos
+                                ? "it holds a path separator"
+                            : s.name[0] == '.' ? "it starts with a dot"
+                                               : "";
+    if (!bad.empty()) {
+      throw UsageError(fmt::format(
+          "{}: line {}: specimen name '{}' cannot be a folder under --out "
+          "({}); expected a plain name such as B-RT-R",
+          path,
+          line_no,
+          s.name,
+          bad));
+    }
+    for (size_t j = 0; j < out.size(); ++j) {
+      if (out[j].name == s.name) {
+        throw UsageError(fmt::format(
+            "{}: line {}: specimen '{}' appears twice (also on line {}); "
+            "expected each name once (each has its own folder)",
+            path,
+            line_no,
+            s.name,
+            lines[j]));
+      }
+    }
     if (s.force.empty())
       s.error = fmt::format("{}: line {}: no force file", path, line_no);
     out.push_back(s);
+    lines.push_back(line_no);
   }
   return out;
 }
@@ -304,12 +333,16 @@ void RunAudit(AuditArgs a) {
   if (mine.empty())
     throw UsageError(fmt::format("{}: no specimens found", a.input));
   EnsureDirectory(a.out);
+  // One audit per folder at a time: two would interleave summary.csv and
+  // the specimen folders.
+  const OutputLock out_lock(a.out);
   const int jobs =
       a.jobs > 0 ? a.jobs : std::max(1u, std::thread::hardware_concurrency());
   std::vector<ReportSection> sections(mine.size());
   std::vector<SpecimenSeries> series(mine.size());
   std::atomic<size_t> next{0};
   std::atomic<long> done{0};
+  std::atomic<bool> figures_missing{false};
   std::mutex progress_mutex;
   Progress progress(
       fmt::format("audit ({} specimens, {} jobs)", mine.size(), jobs),
@@ -320,8 +353,11 @@ void RunAudit(AuditArgs a) {
       ReportSection& sec = sections[i];
       sec.name = s.name;
       sec.row = Identity(s.name);
-      const std::string dir = (fs::path(a.out) / s.name).string();
+      const std::string final_dir = (fs::path(a.out) / s.name).string();
       try {
+        // Each specimen's files appear together or not at all.
+        StagedOutput stage(final_dir);
+        const std::string& dir = stage.dir();
         if (!s.error.empty()) throw UsageError(s.error);
         const force::ForceRecord record =
             force::ReadForceFile(s.force, a.common.read_force);
@@ -363,6 +399,15 @@ void RunAudit(AuditArgs a) {
             sec.row["diagnosis"] = std::string("not run: ") + e.what();
           }
         }
+        if (!sec.figures.missing.empty()) {
+          AddWarningToResult(dir, sec.figures.message);
+          figures_missing = true;
+        }
+        stage.Commit();
+        // The report and the batch figures read the files where they are
+        // now.
+        for (std::string& png : sec.figures.png) png = stage.Final(png);
+        series[i].dir = final_dir;
       } catch (const std::exception& e) {
         sec.failed = true;
         sec.flagged = false;
@@ -451,7 +496,9 @@ void RunAudit(AuditArgs a) {
              (fs::path(a.out) / "summary.csv").string());
   if (!batch.message.empty())
     fmt::print(stderr, "wearscar: {}\n", batch.message);
-  SetExitStatus(std::min(failed, 125));
+  SetExitStatus(failed > 0        ? std::min(failed, 125)
+                : figures_missing ? kExitFiguresMissing
+                                  : 0);
 }
 
 }  // namespace

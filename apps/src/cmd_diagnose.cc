@@ -35,7 +35,10 @@ void RunDiagnose(DiagnoseArgs a) {
   const std::string name = SpecimenName(a.force_file);
   PrintDiagnosis(name, d, r.scan.has_value());
   if (a.out.empty()) return;
-  WriteDiagnosis(a.out, name, d, !a.no_figures);
+  const OutputLock lock(a.out);
+  StagedOutput stage(a.out);
+  WriteDiagnosis(stage.dir(), name, d, !a.no_figures);
+  stage.Commit();
   fmt::print("wrote {}/diagnosis.json and the residual maps\n", a.out);
 }
 

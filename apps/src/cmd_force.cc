@@ -61,7 +61,11 @@ void RunForce(ForceArgs a) {
     fmt::print("  (all cycles and more columns: --out DIR)\n");
     return;
   }
-  const auto files = WriteTestResults(a.out, a.file, record, r, a.common.fuse);
+  const OutputLock lock(a.out);
+  StagedOutput stage(a.out);
+  const auto files =
+      WriteTestResults(stage.dir(), a.file, record, r, a.common.fuse);
+  stage.Commit();
   fmt::print("wrote {} files to {}/\n", files.size(), a.out);
 }
 

@@ -35,16 +35,29 @@ void RunFuse(FuseArgs a) {
       fusion::AnalyzeTest(record, std::move(map), a.common.fuse);
   const std::string name = a.name.empty() ? SpecimenName(a.force_file) : a.name;
   PrintSummary(name, r);
-  if (a.out.empty()) return;
+  if (a.out.empty()) {
+    fmt::print("nothing written (give -o DIR for the tables and figures)\n");
+    return;
+  }
+  // One writer per folder; everything is staged and moved into place only
+  // when the whole set is there.
+  const OutputLock lock(a.out);
+  StagedOutput stage(a.out);
   const auto files =
-      WriteTestResults(a.out, name, record, r, a.common.fuse, a.write);
+      WriteTestResults(stage.dir(), name, record, r, a.common.fuse, a.write);
+  FigureSet figs;
+  if (!a.no_figures) {
+    figs = DrawTestFigures(stage.dir(), name, r, a.common.fuse);
+    if (!figs.missing.empty()) AddWarningToResult(stage.dir(), figs.message);
+  }
+  stage.Commit();
   fmt::print("wrote {} files to {}/\n", files.size(), a.out);
   if (!a.no_figures) {
-    const FigureSet figs = DrawTestFigures(a.out, name, r, a.common.fuse);
     if (!figs.message.empty())
-      fmt::print(stderr, "wearscar: {}\n", figs.message);
+      fmt::print(stderr, "wearscar: warning: {}\n", figs.message);
     fmt::print(
-        "drew {} figures (PNG and SVG) in {}/\n", figs.png.size(), a.out);
+        "drew {} figures (PNG and SVG) in {}/\n", 2 * figs.png.size(), a.out);
+    if (!figs.missing.empty()) SetExitStatus(kExitFiguresMissing);
   }
 }
 

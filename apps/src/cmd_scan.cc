@@ -98,11 +98,14 @@ void RunScan(ScanArgs a) {
     fmt::print(stderr, "wearscar: warning: {}\n", no_track);
   }
   if (a.out.empty()) return;
-  EnsureDirectory(a.out);
+  // Staged: a run that fails late (a full disk, a map too small for the
+  // preview) leaves nothing new in the folder.
+  const OutputLock lock(a.out);
+  StagedOutput stage(a.out);
   std::vector<std::string> written;
   auto path = [&](const char* file) {
     written.push_back(file);
-    return (fs::path(a.out) / file).string();
+    return (fs::path(stage.dir()) / file).string();
   };
   if (track) {
     const scan::Track& t = *track;
@@ -148,6 +151,7 @@ void RunScan(ScanArgs a) {
   scan::WriteTrackPreviewPng(
       map, track ? *track : scan::Track{}, path("preview.png"));
   WriteTextAtomically(path("scan.json"), j.dump(2) + "\n");
+  stage.Commit();
   fmt::print("wrote {} to {}/\n", fmt::join(written, ", "), a.out);
 }
 

@@ -1,6 +1,10 @@
 #include "figures.h"
 
+#include <fcntl.h>
 #include <fmt/format.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -28,11 +32,53 @@ std::string Quote(const std::string& s) {
   return out + "'";
 }
 
+// gnuplot with one script, in `dir`, output to `log`, without a shell (a
+// folder name with quotes or spaces is only ever a path). Returns the pid,
+// or -1 with errno.
+pid_t SpawnGnuplot(const std::string& dir,
+                   const std::string& script,
+                   const std::string& log) {
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addchdir_np(&actions, dir.c_str());
+  posix_spawn_file_actions_addopen(
+      &actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  posix_spawn_file_actions_addopen(
+      &actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  std::string program = "gnuplot", arg = script;
+  char* argv[] = {program.data(), arg.data(), nullptr};
+  pid_t pid = -1;
+  const int error =
+      posix_spawnp(&pid, "gnuplot", &actions, nullptr, argv, environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (error != 0) {
+    errno = error;
+    return -1;
+  }
+  return pid;
+}
+
+// A figure file is drawn when it exists, is not empty and starts as its
+// format does.
+bool LooksDrawn(const std::string& path, const char* term) {
+  std::ifstream in(path, std::ios::binary);
+  char head[8] = {};
+  in.read(head, sizeof(head));
+  if (in.gcount() < 4) return false;
+  if (std::string(term) == "png") return std::memcmp(head, "\x89PNG", 4) == 0;
+  return std::memcmp(head, "<?xm", 4) == 0 || std::memcmp(head, "<svg", 4) == 0;
+}
+
 // Runs gnuplot on two scripts, one drawing every figure as PNG and one as
-// SVG, side by side (two processes). Returns an error message, empty on
-// success.
+// SVG, side by side (two processes). Each figure is drawn under a
+// temporary name and renamed into place only when it is there, not empty
+// and of its format: a killed or failed gnuplot leaves no half figure.
+// Returns the figures that were asked for and not drawn (empty on
+// success) and a message.
 std::string RunGnuplot(const std::string& dir,
-                       const std::vector<Figure>& figures) {
+                       const std::vector<Figure>& figures,
+                       std::vector<std::string>* missing) {
   const std::string preamble =
       "set datafile separator ','\nset datafile missing ''\nset grid\nset "
       "key outside right top\nset style data lines\n";
@@ -45,31 +91,60 @@ std::string RunGnuplot(const std::string& dir,
                     : "set terminal svg size 960,560 enhanced font 'DejaVu "
                       "Sans,10' background 'white'\n";
       script += fmt::format("set output {}\nset title {} noenhanced\n",
-                            Quote(f.stem + "." + term),
+                            Quote(f.stem + "." + term + ".part"),
                             Quote(f.title));
       script += f.body + "\nunset output\nreset session\n" + preamble;
     }
     WriteTextAtomically(
         (fs::path(dir) / fmt::format("figures_{}.gp", term)).string(), script);
   }
-  const std::string cmd = fmt::format(
-      "cd {} && {{ gnuplot figures_png.gp > figures_png.log 2>&1 & p=$!; "
-      "gnuplot figures_svg.gp > figures_svg.log 2>&1; s=$?; wait $p && exit "
-      "$s; }}",
-      Quote(fs::absolute(dir).string()));
-  const int status = std::system(cmd.c_str());
-  if (status != 0) {
-    return fmt::format(
-        "gnuplot failed (see {}/figures_png.log and figures_svg.log)", dir);
+  const std::string abs = fs::absolute(dir).string();
+  pid_t pids[2];
+  int i = 0;
+  for (const char* term : {"png", "svg"}) {
+    pids[i++] = SpawnGnuplot(abs,
+                             fmt::format("figures_{}.gp", term),
+                             fmt::format("{}/figures_{}.log", abs, term));
   }
-  return "";
+  bool failed = false;
+  for (pid_t pid : pids) {
+    int status = 0;
+    if (pid < 0 || waitpid(pid, &status, 0) != pid || !WIFEXITED(status) ||
+        WEXITSTATUS(status) != 0) {
+      failed = true;
+    }
+  }
+  for (const Figure& f : figures) {
+    for (const char* term : {"png", "svg"}) {
+      const std::string final_path =
+          (fs::path(dir) / (f.stem + "." + term)).string();
+      const std::string part = final_path + ".part";
+      if (LooksDrawn(part, term) &&
+          std::rename(part.c_str(), final_path.c_str()) == 0) {
+        continue;
+      }
+      std::remove(part.c_str());
+      missing->push_back(f.stem + "." + term);
+    }
+  }
+  if (missing->empty()) return "";
+  return fmt::format(
+      "{} of the {} figures asked for were not drawn ({}{}){}",
+      missing->size(),
+      2 * figures.size(),
+      (*missing)[0],
+      missing->size() > 1 ? ", ..." : "",
+      failed ? "; gnuplot failed: see figures_png.log and figures_svg.log"
+             : "");
 }
 
 FigureSet Collect(const std::string& dir,
                   const std::vector<Figure>& figures,
-                  std::string message) {
+                  std::string message,
+                  std::vector<std::string> missing) {
   FigureSet set;
   set.message = std::move(message);
+  set.missing = std::move(missing);
   for (const Figure& f : figures) {
     const std::string png = (fs::path(dir) / (f.stem + ".png")).string();
     if (fs::exists(png)) {
@@ -167,7 +242,7 @@ FigureSet DrawTestFigures(const std::string& dir,
                           const fusion::TestResult& r,
                           const fusion::FuseOptions& opt) {
   std::string why;
-  if (!PlotterAvailable(&why)) return FigureSet{{}, {}, why};
+  if (!PlotterAvailable(&why)) return FigureSet{{}, {}, why, {}};
   std::vector<Figure> figs;
   // One plot clause per exported cycle over its rows of loops.csv (rows are
   // grouped by cycle): selecting rows by range is twice as fast in gnuplot
@@ -313,14 +388,15 @@ FigureSet DrawTestFigures(const std::string& dir,
          "lc rgb 'black' title 'measured', '' skip 1 using 2:4 dt 2 lw 2 title "
          "'LuGre', '' skip 1 using 2:5 dt 4 lw 2 title 'wear-scar'"});
   }
-  const std::string message = RunGnuplot(dir, figs);
-  return Collect(dir, figs, message);
+  std::vector<std::string> missing;
+  const std::string message = RunGnuplot(dir, figs, &missing);
+  return Collect(dir, figs, message, std::move(missing));
 }
 
 FigureSet DrawAuditFigures(const std::string& dir,
                            const std::vector<SpecimenSeries>& specimens) {
   std::string why;
-  if (!PlotterAvailable(&why)) return FigureSet{{}, {}, why};
+  if (!PlotterAvailable(&why)) return FigureSet{{}, {}, why, {}};
   std::vector<Figure> figs;
   auto across = [&](const char* stem,
                     const char* title,
@@ -385,8 +461,9 @@ FigureSet DrawAuditFigures(const std::string& dir,
        "using ($1+0.1):5:6 with yerrorbars pt 5 title 'mu-hat - mu energy', 0 "
        "lc rgb "
        "'black' notitle"});
-  const std::string message = RunGnuplot(dir, figs);
-  return Collect(dir, figs, message);
+  std::vector<std::string> missing;
+  const std::string message = RunGnuplot(dir, figs, &missing);
+  return Collect(dir, figs, message, std::move(missing));
 }
 
 }  // namespace wearscar::app

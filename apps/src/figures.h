@@ -14,6 +14,8 @@ struct FigureSet {
   std::vector<std::string> png;  // in display order
   std::vector<std::string> titles;
   std::string message;  // empty when everything was drawn
+  // Figures asked for and not drawn (or drawn empty): file names.
+  std::vector<std::string> missing;
 };
 
 // True when gnuplot runs; `why` says what is missing otherwise.

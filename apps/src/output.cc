@@ -1,6 +1,8 @@
 #include "output.h"
 
+#include <fcntl.h>
 #include <fmt/format.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -25,26 +27,89 @@ int ExitStatus() { return g_exit_status; }
 void WriteTextAtomically(const std::string& path, const std::string& text) {
   const std::string tmp =
       fmt::format("{}.tmp-{:08x}", path, std::random_device{}());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) {
-      throw UsageError(
-          fmt::format("{}: cannot write: {}", path, std::strerror(errno)));
-    }
-    out << text;
-    out.flush();
-    if (!out) {
-      out.close();
-      std::remove(tmp.c_str());
-      throw UsageError(fmt::format("{}: write failed", path));
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
+  auto fail = [&](const char* what, int error) {
     std::remove(tmp.c_str());
-    throw UsageError(fmt::format("{}: cannot rename: {}", path, ec.message()));
+    throw UsageError(
+        fmt::format("{}: {}: {}", path, what, std::strerror(error)));
+  };
+  const int fd =
+      ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) fail("cannot write", errno);
+  size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      const int error = errno;
+      ::close(fd);
+      fail("write failed", error);
+    }
+    done += static_cast<size_t>(n);
   }
+  if (::close(fd) != 0) fail("write failed", errno);
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+    fail("cannot rename into place", errno);
+}
+
+StagedOutput::StagedOutput(std::string out) : out_(std::move(out)) {
+  EnsureDirectory(out_);
+  // Staging left by a run that was killed (the caller holds the folder's
+  // lock, so no other run is using one).
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(out_, ec)) {
+    if (e.path().filename().string().rfind(".wearscar-staging-", 0) == 0)
+      std::filesystem::remove_all(e.path(), ec);
+  }
+  staging_ = (std::filesystem::path(out_) /
+              fmt::format(".wearscar-staging-{:08x}", std::random_device{}()))
+                 .string();
+  EnsureDirectory(staging_);
+}
+
+StagedOutput::~StagedOutput() {
+  std::error_code ec;
+  std::filesystem::remove_all(staging_, ec);
+}
+
+void StagedOutput::Commit() {
+  for (const auto& e : std::filesystem::directory_iterator(staging_)) {
+    if (!e.is_regular_file()) continue;
+    const auto to = std::filesystem::path(out_) / e.path().filename();
+    if (std::rename(e.path().c_str(), to.c_str()) != 0) {
+      throw UsageError(fmt::format(
+          "{}: cannot move into place: {}", to.string(), std::strerror(errno)));
+    }
+  }
+}
+
+std::string StagedOutput::Final(const std::string& staged_path) const {
+  return (std::filesystem::path(out_) /
+          std::filesystem::path(staged_path).filename())
+      .string();
+}
+
+OutputLock::OutputLock(const std::string& out) {
+  EnsureDirectory(out);
+  const std::string path =
+      (std::filesystem::path(out) / ".wearscar.lock").string();
+  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd_ < 0) {
+    throw UsageError(fmt::format(
+        "{}: cannot create the lock file: {}", path, std::strerror(errno)));
+  }
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    ::close(fd_);
+    fd_ = -1;
+    throw UsageError(fmt::format(
+        "{}: another wearscar is writing into this folder (it holds {}); "
+        "wait for it or choose another --out",
+        out,
+        path));
+  }
+}
+
+OutputLock::~OutputLock() {
+  if (fd_ >= 0) ::close(fd_);  // releases the lock
 }
 
 std::string Table::ToCsv() const {

@@ -12,8 +12,47 @@ class UsageError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Writes text to a temporary name beside `path`, then renames.
+// Writes text to a temporary name beside `path`, then renames. A failure
+// (a full disk, a read-only folder) removes the temporary file and says
+// the system's reason.
 void WriteTextAtomically(const std::string& path, const std::string& text);
+
+// Everything one command writes into an output folder, written first into
+// a hidden staging folder inside it and moved into place by Commit: a run
+// that fails leaves nothing new (the destructor removes the staging).
+class StagedOutput {
+ public:
+  explicit StagedOutput(std::string out);
+  ~StagedOutput();
+  StagedOutput(const StagedOutput&) = delete;
+  StagedOutput& operator=(const StagedOutput&) = delete;
+  // The folder to write into now.
+  const std::string& dir() const { return staging_; }
+  // The final folder.
+  const std::string& out() const { return out_; }
+  // Moves every file of the staging folder into the final folder
+  // (replacing files of the same name) and removes the staging.
+  void Commit();
+  // A path under dir() as it will be after Commit.
+  std::string Final(const std::string& staged_path) const;
+
+ private:
+  std::string out_, staging_;
+};
+
+// An exclusive lock on an output folder for the life of the object (flock
+// on <out>/.wearscar.lock; released when the process ends, however it
+// ends). A second writer fails at once with a clear message.
+class OutputLock {
+ public:
+  explicit OutputLock(const std::string& out);
+  ~OutputLock();
+  OutputLock(const OutputLock&) = delete;
+  OutputLock& operator=(const OutputLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
 
 // A CSV table: column names carry units ("mu_hat", "x_mm", "Q_N").
 struct Table {

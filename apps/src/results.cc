@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 
 #include "output.h"
 #include "wearscar/fusion/forward_model.h"
@@ -401,6 +402,15 @@ std::vector<std::string> WriteTestResults(const std::string& dir,
   }
   write("result.json", ResultJson(name, record, r, o).dump(2) + "\n");
   return files;
+}
+
+void AddWarningToResult(const std::string& dir, const std::string& warning) {
+  const std::string path = Path(dir, "result.json");
+  std::ifstream in(path);
+  nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  if (j.is_discarded() || !j.is_object()) return;
+  j["warnings"].push_back(warning);
+  WriteTextAtomically(path, j.dump(2) + "\n");
 }
 
 void PrintSummary(const std::string& name, const fusion::TestResult& r) {

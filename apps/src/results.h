@@ -37,6 +37,14 @@ std::vector<std::string> WriteTestResults(const std::string& dir,
                                           const fusion::FuseOptions& options,
                                           const WriteOptions& write = {});
 
+// Adds a warning to the result.json in `dir` (figures that were asked for
+// and not drawn are known only after it was written).
+void AddWarningToResult(const std::string& dir, const std::string& warning);
+
+// Exit status of fuse and audit when the results were written but figures
+// asked for were not drawn (README).
+constexpr int kExitFiguresMissing = 4;
+
 // Prints the human summary of one test to stdout.
 void PrintSummary(const std::string& name, const fusion::TestResult& result);
 

@@ -1,6 +1,9 @@
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
 #include <cmath>
@@ -382,6 +385,128 @@ TEST(Cli, SpecialFilesAreRefusedNotReadForever) {
             std::string::npos)
       << z.output;
   std::filesystem::remove(fifo);
+}
+
+// Files in `dir` (hidden ones too), by name.
+std::set<std::string> FilesIn(const std::string& dir) {
+  std::set<std::string> names;
+  if (!std::filesystem::exists(dir)) return names;
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    names.insert(e.path().filename().string());
+  return names;
+}
+
+TEST(Faults, AFullDiskLeavesNothingNewAndSaysWhy) {
+  // RLIMIT_FSIZE stands in for a full disk (writes fail with EFBIG once a
+  // file passes 100 KiB; SIGXFSZ ignored so that the write returns).
+  const std::string dir = ::testing::TempDir() + "/faults-full";
+  std::filesystem::remove_all(dir);
+  const CommandResult s = Wearscar(
+      "simulate --case B-RT-R --cycles 30 "
+      "--scan-cols 64 --scan-rows 48 "
+      "--formats csv -o " +
+      dir);
+  ASSERT_EQ(s.status, 0) << s.output;
+  const std::string cmd = "sh -c \"trap '' XFSZ; ulimit -f 100; exec " +
+                          std::string(WEARSCAR_BINARY) + " fuse --force " +
+                          dir + "/B-RT-R.force.csv --no-lugre -o " + dir +
+                          "/out\" 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  std::string output;
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0)
+    output.append(buf.data(), n);
+  const int st = pclose(pipe);
+  EXPECT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 2) << output;
+  EXPECT_NE(output.find("write failed: File too large"), std::string::npos)
+      << output;
+  // Nothing but the folder's lock.
+  EXPECT_EQ(FilesIn(dir + "/out"), std::set<std::string>{".wearscar.lock"});
+}
+
+TEST(Faults, ASecondWriterIntoTheSameFolderIsRefused) {
+  const std::string dir = ::testing::TempDir() + "/faults-lock";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const int fd =
+      open((dir + "/.wearscar.lock").c_str(), O_RDWR | O_CREAT, 0644);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(flock(fd, LOCK_EX | LOCK_NB), 0);  // another writer holds it
+  const CommandResult r =
+      Wearscar("force " + kData + "generic.csv --no-lugre -o " + dir);
+  close(fd);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.output.find(dir + ": another wearscar is writing into this "
+                                "folder"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/cycles.csv"));
+}
+
+TEST(Faults, FiguresThatAreNotDrawnAreAWarningAndStatusFour) {
+  // Q all zero: gnuplot cannot draw the J(mu) and mu-hat figures (no
+  // finite value to plot); the numbers are written, the figures that exist
+  // are whole, and the status says that some are missing.
+  const std::string dir = ::testing::TempDir() + "/faults-figures";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream f(dir + "/q0.csv");
+    f << "time_s,x_mm,Q_N,P_N\n";
+    for (int i = 0; i < 4000; ++i) {
+      const double t = i * 0.005;
+      f << t << "," << 2.85 * std::sin(2 * M_PI * t) << ",0,30\n";
+    }
+  }
+  const CommandResult r =
+      Wearscar("fuse --force " + dir + "/q0.csv --no-lugre -o " + dir + "/out");
+  if (r.output.find("gnuplot was not found") != std::string::npos)
+    GTEST_SKIP() << "gnuplot is not installed";
+  EXPECT_EQ(r.status, 4) << r.output;
+  EXPECT_NE(r.output.find("figures asked for were not drawn"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(Slurp(dir + "/out/result.json").find("were not drawn"),
+            std::string::npos);
+  for (const std::string& f : FilesIn(dir + "/out")) {
+    EXPECT_EQ(f.find(".part"), std::string::npos) << f;
+    if (f.size() > 4 && f.substr(f.size() - 4) == ".png") {
+      EXPECT_GT(std::filesystem::file_size(dir + "/out/" + f), 100u) << f;
+    }
+  }
+}
+
+TEST(Audit, ManifestNamesStayUnderOutAndAppearOnce) {
+  const std::string dir = ::testing::TempDir() + "/audit-names";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  std::filesystem::copy_file(kData + "generic.csv", dir + "/a.csv");
+  const struct {
+    const char* manifest;
+    const char* message;
+  } cases[] = {
+      {"specimen,force\n../escape,a.csv\n",
+       "line 2: specimen name '../escape' cannot be a folder under --out (it "
+       "holds a path separator)"},
+      {"specimen,force\n/tmp/abs,a.csv\n", "it holds a path separator"},
+      {"specimen,force\n.hidden,a.csv\n", "it starts with a dot"},
+      {"specimen,force\nA,a.csv\nB,a.csv\nA,a.csv\n",
+       "line 4: specimen 'A' appears twice (also on line 2)"},
+  };
+  for (const auto& c : cases) {
+    {
+      std::ofstream m(dir + "/m.csv");
+      m << c.manifest;
+    }
+    const CommandResult r =
+        Wearscar("audit " + dir + "/m.csv -o " + dir + "/out --no-figures");
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find(c.message), std::string::npos) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(dir + "/escape"));
+    EXPECT_FALSE(std::filesystem::exists("/tmp/abs"));
+  }
 }
 
 TEST(Cli, FuseWithUnreadableScanExitsTwoNamingIt) {

@@ -6,6 +6,23 @@
 
 namespace wearscar::app {
 
+namespace {
+
+// Numeric options out of range are refused by CLI11 naming the option
+// ("--spring: Value 0 not in range ..."), before anything runs.
+struct Range {
+  const char* option;
+  double lo, hi;
+};
+void AddRangeChecks(CLI::App* cmd, std::initializer_list<Range> ranges) {
+  for (const Range& r : ranges) {
+    if (CLI::Option* o = cmd->get_option_no_throw(r.option))
+      o->check(CLI::Range(r.lo, r.hi));
+  }
+}
+
+}  // namespace
+
 void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
   auto& r = a->read_force;
   cmd->add_option("--time-column", r.time_column, "Time column name or #N")
@@ -149,6 +166,22 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
   cmd->add_option(
          "--lugre-fs", o.lugre.static_n, "LuGre F_s, N (0 = from the cycle)")
       ->group("Method");
+  AddRangeChecks(cmd,
+                 {{"--rate", 0.0, 1e8},
+                  {"--spring", 1e-6, 1e6},
+                  {"--ensemble-cycles", 1, 10001},
+                  {"--ensemble-span", 1e-3, 10},
+                  {"--window-ms", 1e-3, 1e4},
+                  {"--window", 0, 1e5},
+                  {"--difference-ms", 1e-3, 1e4},
+                  {"--min-span", 0, 10},
+                  {"--running-in-tolerance", 1e-9, 1},
+                  {"--mu-max", 1e-3, 10},
+                  {"--max-excess", 1e-9, 100},
+                  {"--max-cost", 1e-9, 100},
+                  {"--max-method-difference", 1e-9, 10},
+                  {"--lugre-fc", 0, 1e5},
+                  {"--lugre-fs", 0, 1e5}});
   if (!with_scan) return;
   cmd->add_option("--slope",
                   a->slope,
@@ -245,6 +278,18 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
   cmd->add_option(
          "--ascii-unit", a->read_scan.ascii_z_unit, "ASCII matrix height unit")
       ->group("Scan");
+  AddRangeChecks(cmd,
+                 {{"--compare-first", -1, 1e7},
+                  {"--compare-last", -1, 1e7},
+                  {"--compare-cycles", 1, 1e7},
+                  {"--max-amplitude-ratio", 1e-9, 1e3},
+                  {"--min-correlation", -1, 1},
+                  {"--level-order", 1, 3},
+                  {"--band", 0, 100},
+                  {"--scan-window", 3, 1e5},
+                  {"--min-depth", 1e-9, 100},
+                  {"--min-elongation", 1, 1e3},
+                  {"--max-pixel-aspect", 1, 1e6}});
 }
 
 void FinaliseCommonOptions(CommonArgs* a) {
@@ -273,6 +318,14 @@ void FinaliseCommonOptions(CommonArgs* a) {
   if (!fusion::ParseSlopeChoice(a->slope, &a->fuse.slopes)) {
     throw UsageError(
         fmt::format("--slope '{}': expected force, scan or both", a->slope));
+  }
+  const auto& fp = a->fuse.force_profile;
+  if (fp.first_cycle >= 0 && fp.last_cycle >= 0 &&
+      fp.first_cycle > fp.last_cycle) {
+    throw UsageError(fmt::format(
+        "--compare-first {} is after --compare-last {}; expected first <= last",
+        fp.first_cycle,
+        fp.last_cycle));
   }
   if (a->running_in == "auto") {
     a->fuse.analysis.running_in_cycles = -1;

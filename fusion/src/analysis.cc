@@ -198,7 +198,16 @@ ForceAnalysis AnalyzeForce(const force::ForceRecord& record,
   // Running-in never swallows the whole test: keep at least the last half.
   const int n = static_cast<int>(a.cycles.cycles.size());
   if (options.running_in_cycles >= 0) {
-    a.running_in.cycles = std::min(options.running_in_cycles, n / 2);
+    if (options.running_in_cycles > n / 2) {
+      throw FusionError(fmt::format(
+          "{}: a running-in of {} cycles was given; the test has {} complete "
+          "cycles, and the running-in may take at most half of them ({})",
+          record.metadata.source,
+          options.running_in_cycles,
+          n,
+          n / 2));
+    }
+    a.running_in.cycles = options.running_in_cycles;
     a.running_in.rule =
         fmt::format("running-in: {} cycles (given)", a.running_in.cycles);
   } else {

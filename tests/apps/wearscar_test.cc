@@ -509,6 +509,33 @@ TEST(Audit, ManifestNamesStayUnderOutAndAppearOnce) {
   }
 }
 
+TEST(Cli, OptionsOutOfRangeAreRefusedByTheirOwnName) {
+  const struct {
+    std::string args, message;
+  } cases[] = {
+      {"force " + kData + "generic.csv --spring 0",
+       "--spring: Value 0 not in range"},
+      {"force " + kData + "generic.csv --mu-max -1",
+       "--mu-max: Value -1 not in range"},
+      {"fuse --force " + kData +
+           "generic.csv --compare-first 15 --compare-last 3",
+       "--compare-first 15 is after --compare-last 3"},
+      {"force " + kData + "generic.csv --running-in 1000000",
+       "a running-in of 1000000 cycles was given; the test has 2 complete "
+       "cycles"},
+      {"scan " + kData + "generic.csv --step 1e-12",
+       "the centreline step must be 0 (the pitch) or 1e-6 to 10 mm"},
+  };
+  for (const auto& c : cases) {
+    const CommandResult r = Wearscar(c.args);
+    EXPECT_EQ(r.status, 2) << c.args;
+    EXPECT_NE(r.output.find(c.message), std::string::npos) << c.args << "\n"
+                                                           << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1)
+        << r.output;
+  }
+}
+
 TEST(Cli, FuseWithUnreadableScanExitsTwoNamingIt) {
   const std::string dir = ::testing::TempDir() + "/cli-fuse-bad";
   std::filesystem::create_directories(dir);

@@ -1158,7 +1158,7 @@ ForceRecord Read(LineSource& source,
           "{}: line {}: found text '{}' where a data row was expected",
           name,
           line_no,
-          std::string(cells[0].substr(0, 40)));
+          internal::Printable(cells[0]));
     } else if (static_cast<int>(cells.size()) <= needed ||
                (cells.size() != columns && !trailing_ok)) {
       error =
@@ -1178,7 +1178,7 @@ ForceRecord Read(LineSource& source,
               line_no,
               column[ch] + 1,
               layout.names[column[ch]],
-              std::string(cell.substr(0, 40)),
+              internal::Printable(cell),
               layout.decimal == ',' ? " with a decimal comma" : "");
         }
       }

@@ -129,3 +129,24 @@ void SplitNameAndUnit(std::string_view header,
 }
 
 }  // namespace wearscar::force::internal
+
+namespace wearscar::force::internal {
+
+std::string Printable(std::string_view text, std::size_t max) {
+  std::string out;
+  for (std::size_t i = 0; i < text.size() && i < max; ++i) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    if (c >= 0x20 && c < 0x7f) {
+      out += static_cast<char>(c);
+    } else {
+      static const char kHex[] = "0123456789abcdef";
+      out += "\\x";
+      out += kHex[c >> 4];
+      out += kHex[c & 15];
+    }
+  }
+  if (text.size() > max) out += "...";
+  return out;
+}
+
+}  // namespace wearscar::force::internal

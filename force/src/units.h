@@ -19,3 +19,12 @@ void SplitNameAndUnit(std::string_view header,
                       std::string* unit);
 
 }  // namespace wearscar::force::internal
+
+namespace wearscar::force::internal {
+
+// Up to `max` bytes of a cell for an error message, with anything that is
+// not printable ASCII (control bytes, the bytes of a binary file) written
+// as \xNN and "..." after a cut.
+std::string Printable(std::string_view text, std::size_t max = 40);
+
+}  // namespace wearscar::force::internal

@@ -8,6 +8,7 @@
 #include <map>
 #include <optional>
 
+#include "byte_reader.h"
 #include "file_io.h"
 
 namespace wearscar::scan {
@@ -37,7 +38,7 @@ HeightMap ParseGsf(const std::string& bytes, const std::string& name) {
     throw ScanError(
         fmt::format("{}: byte 0: found '{}', expected the GSF magic '{}'",
                     name,
-                    bytes.substr(0, std::min<size_t>(25, bytes.size())),
+                    internal::Printable(bytes, 25),
                     kMagic));
   }
   const size_t nul = bytes.find('\0');
@@ -48,6 +49,7 @@ HeightMap ParseGsf(const std::string& bytes, const std::string& name) {
                     name));
   }
   std::map<std::string, std::string> fields;
+  std::map<std::string, size_t> field_line;  // for messages
   size_t pos = bytes.find('\n');
   size_t line_no = 1;
   while (pos != std::string::npos && pos < nul) {
@@ -62,9 +64,10 @@ HeightMap ParseGsf(const std::string& bytes, const std::string& name) {
           fmt::format("{}: header line {}: found '{}', expected 'Name = value'",
                       name,
                       line_no,
-                      line.substr(0, 60)));
+                      internal::Printable(line, 60)));
     }
     fields[Trim(line.substr(0, eq))] = Trim(line.substr(eq + 1));
+    field_line[Trim(line.substr(0, eq))] = line_no;
   }
   auto int_field = [&](const char* key) {
     auto it = fields.find(key);
@@ -76,12 +79,14 @@ HeightMap ParseGsf(const std::string& bytes, const std::string& name) {
     auto r = std::from_chars(
         it->second.data(), it->second.data() + it->second.size(), v);
     if (r.ec != std::errc() || v <= 0 || v > kMaxPixels) {
-      throw ScanError(
-          fmt::format("{}: {} = '{}'; expected a positive pixel count up to {}",
-                      name,
-                      key,
-                      it->second,
-                      kMaxPixels));
+      throw ScanError(fmt::format(
+          "{}: header line {}: {} = '{}'; expected a positive pixel count up "
+          "to {}",
+          name,
+          field_line[key],
+          key,
+          internal::Printable(it->second),
+          kMaxPixels));
     }
     return v;
   };
@@ -91,8 +96,13 @@ HeightMap ParseGsf(const std::string& bytes, const std::string& name) {
     char* end = nullptr;
     const double v = std::strtod(it->second.c_str(), &end);
     if (end == it->second.c_str() || !(v > 0) || !std::isfinite(v)) {
-      throw ScanError(fmt::format(
-          "{}: {} = '{}'; expected a positive length", name, key, it->second));
+      throw ScanError(
+          fmt::format("{}: header line {}: {} = '{}'; expected a positive "
+                      "length",
+                      name,
+                      field_line[key],
+                      key,
+                      internal::Printable(it->second)));
     }
     return v;
   };

@@ -8,6 +8,7 @@
 #include <string_view>
 #include <vector>
 
+#include "byte_reader.h"
 #include "file_io.h"
 #include "wearscar/scan/gsf.h"
 #include "wearscar/scan/read_scan.h"
@@ -141,7 +142,7 @@ HeightMap ParseKeyenceCsv(const std::string& bytes, const std::string& name) {
             name,
             i + 1,
             std::string(cells[0]),
-            std::string(cells[1].substr(0, 30)),
+            internal::Printable(cells[1], 30),
             kMaxSide));
       }
       (key == "horizontal" ? nx : ny) = static_cast<long>(*value);
@@ -204,7 +205,7 @@ HeightMap ParseKeyenceCsv(const std::string& bytes, const std::string& name) {
                         name,
                         i + 1,
                         c + 1,
-                        std::string(cells[c].substr(0, 30))));
+                        internal::Printable(cells[c], 30)));
       }
       row.push_back(static_cast<float>(*v * z_to_mm));
     }
@@ -317,7 +318,7 @@ HeightMap ParseAsciiMatrix(const std::string& bytes,
                         name,
                         i + 1,
                         count + 1,
-                        std::string(tok.substr(0, 30))));
+                        internal::Printable(tok, 30)));
       }
       values.push_back(static_cast<float>(*v * *unit));
       ++count;

@@ -379,6 +379,8 @@ bool DiagnoseOptions::IsValid(std::string* why) const {
   }
   if (position_bins < 2 || reversal_bins < 2 || cycle_blocks < 1)
     return fail("bins must be >= 2");
+  if (slope_cycles < 1 || slope_cycles > 10001)
+    return fail("slope_cycles must be in [1, 10001]");
   if (!(profile_step_mm > 0) || !(profile_span_mm > 0)) {
     return fail("profile_step_mm and profile_span_mm must be > 0");
   }
@@ -462,7 +464,7 @@ Diagnosis Diagnose(const force::ForceRecord& record,
   // noisy enough that shrinking it (an apparent elastic compliance) would
   // lower the cost on clean data.
   const int half = friction.k_estimate == KEstimate::kEnsemble
-                       ? friction.ensemble.cycles / 2
+                       ? std::max(friction.ensemble.cycles, o.slope_cycles) / 2
                        : 0;
   auto cycle_slopes = [&](int c, SlopeProfile kp[2], SlopeProfile kq[2]) {
     std::vector<int> window;

@@ -29,6 +29,10 @@ struct DiagnoseOptions {
   double profile_step_mm = 0.01;
   double profile_span_mm = 0.3;    // cubic Savitzky-Golay span on the bins
   bool average_directions = true;  // one slope from both directions' P
+  // Cycles averaged for the base slope (with the ensemble estimate): more
+  // than the fit's, because a noisy slope fitted against Q shrinks (an
+  // apparent elastic compliance) and the diagnosis compares such shrinkage.
+  int slope_cycles = 21;
   int position_bins = 40;
   int reversal_bins = 20;
   int cycle_blocks = 8;

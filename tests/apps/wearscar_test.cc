@@ -1,5 +1,6 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <sys/file.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -11,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -476,6 +478,96 @@ TEST(Faults, FiguresThatAreNotDrawnAreAWarningAndStatusFour) {
       EXPECT_GT(std::filesystem::file_size(dir + "/out/" + f), 100u) << f;
     }
   }
+}
+
+TEST(Faults, AKilledRunLeavesNoHalfFileAndAQuotedFolderIsJustAName) {
+  // fuse with figures into a folder whose name holds a quote and a space
+  // (gnuplot runs without a shell), killed at several moments: whatever it
+  // left under its final names is whole, and a run to the end draws every
+  // figure there.
+  const std::string dir = ::testing::TempDir() + "/faults-kill";
+  std::filesystem::remove_all(dir);
+  ASSERT_EQ(Wearscar("simulate --case S-RT-R --cycles 60 --scan-cols 256 "
+                     "--scan-rows 192 --scan-pitch 0.0296 --formats csv,gsf "
+                     "-o " +
+                     dir)
+                .status,
+            0);
+  const std::string out = dir + "/it's out";
+  const std::string args = "fuse --force " + dir + "/S-RT-R.force.csv --scan " +
+                           dir + "/S-RT-R.scan.gsf --no-lugre -o";
+  for (int delay_ms : {50, 150, 300, 600}) {
+    const pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+      setpgid(0, 0);
+      const int null = open("/dev/null", O_WRONLY);
+      dup2(null, STDOUT_FILENO);
+      dup2(null, STDERR_FILENO);
+      std::vector<std::string> words;
+      std::istringstream in(args);
+      for (std::string w; in >> w;) words.push_back(w);
+      words.push_back(out);
+      std::vector<char*> argv;
+      std::string bin = WEARSCAR_BINARY;
+      argv.push_back(bin.data());
+      for (auto& w : words) argv.push_back(w.data());
+      argv.push_back(nullptr);
+      execv(bin.c_str(), argv.data());
+      _exit(127);
+    }
+    usleep(static_cast<useconds_t>(1000 * delay_ms));
+    kill(-pid, SIGKILL);  // the process group: gnuplot too
+    waitpid(pid, nullptr, 0);
+    for (const std::string& f : FilesIn(out)) {
+      if (f == ".wearscar.lock" || f.rfind(".wearscar-staging-", 0) == 0)
+        continue;
+      const auto size = std::filesystem::file_size(out + "/" + f);
+      EXPECT_GT(size, 0u) << f << " after " << delay_ms << " ms";
+      EXPECT_EQ(f.find(".tmp-"), std::string::npos) << f;
+      EXPECT_EQ(f.find(".part"), std::string::npos) << f;
+    }
+  }
+  // To the end: every figure, no staging left.
+  const CommandResult full = Wearscar(args + " \"" + out + "\"");
+  if (full.output.find("gnuplot was not found") != std::string::npos)
+    GTEST_SKIP() << "gnuplot is not installed";
+  EXPECT_EQ(full.status, 0) << full.output;
+  const auto files = FilesIn(out);
+  EXPECT_TRUE(files.count("fig14_cost.png")) << full.output;
+  EXPECT_TRUE(files.count("fig08ab_scan_map.svg")) << full.output;
+  for (const std::string& f : files)
+    EXPECT_EQ(f.rfind(".wearscar-staging-", 0), std::string::npos) << f;
+}
+
+TEST(Faults, LibrariesDoNotTalkOnStderr) {
+  // A flat map: PCL's RANSAC finds its sample points collinear on every
+  // draw (it used to print a line for each, about a thousand); the user sees
+  // one warning line, that no track was found.
+  const std::string dir = ::testing::TempDir() + "/faults-quiet";
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream f(dir + "/flat.csv");
+    f << "XY Calibration,7.4,um\nHeight\n";
+    for (int r = 0; r < 200; ++r) {
+      for (int c = 0; c < 300; ++c) f << (c ? "," : "") << "0.5";
+      f << "\n";
+    }
+  }
+  const std::string cmd = std::string(WEARSCAR_BINARY) + " scan " + dir +
+                          "/flat.csv 2>&1 >/dev/null";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  std::string err;
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0)
+    err.append(buf.data(), n);
+  pclose(pipe);
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+  EXPECT_NE(err.find("warning: " + dir + "/flat.csv: no worn track found"),
+            std::string::npos)
+      << err;
 }
 
 TEST(Audit, ManifestNamesStayUnderOutAndAppearOnce) {

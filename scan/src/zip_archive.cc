@@ -29,11 +29,23 @@ ZipArchive::ZipArchive(std::string bytes,
     if (src != nullptr) zip_source_free(src);
     zip_error_fini(&error);
     delete impl_;
-    throw ScanError(
-        fmt::format("{}: not a readable ZIP archive ({}); expected a ZIP "
-                    "container",
-                    name_,
-                    why));
+    // Where: a ZIP ends with its end-of-central-directory record (the
+    // signature PK\5\6 within the last 64 KiB); a truncated file has none.
+    const std::size_t eocd = bytes_.rfind(std::string("PK\x05\x06", 4));
+    const bool has_end =
+        eocd != std::string::npos && bytes_.size() - eocd <= std::size_t{65557};
+    throw ScanError(fmt::format(
+        "{}: not a readable ZIP archive ({}): {}; expected a ZIP container",
+        name_,
+        why,
+        has_end ? fmt::format("its directory at byte {} of {} does not "
+                              "describe the members",
+                              eocd,
+                              bytes_.size())
+                : fmt::format("no end-of-central-directory record in its "
+                              "last 64 KiB (the archive is {} bytes: "
+                              "truncated?)",
+                              bytes_.size())));
   }
   zip_error_fini(&error);
 }

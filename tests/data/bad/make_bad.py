@@ -151,6 +151,9 @@ put('bomb.vk6', b'VK6' + struct.pack('<I', 2) + b'BM' + vbuf.getvalue(), 'scan',
 put('binary_cell.csv', csv(good[:60] + ['\x01\x02\x1b[31mred,1,1,1'] + good[61:]), 'force', "line 61: found text '\\x01\\x02\\x1b[31mred' where a data row was expected")
 put('binary_header_value.gsf', b'Gwyddion Simple Field 1.0\nXRes = 4\nYRes = \x01\x02\n\0\0\0\0' + b'\0' * 64, 'scan', "header line 3: YRes = '\\x01\\x02'; expected a positive pixel count")
 
+whole = x3p(main_xml(4, 4), {'bindata/data.bin': b'\0' * 128})
+put('truncated.x3p', whole[:len(whole) // 2], 'scan', 'no end-of-central-directory record in its last 64 KiB (the archive is')
+
 with open('catalogue.csv', 'w') as f:
     f.write('file,reader,expected\n')
     for name, kind, expected in rows:

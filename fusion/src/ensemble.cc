@@ -89,11 +89,8 @@ void CycleBins::Accumulate(Sums* sums,
   }
 }
 
-CycleBins::Sums CycleBins::Window(int direction,
-                                  int first,
-                                  int last,
-                                  int skip_first,
-                                  int skip_last) const {
+CycleBins::Sums CycleBins::Window(
+    int direction, int first, int last, int skip_first, int skip_last) const {
   Sums s;
   const std::size_t nb = static_cast<std::size_t>(std::max(grid_.bins, 0));
   s.value.assign(nb, 0.0);

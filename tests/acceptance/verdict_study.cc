@@ -78,9 +78,8 @@ Outcome Run(const Job& job, int cycles) {
   FuseOptions f;
   f.fit_lugre = false;
   for (int with_scan = 0; with_scan < 2; ++with_scan) {
-    const TestResult r =
-        with_scan ? AnalyzeTest(t.record, t.scan, f)
-                  : AnalyzeTest(t.record, std::nullopt, f);
+    const TestResult r = with_scan ? AnalyzeTest(t.record, t.scan, f)
+                                   : AnalyzeTest(t.record, std::nullopt, f);
     out.flagged[with_scan] = !r.verdict.explained;
     if (!r.verdict.explained) out.reasons += r.verdict.Summary() + " | ";
     const int first = r.force.running_in.cycles;
@@ -153,8 +152,9 @@ int Grid(const Args& a) {
   const std::vector<Outcome> out = RunAll(jobs, a.cycles, a.jobs);
   int false_flags = 0, clean = 0, misses = 0, elastic = 0, paper_false = 0;
   std::map<double, std::vector<double>> err_force, err_scan;
-  fmt::print("case     noise elastic seed | J      floor  excess [low]  | "
-             "ratio [low]   | flagged w/o, with scan | paper's J>0.4\n");
+  fmt::print(
+      "case     noise elastic seed | J      floor  excess [low]  | "
+      "ratio [low]   | flagged w/o, with scan | paper's J>0.4\n");
   for (const Outcome& o : out) {
     const Job& j = o.job;
     fmt::print(
@@ -193,9 +193,8 @@ int Grid(const Args& a) {
       clean,
       paper_false,
       clean / 2);
-  fmt::print("elastic part >= 25% missed: {} of {} judgements\n",
-             misses,
-             elastic);
+  fmt::print(
+      "elastic part >= 25% missed: {} of {} judgements\n", misses, elastic);
   bool accuracy_ok = true;
   for (const auto& [noise, v] : err_force) {
     const double f = Median(v), s = Median(err_scan[noise]);
@@ -226,9 +225,10 @@ int Curve(const Args& a) {
     }
   }
   const std::vector<Outcome> out = RunAll(jobs, a.cycles, a.jobs);
-  fmt::print("elastic part (of the profile sd) | flagged at noise 1 | at "
-             "noise 2   (judgements: {} seeds x with/without scan)\n",
-             a.seeds);
+  fmt::print(
+      "elastic part (of the profile sd) | flagged at noise 1 | at "
+      "noise 2   (judgements: {} seeds x with/without scan)\n",
+      a.seeds);
   for (int e = 0; e <= 12; ++e) {
     int flagged[2] = {0, 0}, total[2] = {0, 0};
     double excess[2] = {0, 0};
@@ -239,19 +239,23 @@ int Curve(const Args& a) {
       total[k] += 2;
       excess[k] += o.excess / a.seeds;
     }
-    fmt::print("{:>5.0f}% | {}/{} (J excess {:.3f}) | {}/{} (J excess {:.3f})\n",
-               5.0 * e,
-               flagged[0],
-               total[0],
-               excess[0],
-               flagged[1],
-               total[1],
-               excess[1]);
+    fmt::print(
+        "{:>5.0f}% | {}/{} (J excess {:.3f}) | {}/{} (J excess {:.3f})\n",
+        5.0 * e,
+        flagged[0],
+        total[0],
+        excess[0],
+        flagged[1],
+        total[1],
+        excess[1]);
   }
   return 0;
 }
 
-int OneCase(const std::string& name, double noise, double elastic, const Args& a) {
+int OneCase(const std::string& name,
+            double noise,
+            double elastic,
+            const Args& a) {
   SimulationOptions o = PaperCase(name, false);
   o.cycles = a.cycles;
   o.noise_scale = noise;

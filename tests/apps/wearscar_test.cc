@@ -23,18 +23,22 @@ struct CommandResult {
   std::string output;  // stdout + stderr
 };
 
-CommandResult Wearscar(const std::string& args) {
+// A shell command line; its standard output and exit status.
+CommandResult Shell(const std::string& cmd) {
   CommandResult r;
-  const std::string cmd = std::string(WEARSCAR_BINARY) + " " + args + " 2>&1";
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) return r;
-  std::array<char, 4096> buf;
+  std::array<char, 65536> buf;
   size_t n;
   while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0)
     r.output.append(buf.data(), n);
   const int st = pclose(pipe);
   r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
   return r;
+}
+
+CommandResult Wearscar(const std::string& args) {
+  return Shell(std::string(WEARSCAR_BINARY) + " " + args + " 2>&1");
 }
 
 const std::string kData = std::string(WEARSCAR_TEST_DATA) + "/force/";
@@ -271,17 +275,10 @@ TEST(Cli, WithoutGnuplotTheNumbersStillAppearAndTheMessageSaysWhy) {
                           std::string(WEARSCAR_BINARY) + " fuse --force " +
                           data + "B-RT-R.force.csv --scan " + data +
                           "B-RT-R.scan.gsf --no-lugre -o " + out + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  ASSERT_NE(pipe, nullptr);
-  std::string output;
-  std::array<char, 4096> buf;
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0)
-    output.append(buf.data(), n);
-  const int st = pclose(pipe);
-  ASSERT_TRUE(WIFEXITED(st));
-  EXPECT_EQ(WEXITSTATUS(st), 0) << output;
-  EXPECT_NE(output.find("gnuplot was not found"), std::string::npos) << output;
+  const CommandResult r = Shell(cmd);
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("gnuplot was not found"), std::string::npos)
+      << r.output;
   EXPECT_TRUE(std::filesystem::exists(out + "/cycles.csv"));
   EXPECT_TRUE(std::filesystem::exists(out + "/result.json"));
   EXPECT_FALSE(std::filesystem::exists(out + "/fig13_mu_hat.png"));
@@ -413,15 +410,9 @@ TEST(Faults, AFullDiskLeavesNothingNewAndSaysWhy) {
                           std::string(WEARSCAR_BINARY) + " fuse --force " +
                           dir + "/B-RT-R.force.csv --no-lugre -o " + dir +
                           "/out\" 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  ASSERT_NE(pipe, nullptr);
-  std::string output;
-  std::array<char, 4096> buf;
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0)
-    output.append(buf.data(), n);
-  const int st = pclose(pipe);
-  EXPECT_TRUE(WIFEXITED(st) && WEXITSTATUS(st) == 2) << output;
+  const CommandResult r = Shell(cmd);
+  const std::string& output = r.output;
+  EXPECT_EQ(r.status, 2) << output;
   EXPECT_NE(output.find("write failed: File too large"), std::string::npos)
       << output;
   // Nothing but the folder's lock.
@@ -556,14 +547,7 @@ TEST(Faults, LibrariesDoNotTalkOnStderr) {
   }
   const std::string cmd = std::string(WEARSCAR_BINARY) + " scan " + dir +
                           "/flat.csv 2>&1 >/dev/null";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  ASSERT_NE(pipe, nullptr);
-  std::string err;
-  std::array<char, 4096> buf;
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0)
-    err.append(buf.data(), n);
-  pclose(pipe);
+  const std::string err = Shell(cmd).output;
   EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
   EXPECT_NE(err.find("warning: " + dir + "/flat.csv: no worn track found"),
             std::string::npos)
@@ -794,14 +778,7 @@ TEST(Audit, ReportRendersInHeadlessChromium) {
       "--user-data-dir=" +
       profile + " --virtual-time-budget=10000 --dump-dom file://" + out +
       "/report.html 2>/dev/null";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  ASSERT_NE(pipe, nullptr);
-  std::string dom;
-  std::array<char, 65536> buf;
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0)
-    dom.append(buf.data(), n);
-  pclose(pipe);
+  const std::string dom = Shell(cmd).output;
   // The page's load handler counts decoded images and table rows.
   const auto at = dom.find("data-images-rendered=\"");
   ASSERT_NE(at, std::string::npos) << dom.substr(0, 300);

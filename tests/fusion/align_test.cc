@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "wearscar/fusion/fuse.h"
 #include "paper_cases.h"
+#include "wearscar/fusion/fuse.h"
 #include "wearscar/samples/virtual_tribometer.h"
 
 namespace wearscar::fusion {

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "diagnose_simulated.h"
 #include "paper_cases.h"
 #include "wearscar/fusion/diagnose.h"
 #include "wearscar/fusion/fuse.h"
@@ -280,21 +281,6 @@ TEST(DataWarnings, GrossSlipByTheFallbackOnMostHalfCycles) {
 // a hidden effect named first.
 class DiagnoseAtTwiceThePapersNoise
     : public ::testing::TestWithParam<std::string> {};
-
-// As diagnose_test.cc: 200 cycles, the groove depth from the aligned scan,
-// the cycles after the first 100.
-Diagnosis DiagnoseSimulated(const samples::SimulationOptions& o) {
-  const samples::SimulatedTest t = samples::Simulate(o);
-  FuseOptions f = NoLugre();
-  f.analysis.running_in_cycles = 100;
-  const TestResult r = AnalyzeTest(t.record, t.scan, f);
-  SlopeProfile depth;
-  depth.x_mm = r.scan->force_profile.x_mm;
-  depth.k = -ScanHeightAtPlate(r.scan->profile, r.scan->alignment, depth.x_mm);
-  DiagnoseOptions d;
-  d.running_in_cycles = 100;
-  return Diagnose(t.record, r.force.cycles, f.analysis.friction, &depth, d);
-}
 
 TEST_P(DiagnoseAtTwiceThePapersNoise, NamesNothingOnACleanCase) {
   const Diagnosis d = DiagnoseSimulated(Case(GetParam(), 2.0, 0));

@@ -223,8 +223,8 @@ TEST(VirtualTribometer, SensorNoiseIsCalibratedToThePapersJ) {
     const char* name;
     double lo, hi;
   };
-  for (const Expected& e : {Expected{"B-RT-R", 0.26, 0.42},
-                            Expected{"S-RT-R", 0.31, 0.45}}) {
+  for (const Expected& e :
+       {Expected{"B-RT-R", 0.26, 0.42}, Expected{"S-RT-R", 0.31, 0.45}}) {
     double j_at_1 = 0;
     for (double noise : {1.0, 2.0}) {
       SimulationOptions o = PaperCase(e.name);

@@ -459,7 +459,8 @@ std::string VrCsv(const std::string& header_rows, int nx) {
                   "\"\n\"Vertical\",\"2\"\n\"Magnification\",\"12\",\"x\"\n"
                   "\"Height\"\n";
   for (int r = 0; r < 2; ++r) {
-    for (int c = 0; c < nx; ++c) s += (c ? "," : "") + std::to_string(0.001 * c);
+    for (int c = 0; c < nx; ++c)
+      s += (c ? "," : "") + std::to_string(0.001 * c);
     s += "\n";
   }
   return s;
@@ -468,27 +469,26 @@ std::string VrCsv(const std::string& header_rows, int nx) {
 TEST(KeyenceCsv, OnlyTheXyCalibrationRowIsThePixel) {
   // Before: any calibration row in um was taken, the Z one last, and every
   // length came out 74x too small.
-  const HeightMap m = ParseKeyenceCsv(
-      VrCsv("\"XY Calibration\",\"7.413\",\"um\"\n\"Z "
-            "Calibration\",\"0.1\",\"um\"\n",
-            1024),
-      "vr.csv");
+  const HeightMap m =
+      ParseKeyenceCsv(VrCsv("\"XY Calibration\",\"7.413\",\"um\"\n\"Z "
+                            "Calibration\",\"0.1\",\"um\"\n",
+                            1024),
+                      "vr.csv");
   EXPECT_NEAR(m.dx_mm, 0.007413, 1e-12);
   EXPECT_TRUE(m.metadata.warnings.empty());
   // The same rows the other way round.
-  const HeightMap r = ParseKeyenceCsv(
-      VrCsv("\"Z Calibration\",\"0.1\",\"um\"\n\"XY "
-            "Calibration\",\"7.413\",\"um\"\n",
-            1024),
-      "vr.csv");
+  const HeightMap r =
+      ParseKeyenceCsv(VrCsv("\"Z Calibration\",\"0.1\",\"um\"\n\"XY "
+                            "Calibration\",\"7.413\",\"um\"\n",
+                            1024),
+                      "vr.csv");
   EXPECT_NEAR(r.dx_mm, 0.007413, 1e-12);
 }
 
 TEST(KeyenceCsv, AnImplausibleFieldOfViewIsRefusedOrWarnedOf) {
   // No XY row: a Z calibration is never the pixel.
   try {
-    ParseKeyenceCsv(VrCsv("\"Z Calibration\",\"0.1\",\"um\"\n", 1024),
-                    "z.csv");
+    ParseKeyenceCsv(VrCsv("\"Z Calibration\",\"0.1\",\"um\"\n", 1024), "z.csv");
     FAIL();
   } catch (const ScanError& e) {
     EXPECT_NE(std::string(e.what()).find("z.csv: no 'XY Calibration' row"),

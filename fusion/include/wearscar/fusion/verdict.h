@@ -13,9 +13,9 @@ namespace wearscar::fusion {
 struct MismatchReport {
   bool has_scan = false;
   int first_cycle = 0, last_cycle = 0;
-  double correlation = 0.0;         // aligned profiles
+  double correlation = 0.0;                  // aligned profiles
   double correlation_noise_corrected = 0.0;  // Alignment's
-  double amplitude_ratio = 0.0;     // std(f) / std(h)
+  double amplitude_ratio = 0.0;              // std(f) / std(h)
   double k_rms_difference = 0.0;    // RMS of k_force - k_scan over gross slip
   Statistic mu_force, mu_scan;      // mu-hat with each slope
   Statistic cost_force, cost_scan;  // J with each slope

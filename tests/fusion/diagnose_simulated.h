@@ -1,0 +1,27 @@
+#pragma once
+
+#include "wearscar/fusion/diagnose.h"
+#include "wearscar/fusion/fuse.h"
+#include "wearscar/samples/virtual_tribometer.h"
+
+namespace wearscar::fusion {
+
+// Simulates a case (200 cycles), runs the force and scan analysis for the
+// cycles and the aligned groove depth, then diagnoses the cycles after the
+// first 100.
+inline Diagnosis DiagnoseSimulated(samples::SimulationOptions o) {
+  o.cycles = 200;
+  const samples::SimulatedTest t = samples::Simulate(o);
+  FuseOptions f;
+  f.fit_lugre = false;
+  f.analysis.running_in_cycles = 100;
+  const TestResult r = AnalyzeTest(t.record, t.scan, f);
+  SlopeProfile depth;
+  depth.x_mm = r.scan->force_profile.x_mm;
+  depth.k = -ScanHeightAtPlate(r.scan->profile, r.scan->alignment, depth.x_mm);
+  DiagnoseOptions d;
+  d.running_in_cycles = 100;
+  return Diagnose(t.record, r.force.cycles, f.analysis.friction, &depth, d);
+}
+
+}  // namespace wearscar::fusion

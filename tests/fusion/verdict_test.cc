@@ -13,9 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "diagnose_simulated.h"
 #include "paper_cases.h"
-#include "wearscar/fusion/diagnose.h"
 #include "wearscar/fusion/fuse.h"
 #include "wearscar/samples/virtual_tribometer.h"
 
@@ -277,30 +275,8 @@ TEST(DataWarnings, GrossSlipByTheFallbackOnMostHalfCycles) {
             "transition");
 }
 
-// The diagnosis at twice the paper's noise: nothing named on clean cases,
-// a hidden effect named first.
-class DiagnoseAtTwiceThePapersNoise
-    : public ::testing::TestWithParam<std::string> {};
-
-TEST_P(DiagnoseAtTwiceThePapersNoise, NamesNothingOnACleanCase) {
-  const Diagnosis d = DiagnoseSimulated(Case(GetParam(), 2.0, 0));
-  EXPECT_TRUE(d.named.empty()) << GetParam() << ": " << d.message;
-}
-
-INSTANTIATE_TEST_SUITE_P(Cases,
-                         DiagnoseAtTwiceThePapersNoise,
-                         ::testing::Values("B-RT-R", "S-RT-R", "S-TL-T"),
-                         [](const auto& param_info) {
-                           return TestName(param_info.param);
-                         });
-
-TEST(DiagnoseAtTwiceThePapersNoise, NamesAHiddenPloughingFirst) {
-  samples::SimulationOptions o = Case("S-RT-R", 2.0, 0);
-  o.effects.ploughing_n_per_mm = 8.0;
-  const Diagnosis d = DiagnoseSimulated(o);
-  ASSERT_FALSE(d.named.empty()) << d.message;
-  EXPECT_EQ(d.named.front(), "ploughing") << d.message;
-}
+// The diagnosis at twice the paper's noise: diagnose_test.cc runs its
+// suites at noise 1 and 2.
 
 }  // namespace
 }  // namespace wearscar::fusion

@@ -171,6 +171,11 @@ void AddScanCommand(CLI::App& app) {
   cmd->add_option("-o,--out", args->out, "Directory for the results");
   cmd->add_option(
       "--measurement", args->read.measurement_index, ".zag measurement index");
+  cmd->add_flag_callback(
+      "--large-maps",
+      [args] { scan::AllowLargeMaps(&args->read); },
+      "Raise the decompression limits for genuinely large maps (a member up "
+      "to 8 GiB, a file 16 GiB, any ratio)");
   cmd->add_option("--max-pixel-aspect",
                   args->read.max_pixel_aspect,
                   "Refuse pixels longer one way than this times the other "

@@ -261,6 +261,11 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
                   o.track.center_y_mm,
                   "Track centre y, mm (manual placement)")
       ->group("Scan");
+  cmd->add_flag("--large-maps",
+                a->large_maps,
+                "Raise the decompression limits for genuinely large maps "
+                "(a member up to 8 GiB, a file 16 GiB, any ratio)")
+      ->group("Scan");
   cmd->add_option("--max-pixel-aspect",
                   a->read_scan.max_pixel_aspect,
                   "Refuse scan pixels longer one way than this times the "
@@ -319,6 +324,7 @@ void FinaliseCommonOptions(CommonArgs* a) {
     throw UsageError(
         fmt::format("--slope '{}': expected force, scan or both", a->slope));
   }
+  if (a->large_maps) AllowLargeMaps(&a->read_scan);
   const auto& fp = a->fuse.force_profile;
   if (fp.first_cycle >= 0 && fp.last_cycle >= 0 &&
       fp.first_cycle > fp.last_cycle) {

@@ -19,6 +19,7 @@ struct CommonArgs {
   bool no_lugre = false;
   std::string running_in = "auto";
   std::string k_estimate = "ensemble";  // ensemble | cycle
+  bool large_maps = false;              // --large-maps
   std::string verdict_cost = "excess";  // excess | paper
   std::string slope = "both";  // force | scan | both  // or a number of cycles
   std::string columns;         // time=NAME,x=NAME,q=NAME,p=NAME (names or #N)

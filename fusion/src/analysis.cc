@@ -200,8 +200,9 @@ ForceAnalysis AnalyzeForce(const force::ForceRecord& record,
   if (options.running_in_cycles >= 0) {
     if (options.running_in_cycles > n / 2) {
       throw FusionError(fmt::format(
-          "{}: a running-in of {} cycles was given; the test has {} complete "
-          "cycles, and the running-in may take at most half of them ({})",
+          "{}: a running-in of {} cycles was given (--running-in); the test "
+          "has {} complete cycles, and the running-in may take at most half "
+          "of them ({})",
           record.metadata.source,
           options.running_in_cycles,
           n,

@@ -17,8 +17,8 @@ void InflateBudget::Check(std::uint64_t compressed,
   const std::uint64_t member_limit = std::min(cap, o_.max_member_bytes);
   if (expanded > member_limit) {
     throw ScanError(fmt::format(
-        "{}: expands to {} bytes or more; the limit is {} bytes (raise it "
-        "with the option for large maps if the file is genuine)",
+        "{}: expands to {} bytes or more; the limit is {} bytes (--large-maps "
+        "raises it if the file is genuine)",
         where,
         expanded,
         member_limit));
@@ -28,7 +28,8 @@ void InflateBudget::Check(std::uint64_t compressed,
           o_.max_expansion_ratio * static_cast<double>(compressed)) {
     throw ScanError(fmt::format(
         "{}: {} compressed bytes expand to {} or more, a ratio above {} "
-        "(a decompression bomb?); expected a height map",
+        "(a decompression bomb? --large-maps accepts it); expected a height "
+        "map",
         where,
         compressed,
         expanded,

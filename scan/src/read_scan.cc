@@ -40,6 +40,12 @@ HeightMap ParseByContent(const std::string& bytes,
 
 }  // namespace
 
+void AllowLargeMaps(ReadScanOptions* o) {
+  o->max_member_bytes = std::uint64_t{8} << 30;
+  o->max_total_bytes = std::uint64_t{16} << 30;
+  o->max_expansion_ratio = 1e12;
+}
+
 void CheckPixels(HeightMap* map, const ReadScanOptions& o) {
   const std::string& file = map->metadata.source;
   const double dx = map->dx_mm, dy = map->dy_mm;

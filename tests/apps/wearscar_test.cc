@@ -585,6 +585,22 @@ TEST(Audit, ManifestNamesStayUnderOutAndAppearOnce) {
   }
 }
 
+TEST(Cli, LargeMapsIsTheOptInBeyondTheDecompressionLimits) {
+  // 100 MiB of zeros deflated 1000:1 inside an x3p: refused as a bomb, read
+  // with --large-maps (and then found 22 kB longer than its 3620 x 3620
+  // values: the next check speaks).
+  const std::string bomb = std::string(WEARSCAR_TEST_DATA) + "/bad/bomb.x3p";
+  const CommandResult refused = Wearscar("scan " + bomb);
+  EXPECT_EQ(refused.status, 2);
+  EXPECT_NE(refused.output.find("a ratio above 100"), std::string::npos)
+      << refused.output;
+  const CommandResult opted = Wearscar("scan " + bomb + " --large-maps");
+  EXPECT_EQ(opted.status, 2);
+  EXPECT_NE(opted.output.find("has 104857600 bytes; expected 104835200"),
+            std::string::npos)
+      << opted.output;
+}
+
 TEST(Cli, OptionsOutOfRangeAreRefusedByTheirOwnName) {
   const struct {
     std::string args, message;
@@ -597,8 +613,8 @@ TEST(Cli, OptionsOutOfRangeAreRefusedByTheirOwnName) {
            "generic.csv --compare-first 15 --compare-last 3",
        "--compare-first 15 is after --compare-last 3"},
       {"force " + kData + "generic.csv --running-in 1000000",
-       "a running-in of 1000000 cycles was given; the test has 2 complete "
-       "cycles"},
+       "a running-in of 1000000 cycles was given (--running-in); the test "
+       "has 2 complete cycles"},
       {"scan " + kData + "generic.csv --step 1e-12",
        "the centreline step must be 0 (the pitch) or 1e-6 to 10 mm"},
   };

@@ -141,12 +141,12 @@ def zstd_raw(data):
     return (struct.pack('<I', 0xFD2FB528) + bytes([0xE0]) + struct.pack('<Q', len(data)) +
             struct.pack('<I', 1 | (len(data) << 3))[:3] + data)
 BOMB = 100 << 20  # 100 MiB
-put('bomb_stated.zon', kpk({HG: zstd_rle(BOMB), CA: zstd_raw(CAL.encode())}, magic=b'KPK1'), 'scan', 'a ratio above 100 (a decompression bomb?)')
-put('bomb_stream.zon', kpk({HG: zstd_rle(BOMB, stated=False), CA: zstd_raw(CAL.encode())}, magic=b'KPK1'), 'scan', 'a ratio above 100 (a decompression bomb?)')
-put('bomb.x3p', x3p(main_xml(3620, 3620), {'bindata/data.bin': bytes(BOMB)}), 'scan', 'a ratio above 100 (a decompression bomb?)')
+put('bomb_stated.zon', kpk({HG: zstd_rle(BOMB), CA: zstd_raw(CAL.encode())}, magic=b'KPK1'), 'scan', 'a ratio above 100 (a decompression bomb? --large-maps accepts it)')
+put('bomb_stream.zon', kpk({HG: zstd_rle(BOMB, stated=False), CA: zstd_raw(CAL.encode())}, magic=b'KPK1'), 'scan', 'a ratio above 100 (a decompression bomb? --large-maps accepts it)')
+put('bomb.x3p', x3p(main_xml(3620, 3620), {'bindata/data.bin': bytes(BOMB)}), 'scan', 'a ratio above 100 (a decompression bomb? --large-maps accepts it)')
 vbuf = io.BytesIO()
 with zipfile.ZipFile(vbuf, 'w') as z: z.writestr(entry('Vk4File', deflate=True), bytes(BOMB))
-put('bomb.vk6', b'VK6' + struct.pack('<I', 2) + b'BM' + vbuf.getvalue(), 'scan', 'a ratio above 100 (a decompression bomb?)')
+put('bomb.vk6', b'VK6' + struct.pack('<I', 2) + b'BM' + vbuf.getvalue(), 'scan', 'a ratio above 100 (a decompression bomb? --large-maps accepts it)')
 
 put('binary_cell.csv', csv(good[:60] + ['\x01\x02\x1b[31mred,1,1,1'] + good[61:]), 'force', "line 61: found text '\\x01\\x02\\x1b[31mred' where a data row was expected")
 put('binary_header_value.gsf', b'Gwyddion Simple Field 1.0\nXRes = 4\nYRes = \x01\x02\n\0\0\0\0' + b'\0' * 64, 'scan', "header line 3: YRes = '\\x01\\x02'; expected a positive pixel count")

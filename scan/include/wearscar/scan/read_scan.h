@@ -41,6 +41,10 @@ struct ReadScanOptions {
 HeightMap ReadScan(const std::string& path,
                    const ReadScanOptions& options = {});
 
+// The opt-in for truly large maps: a member up to 8 GiB, a file 16 GiB,
+// any expansion ratio.
+void AllowLargeMaps(ReadScanOptions* options);
+
 // The checks ReadScan applies to every map it returns (pixel size, aspect,
 // field of view); throws ScanError, or adds a warning.
 void CheckPixels(HeightMap* map, const ReadScanOptions& options);

@@ -10,6 +10,7 @@
 
 #include "byte_reader.h"
 #include "file_io.h"
+#include "wearscar/scan/formats.h"
 
 namespace wearscar::scan {
 namespace {
@@ -186,5 +187,22 @@ void WriteGsf(const HeightMap& map, const std::string& path) {
               static_cast<size_t>(metres.size()) * 4);
   internal::WriteFileAtomically(path, out);
 }
+
+namespace internal {
+ScanFormat GsfFormat() {
+  return {"gsf",
+          "Gwyddion Simple Field .gsf",
+          "Gwyddion and anything that exports to it",
+          {".gsf"},
+          {"Gwyddion Simple Field"},
+          [](std::string_view head, std::string_view) {
+            return head.rfind("Gwyddion Simple Field", 0) == 0 ? kDetectMagic
+                                                               : 0;
+          },
+          [](const std::string& bytes,
+             const std::string& name,
+             const ReadScanOptions&) { return ParseGsf(bytes, name); }};
+}
+}  // namespace internal
 
 }  // namespace wearscar::scan

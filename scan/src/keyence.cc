@@ -7,6 +7,7 @@
 #include <pugixml.hpp>
 
 #include "byte_reader.h"
+#include "wearscar/scan/formats.h"
 #include "wearscar/scan/read_scan.h"
 #include "zip_archive.h"
 
@@ -396,5 +397,67 @@ HeightMap ParseZag(const std::string& bytes,
   map.metadata.format = "zag";
   return map;
 }
+
+namespace internal {
+namespace {
+bool IsKpk(std::string_view head) {
+  return head.rfind("KPK0", 0) == 0 || head.rfind("KPK1", 0) == 0;
+}
+}  // namespace
+
+ScanFormat KeyenceZagFormat() {
+  return {"zag",
+          "Keyence VR .zag",
+          "Keyence VR-3000/5000/6000 (several measurements)",
+          {".zag"},
+          {"KPK0", "KPK1"},
+          [](std::string_view head, std::string_view ext) {
+            return IsKpk(head) && ext == ".zag" ? kDetectMagic + 1 : 0;
+          },
+          &ParseZag};
+}
+
+ScanFormat KeyenceZonFormat() {
+  return {"zon",
+          "Keyence VR .zon",
+          "Keyence VR-3000/5000/6000",
+          {".zon"},
+          {"KPK0", "KPK1"},
+          [](std::string_view head, std::string_view) {
+            return IsKpk(head) ? kDetectMagic : 0;
+          },
+          &ParseZon};
+}
+
+ScanFormat KeyenceVk4Format() {
+  return {"vk4",
+          "Keyence VK-X .vk4",
+          "Keyence VK-X100/200/1000 laser confocal",
+          {".vk4"},
+          {"VK4_", "VK3_"},
+          [](std::string_view head, std::string_view) {
+            return head.rfind("VK4_", 0) == 0 || head.rfind("VK3_", 0) == 0
+                       ? kDetectMagic
+                       : 0;
+          },
+          [](const std::string& bytes,
+             const std::string& name,
+             const ReadScanOptions&) { return ParseVk4(bytes, name); }};
+}
+
+ScanFormat KeyenceVk67Format() {
+  return {"vk67",
+          "Keyence VK-X .vk6/.vk7",
+          "Keyence VK-X3000, VK-X1000 (newer software)",
+          {".vk6", ".vk7"},
+          {"VK6", "VK7"},
+          [](std::string_view head, std::string_view) {
+            return head.rfind("VK6", 0) == 0 || head.rfind("VK7", 0) == 0
+                       ? kDetectMagic
+                       : 0;
+          },
+          &ParseVk67};
+}
+}  // namespace internal
 
 }  // namespace wearscar::scan

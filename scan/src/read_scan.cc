@@ -3,10 +3,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <filesystem>
 
 #include "file_io.h"
-#include "wearscar/scan/gsf.h"
+#include "wearscar/scan/formats.h"
 
 namespace wearscar::scan {
 
@@ -31,14 +30,6 @@ bool ReadScanOptions::IsValid(std::string* why) const {
   }
   return true;
 }
-
-namespace {
-
-HeightMap ParseByContent(const std::string& bytes,
-                         const std::string& path,
-                         const ReadScanOptions& options);
-
-}  // namespace
 
 void AllowLargeMaps(ReadScanOptions* o) {
   o->max_member_bytes = std::uint64_t{8} << 30;
@@ -88,52 +79,10 @@ HeightMap ReadScan(const std::string& path, const ReadScanOptions& options) {
   std::string why;
   if (!options.IsValid(&why)) throw ScanError(fmt::format("{}: {}", path, why));
   const std::string bytes = internal::ReadFileBytes(path);
-  HeightMap map = ParseByContent(bytes, path, options);
+  HeightMap map = DetectScanFormat(bytes, path).parse(bytes, path, options);
   if (map.metadata.source.empty()) map.metadata.source = path;
   CheckPixels(&map, options);
   return map;
 }
-
-namespace {
-
-HeightMap ParseByContent(const std::string& bytes,
-                         const std::string& path,
-                         const ReadScanOptions& options) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](char c) {
-    return static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  });
-  auto starts = [&](const char* magic) { return bytes.rfind(magic, 0) == 0; };
-  if (starts("KPK0") || starts("KPK1")) {
-    if (ext == ".zag") return ParseZag(bytes, path, options);
-    return ParseZon(bytes, path, options);
-  }
-  if (starts("VK4_") || starts("VK3_")) return ParseVk4(bytes, path);
-  if (starts("VK6") || starts("VK7")) return ParseVk67(bytes, path, options);
-  if (starts("Gwyddion Simple Field")) return ParseGsf(bytes, path);
-  if (starts("PK\x03\x04")) return ParseX3p(bytes, path, options);
-  // Extensions of binary formats whose magic did not match: say so.
-  for (const char* e :
-       {".zon", ".zag", ".vk4", ".vk6", ".vk7", ".x3p", ".gsf"}) {
-    if (ext == e) {
-      throw ScanError(fmt::format(
-          "{}: byte 0: found {}, which is not the magic of a {} file",
-          path,
-          fmt::format("{:?}", bytes.substr(0, 4)).substr(0, 20),
-          ext));
-    }
-  }
-  // Text: the Keyence CSV export names its Height block; anything else is an
-  // ASCII matrix.
-  const std::string head = bytes.substr(0, 1 << 16);
-  if (head.find("Height") != std::string::npos ||
-      head.find("XY Calibration") != std::string::npos ||
-      head.find("\x8d\x82\x82\xb3") != std::string::npos) {
-    return ParseKeyenceCsv(bytes, path);
-  }
-  return ParseAsciiMatrix(bytes, path, options);
-}
-
-}  // namespace
 
 }  // namespace wearscar::scan

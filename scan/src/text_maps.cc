@@ -10,6 +10,7 @@
 
 #include "byte_reader.h"
 #include "file_io.h"
+#include "wearscar/scan/formats.h"
 #include "wearscar/scan/gsf.h"
 #include "wearscar/scan/read_scan.h"
 
@@ -377,5 +378,36 @@ void WriteKeyenceCsv(const HeightMap& map, const std::string& path) {
   }
   internal::WriteFileAtomically(path, out);
 }
+
+namespace internal {
+ScanFormat KeyenceCsvFormat() {
+  return {
+      "keyence_csv",
+      "Keyence VR CSV export",
+      "Keyence VR series (CSV export of the height block)",
+      {".csv"},
+      {},
+      [](std::string_view head, std::string_view) {
+        return head.find("Height") != std::string_view::npos ||
+                       head.find("XY Calibration") != std::string_view::npos ||
+                       head.find("\x8d\x82\x82\xb3") != std::string_view::npos
+                   ? kDetectText
+                   : 0;
+      },
+      [](const std::string& bytes,
+         const std::string& name,
+         const ReadScanOptions&) { return ParseKeyenceCsv(bytes, name); }};
+}
+
+ScanFormat AsciiMatrixFormat() {
+  return {"ascii",
+          "ASCII matrix",
+          "any instrument (a grid of numbers; pitch given with --pitch-mm)",
+          {".txt", ".csv", ".asc", ".dat"},
+          {},
+          [](std::string_view, std::string_view) { return kDetectFallback; },
+          &ParseAsciiMatrix};
+}
+}  // namespace internal
 
 }  // namespace wearscar::scan

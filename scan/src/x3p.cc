@@ -4,6 +4,7 @@
 #include <cstring>
 #include <pugixml.hpp>
 
+#include "wearscar/scan/formats.h"
 #include "wearscar/scan/read_scan.h"
 #include "zip_archive.h"
 
@@ -247,5 +248,19 @@ HeightMap ParseX3p(const std::string& bytes,
       "{} {}", inst.child_value("Manufacturer"), inst.child_value("Model"));
   return map;
 }
+
+namespace internal {
+ScanFormat X3pFormat() {
+  return {"x3p",
+          "ISO 5436-2 .x3p",
+          "Sensofar, Alicona, Zygo, NIST, OpenFMC and others",
+          {".x3p"},
+          {"PK\x03\x04"},
+          [](std::string_view head, std::string_view) {
+            return head.rfind("PK\x03\x04", 0) == 0 ? kDetectMagic : 0;
+          },
+          &ParseX3p};
+}
+}  // namespace internal
 
 }  // namespace wearscar::scan

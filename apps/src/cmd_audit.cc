@@ -16,6 +16,7 @@
 #include "output.h"
 #include "report.h"
 #include "results.h"
+#include "wearscar/scan/formats.h"
 
 namespace wearscar::app {
 namespace {
@@ -74,9 +75,11 @@ std::vector<Specimen> PairFolder(const std::string& dir,
   for (const fs::path& p : files) {
     const std::string file = p.filename().string();
     const std::string lower = Lower(file);
-    const bool binary_scan = HasExtension(
-        p, {".zon", ".zag", ".vk4", ".vk6", ".vk7", ".x3p", ".gsf"});
-    const bool text = HasExtension(p, {".csv", ".txt", ".tsv", ".dat"});
+    // A binary height map by its content (the scan registry); ".dat" is a
+    // Zygo map or a force export, told apart by the magic.
+    const bool binary_scan = scan::BinaryScanFormatOf(p.string()) != nullptr;
+    const bool text =
+        !binary_scan && HasExtension(p, {".csv", ".txt", ".tsv", ".dat"});
     if (!binary_scan && !text) continue;
     const bool text_scan = text && (lower.find("scan") != std::string::npos ||
                                     lower.find("height") != std::string::npos ||

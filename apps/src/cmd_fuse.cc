@@ -7,6 +7,7 @@
 #include "figures.h"
 #include "output.h"
 #include "results.h"
+#include "wearscar/scan/formats.h"
 
 namespace wearscar::app {
 namespace {
@@ -74,8 +75,8 @@ void AddFuseCommand(CLI::App& app) {
   cmd->add_option("--force", args->force_file, "Force export")->required();
   cmd->add_option("--scan",
                   args->scan_file,
-                  "Height map (zon, zag, vk4/6/7, x3p, gsf, csv, txt); "
-                  "without it, the force slope only");
+                  "Height map (" + scan::ScanExtensionList() +
+                      "); without it, the force slope only");
   cmd->add_option("-o,--out", args->out, "Directory for the results");
   cmd->add_option("--name", args->name, "Specimen name in the outputs");
   cmd->add_option("--detail-cycle",

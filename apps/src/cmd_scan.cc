@@ -7,6 +7,7 @@
 
 #include "commands.h"
 #include "output.h"
+#include "wearscar/scan/formats.h"
 #include "wearscar/scan/gsf.h"
 #include "wearscar/scan/level.h"
 #include "wearscar/scan/preview.h"
@@ -164,9 +165,8 @@ void AddScanCommand(CLI::App& app) {
                          "Analyse a height map alone: level on the unworn "
                          "area, remove spikes, find the worn "
                          "track, extract its centreline and cross-sections");
-  cmd->add_option("file",
-                  args->file,
-                  "Height map (zon, zag, vk4/6/7, x3p, gsf, csv, txt)")
+  cmd->add_option(
+         "file", args->file, "Height map (" + scan::ScanExtensionList() + ")")
       ->required();
   cmd->add_option("-o,--out", args->out, "Directory for the results");
   cmd->add_option(

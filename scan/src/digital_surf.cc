@@ -70,9 +70,22 @@ std::string InflatePoints(const ByteReader& in,
                     kMaxStreams));
   }
   in.Need(at + 4, 8 * std::uint64_t{streams}, "the stream directory");
+  // Every stated length is checked (present in the file, within the
+  // decompression limits) before anything is allocated or inflated.
+  internal::InflateBudget budget(options);
   std::uint64_t raw_total = 0;
+  std::uint64_t offset = at + 4 + 8 * std::uint64_t{streams};
   for (std::uint32_t i = 0; i < streams; ++i) {
-    raw_total += in.At<std::uint32_t>(at + 4 + 8 * i, "raw length");
+    const std::uint64_t raw = in.At<std::uint32_t>(at + 4 + 8 * i, "raw");
+    const std::uint64_t zipped = in.At<std::uint32_t>(at + 8 + 8 * i, "zip");
+    in.Need(offset, zipped, "a compressed stream");
+    budget.Check(zipped,
+                 raw,
+                 expected,
+                 fmt::format("{}: byte {}: stream {}", in.name(), offset, i));
+    budget.Spend(raw);
+    raw_total += raw;
+    offset += zipped;
   }
   if (raw_total != expected) {
     throw ScanError(fmt::format(
@@ -82,18 +95,14 @@ std::string InflatePoints(const ByteReader& in,
         raw_total,
         expected));
   }
-  internal::InflateBudget budget(options);
   std::string out(expected, '\0');
   std::uint64_t written = 0;
-  std::uint64_t offset = at + 4 + 8 * std::uint64_t{streams};
+  offset = at + 4 + 8 * std::uint64_t{streams};
   for (std::uint32_t i = 0; i < streams; ++i) {
     const std::uint64_t raw = in.At<std::uint32_t>(at + 4 + 8 * i, "raw");
-    const std::uint64_t zipped =
-        in.At<std::uint32_t>(at + 8 + 8 * i, "zipped length");
-    in.Need(offset, zipped, "a compressed stream");
+    const std::uint64_t zipped = in.At<std::uint32_t>(at + 8 + 8 * i, "zip");
     const std::string where =
         fmt::format("{}: byte {}: stream {}", in.name(), offset, i);
-    budget.Check(zipped, raw, expected, where);
     uLongf got = static_cast<uLongf>(raw);
     const int rc = uncompress(reinterpret_cast<Bytef*>(out.data() + written),
                               &got,
@@ -109,7 +118,6 @@ std::string InflatePoints(const ByteReader& in,
                                                        : "zlib error",
                                   raw));
     }
-    budget.Spend(raw);
     written += raw;
     offset += zipped;
   }

@@ -81,10 +81,11 @@ const ScanFormat& DetectScanFormat(const std::string& bytes,
                     fmt::format("'{}'", internal::Printable(m));
       }
       throw ScanError(fmt::format(
-          "{}: byte 0: found '{}', which is not the magic of a {} file; "
+          "{}: byte 0: found '{}', which is not the magic of a {} file ({}); "
           "expected {}",
           path,
           internal::Printable(head.substr(0, 8), 8),
+          ext,
           f.title,
           expected));
     }

@@ -158,14 +158,16 @@ HeightMap ParseOpd(const std::string& bytes,
   const double pixel_mm = Scalar(in, blocks, "Pixel_size", 0.0);
   if (!(wavelength_nm > 0 && mult > 0 && aspect > 0 && pixel_mm > 0 &&
         std::isfinite(wavelength_nm * aspect * pixel_mm))) {
-    throw ScanError(fmt::format(
-        "{}: Wavelength {} nm, Mult {}, Aspect {}, Pixel_size {} mm; "
-        "expected positive values in the blocks of those names",
-        name,
-        wavelength_nm,
-        mult,
-        aspect,
-        pixel_mm));
+    throw ScanError(
+        fmt::format("{}: Wavelength {:.6g} nm, Mult {:.6g}, Aspect {:.6g}, "
+                    "Pixel_size {:.6g} "
+                    "mm; "
+                    "expected positive values in the blocks of those names",
+                    name,
+                    wavelength_nm,
+                    mult,
+                    aspect,
+                    pixel_mm));
   }
   const double scale_mm = 1e-6 * wavelength_nm / mult;
 

@@ -154,6 +154,98 @@ put('binary_header_value.gsf', b'Gwyddion Simple Field 1.0\nXRes = 4\nYRes = \x0
 whole = x3p(main_xml(4, 4), {'bindata/data.bin': b'\0' * 128})
 put('truncated.x3p', whole[:len(whole) // 2], 'scan', 'no end-of-central-directory record in its last 64 KiB (the archive is')
 
+# ---- Sensofar .plu (500-byte header, then rows, cols and float32 um)
+def plu(rows, cols, pixels, kind=3, layers=1, pitch=1.66):
+    b = bytearray(b'Mon Nov 23 05:00:00 2026'.ljust(128, b'\0') + b'\0' * 372)
+    struct.pack_into('<3I7f', b, 388, rows, cols, cols, 1.0, pitch, pitch, 0, 0, pitch, 0)
+    struct.pack_into('<5I', b, 428, kind, 0, 0, 0, 0)
+    b[489] = layers
+    return bytes(b) + struct.pack('<2I', rows, cols) + b'\0' * pixels
+put('truncated.plu', plu(4, 4, 64)[:300], 'scan', 'truncated: the 508-byte PLU header needs 508 bytes')
+put('profile.plu', plu(1, 4, 16, kind=1), 'scan', 'measurement type 1 (a profile); expected 3, a topography')
+put('absurd.plu', plu(100000, 100000, 0), 'scan', 'a map of 100000 x 100000 points; expected 1 to 268435456 points')
+put('short_data.plu', plu(4, 4, 10), 'scan', 'truncated: the heights needs 64 bytes')
+put('no_layer.plu', plu(4, 4, 64, layers=0), 'scan', 'the file holds no layer')
+
+# ---- Alicona .al3d (17-byte magic, 52-byte tags, float32 m)
+def al3d(tags, data=b'', magic=b'AliconaImaging\x00\r\n', end=b'\r\n'):
+    b = magic
+    for k, v in tags:
+        b += k.encode().ljust(20, b'\0') + str(v).encode().ljust(30, b'\0') + end
+    return b + data
+def al3d_tags(cols=4, rows=4, count=None, offset=None, skip=()):
+    t = [('Cols', cols), ('Rows', rows), ('PixelSizeXMeter', 1e-6), ('PixelSizeYMeter', 1e-6),
+         ('InvalidPixelValue', 'nan'), ('DepthImageOffset', offset if offset is not None else 17 + 52 * 8)]
+    t = [x for x in t if x[0] not in skip]
+    return [('Version', 1), ('TagCount', count if count is not None else len(t))] + t
+put('bad_tag_end.al3d', al3d(al3d_tags(), b'\0' * 64, end=b'\n\n'), 'scan', 'a tag ends in')
+put('tag_count.al3d', al3d(al3d_tags(count=999999999)), 'scan', "TagCount '999999999'; expected a whole number up to 4096")
+put('no_cols.al3d', al3d(al3d_tags(skip=('Cols',)), b'\0' * 64), 'scan', 'no tag Cols; expected one in the header')
+put('offset_outside.al3d', al3d(al3d_tags(offset=10 ** 9), b'\0' * 64), 'scan', 'DepthImageOffset 1000000000; expected a position inside the 497-byte file')
+put('absurd.al3d', al3d(al3d_tags(cols=100000, rows=100000), b'\0' * 64), 'scan', 'a map of 100000 x 100000 points')
+put('bad_magic.al3d', b'AliconaImagine\x00\r\n' + b'\0' * 200, 'scan', 'which is not the magic of a .al3d file')
+
+# ---- Bruker/Veeco .opd (directory of 24-byte entries, blocks in its order)
+def opd_entry(name, kind, length):
+    return name.encode().ljust(16, b'\0') + struct.pack('<hlH', kind, length, 0)
+def opd(nx, ny, elsize, payload, dir_len=None, blocks=None, wavelength=True):
+    blocks = blocks if blocks is not None else [('RAW_DATA', 3, 6 + len(payload)), ('Pixel_size', 7, 4)] + ([('Wavelength', 7, 4)] if wavelength else [])
+    entries = [('Directory', 1, dir_len if dir_len is not None else 24 * (len(blocks) + 1))] + blocks
+    b = b'\x01\x00' + b''.join(opd_entry(*e) for e in entries)
+    for name, kind, length in blocks:
+        if name == 'RAW_DATA': b += struct.pack('<3H', nx, ny, elsize) + payload
+        elif kind == 7: b += struct.pack('<f', 0.001 if name == 'Pixel_size' else 632.8)
+        else: b += b'\0' * length
+    return b
+put('directory_length.opd', opd(4, 4, 2, b'\0' * 32, dir_len=25), 'scan', 'directory of 25 bytes; expected a positive multiple of 24')
+put('no_array.opd', opd(4, 4, 2, b'', blocks=[('Wavelength', 7, 4)]), 'scan', 'the directory names no height array')
+put('absurd.opd', opd(65535, 65535, 2, b''), 'scan', 'a map of 65535 x 65535 points')
+put('block_size.opd', opd(4, 4, 2, b'\0' * 30), 'scan', 'an array of 4 x 4 x 2 bytes in a block of 36 bytes')
+put('no_wavelength.opd', opd(4, 4, 2, b'\0' * 32, wavelength=False), 'scan', 'Wavelength 0 nm, Mult 1, Aspect 1, Pixel_size 0.001 mm; expected positive values')
+put('bad_magic.opd', b'\x01\x00Directorz' + b'\0' * 100, 'scan', 'which is not the magic of a .opd file')
+
+# ---- Digital Surf .sur (512-byte header; DSCOMPRESSED: zlib streams)
+def sur(nx, ny, points=None, bits=32, kind=2, magic=b'DIGITAL SURF', data=None, csize=0, units=(b'um', b'um', b'um')):
+    h = bytearray(512); h[0:12] = magic
+    struct.pack_into('<hHhh', h, 12, 0, 1, 1, kind)
+    struct.pack_into('<h', h, 98, bits)
+    struct.pack_into('<5i', h, 100, 0, 1000, nx, ny, nx * ny if points is None else points)
+    struct.pack_into('<3f', h, 120, 1.0, 1.0, 0.001)
+    for i, u in enumerate(units): h[180 + 16 * i:180 + 16 * i + len(u)] = u
+    struct.pack_into('<I', h, 324, csize)
+    return bytes(h) + (data if data is not None else b'\0' * (nx * ny * bits // 8))
+def sur_z(nx, ny, raw_stated, payload):
+    z = zlib.compress(payload)
+    block = struct.pack('<3I', 1, raw_stated, len(z)) + z
+    return sur(nx, ny, magic=b'DSCOMPRESSED', data=block, csize=len(block))
+import zlib
+put('profile.sur', sur(4, 1, kind=1), 'scan', 'object type 1 (a profile); expected a surface (2, 11 or 16)')
+put('bits.sur', sur(4, 4, bits=8), 'scan', '8 bits per point; expected 16 or 32')
+put('points.sur', sur(4, 4, points=17), 'scan', '17 points in a map of 4 x 4; expected 16')
+put('truncated.sur', sur(4, 4, data=b'\0' * 10), 'scan', 'truncated: the points needs 64 bytes')
+put('unit.sur', sur(4, 4, units=(b'furlong', b'um', b'um')), 'scan', "x spacing 1 'furlong'; expected a positive number in m, mm, um or nm")
+put('stream_size.sur', sur_z(4, 4, 60, b'\0' * 60), 'scan', 'the streams hold 60 bytes; the header')
+put('stream_outside.sur', sur(4, 4, magic=b'DSCOMPRESSED', data=struct.pack('<3I', 1, 64, 10 ** 9) + b'x' * 8, csize=20), 'scan', 'truncated: a compressed stream needs 1000000000 bytes')
+put('bomb.sur', sur_z(8192, 8192, 8192 * 8192 * 4, b'\0' * (8192 * 8192 * 4)), 'scan', 'a ratio above 100 (a decompression bomb? --large-maps accepts it)')
+put('not_zlib.sur', sur(4, 4, magic=b'DSCOMPRESSED', data=struct.pack('<3I', 1, 64, 8) + b'notzlib!', csize=20), 'scan', 'not a zlib stream')
+put('bad_magic.sur', b'DIGITAL SURG' + b'\0' * 600, 'scan', 'which is not the magic of a .sur file')
+
+# ---- Zygo MetroPro .dat (big-endian header of 834 bytes, intensity, phase)
+def metropro(w, h, phase_bytes=None, header=834, phase_res=1, lateral=1e-6, data=None, magic=b'\x88\x1b\x03\x6f'):
+    b = bytearray(834); b[0:4] = magic
+    struct.pack_into('>HI', b, 4, 1, header)
+    struct.pack_into('>HHI', b, 68, w, h, 4 * w * h if phase_bytes is None else phase_bytes)
+    struct.pack_into('>4f', b, 164, 0.5, 6.328e-7, 0.0, 1.0)
+    struct.pack_into('>f', b, 184, lateral)
+    struct.pack_into('>h', b, 218, phase_res)
+    return bytes(b) + (data if data is not None else b'\0' * (4 * w * h))
+put('header_size.dat', metropro(4, 4, header=100), 'scan', 'header of 100 bytes; expected 834 or more')
+put('phase_size.dat', metropro(4, 4, phase_bytes=60), 'scan', 'a phase block of 60 bytes for 4 x 4 points; expected 64')
+put('phase_res.dat', metropro(4, 4, phase_res=7), 'scan', 'phase_res 7; expected 0, 1 or 2')
+put('no_lateral.dat', metropro(4, 4, lateral=0.0), 'scan', 'lateral resolution 0 m per pixel')
+put('truncated.dat', metropro(4, 4, data=b'\0' * 20), 'scan', 'truncated: the phase data needs 64 bytes')
+put('no_phase.dat', metropro(0, 0), 'scan', 'the file holds no height data')
+
 with open('catalogue.csv', 'w') as f:
     f.write('file,reader,expected\n')
     for name, kind, expected in rows:

@@ -1,4 +1,4 @@
-// Alicona InfiniteFocus .al3d. Layout in FORMATS.md, after Gwyddion's
+// Alicona InfiniteFocus .al3d. Layout (not in FORMATS.md) after Gwyddion's
 // alicona.c and SurfaceTopography's AL3D.py: a 17-byte magic, then tags of
 // 52 bytes (key[20], value[30], CR LF) starting with Version and TagCount,
 // then at DepthImageOffset float32 heights in metres, rows padded to 8

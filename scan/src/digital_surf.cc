@@ -1,5 +1,5 @@
 // Digital Surf .sur (Mountains; written by many profilometers and
-// microscopes). Layout in FORMATS.md, after Gwyddion's surffile.c,
+// microscopes). Layout (not in FORMATS.md) after Gwyddion's surffile.c,
 // SurfaceTopography's SUR.py and surfalize's sur.py: a 512-byte
 // little-endian header, a comment and a private zone, then int16 or int32
 // points, x fastest; "DSCOMPRESSED" files hold the points as zlib streams

@@ -1,5 +1,5 @@
 // Sensofar .plu (SensoSCAN / SensoMAP, confocal and interferometric
-// topographies). Layout in FORMATS.md, after Gwyddion's sensofar.c and
+// topographies). Layout (not in FORMATS.md) after Gwyddion's sensofar.c and
 // SurfaceTopography's PLU.py: a 500-byte little-endian header, then per
 // layer its size and float32 heights in micrometres, x fastest.
 #include <fmt/format.h>

@@ -1,5 +1,5 @@
 // Bruker/Veeco Vision .opd (Wyko NT, ContourGT white-light interferometers).
-// Layout in FORMATS.md, after Gwyddion's opdfile.c and SurfaceTopography's
+// Layout (not in FORMATS.md) after Gwyddion's opdfile.c and SurfaceTopography's
 // OPD.py: two bytes, a directory of 24-byte entries (name[16], int16 type,
 // int32 length, uint16 attributes) whose first entry is the directory
 // itself; the blocks follow in directory order. Heights are in wavelengths

@@ -1,8 +1,8 @@
 // Zygo MetroPro .dat (NewView, GPI and other MetroPro interferometers).
-// Layout in FORMATS.md, after Gwyddion's metropro.c and SurfaceTopography's
-// MetroPro.py: a big-endian header of header_size bytes (834 or 4096), the
-// intensity block of ac_n_bytes, then the connected phase as int32, x
-// fastest; heights in metres are phase * intf_scale_factor *
+// Layout (not in FORMATS.md) after Gwyddion's metropro.c and
+// SurfaceTopography's MetroPro.py: a big-endian header of header_size bytes
+// (834 or 4096), the intensity block of ac_n_bytes, then the connected phase as
+// int32, x fastest; heights in metres are phase * intf_scale_factor *
 // obliquity_factor * wavelength / (4096, 32768 or 131072 by phase_res).
 #include <fmt/format.h>
 

@@ -722,6 +722,49 @@ std::string AuditFolder(const std::string& tag) {
   return dir;
 }
 
+// The maps of other instruments go through scan and audit like the
+// Keyence ones: the registry finds them by content (a Zygo ".dat" beside a
+// force export ".csv" is paired as the scan).
+TEST(Cli, OtherInstrumentsReadThroughScanAndAudit) {
+  const std::string other = std::string(WEARSCAR_SHARED_DATA) + "/other/";
+  if (!std::filesystem::exists(other))
+    GTEST_SKIP() << "../shared/data is absent (real instrument files)";
+  const std::string dir = ::testing::TempDir() + "/cli-instruments";
+  std::filesystem::remove_all(dir);
+  for (const auto& [file, format] :
+       std::vector<std::pair<std::string, std::string>>{
+           {"plu-1.plu", "plu"},
+           {"al3d-1.al3d", "al3d"},
+           {"opd-1.opd", "opd"},
+           {"sur-3.sur", "sur"},
+           {"metropro-1.dat", "metropro"}}) {
+    const CommandResult r =
+        Wearscar("scan " + other + file + " -o " + dir + "/" + format);
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(Slurp(dir + "/" + format + "/scan.json")
+                  .find("\"format\": \"" + format + "\""),
+              std::string::npos)
+        << file;
+  }
+  ASSERT_EQ(Wearscar("simulate --case B-TL-L --cycles 40 --scan-cols 64 "
+                     "--scan-rows 48 --formats csv -o " +
+                     dir + "/sim")
+                .status,
+            0);
+  std::filesystem::create_directories(dir + "/batch");
+  std::filesystem::copy_file(dir + "/sim/B-TL-L.force.csv",
+                             dir + "/batch/B-TL-L.force.csv");
+  std::filesystem::copy_file(other + "metropro-1.dat",
+                             dir + "/batch/B-TL-L.dat");
+  const CommandResult a =
+      Wearscar("audit " + dir + "/batch --running-in 5 " +
+               "--compare-cycles 10 --no-figures -o " + dir + "/audit");
+  EXPECT_EQ(a.status, 0) << a.output;
+  const std::string json = Slurp(dir + "/audit/B-TL-L/result.json");
+  EXPECT_NE(json.find("B-TL-L.dat: no worn track found"), std::string::npos)
+      << json.substr(0, 2000);
+}
+
 TEST(Audit, OneBadSpecimenIsReportedAndTheRestComplete) {
   const std::string out = ::testing::TempDir() + "/audit-out";
   std::filesystem::remove_all(out);

@@ -146,87 +146,100 @@ void CheckObject(const ByteReader& in, std::int64_t type, std::int64_t rows) {
   }
 }
 
-HeightMap ParseSur(const std::string& bytes,
-                   const std::string& name,
-                   const ReadScanOptions& options) {
-  ByteReader in(bytes, name);
+// What the header says of the points.
+struct Header {
+  bool compressed = false;
+  std::int64_t cols = 0, rows = 0;
+  int bits = 0;
+  double mm_per[3] = {0, 0, 0};  // x, y, z spacing units
+  double spacing[3] = {0, 0, 0};
+  std::uint64_t data = 0;  // first byte after the comment and private zone
+};
+
+Header ReadHeader(const ByteReader& in) {
+  const std::string& name = in.name();
   in.Need(0, kHeaderSize, "the 512-byte header");
-  const bool compressed = bytes.compare(0, 12, "DSCOMPRESSED") == 0;
-  if (!compressed && bytes.compare(0, 12, "DIGITAL SURF") != 0) {
+  Header h;
+  const std::string magic = in.Text(0, 12, "magic");
+  h.compressed = magic == "DSCOMPRESSED";
+  if (!h.compressed && magic != "DIGITAL SURF") {
     throw ScanError(fmt::format(
         "{}: byte 0: found '{}'; expected 'DIGITAL SURF' or 'DSCOMPRESSED'",
         name,
-        internal::Printable(bytes.substr(0, 12))));
+        internal::Printable(magic)));
   }
-  const std::int64_t cols = in.At<std::int32_t>(kColumns, "points per line");
-  const std::int64_t rows = in.At<std::int32_t>(kRows, "lines");
-  CheckObject(in, in.At<std::int16_t>(kType, "object type"), rows);
-  internal::CheckMapSize(in, kColumns, cols, rows);
+  h.cols = in.At<std::int32_t>(kColumns, "points per line");
+  h.rows = in.At<std::int32_t>(kRows, "lines");
+  CheckObject(in, in.At<std::int16_t>(kType, "object type"), h.rows);
+  internal::CheckMapSize(in, kColumns, h.cols, h.rows);
   const std::int64_t points = in.At<std::int32_t>(kPoints, "point count");
-  if (points != cols * rows) {
+  if (points != h.cols * h.rows) {
     throw ScanError(
         fmt::format("{}: byte {}: {} points in a map of {} x {}; expected {}",
                     name,
                     kPoints,
                     points,
-                    cols,
-                    rows,
-                    cols * rows));
+                    h.cols,
+                    h.rows,
+                    h.cols * h.rows));
   }
-  const auto bits = in.At<std::int16_t>(kBits, "bits per point");
-  if (bits != 16 && bits != 32) {
+  h.bits = in.At<std::int16_t>(kBits, "bits per point");
+  if (h.bits != 16 && h.bits != 32) {
     throw ScanError(
         fmt::format("{}: byte {}: {} bits per point; expected 16 or 32",
                     name,
                     kBits,
-                    bits));
+                    h.bits));
   }
-  double mm_per[3];
-  double spacing[3];
   for (int a = 0; a < 3; ++a) {
     const std::string unit =
         in.Text(kSpacingUnits + 16 * a, 16, "spacing unit");
-    spacing[a] = in.At<float>(kSpacing + 4 * a, "spacing");
-    mm_per[a] = MmPerUnit(unit);
-    if (mm_per[a] == 0 || !std::isfinite(spacing[a]) ||
-        (a < 2 && !(spacing[a] > 0))) {
+    h.spacing[a] = in.At<float>(kSpacing + 4 * a, "spacing");
+    h.mm_per[a] = MmPerUnit(unit);
+    if (h.mm_per[a] == 0 || !std::isfinite(h.spacing[a]) ||
+        (a < 2 && !(h.spacing[a] > 0))) {
       throw ScanError(fmt::format(
           "{}: byte {}: {} spacing {} '{}'; expected a positive number in m, "
           "mm, um or nm",
           name,
           kSpacing + 4 * a,
           "xyz"[a],
-          spacing[a],
+          h.spacing[a],
           internal::Printable(unit)));
     }
   }
-  const std::uint64_t data =
-      kHeaderSize + in.At<std::uint16_t>(kCommentSize, "comment size") +
-      in.At<std::uint16_t>(kCommentSize + 2, "private size");
-  const std::uint64_t bytes_per = static_cast<std::uint64_t>(bits) / 8;
-  const std::uint64_t expected = static_cast<std::uint64_t>(points) * bytes_per;
+  h.data = kHeaderSize + in.At<std::uint16_t>(kCommentSize, "comment size") +
+           in.At<std::uint16_t>(kCommentSize + 2, "private size");
+  return h;
+}
+
+// The points in mm, NaN where the file marks them as not measured, with
+// the file's inversion applied.
+HeightMap::Heights Heights(const ByteReader& in,
+                           const Header& h,
+                           const ReadScanOptions& options) {
+  const std::uint64_t n = static_cast<std::uint64_t>(h.cols * h.rows);
+  const std::uint64_t expected = n * static_cast<std::uint64_t>(h.bits / 8);
   std::string inflated;
   const char* p = nullptr;
-  if (compressed) {
+  if (h.compressed) {
     const auto stated = in.At<std::uint32_t>(kCompressedSize, "data size");
-    in.Need(data, stated, "the compressed points");
-    inflated = InflatePoints(in, data, expected, options);
+    in.Need(h.data, stated, "the compressed points");
+    inflated = InflatePoints(in, h.data, expected, options);
     p = inflated.data();
   } else {
-    in.Need(data, expected, "the points");
-    p = in.Data(data);
+    in.Need(h.data, expected, "the points");
+    p = in.Data(h.data);
   }
   const bool marked = in.At<std::int16_t>(kNonMeasured, "non-measured") == 1;
   const std::int64_t invalid =
       std::int64_t{in.At<std::int32_t>(kZMin, "zmin")} - 2;
-  const double z_mm = spacing[2] * mm_per[2];
-  const double z0_mm = in.At<float>(kZOffset, "z offset") * mm_per[2];
-
-  HeightMap map;
-  map.height_mm.resize(rows, cols);
-  for (std::int64_t i = 0; i < points; ++i) {
+  const double z_mm = h.spacing[2] * h.mm_per[2];
+  const double z0_mm = in.At<float>(kZOffset, "z offset") * h.mm_per[2];
+  HeightMap::Heights z(h.rows, h.cols);
+  for (std::uint64_t i = 0; i < n; ++i) {
     std::int64_t raw;
-    if (bits == 16) {
+    if (h.bits == 16) {
       std::int16_t s;
       std::memcpy(&s, p + 2 * i, 2);
       raw = s;
@@ -235,39 +248,54 @@ HeightMap ParseSur(const std::string& bytes,
       std::memcpy(&s, p + 4 * i, 4);
       raw = s;
     }
-    map.height_mm.data()[i] =
+    z.data()[i] =
         marked && raw == invalid
             ? std::numeric_limits<float>::quiet_NaN()
             : static_cast<float>(z_mm * static_cast<double>(raw) + z0_mm);
   }
   // Inversion: 1 z, 2 z and rows, 3 z and columns (as Gwyddion applies it).
   const auto inversion = in.At<std::int16_t>(kInversion, "inversion");
-  if (inversion >= 1 && inversion <= 3) map.height_mm = -map.height_mm;
-  if (inversion == 2) map.height_mm = map.height_mm.colwise().reverse().eval();
-  if (inversion == 3) map.height_mm = map.height_mm.rowwise().reverse().eval();
-  SyncValidity(&map);
-  map.dx_mm = spacing[0] * mm_per[0];
-  map.dy_mm = spacing[1] * mm_per[1];
-  map.metadata.format = "sur";
+  if (inversion >= 1 && inversion <= 3) z = -z;
+  if (inversion == 2) z = z.colwise().reverse().eval();
+  if (inversion == 3) z = z.rowwise().reverse().eval();
+  return z;
+}
+
+HeightMapMetadata Metadata(const ByteReader& in) {
+  HeightMapMetadata m;
+  m.format = "sur";
   const std::string who = in.Text(kOperator, 30, "instrument name");
-  map.metadata.instrument =
-      "Digital Surf" + (who.empty() ? "" : " (" + who + ")");
+  m.instrument = "Digital Surf" + (who.empty() ? "" : " (" + who + ")");
   std::int16_t d[6];
   for (int k = 0; k < 6; ++k) d[k] = in.At<std::int16_t>(kDate + 2 * k, "date");
   if (d[5] > 0 && d[4] >= 1 && d[4] <= 12 && d[3] >= 1 && d[3] <= 31) {
-    map.metadata.date = fmt::format("{:04}-{:02}-{:02} {:02}:{:02}:{:02}",
-                                    d[5],
-                                    d[4],
-                                    d[3],
-                                    d[2],
-                                    d[1],
-                                    d[0]);
+    m.date = fmt::format("{:04}-{:02}-{:02} {:02}:{:02}:{:02}",
+                         d[5],
+                         d[4],
+                         d[3],
+                         d[2],
+                         d[1],
+                         d[0]);
   }
   const auto objects = in.At<std::uint16_t>(kObjects, "object count");
   if (objects > 1) {
-    map.metadata.warnings.push_back(fmt::format(
+    m.warnings.push_back(fmt::format(
         "the file holds {} objects; the first, a surface, was read", objects));
   }
+  return m;
+}
+
+HeightMap ParseSur(const std::string& bytes,
+                   const std::string& name,
+                   const ReadScanOptions& options) {
+  const ByteReader in(bytes, name);
+  const Header h = ReadHeader(in);
+  HeightMap map;
+  map.height_mm = Heights(in, h, options);
+  SyncValidity(&map);
+  map.dx_mm = h.spacing[0] * h.mm_per[0];
+  map.dy_mm = h.spacing[1] * h.mm_per[1];
+  map.metadata = Metadata(in);
   return map;
 }
 

@@ -45,6 +45,43 @@ bool HasMagic(std::string_view head) {
   return false;
 }
 
+// Metres per stored phase unit: scale factor x obliquity x wavelength over
+// the phase resolution's steps, negated when the file says so.
+double HeightStepM(const ByteReader& in) {
+  const auto phase_res = in.AtBigEndian<std::int16_t>(kPhaseRes, "phase_res");
+  if (phase_res < 0 || phase_res > 2) {
+    throw ScanError(fmt::format("{}: byte {}: phase_res {}; expected 0, 1 or 2",
+                                in.name(),
+                                kPhaseRes,
+                                phase_res));
+  }
+  const double steps[] = {4096.0, 32768.0, 131072.0};
+  const double scale_m =
+      double{in.AtBigEndian<float>(kScaleFactor, "intf_scale_factor")} *
+      in.AtBigEndian<float>(kObliquity, "obliquity_factor") *
+      in.AtBigEndian<float>(kWavelength, "wavelength") / steps[phase_res] *
+      (in.AtBigEndian<std::int16_t>(kSign, "sign") ? -1.0 : 1.0);
+  if (!(std::isfinite(scale_m) && scale_m != 0)) {
+    throw ScanError(fmt::format(
+        "{}: byte {}: a height step of {} m from the scale factor, "
+        "obliquity and wavelength; expected a finite, non-zero step",
+        in.name(),
+        kScaleFactor,
+        scale_m));
+  }
+  return scale_m;
+}
+
+// The acquisition time (Unix seconds in the header) as UTC, or "".
+std::string Date(const ByteReader& in) {
+  const std::time_t t = in.AtBigEndian<std::int32_t>(kTimeStamp, "time");
+  std::tm tm{};
+  if (t <= 0 || gmtime_r(&t, &tm) == nullptr) return {};
+  char date[32];
+  std::strftime(date, sizeof date, "%Y-%m-%d %H:%M:%S UTC", &tm);
+  return date;
+}
+
 HeightMap ParseMetroPro(const std::string& bytes,
                         const std::string& name,
                         const ReadScanOptions&) {
@@ -97,28 +134,8 @@ HeightMap ParseMetroPro(const std::string& bytes,
   }
   const std::uint64_t data = header + intensity;
   in.Need(data, phase, "the phase data");
-  const auto phase_res = in.AtBigEndian<std::int16_t>(kPhaseRes, "phase_res");
-  if (phase_res < 0 || phase_res > 2) {
-    throw ScanError(fmt::format("{}: byte {}: phase_res {}; expected 0, 1 or 2",
-                                name,
-                                kPhaseRes,
-                                phase_res));
-  }
-  const double steps[] = {4096.0, 32768.0, 131072.0};
-  const double scale_m =
-      double{in.AtBigEndian<float>(kScaleFactor, "intf_scale_factor")} *
-      in.AtBigEndian<float>(kObliquity, "obliquity_factor") *
-      in.AtBigEndian<float>(kWavelength, "wavelength") / steps[phase_res] *
-      (in.AtBigEndian<std::int16_t>(kSign, "sign") ? -1.0 : 1.0);
+  const double scale_m = HeightStepM(in);
   const double pixel_m = in.AtBigEndian<float>(kLateralRes, "lateral_res");
-  if (!(std::isfinite(scale_m) && scale_m != 0)) {
-    throw ScanError(fmt::format(
-        "{}: byte {}: a height step of {} m from the scale factor, "
-        "obliquity and wavelength; expected a finite, non-zero step",
-        name,
-        kScaleFactor,
-        scale_m));
-  }
   if (!(pixel_m > 0 && std::isfinite(pixel_m))) {
     throw ScanError(fmt::format(
         "{}: byte {}: lateral resolution {} m per pixel; expected a positive "
@@ -147,13 +164,7 @@ HeightMap ParseMetroPro(const std::string& bytes,
   const std::string objective = in.Text(kObjective, 12, "objective");
   map.metadata.instrument =
       "Zygo MetroPro" + (objective.empty() ? "" : " (" + objective + ")");
-  const std::time_t t = in.AtBigEndian<std::int32_t>(kTimeStamp, "time");
-  std::tm tm{};
-  if (t > 0 && gmtime_r(&t, &tm) != nullptr) {
-    char date[32];
-    std::strftime(date, sizeof date, "%Y-%m-%d %H:%M:%S UTC", &tm);
-    map.metadata.date = date;
-  }
+  map.metadata.date = Date(in);
   return map;
 }
 

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <charconv>
@@ -896,25 +897,22 @@ void CheckPlausible(ForceRecord& r, const std::string& file) {
   }
 }
 
-ForceRecord Read(LineSource& source,
-                 const std::string& name,
-                 size_t row_capacity_hint,
-                 const ReadForceOptions& options) {
-  std::string why;
-  if (!options.IsValid(&why)) {
-    throw ForceError(fmt::format("{}: invalid read options: {}", name, why));
-  }
-  // Head lines are copied (the source's views do not outlive a refill).
+// The first kHeadLines lines (copied: the source's views do not outlive a
+// refill), without a UTF-8 byte-order mark; `more` says whether the file
+// goes on. Throws for an empty file.
+std::vector<std::string> ReadHead(LineSource& source,
+                                  const std::string& name,
+                                  bool* more) {
   std::vector<std::string> head;
   std::string_view line;
-  bool more = true;
+  *more = true;
   while (static_cast<int>(head.size()) < kHeadLines &&
-         (more = source.Next(&line))) {
+         (*more = source.Next(&line))) {
     head.emplace_back(line);
   }
   if (!head.empty() && head[0].rfind("\xEF\xBB\xBF", 0) == 0)
     head[0].erase(0, 3);
-  while (!head.empty() && TrimView(head.back()).empty() && !more)
+  while (!head.empty() && TrimView(head.back()).empty() && !*more)
     head.pop_back();
   if (head.empty()) {
     throw ForceError(
@@ -922,10 +920,17 @@ ForceRecord Read(LineSource& source,
                     "force export (header row, then numbers)",
                     name));
   }
-  const Layout layout = DetectLayout(head, name);
+  return head;
+}
 
-  // Columns.
-  int column[4] = {-1, -1, -1, -1};
+using Columns = std::array<int, 4>;  // per channel, -1 = absent
+
+// The column of each channel: the ones the options name, then the best
+// match by name among the columns left.
+Columns ChooseColumns(const Layout& layout,
+                      const ReadForceOptions& options,
+                      const std::string& name) {
+  Columns column = {-1, -1, -1, -1};
   const std::string* overrides[4] = {&options.time_column,
                                      &options.x_column,
                                      &options.tangential_column,
@@ -939,56 +944,57 @@ ForceRecord Read(LineSource& source,
     if (column[ch] >= 0) continue;
     int best = -1, best_score = 0;
     for (int c = 0; c < static_cast<int>(layout.names.size()); ++c) {
-      if (std::find(std::begin(column), std::end(column), c) !=
-          std::end(column)) {
-        continue;
-      }
+      if (std::find(column.begin(), column.end(), c) != column.end()) continue;
       const int s = MatchScore(Channel(ch), layout.names[c]);
-      if (s > best_score) {
-        best = c;
-        best_score = s;
-      }
+      if (s > best_score) best = c, best_score = s;
     }
     column[ch] = best;
   }
-  std::string known;
-  for (const auto& nm : layout.names) known += (known.empty() ? "" : ", ") + nm;
-  if (layout.header_line < 0) known = "(no header row)";
-  const int header_line_no =
-      (layout.header_line >= 0 ? layout.header_line : 0) + 1;
-  // What the method needs: a reciprocating displacement and the two forces.
+  return column;
+}
+
+// What the method needs: a reciprocating displacement and the two forces.
+// Refuses a file without them, saying what it has.
+void RequireChannels(const Columns& column,
+                     const Layout& layout,
+                     const std::string& name) {
   std::vector<std::string> missing;
   for (int ch = kX; ch <= kP; ++ch) {
     if (column[ch] < 0) missing.push_back(kChannelLabel[ch]);
   }
-  if (!missing.empty()) {
-    bool has_cof = false;
-    for (const auto& nm : layout.names) {
-      const auto t = Tokens(nm);
-      has_cof |= std::find(t.begin(), t.end(), "cof") != t.end() ||
-                 std::find(t.begin(), t.end(), "mu") != t.end();
-    }
-    std::string list;
-    for (size_t i = 0; i < missing.size(); ++i) {
-      list += (i == 0                    ? ""
-               : i + 1 == missing.size() ? " or "
-                                         : ", ") +
-              missing[i];
-    }
-    throw ForceError(fmt::format(
-        "{}: line {}: no column for {}; the method needs a reciprocating "
-        "displacement and the tangential and normal forces, and the file "
-        "has: {}{} (give a column explicitly if it is there under another "
-        "name, e.g. --columns x=NAME)",
-        name,
-        header_line_no,
-        list,
-        known,
-        has_cof && column[kQ] < 0
-            ? "; a friction coefficient alone cannot carry the method"
-            : ""));
+  if (missing.empty()) return;
+  std::string known;
+  for (const auto& nm : layout.names) known += (known.empty() ? "" : ", ") + nm;
+  if (layout.header_line < 0) known = "(no header row)";
+  bool has_cof = false;
+  for (const auto& nm : layout.names) {
+    const auto t = Tokens(nm);
+    has_cof |= std::find(t.begin(), t.end(), "cof") != t.end() ||
+               std::find(t.begin(), t.end(), "mu") != t.end();
   }
-  // A RecipeStep column lets the Rtec clock restart.
+  std::string list;
+  for (size_t i = 0; i < missing.size(); ++i) {
+    list += (i == 0                    ? ""
+             : i + 1 == missing.size() ? " or "
+                                       : ", ") +
+            missing[i];
+  }
+  throw ForceError(fmt::format(
+      "{}: line {}: no column for {}; the method needs a reciprocating "
+      "displacement and the tangential and normal forces, and the file "
+      "has: {}{} (give a column explicitly if it is there under another "
+      "name, e.g. --columns x=NAME)",
+      name,
+      (layout.header_line >= 0 ? layout.header_line : 0) + 1,
+      list,
+      known,
+      has_cof && column[kQ] < 0
+          ? "; a friction coefficient alone cannot carry the method"
+          : ""));
+}
+
+// A RecipeStep column lets the Rtec clock restart; -1 when none.
+int FindStepColumn(const Layout& layout) {
   int step_column = -1;
   for (int c = 0; c < static_cast<int>(layout.names.size()); ++c) {
     const std::string lower = Lower(layout.names[c]);
@@ -996,6 +1002,372 @@ ForceRecord Read(LineSource& source,
       step_column = c;
     }
   }
+  return step_column;
+}
+
+// The data rows into columns, in N, mm and s on one clock. Ordinary rows go
+// a fast path; anything unusual the careful way, which also joins restarted
+// clocks (Rtec RecipeSteps, Bruker/CETR repeated blocks) and tells bad rows
+// inside the data (an error, or dropped when lenient) from a text footer.
+class RowReader {
+ public:
+  RowReader(const Layout& layout,
+            const std::string* header_text,
+            const Columns& column,
+            int step_column,
+            const Scale* scale,
+            const ReadForceOptions& options,
+            const std::string& name,
+            Eigen::Index capacity,
+            ForceMetadata* meta)
+      : layout_(layout),
+        header_text_(header_text),
+        column_(column),
+        step_column_(step_column),
+        scale_(scale),
+        options_(options),
+        name_(name),
+        meta_(meta),
+        columns_(layout.names.size()),
+        needed_(*std::max_element(column.begin(), column.end())),
+        slot_of_field_(columns_, -1) {
+    for (int ch = 0; ch < 4; ++ch) {
+      if (column_[ch] >= 0) data_[ch].resize(capacity);
+    }
+    // Fast path slots: the four channels, the RecipeStep column, and the
+    // first field (a text first field means a footer or a bad row).
+    slot_of_field_[0] = kFirstSlot;
+    for (int ch = 0; ch < 4; ++ch) {
+      if (column_[ch] >= 0 && column_[ch] < static_cast<int>(columns_))
+        slot_of_field_[column_[ch]] = ch;
+    }
+    if (step_column_ >= 0 && step_column_ < static_cast<int>(columns_)) {
+      slot_of_field_[step_column_] = kStepSlot;
+    }
+    fast_possible_ = needed_ < static_cast<int>(columns_);
+  }
+
+  void Handle(std::string_view row, long line_no) {
+    if (fast_possible_ && pending_bad_rows_ == 0 && TryFast(row, line_no)) {
+      return;
+    }
+    if (TrimView(row).empty() || SkipRepeatedBlock(row)) return;
+    double value[4] = {kNaN, kNaN, kNaN, kNaN};
+    bool text_row = false;
+    std::string error = ParseCells(value, &text_row, line_no);
+    if (error.empty() && column_[kTime] >= 0) {
+      error = JoinClock(value, line_no);
+    }
+    if (!error.empty()) {
+      if (pending_error_.empty()) pending_error_ = error;
+      ++pending_bad_rows_;
+      footer_rows_ += text_row ? 1 : 0;
+      if (!text_row) footer_rows_ = -1000000;  // a numeric bad row: no footer
+      return;
+    }
+    if (pending_bad_rows_ > 0) DropPending();
+    Store(value, line_no);
+  }
+
+  // After the last row: the bad rows left are a footer, an error or
+  // dropped; the counts are checked. Returns the columns, trimmed.
+  std::array<Eigen::VectorXd, 4> Finish() {
+    if (pending_bad_rows_ > 0) {
+      if (footer_rows_ == pending_bad_rows_) {
+        meta_->warnings.push_back(
+            fmt::format("ignored a footer of {} text lines", footer_rows_));
+      } else if (!options_.lenient) {
+        throw ForceError(pending_error_);
+      } else {
+        dropped_ += pending_bad_rows_;
+      }
+    }
+    if (total_rows_ < 2) {
+      throw ForceError(fmt::format(
+          "{}: only {} data rows; expected a time series", name_, total_rows_));
+    }
+    meta_->rows_dropped = dropped_;
+    if (dropped_ > 0) {
+      if (dropped_ > options_.max_dropped_fraction * (total_rows_ + dropped_)) {
+        throw ForceError(fmt::format(
+            "{}: {} of {} rows are bad (more than {:.1f}%); first: {}",
+            name_,
+            dropped_,
+            total_rows_ + dropped_,
+            100 * options_.max_dropped_fraction,
+            meta_->warnings.empty() ? pending_error_
+                                    : meta_->warnings.front()));
+      }
+      meta_->warnings.push_back(fmt::format("dropped {} bad rows", dropped_));
+    }
+    for (int ch = 0; ch < 4; ++ch) {
+      if (column_[ch] >= 0) data_[ch].conservativeResize(rows_stored_);
+    }
+    return std::move(data_);
+  }
+
+ private:
+  static constexpr int kStepSlot = 4, kFirstSlot = 5;
+
+  // The ordinary row: all fields numbers, time after the previous one.
+  bool TryFast(std::string_view row, long line_no) {
+    double v[6] = {kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
+    if (!FastRow(row, layout_.delimiter, layout_.decimal, slot_of_field_, v)) {
+      return false;
+    }
+    const bool timed = column_[kTime] >= 0;
+    const double t = timed ? v[kTime] * scale_[kTime].factor + time_offset_ : 0;
+    if (timed && std::isfinite(t) && t <= previous_time_) return false;
+    if (timed) {
+      if (std::isfinite(t)) {
+        if (std::isfinite(previous_time_)) last_dt_ = t - previous_time_;
+        previous_time_ = t;
+      }
+      v[kTime] = t;
+    }
+    if (step_column_ >= 0) previous_step_ = v[kStepSlot];
+    Store(v, line_no);
+    return true;
+  }
+
+  // A repeated block (Bruker/CETR: every test step repeats its header
+  // block, names row, units row, then data whose clock restarts): the names
+  // row again ends the text lines before it, which were that block's
+  // header, not bad rows; the text up to the next data row is skipped and
+  // the clock may restart once. Splits the row into cells_ otherwise.
+  bool SkipRepeatedBlock(std::string_view row) {
+    if (header_text_ != nullptr && TrimView(row) == TrimView(*header_text_)) {
+      if (pending_bad_rows_ > 0 && footer_rows_ == pending_bad_rows_) {
+        pending_error_.clear();
+        pending_bad_rows_ = 0;
+        footer_rows_ = 0;
+      }
+      in_repeated_header_ = true;
+      block_restart_ = true;
+      ++meta_->blocks_joined;
+      return true;
+    }
+    Split(row, layout_.delimiter, &cells_);
+    double first_cell;
+    if (in_repeated_header_ && !cells_.empty() &&
+        (!ParseCell(cells_[0], layout_.decimal, &first_cell) ||
+         (cells_[0].empty() &&
+          std::all_of(cells_.begin(), cells_.end(), LooksLikeUnit)))) {
+      return true;  // the repeated block's units row
+    }
+    in_repeated_header_ = false;
+    return false;
+  }
+
+  // The channels' numbers from cells_, or the error that says why not.
+  std::string ParseCells(double* value, bool* text_row, long line_no) {
+    double first_value;
+    const bool text_first =
+        !cells_.empty() && !cells_[0].empty() &&
+        !ParseCell(cells_[0], layout_.decimal, &first_value);
+    const bool trailing_ok =
+        cells_.size() == columns_ + 1 && cells_.back().empty();
+    if (text_first) {
+      *text_row = true;
+      return fmt::format(
+          "{}: line {}: found text '{}' where a data row was expected",
+          name_,
+          line_no,
+          internal::Printable(cells_[0]));
+    }
+    if (static_cast<int>(cells_.size()) <= needed_ ||
+        (cells_.size() != columns_ && !trailing_ok)) {
+      return fmt::format(
+          "{}: line {}: ragged row: found {} fields, expected {}",
+          name_,
+          line_no,
+          cells_.size(),
+          columns_);
+    }
+    for (int ch = 0; ch < 4; ++ch) {
+      if (column_[ch] < 0) continue;
+      const std::string_view cell = cells_[column_[ch]];
+      if (!ParseCell(cell, layout_.decimal, &value[ch])) {
+        return fmt::format(
+            "{}: line {}, column {} ('{}'): found '{}', expected a number{}",
+            name_,
+            line_no,
+            column_[ch] + 1,
+            layout_.names[column_[ch]],
+            internal::Printable(cell),
+            layout_.decimal == ',' ? " with a decimal comma" : "");
+      }
+    }
+    return {};
+  }
+
+  // Time on the joined clock: a clock that restarts with a new RecipeStep
+  // or a repeated block continues; any other step back is an error.
+  std::string JoinClock(double* value, long line_no) {
+    double t = value[kTime] * scale_[kTime].factor + time_offset_;
+    double step = kNaN;
+    if (step_column_ >= 0 && step_column_ < static_cast<int>(cells_.size())) {
+      ParseCell(cells_[step_column_], layout_.decimal, &step);
+    }
+    if (std::isfinite(t) && t <= previous_time_) {
+      const bool step_changed = (step_column_ >= 0 && step != previous_step_ &&
+                                 !std::isnan(previous_step_)) ||
+                                block_restart_;
+      if (!step_changed) {
+        return fmt::format(
+            "{}: line {}: time {} {} is not after the previous {} {}; "
+            "expected strictly increasing time",
+            name_,
+            line_no,
+            value[kTime],
+            scale_[kTime].unit,
+            (previous_time_ - time_offset_) / scale_[kTime].factor,
+            scale_[kTime].unit);
+      }
+      time_offset_ += previous_time_ - t + (last_dt_ > 0 ? last_dt_ : 0.0);
+      t = value[kTime] * scale_[kTime].factor + time_offset_;
+      ++meta_->clock_restarts_joined;
+    }
+    block_restart_ = false;
+    if (std::isfinite(t)) {
+      if (std::isfinite(previous_time_)) last_dt_ = t - previous_time_;
+      previous_time_ = t;
+    }
+    value[kTime] = t;
+    if (step_column_ >= 0 && step_column_ < static_cast<int>(cells_.size())) {
+      ParseCell(cells_[step_column_], layout_.decimal, &previous_step_);
+    }
+    return {};
+  }
+
+  // Bad rows followed by a good one: an error, or dropped when lenient.
+  void DropPending() {
+    if (!options_.lenient) throw ForceError(pending_error_);
+    dropped_ += pending_bad_rows_;
+    if (meta_->warnings.empty() || dropped_ == pending_bad_rows_) {
+      meta_->warnings.push_back("first dropped row: " + pending_error_);
+    }
+    pending_error_.clear();
+    pending_bad_rows_ = 0;
+    footer_rows_ = 0;
+  }
+
+  // One accepted row: time already on the joined clock, the other channels
+  // converted to N and mm here; runs of missing values are bounded.
+  void Store(const double* values, long line_no) {
+    for (int ch = 0; ch < 4; ++ch) {
+      if (column_[ch] < 0) continue;
+      const double x =
+          ch == kTime ? values[ch] : values[ch] * scale_[ch].factor;
+      if (std::isnan(x)) {
+        if (++nan_run_[ch] > options_.max_nan_run) {
+          throw ForceError(fmt::format(
+              "{}: line {}: more than {} consecutive missing values in '{}'; "
+              "expected isolated gaps at most",
+              name_,
+              line_no,
+              options_.max_nan_run,
+              layout_.names[column_[ch]]));
+        }
+      } else {
+        nan_run_[ch] = 0;
+      }
+      Eigen::VectorXd& v = data_[ch];
+      if (rows_stored_ >= v.size()) v.conservativeResize(2 * v.size() + 16);
+      v[rows_stored_] = x;
+    }
+    ++total_rows_;
+    ++rows_stored_;
+  }
+
+  const Layout& layout_;
+  const std::string* header_text_;
+  const Columns column_;
+  const int step_column_;
+  const Scale* scale_;
+  const ReadForceOptions& options_;
+  const std::string& name_;
+  ForceMetadata* meta_;
+  const size_t columns_;
+  const int needed_;
+  std::vector<int> slot_of_field_;
+  bool fast_possible_ = false;
+
+  std::array<Eigen::VectorXd, 4> data_;
+  Eigen::Index rows_stored_ = 0;
+  std::vector<std::string_view> cells_;
+  std::string pending_error_;
+  int pending_bad_rows_ = 0, dropped_ = 0, footer_rows_ = 0, total_rows_ = 0;
+  double previous_time_ = -std::numeric_limits<double>::infinity();
+  double time_offset_ = 0.0, last_dt_ = 0.0, previous_step_ = kNaN;
+  bool in_repeated_header_ = false, block_restart_ = false;
+  int nan_run_[4] = {0, 0, 0, 0};
+};
+
+// The time axis: the file's, or rebuilt from the rate in its metadata or
+// the options.
+void SetTime(ForceRecord* record,
+             Eigen::VectorXd* time,
+             const Layout& layout,
+             const ReadForceOptions& options,
+             const std::string& name) {
+  ForceMetadata& meta = record->metadata;
+  if (time->size() > 0) {
+    record->time_s = std::move(*time);
+    if (record->size() > 1) {
+      const double span =
+          record->time_s[record->size() - 1] - record->time_s[0];
+      if (span > 0) meta.sampling_rate_hz = (record->size() - 1) / span;
+    }
+    return;
+  }
+  const double rate = layout.metadata_rate_hz > 0 ? layout.metadata_rate_hz
+                                                  : options.sampling_rate_hz;
+  if (!(rate > 0)) {
+    throw ForceError(fmt::format(
+        "{}: no time column and no sampling rate in the metadata; expected a "
+        "'Time' column or a line such as 'Sampling frequency [Hz]: 100' "
+        "(or give the rate explicitly)",
+        name));
+  }
+  meta.sampling_rate_hz = rate;
+  meta.time_rebuilt = true;
+  record->time_s = Eigen::VectorXd::LinSpaced(
+      record->x_mm.size(), 0.0, (record->x_mm.size() - 1) / rate);
+}
+
+// Compression positive, whatever the instrument's sign (the median of up to
+// 4096 samples decides).
+void MakeCompressionPositive(ForceRecord* record) {
+  std::vector<double> finite;
+  const Eigen::Index n = record->size();
+  for (Eigen::Index i = 0; i < n; i += std::max<Eigen::Index>(1, n / 4096)) {
+    if (std::isfinite(record->normal_n[i])) {
+      finite.push_back(record->normal_n[i]);
+    }
+  }
+  if (finite.empty()) return;
+  std::nth_element(
+      finite.begin(), finite.begin() + finite.size() / 2, finite.end());
+  if (finite[finite.size() / 2] < 0) {
+    record->normal_n = -record->normal_n;
+    record->metadata.normal_sign_flipped = true;
+  }
+}
+
+ForceRecord Read(LineSource& source,
+                 const std::string& name,
+                 size_t row_capacity_hint,
+                 const ReadForceOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) {
+    throw ForceError(fmt::format("{}: invalid read options: {}", name, why));
+  }
+  bool more = true;
+  const std::vector<std::string> head = ReadHead(source, name, &more);
+  const Layout layout = DetectLayout(head, name);
+  const Columns column = ChooseColumns(layout, options, name);
+  RequireChannels(column, layout, name);
 
   ForceRecord record;
   ForceMetadata& meta = record.metadata;
@@ -1011,326 +1383,39 @@ ForceRecord Read(LineSource& source,
                             layout.names[column[ch]],
                             &meta.warnings);
   }
+  // Storage: exact capacity when the caller counted rows, else grown.
+  RowReader rows(
+      layout,
+      layout.header_line >= 0 ? &head[layout.header_line] : nullptr,
+      column,
+      FindStepColumn(layout),
+      scale,
+      options,
+      name,
+      static_cast<Eigen::Index>(std::max<size_t>(row_capacity_hint, 16)),
+      &meta);
+  long line_no = 0;
+  for (const auto& h : head) {
+    ++line_no;
+    if (line_no - 1 >= layout.first_data_line) rows.Handle(h, line_no);
+  }
+  std::string_view line;
+  if (more) {
+    while (source.Next(&line)) rows.Handle(line, ++line_no);
+  }
+  std::array<Eigen::VectorXd, 4> data = rows.Finish();
+  InferUnits(data.data(), scale, column.data(), layout, name, &meta);
   for (int ch = 0; ch < 4; ++ch) {
     meta.channel_names.push_back(column[ch] >= 0 ? layout.names[column[ch]]
                                                  : "");
     meta.channel_units.push_back(column[ch] >= 0 ? scale[ch].unit : "");
   }
-
-  // Storage: exact capacity when the caller counted rows, else grown.
-  // Columns written straight into the record's vectors, sized by the line
-  // count (an upper bound on the rows), shrunk at the end: no second copy.
-  Eigen::VectorXd data[4];
-  Eigen::Index rows_stored = 0;
-  const Eigen::Index capacity =
-      static_cast<Eigen::Index>(std::max<size_t>(row_capacity_hint, 16));
-  for (int ch = 0; ch < 4; ++ch) {
-    if (column[ch] >= 0) data[ch].resize(capacity);
-  }
-  auto store = [&](int ch, double x) {
-    if (rows_stored >= data[ch].size())
-      data[ch].conservativeResize(2 * data[ch].size() + 16);
-    data[ch][rows_stored] = x;
-  };
-  std::vector<std::string_view> cells;
-  const int needed = *std::max_element(std::begin(column), std::end(column));
-  const size_t columns = layout.names.size();
-
-  // Bad rows: a bad row followed by a good one is an error (or dropped when
-  // lenient); bad text rows at the very end are a footer.
-  std::string pending_error;
-  int pending_bad_rows = 0;
-  int dropped = 0, footer_rows = 0;
-  double previous_time = -std::numeric_limits<double>::infinity();
-  double time_offset = 0.0, last_dt = 0.0;
-  double previous_step = kNaN;
-  // Repeated blocks (see handle_row).
-  const std::string* header_text =
-      layout.header_line >= 0 ? &head[layout.header_line] : nullptr;
-  bool in_repeated_header = false, block_restart = false;
-  int nan_run[4] = {0, 0, 0, 0};
-  int total_rows = 0;
-
-  // Fast path slots: the four channels, the RecipeStep column, and the first
-  // field (a text first field means a footer or a bad row).
-  constexpr int kStepSlot = 4, kFirstSlot = 5;
-  std::vector<int> slot_of_field(columns, -1);
-  slot_of_field[0] = kFirstSlot;
-  for (int ch = 0; ch < 4; ++ch) {
-    if (column[ch] >= 0 && column[ch] < static_cast<int>(columns))
-      slot_of_field[column[ch]] = ch;
-  }
-  if (step_column >= 0 && step_column < static_cast<int>(columns)) {
-    slot_of_field[step_column] = kStepSlot;
-  }
-  const bool fast_possible =
-      *std::max_element(std::begin(column), std::end(column)) <
-      static_cast<int>(columns);
-
-  // One accepted row: time already on the joined clock, the other channels
-  // converted to N and mm here; runs of missing values are bounded.
-  auto store_row = [&](const double* values, long line_no) {
-    for (int ch = 0; ch < 4; ++ch) {
-      if (column[ch] < 0) continue;
-      const double x = ch == kTime ? values[ch] : values[ch] * scale[ch].factor;
-      if (std::isnan(x)) {
-        if (++nan_run[ch] > options.max_nan_run) {
-          throw ForceError(fmt::format(
-              "{}: line {}: more than {} consecutive missing values in '{}'; "
-              "expected isolated gaps at most",
-              name,
-              line_no,
-              options.max_nan_run,
-              layout.names[column[ch]]));
-        }
-      } else {
-        nan_run[ch] = 0;
-      }
-      store(ch, x);
-    }
-    ++total_rows;
-    ++rows_stored;
-  };
-
-  auto handle_row = [&](std::string_view row, long line_no) {
-    // Fast path for the ordinary row; anything unusual goes the careful way.
-    if (fast_possible && pending_bad_rows == 0) {
-      double v[6] = {kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
-      if (FastRow(row, layout.delimiter, layout.decimal, slot_of_field, v)) {
-        const double t = column[kTime] >= 0
-                             ? v[kTime] * scale[kTime].factor + time_offset
-                             : 0.0;
-        const bool time_ok =
-            column[kTime] < 0 || !std::isfinite(t) || t > previous_time;
-        if (time_ok) {
-          if (column[kTime] >= 0) {
-            if (std::isfinite(t)) {
-              if (std::isfinite(previous_time)) last_dt = t - previous_time;
-              previous_time = t;
-            }
-            v[kTime] = t;
-          }
-          if (step_column >= 0) previous_step = v[kStepSlot];
-          store_row(v, line_no);
-          return;
-        }
-      }
-    }
-    if (TrimView(row).empty()) return;
-    // A repeated block (Bruker/CETR: every test step repeats its header
-    // block, names row, units row, then data whose clock restarts): the
-    // names row again ends the text lines before it, which were that
-    // block's header, not bad rows; the text up to the next data row is
-    // skipped and the clock may restart once.
-    if (header_text != nullptr && TrimView(row) == TrimView(*header_text)) {
-      if (pending_bad_rows > 0 && footer_rows == pending_bad_rows) {
-        pending_error.clear();
-        pending_bad_rows = 0;
-        footer_rows = 0;
-      }
-      in_repeated_header = true;
-      block_restart = true;
-      ++meta.blocks_joined;
-      return;
-    }
-    Split(row, layout.delimiter, &cells);
-    double first_cell;
-    if (in_repeated_header && !cells.empty() &&
-        !ParseCell(cells[0], layout.decimal, &first_cell)) {
-      return;  // the repeated block's units row
-    }
-    if (in_repeated_header && !cells.empty() && cells[0].empty() &&
-        std::all_of(cells.begin(), cells.end(), LooksLikeUnit)) {
-      return;
-    }
-    in_repeated_header = false;
-    double value[4] = {kNaN, kNaN, kNaN, kNaN};
-    std::string error;
-    bool text_row = false;
-    double first_value;
-    const bool text_first = !cells.empty() && !cells[0].empty() &&
-                            !ParseCell(cells[0], layout.decimal, &first_value);
-    const bool trailing_ok =
-        cells.size() == columns + 1 && cells.back().empty();
-    if (text_first) {
-      text_row = true;
-      error = fmt::format(
-          "{}: line {}: found text '{}' where a data row was expected",
-          name,
-          line_no,
-          internal::Printable(cells[0]));
-    } else if (static_cast<int>(cells.size()) <= needed ||
-               (cells.size() != columns && !trailing_ok)) {
-      error =
-          fmt::format("{}: line {}: ragged row: found {} fields, expected {}",
-                      name,
-                      line_no,
-                      cells.size(),
-                      columns);
-    } else {
-      for (int ch = 0; ch < 4 && error.empty(); ++ch) {
-        if (column[ch] < 0) continue;
-        const std::string_view cell = cells[column[ch]];
-        if (!ParseCell(cell, layout.decimal, &value[ch])) {
-          error = fmt::format(
-              "{}: line {}, column {} ('{}'): found '{}', expected a number{}",
-              name,
-              line_no,
-              column[ch] + 1,
-              layout.names[column[ch]],
-              internal::Printable(cell),
-              layout.decimal == ',' ? " with a decimal comma" : "");
-        }
-      }
-    }
-    if (error.empty() && column[kTime] >= 0) {
-      double t = value[kTime] * scale[kTime].factor + time_offset;
-      if (std::isfinite(t) && t <= previous_time) {
-        double step = kNaN;
-        if (step_column >= 0 && step_column < static_cast<int>(cells.size())) {
-          ParseCell(cells[step_column], layout.decimal, &step);
-        }
-        const bool step_changed = (step_column >= 0 && step != previous_step &&
-                                   !std::isnan(previous_step)) ||
-                                  block_restart;
-        if (step_changed) {
-          // Rtec: Timestamp restarts at each RecipeStep; CETR: T restarts
-          // with every step's block. Continue the clock.
-          time_offset += previous_time - t + (last_dt > 0 ? last_dt : 0.0);
-          t = value[kTime] * scale[kTime].factor + time_offset;
-          ++meta.clock_restarts_joined;
-        } else {
-          error = fmt::format(
-              "{}: line {}: time {} {} is not after the previous {} {}; "
-              "expected strictly increasing time",
-              name,
-              line_no,
-              value[kTime],
-              scale[kTime].unit,
-              (previous_time - time_offset) / scale[kTime].factor,
-              scale[kTime].unit);
-        }
-      }
-      if (error.empty()) {
-        block_restart = false;
-        if (std::isfinite(t)) {
-          if (std::isfinite(previous_time)) last_dt = t - previous_time;
-          previous_time = t;
-        }
-        value[kTime] = t;
-        if (step_column >= 0 && step_column < static_cast<int>(cells.size())) {
-          ParseCell(cells[step_column], layout.decimal, &previous_step);
-        }
-      }
-    }
-    if (!error.empty()) {
-      if (pending_error.empty()) pending_error = error;
-      ++pending_bad_rows;
-      footer_rows += text_row ? 1 : 0;
-      if (!text_row) footer_rows = -1000000;  // a numeric bad row is no footer
-      return;
-    }
-    if (pending_bad_rows > 0) {
-      // Bad rows inside the data.
-      if (!options.lenient) throw ForceError(pending_error);
-      dropped += pending_bad_rows;
-      if (meta.warnings.empty() || dropped == pending_bad_rows) {
-        meta.warnings.push_back("first dropped row: " + pending_error);
-      }
-      pending_error.clear();
-      pending_bad_rows = 0;
-      footer_rows = 0;
-    }
-    store_row(value, line_no);
-  };
-
-  long line_no = 0;
-  for (const auto& h : head) {
-    ++line_no;
-    if (line_no - 1 >= layout.first_data_line) handle_row(h, line_no);
-  }
-  if (more) {
-    while (source.Next(&line)) handle_row(line, ++line_no);
-  }
-  if (pending_bad_rows > 0) {
-    if (footer_rows == pending_bad_rows) {
-      meta.warnings.push_back(
-          fmt::format("ignored a footer of {} text lines", footer_rows));
-    } else if (!options.lenient) {
-      throw ForceError(pending_error);
-    } else {
-      dropped += pending_bad_rows;
-    }
-  }
-  if (total_rows < 2) {
-    throw ForceError(fmt::format(
-        "{}: only {} data rows; expected a time series", name, total_rows));
-  }
-  meta.rows_dropped = dropped;
-  if (dropped > 0) {
-    if (dropped > options.max_dropped_fraction * (total_rows + dropped)) {
-      throw ForceError(fmt::format(
-          "{}: {} of {} rows are bad (more than {:.1f}%); first: {}",
-          name,
-          dropped,
-          total_rows + dropped,
-          100 * options.max_dropped_fraction,
-          meta.warnings.empty() ? pending_error : meta.warnings.front()));
-    }
-    meta.warnings.push_back(fmt::format("dropped {} bad rows", dropped));
-  }
-
-  auto to_vector = [&](Eigen::VectorXd& v) {
-    v.conservativeResize(rows_stored);
-    return std::move(v);
-  };
-  for (int ch = 0; ch < 4; ++ch) {
-    if (column[ch] >= 0) data[ch].conservativeResize(rows_stored);
-  }
-  InferUnits(data, scale, column, layout, name, &meta);
-  for (int ch = 0; ch < 4; ++ch) {
-    meta.channel_units[ch] = column[ch] >= 0 ? scale[ch].unit : "";
-  }
-  record.x_mm = to_vector(data[kX]);
-  record.tangential_n = to_vector(data[kQ]);
-  record.normal_n = to_vector(data[kP]);
-  if (column[kTime] >= 0) {
-    record.time_s = to_vector(data[kTime]);
-    if (record.size() > 1) {
-      const double span = record.time_s[record.size() - 1] - record.time_s[0];
-      if (span > 0) meta.sampling_rate_hz = (record.size() - 1) / span;
-    }
-  } else {
-    const double rate = layout.metadata_rate_hz > 0 ? layout.metadata_rate_hz
-                                                    : options.sampling_rate_hz;
-    if (!(rate > 0)) {
-      throw ForceError(fmt::format(
-          "{}: no time column and no sampling rate in the metadata; expected a "
-          "'Time' column or a line such as 'Sampling frequency [Hz]: 100' "
-          "(or give the rate explicitly)",
-          name));
-    }
-    meta.sampling_rate_hz = rate;
-    meta.time_rebuilt = true;
-    record.time_s = Eigen::VectorXd::LinSpaced(
-        record.x_mm.size(), 0.0, (record.x_mm.size() - 1) / rate);
-  }
+  record.x_mm = std::move(data[kX]);
+  record.tangential_n = std::move(data[kQ]);
+  record.normal_n = std::move(data[kP]);
+  SetTime(&record, &data[kTime], layout, options, name);
   CheckPlausible(record, name);
-  // Compression positive, whatever the instrument's sign.
-  std::vector<double> finite;
-  finite.reserve(static_cast<size_t>(record.size()));
-  for (Eigen::Index i = 0; i < record.size();
-       i += std::max<Eigen::Index>(1, record.size() / 4096)) {
-    if (std::isfinite(record.normal_n[i])) finite.push_back(record.normal_n[i]);
-  }
-  if (!finite.empty()) {
-    std::nth_element(
-        finite.begin(), finite.begin() + finite.size() / 2, finite.end());
-    if (finite[finite.size() / 2] < 0) {
-      record.normal_n = -record.normal_n;
-      meta.normal_sign_flipped = true;
-    }
-  }
+  MakeCompressionPositive(&record);
   return record;
 }
 

@@ -221,14 +221,48 @@ bool SimulationOptions::IsValid(std::string* why) const {
   return true;
 }
 
-SimulatedTest Simulate(const SimulationOptions& o) {
-  std::string why;
-  if (!o.IsValid(&why))
-    throw std::invalid_argument("simulation options: " + why);
-  Rng rng(o.seed);
-  SimulatedTest out;
+namespace {
 
-  // ---- Specimen along the stroke: hardness, wear shape, elastic shape.
+// The specimen along the stroke: the worn track's shape (mean 1 over the
+// stroke) and slope, and the elastic compliance's shape (zero mean, unit
+// sd), from hardness and stiffness with earlywood / latewood bands across
+// the rings and a random texture.
+struct Specimen {
+  Grid wear_shape, wear_slope, elastic_shape;
+  double wear_sd = 0;  // sd of wear_shape over the stroke
+};
+
+// The fraction of latewood at x: smooth band edges (logistic, 4% of a
+// ring), the band wrapping around the ring.
+double Latewood(const SimulationOptions& o, double x, double ring_phase) {
+  const double p =
+      std::fmod(x - ring_phase + 100 * o.ring_period_mm, o.ring_period_mm) /
+      o.ring_period_mm;
+  const double edge = 0.04;
+  const double start = 1.0 - o.latewood_fraction;
+  return 1.0 / (1.0 + std::exp(-(p - start) / edge)) *
+             (1.0 / (1.0 + std::exp((p - 1.0) / edge))) +
+         1.0 / (1.0 + std::exp(-(p + 1.0 - start) / edge)) *
+             (1.0 / (1.0 + std::exp(p / edge)));
+}
+
+// Mean and sd of v over the stroke (|x| <= amplitude).
+std::pair<double, double> StrokeMoments(const SimulationOptions& o,
+                                        const Eigen::VectorXd& x,
+                                        const Eigen::VectorXd& v) {
+  double m = 0, s2 = 0;
+  int n = 0;
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    if (std::abs(x[i]) <= o.amplitude_mm) m += v[i], ++n;
+  }
+  m /= n;
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    if (std::abs(x[i]) <= o.amplitude_mm) s2 += (v[i] - m) * (v[i] - m);
+  }
+  return {m, std::sqrt(s2 / n)};
+}
+
+Specimen MakeSpecimen(const SimulationOptions& o, Rng& rng) {
   const double margin = o.sphere_radius_mm;
   const double step = 0.002;
   const Eigen::Index ng = static_cast<Eigen::Index>(
@@ -242,19 +276,8 @@ SimulatedTest Simulate(const SimulationOptions& o) {
   const Eigen::VectorXd texture_e = Texture(xg, rng);
   Eigen::VectorXd hardness(ng), stiffness(ng);
   for (Eigen::Index i = 0; i < ng; ++i) {
-    double latewood = 0.0;
-    if (o.across_rings) {
-      // Position within the ring, smooth band edges (logistic, 4% of a ring).
-      const double p = std::fmod(xg[i] - ring_phase + 100 * o.ring_period_mm,
-                                 o.ring_period_mm) /
-                       o.ring_period_mm;
-      const double edge = 0.04;
-      const double start = 1.0 - o.latewood_fraction;
-      latewood = 1.0 / (1.0 + std::exp(-(p - start) / edge)) *
-                 (1.0 / (1.0 + std::exp((p - 1.0) / edge)));
-      latewood += 1.0 / (1.0 + std::exp(-(p + 1.0 - start) / edge)) *
-                  (1.0 / (1.0 + std::exp(p / edge)));  // wrap-around band
-    }
+    const double latewood =
+        o.across_rings ? Latewood(o, xg[i], ring_phase) : 0.0;
     hardness[i] = (1.0 + (o.hardness_contrast - 1.0) * latewood) *
                   (1.0 + o.texture * texture[i]);
     stiffness[i] = (1.0 + (o.hardness_contrast - 1.0) * latewood) *
@@ -262,82 +285,126 @@ SimulatedTest Simulate(const SimulationOptions& o) {
   }
   const double sigma = 0.5 * o.footprint_mm / step;
   Eigen::VectorXd wear = GaussianSmooth(hardness.cwiseInverse(), sigma);
-  // Normalise the wear shape to mean 1 over the stroke.
-  double wear_mean = 0;
+  // Mean 1 over the stroke (the sum over the count, as it always was).
+  double wear_sum = 0;
   int nin = 0;
   for (Eigen::Index i = 0; i < ng; ++i) {
-    if (std::abs(xg[i]) <= o.amplitude_mm) {
-      wear_mean += wear[i];
-      ++nin;
-    }
+    if (std::abs(xg[i]) <= o.amplitude_mm) wear_sum += wear[i], ++nin;
   }
-  wear /= wear_mean / nin;
-  // Elastic: compliance over a wider footprint, zero mean, unit sd.
+  wear /= wear_sum / nin;
   Eigen::VectorXd elastic =
       GaussianSmooth(stiffness.cwiseInverse(), 1.6 * sigma);
-  {
-    double m = 0, s2 = 0;
-    for (Eigen::Index i = 0; i < ng; ++i) {
-      if (std::abs(xg[i]) <= o.amplitude_mm) m += elastic[i];
-    }
-    m /= nin;
-    for (Eigen::Index i = 0; i < ng; ++i) {
-      if (std::abs(xg[i]) <= o.amplitude_mm)
-        s2 += (elastic[i] - m) * (elastic[i] - m);
-    }
-    const double sd = std::sqrt(s2 / nin);
-    elastic = sd > 0 ? Eigen::VectorXd((elastic.array() - m) / sd)
-                     : Eigen::VectorXd::Zero(ng);
+  const auto [m, sd] = StrokeMoments(o, xg, elastic);
+  elastic = sd > 0 ? Eigen::VectorXd((elastic.array() - m) / sd)
+                   : Eigen::VectorXd::Zero(ng);
+  Specimen s;
+  s.wear_shape = Grid{x0, step, wear};
+  s.wear_slope = s.wear_shape.Derivative();
+  s.elastic_shape = Grid{x0, step, elastic};
+  // The sd by the one-pass formula the elastic fraction always used.
+  double w1 = 0, w2 = 0;
+  for (Eigen::Index i = 0; i < ng; ++i) {
+    if (std::abs(xg[i]) > o.amplitude_mm) continue;
+    w1 += wear[i];
+    w2 += wear[i] * wear[i];
   }
-  const Grid wear_shape{x0, step, wear};
-  const Grid wear_slope = wear_shape.Derivative();
-  const Grid elastic_shape{x0, step, elastic};
+  w1 /= nin;
+  s.wear_sd = std::sqrt(std::max(0.0, w2 / nin - w1 * w1));
+  return s;
+}
 
-  // Depth growth: running-in then slow linear growth, normalised to reach
-  // final_depth after the last cycle.
-  auto growth = [&](double n) {
+// How the test evolves: depth of the track (running-in, then slow linear
+// growth, reaching final_depth after the last cycle), mu per cycle, and the
+// elastic part's amplitude (given, or relative to the final profile).
+struct Schedule {
+  const SimulationOptions& o;
+  double depth_scale = 0, elastic_sd_mm = 0;
+
+  Schedule(const SimulationOptions& options, const Specimen& s) : o(options) {
+    depth_scale = o.final_depth_mm / Growth(o.cycles - 1);
+    elastic_sd_mm = o.elastic_fraction >= 0
+                        ? o.elastic_fraction * depth_scale *
+                              Growth(o.cycles - 1) * s.wear_sd
+                        : o.elastic_mm;
+  }
+  double Growth(double n) const {
     return (1.0 - std::exp(-(n + 1) / o.running_in_cycles)) +
            0.3 * (n + 1) / o.cycles;
-  };
-  const double depth_scale = o.final_depth_mm / growth(o.cycles - 1);
-  // The elastic part's amplitude, given or relative to the final profile.
-  double elastic_sd_mm = o.elastic_mm;
-  if (o.elastic_fraction >= 0) {
-    double m = 0, m2 = 0;
-    int count = 0;
-    for (Eigen::Index i = 0; i < ng; ++i) {
-      if (std::abs(xg[i]) > o.amplitude_mm) continue;
-      m += wear[i];
-      m2 += wear[i] * wear[i];
-      ++count;
-    }
-    m /= count;
-    const double sd = std::sqrt(std::max(0.0, m2 / count - m * m));
-    elastic_sd_mm =
-        o.elastic_fraction * depth_scale * growth(o.cycles - 1) * sd;
   }
-  auto mu_of_cycle = [&](int n) {
+  double DepthAmp(int cycle) const { return depth_scale * Growth(cycle); }
+  double Mu(int n) const {
     return o.mu_steady +
            (o.mu_initial - o.mu_steady) * std::exp(-n / o.running_in_cycles) +
            o.mu_drift * n / std::max(1, o.cycles - 1);
-  };
+  }
+};
 
-  // ---- Time loop. x = A sin(2 pi f t) starts at 0 going up; complete
-  // cycles run from minimum to minimum (t = 0.75/f, 1.75/f, ...), so
-  // cycles + 1 periods hold `cycles` complete ones.
+// The true forces at one instant: the wear-scar model with the hidden
+// effects, before the Jenkins element bounds the stick.
+struct SlidingBounds {
+  double p, upper, lower;
+};
+
+SlidingBounds ForcesAt(const SimulationOptions& o,
+                       const Specimen& s,
+                       const Schedule& schedule,
+                       int c,
+                       double pc,
+                       double x,
+                       double v) {
+  const HiddenEffects& fx = o.effects;
+  const double depth_amp = schedule.DepthAmp(c);
+  const double mu = schedule.Mu(c);
+  const double depth = depth_amp * s.wear_shape(x);
+  // Sphere height f = -(worn depth + elastic penetration); the spring turns
+  // it into P. The contact tilt k follows the worn (geometric) path only:
+  // the elastic part moves the sphere, not the contact plane.
+  const double f = -(depth + schedule.elastic_sd_mm * s.elastic_shape(x));
+  const double p = pc + o.spring_n_per_mm * f;
+  const double k = -depth_amp * s.wear_slope(x);
+  const double speed = std::abs(v);
+  const double stribeck =
+      fx.stribeck_rise != 0
+          ? fusion::StribeckFactor(
+                speed, fx.stribeck_rise, fx.stribeck_speed_mm_s)
+          : 1.0;
+  const double mu_f = mu * (1 + fx.direction_asymmetry) * stribeck;
+  const double mu_r = mu * (1 - fx.direction_asymmetry) * stribeck;
+  double upper = fusion::WearScarTangentialForce(p, k, mu_f, +1);
+  double lower = fusion::WearScarTangentialForce(p, k, mu_r, -1);
+  const double extra =
+      fx.ploughing_n_per_mm * depth + fx.viscous_n_s_per_mm * speed;
+  upper += extra;
+  lower -= extra;
+  if (fx.hook_n != 0) {
+    upper +=
+        fusion::HookForce(o.amplitude_mm - x, fx.hook_n, fx.hook_length_mm, +1);
+    lower +=
+        fusion::HookForce(x + o.amplitude_mm, fx.hook_n, fx.hook_length_mm, -1);
+  }
+  return {p, upper, lower};
+}
+
+// The tribometer: x = A sin(2 pi f t) starts at 0 going up; complete cycles
+// run from minimum to minimum (t = 0.75/f, 1.75/f, ...), so cycles + 1
+// periods hold `cycles` complete ones. The load controller is slow: once
+// per cycle it removes part of the error of the last cycle's mean. Writes
+// time and x to the record and the true Q and P.
+void RunTribometer(const SimulationOptions& o,
+                   const Specimen& s,
+                   const Schedule& schedule,
+                   force::ForceRecord* rec,
+                   Eigen::VectorXd* q_true,
+                   Eigen::VectorXd* p_true) {
   const Eigen::Index n = static_cast<Eigen::Index>(
       std::llround((o.cycles + 1) * o.sampling_rate_hz / o.frequency_hz));
-  force::ForceRecord& rec = out.record;
-  rec.time_s.resize(n);
-  rec.x_mm.resize(n);
-  rec.tangential_n.resize(n);
-  rec.normal_n.resize(n);
-  Eigen::VectorXd q_true(n), p_true(n);
-  const HiddenEffects& fx = o.effects;
+  rec->time_s.resize(n);
+  rec->x_mm.resize(n);
+  q_true->resize(n);
+  p_true->resize(n);
   double pc = o.target_normal_n;  // controller's set point for the spring
-  double q = 0.0, x_prev = 0.0;
+  double q = 0.0, x_prev = 0.0, p_sum = 0;
   int cycle = -1;
-  double p_sum = 0;
   long p_count = 0;
   for (Eigen::Index i = 0; i < n; ++i) {
     const double t = static_cast<double>(i) / o.sampling_rate_hz;
@@ -348,55 +415,36 @@ SimulatedTest Simulate(const SimulationOptions& o) {
                    0,
                    o.cycles - 1);
     if (c != cycle) {
-      // Slow normal-force control: once per cycle, remove part of the error
-      // of the last cycle's mean.
       if (p_count > 0)
         pc += o.control_gain * (o.target_normal_n - p_sum / p_count);
       p_sum = 0;
       p_count = 0;
       cycle = c;
     }
-    const double depth_amp = depth_scale * growth(c);
-    const double mu = mu_of_cycle(c);
-    const double depth = depth_amp * wear_shape(x);
-    // Sphere height f = -(worn depth + elastic penetration); the spring
-    // turns it into P. The contact tilt k follows the worn (geometric) path
-    // only: the elastic part moves the sphere, not the contact plane.
-    const double f = -(depth + elastic_sd_mm * elastic_shape(x));
-    const double p = pc + o.spring_n_per_mm * f;
-    const double k = -depth_amp * wear_slope(x);
-    const double speed = std::abs(v);
-    const double stribeck =
-        fx.stribeck_rise != 0
-            ? fusion::StribeckFactor(
-                  speed, fx.stribeck_rise, fx.stribeck_speed_mm_s)
-            : 1.0;
-    const double mu_f = mu * (1 + fx.direction_asymmetry) * stribeck;
-    const double mu_r = mu * (1 - fx.direction_asymmetry) * stribeck;
-    double upper = fusion::WearScarTangentialForce(p, k, mu_f, +1);
-    double lower = fusion::WearScarTangentialForce(p, k, mu_r, -1);
-    const double extra =
-        fx.ploughing_n_per_mm * depth + fx.viscous_n_s_per_mm * speed;
-    upper += extra;
-    lower -= extra;
-    if (fx.hook_n != 0) {
-      upper += fusion::HookForce(
-          o.amplitude_mm - x, fx.hook_n, fx.hook_length_mm, +1);
-      lower += fusion::HookForce(
-          x + o.amplitude_mm, fx.hook_n, fx.hook_length_mm, -1);
-    }
+    const SlidingBounds b = ForcesAt(o, s, schedule, c, pc, x, v);
     // Jenkins element: elastic stick, bounded by the sliding forces.
     if (i > 0) q += o.contact_stiffness_n_per_mm * (x - x_prev);
-    q = std::clamp(q, lower, upper);
+    q = std::clamp(q, b.lower, b.upper);
     x_prev = x;
-    q_true[i] = q;
-    p_true[i] = p;
-    p_sum += p;
+    (*q_true)[i] = q;
+    (*p_true)[i] = b.p;
+    p_sum += b.p;
     ++p_count;
-    rec.time_s[i] = t;
-    rec.x_mm[i] = x;
+    rec->time_s[i] = t;
+    rec->x_mm[i] = x;
   }
-  // ---- Sensors: lag, crosstalk, noise, resolution.
+}
+
+// The sensors: Q's lag, Q's crosstalk into P, noise and resolution.
+void Measure(const SimulationOptions& o,
+             const Eigen::VectorXd& q_true,
+             const Eigen::VectorXd& p_true,
+             Rng& rng,
+             force::ForceRecord* rec) {
+  const HiddenEffects& fx = o.effects;
+  const Eigen::Index n = q_true.size();
+  rec->tangential_n.resize(n);
+  rec->normal_n.resize(n);
   const double lag_samples = fx.q_lag_s * o.sampling_rate_hz;
   for (Eigen::Index i = 0; i < n; ++i) {
     double qm = q_true[i];
@@ -409,129 +457,145 @@ SimulatedTest Simulate(const SimulationOptions& o) {
       qm = (1 - w) * q_true[j0] + w * q_true[j1];
     }
     const double pm = p_true[i] + fx.crosstalk_q_into_p * q_true[i];
-    rec.tangential_n[i] = Quantise(
+    rec->tangential_n[i] = Quantise(
         qm + o.noise_scale * o.q_noise_n * rng.Normal(), o.q_resolution_n);
-    rec.normal_n[i] = Quantise(pm + o.noise_scale * o.p_noise_n * rng.Normal(),
-                               o.p_resolution_n);
-    rec.x_mm[i] += o.x_noise_mm * rng.Normal();
+    rec->normal_n[i] = Quantise(pm + o.noise_scale * o.p_noise_n * rng.Normal(),
+                                o.p_resolution_n);
+    rec->x_mm[i] += o.x_noise_mm * rng.Normal();
   }
-  rec.metadata.source = "simulator:" + o.name;
-  rec.metadata.layout = "simulated";
-  rec.metadata.sampling_rate_hz = o.sampling_rate_hz;
-  rec.metadata.channel_names = {"time_s", "x_mm", "Q_N", "P_N"};
-  rec.metadata.channel_units = {"s", "mm", "N", "N"};
+  rec->metadata.source = "simulator:" + o.name;
+  rec->metadata.layout = "simulated";
+  rec->metadata.sampling_rate_hz = o.sampling_rate_hz;
+  rec->metadata.channel_names = {"time_s", "x_mm", "Q_N", "P_N"};
+  rec->metadata.channel_units = {"s", "mm", "N", "N"};
+}
 
-  // ---- Ground truth.
-  GroundTruth& truth = out.truth;
-  truth.mu_per_cycle.resize(o.cycles);
-  for (int c = 0; c < o.cycles; ++c) truth.mu_per_cycle[c] = mu_of_cycle(c);
-  const double final_amp = depth_scale * growth(o.cycles - 1);
-  {
-    const int np = static_cast<int>(std::round(2 * o.amplitude_mm / 0.01)) + 1;
-    truth.profile_x_mm =
-        Eigen::VectorXd::LinSpaced(np, -o.amplitude_mm, o.amplitude_mm);
-    truth.worn_depth_mm.resize(np);
-    truth.elastic_mm.resize(np);
-    for (int i = 0; i < np; ++i) {
-      truth.worn_depth_mm[i] = final_amp * wear_shape(truth.profile_x_mm[i]);
-      truth.elastic_mm[i] =
-          elastic_sd_mm * elastic_shape(truth.profile_x_mm[i]);
-    }
+// What the analysis should recover: mu per cycle, the final worn profile
+// and the elastic part along the stroke, and whether the wear-scar
+// hypothesis holds.
+void FillTruth(const SimulationOptions& o,
+               const Specimen& s,
+               const Schedule& schedule,
+               GroundTruth* truth) {
+  truth->mu_per_cycle.resize(o.cycles);
+  for (int c = 0; c < o.cycles; ++c) truth->mu_per_cycle[c] = schedule.Mu(c);
+  const double final_amp = schedule.DepthAmp(o.cycles - 1);
+  const int np = static_cast<int>(std::round(2 * o.amplitude_mm / 0.01)) + 1;
+  truth->profile_x_mm =
+      Eigen::VectorXd::LinSpaced(np, -o.amplitude_mm, o.amplitude_mm);
+  truth->worn_depth_mm.resize(np);
+  truth->elastic_mm.resize(np);
+  for (int i = 0; i < np; ++i) {
+    truth->worn_depth_mm[i] = final_amp * s.wear_shape(truth->profile_x_mm[i]);
+    truth->elastic_mm[i] =
+        schedule.elastic_sd_mm * s.elastic_shape(truth->profile_x_mm[i]);
   }
-  {
-    // The wear-scar hypothesis holds while the elastic part stays small
-    // next to the waviness of the worn profile: the verdict must pass an
-    // elastic part of 10% of the profile's sd and flag one of 25%; the truth
-    // puts the line between them.
-    constexpr double kElasticLimit = 0.175;
-    const Eigen::ArrayXd d = truth.worn_depth_mm.array();
-    const double sd = std::sqrt((d - d.mean()).square().mean());
-    truth.explained_by_wear_scar = elastic_sd_mm < kElasticLimit * sd;
-    const Eigen::ArrayXd f = d + truth.elastic_mm.array();
-    auto sd_of = [](const Eigen::ArrayXd& v) {
-      return std::sqrt((v - v.mean()).square().mean());
-    };
-    truth.force_profile_sd_mm = sd_of(f);
-    truth.force_profile_range_mm = f.maxCoeff() - f.minCoeff();
-    truth.scan_profile_sd_mm = sd_of(d);
-    truth.scan_profile_range_mm = d.maxCoeff() - d.minCoeff();
-  }
+  // The wear-scar hypothesis holds while the elastic part stays small next
+  // to the waviness of the worn profile: the verdict must pass an elastic
+  // part of 10% of the profile's sd and flag one of 25%; the truth puts the
+  // line between them.
+  constexpr double kElasticLimit = 0.175;
+  const Eigen::ArrayXd d = truth->worn_depth_mm.array();
+  auto sd_of = [](const Eigen::ArrayXd& v) {
+    return std::sqrt((v - v.mean()).square().mean());
+  };
+  truth->explained_by_wear_scar =
+      schedule.elastic_sd_mm < kElasticLimit * sd_of(d);
+  const Eigen::ArrayXd f = d + truth->elastic_mm.array();
+  truth->force_profile_sd_mm = sd_of(f);
+  truth->force_profile_range_mm = f.maxCoeff() - f.minCoeff();
+  truth->scan_profile_sd_mm = sd_of(d);
+  truth->scan_profile_range_mm = d.maxCoeff() - d.minCoeff();
+}
 
-  // ---- Scanner: the worn track at the end of the test.
-  scan::HeightMap& map = out.scan;
+// Correlated isotropic roughness of the unworn surface, sd roughness_mm.
+scan::HeightMap::Heights Roughness(const SimulationOptions& o, Rng& rng) {
+  scan::HeightMap::Heights t(o.scan_rows, o.scan_cols);
+  for (Eigen::Index i = 0; i < t.size(); ++i) {
+    t.data()[i] = static_cast<float>(rng.Normal());
+  }
+  BlurInPlace(&t, o.roughness_length_mm / o.scan_pitch_mm);
+  const double sd =
+      std::sqrt((t.cast<double>() - t.cast<double>().mean()).square().mean());
+  if (sd > 0) t *= static_cast<float>(o.roughness_mm / sd);
+  return t;
+}
+
+// Fibres: a random ridge profile across the fibre direction.
+Grid Fibres(const SimulationOptions& o, Rng& rng) {
+  Grid fibres{0.0, 1.0, Eigen::VectorXd::Zero(2)};
+  if (!(o.fibre_amplitude_mm > 0)) return fibres;
+  const double pitch = o.scan_pitch_mm;
+  const double half =
+      std::hypot(o.scan_cols * pitch, o.scan_rows * pitch) + pitch;
+  fibres.step = std::min(pitch, o.fibre_width_mm) / 2;
+  fibres.x0 = -half;
+  const Eigen::Index nf =
+      static_cast<Eigen::Index>(std::ceil(2 * half / fibres.step)) + 1;
+  Eigen::VectorXd white(nf);
+  for (Eigen::Index i = 0; i < nf; ++i) white[i] = rng.Normal();
+  Eigen::VectorXd f = GaussianSmooth(white, o.fibre_width_mm / fibres.step);
+  const double m = f.mean();
+  const double sd = std::sqrt((f.array() - m).square().mean());
+  fibres.v =
+      sd > 0 ? Eigen::VectorXd((f.array() - m) * (o.fibre_amplitude_mm / sd))
+             : Eigen::VectorXd::Zero(nf);
+  return fibres;
+}
+
+// The plate frame of the scan: track centre, direction, and its truth.
+struct ScanFrame {
+  double ct, st, cx, cy, sf, cf;
+};
+
+ScanFrame MakeScanFrame(const SimulationOptions& o) {
+  const double pitch = o.scan_pitch_mm;
+  const double theta = o.scan_angle_deg * kPi / 180.0;
+  const double phi = theta + o.fibre_angle_deg * kPi / 180.0;
+  ScanFrame f;
+  f.ct = std::cos(theta);
+  f.st = std::sin(theta);
+  f.cx = 0.5 * (o.scan_cols - 1) * pitch + o.scan_track_offset_mm * f.ct;
+  f.cy = 0.5 * (o.scan_rows - 1) * pitch + o.scan_track_offset_mm * f.st;
+  f.cf = std::cos(phi);
+  f.sf = std::sin(phi);
+  return f;
+}
+
+// Depth of the groove a sphere of radius r leaves at (u along, w across)
+// the track of final depth profile d0, and the rim pushed up beside it.
+struct Groove {
+  double depth, rim;
+};
+
+Groove GrooveAt(const SimulationOptions& o,
+                const Specimen& s,
+                double final_amp,
+                double u,
+                double w) {
+  const double r = o.sphere_radius_mm;
+  const double ue = std::clamp(u, -o.amplitude_mm, o.amplitude_mm);
+  const double d0 = final_amp * s.wear_shape(ue);
+  const double du = std::abs(u) - o.amplitude_mm;
+  const double r2 = w * w + (du > 0 ? du * du : 0.0);
+  const double depth =
+      r2 < r * r ? std::max(0.0, d0 - (r - std::sqrt(r * r - r2))) : 0.0;
+  double rim = 0.0;
+  if (o.rim_fraction > 0 && d0 > 0 && d0 < r) {
+    const double edge = std::sqrt(r * r - (r - d0) * (r - d0));
+    const double t = (std::sqrt(r2) - edge) / o.rim_width_mm;
+    rim = o.rim_fraction * d0 * std::exp(-t * t);
+  }
+  return {depth, rim};
+}
+
+// Invalid pixels: small scattered clusters (steep walls, dark latewood)
+// and one large cluster (a pore, a shadow), then a few spikes.
+void AddScanDefects(const SimulationOptions& o,
+                    Rng& rng,
+                    scan::HeightMap* map) {
   const int rows = o.scan_rows, cols = o.scan_cols;
   const double pitch = o.scan_pitch_mm;
-  map.height_mm.resize(rows, cols);
-  map.valid.resize(rows, cols);
-  map.dx_mm = map.dy_mm = pitch;
-  const double theta = o.scan_angle_deg * kPi / 180.0;
-  const double ct = std::cos(theta), st = std::sin(theta);
-  const double cx = 0.5 * (cols - 1) * pitch + o.scan_track_offset_mm * ct;
-  const double cy = 0.5 * (rows - 1) * pitch + o.scan_track_offset_mm * st;
-  const double r = o.sphere_radius_mm;
-  // Texture of the unworn surface: correlated isotropic roughness ...
-  scan::HeightMap::Heights texture_map(rows, cols);
-  for (Eigen::Index i = 0; i < texture_map.size(); ++i) {
-    texture_map.data()[i] = static_cast<float>(rng.Normal());
-  }
-  BlurInPlace(&texture_map, o.roughness_length_mm / pitch);
-  {
-    const double sd = std::sqrt(
-        (texture_map.cast<double>() - texture_map.cast<double>().mean())
-            .square()
-            .mean());
-    if (sd > 0) texture_map *= static_cast<float>(o.roughness_mm / sd);
-  }
-  // ... and fibres: a random ridge profile across the fibre direction.
-  const double phi = theta + o.fibre_angle_deg * kPi / 180.0;
-  const double cf = std::cos(phi), sf = std::sin(phi);
-  Grid fibres{0.0, 1.0, Eigen::VectorXd::Zero(2)};
-  if (o.fibre_amplitude_mm > 0) {
-    const double half = std::hypot(cols * pitch, rows * pitch) + pitch;
-    fibres.step = std::min(pitch, o.fibre_width_mm) / 2;
-    fibres.x0 = -half;
-    const Eigen::Index nf =
-        static_cast<Eigen::Index>(std::ceil(2 * half / fibres.step)) + 1;
-    Eigen::VectorXd white(nf);
-    for (Eigen::Index i = 0; i < nf; ++i) white[i] = rng.Normal();
-    Eigen::VectorXd f = GaussianSmooth(white, o.fibre_width_mm / fibres.step);
-    const double m = f.mean();
-    const double sd = std::sqrt((f.array() - m).square().mean());
-    fibres.v =
-        sd > 0 ? Eigen::VectorXd((f.array() - m) * (o.fibre_amplitude_mm / sd))
-               : Eigen::VectorXd::Zero(nf);
-  }
-  for (int row = 0; row < rows; ++row) {
-    for (int col = 0; col < cols; ++col) {
-      const double X = col * pitch, Y = row * pitch;
-      const double s = (X - cx) * ct + (Y - cy) * st;
-      const double w = -(X - cx) * st + (Y - cy) * ct;
-      const double u = o.scan_flipped ? -s : s;
-      const double ue = std::clamp(u, -o.amplitude_mm, o.amplitude_mm);
-      const double d0 = final_amp * wear_shape(ue);
-      const double du = std::abs(u) - o.amplitude_mm;
-      const double r2 = w * w + (du > 0 ? du * du : 0.0);
-      const double depth =
-          r2 < r * r ? std::max(0.0, d0 - (r - std::sqrt(r * r - r2))) : 0.0;
-      // Rim: material pushed up along the edge of the groove.
-      double rim = 0.0;
-      if (o.rim_fraction > 0 && d0 > 0 && d0 < r) {
-        const double edge = std::sqrt(r * r - (r - d0) * (r - d0));
-        const double t = (std::sqrt(r2) - edge) / o.rim_width_mm;
-        rim = o.rim_fraction * d0 * std::exp(-t * t);
-      }
-      // The worn surface keeps little of the texture.
-      const double surface =
-          (texture_map(row, col) +
-           (o.fibre_amplitude_mm > 0 ? fibres(-X * sf + Y * cf) : 0.0)) /
-          (1.0 + depth / 0.01);
-      const double z = o.plane_z0_mm + o.plane_dzdx * X + o.plane_dzdy * Y -
-                       depth + rim + surface + o.scan_noise_mm * rng.Normal();
-      map.height_mm(row, col) = static_cast<float>(z);
-    }
-  }
-  // Invalid pixels: small scattered clusters (steep walls, dark latewood)
-  // and one large cluster (a pore, a shadow), then a few spikes.
   const float kNaN = std::numeric_limits<float>::quiet_NaN();
   const long pixels = static_cast<long>(rows) * cols;
   const long clusters =
@@ -541,10 +605,12 @@ SimulatedTest Simulate(const SimulationOptions& o) {
     const int cc = static_cast<int>(rng.Uniform() * cols);
     for (int dr = -1; dr <= 1; ++dr) {
       for (int dc = -1; dc <= 1; ++dc) {
-        if (std::abs(dr) + std::abs(dc) > 1) continue;
         const int r2i = rr + dr, c2i = cc + dc;
-        if (r2i < 0 || c2i < 0 || r2i >= rows || c2i >= cols) continue;
-        map.height_mm(r2i, c2i) = kNaN;
+        if (std::abs(dr) + std::abs(dc) > 1 || r2i < 0 || c2i < 0 ||
+            r2i >= rows || c2i >= cols) {
+          continue;
+        }
+        map->height_mm(r2i, c2i) = kNaN;
       }
     }
   }
@@ -556,9 +622,9 @@ SimulatedTest Simulate(const SimulationOptions& o) {
       for (int col = 0; col < cols; ++col) {
         // A blob, not a disc: the radius wobbles with the angle.
         const double dx = col * pitch - ccx, dy = row * pitch - ccy;
-        const double a = std::atan2(dy, dx);
-        const double rr = rad * (1.0 + 0.25 * std::sin(3 * a + 1.0));
-        if (dx * dx + dy * dy < rr * rr) map.height_mm(row, col) = kNaN;
+        const double rr =
+            rad * (1.0 + 0.25 * std::sin(3 * std::atan2(dy, dx) + 1.0));
+        if (dx * dx + dy * dy < rr * rr) map->height_mm(row, col) = kNaN;
       }
     }
   }
@@ -566,26 +632,85 @@ SimulatedTest Simulate(const SimulationOptions& o) {
   for (long k = 0; k < spikes; ++k) {
     const int rr = static_cast<int>(rng.Uniform() * rows);
     const int cc = static_cast<int>(rng.Uniform() * cols);
-    map.height_mm(rr, cc) +=
+    map->height_mm(rr, cc) +=
         static_cast<float>((rng.Uniform() < 0.5 ? -1 : 1) * 0.04);
   }
+}
+
+// The scanner: the worn track at the end of the test on a tilted plane,
+// with roughness, fibres (mostly worn away inside the track), noise and
+// defects; the frame's truth goes to `truth`.
+scan::HeightMap ScanTrack(const SimulationOptions& o,
+                          const Specimen& s,
+                          const Schedule& schedule,
+                          Rng& rng,
+                          GroundTruth* truth) {
+  scan::HeightMap map;
+  const int rows = o.scan_rows, cols = o.scan_cols;
+  const double pitch = o.scan_pitch_mm;
+  map.height_mm.resize(rows, cols);
+  map.valid.resize(rows, cols);
+  map.dx_mm = map.dy_mm = pitch;
+  const ScanFrame f = MakeScanFrame(o);
+  const double final_amp = schedule.DepthAmp(o.cycles - 1);
+  const scan::HeightMap::Heights roughness = Roughness(o, rng);
+  const Grid fibres = Fibres(o, rng);
+  for (int row = 0; row < rows; ++row) {
+    for (int col = 0; col < cols; ++col) {
+      const double X = col * pitch, Y = row * pitch;
+      const double along = (X - f.cx) * f.ct + (Y - f.cy) * f.st;
+      const double across = -(X - f.cx) * f.st + (Y - f.cy) * f.ct;
+      const Groove g =
+          GrooveAt(o, s, final_amp, o.scan_flipped ? -along : along, across);
+      // The worn surface keeps little of the texture.
+      const double surface =
+          (roughness(row, col) +
+           (o.fibre_amplitude_mm > 0 ? fibres(-X * f.sf + Y * f.cf) : 0.0)) /
+          (1.0 + g.depth / 0.01);
+      const double z = o.plane_z0_mm + o.plane_dzdx * X + o.plane_dzdy * Y -
+                       g.depth + g.rim + surface +
+                       o.scan_noise_mm * rng.Normal();
+      map.height_mm(row, col) = static_cast<float>(z);
+    }
+  }
+  AddScanDefects(o, rng, &map);
   scan::SyncValidity(&map);
   map.metadata.source = "simulator:" + o.name;
   map.metadata.format = "simulated";
   map.metadata.instrument = "wearscar virtual scanner";
-  truth.scan_center_x_mm = cx;
-  truth.scan_center_y_mm = cy;
-  truth.scan_angle_deg = o.scan_angle_deg;
-  truth.scan_flipped = o.scan_flipped;
-  truth.plane_dzdx = o.plane_dzdx;
-  truth.plane_dzdy = o.plane_dzdy;
-  truth.plane_z0_mm = o.plane_z0_mm;
-  truth.scan_pitch_mm = pitch;
-  truth.origin_col = cx / pitch;
-  truth.origin_row = cy / pitch;
+  truth->scan_center_x_mm = f.cx;
+  truth->scan_center_y_mm = f.cy;
+  truth->scan_angle_deg = o.scan_angle_deg;
+  truth->scan_flipped = o.scan_flipped;
+  truth->plane_dzdx = o.plane_dzdx;
+  truth->plane_dzdy = o.plane_dzdy;
+  truth->plane_z0_mm = o.plane_z0_mm;
+  truth->scan_pitch_mm = pitch;
+  truth->origin_col = f.cx / pitch;
+  truth->origin_row = f.cy / pitch;
   const double flip = o.scan_flipped ? -1.0 : 1.0;
-  truth.col_per_mm = flip * ct / pitch;
-  truth.row_per_mm = flip * st / pitch;
+  truth->col_per_mm = flip * f.ct / pitch;
+  truth->row_per_mm = flip * f.st / pitch;
+  return map;
+}
+
+}  // namespace
+
+SimulatedTest Simulate(const SimulationOptions& o) {
+  std::string why;
+  if (!o.IsValid(&why))
+    throw std::invalid_argument("simulation options: " + why);
+  // The random numbers are drawn in this order (specimen, sensors, scanner):
+  // the committed samples depend on it.
+  Rng rng(o.seed);
+  SimulatedTest out;
+  const Specimen specimen = MakeSpecimen(o, rng);
+  const Schedule schedule(o, specimen);
+  Eigen::VectorXd q_true, p_true;
+  RunTribometer(o, specimen, schedule, &out.record, &q_true, &p_true);
+  Measure(o, q_true, p_true, rng, &out.record);
+  FillTruth(o, specimen, schedule, &out.truth);
+  out.scan = ScanTrack(o, specimen, schedule, rng, &out.truth);
   return out;
 }
 

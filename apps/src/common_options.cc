@@ -23,7 +23,10 @@ void AddRangeChecks(CLI::App* cmd, std::initializer_list<Range> ranges) {
 
 }  // namespace
 
-void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
+namespace {
+
+// The force export: columns, units, rate, leniency.
+void AddForceFileOptions(CLI::App* cmd, CommonArgs* a) {
   auto& r = a->read_force;
   cmd->add_option("--time-column", r.time_column, "Time column name or #N")
       ->group("Force file");
@@ -62,6 +65,10 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
       ->group("Force file");
   cmd->add_flag("--lenient", r.lenient, "Drop isolated bad rows with a warning")
       ->group("Force file");
+}
+
+// How k is estimated from P: spring, ensemble or per cycle, stencil.
+void AddSlopeOptions(CLI::App* cmd, CommonArgs* a) {
   auto& o = a->fuse;
   auto& s = o.analysis.friction.slope;
   cmd->add_option("--spring",
@@ -114,6 +121,11 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
          "Widen the difference stencil to span at least this x, mm (0 = paper)")
       ->capture_default_str()
       ->group("Method");
+}
+
+// Running-in and the bounds of the fit.
+void AddRunningInOptions(CLI::App* cmd, CommonArgs* a) {
+  auto& o = a->fuse;
   cmd->add_option("--running-in",
                   a->running_in,
                   "Running-in cycles excluded from statistics: a number, or "
@@ -132,6 +144,11 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
                   "Upper end of the mu search")
       ->capture_default_str()
       ->group("Method");
+}
+
+// The verdict: cost criterion and its limits.
+void AddVerdictOptions(CLI::App* cmd, CommonArgs* a) {
+  auto& o = a->fuse;
   cmd->add_option("--verdict-cost",
                   a->verdict_cost,
                   "Verdict on J: excess (the part of J this test's noise "
@@ -158,6 +175,11 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
                   "interval beyond it)")
       ->capture_default_str()
       ->group("Verdict");
+}
+
+// The LuGre comparison.
+void AddLugreOptions(CLI::App* cmd, CommonArgs* a) {
+  auto& o = a->fuse;
   cmd->add_flag("--no-lugre", a->no_lugre, "Skip the LuGre comparison")
       ->group("Method");
   cmd->add_option(
@@ -166,23 +188,11 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
   cmd->add_option(
          "--lugre-fs", o.lugre.static_n, "LuGre F_s, N (0 = from the cycle)")
       ->group("Method");
-  AddRangeChecks(cmd,
-                 {{"--rate", 0.0, 1e8},
-                  {"--spring", 1e-6, 1e6},
-                  {"--ensemble-cycles", 1, 10001},
-                  {"--ensemble-span", 1e-3, 10},
-                  {"--window-ms", 1e-3, 1e4},
-                  {"--window", 0, 1e5},
-                  {"--difference-ms", 1e-3, 1e4},
-                  {"--min-span", 0, 10},
-                  {"--running-in-tolerance", 1e-9, 1},
-                  {"--mu-max", 1e-3, 10},
-                  {"--max-excess", 1e-9, 100},
-                  {"--max-cost", 1e-9, 100},
-                  {"--max-method-difference", 1e-9, 10},
-                  {"--lugre-fc", 0, 1e5},
-                  {"--lugre-fs", 0, 1e5}});
-  if (!with_scan) return;
+}
+
+// The scan side of the comparison: slope choice, cycles compared.
+void AddScanSlopeOptions(CLI::App* cmd, CommonArgs* a) {
+  auto& o = a->fuse;
   cmd->add_option("--slope",
                   a->slope,
                   "Slope of the sliding path for mu-hat: force (k = dP/dx / "
@@ -214,6 +224,11 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
                   "Compare the scan with the last N cycles")
       ->capture_default_str()
       ->group("Scan");
+}
+
+// Levelling, the centreline band and the scan slope.
+void AddLevelOptions(CLI::App* cmd, CommonArgs* a) {
+  auto& o = a->fuse;
   cmd->add_option("--level-order",
                   o.level.polynomial_order,
                   "Reference surface order (1-3)")
@@ -233,6 +248,11 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
                   "Scan slope window, scan samples")
       ->capture_default_str()
       ->group("Scan");
+}
+
+// Finding or placing the worn track.
+void AddTrackOptions(CLI::App* cmd, CommonArgs* a) {
+  auto& o = a->fuse;
   cmd->add_option("--min-depth", o.track.min_depth_mm, "Track: least depth, mm")
       ->capture_default_str()
       ->group("Scan");
@@ -261,6 +281,10 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
                   o.track.center_y_mm,
                   "Track centre y, mm (manual placement)")
       ->group("Scan");
+}
+
+// Reading the height map.
+void AddScanFileOptions(CLI::App* cmd, CommonArgs* a) {
   cmd->add_flag("--large-maps",
                 a->large_maps,
                 "Raise the decompression limits for genuinely large maps "
@@ -283,6 +307,37 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
   cmd->add_option(
          "--ascii-unit", a->read_scan.ascii_z_unit, "ASCII matrix height unit")
       ->group("Scan");
+}
+
+}  // namespace
+
+void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
+  AddForceFileOptions(cmd, a);
+  AddSlopeOptions(cmd, a);
+  AddRunningInOptions(cmd, a);
+  AddVerdictOptions(cmd, a);
+  AddLugreOptions(cmd, a);
+  AddRangeChecks(cmd,
+                 {{"--rate", 0.0, 1e8},
+                  {"--spring", 1e-6, 1e6},
+                  {"--ensemble-cycles", 1, 10001},
+                  {"--ensemble-span", 1e-3, 10},
+                  {"--window-ms", 1e-3, 1e4},
+                  {"--window", 0, 1e5},
+                  {"--difference-ms", 1e-3, 1e4},
+                  {"--min-span", 0, 10},
+                  {"--running-in-tolerance", 1e-9, 1},
+                  {"--mu-max", 1e-3, 10},
+                  {"--max-excess", 1e-9, 100},
+                  {"--max-cost", 1e-9, 100},
+                  {"--max-method-difference", 1e-9, 10},
+                  {"--lugre-fc", 0, 1e5},
+                  {"--lugre-fs", 0, 1e5}});
+  if (!with_scan) return;
+  AddScanSlopeOptions(cmd, a);
+  AddLevelOptions(cmd, a);
+  AddTrackOptions(cmd, a);
+  AddScanFileOptions(cmd, a);
   AddRangeChecks(cmd,
                  {{"--compare-first", -1, 1e7},
                   {"--compare-last", -1, 1e7},
@@ -296,6 +351,77 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
                   {"--min-elongation", 1, 1e3},
                   {"--max-pixel-aspect", 1, 1e6}});
 }
+
+namespace {
+
+// --running-in: "auto" (-1) or a number of cycles >= 0.
+int ParseRunningIn(const std::string& text) {
+  if (text == "auto") return -1;
+  size_t used = 0;
+  int n = -1;
+  try {
+    n = std::stoi(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size() || n < 0) {
+    throw UsageError(fmt::format(
+        "--running-in '{}': expected auto or a number of cycles >= 0", text));
+  }
+  return n;
+}
+
+// --columns time=NAME,x=NAME:UNIT,...: the column overrides and units.
+void ApplyColumns(const std::string& columns, force::ReadForceOptions* r) {
+  std::string rest = columns;
+  while (!rest.empty()) {
+    const size_t comma = rest.find(',');
+    const std::string item = rest.substr(0, comma);
+    rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
+    const size_t eq = item.find('=');
+    const std::string key = item.substr(0, eq);
+    const std::string value =
+        eq == std::string::npos ? "" : item.substr(eq + 1);
+    std::string* slot = key == "time" ? &r->time_column
+                        : key == "x"  ? &r->x_column
+                        : key == "q"  ? &r->tangential_column
+                        : key == "p"  ? &r->normal_column
+                                      : nullptr;
+    // NAME:UNIT (a column name may hold a colon; the unit is after the
+    // last one when it reads as a unit).
+    std::string column = value, unit;
+    const size_t colon = value.rfind(':');
+    if (colon != std::string::npos && colon > 0 && colon + 1 < value.size()) {
+      column = value.substr(0, colon);
+      unit = value.substr(colon + 1);
+    }
+    if (!slot || column.empty()) {
+      throw UsageError(fmt::format(
+          "--columns '{}': found '{}', expected time=, x=, q= or p= "
+          "followed by a column name or #N (and :UNIT)",
+          columns,
+          item));
+    }
+    *slot = column;
+    if (!unit.empty()) {
+      std::string* unit_slot = key == "time" ? &r->time_unit
+                               : key == "x"  ? &r->x_unit
+                                             : &r->force_unit;
+      if (!unit_slot->empty() && *unit_slot != unit) {
+        throw UsageError(fmt::format(
+            "--columns '{}': '{}' gives unit '{}' but another setting "
+            "says '{}'; expected one unit for both forces",
+            columns,
+            item,
+            unit,
+            *unit_slot));
+      }
+      *unit_slot = unit;
+    }
+  }
+}
+
+}  // namespace
 
 void FinaliseCommonOptions(CommonArgs* a) {
   a->fuse.fit_lugre = !a->no_lugre;
@@ -333,71 +459,8 @@ void FinaliseCommonOptions(CommonArgs* a) {
         fp.first_cycle,
         fp.last_cycle));
   }
-  if (a->running_in == "auto") {
-    a->fuse.analysis.running_in_cycles = -1;
-  } else {
-    size_t used = 0;
-    int n = -1;
-    try {
-      n = std::stoi(a->running_in, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != a->running_in.size() || n < 0) {
-      throw UsageError(fmt::format(
-          "--running-in '{}': expected auto or a number of cycles >= 0",
-          a->running_in));
-    }
-    a->fuse.analysis.running_in_cycles = n;
-  }
-  if (!a->columns.empty()) {
-    std::string rest = a->columns;
-    while (!rest.empty()) {
-      const size_t comma = rest.find(',');
-      const std::string item = rest.substr(0, comma);
-      rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
-      const size_t eq = item.find('=');
-      const std::string key = item.substr(0, eq);
-      const std::string value =
-          eq == std::string::npos ? "" : item.substr(eq + 1);
-      std::string* slot = key == "time" ? &a->read_force.time_column
-                          : key == "x"  ? &a->read_force.x_column
-                          : key == "q"  ? &a->read_force.tangential_column
-                          : key == "p"  ? &a->read_force.normal_column
-                                        : nullptr;
-      // NAME:UNIT (a column name may hold a colon; the unit is after the
-      // last one when it reads as a unit).
-      std::string column = value, unit;
-      const size_t colon = value.rfind(':');
-      if (colon != std::string::npos && colon > 0 && colon + 1 < value.size()) {
-        column = value.substr(0, colon);
-        unit = value.substr(colon + 1);
-      }
-      if (!slot || column.empty()) {
-        throw UsageError(fmt::format(
-            "--columns '{}': found '{}', expected time=, x=, q= or p= "
-            "followed by a column name or #N (and :UNIT)",
-            a->columns,
-            item));
-      }
-      *slot = column;
-      if (!unit.empty()) {
-        std::string* unit_slot = key == "time" ? &a->read_force.time_unit
-                                 : key == "x"  ? &a->read_force.x_unit
-                                               : &a->read_force.force_unit;
-        if (!unit_slot->empty() && *unit_slot != unit) {
-          throw UsageError(fmt::format(
-              "--columns '{}': '{}' gives unit '{}' but another setting "
-              "says '{}'; expected one unit for both forces",
-              a->columns,
-              item,
-              unit,
-              *unit_slot));
-        }
-        *unit_slot = unit;
-      }
-    }
-  }
+  a->fuse.analysis.running_in_cycles = ParseRunningIn(a->running_in);
+  if (!a->columns.empty()) ApplyColumns(a->columns, &a->read_force);
   std::string why;
   // Units by the option's own name.
   for (auto [option, field] :

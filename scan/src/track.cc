@@ -33,6 +33,12 @@ bool TrackOptions::IsValid(std::string* why) const {
     return fail("depth_fraction must be in (0, 1)");
   if (morphology_px < 0) return fail("morphology_px must be >= 0");
   if (!(min_elongation >= 1)) return fail("min_elongation must be >= 1");
+  if (!(depth_quantile > 0.5 && depth_quantile <= 1))
+    return fail("depth_quantile must be in (0.5, 1]");
+  if (min_component_px < 3) return fail("min_component_px must be >= 3");
+  if (!(length_quantile >= 0 && length_quantile < 0.5 && width_quantile >= 0 &&
+        width_quantile < 0.5))
+    return fail("length_quantile and width_quantile must be in [0, 0.5)");
   if (!(confident_depth_to_roughness >= 0 && confident_elongation >= 1))
     return fail("track confidence limits out of range");
   return true;
@@ -76,41 +82,48 @@ double SampleBilinear(const HeightMap& map, double x_mm, double y_mm) {
          u * v * map.height_mm(r + 1, c + 1);
 }
 
-Track FindTrack(const HeightMap& map, const TrackOptions& options) {
-  std::string why;
-  if (!options.IsValid(&why)) throw ScanError("track options: " + why);
+namespace {
+
+Track ManualTrack(const HeightMap& map, const TrackOptions& options) {
   Track t;
+  t.manual = true;
+  t.center_x_mm = options.center_x_mm;
+  t.center_y_mm = options.center_y_mm;
+  t.angle_deg = options.angle_deg;
+  t.length_mm =
+      options.manual_length_mm > 0
+          ? options.manual_length_mm
+          : std::hypot(map.cols() * map.dx_mm, map.rows() * map.dy_mm);
+  t.message = "placed by hand";
+  return t;
+}
+
+// Pixels deeper than the threshold, smoothed first and cleaned by an
+// opening and a closing; `threshold` and `depths` (every 4th valid pixel's
+// depth) are returned for the message and the roughness.
+cv::Mat DeepPixels(const HeightMap& map,
+                   const TrackOptions& options,
+                   double* threshold,
+                   std::vector<double>* depths) {
   const int rows = static_cast<int>(map.rows()),
             cols = static_cast<int>(map.cols());
-  if (options.manual) {
-    t.manual = true;
-    t.center_x_mm = options.center_x_mm;
-    t.center_y_mm = options.center_y_mm;
-    t.angle_deg = options.angle_deg;
-    t.length_mm = options.manual_length_mm > 0
-                      ? options.manual_length_mm
-                      : std::hypot(cols * map.dx_mm, rows * map.dy_mm);
-    t.message = "placed by hand";
-    return t;
-  }
-  // Depth below the reference, invalid = 0, smoothed.
   cv::Mat depth(rows, cols, CV_32F);
-  std::vector<double> depths;
-  depths.reserve(static_cast<size_t>(rows) * cols / 4 + 1);
+  depths->reserve(static_cast<size_t>(rows) * cols / 4 + 1);
   for (int r = 0; r < rows; ++r) {
     for (int c = 0; c < cols; ++c) {
       const float d = map.valid(r, c) ? -map.height_mm(r, c) : 0.0f;
       depth.at<float>(r, c) = d;
-      if ((r * cols + c) % 4 == 0 && map.valid(r, c)) depths.push_back(d);
+      if ((r * cols + c) % 4 == 0 && map.valid(r, c)) depths->push_back(d);
     }
   }
   if (options.smoothing_sigma_px > 0) {
     cv::GaussianBlur(depth, depth, cv::Size(0, 0), options.smoothing_sigma_px);
   }
-  const double threshold = std::max(
-      options.min_depth_mm, options.depth_fraction * Percentile(depths, 0.995));
+  *threshold = std::max(
+      options.min_depth_mm,
+      options.depth_fraction * Percentile(*depths, options.depth_quantile));
   cv::Mat mask;
-  cv::threshold(depth, mask, threshold, 255, cv::THRESH_BINARY);
+  cv::threshold(depth, mask, *threshold, 255, cv::THRESH_BINARY);
   mask.convertTo(mask, CV_8U);
   if (options.morphology_px > 1) {
     const cv::Mat k = cv::getStructuringElement(
@@ -119,17 +132,28 @@ Track FindTrack(const HeightMap& map, const TrackOptions& options) {
     cv::morphologyEx(mask, mask, cv::MORPH_OPEN, k);
     cv::morphologyEx(mask, mask, cv::MORPH_CLOSE, k);
   }
-  cv::Mat labels, stats, centroids;
-  const int n = cv::connectedComponentsWithStats(
-      mask, labels, stats, centroids, 8, CV_32S);
-  // PCA of each component's pixels (in mm): keep the largest elongated one.
-  int best = -1;
-  double best_area = 0;
+  return mask;
+}
+
+// A connected component by PCA of its pixels (in mm).
+struct Component {
+  int label = -1;
+  double pixels = 0, elongation = 0;
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  Eigen::Vector2d axis = Eigen::Vector2d::UnitX();  // angle in (-90, 90]
+};
+
+// The largest component at least min_elongation long for its width, or
+// one with label -1.
+Component LargestElongated(const HeightMap& map,
+                           const cv::Mat& labels,
+                           int n,
+                           const TrackOptions& options) {
   std::vector<Eigen::Matrix2d> cov(n, Eigen::Matrix2d::Zero());
   std::vector<Eigen::Vector2d> mean(n, Eigen::Vector2d::Zero());
   std::vector<double> count(n, 0.0);
-  for (int r = 0; r < rows; ++r) {
-    for (int c = 0; c < cols; ++c) {
+  for (int r = 0; r < labels.rows; ++r) {
+    for (int c = 0; c < labels.cols; ++c) {
       const int l = labels.at<int>(r, c);
       if (l == 0) continue;
       const Eigen::Vector2d p(c * map.dx_mm, r * map.dy_mm);
@@ -138,47 +162,40 @@ Track FindTrack(const HeightMap& map, const TrackOptions& options) {
       count[l] += 1;
     }
   }
-  std::vector<double> elongation(n, 0.0);
-  std::vector<Eigen::Vector2d> axis(n);
+  Component best;
   for (int l = 1; l < n; ++l) {
-    if (count[l] < 10) continue;
-    mean[l] /= count[l];
-    const Eigen::Matrix2d c = cov[l] / count[l] - mean[l] * mean[l].transpose();
+    if (count[l] < options.min_component_px) continue;
+    const Eigen::Vector2d m = mean[l] / count[l];
+    const Eigen::Matrix2d c = cov[l] / count[l] - m * m.transpose();
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(c);
     const double lo = std::max(es.eigenvalues()[0], 1e-30),
                  hi = es.eigenvalues()[1];
-    elongation[l] = std::sqrt(hi / lo);
-    axis[l] = es.eigenvectors().col(1);
-    const double area = count[l];
-    if (elongation[l] >= options.min_elongation && area > best_area) {
-      best = l;
-      best_area = area;
+    const double elongation = std::sqrt(hi / lo);
+    if (elongation >= options.min_elongation && count[l] > best.pixels) {
+      best = {l, count[l], elongation, m, es.eigenvectors().col(1)};
     }
   }
-  if (best < 0) {
-    throw NoTrackError(fmt::format(
-        "{}: no worn track found: no elongated depression deeper than {:.4f} "
-        "mm (length/width >= "
-        "{}); place it by hand (centre and angle) or lower the depth threshold",
-        map.metadata.source,
-        threshold,
-        options.min_elongation));
-  }
-  Eigen::Vector2d a = axis[best];
-  if (a.x() < 0 || (a.x() == 0 && a.y() < 0)) a = -a;  // angle in (-90, 90]
-  t.angle_deg = std::atan2(a.y(), a.x()) * 180.0 / kPi;
-  t.center_x_mm = mean[best].x();
-  t.center_y_mm = mean[best].y();
-  t.elongation = elongation[best];
-  t.pixels = static_cast<int>(count[best]);
-  // Extents along and across the axis; depth and volume from the raw map.
+  Eigen::Vector2d& a = best.axis;
+  if (a.x() < 0 || (a.x() == 0 && a.y() < 0)) a = -a;
+  return best;
+}
+
+// Length, width (between quantiles of the pixels' positions along and
+// across the axis), the centre moved to the middle of the length, maximum
+// depth and volume from the levelled heights.
+void MeasureExtent(const HeightMap& map,
+                   const cv::Mat& labels,
+                   const Component& k,
+                   const TrackOptions& options,
+                   Track* t) {
   std::vector<double> along, across;
   double max_depth = 0, volume = 0;
-  for (int r = 0; r < rows; ++r) {
-    for (int c = 0; c < cols; ++c) {
-      if (labels.at<int>(r, c) != best) continue;
+  const Eigen::Vector2d& a = k.axis;
+  for (int r = 0; r < labels.rows; ++r) {
+    for (int c = 0; c < labels.cols; ++c) {
+      if (labels.at<int>(r, c) != k.label) continue;
       const Eigen::Vector2d d =
-          Eigen::Vector2d(c * map.dx_mm, r * map.dy_mm) - mean[best];
+          Eigen::Vector2d(c * map.dx_mm, r * map.dy_mm) - k.mean;
       along.push_back(d.dot(a));
       across.push_back(-d.x() * a.y() + d.y() * a.x());
       if (map.valid(r, c)) {
@@ -188,48 +205,84 @@ Track FindTrack(const HeightMap& map, const TrackOptions& options) {
       }
     }
   }
-  // Re-centre along the axis on the middle of the extent.
-  const double lo = Percentile(along, 0.002), hi = Percentile(along, 0.998);
-  t.length_mm = hi - lo;
+  const double lo = Percentile(along, options.length_quantile),
+               hi = Percentile(along, 1 - options.length_quantile);
+  t->length_mm = hi - lo;
   const double shift = 0.5 * (lo + hi);
-  t.center_x_mm += shift * a.x();
-  t.center_y_mm += shift * a.y();
-  t.width_mm = Percentile(across, 0.995) - Percentile(across, 0.005);
-  t.max_depth_mm = max_depth;
-  t.volume_mm3 = volume;
-  {
-    const double step = std::min(map.dx_mm, map.dy_mm);
-    double sum = 0;
-    int n_ok = 0;
-    for (double s = -0.4 * t.length_mm; s <= 0.4 * t.length_mm; s += step) {
-      const double z = SampleBilinear(
-          map, t.center_x_mm + s * a.x(), t.center_y_mm + s * a.y());
-      if (!std::isfinite(z)) continue;
-      sum += -z;
-      ++n_ok;
-    }
-    t.mean_depth_mm = n_ok > 0 ? sum / n_ok : std::nan("");
+  t->center_x_mm = k.mean.x() + shift * a.x();
+  t->center_y_mm = k.mean.y() + shift * a.y();
+  t->width_mm = Percentile(across, 1 - options.width_quantile) -
+                Percentile(across, options.width_quantile);
+  t->max_depth_mm = max_depth;
+  t->volume_mm3 = volume;
+}
+
+// Mean depth along the central 80% of the axis.
+double MeanDepthAlongAxis(const HeightMap& map,
+                          const Track& t,
+                          const Eigen::Vector2d& a) {
+  const double step = std::min(map.dx_mm, map.dy_mm);
+  double sum = 0;
+  int n_ok = 0;
+  for (double s = -0.4 * t.length_mm; s <= 0.4 * t.length_mm; s += step) {
+    const double z = SampleBilinear(
+        map, t.center_x_mm + s * a.x(), t.center_y_mm + s * a.y());
+    if (!std::isfinite(z)) continue;
+    sum += -z;
+    ++n_ok;
   }
-  // Roughness outside the track (every 4th valid pixel away from it).
-  {
-    std::vector<double> outside;
-    outside.reserve(depths.size());
-    for (int r = 0; r < rows; ++r) {
-      for (int c = 0; c < cols; ++c) {
-        if ((r * cols + c) % 4 != 0 || !map.valid(r, c) ||
-            mask.at<unsigned char>(r, c) != 0)
-          continue;
-        outside.push_back(map.height_mm(r, c));
-      }
+  return n_ok > 0 ? sum / n_ok : std::nan("");
+}
+
+// Roughness outside the track: the MAD-based sd of every 4th valid pixel
+// away from it (0 when fewer than 10).
+double RoughnessOutside(const HeightMap& map, const cv::Mat& mask) {
+  std::vector<double> outside;
+  for (int r = 0; r < mask.rows; ++r) {
+    for (int c = 0; c < mask.cols; ++c) {
+      if ((r * mask.cols + c) % 4 != 0 || !map.valid(r, c) ||
+          mask.at<unsigned char>(r, c) != 0)
+        continue;
+      outside.push_back(map.height_mm(r, c));
     }
-    if (outside.size() >= 10) {
-      const double median = Percentile(outside, 0.5);
-      for (double& v : outside) v = std::abs(v - median);
-      t.roughness_mm = 1.4826 * Percentile(outside, 0.5);
-    }
-    t.depth_to_roughness =
-        t.roughness_mm > 0 ? t.mean_depth_mm / t.roughness_mm : std::nan("");
   }
+  if (outside.size() < 10) return 0.0;
+  const double median = Percentile(outside, 0.5);
+  for (double& v : outside) v = std::abs(v - median);
+  return 1.4826 * Percentile(outside, 0.5);
+}
+
+}  // namespace
+
+Track FindTrack(const HeightMap& map, const TrackOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw ScanError("track options: " + why);
+  if (options.manual) return ManualTrack(map, options);
+  double threshold = 0;
+  std::vector<double> depths;
+  const cv::Mat mask = DeepPixels(map, options, &threshold, &depths);
+  cv::Mat labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(
+      mask, labels, stats, centroids, 8, CV_32S);
+  const Component best = LargestElongated(map, labels, n, options);
+  if (best.label < 0) {
+    throw NoTrackError(fmt::format(
+        "{}: no worn track found: no elongated depression deeper than {:.4f} "
+        "mm (length/width >= "
+        "{}); place it by hand (centre and angle) or lower the depth threshold",
+        map.metadata.source,
+        threshold,
+        options.min_elongation));
+  }
+  Track t;
+  t.angle_deg = std::atan2(best.axis.y(), best.axis.x()) * 180.0 / kPi;
+  t.elongation = best.elongation;
+  t.pixels = static_cast<int>(best.pixels);
+  MeasureExtent(map, labels, best, options, &t);
+  t.mean_depth_mm = MeanDepthAlongAxis(map, t, best.axis);
+  t.roughness_mm = RoughnessOutside(map, mask);
+  t.depth_to_roughness =
+      t.roughness_mm > 0 ? t.mean_depth_mm / t.roughness_mm : std::nan("");
   t.message = fmt::format(
       "found: {} px, elongation {:.1f}, depth threshold {:.4f} mm, "
       "mean depth {:.1f}x the roughness",

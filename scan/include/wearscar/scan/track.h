@@ -37,11 +37,17 @@ struct Track {
 struct TrackOptions {
   double smoothing_sigma_px = 2.0;
   // A pixel belongs to the track when it lies deeper than
-  // max(min_depth_mm, depth_fraction * the 99.5th percentile depth).
+  // max(min_depth_mm, depth_fraction * the depth_quantile of the depths).
   double min_depth_mm = 0.004;
   double depth_fraction = 0.25;
+  double depth_quantile = 0.995;
   int morphology_px = 5;        // open then close with an ellipse
   double min_elongation = 2.0;  // length/width of an accepted component
+  int min_component_px = 10;    // smaller components are not candidates
+  // Length and width of the track between these quantiles of its pixels'
+  // positions along and across the axis (robust to stray pixels).
+  double length_quantile = 0.002;
+  double width_quantile = 0.005;
   // A track is found with low confidence below these (a warning).
   double confident_depth_to_roughness = 3.0;
   double confident_elongation = 3.0;

@@ -101,11 +101,20 @@ constexpr double kVrMinField = 1.0, kVrMaxField = 100.0;
 
 }  // namespace
 
-HeightMap ParseKeyenceCsv(const std::string& bytes, const std::string& name) {
-  std::string_view text(bytes);
-  if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.remove_prefix(3);
-  const std::vector<std::string_view> lines = Lines(text);
-  // Delimiter: ';' when the header rows use it (decimal-comma locales).
+namespace {
+
+// What the rows before the Height block say.
+struct VrHeader {
+  char delim = ',', decimal = '.';
+  long nx = -1, ny = -1;  // Horizontal, Vertical (-1 = not stated)
+  double pitch_mm = std::nan("");
+  size_t pitch_key_row = 0, fallback_pitch_row = 0;  // 1-based lines
+  double z_to_mm = 1.0;  // heights in mm unless a unit row says otherwise
+  size_t height_row = 0;
+};
+
+// Delimiter: ';' when the header rows use it (decimal-comma locales).
+void ChooseDelimiter(const std::vector<std::string_view>& lines, VrHeader* h) {
   int semis = 0, commas = 0;
   for (size_t i = 0; i < std::min<size_t>(lines.size(), 30); ++i) {
     semis +=
@@ -113,12 +122,21 @@ HeightMap ParseKeyenceCsv(const std::string& bytes, const std::string& name) {
     commas +=
         static_cast<int>(std::count(lines[i].begin(), lines[i].end(), ','));
   }
-  const char delim = semis > 0 && semis * 2 >= commas ? ';' : ',';
-  const char decimal = delim == ';' ? ',' : '.';
-  long nx = -1, ny = -1;
-  double pitch_mm = std::nan("");
-  size_t pitch_key_row = 0, fallback_pitch_row = 0;  // 1-based lines
-  double z_to_mm = 1.0;  // heights in mm unless a unit row says otherwise
+  h->delim = semis > 0 && semis * 2 >= commas ? ';' : ',';
+  h->decimal = h->delim == ';' ? ',' : '.';
+}
+
+VrHeader ReadVrHeader(const std::vector<std::string_view>& lines,
+                      const std::string& name) {
+  VrHeader h;
+  ChooseDelimiter(lines, &h);
+  const char delim = h.delim, decimal = h.decimal;
+  long& nx = h.nx;
+  long& ny = h.ny;
+  double& pitch_mm = h.pitch_mm;
+  size_t& pitch_key_row = h.pitch_key_row;
+  size_t& fallback_pitch_row = h.fallback_pitch_row;
+  double& z_to_mm = h.z_to_mm;
   size_t height_row = lines.size();
   for (size_t i = 0; i < lines.size(); ++i) {
     const auto cells = SplitCells(lines[i], delim);
@@ -167,6 +185,7 @@ HeightMap ParseKeyenceCsv(const std::string& bytes, const std::string& name) {
       z_to_mm = *UnitToMm(cells[1]);
     }
   }
+  h.height_row = height_row;
   if (height_row == lines.size()) {
     throw ScanError(fmt::format(
         "{}: no row starting with 'Height'; expected the Keyence VR CSV "
@@ -180,7 +199,20 @@ HeightMap ParseKeyenceCsv(const std::string& bytes, const std::string& name) {
         name,
         height_row + 1));
   }
-  // The data block: rows after the Height row, up to trailing empty rows.
+  return h;
+}
+
+// The data block: rows after the Height row, up to trailing empty rows;
+// every row nx values (the first row decides when Horizontal is absent).
+std::vector<std::vector<float>> ReadVrRows(
+    const std::vector<std::string_view>& lines,
+    const std::string& name,
+    VrHeader* h) {
+  const char delim = h->delim, decimal = h->decimal;
+  const double z_to_mm = h->z_to_mm;
+  long& nx = h->nx;
+  const long ny = h->ny;
+  const size_t height_row = h->height_row;
   std::vector<std::vector<float>> rows;
   size_t first = height_row + 1;
   // The Height row may carry the first data row after the key.
@@ -225,6 +257,23 @@ HeightMap ParseKeyenceCsv(const std::string& bytes, const std::string& name) {
           "{}: line {}: more than {} rows (Vertical)", name, i + 1, ny));
     }
   }
+  return rows;
+}
+
+}  // namespace
+
+HeightMap ParseKeyenceCsv(const std::string& bytes, const std::string& name) {
+  std::string_view text(bytes);
+  if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.remove_prefix(3);
+  const std::vector<std::string_view> lines = Lines(text);
+  VrHeader h = ReadVrHeader(lines, name);
+  const std::vector<std::vector<float>> rows = ReadVrRows(lines, name, &h);
+  const long nx = h.nx;
+  long ny = h.ny;
+  const size_t height_row = h.height_row;
+  const double pitch_mm = h.pitch_mm;
+  const size_t pitch_key_row = h.pitch_key_row,
+               fallback_pitch_row = h.fallback_pitch_row;
   if (ny < 0) ny = static_cast<long>(rows.size());
   if (static_cast<long>(rows.size()) != ny || ny == 0 || nx <= 0) {
     throw ScanError(

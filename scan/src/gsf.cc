@@ -34,43 +34,17 @@ std::string Trim(std::string s) {
 
 }  // namespace
 
-HeightMap ParseGsf(const std::string& bytes, const std::string& name) {
-  if (bytes.compare(0, sizeof(kMagic) - 1, kMagic) != 0) {
-    throw ScanError(
-        fmt::format("{}: byte 0: found '{}', expected the GSF magic '{}'",
-                    name,
-                    internal::Printable(bytes, 25),
-                    kMagic));
-  }
-  const size_t nul = bytes.find('\0');
-  if (nul == std::string::npos) {
-    throw ScanError(
-        fmt::format("{}: no NUL byte ends the GSF header; expected 1-4 NUL "
-                    "bytes then float32 data",
-                    name));
-  }
+namespace {
+
+// The "Name = value" lines between the magic line and the NUL padding,
+// with the line each came from (for messages).
+struct GsfHeader {
+  std::string name;
+  size_t nul = 0;  // first NUL byte: the header ends there
   std::map<std::string, std::string> fields;
-  std::map<std::string, size_t> field_line;  // for messages
-  size_t pos = bytes.find('\n');
-  size_t line_no = 1;
-  while (pos != std::string::npos && pos < nul) {
-    const size_t end = std::min(bytes.find('\n', pos + 1), nul);
-    const std::string line = Trim(bytes.substr(pos + 1, end - pos - 1));
-    ++line_no;
-    pos = end == nul ? std::string::npos : end;
-    if (line.empty()) continue;
-    const size_t eq = line.find('=');
-    if (eq == std::string::npos) {
-      throw ScanError(
-          fmt::format("{}: header line {}: found '{}', expected 'Name = value'",
-                      name,
-                      line_no,
-                      internal::Printable(line, 60)));
-    }
-    fields[Trim(line.substr(0, eq))] = Trim(line.substr(eq + 1));
-    field_line[Trim(line.substr(0, eq))] = line_no;
-  }
-  auto int_field = [&](const char* key) {
+  std::map<std::string, size_t> field_line;
+
+  long long Int(const char* key) {
     auto it = fields.find(key);
     if (it == fields.end()) {
       throw ScanError(fmt::format(
@@ -90,8 +64,8 @@ HeightMap ParseGsf(const std::string& bytes, const std::string& name) {
           kMaxPixels));
     }
     return v;
-  };
-  auto real_field = [&](const char* key, double fallback) {
+  }
+  double Real(const char* key, double fallback) {
     auto it = fields.find(key);
     if (it == fields.end()) return fallback;
     char* end = nullptr;
@@ -106,8 +80,58 @@ HeightMap ParseGsf(const std::string& bytes, const std::string& name) {
                       internal::Printable(it->second)));
     }
     return v;
-  };
-  const long long xres = int_field("XRes"), yres = int_field("YRes");
+  }
+};
+
+GsfHeader ReadGsfHeader(const std::string& bytes, const std::string& name) {
+  if (bytes.compare(0, sizeof(kMagic) - 1, kMagic) != 0) {
+    throw ScanError(
+        fmt::format("{}: byte 0: found '{}', expected the GSF magic '{}'",
+                    name,
+                    internal::Printable(bytes, 25),
+                    kMagic));
+  }
+  const size_t nul = bytes.find('\0');
+  if (nul == std::string::npos) {
+    throw ScanError(
+        fmt::format("{}: no NUL byte ends the GSF header; expected 1-4 NUL "
+                    "bytes then float32 data",
+                    name));
+  }
+  GsfHeader h;
+  h.name = name;
+  h.nul = nul;
+  std::map<std::string, std::string>& fields = h.fields;
+  std::map<std::string, size_t>& field_line = h.field_line;
+  size_t pos = bytes.find('\n');
+  size_t line_no = 1;
+  while (pos != std::string::npos && pos < nul) {
+    const size_t end = std::min(bytes.find('\n', pos + 1), nul);
+    const std::string line = Trim(bytes.substr(pos + 1, end - pos - 1));
+    ++line_no;
+    pos = end == nul ? std::string::npos : end;
+    if (line.empty()) continue;
+    const size_t eq = line.find('=');
+    if (eq == std::string::npos) {
+      throw ScanError(
+          fmt::format("{}: header line {}: found '{}', expected 'Name = value'",
+                      name,
+                      line_no,
+                      internal::Printable(line, 60)));
+    }
+    fields[Trim(line.substr(0, eq))] = Trim(line.substr(eq + 1));
+    field_line[Trim(line.substr(0, eq))] = line_no;
+  }
+  return h;
+}
+
+}  // namespace
+
+HeightMap ParseGsf(const std::string& bytes, const std::string& name) {
+  GsfHeader h = ReadGsfHeader(bytes, name);
+  std::map<std::string, std::string>& fields = h.fields;
+  const size_t nul = h.nul;
+  const long long xres = h.Int("XRes"), yres = h.Int("YRes");
   if (xres * yres > kMaxPixels) {
     throw ScanError(fmt::format("{}: XRes x YRes = {} x {} exceeds {} pixels",
                                 name,
@@ -125,8 +149,7 @@ HeightMap ParseGsf(const std::string& bytes, const std::string& name) {
                     fields["XYUnits"],
                     fields["ZUnits"]));
   }
-  const double xreal = real_field("XReal", 1.0),
-               yreal = real_field("YReal", 1.0);
+  const double xreal = h.Real("XReal", 1.0), yreal = h.Real("YReal", 1.0);
   // Data start: the header plus NUL padding is a multiple of 4.
   const size_t data = (nul / 4 + 1) * 4;
   const size_t need = static_cast<size_t>(xres * yres) * 4;

@@ -15,6 +15,8 @@ if(WEARSCAR_SANITIZE)
   target_compile_options(wearscar_warnings INTERFACE
     -fsanitize=${_sanitizers} -fno-omit-frame-pointer -fno-sanitize-recover=all)
   target_link_options(wearscar_warnings INTERFACE -fsanitize=${_sanitizers})
+  # Preconditions are checked in sanitizer builds (wearscar/support/check.h).
+  target_compile_definitions(wearscar_warnings INTERFACE WEARSCAR_CHECKS=1)
   # GCC's -Wmaybe-uninitialized misfires on instrumented code (std::regex,
   # std::function in libstdc++ 12); with -Werror it would stop the build.
   if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
@@ -35,4 +37,5 @@ if(WEARSCAR_FUZZ)
     -fno-omit-frame-pointer)
   target_link_options(wearscar_warnings INTERFACE
     -fsanitize=address,undefined,float-cast-overflow)
+  target_compile_definitions(wearscar_warnings INTERFACE WEARSCAR_CHECKS=1)
 endif()

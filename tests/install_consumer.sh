@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs the build tree into a scratch prefix, then configures, builds and
-# runs tests/consumer against it: find_package(wearscar) must just work.
+# runs tests/consumer against it: find_package(wearscar) must just work, and
+# a program using only the public API writes the same files as
+# `wearscar fuse` (byte for byte).
 #   install_consumer.sh <build dir> <source dir> <scratch dir>
 set -euo pipefail
 build=$1 source=$2 scratch=$3
@@ -8,7 +10,20 @@ rm -rf "$scratch"
 cmake --install "$build" --prefix "$scratch/prefix" > /dev/null
 test -x "$scratch/prefix/bin/wearscar"
 test -f "$scratch/prefix/include/wearscar/fusion/fit_mu.h"
+test -f "$scratch/prefix/include/wearscar/fusion/products.h"
+# The private support headers are not installed.
+test ! -e "$scratch/prefix/include/wearscar/support"
 cmake -S "$source/tests/consumer" -B "$scratch/consumer" \
   -DCMAKE_PREFIX_PATH="$scratch/prefix" -DCMAKE_BUILD_TYPE=Release > /dev/null
 cmake --build "$scratch/consumer" > /dev/null
 "$scratch/consumer/consumer"
+wearscar="$scratch/prefix/bin/wearscar"
+"$wearscar" simulate --case S-RL-R --cycles 40 --scan-cols 96 --scan-rows 64 \
+  --formats csv,gsf -o "$scratch/sim" > /dev/null
+force="$scratch/sim/S-RL-R.force.csv" scan="$scratch/sim/S-RL-R.scan.gsf"
+"$wearscar" fuse --force "$force" --scan "$scan" --no-figures \
+  -o "$scratch/by-command" > /dev/null
+mkdir -p "$scratch/by-library"
+"$scratch/consumer/consumer" "$force" "$scan" S-RL-R "$scratch/by-library"
+diff -r --exclude=.wearscar.lock "$scratch/by-command" "$scratch/by-library"
+echo "the library wrote what the command wrote: $(ls "$scratch/by-library" | tr '\n' ' ')"

@@ -17,7 +17,7 @@ struct FuseArgs {
   std::string scan_file;
   std::string out;
   std::string name;
-  WriteOptions write;
+  fusion::ProductOptions write;
   bool no_figures = false;
   CommonArgs common;
 };
@@ -80,7 +80,7 @@ void AddFuseCommand(CLI::App& app) {
   cmd->add_option("-o,--out", args->out, "Directory for the results");
   cmd->add_option("--name", args->name, "Specimen name in the outputs");
   cmd->add_option("--detail-cycle",
-                  args->write.detail_cycle,
+                  args->common.fuse.detail_cycle,
                   "Cycle for slopes, reconstruction and J(mu) (default: last)");
   cmd->add_option(
       "--loops", args->write.loop_cycles, "Cycles whose loops are exported");

@@ -7,6 +7,7 @@
 
 #include "commands.h"
 #include "output.h"
+#include "wearscar/fusion/products.h"
 #include "wearscar/scan/formats.h"
 #include "wearscar/scan/gsf.h"
 #include "wearscar/scan/level.h"
@@ -81,20 +82,7 @@ void RunScan(ScanArgs a) {
     if (t.low_confidence)
       fmt::print(stderr, "wearscar: warning: {}: {}\n", a.file, t.message);
     p = scan::ExtractCentreline(map, t, a.profile);
-    track_json = {{"center_x_mm", t.center_x_mm},
-                  {"center_y_mm", t.center_y_mm},
-                  {"angle_deg", t.angle_deg},
-                  {"length_mm", t.length_mm},
-                  {"width_mm", t.width_mm},
-                  {"mean_depth_mm", t.mean_depth_mm},
-                  {"max_depth_mm", t.max_depth_mm},
-                  {"volume_mm3", t.volume_mm3},
-                  {"elongation", t.elongation},
-                  {"roughness_mm", t.roughness_mm},
-                  {"depth_to_roughness", t.depth_to_roughness},
-                  {"low_confidence", t.low_confidence},
-                  {"message", t.message},
-                  {"manual", t.manual}};
+    track_json = fusion::TrackJson(t);
   } else {
     fmt::print(stderr, "wearscar: warning: {}\n", no_track);
   }
@@ -137,14 +125,7 @@ void RunScan(ScanArgs a) {
                       {"size_px", {map.cols(), map.rows()}},
                       {"pitch_mm", {map.dx_mm, map.dy_mm}},
                       {"valid_points", map.ValidCount()},
-                      {"level",
-                       {{"order", level.order},
-                        {"coefficients",
-                         std::vector<double>(level.coefficients.data(),
-                                             level.coefficients.data() +
-                                                 level.coefficients.size())},
-                        {"inliers", level.inliers},
-                        {"rms_mm", level.rms_mm}}},
+                      {"level", fusion::LevelJson(level)},
                       {"spikes_removed", spikes},
                       {"track", track_json},
                       {"warnings", map.metadata.warnings}};

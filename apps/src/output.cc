@@ -14,6 +14,7 @@
 #include <random>
 
 #include "commands.h"
+#include "wearscar/support/atomic_file.h"
 
 namespace wearscar::app {
 
@@ -25,30 +26,7 @@ void SetExitStatus(int status) { g_exit_status = status; }
 int ExitStatus() { return g_exit_status; }
 
 void WriteTextAtomically(const std::string& path, const std::string& text) {
-  const std::string tmp =
-      fmt::format("{}.tmp-{:08x}", path, std::random_device{}());
-  auto fail = [&](const char* what, int error) {
-    std::remove(tmp.c_str());
-    throw UsageError(
-        fmt::format("{}: {}: {}", path, what, std::strerror(error)));
-  };
-  const int fd =
-      ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) fail("cannot write", errno);
-  size_t done = 0;
-  while (done < text.size()) {
-    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      const int error = errno;
-      ::close(fd);
-      fail("write failed", error);
-    }
-    done += static_cast<size_t>(n);
-  }
-  if (::close(fd) != 0) fail("write failed", errno);
-  if (std::rename(tmp.c_str(), path.c_str()) != 0)
-    fail("cannot rename into place", errno);
+  support::WriteFileAtomically<UsageError>(path, text);
 }
 
 StagedOutput::StagedOutput(std::string out) : out_(std::move(out)) {
@@ -110,36 +88,6 @@ OutputLock::OutputLock(const std::string& out) {
 
 OutputLock::~OutputLock() {
   if (fd_ >= 0) ::close(fd_);  // releases the lock
-}
-
-std::string Table::ToCsv() const {
-  fmt::memory_buffer buf;
-  for (size_t c = 0; c < columns.size(); ++c) {
-    fmt::format_to(std::back_inserter(buf), "{}{}", c ? "," : "", columns[c]);
-  }
-  buf.push_back('\n');
-  for (const auto& row : rows) {
-    for (size_t c = 0; c < row.size(); ++c) {
-      if (c) buf.push_back(',');
-      if (std::isfinite(row[c]))
-        fmt::format_to(std::back_inserter(buf), "{:.8g}", row[c]);
-    }
-    buf.push_back('\n');
-  }
-  return fmt::to_string(buf);
-}
-
-std::string SpecimenName(const std::string& path) {
-  std::string stem = std::filesystem::path(path).stem().string();
-  for (const char* suffix :
-       {".force", "_force", "-force", ".scan", "_scan", "-scan"}) {
-    const std::string sfx = suffix;
-    if (stem.size() > sfx.size() &&
-        stem.compare(stem.size() - sfx.size(), sfx.size(), sfx) == 0) {
-      return stem.substr(0, stem.size() - sfx.size());
-    }
-  }
-  return stem;
 }
 
 void EnsureDirectory(const std::string& path) {

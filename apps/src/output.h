@@ -4,6 +4,9 @@
 #include <string>
 #include <vector>
 
+#include "wearscar/fusion/batch.h"
+#include "wearscar/fusion/products.h"
+
 namespace wearscar::app {
 
 // Thrown for bad command-line input; main maps it to exit status 2.
@@ -54,16 +57,11 @@ class OutputLock {
   int fd_ = -1;
 };
 
-// A CSV table: column names carry units ("mu_hat", "x_mm", "Q_N").
-struct Table {
-  std::vector<std::string> columns;
-  std::vector<std::vector<double>> rows;
-  std::string ToCsv() const;
-};
+using fusion::Table;
 
 // A specimen name from a file name: the stem without ".force" / "_force"
 // ("data/B-RT-R.force.csv" -> "B-RT-R").
-std::string SpecimenName(const std::string& path);
+using fusion::SpecimenName;
 
 // Creates the directory (and parents); UsageError on failure.
 void EnsureDirectory(const std::string& path);

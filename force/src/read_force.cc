@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "units.h"
+#include "wearscar/support/text.h"
 
 namespace wearscar::force {
 namespace {
@@ -160,13 +161,7 @@ std::string_view TrimView(std::string_view s) {
   return s;
 }
 
-std::string Lower(std::string_view s) {
-  std::string out(s);
-  std::transform(out.begin(), out.end(), out.begin(), [](char c) {
-    return static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  });
-  return out;
-}
+using support::Lower;
 
 // Splits `line` on `delim` into `cells` (views into line), cells trimmed,
 // by RFC 4180: a cell in double quotes may hold the delimiter ("Time, s");

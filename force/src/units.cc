@@ -8,12 +8,7 @@
 namespace wearscar::force::internal {
 namespace {
 
-std::string Trim(std::string_view s) {
-  size_t b = 0, e = s.size();
-  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
-  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
-  return std::string(s.substr(b, e - b));
-}
+std::string Trim(std::string_view s) { return std::string(support::Trim(s)); }
 
 std::string Normalise(std::string_view unit) {
   std::string u = Trim(unit);
@@ -126,27 +121,6 @@ void SplitNameAndUnit(std::string_view header,
     }
   }
   *name = h;
-}
-
-}  // namespace wearscar::force::internal
-
-namespace wearscar::force::internal {
-
-std::string Printable(std::string_view text, std::size_t max) {
-  std::string out;
-  for (std::size_t i = 0; i < text.size() && i < max; ++i) {
-    const unsigned char c = static_cast<unsigned char>(text[i]);
-    if (c >= 0x20 && c < 0x7f) {
-      out += static_cast<char>(c);
-    } else {
-      static const char kHex[] = "0123456789abcdef";
-      out += "\\x";
-      out += kHex[c >> 4];
-      out += kHex[c & 15];
-    }
-  }
-  if (text.size() > max) out += "...";
-  return out;
 }
 
 }  // namespace wearscar::force::internal

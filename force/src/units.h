@@ -4,6 +4,8 @@
 #include <string>
 #include <string_view>
 
+#include "wearscar/support/text.h"
+
 namespace wearscar::force::internal {
 
 // Multiplier from a unit as written in an export to the library unit, or
@@ -25,6 +27,6 @@ namespace wearscar::force::internal {
 // Up to `max` bytes of a cell for an error message, with anything that is
 // not printable ASCII (control bytes, the bytes of a binary file) written
 // as \xNN and "..." after a cut.
-std::string Printable(std::string_view text, std::size_t max = 40);
+using support::Printable;
 
 }  // namespace wearscar::force::internal

@@ -9,6 +9,7 @@
 #include <random>
 
 #include "wearscar/force/read_force.h"
+#include "wearscar/support/atomic_file.h"
 
 namespace wearscar::force {
 namespace {
@@ -21,41 +22,19 @@ void WriteRowsAtomically(const ForceRecord& record,
                          Header&& header,
                          Row&& row,
                          Footer&& footer) {
-  const std::string tmp =
-      fmt::format("{}.tmp-{:08x}", path, std::random_device{}());
-  {
-    std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(
-        std::fopen(tmp.c_str(), "wb"), &std::fclose);
-    if (!f) {
-      throw ForceError(
-          fmt::format("{}: cannot write: {}", path, std::strerror(errno)));
-    }
-    fmt::memory_buffer buf;
-    header(buf);
-    bool ok = true;
-    for (Eigen::Index i = 0; i < record.size() && ok; ++i) {
-      row(i, buf);
-      if (buf.size() > (1u << 20)) {
-        ok = std::fwrite(buf.data(), 1, buf.size(), f.get()) == buf.size();
-        buf.clear();
-      }
-    }
-    footer(buf);
-    ok = ok && std::fwrite(buf.data(), 1, buf.size(), f.get()) == buf.size();
-    ok = (std::fflush(f.get()) == 0) && ok;
-    if (!ok) {
-      std::remove(tmp.c_str());
-      throw ForceError(
-          fmt::format("{}: write failed: {}", path, std::strerror(errno)));
+  support::AtomicFile<ForceError> file(path);
+  fmt::memory_buffer buf;
+  header(buf);
+  for (Eigen::Index i = 0; i < record.size(); ++i) {
+    row(i, buf);
+    if (buf.size() > (1u << 20)) {
+      file.Write(std::string_view(buf.data(), buf.size()));
+      buf.clear();
     }
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    throw ForceError(
-        fmt::format("{}: cannot rename from {}: {}", path, tmp, ec.message()));
-  }
+  footer(buf);
+  file.Write(std::string_view(buf.data(), buf.size()));
+  file.Commit();
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "wearscar/fusion/error.h"
+#include "wearscar/support/robust_stats.h"
 
 namespace wearscar::fusion {
 namespace {
@@ -75,12 +76,7 @@ struct LugreCost {
   double fc_, fs_;
 };
 
-double Percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  const size_t k = static_cast<size_t>(q * static_cast<double>(v.size() - 1));
-  std::nth_element(v.begin(), v.begin() + static_cast<long>(k), v.end());
-  return v[k];
-}
+using support::Percentile;
 
 }  // namespace
 

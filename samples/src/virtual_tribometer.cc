@@ -10,11 +10,12 @@
 #include <vector>
 
 #include "wearscar/fusion/forward_model.h"
+#include "wearscar/support/robust_stats.h"
 
 namespace wearscar::samples {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using support::kPi;
 
 // Deterministic across platforms: mt19937_64's output is fixed by the
 // standard; the distributions are written here (std:: ones are not).

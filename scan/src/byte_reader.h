@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "wearscar/scan/height_map.h"
+#include "wearscar/support/text.h"
 
 namespace wearscar::scan::internal {
 
@@ -74,24 +75,8 @@ class ByteReader {
   std::string name_;
 };
 
-// Up to `max` bytes of a header or cell for an error message, anything not
-// printable ASCII written as \xNN and "..." after a cut.
-inline std::string Printable(std::string_view text, std::size_t max = 40) {
-  static const char kHex[] = "0123456789abcdef";
-  std::string out;
-  for (std::size_t i = 0; i < text.size() && i < max; ++i) {
-    const unsigned char c = static_cast<unsigned char>(text[i]);
-    if (c >= 0x20 && c < 0x7f) {
-      out += static_cast<char>(c);
-    } else {
-      out += "\\x";
-      out += kHex[c >> 4];
-      out += kHex[c & 15];
-    }
-  }
-  if (text.size() > max) out += "...";
-  return out;
-}
+// Up to `max` bytes of a header or cell for an error message.
+using support::Printable;
 
 // Refuses a map of `cols` x `rows` read at byte `offset` unless both are
 // positive and the map has at most kMaxPixels points: checked before any

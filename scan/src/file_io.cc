@@ -10,6 +10,7 @@
 #include <random>
 
 #include "wearscar/scan/height_map.h"
+#include "wearscar/support/atomic_file.h"
 
 namespace wearscar::scan::internal {
 
@@ -68,28 +69,7 @@ std::string ReadFileBytes(const std::string& path, size_t max_bytes) {
 }
 
 void WriteFileAtomically(const std::string& path, const std::string& bytes) {
-  const std::string tmp =
-      fmt::format("{}.tmp-{:08x}", path, std::random_device{}());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out)
-      throw ScanError(
-          fmt::format("{}: cannot write: {}", path, std::strerror(errno)));
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    out.flush();
-    if (!out) {
-      out.close();
-      std::remove(tmp.c_str());
-      throw ScanError(fmt::format("{}: write failed", path));
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    throw ScanError(
-        fmt::format("{}: cannot rename from {}: {}", path, tmp, ec.message()));
-  }
+  support::WriteFileAtomically<ScanError>(path, bytes);
 }
 
 }  // namespace wearscar::scan::internal

@@ -11,6 +11,7 @@
 #include "byte_reader.h"
 #include "file_io.h"
 #include "wearscar/scan/formats.h"
+#include "wearscar/support/text.h"
 
 namespace wearscar::scan {
 namespace {
@@ -26,11 +27,7 @@ std::optional<double> UnitToMm(const std::string& unit) {
   return std::nullopt;
 }
 
-std::string Trim(std::string s) {
-  const auto b = s.find_first_not_of(" \t\r");
-  const auto e = s.find_last_not_of(" \t\r");
-  return b == std::string::npos ? "" : s.substr(b, e - b + 1);
-}
+std::string Trim(std::string_view s) { return std::string(support::Trim(s)); }
 
 }  // namespace
 

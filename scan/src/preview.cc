@@ -12,11 +12,12 @@
 
 #include "file_io.h"
 #include "wearscar/scan/level.h"
+#include "wearscar/support/robust_stats.h"
 
 namespace wearscar::scan {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using support::kPi;
 
 }  // namespace
 

@@ -13,6 +13,7 @@
 #include "wearscar/scan/formats.h"
 #include "wearscar/scan/gsf.h"
 #include "wearscar/scan/read_scan.h"
+#include "wearscar/support/text.h"
 
 namespace wearscar::scan {
 namespace {
@@ -31,6 +32,7 @@ std::vector<std::string_view> Lines(std::string_view text) {
   return lines;
 }
 
+// A cell without surrounding spaces and tabs, unquoted.
 std::string_view Trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t'))
     s.remove_prefix(1);
@@ -68,12 +70,7 @@ std::optional<double> Number(std::string_view cell, char decimal) {
   return v;
 }
 
-std::string Lower(std::string_view s) {
-  std::string out(s);
-  for (char& c : out)
-    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
+using support::Lower;
 
 // "um", "µm" (UTF-8 or Latin-1), "μm", Shift-JIS "μm" (0x83 0xCA 'm').
 bool IsMicrometre(std::string_view u) {

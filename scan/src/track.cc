@@ -8,17 +8,14 @@
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
+#include "wearscar/support/robust_stats.h"
+
 namespace wearscar::scan {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using support::kPi;
 
-double Percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  const size_t k = static_cast<size_t>(q * static_cast<double>(v.size() - 1));
-  std::nth_element(v.begin(), v.begin() + static_cast<long>(k), v.end());
-  return v[k];
-}
+using support::Percentile;
 
 }  // namespace
 

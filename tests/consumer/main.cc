@@ -1,13 +1,24 @@
-// Levels a tilted plane (wearscar::scan, PCL inside) and fits mu on samples
-// made by the wear-scar model (wearscar::fusion): exit 0 when both come back.
+// A lab's own program on the installed package. Without arguments: levels a
+// tilted plane (wearscar::scan, PCL inside) and fits mu on samples made by
+// the wear-scar model (wearscar::fusion), exit 0 when both come back.
+// With FORCE SCAN NAME OUT: what `wearscar fuse --no-figures` writes, through
+// the public API only (tests/install_consumer.sh compares the two folders).
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <string>
 
+#include "wearscar/force/read_force.h"
 #include "wearscar/fusion/fit_mu.h"
 #include "wearscar/fusion/forward_model.h"
+#include "wearscar/fusion/fuse.h"
+#include "wearscar/fusion/products.h"
 #include "wearscar/scan/level.h"
+#include "wearscar/scan/read_scan.h"
 
-int main() {
+namespace {
+
+int LevelAndFit() {
   wearscar::scan::HeightMap map;
   map.dx_mm = map.dy_mm = 0.01;
   map.height_mm.resize(64, 96);
@@ -43,4 +54,30 @@ int main() {
                   std::abs(level.dzdy() + 0.001) < 1e-6 &&
                   std::abs(fit.mu_hat - mu) < 1e-6;
   return ok ? 0 : 1;
+}
+
+// What `wearscar fuse --force FORCE --scan SCAN --no-figures -o OUT` writes.
+int Fuse(const std::string& force_file,
+         const std::string& scan_file,
+         const std::string& name,
+         const std::string& out) {
+  namespace ws = wearscar;
+  const ws::force::ForceRecord record = ws::force::ReadForceFile(force_file);
+  ws::scan::HeightMap map = ws::scan::ReadScan(scan_file);
+  const ws::fusion::FuseOptions options;
+  const ws::fusion::TestResult result =
+      ws::fusion::AnalyzeTest(record, std::move(map), options);
+  for (const auto& [file, text] :
+       ws::fusion::MakeTestProducts(name, record, result, options).Files()) {
+    std::ofstream(out + "/" + file, std::ios::binary) << text;
+  }
+  std::printf("%s: %s\n", name.c_str(), result.verdict.Summary().c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc == 5) return Fuse(argv[1], argv[2], argv[3], argv[4]);
+  return LevelAndFit();
 }

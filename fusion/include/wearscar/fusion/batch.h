@@ -1,0 +1,86 @@
+#pragma once
+
+#include <functional>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace wearscar::fusion {
+
+// One specimen of a batch: its force export and, optionally, its scan.
+struct Specimen {
+  std::string name;
+  std::string force;
+  std::string scan;   // empty: force-only analysis
+  std::string error;  // a pairing problem: reported as the specimen's failure
+};
+
+// What a specimen's name says of it: `pattern`'s groups are the material
+// (looked up in `materials`), the plane and the direction. The defaults are
+// the paper's names (B-RT-R: beech, radial-tangential plane, radial
+// sliding).
+struct SpecimenNaming {
+  std::string pattern = "([BS])-(RT|RL|TL)-([RTL])";
+  std::map<std::string, std::string> materials = {{"B", "beech"},
+                                                  {"S", "spruce"}};
+};
+
+struct BatchOptions {
+  // The part of a file name that names its specimen (regular expression);
+  // files without it are keyed by their stem without a role suffix.
+  std::string name_pattern = "[BS]-(RT|RL|TL)-[RTL]";
+  SpecimenNaming naming;
+  int jobs = 0;  // specimens analysed at once; 0 = one per core
+  // This run processes specimens i, i + n, i + 2n, ... (1-based i of n).
+  int shard_index = 1, shard_count = 1;
+
+  bool IsValid(std::string* why) const;
+};
+
+// A specimen name from a file name: the stem without ".force" / "_force"
+// / "-force" (or the same with "scan"): "data/B-RT-R.force.csv" -> "B-RT-R".
+std::string SpecimenName(const std::string& path);
+
+// Pairs the force files of a folder with their scans: a binary height map
+// by its content (the scan registry), a text file as a scan when its name
+// says "scan", "height" or "keyence", else as a force record; the specimen
+// key is the name pattern's match, else the stem without its role suffix.
+// Two candidates of the same rank for one role, or a scan without a force
+// file, are the specimen's error.
+std::vector<Specimen> PairFolder(const std::string& dir,
+                                 const std::string& name_pattern);
+
+// manifest.csv: a header naming specimen, force and (optional) scan in any
+// order (RFC 4180 cells), paths relative to the manifest. Throws
+// FusionError for a manifest that cannot be read, a name that cannot be a
+// folder (empty, a path separator, a leading dot) or a name given twice.
+std::vector<Specimen> ReadManifest(const std::string& path);
+
+// The specimens of `input` (a folder or a manifest) this shard processes.
+// Throws FusionError when there is nothing to process.
+std::vector<Specimen> FindSpecimens(const std::string& input,
+                                    const BatchOptions& options);
+
+// {"specimen", "species", "plane", "direction"} from the name (empty
+// strings where the pattern does not match).
+nlohmann::json SpecimenIdentity(const std::string& name,
+                                const SpecimenNaming& naming);
+
+// Runs work(i) for every i in [0, n) on `jobs` threads (0 = one per core);
+// progress(done) is called after each, one call at a time.
+void ForEachSpecimen(size_t n,
+                     int jobs,
+                     const std::function<void(size_t)>& work,
+                     const std::function<void(long)>& progress);
+
+// The batch table: one row per specimen from its result.json (ResultJson
+// with SpecimenIdentity, "error" when it failed), columns by path.
+const std::vector<std::pair<std::string, std::vector<std::string>>>&
+SummaryColumns();
+// summary.csv's text: the header (when asked; shards after the first leave
+// it out so that their files concatenate) and one line per row.
+std::string SummaryCsv(const std::vector<nlohmann::json>& rows, bool header);
+
+}  // namespace wearscar::fusion

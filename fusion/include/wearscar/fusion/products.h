@@ -1,0 +1,72 @@
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "wearscar/force/force_record.h"
+#include "wearscar/fusion/fuse.h"
+
+namespace wearscar::fusion {
+
+// A table of numbers whose column names carry their units ("x_mm", "Q_N",
+// "mu_hat_force"); non-finite values are empty cells in CSV.
+struct Table {
+  std::vector<std::string> columns;
+  std::vector<std::vector<double>> rows;
+  std::string ToCsv() const;
+};
+
+// What the products of one test hold besides the per-cycle table.
+struct ProductOptions {
+  // Cycles (0-based) whose hysteresis loops go to loops.csv; empty = the
+  // first, third, eleventh and last (those that exist).
+  std::vector<int> loop_cycles;
+  // Cycle of the slopes, the reconstruction of Q, J(mu) and LuGre; -1 =
+  // the result's detail cycle.
+  int detail_cycle = -1;
+  // Points of J(mu) over the fit's mu interval (paper Fig. 11).
+  int cost_curve_points = 201;
+
+  bool IsValid(std::string* why) const;
+};
+
+// Everything `wearscar fuse` writes for one test: the tables (cycles.csv,
+// loops.csv, detail.csv, cost_curve.csv; with a scan profiles.csv and
+// centreline.csv; with LuGre lugre.csv) and result.json.
+struct TestProducts {
+  std::vector<std::pair<std::string, Table>> tables;  // file name, table
+  nlohmann::json result;                              // result.json
+
+  // File name and contents of every product, result.json last.
+  std::vector<std::pair<std::string, std::string>> Files() const;
+};
+
+// The columns of cycles.csv, and the 1-based index of one of them (for
+// plotting programs); -1 for a name that is not a column.
+const std::vector<std::string>& CycleColumns();
+int CycleColumn(const std::string& name);
+
+// The summary of one test (result.json; also a row of an audit's table):
+// inputs, every option that shaped the analysis, running-in, statistics
+// after running-in, the comparison of the slopes, the scan's levelling,
+// track and alignment, LuGre, the verdict and the warnings.
+nlohmann::json ResultJson(const std::string& name,
+                          const force::ForceRecord& record,
+                          const TestResult& result,
+                          const FuseOptions& options);
+
+// The worn track and the levelling as JSON (result.json, scan.json).
+nlohmann::json TrackJson(const scan::Track& track);
+nlohmann::json LevelJson(const scan::LevelSummary& level);
+
+// The products of a test analysed by AnalyzeTest with `options`. Throws
+// FusionError for invalid product options.
+TestProducts MakeTestProducts(const std::string& name,
+                              const force::ForceRecord& record,
+                              const TestResult& result,
+                              const FuseOptions& options,
+                              const ProductOptions& products = {});
+
+}  // namespace wearscar::fusion

@@ -1,0 +1,398 @@
+#include "wearscar/fusion/batch.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <optional>
+#include <regex>
+#include <thread>
+
+#include "wearscar/fusion/error.h"
+#include "wearscar/scan/formats.h"
+#include "wearscar/support/text.h"
+
+namespace wearscar::fusion {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool HasExtension(const fs::path& p, std::initializer_list<const char*> exts) {
+  const std::string e = support::Lower(p.extension().string());
+  return std::any_of(
+      exts.begin(), exts.end(), [&](const char* x) { return e == x; });
+}
+
+// A file found in a folder, with the role it plays for its specimen and how
+// strongly (a binary scan beats a text export of the same map; a file named
+// "force" beats other text).
+struct Candidate {
+  std::string key, path;
+  bool is_scan = false;
+  int rank = 0;
+};
+
+std::optional<Candidate> Classify(const fs::path& p, const std::regex& re) {
+  const std::string file = p.filename().string();
+  const std::string lower = support::Lower(file);
+  // A binary height map by its content; ".dat" is a Zygo map or a force
+  // export, told apart by the magic.
+  const bool binary_scan = scan::BinaryScanFormatOf(p.string()) != nullptr;
+  const bool text =
+      !binary_scan && HasExtension(p, {".csv", ".txt", ".tsv", ".dat"});
+  if (!binary_scan && !text) return std::nullopt;
+  const bool text_scan = text && (lower.find("scan") != std::string::npos ||
+                                  lower.find("height") != std::string::npos ||
+                                  lower.find("keyence") != std::string::npos);
+  std::smatch m;
+  Candidate c;
+  c.key = std::regex_search(file, m, re) ? m.str(0) : SpecimenName(file);
+  c.path = p.string();
+  c.is_scan = binary_scan || text_scan;
+  c.rank = c.is_scan ? (binary_scan ? 2 : 1)
+                     : (lower.find("force") != std::string::npos ? 2 : 1);
+  return c;
+}
+
+// RFC 4180 cells of one line: a quoted cell may hold commas and doubled
+// quotes (a path "C:\tests\beech, run 2\B-RT-R.csv"); cells trimmed.
+std::vector<std::string> SplitCsvLine(const std::string& l) {
+  std::vector<std::string> cells(1);
+  bool quoted = false;
+  for (size_t i = 0; i < l.size(); ++i) {
+    const char c = l[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < l.size() && l[i + 1] == '"') {
+        cells.back() += '"';
+        ++i;
+      } else if (c == '"') {
+        quoted = false;
+      } else {
+        cells.back() += c;
+      }
+    } else if (c == '"') {
+      quoted = true;
+    } else if (c == ',') {
+      cells.emplace_back();
+    } else if (c != '\r') {
+      cells.back() += c;
+    }
+  }
+  for (auto& c : cells) {
+    c.erase(0, c.find_first_not_of(' '));
+    c.erase(c.find_last_not_of(' ') + 1);
+  }
+  return cells;
+}
+
+// A specimen's name is its folder under the output: one path component,
+// never "..", never hidden. Returns why not, or "".
+std::string NameProblem(const std::string& name) {
+  return name.empty() ? "it is empty"
+         : name.find_first_of("/\\") != std::string::npos
+             ? "it holds a path separator"
+         : name[0] == '.' ? "it starts with a dot"
+                          : "";
+}
+
+struct ManifestColumns {
+  int specimen = -1, force = -1, scan = -1;
+};
+
+ManifestColumns FindManifestColumns(const std::string& path,
+                                    const std::string& line) {
+  ManifestColumns c;
+  const auto header = SplitCsvLine(line);
+  for (int i = 0; i < static_cast<int>(header.size()); ++i) {
+    const std::string h = support::Lower(header[i]);
+    if (h == "specimen" || h == "name") c.specimen = i;
+    if (h == "force" || h == "force_file") c.force = i;
+    if (h == "scan" || h == "scan_file") c.scan = i;
+  }
+  if (c.force < 0) {
+    throw FusionError(
+        fmt::format("{}: line 1: found columns '{}'; expected a header with "
+                    "specimen, force and (optional) scan",
+                    path,
+                    line));
+  }
+  return c;
+}
+
+std::string CsvCell(const nlohmann::json& j) {
+  if (j.is_array()) {  // a list of sentences: one cell, "; " between them
+    std::string joined;
+    for (const auto& item : j) {
+      if (!item.is_string()) continue;
+      joined += (joined.empty() ? "" : "; ") + item.get<std::string>();
+    }
+    return CsvCell(nlohmann::json(joined));
+  }
+  if (j.is_number()) {
+    const double v = j.get<double>();
+    return std::isfinite(v) ? fmt::format("{:.6g}", v) : "";
+  }
+  if (j.is_boolean()) return j.get<bool>() ? "true" : "false";
+  if (j.is_string()) {
+    std::string s = j.get<std::string>();
+    if (s.find_first_of(",\"\n") != std::string::npos) {
+      std::string q = "\"";
+      for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+      return q + "\"";
+    }
+    return s;
+  }
+  return "";
+}
+
+}  // namespace
+
+bool BatchOptions::IsValid(std::string* why) const {
+  auto fail = [&](const std::string& m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (jobs < 0) return fail("jobs must be >= 0");
+  if (shard_count < 1 || shard_index < 1 || shard_index > shard_count)
+    return fail("the shard must be i of n with 1 <= i <= n");
+  try {
+    const std::regex key(name_pattern), identity(naming.pattern);
+  } catch (const std::regex_error& e) {
+    return fail(std::string("the name pattern is not a regular expression: ") +
+                e.what());
+  }
+  return true;
+}
+
+std::string SpecimenName(const std::string& path) {
+  std::string stem = fs::path(path).stem().string();
+  for (const char* suffix :
+       {".force", "_force", "-force", ".scan", "_scan", "-scan"}) {
+    const std::string sfx = suffix;
+    if (stem.size() > sfx.size() &&
+        stem.compare(stem.size() - sfx.size(), sfx.size(), sfx) == 0) {
+      return stem.substr(0, stem.size() - sfx.size());
+    }
+  }
+  return stem;
+}
+
+std::vector<Specimen> PairFolder(const std::string& dir,
+                                 const std::string& name_pattern) {
+  const std::regex re(name_pattern);
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    if (e.is_regular_file()) files.push_back(e.path());
+  }
+  std::sort(files.begin(), files.end());
+  struct Slot {
+    Specimen s;
+    int force_rank = 0, scan_rank = 0;
+  };
+  std::map<std::string, Slot> by_key;
+  for (const fs::path& p : files) {
+    const std::optional<Candidate> c = Classify(p, re);
+    if (!c) continue;
+    Slot& slot = by_key[c->key];
+    slot.s.name = c->key;
+    std::string& role = c->is_scan ? slot.s.scan : slot.s.force;
+    int& role_rank = c->is_scan ? slot.scan_rank : slot.force_rank;
+    if (!role.empty() && c->rank == role_rank) {
+      slot.s.error = fmt::format("two {} files match '{}': {} and {}",
+                                 c->is_scan ? "scan" : "force",
+                                 c->key,
+                                 fs::path(role).filename().string(),
+                                 p.filename().string());
+    }
+    if (role.empty() || c->rank >= role_rank) {
+      role = c->path;
+      role_rank = c->rank;
+    }
+  }
+  std::vector<Specimen> out;
+  for (auto& [key, slot] : by_key) {
+    Specimen& s = slot.s;
+    if (s.force.empty() && s.error.empty()) {
+      s.error = fmt::format("no force file for the scan {}",
+                            fs::path(s.scan).filename().string());
+    }
+    out.push_back(s);
+  }
+  return out;
+}
+
+std::vector<Specimen> ReadManifest(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw FusionError(fmt::format("{}: cannot open the manifest", path));
+  std::string line;
+  std::getline(in, line);
+  const ManifestColumns col = FindManifestColumns(path, line);
+  const fs::path base = fs::path(path).parent_path();
+  auto resolve = [&](const std::string& p) {
+    return p.empty() ? p
+                     : (fs::path(p).is_absolute() ? p : (base / p).string());
+  };
+  std::vector<Specimen> out;
+  std::vector<int> lines;  // of each specimen, for the duplicate message
+  for (int line_no = 2; std::getline(in, line); ++line_no) {
+    if (line.find_first_not_of(" \r,") == std::string::npos) continue;
+    const auto cells = SplitCsvLine(line);
+    auto cell = [&](int i) {
+      return i >= 0 && i < static_cast<int>(cells.size()) ? cells[i] : "";
+    };
+    Specimen s;
+    s.force = resolve(cell(col.force));
+    s.scan = resolve(cell(col.scan));
+    s.name =
+        cell(col.specimen).empty() ? SpecimenName(s.force) : cell(col.specimen);
+    if (const std::string bad = NameProblem(s.name); !bad.empty()) {
+      throw FusionError(fmt::format(
+          "{}: line {}: specimen name '{}' cannot be a folder under --out "
+          "({}); expected a plain name such as B-RT-R",
+          path,
+          line_no,
+          s.name,
+          bad));
+    }
+    for (size_t j = 0; j < out.size(); ++j) {
+      if (out[j].name != s.name) continue;
+      throw FusionError(fmt::format(
+          "{}: line {}: specimen '{}' appears twice (also on line {}); "
+          "expected each name once (each has its own folder)",
+          path,
+          line_no,
+          s.name,
+          lines[j]));
+    }
+    if (s.force.empty())
+      s.error = fmt::format("{}: line {}: no force file", path, line_no);
+    out.push_back(s);
+    lines.push_back(line_no);
+  }
+  return out;
+}
+
+std::vector<Specimen> FindSpecimens(const std::string& input,
+                                    const BatchOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw FusionError("batch options: " + why);
+  std::vector<Specimen> all;
+  if (fs::is_directory(input)) {
+    all = PairFolder(input, options.name_pattern);
+  } else if (fs::is_regular_file(input)) {
+    all = ReadManifest(input);
+  } else {
+    throw FusionError(fmt::format("{}: no such folder or manifest", input));
+  }
+  std::vector<Specimen> mine;
+  for (size_t i = 0; i < all.size(); ++i) {
+    if (static_cast<int>(i % options.shard_count) == options.shard_index - 1)
+      mine.push_back(all[i]);
+  }
+  if (mine.empty())
+    throw FusionError(fmt::format("{}: no specimens found", input));
+  return mine;
+}
+
+nlohmann::json SpecimenIdentity(const std::string& name,
+                                const SpecimenNaming& naming) {
+  const std::regex re(naming.pattern);
+  std::smatch m;
+  nlohmann::json j = {{"specimen", name}};
+  j["species"] = j["plane"] = j["direction"] = "";
+  if (std::regex_search(name, m, re) && m.size() >= 4) {
+    const auto material = naming.materials.find(m.str(1));
+    j["species"] =
+        material != naming.materials.end() ? material->second : m.str(1);
+    j["plane"] = m.str(2);
+    j["direction"] = m.str(3);
+  }
+  return j;
+}
+
+void ForEachSpecimen(size_t n,
+                     int jobs,
+                     const std::function<void(size_t)>& work,
+                     const std::function<void(long)>& progress) {
+  const int threads_wanted =
+      jobs > 0
+          ? jobs
+          : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  std::atomic<size_t> next{0};
+  std::atomic<long> done{0};
+  std::mutex progress_mutex;
+  auto worker = [&] {
+    for (size_t i; (i = next++) < n;) {
+      work(i);
+      std::lock_guard<std::mutex> lock(progress_mutex);
+      progress(++done);
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int t = 0; t < std::min<int>(threads_wanted, static_cast<int>(n)); ++t) {
+    threads.emplace_back(worker);
+  }
+  for (auto& t : threads) t.join();
+}
+
+const std::vector<std::pair<std::string, std::vector<std::string>>>&
+SummaryColumns() {
+  static const std::vector<std::pair<std::string, std::vector<std::string>>>
+      kColumns = {
+          {"specimen", {"specimen"}},
+          {"species", {"species"}},
+          {"plane", {"plane"}},
+          {"direction", {"direction"}},
+          {"cycles", {"cycles"}},
+          {"mu_hat_mean", {"comparison", "mu_hat_force", "mean"}},
+          {"mu_hat_sd", {"comparison", "mu_hat_force", "sd"}},
+          {"mu_hat_scan_mean", {"comparison", "mu_hat_scan", "mean"}},
+          {"mu_hat_scan_sd", {"comparison", "mu_hat_scan", "sd"}},
+          {"mu_mean", {"comparison", "mu_mean", "mean"}},
+          {"mu_energy", {"comparison", "mu_energy", "mean"}},
+          {"J", {"comparison", "J_force", "mean"}},
+          {"J_noise_floor", {"comparison", "J_force_split", "noise_floor"}},
+          {"J_excess", {"comparison", "J_force_split", "excess"}},
+          {"J_scan", {"comparison", "J_scan", "mean"}},
+          {"J_scan_excess", {"comparison", "J_scan_split", "excess"}},
+          {"profile_correlation", {"comparison", "profile_correlation"}},
+          {"amplitude_ratio", {"comparison", "amplitude_ratio"}},
+          {"k_rms_difference", {"comparison", "k_rms_difference"}},
+          {"track_mean_depth_mm", {"scan", "track", "mean_depth_mm"}},
+          {"track_max_depth_mm", {"scan", "track", "max_depth_mm"}},
+          {"track_width_mm", {"scan", "track", "width_mm"}},
+          {"explained", {"verdict", "explained"}},
+          {"verdict", {"verdict", "summary"}},
+          {"warnings", {"warnings"}},
+          {"diagnosis", {"diagnosis"}},
+          {"error", {"error"}},
+      };
+  return kColumns;
+}
+
+std::string SummaryCsv(const std::vector<nlohmann::json>& rows, bool header) {
+  std::string csv;
+  const auto& columns = SummaryColumns();
+  if (header) {
+    for (size_t c = 0; c < columns.size(); ++c) {
+      csv += (c ? "," : "") + columns[c].first;
+    }
+    csv += "\n";
+  }
+  for (const nlohmann::json& row : rows) {
+    for (size_t c = 0; c < columns.size(); ++c) {
+      nlohmann::json v = row;
+      for (const std::string& k : columns[c].second)
+        v = v.is_object() && v.contains(k) ? v[k] : nlohmann::json();
+      csv += (c ? "," : "") + CsvCell(v);
+    }
+    csv += "\n";
+  }
+  return csv;
+}
+
+}  // namespace wearscar::fusion

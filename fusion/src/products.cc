@@ -1,0 +1,481 @@
+#include "wearscar/fusion/products.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "wearscar/fusion/error.h"
+#include "wearscar/fusion/forward_model.h"
+
+namespace wearscar::fusion {
+namespace {
+
+double Nan() { return std::nan(""); }
+
+nlohmann::json Stat(const Statistic& s) {
+  return {{"mean", s.mean}, {"sd", s.sd}, {"count", s.count}};
+}
+
+nlohmann::json Split(const CostSplit& s) {
+  return {{"J", s.cost},
+          {"noise_floor", s.floor},
+          {"excess", s.excess},
+          {"excess_interval", {s.excess_low, s.excess_high}},
+          {"cycles", s.cycles},
+          {"note",
+           "J^2 = floor^2 + excess^2 per direction; the floor is what "
+           "this test's measurement noise explains, the excess what "
+           "repeats at the same x from cycle to cycle"}};
+}
+
+nlohmann::json Range(const Interval& i) {
+  return {{"mean", i.mean},
+          {"interval", {i.low, i.high}},
+          {"count", i.count},
+          {"batches", i.batches}};
+}
+
+// Every option that shaped the analysis.
+nlohmann::json OptionsJson(const force::ForceRecord& record,
+                           const FuseOptions& o) {
+  const auto& f = o.analysis.friction;
+  return {{"spring_n_per_mm", f.slope.spring_stiffness_n_per_mm},
+          {"k_estimate", KEstimateName(f.k_estimate)},
+          {"ensemble_cycles", f.ensemble.cycles},
+          {"ensemble_bin_mm", f.ensemble.bin_mm},
+          {"ensemble_span_mm", f.ensemble.span_mm},
+          {"derivative", force::DerivativeMethodName(f.slope.method)},
+          {"window_samples",
+           f.slope.ForSamplingRate(SamplingRateOf(record)).window},
+          {"window_ms", f.slope.window_ms},
+          {"difference_half_span_ms", f.slope.half_span_ms},
+          {"min_span_mm", f.slope.min_span_mm},
+          {"noise_template_cycles", f.repeatability.template_cycles},
+          {"running_in_cycles",
+           o.analysis.running_in_cycles < 0
+               ? nlohmann::json("auto")
+               : nlohmann::json(o.analysis.running_in_cycles)},
+          {"running_in_tolerance", o.analysis.running_in_tolerance},
+          {"mu_interval", {f.fit.mu_min, f.fit.mu_max}},
+          {"verdict_cost", CostCriterionName(o.verdict.cost_criterion)},
+          {"max_excess", o.verdict.max_cost_excess},
+          {"max_cost", o.verdict.max_cost},
+          {"max_amplitude_ratio", o.verdict.max_amplitude_ratio},
+          {"min_correlation", o.verdict.min_correlation},
+          {"max_method_difference", o.verdict.max_method_difference}};
+}
+
+// The comparison of the slopes over the compared cycles.
+nlohmann::json ComparisonJson(const TestResult& r) {
+  const auto& m = r.mismatch;
+  nlohmann::json j = {{"first_cycle", m.first_cycle},
+                      {"last_cycle", m.last_cycle},
+                      {"mu_hat_force", Stat(m.mu_force)},
+                      {"J_force", Stat(m.cost_force)},
+                      {"mu_mean", Stat(m.mu_mean)},
+                      {"mu_energy", Stat(m.mu_energy)},
+                      {"mu_hat_minus_mu_mean", Stat(m.mu_force_minus_mean)},
+                      {"mu_hat_minus_mu_energy", Stat(m.mu_force_minus_energy)},
+                      {"J_force_split", Split(m.split_force)},
+                      {"method_difference", Range(m.method_difference)}};
+  if (!r.scan) return j;
+  j["mu_hat_scan"] = Stat(m.mu_scan);
+  j["J_scan"] = Stat(m.cost_scan);
+  j["J_scan_split"] = Split(m.split_scan);
+  j["amplitude_ratio_interval"] = {m.amplitude_ratio_low,
+                                   m.amplitude_ratio_high};
+  j["mu_hat_force_minus_scan"] = m.mu_force_minus_scan;
+  j["k_rms_difference"] = m.k_rms_difference;
+  j["profile_correlation"] = m.correlation;
+  j["profile_correlation_noise_corrected"] = m.correlation_noise_corrected;
+  j["amplitude_ratio"] = m.amplitude_ratio;
+  return j;
+}
+
+// The scan side: levelling, spikes, track, alignment.
+nlohmann::json ScanJson(const ScanAnalysis& s) {
+  const auto& t = s.track;
+  const auto& a = s.alignment;
+  return {{"level", LevelJson(s.level)},
+          {"spikes_removed", s.spikes_removed},
+          {"track", TrackJson(t)},
+          {"alignment",
+           {{"shift_mm", a.shift_mm},
+            {"flipped", a.flipped},
+            {"correlation", a.correlation},
+            {"correlation_forward", a.correlation_forward},
+            {"correlation_reverse", a.correlation_reverse},
+            {"scale", a.scale},
+            {"amplitude_ratio", a.amplitude_ratio},
+            {"overlap_samples", a.overlap_samples}}}};
+}
+
+nlohmann::json LugreJson(const TestResult& r) {
+  const auto& p = r.lugre->parameters;
+  return {{"cycle", r.detail_cycle},
+          {"sigma0_n_per_mm", p.sigma0_n_per_mm},
+          {"sigma1_n_s_per_mm", p.sigma1_n_s_per_mm},
+          {"sigma2_n_s_per_mm", p.sigma2_n_s_per_mm},
+          {"sigma2_negative", p.sigma2_n_s_per_mm < 0},
+          {"stribeck_speed_mm_s", p.stribeck_speed_mm_s},
+          {"F_c_N", p.coulomb_n},
+          {"F_s_N", p.static_n},
+          {"J", r.lugre->cost},
+          {"J_wearscar_same_cycle", r.force.fit_force[r.detail_cycle].cost},
+          {"converged", r.lugre->converged},
+          {"message", r.lugre->message}};
+}
+
+// cycles.csv: one row per cycle.
+Table CycleTable(const TestResult& r) {
+  const auto& cycles = r.force.cycles.cycles;
+  Table t;
+  t.columns = CycleColumns();
+  for (size_t c = 0; c < cycles.size(); ++c) {
+    const auto& f = r.force.fit_force[c];
+    const auto& cof = r.force.cof[c];
+    const MuFit* s = r.scan ? &r.scan->fit_scan[c] : nullptr;
+    const bool sok = s && s->converged;
+    t.rows.push_back(
+        {static_cast<double>(c),
+         f.converged ? f.mu_hat : Nan(),
+         f.converged ? f.cost : Nan(),
+         f.converged ? f.cost_floor : Nan(),
+         f.converged ? f.cost_excess : Nan(),
+         sok ? s->mu_hat : Nan(),
+         sok ? s->cost : Nan(),
+         sok ? s->cost_floor : Nan(),
+         sok ? s->cost_excess : Nan(),
+         static_cast<double>(f.samples),
+         cof.mu_mean,
+         cof.mu_energy_max,
+         cof.mu_energy_g,
+         cof.dissipated_energy_nmm,
+         cof.delta_max_mm,
+         cof.delta_g_mm,
+         cof.mean_normal_n,
+         cof.q_max_n,
+         cof.q_min_n,
+         cof.p_max_n,
+         cof.p_min_n,
+         cof.p_range_n,
+         cof.qp_correlation,
+         static_cast<int>(c) < r.force.running_in.cycles ? 1.0 : 0.0,
+         static_cast<double>(cycles[c].forward.slip_fallback +
+                             cycles[c].reverse.slip_fallback)});
+  }
+  return t;
+}
+
+// loops.csv: the samples of the chosen cycles' hysteresis loops.
+Table LoopTable(const force::ForceRecord& record,
+                const TestResult& r,
+                std::vector<int> loops) {
+  const auto& cycles = r.force.cycles.cycles;
+  const int n = static_cast<int>(cycles.size());
+  if (loops.empty()) {
+    loops = {0, std::min(2, n - 1), std::min(10, n - 1), n - 1};
+  }
+  Table l;
+  l.columns = {"cycle", "time_s", "x_mm", "Q_N", "P_N"};
+  for (int c : loops) {
+    if (c < 0 || c >= n) continue;
+    for (Eigen::Index i = cycles[c].forward.begin; i < cycles[c].reverse.end;
+         ++i) {
+      l.rows.push_back({static_cast<double>(c),
+                        record.time_s[i],
+                        record.x_mm[i],
+                        record.tangential_n[i],
+                        record.normal_n[i]});
+    }
+  }
+  return l;
+}
+
+// detail.csv: the detail cycle's gross-slip samples, both slopes and Q
+// reconstructed with each (paper Figs. 10, 12).
+Table DetailTable(const TestResult& r,
+                  const CycleSamples& kf,
+                  int dc,
+                  double mu_f,
+                  double mu_s) {
+  Table d;
+  d.columns = {"cycle",
+               "direction",
+               "x_mm",
+               "Q_N",
+               "P_N",
+               "k_force",
+               "k_scan",
+               "Q_model_force_N",
+               "Q_model_scan_N"};
+  for (const SlipSamples* s : {&kf.forward, &kf.reverse}) {
+    for (Eigen::Index i = 0; i < s->q_n.size(); ++i) {
+      const double ks = r.scan ? r.scan->slope.At(s->x_mm[i]) : Nan();
+      d.rows.push_back(
+          {static_cast<double>(dc),
+           static_cast<double>(s->direction),
+           s->x_mm[i],
+           s->q_n[i],
+           s->p_n[i],
+           s->k[i],
+           ks,
+           WearScarTangentialForce(s->p_n[i], s->k[i], mu_f, s->direction),
+           std::isfinite(ks)
+               ? WearScarTangentialForce(s->p_n[i], ks, mu_s, s->direction)
+               : Nan()});
+    }
+  }
+  return d;
+}
+
+// cost_curve.csv: J(mu) on the detail cycle with each slope (Fig. 11).
+Table CostCurveTable(const force::ForceRecord& record,
+                     const TestResult& r,
+                     const FrictionFitOptions& fopt,
+                     const CycleSamples& kf,
+                     int dc,
+                     int points) {
+  const Eigen::VectorXd grid =
+      Eigen::VectorXd::LinSpaced(points, fopt.fit.mu_min, fopt.fit.mu_max);
+  const Eigen::VectorXd jf = CostCurve(kf, grid);
+  Eigen::VectorXd js = Eigen::VectorXd::Constant(grid.size(), Nan());
+  if (r.scan) {
+    js = CostCurve(GatherCycle(record,
+                               r.force.cycles.cycles[dc],
+                               SlopeSource::kScan,
+                               fopt,
+                               &r.scan->slope),
+                   grid);
+  }
+  Table cc;
+  cc.columns = {"mu", "J_force", "J_scan"};
+  for (Eigen::Index i = 0; i < grid.size(); ++i)
+    cc.rows.push_back({grid[i], jf[i], js[i]});
+  return cc;
+}
+
+// profiles.csv: the force side's profiles and the aligned scan profile
+// along the plate; centreline.csv: the scan's centreline.
+void AddProfileTables(const ScanAnalysis& scan, TestProducts* out) {
+  const auto& fp = scan.force_profile;
+  const Eigen::VectorXd h =
+      ScanHeightAtPlate(scan.profile, scan.alignment, fp.x_mm);
+  Table p;
+  p.columns = {"x_mm",
+               "f_forward_mm",
+               "f_reverse_mm",
+               "f_mean_mm",
+               "h_scan_mm",
+               "h_scan_scaled_mm",
+               "k_scan"};
+  const auto& a = scan.alignment;
+  for (Eigen::Index i = 0; i < fp.x_mm.size(); ++i) {
+    p.rows.push_back({fp.x_mm[i],
+                      fp.forward_mm[i],
+                      fp.reverse_mm[i],
+                      fp.mean_mm[i],
+                      h[i],
+                      a.scale * h[i] + a.offset_mm,
+                      scan.slope.At(fp.x_mm[i])});
+  }
+  out->tables.emplace_back("profiles.csv", std::move(p));
+  Table sp;
+  sp.columns = {"s_mm", "h_mm", "n_valid"};
+  for (Eigen::Index i = 0; i < scan.profile.s_mm.size(); ++i) {
+    sp.rows.push_back({scan.profile.s_mm[i],
+                       scan.profile.height_mm[i],
+                       static_cast<double>(scan.profile.valid_samples[i])});
+  }
+  out->tables.emplace_back("centreline.csv", std::move(sp));
+}
+
+// lugre.csv: LuGre against the wear-scar model on the detail cycle (Fig.
+// 17); the wear-scar model describes gross slip only. The gathered samples
+// keep the record's order, so one pointer per direction walks them
+// alongside.
+Table LugreTable(const force::ForceRecord& record,
+                 const TestResult& r,
+                 const CycleSamples& kf,
+                 int dc,
+                 double mu_f) {
+  const auto& lg = *r.lugre;
+  const auto& c = r.force.cycles.cycles[dc];
+  Table lt;
+  lt.columns = {"time_s", "x_mm", "Q_N", "Q_lugre_N", "Q_wearscar_N"};
+  Eigen::Index next[2] = {0, 0};
+  auto model_at = [&](Eigen::Index src) {
+    const bool forward = src < c.forward.end;
+    const force::HalfCycle& h = forward ? c.forward : c.reverse;
+    if (src < h.slip_begin || src >= h.slip_end) return Nan();
+    const SlipSamples& s = forward ? kf.forward : kf.reverse;
+    Eigen::Index& j = next[forward ? 0 : 1];
+    if (j < s.x_mm.size() && s.x_mm[j] == record.x_mm[src] &&
+        s.p_n[j] == record.normal_n[src]) {
+      ++j;
+      return WearScarTangentialForce(
+          s.p_n[j - 1], s.k[j - 1], mu_f, s.direction);
+    }
+    return Nan();  // a sample the fit did not use (no finite k)
+  };
+  for (Eigen::Index i = 0; i < lg.time_s.size(); ++i) {
+    lt.rows.push_back({lg.time_s[i],
+                       lg.x_mm[i],
+                       lg.q_measured_n[i],
+                       lg.q_lugre_n[i],
+                       model_at(c.forward.begin + i)});
+  }
+  return lt;
+}
+
+}  // namespace
+
+nlohmann::json TrackJson(const scan::Track& t) {
+  return {{"center_x_mm", t.center_x_mm},
+          {"center_y_mm", t.center_y_mm},
+          {"angle_deg", t.angle_deg},
+          {"length_mm", t.length_mm},
+          {"width_mm", t.width_mm},
+          {"mean_depth_mm", t.mean_depth_mm},
+          {"max_depth_mm", t.max_depth_mm},
+          {"volume_mm3", t.volume_mm3},
+          {"elongation", t.elongation},
+          {"roughness_mm", t.roughness_mm},
+          {"depth_to_roughness", t.depth_to_roughness},
+          {"low_confidence", t.low_confidence},
+          {"message", t.message},
+          {"manual", t.manual}};
+}
+
+nlohmann::json LevelJson(const scan::LevelSummary& l) {
+  return {{"order", l.order},
+          {"coefficients",
+           std::vector<double>(l.coefficients.data(),
+                               l.coefficients.data() + l.coefficients.size())},
+          {"inliers", l.inliers},
+          {"rms_mm", l.rms_mm}};
+}
+
+std::string Table::ToCsv() const {
+  fmt::memory_buffer buf;
+  for (size_t c = 0; c < columns.size(); ++c) {
+    fmt::format_to(std::back_inserter(buf), "{}{}", c ? "," : "", columns[c]);
+  }
+  buf.push_back('\n');
+  for (const auto& row : rows) {
+    for (size_t c = 0; c < row.size(); ++c) {
+      if (c) buf.push_back(',');
+      if (std::isfinite(row[c]))
+        fmt::format_to(std::back_inserter(buf), "{:.8g}", row[c]);
+    }
+    buf.push_back('\n');
+  }
+  return fmt::to_string(buf);
+}
+
+bool ProductOptions::IsValid(std::string* why) const {
+  if (cost_curve_points < 2 || cost_curve_points > 1000000) {
+    if (why) *why = "cost_curve_points must be 2 to 10^6";
+    return false;
+  }
+  return true;
+}
+
+std::vector<std::pair<std::string, std::string>> TestProducts::Files() const {
+  std::vector<std::pair<std::string, std::string>> files;
+  for (const auto& [name, table] : tables)
+    files.emplace_back(name, table.ToCsv());
+  files.emplace_back("result.json", result.dump(2) + "\n");
+  return files;
+}
+
+const std::vector<std::string>& CycleColumns() {
+  static const std::vector<std::string> kColumns = {
+      "cycle",          "mu_hat_force", "J_force",        "J_force_floor",
+      "J_force_excess", "mu_hat_scan",  "J_scan",         "J_scan_floor",
+      "J_scan_excess",  "samples",      "mu_mean",        "mu_energy_max",
+      "mu_energy_g",    "E_d_Nmm",      "delta_max_mm",   "delta_g_mm",
+      "P_mean_N",       "Q_max_N",      "Q_min_N",        "P_max_N",
+      "P_min_N",        "P_range_N",    "QP_correlation", "running_in",
+      "slip_fallback"};
+  return kColumns;
+}
+
+int CycleColumn(const std::string& name) {
+  const auto& c = CycleColumns();
+  const auto it = std::find(c.begin(), c.end(), name);
+  return it == c.end() ? -1 : static_cast<int>(it - c.begin()) + 1;
+}
+
+nlohmann::json ResultJson(const std::string& name,
+                          const force::ForceRecord& record,
+                          const TestResult& r,
+                          const FuseOptions& o) {
+  nlohmann::json j;
+  j["specimen"] = name;
+  j["force_file"] = record.metadata.source;
+  j["force_layout"] = record.metadata.layout;
+  j["samples"] = record.size();
+  j["sampling_rate_hz"] = record.metadata.sampling_rate_hz;
+  j["cycles"] = r.force.cycles.cycles.size();
+  j["stroke_mm"] = r.force.cycles.stroke_mm;
+  j["slip_fallback_half_cycles"] = r.force.slip_fallbacks;
+  j["options"] = OptionsJson(record, o);
+  j["running_in"] = {
+      {"cycles", r.force.running_in.cycles},
+      {"detected", r.force.running_in.detected},
+      {"tolerance", r.force.running_in.tolerance},
+      {"steady_slope_per_cycle", r.force.running_in.steady_slope},
+      {"rule", r.force.running_in.rule}};
+  j["slope_estimate"] = r.force.slope_estimate;
+  j["k_rms"] = {{"repeatable", r.force.k_signal_rms},
+                {"noise", r.force.k_noise_rms}};
+  j["after_running_in"] = {{"mu_hat", Stat(r.force.mu_hat)},
+                           {"J", Stat(r.force.cost)},
+                           {"mu_mean", Stat(r.force.mu_mean)},
+                           {"mu_energy", Stat(r.force.mu_energy)}};
+  j["comparison"] = ComparisonJson(r);
+  if (r.scan) j["scan"] = ScanJson(*r.scan);
+  if (r.lugre) j["lugre"] = LugreJson(r);
+  j["verdict"] = {{"explained", r.verdict.explained},
+                  {"summary", r.verdict.Summary()},
+                  {"reasons", r.verdict.reasons}};
+  std::vector<std::string> warnings = record.metadata.warnings;
+  warnings.insert(warnings.end(), r.warnings.begin(), r.warnings.end());
+  j["warnings"] = warnings;
+  return j;
+}
+
+TestProducts MakeTestProducts(const std::string& name,
+                              const force::ForceRecord& record,
+                              const TestResult& r,
+                              const FuseOptions& o,
+                              const ProductOptions& p) {
+  std::string why;
+  if (!p.IsValid(&why)) throw FusionError("product options: " + why);
+  const int n = static_cast<int>(r.force.cycles.cycles.size());
+  TestProducts out;
+  out.tables.emplace_back("cycles.csv", CycleTable(r));
+  out.tables.emplace_back("loops.csv", LoopTable(record, r, p.loop_cycles));
+  const int dc = p.detail_cycle >= 0 && p.detail_cycle < n   ? p.detail_cycle
+                 : r.detail_cycle >= 0 && r.detail_cycle < n ? r.detail_cycle
+                                                             : n - 1;
+  const auto& fopt = o.analysis.friction;
+  const ForceSlopes force_slopes(record, r.force.cycles, fopt, dc, dc);
+  const CycleSamples kf = force_slopes.Gather(dc);
+  const double mu_f = r.force.fit_force[dc].mu_hat;
+  const double mu_s = r.scan ? r.scan->fit_scan[dc].mu_hat : Nan();
+  out.tables.emplace_back("detail.csv", DetailTable(r, kf, dc, mu_f, mu_s));
+  out.tables.emplace_back(
+      "cost_curve.csv",
+      CostCurveTable(record, r, fopt, kf, dc, p.cost_curve_points));
+  if (r.scan) AddProfileTables(*r.scan, &out);
+  if (r.lugre) {
+    out.tables.emplace_back("lugre.csv", LugreTable(record, r, kf, dc, mu_f));
+  }
+  out.result = ResultJson(name, record, r, o);
+  return out;
+}
+
+}  // namespace wearscar::fusion

@@ -18,12 +18,14 @@ cmake -S "$source/tests/consumer" -B "$scratch/consumer" \
 cmake --build "$scratch/consumer" > /dev/null
 "$scratch/consumer/consumer"
 wearscar="$scratch/prefix/bin/wearscar"
-"$wearscar" simulate --case S-RL-R --cycles 40 --scan-cols 96 --scan-rows 64 \
-  --formats csv,gsf -o "$scratch/sim" > /dev/null
+"$wearscar" simulate --case S-RL-R --cycles 40 --formats csv,gsf \
+  -o "$scratch/sim" > /dev/null 2>&1
 force="$scratch/sim/S-RL-R.force.csv" scan="$scratch/sim/S-RL-R.scan.gsf"
 "$wearscar" fuse --force "$force" --scan "$scan" --no-figures \
   -o "$scratch/by-command" > /dev/null
 mkdir -p "$scratch/by-library"
 "$scratch/consumer/consumer" "$force" "$scan" S-RL-R "$scratch/by-library"
 diff -r --exclude=.wearscar.lock "$scratch/by-command" "$scratch/by-library"
+# With the scan used: its profiles are among them.
+test -f "$scratch/by-library/profiles.csv"
 echo "the library wrote what the command wrote: $(ls "$scratch/by-library" | tr '\n' ' ')"

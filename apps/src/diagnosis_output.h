@@ -7,12 +7,7 @@
 
 namespace wearscar::app {
 
-// Diagnoses one analysed test: the groove depth comes from the aligned scan
-// when there is one (levelled reference = unworn), else from the force side.
-fusion::Diagnosis DiagnoseTest(const force::ForceRecord& record,
-                               const fusion::TestResult& result,
-                               const fusion::FuseOptions& fuse,
-                               const fusion::DiagnoseOptions& options);
+using fusion::DiagnoseTest;
 
 // "c_p_N_per_mm = 7.5 +- 0.2, ..."
 std::string ParameterText(const fusion::CandidateResult& c);

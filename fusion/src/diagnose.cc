@@ -763,4 +763,21 @@ Diagnosis Diagnose(const force::ForceRecord& record,
   return out;
 }
 
+Diagnosis DiagnoseTest(const force::ForceRecord& record,
+                       const TestResult& r,
+                       const FuseOptions& fuse,
+                       const DiagnoseOptions& options) {
+  SlopeProfile depth;
+  if (r.scan) {
+    const auto& fp = r.scan->force_profile;
+    depth.x_mm = fp.x_mm;
+    depth.k = -ScanHeightAtPlate(r.scan->profile, r.scan->alignment, fp.x_mm);
+  }
+  return Diagnose(record,
+                  r.force.cycles,
+                  fuse.analysis.friction,
+                  r.scan ? &depth : nullptr,
+                  options);
+}
+
 }  // namespace wearscar::fusion

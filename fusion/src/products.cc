@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "wearscar/fusion/effects.h"
 #include "wearscar/fusion/error.h"
 #include "wearscar/fusion/forward_model.h"
 
@@ -329,7 +330,95 @@ Table LugreTable(const force::ForceRecord& record,
   return lt;
 }
 
+nlohmann::json MapJson(const ResidualMap& m) {
+  auto vec = [](const Eigen::VectorXd& v) {
+    return std::vector<double>(v.data(), v.data() + v.size());
+  };
+  auto row = [](const Eigen::MatrixXd& a, int r) {
+    std::vector<double> v;
+    for (Eigen::Index c = 0; c < a.cols(); ++c) v.push_back(a(r, c));
+    return v;
+  };
+  return {{"where", m.where},
+          {"mean_abs_r_N", m.mean_abs_n_all},
+          {"x_mm", vec(m.x_mm)},
+          {"forward_mean_abs_r_N", row(m.mean_abs_n, 0)},
+          {"reverse_mean_abs_r_N", row(m.mean_abs_n, 1)},
+          {"forward_mean_r_N", row(m.mean_n, 0)},
+          {"reverse_mean_r_N", row(m.mean_n, 1)},
+          {"from_reversal_mm", vec(m.from_reversal_mm)},
+          {"forward_by_reversal_mean_abs_r_N", row(m.reversal_mean_abs_n, 0)},
+          {"reverse_by_reversal_mean_abs_r_N", row(m.reversal_mean_abs_n, 1)},
+          {"block_first_cycle", m.block_first_cycle},
+          {"block_mean_abs_r_N", vec(m.block_mean_abs_n)}};
+}
+
+nlohmann::json CandidateJson(const CandidateResult& c) {
+  return {{"effect", c.effect},
+          {"parameter_names", c.parameter_names},
+          {"parameters", c.parameters},
+          {"uncertainties", c.uncertainties},
+          {"heldout_J_before", c.heldout_before},
+          {"heldout_J_after", c.heldout_after},
+          {"relative_gain", c.relative_gain},
+          {"improved_fraction", c.improved_fraction},
+          {"delta_bic", c.delta_bic},
+          {"accepted", c.accepted}};
+}
+
+Table ResidualMapTable(const ResidualMap& m) {
+  Table t;
+  t.columns = {"x_mm",
+               "forward_mean_abs_r_N",
+               "reverse_mean_abs_r_N",
+               "forward_mean_r_N",
+               "reverse_mean_r_N"};
+  for (Eigen::Index i = 0; i < m.x_mm.size(); ++i) {
+    t.rows.push_back({m.x_mm[i],
+                      m.mean_abs_n(0, i),
+                      m.mean_abs_n(1, i),
+                      m.mean_n(0, i),
+                      m.mean_n(1, i)});
+  }
+  return t;
+}
+
+nlohmann::json DiagnosisJson(const std::string& name, const Diagnosis& d) {
+  nlohmann::json j;
+  j["specimen"] = name;
+  j["cycles"] = d.cycles;
+  j["named"] = d.named;
+  j["heldout_J_initial"] = d.heldout_initial;
+  j["heldout_J_final"] = d.heldout_final;
+  j["message"] = d.message;
+  j["model"] = nlohmann::json::array();
+  for (const auto& c : d.model) j["model"].push_back(CandidateJson(c));
+  j["steps"] = nlohmann::json::array();
+  for (const auto& s : d.steps) {
+    nlohmann::json step = {{"chosen", CandidateJson(s.chosen)},
+                           {"tried", nlohmann::json::array()}};
+    for (const auto& c : s.tried) step["tried"].push_back(CandidateJson(c));
+    j["steps"].push_back(step);
+  }
+  j["residual_map_before"] = MapJson(d.before);
+  j["residual_map_after"] = MapJson(d.after);
+  j["library"] = nlohmann::json::array();
+  for (const auto& e : EffectLibrary()) {
+    j["library"].push_back({{"name", e->Name()},
+                            {"formula", e->Formula()},
+                            {"parameters", e->ParameterNames()}});
+  }
+  return j;
+}
+
 }  // namespace
+
+std::vector<std::pair<std::string, std::string>> DiagnosisFiles(
+    const std::string& name, const Diagnosis& d) {
+  return {{"diagnosis.json", DiagnosisJson(name, d).dump(2) + "\n"},
+          {"residual_map_before.csv", ResidualMapTable(d.before).ToCsv()},
+          {"residual_map_after.csv", ResidualMapTable(d.after).ToCsv()}};
+}
 
 nlohmann::json TrackJson(const scan::Track& t) {
   return {{"center_x_mm", t.center_x_mm},

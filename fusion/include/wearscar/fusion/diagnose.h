@@ -9,6 +9,7 @@
 #include "wearscar/force/force_record.h"
 #include "wearscar/fusion/effects.h"
 #include "wearscar/fusion/fit_mu.h"
+#include "wearscar/fusion/fuse.h"
 
 namespace wearscar::fusion {
 
@@ -92,5 +93,13 @@ Diagnosis Diagnose(const force::ForceRecord& record,
                    const FrictionFitOptions& friction,
                    const SlopeProfile* depth_mm,
                    const DiagnoseOptions& options = {});
+
+// Diagnoses a test AnalyzeTest analysed with `fuse`: the groove depth from
+// the aligned scan when it was used (levelled reference = unworn), else
+// from the force side.
+Diagnosis DiagnoseTest(const force::ForceRecord& record,
+                       const TestResult& result,
+                       const FuseOptions& fuse,
+                       const DiagnoseOptions& options = {});
 
 }  // namespace wearscar::fusion

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "wearscar/force/force_record.h"
+#include "wearscar/fusion/diagnose.h"
 #include "wearscar/fusion/fuse.h"
 
 namespace wearscar::fusion {
@@ -56,6 +57,12 @@ nlohmann::json ResultJson(const std::string& name,
                           const force::ForceRecord& record,
                           const TestResult& result,
                           const FuseOptions& options);
+
+// A diagnosis as files: diagnosis.json (steps, candidates, named effects,
+// residual maps, the effect library) and the residual maps along the
+// stroke before and after (residual_map_before.csv, _after.csv).
+std::vector<std::pair<std::string, std::string>> DiagnosisFiles(
+    const std::string& name, const Diagnosis& diagnosis);
 
 // The worn track and the levelling as JSON (result.json, scan.json).
 nlohmann::json TrackJson(const scan::Track& track);

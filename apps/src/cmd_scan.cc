@@ -24,18 +24,30 @@ struct ScanArgs {
   std::string file;
   std::string out;
   scan::ReadScanOptions read;
-  scan::LevelOptions level;
-  scan::SpikeOptions spikes;
-  scan::TrackOptions track;
-  scan::ProfileOptions profile;
-  std::vector<double> sections_mm;  // along-track positions of cross-sections
-  double section_half_width_mm = 1.5;
+  fusion::MapAnalysisOptions analysis;
 };
+
+void PrintTrack(const std::string& file, const scan::Track& t) {
+  fmt::print(
+      "  track: centre ({:.3f}, {:.3f}) mm, angle {:.2f} deg, length {:.3f} "
+      "mm, width {:.3f} mm, mean depth {:.1f} um, max depth {:.1f} um, "
+      "volume {:.4g} mm^3 ({})\n",
+      t.center_x_mm,
+      t.center_y_mm,
+      t.angle_deg,
+      t.length_mm,
+      t.width_mm,
+      1e3 * t.mean_depth_mm,
+      1e3 * t.max_depth_mm,
+      t.volume_mm3,
+      t.message);
+  if (t.low_confidence)
+    fmt::print(stderr, "wearscar: warning: {}: {}\n", file, t.message);
+}
 
 void RunScan(ScanArgs a) {
   std::string why;
-  if (!a.read.IsValid(&why) || !a.level.IsValid(&why) ||
-      !a.track.IsValid(&why) || !a.profile.IsValid(&why)) {
+  if (!a.read.IsValid(&why) || !a.analysis.IsValid(&why)) {
     throw UsageError("scan: " + why);
   }
   scan::HeightMap map = scan::ReadScan(a.file, a.read);
@@ -50,41 +62,15 @@ void RunScan(ScanArgs a) {
       map.metadata.instrument.empty() ? "" : ", ",
       map.metadata.instrument,
       map.ValidCount());
-  const scan::LevelSummary level = scan::LevelHeightMap(&map, a.level);
-  const int spikes = scan::RemoveSpikes(&map, a.spikes);
-  fmt::print("  levelled: {}; {} spikes removed\n", level.message, spikes);
   // No track: everything that does not need one is still written, with
   // "track": null and the reason, and the command exits 0 with a warning.
-  std::optional<scan::Track> track;
-  std::string no_track;
-  try {
-    track = scan::FindTrack(map, a.track);
-  } catch (const scan::NoTrackError& e) {
-    no_track = e.what();
-  }
-  nlohmann::json track_json = nullptr;
-  scan::WearProfile p;
-  if (track) {
-    const scan::Track& t = *track;
-    fmt::print(
-        "  track: centre ({:.3f}, {:.3f}) mm, angle {:.2f} deg, length {:.3f} "
-        "mm, width {:.3f} mm, mean depth {:.1f} um, max depth {:.1f} um, "
-        "volume {:.4g} mm^3 ({})\n",
-        t.center_x_mm,
-        t.center_y_mm,
-        t.angle_deg,
-        t.length_mm,
-        t.width_mm,
-        1e3 * t.mean_depth_mm,
-        1e3 * t.max_depth_mm,
-        t.volume_mm3,
-        t.message);
-    if (t.low_confidence)
-      fmt::print(stderr, "wearscar: warning: {}: {}\n", a.file, t.message);
-    p = scan::ExtractCentreline(map, t, a.profile);
-    track_json = fusion::TrackJson(t);
+  const fusion::MapAnalysis r = fusion::AnalyzeMap(std::move(map), a.analysis);
+  fmt::print(
+      "  levelled: {}; {} spikes removed\n", r.level.message, r.spikes_removed);
+  if (r.track) {
+    PrintTrack(a.file, *r.track);
   } else {
-    fmt::print(stderr, "wearscar: warning: {}\n", no_track);
+    fmt::print(stderr, "wearscar: warning: {}\n", r.no_track);
   }
   if (a.out.empty()) return;
   // Staged: a run that fails late (a full disk, a map too small for the
@@ -92,47 +78,17 @@ void RunScan(ScanArgs a) {
   const OutputLock lock(a.out);
   StagedOutput stage(a.out);
   std::vector<std::string> written;
-  auto path = [&](const char* file) {
+  auto path = [&](const std::string& file) {
     written.push_back(file);
     return (fs::path(stage.dir()) / file).string();
   };
-  if (track) {
-    const scan::Track& t = *track;
-    Table c;
-    c.columns = {"s_mm", "h_mm", "n_valid"};
-    for (Eigen::Index i = 0; i < p.s_mm.size(); ++i) {
-      c.rows.push_back(
-          {p.s_mm[i], p.height_mm[i], static_cast<double>(p.valid_samples[i])});
-    }
-    WriteTextAtomically(path("centreline.csv"), c.ToCsv());
-    if (a.sections_mm.empty())
-      a.sections_mm = {-0.25 * t.length_mm, 0.0, 0.25 * t.length_mm};
-    Table x;
-    x.columns = {"s_mm", "w_mm", "h_mm"};
-    for (double s : a.sections_mm) {
-      const scan::WearProfile cs =
-          scan::ExtractCrossSection(map, t, s, a.section_half_width_mm);
-      for (Eigen::Index i = 0; i < cs.s_mm.size(); ++i)
-        x.rows.push_back({s, cs.s_mm[i], cs.height_mm[i]});
-    }
-    WriteTextAtomically(path("cross_sections.csv"), x.ToCsv());
-  }
-  scan::WriteGsf(map, path("levelled.gsf"));
-  nlohmann::json j = {{"file", a.file},
-                      {"format", map.metadata.format},
-                      {"instrument", map.metadata.instrument},
-                      {"date", map.metadata.date},
-                      {"size_px", {map.cols(), map.rows()}},
-                      {"pitch_mm", {map.dx_mm, map.dy_mm}},
-                      {"valid_points", map.ValidCount()},
-                      {"level", fusion::LevelJson(level)},
-                      {"spikes_removed", spikes},
-                      {"track", track_json},
-                      {"warnings", map.metadata.warnings}};
-  if (!track) j["track_missing"] = no_track;
+  const auto files = fusion::MakeMapProducts(a.file, r).Files();
+  for (size_t i = 0; i + 1 < files.size(); ++i)
+    WriteTextAtomically(path(files[i].first), files[i].second);
+  scan::WriteGsf(r.levelled, path("levelled.gsf"));
   scan::WriteTrackPreviewPng(
-      map, track ? *track : scan::Track{}, path("preview.png"));
-  WriteTextAtomically(path("scan.json"), j.dump(2) + "\n");
+      r.levelled, r.track ? *r.track : scan::Track{}, path("preview.png"));
+  WriteTextAtomically(path(files.back().first), files.back().second);
   stage.Commit();
   fmt::print("wrote {} to {}/\n", fmt::join(written, ", "), a.out);
 }
@@ -168,42 +124,48 @@ void AddScanCommand(CLI::App& app) {
   cmd->add_option(
       "--ascii-unit", args->read.ascii_z_unit, "ASCII matrix height unit");
   cmd->add_option("--level-order",
-                  args->level.polynomial_order,
+                  args->analysis.level.polynomial_order,
                   "Reference surface order (1-3)")
       ->capture_default_str();
   cmd->add_option("--ransac-threshold",
-                  args->level.ransac_threshold_mm,
+                  args->analysis.level.ransac_threshold_mm,
                   "RANSAC inlier band, mm")
       ->capture_default_str();
-  cmd->add_option(
-         "--spike-threshold", args->spikes.threshold_mm, "Spike height, mm")
+  cmd->add_option("--spike-threshold",
+                  args->analysis.spikes.threshold_mm,
+                  "Spike height, mm")
       ->capture_default_str();
-  cmd->add_option(
-         "--min-depth", args->track.min_depth_mm, "Track: least depth, mm")
+  cmd->add_option("--min-depth",
+                  args->analysis.track.min_depth_mm,
+                  "Track: least depth, mm")
       ->capture_default_str();
   cmd->add_option("--min-elongation",
-                  args->track.min_elongation,
+                  args->analysis.track.min_elongation,
                   "Track: least length/width of the depression")
       ->capture_default_str();
   cmd->add_flag(
-      "--manual-track", args->track.manual, "Place the track by hand");
-  cmd->add_option("--track-x", args->track.center_x_mm, "Track centre x, mm");
-  cmd->add_option("--track-y", args->track.center_y_mm, "Track centre y, mm");
+      "--manual-track", args->analysis.track.manual, "Place the track by hand");
   cmd->add_option(
-      "--track-angle", args->track.angle_deg, "Track angle, degrees");
+      "--track-x", args->analysis.track.center_x_mm, "Track centre x, mm");
+  cmd->add_option(
+      "--track-y", args->analysis.track.center_y_mm, "Track centre y, mm");
+  cmd->add_option(
+      "--track-angle", args->analysis.track.angle_deg, "Track angle, degrees");
   cmd->add_option("--track-length",
-                  args->track.manual_length_mm,
+                  args->analysis.track.manual_length_mm,
                   "Track length, mm (manual)");
-  cmd->add_option(
-         "--band", args->profile.band_width_mm, "Centreline band width, mm")
+  cmd->add_option("--band",
+                  args->analysis.profile.band_width_mm,
+                  "Centreline band width, mm")
       ->capture_default_str();
-  cmd->add_option(
-      "--step", args->profile.step_mm, "Centreline step, mm (0 = pitch)");
+  cmd->add_option("--step",
+                  args->analysis.profile.step_mm,
+                  "Centreline step, mm (0 = pitch)");
   cmd->add_option("--sections",
-                  args->sections_mm,
+                  args->analysis.sections_mm,
                   "Cross-sections at these s positions, mm");
   cmd->add_option("--section-half-width",
-                  args->section_half_width_mm,
+                  args->analysis.section_half_width_mm,
                   "Cross-section half width, mm")
       ->capture_default_str();
   cmd->callback([args] { RunScan(*args); });

@@ -475,7 +475,7 @@ std::vector<std::pair<std::string, std::string>> TestProducts::Files() const {
   std::vector<std::pair<std::string, std::string>> files;
   for (const auto& [name, table] : tables)
     files.emplace_back(name, table.ToCsv());
-  files.emplace_back("result.json", result.dump(2) + "\n");
+  files.emplace_back(result_name, result.dump(2) + "\n");
   return files;
 }
 
@@ -564,6 +564,80 @@ TestProducts MakeTestProducts(const std::string& name,
     out.tables.emplace_back("lugre.csv", LugreTable(record, r, kf, dc, mu_f));
   }
   out.result = ResultJson(name, record, r, o);
+  return out;
+}
+
+bool MapAnalysisOptions::IsValid(std::string* why) const {
+  if (!level.IsValid(why) || !track.IsValid(why) || !profile.IsValid(why))
+    return false;
+  if (!(section_half_width_mm > 0)) {
+    if (why) *why = "section_half_width_mm must be > 0";
+    return false;
+  }
+  return true;
+}
+
+MapAnalysis AnalyzeMap(scan::HeightMap map, const MapAnalysisOptions& o) {
+  std::string why;
+  if (!o.IsValid(&why)) throw scan::ScanError("scan analysis options: " + why);
+  MapAnalysis a;
+  a.level = scan::LevelHeightMap(&map, o.level);
+  a.spikes_removed = scan::RemoveSpikes(&map, o.spikes);
+  try {
+    a.track = scan::FindTrack(map, o.track);
+  } catch (const scan::NoTrackError& e) {
+    a.no_track = e.what();
+  }
+  if (a.track) {
+    a.centreline = scan::ExtractCentreline(map, *a.track, o.profile);
+    a.sections_mm = o.sections_mm;
+    if (a.sections_mm.empty()) {
+      const double l = a.track->length_mm;
+      a.sections_mm = {-0.25 * l, 0.0, 0.25 * l};
+    }
+    for (double s : a.sections_mm) {
+      a.sections.push_back(
+          scan::ExtractCrossSection(map, *a.track, s, o.section_half_width_mm));
+    }
+  }
+  a.levelled = std::move(map);
+  return a;
+}
+
+TestProducts MakeMapProducts(const std::string& file, const MapAnalysis& a) {
+  TestProducts out;
+  if (a.track) {
+    Table c;
+    c.columns = {"s_mm", "h_mm", "n_valid"};
+    const scan::WearProfile& p = a.centreline;
+    for (Eigen::Index i = 0; i < p.s_mm.size(); ++i) {
+      c.rows.push_back(
+          {p.s_mm[i], p.height_mm[i], static_cast<double>(p.valid_samples[i])});
+    }
+    out.tables.emplace_back("centreline.csv", std::move(c));
+    Table x;
+    x.columns = {"s_mm", "w_mm", "h_mm"};
+    for (size_t k = 0; k < a.sections.size(); ++k) {
+      const scan::WearProfile& cs = a.sections[k];
+      for (Eigen::Index i = 0; i < cs.s_mm.size(); ++i)
+        x.rows.push_back({a.sections_mm[k], cs.s_mm[i], cs.height_mm[i]});
+    }
+    out.tables.emplace_back("cross_sections.csv", std::move(x));
+  }
+  const scan::HeightMap& map = a.levelled;
+  out.result_name = "scan.json";
+  out.result = {{"file", file},
+                {"format", map.metadata.format},
+                {"instrument", map.metadata.instrument},
+                {"date", map.metadata.date},
+                {"size_px", {map.cols(), map.rows()}},
+                {"pitch_mm", {map.dx_mm, map.dy_mm}},
+                {"valid_points", map.ValidCount()},
+                {"level", LevelJson(a.level)},
+                {"spikes_removed", a.spikes_removed},
+                {"track", a.track ? TrackJson(*a.track) : nlohmann::json()},
+                {"warnings", map.metadata.warnings}};
+  if (!a.track) out.result["track_missing"] = a.no_track;
   return out;
 }
 

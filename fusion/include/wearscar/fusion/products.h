@@ -1,6 +1,7 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -38,9 +39,10 @@ struct ProductOptions {
 // centreline.csv; with LuGre lugre.csv) and result.json.
 struct TestProducts {
   std::vector<std::pair<std::string, Table>> tables;  // file name, table
-  nlohmann::json result;                              // result.json
+  nlohmann::json result;  // result.json (scan.json for a map alone)
+  std::string result_name = "result.json";
 
-  // File name and contents of every product, result.json last.
+  // File name and contents of every product, the JSON summary last.
   std::vector<std::pair<std::string, std::string>> Files() const;
 };
 
@@ -57,6 +59,39 @@ nlohmann::json ResultJson(const std::string& name,
                           const force::ForceRecord& record,
                           const TestResult& result,
                           const FuseOptions& options);
+
+// A height map analysed alone (wearscar scan): levelled, spikes removed,
+// the track found (or why not), its centreline and cross-sections.
+struct MapAnalysisOptions {
+  scan::LevelOptions level;
+  scan::SpikeOptions spikes;
+  scan::TrackOptions track;
+  scan::ProfileOptions profile;
+  // Cross-sections at these positions along the track from its centre;
+  // empty = at -1/4, 0 and +1/4 of its length.
+  std::vector<double> sections_mm;
+  double section_half_width_mm = 1.5;
+
+  bool IsValid(std::string* why) const;
+};
+
+struct MapAnalysis {
+  scan::HeightMap levelled;
+  scan::LevelSummary level;
+  int spikes_removed = 0;
+  std::optional<scan::Track> track;  // absent: no_track says why
+  std::string no_track;
+  scan::WearProfile centreline;
+  std::vector<scan::WearProfile> sections;  // at sections_mm
+  std::vector<double> sections_mm;
+};
+
+// Throws ScanError for invalid options; a map without a track is analysed
+// as far as it goes (no_track set).
+MapAnalysis AnalyzeMap(scan::HeightMap map, const MapAnalysisOptions& options);
+
+// scan.json and, with a track, centreline.csv and cross_sections.csv.
+TestProducts MakeMapProducts(const std::string& file, const MapAnalysis& map);
 
 // A diagnosis as files: diagnosis.json (steps, candidates, named effects,
 // residual maps, the effect library) and the residual maps along the

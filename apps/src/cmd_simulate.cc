@@ -33,125 +33,6 @@ struct SimulateArgs {
   std::vector<std::string> formats = {"csv", "rtec", "gsf", "keyence-csv"};
 };
 
-// The hidden effects by name, for --effect name=value.
-struct EffectField {
-  const char* name;
-  double samples::HiddenEffects::*field;
-  const char* unit;
-};
-constexpr EffectField kEffectFields[] = {
-    {"ploughing", &samples::HiddenEffects::ploughing_n_per_mm, "N/mm"},
-    {"stribeck", &samples::HiddenEffects::stribeck_rise, "relative"},
-    {"stribeck_speed", &samples::HiddenEffects::stribeck_speed_mm_s, "mm/s"},
-    {"asymmetry", &samples::HiddenEffects::direction_asymmetry, "relative"},
-    {"q_lag", &samples::HiddenEffects::q_lag_s, "s"},
-    {"crosstalk", &samples::HiddenEffects::crosstalk_q_into_p, "N/N"},
-    {"hook", &samples::HiddenEffects::hook_n, "N"},
-    {"hook_length", &samples::HiddenEffects::hook_length_mm, "mm"},
-    {"viscous", &samples::HiddenEffects::viscous_n_s_per_mm, "N s/mm"},
-};
-
-std::string EffectNames() {
-  std::string names;
-  for (const auto& f : kEffectFields) {
-    if (!names.empty()) names += ", ";
-    names += fmt::format("{} ({})", f.name, f.unit);
-  }
-  return names;
-}
-
-void ApplyEffectSetting(const std::string& setting,
-                        samples::HiddenEffects* effects) {
-  const size_t eq = setting.find('=');
-  std::string name = setting.substr(0, eq);
-  std::replace(name.begin(), name.end(), '-', '_');
-  if (eq == std::string::npos) {
-    throw UsageError(fmt::format(
-        "simulate: --effect '{}': expected name=value, e.g. ploughing=1.0",
-        setting));
-  }
-  const std::string value = setting.substr(eq + 1);
-  double v = 0;
-  size_t used = 0;
-  try {
-    v = std::stod(value, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used == 0 || used != value.size() || !std::isfinite(v)) {
-    throw UsageError(fmt::format(
-        "simulate: --effect '{}': '{}' is not a number", setting, value));
-  }
-  for (const auto& f : kEffectFields) {
-    if (name == f.name) {
-      effects->*(f.field) = v;
-      return;
-    }
-  }
-  throw UsageError(fmt::format(
-      "simulate: --effect '{}': unknown effect '{}'; expected one of {}",
-      setting,
-      name,
-      EffectNames()));
-}
-
-nlohmann::json TruthJson(const samples::SimulationOptions& o,
-                         const samples::SimulatedTest& t) {
-  nlohmann::json j;
-  j["case"] = o.name;
-  j["seed"] = o.seed;
-  j["mu_per_cycle"] = std::vector<double>(
-      t.truth.mu_per_cycle.data(),
-      t.truth.mu_per_cycle.data() + t.truth.mu_per_cycle.size());
-  j["explained_by_wear_scar"] = t.truth.explained_by_wear_scar;
-  j["elastic_mm"] = o.elastic_mm;
-  j["elastic_fraction"] =
-      o.elastic_fraction >= 0 ? nlohmann::json(o.elastic_fraction) : nullptr;
-  j["noise"] = {{"scale", o.noise_scale},
-                {"p_noise_n", o.noise_scale * o.p_noise_n},
-                {"q_noise_n", o.noise_scale * o.q_noise_n},
-                {"p_resolution_n", o.p_resolution_n},
-                {"q_resolution_n", o.q_resolution_n}};
-  j["spring_n_per_mm"] = o.spring_n_per_mm;
-  j["amplitudes"] = {{"force_profile_sd_mm", t.truth.force_profile_sd_mm},
-                     {"force_profile_range_mm", t.truth.force_profile_range_mm},
-                     {"force_profile_range_n",
-                      t.truth.force_profile_range_mm * o.spring_n_per_mm},
-                     {"scan_profile_sd_mm", t.truth.scan_profile_sd_mm},
-                     {"scan_profile_range_mm", t.truth.scan_profile_range_mm}};
-  j["plate_to_pixel"] = {
-      {"note",
-       "col = origin_col + col_per_mm * x, row = origin_row + "
-       "row_per_mm * x; pixel centres at index * pitch"},
-      {"origin_col", t.truth.origin_col},
-      {"origin_row", t.truth.origin_row},
-      {"col_per_mm", t.truth.col_per_mm},
-      {"row_per_mm", t.truth.row_per_mm},
-      {"angle_deg", t.truth.scan_angle_deg},
-      {"flipped", t.truth.scan_flipped}};
-  j["scan"] = {{"pitch_mm", t.truth.scan_pitch_mm},
-               {"cols", o.scan_cols},
-               {"rows", o.scan_rows},
-               {"center_x_mm", t.truth.scan_center_x_mm},
-               {"center_y_mm", t.truth.scan_center_y_mm},
-               {"angle_deg", t.truth.scan_angle_deg},
-               {"flipped", t.truth.scan_flipped},
-               {"plane_dzdx", t.truth.plane_dzdx},
-               {"plane_dzdy", t.truth.plane_dzdy},
-               {"plane_z0_mm", t.truth.plane_z0_mm}};
-  const auto& e = o.effects;
-  j["effects"] = {{"ploughing_n_per_mm", e.ploughing_n_per_mm},
-                  {"stribeck_rise", e.stribeck_rise},
-                  {"stribeck_speed_mm_s", e.stribeck_speed_mm_s},
-                  {"direction_asymmetry", e.direction_asymmetry},
-                  {"q_lag_s", e.q_lag_s},
-                  {"crosstalk_q_into_p", e.crosstalk_q_into_p},
-                  {"hook_n", e.hook_n},
-                  {"hook_length_mm", e.hook_length_mm},
-                  {"viscous_n_s_per_mm", e.viscous_n_s_per_mm}};
-  return j;
-}
-
 void RunSimulate(const SimulateArgs& a) {
   std::vector<samples::SimulationOptions> cases;
   if (a.all) {
@@ -168,8 +49,13 @@ void RunSimulate(const SimulateArgs& a) {
     }
   }
   samples::HiddenEffects effects;
-  for (const auto& setting : a.effect_settings)
-    ApplyEffectSetting(setting, &effects);
+  for (const auto& setting : a.effect_settings) {
+    try {
+      samples::ApplyEffectSetting(setting, &effects);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(fmt::format("simulate: {}", e.what()));
+    }
+  }
   auto wants = [&](const char* f) {
     return std::find(a.formats.begin(), a.formats.end(), f) != a.formats.end();
   };
@@ -199,7 +85,7 @@ void RunSimulate(const SimulateArgs& a) {
     if (wants("keyence-csv"))
       scan::WriteKeyenceCsv(test.scan, base + ".keyence.csv");
     WriteTextAtomically(base + ".truth.json",
-                        TruthJson(o, test).dump(2) + "\n");
+                        samples::TruthJson(o, test).dump(2) + "\n");
     progress.Update(++done);
   }
   progress.Finish();
@@ -283,7 +169,8 @@ void AddSimulateCommand(CLI::App& app) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--effect",
                   args->effect_settings,
-                  "Hidden effect as name=value (repeatable): " + EffectNames());
+                  "Hidden effect as name=value (repeatable): " +
+                      samples::HiddenEffectNames());
   cmd->add_option("--formats",
                   args->formats,
                   "Files to write: csv (time_s,x_mm,Q_N,P_N), rtec (Rtec "

@@ -2,6 +2,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -160,5 +161,20 @@ std::vector<SimulationOptions> PaperCases(bool elastic_in_srlr = true);
 // One named case from PaperCases ("B-RT-R", ...); throws std::invalid_argument.
 SimulationOptions PaperCase(const std::string& name,
                             bool elastic_in_srlr = true);
+
+// The switch names of the hidden effects with their units, for messages:
+// "ploughing (N/mm), stribeck (relative), ...".
+std::string HiddenEffectNames();
+
+// Sets one hidden effect from "name=value" (a switch name of
+// HiddenEffectNames; '-' reads as '_'). Throws std::invalid_argument saying
+// what was wrong and what is expected.
+void ApplyEffectSetting(const std::string& setting, HiddenEffects* effects);
+
+// The ground truth of a simulated test (<case>.truth.json): mu per cycle,
+// noise, amplitudes of the profiles, the scan's frame and plane, the hidden
+// effects.
+nlohmann::json TruthJson(const SimulationOptions& options,
+                         const SimulatedTest& test);
 
 }  // namespace wearscar::samples

@@ -175,6 +175,164 @@ ForceProfile ComputeForceProfile(const force::ForceRecord& record,
   return p;
 }
 
+namespace {
+
+// The scan profile resampled on the alignment grid (step_mm from s0).
+struct ScanGrid {
+  Eigen::VectorXd h;
+  double s0 = 0, step = 0, length = 0;
+};
+
+ScanGrid ResampleScan(const scan::WearProfile& sp, double step) {
+  ScanGrid g;
+  g.step = step;
+  g.s0 = sp.s_mm[0];
+  const double s1 = sp.s_mm[sp.s_mm.size() - 1];
+  g.length = s1 - g.s0;
+  const Eigen::Index m =
+      static_cast<Eigen::Index>(std::floor((s1 - g.s0) / step)) + 1;
+  g.h.resize(m);
+  for (Eigen::Index i = 0; i < m; ++i)
+    g.h[i] = Interp(sp.height_mm, g.s0, sp.step_mm, g.s0 + i * step);
+  return g;
+}
+
+// The best whole-step shift (and flip) by normalised cross-correlation
+// over an overlap of at least min_overlap_fraction of the force profile,
+// refined to a sub-step shift by a parabola through the peak.
+Alignment BestShift(const ForceProfile& fp,
+                    const ScanGrid& g,
+                    const AlignOptions& options,
+                    int* best_flip) {
+  const double step = g.step;
+  const int valid_force = static_cast<int>(
+      fp.mean_mm
+          .unaryExpr([](double v) { return std::isfinite(v) ? 1.0 : 0.0; })
+          .sum());
+  const int min_overlap =
+      static_cast<int>(std::ceil(options.min_overlap_fraction * valid_force));
+  Alignment best;
+  *best_flip = 1;
+  const int shifts = static_cast<int>(std::floor(options.max_shift_mm / step));
+  for (int flip : {1, -1}) {
+    if (flip < 0 && !options.allow_flip) continue;
+    for (int k = -shifts; k <= shifts; ++k) {
+      const Ncc c =
+          Correlate(fp.x_mm, fp.mean_mm, g.h, g.s0, step, flip, k * step);
+      if (c.n < min_overlap || c.r <= best.correlation) continue;
+      best.correlation = c.r;
+      best.shift_mm = k * step;
+      best.overlap_samples = c.n;
+      *best_flip = flip;
+    }
+  }
+  if (best.overlap_samples == 0) {
+    throw FusionError(fmt::format(
+        "the scan profile ({:.2f} mm) and the force-side profile "
+        "({:.2f} mm) cannot overlap on {:.0f}% of the force profile within "
+        "+-{} mm of shift; expected the scan to cover the stroke",
+        g.length,
+        fp.x_mm[fp.x_mm.size() - 1] - fp.x_mm[0],
+        100 * options.min_overlap_fraction,
+        options.max_shift_mm));
+  }
+  best.flipped = *best_flip < 0;
+  const Ncc left = Correlate(
+      fp.x_mm, fp.mean_mm, g.h, g.s0, step, *best_flip, best.shift_mm - step);
+  const Ncc right = Correlate(
+      fp.x_mm, fp.mean_mm, g.h, g.s0, step, *best_flip, best.shift_mm + step);
+  if (left.r > -2 && right.r > -2) {
+    const double denom = left.r - 2 * best.correlation + right.r;
+    if (denom < 0) {
+      const double delta = 0.5 * (left.r - right.r) / denom;
+      if (std::abs(delta) < 1) best.shift_mm += delta * step;
+    }
+  }
+  return best;
+}
+
+// Sums over the overlap of the two profiles, without [skip_begin,
+// skip_end): variances, covariance and means (times the count for the
+// variances).
+struct Moments {
+  double vf, vh, cfh, mf, mh;
+};
+
+Moments OverlapMoments(const std::vector<double>& fs,
+                       const std::vector<double>& hs,
+                       int skip_begin,
+                       int skip_end) {
+  double sf = 0, sh = 0, sff = 0, shh = 0, sfh = 0;
+  int k = 0;
+  for (int j = 0; j < static_cast<int>(fs.size()); ++j) {
+    if (j >= skip_begin && j < skip_end) continue;
+    sf += fs[j];
+    sh += hs[j];
+    sff += fs[j] * fs[j];
+    shh += hs[j] * hs[j];
+    sfh += fs[j] * hs[j];
+    ++k;
+  }
+  return {
+      sff - sf * sf / k, shh - sh * sh / k, sfh - sf * sh / k, sf / k, sh / k};
+}
+
+// Least-squares scale and offset, the amplitude ratio std(f) / std(h) with
+// f's variance less its noise, the noise-corrected correlation, and the
+// ratio's 95% interval by a delete-a-block jackknife over contiguous
+// stretches of the overlap (neighbouring points are correlated; each block
+// holds several features of the track).
+void ScaleAndRatio(const ForceProfile& fp,
+                   const ScanGrid& g,
+                   int flip,
+                   int blocks,
+                   Alignment* best) {
+  std::vector<double> fs, hs;
+  for (Eigen::Index j = 0; j < fp.x_mm.size(); ++j) {
+    const double f = fp.mean_mm[j];
+    const double hv =
+        Interp(g.h, g.s0, g.step, flip * fp.x_mm[j] + best->shift_mm);
+    if (!std::isfinite(f) || !std::isfinite(hv)) continue;
+    fs.push_back(f);
+    hs.push_back(hv);
+  }
+  const int n = static_cast<int>(fs.size());
+  auto ratio = [&](double vf, double vh, int points) {
+    const double signal = std::max(0.0, vf - points * fp.noise_variance_mm2);
+    return vh > 0 ? std::sqrt(signal / vh) : 0.0;
+  };
+  const Moments all = OverlapMoments(fs, hs, 0, 0);
+  best->scale = all.vh > 0 ? all.cfh / all.vh : 0.0;
+  best->offset_mm = all.mf - best->scale * all.mh;
+  best->amplitude_ratio = ratio(all.vf, all.vh, n);
+  const double noise_share =
+      all.vf > 0 ? n * fp.noise_variance_mm2 / all.vf : 0.0;
+  best->correlation_noise_corrected =
+      noise_share < 0.99
+          ? std::min(1.0, best->correlation / std::sqrt(1.0 - noise_share))
+          : best->correlation;
+  best->overlap_samples = n;
+  if (n < 4 * blocks || !(all.vh > 0)) return;
+  std::vector<double> r(blocks);
+  double mean = 0;
+  for (int b = 0; b < blocks; ++b) {
+    const int skip = (b + 1) * n / blocks - b * n / blocks;
+    const Moments part =
+        OverlapMoments(fs, hs, b * n / blocks, (b + 1) * n / blocks);
+    r[b] =
+        part.vh > 0 ? ratio(part.vf, part.vh, n - skip) : best->amplitude_ratio;
+    mean += r[b] / blocks;
+  }
+  double ss = 0;
+  for (double v : r) ss += (v - mean) * (v - mean);
+  const double se = std::sqrt((blocks - 1.0) / blocks * ss);
+  const double t = internal::StudentT975(blocks - 1);
+  best->amplitude_ratio_low = best->amplitude_ratio - t * se;
+  best->amplitude_ratio_high = best->amplitude_ratio + t * se;
+}
+
+}  // namespace
+
 Alignment AlignProfiles(const ForceProfile& fp,
                         const scan::WearProfile& sp,
                         const AlignOptions& options) {
@@ -183,142 +341,24 @@ Alignment AlignProfiles(const ForceProfile& fp,
   if (sp.s_mm.size() < 3 || fp.x_mm.size() < 3) {
     throw FusionError("alignment needs at least 3 points in each profile");
   }
-  // Scan profile on the alignment grid.
-  const double step = options.step_mm;
-  const double s0 = sp.s_mm[0], s1 = sp.s_mm[sp.s_mm.size() - 1];
-  const Eigen::Index m =
-      static_cast<Eigen::Index>(std::floor((s1 - s0) / step)) + 1;
-  Eigen::VectorXd h(m);
-  for (Eigen::Index i = 0; i < m; ++i)
-    h[i] = Interp(sp.height_mm, s0, sp.step_mm, s0 + i * step);
-  const int valid_force = static_cast<int>(
-      fp.mean_mm
-          .unaryExpr([](double v) { return std::isfinite(v) ? 1.0 : 0.0; })
-          .sum());
-  const int min_overlap =
-      static_cast<int>(std::ceil(options.min_overlap_fraction * valid_force));
-  Alignment best;
-  int best_flip = 1;
-  const int shifts = static_cast<int>(std::floor(options.max_shift_mm / step));
-  for (int flip : {1, -1}) {
-    if (flip < 0 && !options.allow_flip) continue;
-    for (int k = -shifts; k <= shifts; ++k) {
-      const Ncc c = Correlate(fp.x_mm, fp.mean_mm, h, s0, step, flip, k * step);
-      if (c.n < min_overlap || c.r <= best.correlation) continue;
-      best.correlation = c.r;
-      best.shift_mm = k * step;
-      best.overlap_samples = c.n;
-      best_flip = flip;
-    }
-  }
-  if (best.overlap_samples == 0) {
-    throw FusionError(
-        fmt::format("the scan profile ({:.2f} mm) and the force-side profile "
-                    "({:.2f} mm) cannot overlap on "
-                    "{:.0f}% of the force profile within +-{} mm of shift; "
-                    "expected the scan to cover the "
-                    "stroke",
-                    s1 - s0,
-                    fp.x_mm[fp.x_mm.size() - 1] - fp.x_mm[0],
-                    100 * options.min_overlap_fraction,
-                    options.max_shift_mm));
-  }
-  best.flipped = best_flip < 0;
-  // Sub-sample shift: parabola through the peak and its neighbours.
-  const Ncc left = Correlate(
-      fp.x_mm, fp.mean_mm, h, s0, step, best_flip, best.shift_mm - step);
-  const Ncc right = Correlate(
-      fp.x_mm, fp.mean_mm, h, s0, step, best_flip, best.shift_mm + step);
-  if (left.r > -2 && right.r > -2) {
-    const double denom = left.r - 2 * best.correlation + right.r;
-    if (denom < 0) {
-      const double delta = 0.5 * (left.r - right.r) / denom;
-      if (std::abs(delta) < 1) best.shift_mm += delta * step;
-    }
-  }
+  const ScanGrid g = ResampleScan(sp, options.step_mm);
+  int flip = 1;
+  Alignment best = BestShift(fp, g, options, &flip);
   const double shift = best.shift_mm;
   best.correlation =
-      Correlate(fp.x_mm, fp.mean_mm, h, s0, step, best_flip, shift).r;
+      Correlate(fp.x_mm, fp.mean_mm, g.h, g.s0, g.step, flip, shift).r;
   best.correlation_forward =
-      Correlate(fp.x_mm, fp.forward_mm, h, s0, step, best_flip, shift).r;
+      Correlate(fp.x_mm, fp.forward_mm, g.h, g.s0, g.step, flip, shift).r;
   best.correlation_reverse =
-      Correlate(fp.x_mm, fp.reverse_mm, h, s0, step, best_flip, shift).r;
-  // Least-squares scale and amplitude ratio on the overlap.
-  std::vector<double> fs, hs;
-  for (Eigen::Index j = 0; j < fp.x_mm.size(); ++j) {
-    const double f = fp.mean_mm[j];
-    const double hv = Interp(h, s0, step, best_flip * fp.x_mm[j] + shift);
-    if (!std::isfinite(f) || !std::isfinite(hv)) continue;
-    fs.push_back(f);
-    hs.push_back(hv);
-  }
-  const int n = static_cast<int>(fs.size());
-  // Sums over the overlap without the samples [skip_begin, skip_end).
-  auto moments = [&](int skip_begin, int skip_end) {
-    double sf = 0, sh = 0, sff = 0, shh = 0, sfh = 0;
-    int k = 0;
-    for (int j = 0; j < n; ++j) {
-      if (j >= skip_begin && j < skip_end) continue;
-      sf += fs[j];
-      sh += hs[j];
-      sff += fs[j] * fs[j];
-      shh += hs[j] * hs[j];
-      sfh += fs[j] * hs[j];
-      ++k;
-    }
-    struct {
-      double vf, vh, cfh, mf, mh;
-    } r{sff - sf * sf / k,
-        shh - sh * sh / k,
-        sfh - sf * sh / k,
-        sf / k,
-        sh / k};
-    return r;
-  };
-  // std(f) / std(h) with f's variance less its noise (sums over `points`).
-  auto ratio = [&](double vf, double vh, int points) {
-    const double signal = std::max(0.0, vf - points * fp.noise_variance_mm2);
-    return vh > 0 ? std::sqrt(signal / vh) : 0.0;
-  };
-  const auto all = moments(0, 0);
-  best.scale = all.vh > 0 ? all.cfh / all.vh : 0.0;
-  best.offset_mm = all.mf - best.scale * all.mh;
-  best.amplitude_ratio = ratio(all.vf, all.vh, n);
-  const double noise_share =
-      all.vf > 0 ? n * fp.noise_variance_mm2 / all.vf : 0.0;
-  best.correlation_noise_corrected =
-      noise_share < 0.99
-          ? std::min(1.0, best.correlation / std::sqrt(1.0 - noise_share))
-          : best.correlation;
-  best.overlap_samples = n;
-  // 95% interval of the ratio: delete-a-block jackknife over contiguous
-  // stretches of the overlap (neighbouring points are correlated; each
-  // block holds several features of the track).
-  const int blocks = options.ratio_blocks;
-  if (n >= 4 * blocks && all.vh > 0) {
-    std::vector<double> r(blocks);
-    double mean = 0;
-    for (int b = 0; b < blocks; ++b) {
-      const int skip = (b + 1) * n / blocks - b * n / blocks;
-      const auto part = moments(b * n / blocks, (b + 1) * n / blocks);
-      r[b] = part.vh > 0 ? ratio(part.vf, part.vh, n - skip)
-                         : best.amplitude_ratio;
-      mean += r[b] / blocks;
-    }
-    double ss = 0;
-    for (double v : r) ss += (v - mean) * (v - mean);
-    const double se = std::sqrt((blocks - 1.0) / blocks * ss);
-    const double t = internal::StudentT975(blocks - 1);
-    best.amplitude_ratio_low = best.amplitude_ratio - t * se;
-    best.amplitude_ratio_high = best.amplitude_ratio + t * se;
-  }
+      Correlate(fp.x_mm, fp.reverse_mm, g.h, g.s0, g.step, flip, shift).r;
+  ScaleAndRatio(fp, g, flip, options.ratio_blocks, &best);
   best.message =
       fmt::format("shift {:.3f} mm{}, r = {:.3f}, scale {:.2f}, {} points",
                   best.shift_mm,
                   best.flipped ? " (flipped)" : "",
                   best.correlation,
                   best.scale,
-                  n);
+                  best.overlap_samples);
   return best;
 }
 

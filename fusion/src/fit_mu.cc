@@ -297,6 +297,51 @@ int ForceSlopes::SharedCycles() const {
   return normal_bins_ ? options_.ensemble.cycles : 1;
 }
 
+namespace {
+
+// Each converged fit's J split into the noise floor and the excess that
+// repeats at the same x (J^2 = floor^2 + excess^2 per direction).
+void SplitCosts(const std::vector<std::array<RepeatSplit, 2>>& split,
+                const std::vector<std::array<double, 2>>& q_total,
+                std::vector<MuFit>* fits) {
+  for (size_t c = 0; c < fits->size(); ++c) {
+    MuFit& f = (*fits)[c];
+    if (!f.converged) continue;
+    double floor = 0, excess = 0;
+    for (int d = 0; d < 2; ++d) {
+      const double qq = q_total[c][d];
+      const RepeatSplit& r = split[c][d];
+      f.misfit_sq[d] = qq > 0 ? r.total / qq : std::nan("");
+      f.repeat_sq[d] = qq > 0 ? r.repeat / qq : std::nan("");
+      floor += std::sqrt(std::max(0.0, f.misfit_sq[d] - f.repeat_sq[d]));
+      excess += std::sqrt(std::max(0.0, f.repeat_sq[d]));
+    }
+    f.cost_floor = floor;
+    f.cost_excess = excess;
+  }
+}
+
+// The rms of k's repeatable part and of its noise over all cycles.
+void SplitSlopeNoise(const std::vector<std::array<RepeatSplit, 2>>& split_k,
+                     FrictionFits* out) {
+  double total = 0, repeat = 0;
+  long samples = 0;
+  for (const auto& cycle : split_k) {
+    for (const RepeatSplit& r : cycle) {
+      if (!std::isfinite(r.repeat)) continue;
+      total += r.total;
+      repeat += r.repeat;
+      samples += r.samples;
+    }
+  }
+  if (samples > 0) {
+    out->k_signal_rms = std::sqrt(std::max(0.0, repeat) / samples);
+    out->k_noise_rms = std::sqrt(std::max(0.0, total - repeat) / samples);
+  }
+}
+
+}  // namespace
+
 FrictionFits FitFriction(const force::ForceRecord& record,
                          const force::CycleSet& cycles,
                          SlopeSource source,
@@ -361,40 +406,13 @@ FrictionFits FitFriction(const force::ForceRecord& record,
   }
   // The split: other cycles at the same x whose k shares no P sample with
   // this cycle's form the template.
-  const auto split_r =
-      SplitRepeatable(misfit, misfit_total, shared, options.repeatability);
-  for (int c = 0; c < n; ++c) {
-    MuFit& f = out.cycles[c];
-    if (!f.converged) continue;
-    double floor = 0, excess = 0;
-    for (int d = 0; d < 2; ++d) {
-      const double qq = q_total[c][d];
-      const RepeatSplit& r = split_r[c][d];
-      f.misfit_sq[d] = qq > 0 ? r.total / qq : std::nan("");
-      f.repeat_sq[d] = qq > 0 ? r.repeat / qq : std::nan("");
-      floor += std::sqrt(std::max(0.0, f.misfit_sq[d] - f.repeat_sq[d]));
-      excess += std::sqrt(std::max(0.0, f.repeat_sq[d]));
-    }
-    f.cost_floor = floor;
-    f.cost_excess = excess;
-  }
+  SplitCosts(
+      SplitRepeatable(misfit, misfit_total, shared, options.repeatability),
+      q_total,
+      &out.cycles);
   if (source == SlopeSource::kForce) {
-    const auto split_k =
-        SplitRepeatable(slope, k_total, shared, options.repeatability);
-    double total = 0, repeat = 0;
-    long samples = 0;
-    for (const auto& cycle : split_k) {
-      for (const RepeatSplit& r : cycle) {
-        if (!std::isfinite(r.repeat)) continue;
-        total += r.total;
-        repeat += r.repeat;
-        samples += r.samples;
-      }
-    }
-    if (samples > 0) {
-      out.k_signal_rms = std::sqrt(std::max(0.0, repeat) / samples);
-      out.k_noise_rms = std::sqrt(std::max(0.0, total - repeat) / samples);
-    }
+    SplitSlopeNoise(
+        SplitRepeatable(slope, k_total, shared, options.repeatability), &out);
   }
   return out;
 }

@@ -420,53 +420,49 @@ double FindMetadataRate(const std::vector<std::string>& lines, int end) {
   return 0.0;
 }
 
-Layout DetectLayout(const std::vector<std::string>& head,
-                    const std::string& name) {
-  Layout layout;
-  if (head.empty()) {
-    throw ForceError(
-        fmt::format("{}: the file is empty; expected a delimited "
-                    "force export (header row, then numbers)",
-                    name));
-  }
-  layout.delimiter = DetectDelimiter(head);
-  layout.decimal = layout.delimiter == ',' ? '.' : '.';
+// The decimal mark: with ';' or tab separators, ',' when more head rows
+// read as numbers with it than with '.'.
+char DetectDecimal(const std::vector<std::string>& head, char delimiter) {
+  if (delimiter == ',') return '.';
   std::vector<std::string_view> cells;
-  // Decimal comma: with ';' or tab separators, try ',' when '.' fails.
-  if (layout.delimiter != ',') {
-    int dot_rows = 0, comma_rows = 0;
-    for (const auto& line : head) {
-      if (IsNumericRow(line, layout.delimiter, '.', &cells)) ++dot_rows;
-      if (IsNumericRow(line, layout.delimiter, ',', &cells)) ++comma_rows;
-    }
-    if (comma_rows > dot_rows) layout.decimal = ',';
+  int dot_rows = 0, comma_rows = 0;
+  for (const auto& line : head) {
+    if (IsNumericRow(line, delimiter, '.', &cells)) ++dot_rows;
+    if (IsNumericRow(line, delimiter, ',', &cells)) ++comma_rows;
   }
-  // First data row: numeric and followed by numeric rows (or the end).
+  return comma_rows > dot_rows ? ',' : '.';
+}
+
+// The first data row: numeric and followed by numeric rows (or the end).
+int FindFirstDataLine(const std::vector<std::string>& head,
+                      const Layout& layout,
+                      const std::string& name) {
+  std::vector<std::string_view> cells;
   const int n = static_cast<int>(head.size());
-  int first = -1;
-  for (int i = 0; i < n && first < 0; ++i) {
+  for (int i = 0; i < n; ++i) {
     if (!IsNumericRow(head[i], layout.delimiter, layout.decimal, &cells))
       continue;
     int ok = 1;
     for (int j = i + 1; j < std::min(n, i + 4); ++j) {
       if (IsNumericRow(head[j], layout.delimiter, layout.decimal, &cells)) ++ok;
     }
-    if (ok >= std::min(3, n - i)) first = i;
+    if (ok >= std::min(3, n - i)) return i;
   }
-  if (first < 0) {
-    throw ForceError(fmt::format(
-        "{}: no numeric data found in the first {} lines; expected rows of at "
-        "least two numbers separated by '{}'",
-        name,
-        n,
-        layout.delimiter == '\t' ? "\\t" : std::string(1, layout.delimiter)));
-  }
-  layout.first_data_line = first;
-  // Header above the data, possibly with a units row between.
-  int above = first - 1;
+  throw ForceError(fmt::format(
+      "{}: no numeric data found in the first {} lines; expected rows of at "
+      "least two numbers separated by '{}'",
+      name,
+      n,
+      layout.delimiter == '\t' ? "\\t" : std::string(1, layout.delimiter)));
+}
+
+// The header above the data, possibly with a units row between.
+void FindHeaderAndUnits(const std::vector<std::string>& head, Layout* layout) {
+  std::vector<std::string_view> cells;
+  int above = layout->first_data_line - 1;
   while (above >= 0 && TrimView(head[above]).empty()) --above;
   if (above >= 0) {
-    Split(head[above], layout.delimiter, &cells);
+    Split(head[above], layout->delimiter, &cells);
     const bool all_units =
         cells.size() >= 2 &&
         std::all_of(cells.begin(), cells.end(), LooksLikeUnit) &&
@@ -474,59 +470,105 @@ Layout DetectLayout(const std::vector<std::string>& head,
           return !c.empty();
         });
     if (all_units && above >= 1) {
-      layout.units_line = above;
+      layout->units_line = above;
       --above;
       while (above >= 0 && TrimView(head[above]).empty()) --above;
     }
   }
   if (above >= 0) {
-    Split(head[above], layout.delimiter, &cells);
-    if (cells.size() >= 2) layout.header_line = above;
+    Split(head[above], layout->delimiter, &cells);
+    if (cells.size() >= 2) layout->header_line = above;
   }
-  if (layout.header_line < 0) layout.units_line = -1;
-  // Column names and units.
-  Split(head[layout.header_line >= 0 ? layout.header_line : first],
-        layout.delimiter,
+  if (layout->header_line < 0) layout->units_line = -1;
+}
+
+// Column names and units from the header ("Fx (N)") and the units row.
+void ReadNamesAndUnits(const std::vector<std::string>& head, Layout* layout) {
+  std::vector<std::string_view> cells;
+  Split(head[layout->header_line >= 0 ? layout->header_line
+                                      : layout->first_data_line],
+        layout->delimiter,
         &cells);
   const size_t columns = CountWithoutTrailing(cells);
-  layout.names.assign(columns, "");
-  layout.units.assign(columns, "");
-  if (layout.header_line >= 0) {
-    Split(head[layout.header_line], layout.delimiter, &cells);
+  layout->names.assign(columns, "");
+  layout->units.assign(columns, "");
+  if (layout->header_line >= 0) {
+    Split(head[layout->header_line], layout->delimiter, &cells);
     for (size_t c = 0; c < std::min(columns, cells.size()); ++c) {
-      internal::SplitNameAndUnit(cells[c], &layout.names[c], &layout.units[c]);
+      internal::SplitNameAndUnit(
+          cells[c], &layout->names[c], &layout->units[c]);
     }
   }
-  if (layout.units_line >= 0) {
-    Split(head[layout.units_line], layout.delimiter, &cells);
+  if (layout->units_line >= 0) {
+    Split(head[layout->units_line], layout->delimiter, &cells);
     for (size_t c = 0; c < std::min(columns, cells.size()); ++c) {
       std::string unit_name, unit;
       internal::SplitNameAndUnit(cells[c], &unit_name, &unit);
       const std::string u = unit.empty() ? unit_name : unit;
-      if (!u.empty()) layout.units[c] = u;
+      if (!u.empty()) layout->units[c] = u;
     }
   }
-  const int metadata_end =
-      layout.header_line >= 0 ? layout.header_line : layout.first_data_line;
-  layout.metadata_rate_hz = FindMetadataRate(head, metadata_end);
-  // Name the layout for the record (information only; parsing is shared).
-  std::string all_names;
-  for (const auto& nm : layout.names) all_names += Lower(nm) + "|";
-  std::string all_units;
-  for (const auto& u : layout.units) all_units += Lower(u) + "|";
-  if (all_names.find("daq.") != std::string::npos ||
-      all_names.find("recipestep") != std::string::npos) {
-    layout.kind = "rtec";
-  } else if (layout.units_line >= 0 &&
-             (all_units.find("gf|") != std::string::npos ||
-              all_units.find("g|") != std::string::npos)) {
-    layout.kind = "bruker";
-  } else if (layout.delimiter == '\t' &&
-             all_names.find("friction force") != std::string::npos) {
-    layout.kind = "anton-paar";
-  } else if (layout.metadata_rate_hz > 0) {
-    layout.kind = "home-built";
+}
+
+// The instruments' layouts, named for the record (information only: the
+// parsing is shared). The first whose rule matches names the layout.
+struct LayoutRule {
+  const char* kind;
+  bool (*matches)(const Layout& layout,
+                  const std::string& names,   // lower case, '|' after each
+                  const std::string& units);  // the same
+};
+
+constexpr LayoutRule kLayoutRules[] = {
+    {"rtec",  // Rtec MFT: DAQ.Fx, DAQ.Fz, Piezo X, RecipeStep
+     [](const Layout&, const std::string& n, const std::string&) {
+       return n.find("daq.") != std::string::npos ||
+              n.find("recipestep") != std::string::npos;
+     }},
+    {"bruker",  // Bruker/CETR UMT: a units row in gram-force
+     [](const Layout& l, const std::string&, const std::string& u) {
+       return l.units_line >= 0 && (u.find("gf|") != std::string::npos ||
+                                    u.find("g|") != std::string::npos);
+     }},
+    {"anton-paar",  // Anton Paar TRB: tab separated, "Friction force"
+     [](const Layout& l, const std::string& n, const std::string&) {
+       return l.delimiter == '\t' &&
+              n.find("friction force") != std::string::npos;
+     }},
+    {"home-built",  // no time column, the rate in the metadata
+     [](const Layout& l, const std::string&, const std::string&) {
+       return l.metadata_rate_hz > 0;
+     }},
+};
+
+std::string LayoutKind(const Layout& layout) {
+  std::string names, units;
+  for (const auto& nm : layout.names) names += Lower(nm) + "|";
+  for (const auto& u : layout.units) units += Lower(u) + "|";
+  for (const LayoutRule& rule : kLayoutRules) {
+    if (rule.matches(layout, names, units)) return rule.kind;
   }
+  return "delimited";
+}
+
+Layout DetectLayout(const std::vector<std::string>& head,
+                    const std::string& name) {
+  if (head.empty()) {
+    throw ForceError(
+        fmt::format("{}: the file is empty; expected a delimited "
+                    "force export (header row, then numbers)",
+                    name));
+  }
+  Layout layout;
+  layout.delimiter = DetectDelimiter(head);
+  layout.decimal = DetectDecimal(head, layout.delimiter);
+  layout.first_data_line = FindFirstDataLine(head, layout, name);
+  FindHeaderAndUnits(head, &layout);
+  ReadNamesAndUnits(head, &layout);
+  layout.metadata_rate_hz = FindMetadataRate(
+      head,
+      layout.header_line >= 0 ? layout.header_line : layout.first_data_line);
+  layout.kind = LayoutKind(layout);
   return layout;
 }
 

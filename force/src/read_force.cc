@@ -741,12 +741,85 @@ void Spread(const Eigen::VectorXd& v, double* span, double* median_abs) {
 }
 
 // Units of the channels that state none, from plausibility: the first unit
-// (in the order of the list) that makes the figure land in the range. The
-// record's values are scaled in place; a warning names each assumption.
-struct Plausible {
-  const char* what;  // "stroke", "load", ...
-  double lo, hi;     // plausible range in mm, N or Hz
+// of a channel's list that brings its figure (stroke, median load, sampling
+// rate) into the plausible range. The values are scaled in place; a warning
+// names each assumption, and a channel no unit makes plausible is refused.
+struct UnitGuess {
+  const char* unit;
+  double factor;  // to mm, N or s
 };
+
+struct Plausibility {
+  std::vector<UnitGuess> units;
+  double lo, hi;       // the figure's plausible range in mm, N or Hz
+  bool divide;         // figure / factor (a rate) instead of figure * factor
+  const char* range;   // "a stroke of 0.05-50 mm", for the refusal
+  const char* option;  // the --columns key
+};
+
+const Plausibility& PlausibilityOf(Channel ch) {
+  static const Plausibility kX_ = {{{"mm", 1.0}, {"um", 1e-3}, {"m", 1e3}},
+                                   0.05,
+                                   50,
+                                   false,
+                                   "a stroke of 0.05-50 mm",
+                                   "x"};
+  static const Plausibility kForce = {{{"N", 1.0}, {"mN", 1e-3}, {"kN", 1e3}},
+                                      0.01,
+                                      5000,
+                                      false,
+                                      "a load of 0.01-5000 N",
+                                      "p"};
+  static const Plausibility kTime_ = {
+      {{"s", 1.0}, {"ms", 1e-3}, {"us", 1e-6}, {"min", 60.0}},
+      1,
+      1e6,
+      true,
+      "sampling at 1 Hz-1 MHz",
+      "time"};
+  return ch == kX ? kX_ : ch == kTime ? kTime_ : kForce;
+}
+
+// The first plausible unit for `figure`, or nullptr.
+const UnitGuess* FirstPlausible(const Plausibility& p, double figure) {
+  for (const UnitGuess& g : p.units) {
+    const double v = p.divide ? figure / g.factor : figure * g.factor;
+    if (v >= p.lo && v <= p.hi) return &g;
+  }
+  return nullptr;
+}
+
+// The figure a channel's unit is judged by, and how the message says it.
+double Figure(Channel ch, const Eigen::VectorXd& v, std::string* said) {
+  double span, median;
+  if (ch == kTime) {
+    const double raw = v.size() > 1 ? v[v.size() - 1] - v[0] : 0.0;
+    const double rate = raw > 0 ? (v.size() - 1) / raw : 0.0;
+    *said = fmt::format("its samples come {:.4g} per unit", rate);
+    return rate;
+  }
+  Spread(v, &span, &median);
+  if (ch == kX) {
+    *said = fmt::format("its values span {:.4g}", span);
+    return span;
+  }
+  *said = fmt::format("its median magnitude is {:.4g}", median);
+  return median;
+}
+
+std::string Because(Channel ch, double scaled) {
+  switch (ch) {
+    case kX:
+      return fmt::format(
+          "a stroke of {:.3g} mm; tribometer strokes are 0.05-50 mm", scaled);
+    case kTime:
+      return fmt::format("sampling at {:.4g} Hz", scaled);
+    default:
+      return fmt::format("{} of {:.3g} N at the median; loads are 0.01-5000 N",
+                         ch == kP ? "a load" : "a force",
+                         scaled);
+  }
+}
 
 void InferUnits(Eigen::VectorXd* data,
                 Scale* scale,
@@ -754,114 +827,56 @@ void InferUnits(Eigen::VectorXd* data,
                 const Layout& layout,
                 const std::string& file,
                 ForceMetadata* meta) {
-  auto name = [&](int ch) { return layout.names[column[ch]]; };
-  auto refuse = [&](int ch,
-                    const std::string& figure,
-                    const char* range,
-                    const char* units) {
-    throw ForceError(fmt::format(
-        "{}: column '{}' states no unit and {}: no unit makes it plausible "
-        "({} as {}); give the unit (e.g. --columns {}=NAME:UNIT)",
-        file,
-        name(ch),
-        figure,
-        range,
-        units,
-        ch == kX      ? "x"
-        : ch == kTime ? "time"
-        : ch == kQ    ? "q"
-                      : "p"));
-  };
   auto apply =
       [&](int ch, const char* unit, double factor, const std::string& because) {
         data[ch] *= factor;
         scale[ch] = {factor, unit, false};
         meta->warnings.push_back(
             fmt::format("column '{}' states no unit: taken as {} ({})",
-                        name(ch),
+                        layout.names[column[ch]],
                         unit,
                         because));
       };
-  double span, median;
-  if (column[kX] >= 0 && scale[kX].inferred) {
-    Spread(data[kX], &span, &median);
-    bool done = false;
-    for (const auto& [unit, f] : {std::pair<const char*, double>{"mm", 1.0},
-                                  {"um", 1e-3},
-                                  {"m", 1e3}}) {
-      if (span * f >= 0.05 && span * f <= 50) {
-        apply(kX,
-              unit,
-              f,
-              fmt::format("a stroke of {:.3g} mm; tribometer strokes are "
-                          "0.05-50 mm",
-                          span * f));
-        done = true;
-        break;
-      }
-    }
-    if (!done)
-      refuse(kX,
-             fmt::format("its values span {:.4g}", span),
-             "a stroke of 0.05-50 mm",
-             "mm, um or m");
-  }
-  // Forces: P first; Q without a unit takes P's when that is plausible.
-  for (int ch : {kP, kQ}) {
+  // x, then the forces (P first: Q without a unit takes P's when P's was
+  // stated), then time.
+  for (Channel ch : {kX, kP, kQ, kTime}) {
     if (column[ch] < 0 || !scale[ch].inferred) continue;
-    Spread(data[ch], &span, &median);
     if (ch == kQ && !scale[kP].unit.empty() && !scale[kP].inferred) {
-      const double f = scale[kP].factor;
+      double span, median;
+      Spread(data[kQ], &span, &median);
       apply(kQ,
             scale[kP].unit.c_str(),
-            f,
-            fmt::format("the normal force's unit; |Q| {:.3g} N at the "
-                        "median",
-                        median * f));
+            scale[kP].factor,
+            fmt::format("the normal force's unit; |Q| {:.3g} N at the median",
+                        median * scale[kP].factor));
       continue;
     }
-    bool done = false;
-    for (const auto& [unit, f] : {std::pair<const char*, double>{"N", 1.0},
-                                  {"mN", 1e-3},
-                                  {"kN", 1e3}}) {
-      if (median * f >= 0.01 && median * f <= 5000) {
-        apply(ch,
-              unit,
-              f,
-              fmt::format("{} of {:.3g} N at the median; loads are "
-                          "0.01-5000 N",
-                          ch == kP ? "a load" : "a force",
-                          median * f));
-        done = true;
-        break;
-      }
+    const Plausibility& p = PlausibilityOf(ch);
+    std::string said;
+    const double figure = Figure(ch, data[ch], &said);
+    if (const UnitGuess* g = FirstPlausible(p, figure)) {
+      apply(ch,
+            g->unit,
+            g->factor,
+            Because(ch, p.divide ? figure / g->factor : figure * g->factor));
+      continue;
     }
-    if (!done)
-      refuse(ch,
-             fmt::format("its median magnitude is {:.4g}", median),
-             "a load of 0.01-5000 N",
-             "N, mN or kN");
-  }
-  if (column[kTime] >= 0 && scale[kTime].inferred) {
-    const Eigen::VectorXd& t = data[kTime];
-    const double raw = t.size() > 1 ? t[t.size() - 1] - t[0] : 0.0;
-    const double rate = raw > 0 ? (t.size() - 1) / raw : 0.0;
-    bool done = false;
-    for (const auto& [unit, f] : {std::pair<const char*, double>{"s", 1.0},
-                                  {"ms", 1e-3},
-                                  {"us", 1e-6},
-                                  {"min", 60.0}}) {
-      if (rate / f >= 1 && rate / f <= 1e6) {
-        apply(kTime, unit, f, fmt::format("sampling at {:.4g} Hz", rate / f));
-        done = true;
-        break;
-      }
+    std::string units;
+    for (const UnitGuess& g : p.units) {
+      units += (units.empty()           ? ""
+                : &g == &p.units.back() ? " or "
+                                        : ", ") +
+               std::string(g.unit);
     }
-    if (!done)
-      refuse(kTime,
-             fmt::format("its samples come {:.4g} per unit", rate),
-             "sampling at 1 Hz-1 MHz",
-             "s, ms, us or min");
+    throw ForceError(fmt::format(
+        "{}: column '{}' states no unit and {}: no unit makes it plausible "
+        "({} as {}); give the unit (e.g. --columns {}=NAME:UNIT)",
+        file,
+        layout.names[column[ch]],
+        said,
+        p.range,
+        units,
+        ch == kQ ? "q" : p.option));
   }
 }
 

@@ -15,6 +15,7 @@
 
 #include "output.h"
 #include "results.h"
+#include "wearscar/support/check.h"
 
 namespace wearscar::app {
 namespace {
@@ -237,69 +238,85 @@ bool PlotterAvailable(std::string* why) {
   return status == 0;
 }
 
-FigureSet DrawTestFigures(const std::string& dir,
-                          const std::string& name,
-                          const fusion::TestResult& r,
-                          const fusion::FuseOptions& opt) {
-  std::string why;
-  if (!PlotterAvailable(&why)) return FigureSet{{}, {}, why, {}};
-  std::vector<Figure> figs;
-  // One plot clause per exported cycle over its rows of loops.csv (rows are
-  // grouped by cycle): selecting rows by range is twice as fast in gnuplot
-  // as testing the cycle column on every row.
-  const std::string loops_plot = [&] {
-    std::string plot;
-    std::ifstream in(fs::path(dir) / "loops.csv");
-    std::string line;
-    std::getline(in, line);
-    std::string last;
-    long row = 0, first = 0;
-    auto clause = [&](long end) {
-      if (last.empty()) return;
-      plot += fmt::format(
-          "{}'loops.csv' skip 1 every ::{}::{} using 3:4 "
-          "title 'cycle {}'",
-          plot.empty() ? "plot " : ", ",
-          first,
-          end,
-          last);
-    };
-    while (std::getline(in, line)) {
-      const std::string c = line.substr(0, line.find(','));
-      if (c != last) {
-        clause(row - 1);
-        last = c;
-        first = row;
-      }
-      ++row;
+namespace {
+
+// One plot clause per exported cycle over its rows of loops.csv (rows are
+// grouped by cycle): selecting rows by range is twice as fast in gnuplot as
+// testing the cycle column on every row.
+std::string LoopsPlot(const std::string& dir) {
+  std::string plot;
+  std::ifstream in(fs::path(dir) / "loops.csv");
+  std::string line;
+  std::getline(in, line);
+  std::string last;
+  long row = 0, first = 0;
+  auto clause = [&](long end) {
+    if (last.empty()) return;
+    plot += fmt::format(
+        "{}'loops.csv' skip 1 every ::{}::{} using 3:4 "
+        "title 'cycle {}'",
+        plot.empty() ? "plot " : ", ",
+        first,
+        end,
+        last);
+  };
+  while (std::getline(in, line)) {
+    const std::string c = line.substr(0, line.find(','));
+    if (c != last) {
+      clause(row - 1);
+      last = c;
+      first = row;
     }
-    clause(row - 1);
-    return plot;
-  }();
-  figs.push_back({"fig07_loops",
-                  name + ": hysteresis loops (Fig. 7)",
-                  "set xlabel 'x (mm)'\nset ylabel 'Q (N)'\n" + loops_plot});
-  figs.push_back({"fig05_q_envelope",
-                  name + ": envelope of Q (Fig. 5)",
-                  fmt::format("set xlabel 'cycle'\nset ylabel 'Q (N)'\nplot "
-                              "'cycles.csv' skip 1 using 1:{} title 'Q max', "
-                              "'' skip 1 using 1:{} title 'Q min'",
-                              CycleColumn("Q_max_N"),
-                              CycleColumn("Q_min_N"))});
-  figs.push_back({"fig06_p_envelope",
-                  name + ": envelope of P (Fig. 6)",
-                  fmt::format("set xlabel 'cycle'\nset ylabel 'P (N)'\nplot "
-                              "'cycles.csv' skip 1 using 1:{} title 'P max', "
-                              "'' skip 1 using 1:{} title 'P min'",
-                              CycleColumn("P_max_N"),
-                              CycleColumn("P_min_N"))});
+    ++row;
+  }
+  clause(row - 1);
+  return plot;
+}
+
+// The column of cycles.csv a figure plots (a name that is not a column is
+// a bug of this program).
+int Col(const char* name) {
+  const int c = CycleColumn(name);
+  WEARSCAR_CHECK(c > 0, "a figure plots a column of cycles.csv");
+  return c;
+}
+
+// Figs. 5-7: loops and envelopes.
+void AddForceFigures(const std::string& dir,
+                     const std::string& name,
+                     std::vector<Figure>* figs) {
+  const std::string loops_plot = LoopsPlot(dir);
+  figs->push_back({"fig07_loops",
+                   name + ": hysteresis loops (Fig. 7)",
+                   "set xlabel 'x (mm)'\nset ylabel 'Q (N)'\n" + loops_plot});
+  figs->push_back({"fig05_q_envelope",
+                   name + ": envelope of Q (Fig. 5)",
+                   fmt::format("set xlabel 'cycle'\nset ylabel 'Q (N)'\nplot "
+                               "'cycles.csv' skip 1 using 1:{} title 'Q max', "
+                               "'' skip 1 using 1:{} title 'Q min'",
+                               Col("Q_max_N"),
+                               Col("Q_min_N"))});
+  figs->push_back({"fig06_p_envelope",
+                   name + ": envelope of P (Fig. 6)",
+                   fmt::format("set xlabel 'cycle'\nset ylabel 'P (N)'\nplot "
+                               "'cycles.csv' skip 1 using 1:{} title 'P max', "
+                               "'' skip 1 using 1:{} title 'P min'",
+                               Col("P_max_N"),
+                               Col("P_min_N"))});
+}
+
+// Figs. 8a-d: the scan map with the track, the aligned profiles.
+void AddScanFigures(const std::string& dir,
+                    const std::string& name,
+                    const fusion::TestResult& r,
+                    std::vector<Figure>* figs) {
   if (r.scan) {
     Figure map{"fig08ab_scan_map",
                name + ": levelled scan, detected track (Fig. 8a-b)",
                ""};
     WriteScanMap(dir, *r.scan, &map);
-    figs.push_back(map);
-    figs.push_back(
+    figs->push_back(map);
+    figs->push_back(
         {"fig08cd_profiles",
          name +
              ": spring displacement P/S and aligned scan profile (Fig. 8c-d)",
@@ -313,7 +330,13 @@ FigureSet DrawTestFigures(const std::string& dir,
                      r.scan->alignment.offset_mm,
                      r.scan->alignment.scale)});
   }
-  figs.push_back(
+}
+
+// Figs. 10-12 and 17 on the detail cycle.
+void AddDetailFigures(const std::string& name,
+                      const fusion::TestResult& r,
+                      std::vector<Figure>* figs) {
+  figs->push_back(
       {"fig10_slope",
        name + fmt::format(": slope k of the sliding path, cycle {} (Fig. 10)",
                           r.detail_cycle),
@@ -321,13 +344,13 @@ FigureSet DrawTestFigures(const std::string& dir,
        "3:6 title "
        "'k from P' lc rgb '#888888', '' skip 1 using 3:7 lw 2 title 'k from "
        "scan'"});
-  figs.push_back(
+  figs->push_back(
       {"fig11_cost",
        name + fmt::format(": J(mu), cycle {} (Fig. 11)", r.detail_cycle),
        "set xlabel 'mu'\nset ylabel 'J'\nset logscale y\nplot 'cost_curve.csv' "
        "skip 1 "
        "using 1:2 title 'k from P', '' skip 1 using 1:3 title 'k from scan'"});
-  figs.push_back(
+  figs->push_back(
       {"fig12_reconstruction",
        name + fmt::format(": measured and reconstructed Q, cycle {} (Fig. 12)",
                           r.detail_cycle),
@@ -338,21 +361,37 @@ FigureSet DrawTestFigures(const std::string& dir,
        "'#ff7f0e' title 'wear-scar, k from scan', '' skip 1 using 3:4 with "
        "points pt 7 "
        "ps 0.25 lc rgb 'black' title 'measured'"});
-  figs.push_back({"fig13_mu_hat",
-                  name + ": mu-hat per cycle (Fig. 13)",
-                  fmt::format("set xlabel 'cycle'\nset ylabel 'mu'\nplot "
-                              "'cycles.csv' skip 1 using 1:{} title 'mu-hat, "
-                              "k from P', '' skip 1 using 1:{} title 'mu-hat, "
-                              "k from scan', '' skip 1 using 1:{} title 'mean "
-                              "method'",
-                              CycleColumn("mu_hat_force"),
-                              CycleColumn("mu_hat_scan"),
-                              CycleColumn("mu_mean"))});
+  if (r.lugre) {
+    figs->push_back(
+        {"fig17_lugre",
+         name + fmt::format(": LuGre and wear-scar, cycle {} (Fig. 17)",
+                            r.detail_cycle),
+         "set xlabel 'x (mm)'\nset ylabel 'Q (N)'\nplot 'lugre.csv' skip 1 "
+         "using 2:3 "
+         "lc rgb 'black' title 'measured', '' skip 1 using 2:4 dt 2 lw 2 title "
+         "'LuGre', '' skip 1 using 2:5 dt 4 lw 2 title 'wear-scar'"});
+  }
+}
+
+// Figs. 13-15 per cycle.
+void AddCycleFigures(const std::string& name,
+                     const fusion::FuseOptions& opt,
+                     std::vector<Figure>* figs) {
+  figs->push_back({"fig13_mu_hat",
+                   name + ": mu-hat per cycle (Fig. 13)",
+                   fmt::format("set xlabel 'cycle'\nset ylabel 'mu'\nplot "
+                               "'cycles.csv' skip 1 using 1:{} title 'mu-hat, "
+                               "k from P', '' skip 1 using 1:{} title 'mu-hat, "
+                               "k from scan', '' skip 1 using 1:{} title 'mean "
+                               "method'",
+                               Col("mu_hat_force"),
+                               Col("mu_hat_scan"),
+                               Col("mu_mean"))});
   // J as the paper defines it beside the part this test's noise explains
   // (its floor): the verdict judges what stands above the floor.
   const bool paper =
       opt.verdict.cost_criterion == fusion::CostCriterion::kPaperJ;
-  figs.push_back(
+  figs->push_back(
       {"fig14_cost",
        name + ": J per cycle and its noise floor (Fig. 14)",
        fmt::format(
@@ -362,32 +401,37 @@ FigureSet DrawTestFigures(const std::string& dir,
            "title 'its noise floor', '' skip 1 using 1:{} lc rgb '#ff7f0e' "
            "title 'J, k from scan', '' skip 1 using 1:{} with lines lw 2 lc "
            "rgb '#d62728' dt 3 title 'its noise floor'{}",
-           CycleColumn("J_force"),
-           CycleColumn("J_force_floor"),
-           CycleColumn("J_scan"),
-           CycleColumn("J_scan_floor"),
+           Col("J_force"),
+           Col("J_force_floor"),
+           Col("J_scan"),
+           Col("J_scan_floor"),
            paper ? fmt::format(", {} dt 3 lc rgb 'red' title 'threshold "
                                "(paper)'",
                                opt.verdict.max_cost)
                  : std::string())});
-  figs.push_back({"fig15_energy_cof",
-                  name + ": energy-based COF (Fig. 15)",
-                  fmt::format("set xlabel 'cycle'\nset ylabel 'mu'\nplot "
-                              "'cycles.csv' skip 1 using 1:{} title 'E_d / (4 "
-                              "P delta_g)', '' skip 1 using 1:{} title 'E_d / "
-                              "(4 P delta_max)'",
-                              CycleColumn("mu_energy_g"),
-                              CycleColumn("mu_energy_max"))});
-  if (r.lugre) {
-    figs.push_back(
-        {"fig17_lugre",
-         name + fmt::format(": LuGre and wear-scar, cycle {} (Fig. 17)",
-                            r.detail_cycle),
-         "set xlabel 'x (mm)'\nset ylabel 'Q (N)'\nplot 'lugre.csv' skip 1 "
-         "using 2:3 "
-         "lc rgb 'black' title 'measured', '' skip 1 using 2:4 dt 2 lw 2 title "
-         "'LuGre', '' skip 1 using 2:5 dt 4 lw 2 title 'wear-scar'"});
-  }
+  figs->push_back({"fig15_energy_cof",
+                   name + ": energy-based COF (Fig. 15)",
+                   fmt::format("set xlabel 'cycle'\nset ylabel 'mu'\nplot "
+                               "'cycles.csv' skip 1 using 1:{} title 'E_d / (4 "
+                               "P delta_g)', '' skip 1 using 1:{} title 'E_d / "
+                               "(4 P delta_max)'",
+                               Col("mu_energy_g"),
+                               Col("mu_energy_max"))});
+}
+
+}  // namespace
+
+FigureSet DrawTestFigures(const std::string& dir,
+                          const std::string& name,
+                          const fusion::TestResult& r,
+                          const fusion::FuseOptions& opt) {
+  std::string why;
+  if (!PlotterAvailable(&why)) return FigureSet{{}, {}, why, {}};
+  std::vector<Figure> figs;
+  AddForceFigures(dir, name, &figs);
+  AddScanFigures(dir, name, r, &figs);
+  AddDetailFigures(name, r, &figs);
+  AddCycleFigures(name, opt, &figs);
   std::vector<std::string> missing;
   const std::string message = RunGnuplot(dir, figs, &missing);
   return Collect(dir, figs, message, std::move(missing));
@@ -425,15 +469,15 @@ FigureSet DrawAuditFigures(const std::string& dir,
   if (specimens.empty()) return {};
   across("audit_fig13_mu_hat",
          "mu-hat per cycle, all specimens (Fig. 13)",
-         CycleColumn("mu_hat_force"),
+         Col("mu_hat_force"),
          "mu-hat");
   across("audit_fig14_cost",
          "J per cycle, all specimens (Fig. 14)",
-         CycleColumn("J_force"),
+         Col("J_force"),
          "J");
   across("audit_fig15_energy",
          "energy-based COF, all specimens (Fig. 15)",
-         CycleColumn("mu_energy_g"),
+         Col("mu_energy_g"),
          "mu_Ed");
   // Fig. 16: mean +- sd of the per-cycle differences.
   std::string data = "index,name,dm,dm_sd,de,de_sd\n";

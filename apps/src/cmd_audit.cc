@@ -121,6 +121,27 @@ void AuditSpecimen(const AuditArgs& a,
   }
 }
 
+// One line per specimen: failed, flagged or ok, with mu-hat and J.
+void PrintSections(const std::vector<ReportSection>& sections) {
+  for (const auto& sec : sections) {
+    if (sec.failed) {
+      fmt::print(
+          "  FAILED   {}: {}\n", sec.name, sec.row["error"].get<std::string>());
+    } else {
+      fmt::print(
+          "  {:8} {}: mu-hat {:.4f}, J {:.3f} (noise floor {:.3f}){}\n",
+          sec.flagged ? "FLAGGED" : "ok",
+          sec.name,
+          Dig(sec.row, {"comparison", "mu_hat_force", "mean"}).get<double>(),
+          Dig(sec.row, {"comparison", "J_force", "mean"}).get<double>(),
+          Dig(sec.row, {"comparison", "J_force_split", "noise_floor"})
+              .get<double>(),
+          sec.flagged ? " - " + sec.row["verdict"]["summary"].get<std::string>()
+                      : "");
+    }
+  }
+}
+
 void RunAudit(AuditArgs a) {
   FinaliseCommonOptions(&a.common);
   if (!a.shard.empty() && (std::sscanf(a.shard.c_str(),
@@ -189,23 +210,7 @@ void RunAudit(AuditArgs a) {
           : fmt::format("wearscar audit of {}", a.input);
   WriteTextAtomically((fs::path(a.out) / "report.html").string(),
                       RenderReport(title, sections, batch));
-  for (const auto& sec : sections) {
-    if (sec.failed) {
-      fmt::print(
-          "  FAILED   {}: {}\n", sec.name, sec.row["error"].get<std::string>());
-    } else {
-      fmt::print(
-          "  {:8} {}: mu-hat {:.4f}, J {:.3f} (noise floor {:.3f}){}\n",
-          sec.flagged ? "FLAGGED" : "ok",
-          sec.name,
-          Dig(sec.row, {"comparison", "mu_hat_force", "mean"}).get<double>(),
-          Dig(sec.row, {"comparison", "J_force", "mean"}).get<double>(),
-          Dig(sec.row, {"comparison", "J_force_split", "noise_floor"})
-              .get<double>(),
-          sec.flagged ? " - " + sec.row["verdict"]["summary"].get<std::string>()
-                      : "");
-    }
-  }
+  PrintSections(sections);
   fmt::print("{} specimens: {} explained, {} not explained, {} failed\n",
              sections.size(),
              sections.size() - flagged - failed,

@@ -66,7 +66,7 @@ void PrintDiagnosis(const std::string& name,
         ParameterText(c),
         c.accepted ? "NAMED" : "(rejected: stop)");
   }
-  fmt::print("\n{}\n", d.message);
+  fmt::print("\n{}\n", d.BriefReport());
   if (!d.named.empty()) fmt::print("after: {}\n", d.after.where);
 }
 

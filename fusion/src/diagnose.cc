@@ -32,6 +32,9 @@ struct Data {
   const force::ForceRecord* record;
   std::vector<DiagCycle> cycles;
   double dt = 0;
+  const DiagnoseOptions* options = nullptr;
+  // Ceres solves and those that did not converge (fits run one at a time).
+  mutable int solves = 0, not_converged = 0;
 };
 
 // The active model: effects and a parameter vector per effect.
@@ -75,7 +78,7 @@ double Residual(const Data& d,
   const double model =
       denom > 0
           ? WearScarTangentialForce(c.p_n, c.k, mu_eff, s.s) + s.s * c.extra_n
-          : 1e6;
+          : d.options->undefined_model_residual_n;
   return QAt(d, s, c.time_shift_s) - model;
 }
 
@@ -96,8 +99,14 @@ double FitCycleMu(const Data& d,
                   const DiagCycle& c,
                   const Model& m,
                   double* j) {
+  const FitMuOptions& f = d.options->mu_fit;
   const internal::ScalarMinimum best = internal::MinimizeOnInterval(
-      [&](double mu) { return CycleJ(d, c, mu, m); }, 0.0, 1.0, 41, 1e-6, 60);
+      [&](double mu) { return CycleJ(d, c, mu, m); },
+      f.mu_min,
+      f.mu_max,
+      f.grid_points,
+      f.tolerance,
+      f.max_iterations);
   *j = best.value;
   return best.x;
 }
@@ -156,8 +165,8 @@ std::vector<double> FitModel(const Data& d,
     }
     cost->SetNumResiduals(static_cast<int>(c.samples.size()));
     problem.AddResidualBlock(cost, nullptr, blocks);
-    problem.SetParameterLowerBound(&mu[i], 0, 0.0);
-    problem.SetParameterUpperBound(&mu[i], 0, 1.0);
+    problem.SetParameterLowerBound(&mu[i], 0, d.options->mu_fit.mu_min);
+    problem.SetParameterUpperBound(&mu[i], 0, d.options->mu_fit.mu_max);
   }
   for (size_t e = 0; e < m->effects.size(); ++e) {
     const auto lo = m->effects[e]->Lower(), hi = m->effects[e]->Upper();
@@ -174,11 +183,13 @@ std::vector<double> FitModel(const Data& d,
           so.sparse_linear_algebra_library_type)) {
     so.linear_solver_type = ceres::DENSE_SCHUR;
   }
-  so.max_num_iterations = 50;
+  so.max_num_iterations = d.options->solver_iterations;
   so.logging_type = ceres::SILENT;
   so.num_threads = 1;
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
+  ++d.solves;
+  if (summary.termination_type != ceres::CONVERGENCE) ++d.not_converged;
   return mu;
 }
 
@@ -387,7 +398,25 @@ bool DiagnoseOptions::IsValid(std::string* why) const {
   for (const auto& c : candidates) {
     if (FindEffect(c) == nullptr) return fail("unknown candidate effect");
   }
+  std::string inner;
+  if (!mu_fit.IsValid(&inner)) return fail(("mu_fit: " + inner).c_str());
+  if (solver_iterations < 1) return fail("solver_iterations must be >= 1");
+  if (!(undefined_model_residual_n > 0))
+    return fail("undefined_model_residual_n must be > 0");
+  if (min_samples_per_cycle < 2)
+    return fail("min_samples_per_cycle must be >= 2");
+  if (slope_polynomial_order < 1 || slope_polynomial_order > 5)
+    return fail("slope_polynomial_order must be 1 to 5");
   return true;
+}
+
+std::string Diagnosis::BriefReport() const {
+  std::string s = message;
+  if (solves > 0) {
+    s += fmt::format(
+        "; {} joint fits, {} not converged", solves, solves_not_converged);
+  }
+  return s;
 }
 
 namespace {
@@ -463,7 +492,7 @@ class CycleSlopes {
         7,
         2 * static_cast<int>(std::round(0.5 * o.profile_span_mm / grid.bin)) +
             1);
-    sg_.polynomial_order = 3;
+    sg_.polynomial_order = o.slope_polynomial_order;
     sg_.min_span_mm = 0;
     spring_ = friction.slope.spring_stiffness_n_per_mm;
     half_ = friction.k_estimate == KEstimate::kEnsemble
@@ -727,6 +756,7 @@ Diagnosis Diagnose(const force::ForceRecord& record,
   }
   Data data;
   data.record = &record;
+  data.options = &o;
   data.dt = record.size() > 1
                 ? (record.time_s[record.size() - 1] - record.time_s[0]) /
                       (record.size() - 1)
@@ -734,7 +764,8 @@ Diagnosis Diagnose(const force::ForceRecord& record,
   for (int c : out.cycles) {
     DiagCycle dc =
         GatherCycle(record, cycles.cycles[c], c, slopes, *depth, o.decimation);
-    if (dc.samples.size() > 10) data.cycles.push_back(std::move(dc));
+    if (static_cast<int>(dc.samples.size()) >= o.min_samples_per_cycle)
+      data.cycles.push_back(std::move(dc));
   }
   if (static_cast<int>(data.cycles.size()) < 2 * o.folds) {
     throw FusionError("too few usable cycles for the diagnosis");
@@ -749,6 +780,8 @@ Diagnosis Diagnose(const force::ForceRecord& record,
     out.model[e].parameters = model.params[e];
   out.heldout_final = Mean(base);
   out.after = Map(data, model, o, grid.x_lo, grid.x_hi);
+  out.solves = data.solves;
+  out.solves_not_converged = data.not_converged;
   out.message =
       out.named.empty()
           ? fmt::format(

@@ -391,6 +391,8 @@ nlohmann::json DiagnosisJson(const std::string& name, const Diagnosis& d) {
   j["heldout_J_initial"] = d.heldout_initial;
   j["heldout_J_final"] = d.heldout_final;
   j["message"] = d.message;
+  j["joint_fits"] = {{"solves", d.solves},
+                     {"not_converged", d.solves_not_converged}};
   j["model"] = nlohmann::json::array();
   for (const auto& c : d.model) j["model"].push_back(CandidateJson(c));
   j["steps"] = nlohmann::json::array();

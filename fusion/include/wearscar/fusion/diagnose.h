@@ -38,6 +38,14 @@ struct DiagnoseOptions {
   int reversal_bins = 20;
   int cycle_blocks = 8;
   std::vector<std::string> candidates;  // names; empty = the whole library
+  // mu of one cycle under a model: grid, then Brent, over [mu_min, mu_max]
+  // (finer than the per-cycle fit's: the diagnosis compares small gains).
+  FitMuOptions mu_fit{0.0, 1.0, 41, 1e-6, 60};
+  int solver_iterations = 50;  // Ceres, joint fit of effects and mu
+  // Residual where the model is undefined (1 - s mu k <= 0), in N.
+  double undefined_model_residual_n = 1e6;
+  int min_samples_per_cycle = 11;  // cycles with fewer are left out
+  int slope_polynomial_order = 3;  // Savitzky-Golay order of the base slope
   bool IsValid(std::string* why) const;
 };
 
@@ -83,6 +91,11 @@ struct Diagnosis {
   double heldout_initial = 0.0, heldout_final = 0.0;
   ResidualMap before, after;
   std::string message = "not run";
+  // Joint fits (Ceres) run over the folds and candidates, and those that
+  // ended without converging (iteration limit, failure): a diagnosis
+  // resting on them says so.
+  int solves = 0, solves_not_converged = 0;
+  std::string BriefReport() const;
 };
 
 // Greedy forward selection of the effects that the wear-scar model misses.

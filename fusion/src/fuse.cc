@@ -115,9 +115,7 @@ ScanAnalysis AnalyzeScan(const force::ForceRecord& record,
   s.level = scan::LevelHeightMap(&map, options.level);
   s.spikes_removed = scan::RemoveSpikes(&map, options.spikes);
   s.track = scan::FindTrack(map, options.track);
-  scan::ProfileOptions po = options.profile;
-  po.extend_mm = std::max(po.extend_mm, 0.5);
-  s.profile = scan::ExtractCentreline(map, s.track, po);
+  s.profile = scan::ExtractCentreline(map, s.track, options.profile);
   // The last N cycles, but none of the running-in.
   ForceProfileOptions fpo = options.force_profile;
   const int nc = static_cast<int>(force.cycles.cycles.size());

@@ -25,7 +25,13 @@ struct FuseOptions {
   scan::LevelOptions level;
   scan::SpikeOptions spikes;
   scan::TrackOptions track;
-  scan::ProfileOptions profile;
+  // The centreline reaches 0.5 mm beyond the track's ends, room for the
+  // alignment to shift it against the stroke.
+  scan::ProfileOptions profile = [] {
+    scan::ProfileOptions p;
+    p.extend_mm = 0.5;
+    return p;
+  }();
   ForceProfileOptions force_profile;
   AlignOptions align;
   // Derivative of the scan profile (window in scan samples).

@@ -26,8 +26,6 @@ namespace wearscar::force {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-// Lines read before the data to find the delimiter, header and units.
-constexpr int kHeadLines = 400;
 
 // ---------------------------------------------------------------------------
 // Line sources: the reader streams the file in blocks so that the text is
@@ -351,14 +349,15 @@ bool IsNumericRow(std::string_view line,
   return numeric >= 2 && text == 0;
 }
 
-char DetectDelimiter(const std::vector<std::string>& head) {
+char DetectDelimiter(const std::vector<std::string>& head, int vote_lines) {
   // Data rows dominate the end of the head; a delimiter that splits them into
   // the same number (>= 2) of cells is the one. Tab and ';' win over ','
   // because ',' may be the decimal mark in those files.
   for (char d : {'\t', ';', ','}) {
     int lines = 0, consistent = 0;
     size_t expected = 0;
-    for (auto it = head.rbegin(); it != head.rend() && lines < 20; ++it) {
+    for (auto it = head.rbegin(); it != head.rend() && lines < vote_lines;
+         ++it) {
       if (it->empty()) continue;
       ++lines;
       const size_t n =
@@ -552,7 +551,8 @@ std::string LayoutKind(const Layout& layout) {
 }
 
 Layout DetectLayout(const std::vector<std::string>& head,
-                    const std::string& name) {
+                    const std::string& name,
+                    const ReadForceOptions& options) {
   if (head.empty()) {
     throw ForceError(
         fmt::format("{}: the file is empty; expected a delimited "
@@ -560,7 +560,7 @@ Layout DetectLayout(const std::vector<std::string>& head,
                     name));
   }
   Layout layout;
-  layout.delimiter = DetectDelimiter(head);
+  layout.delimiter = DetectDelimiter(head, options.delimiter_vote_lines);
   layout.decimal = DetectDecimal(head, layout.delimiter);
   layout.first_data_line = FindFirstDataLine(head, layout, name);
   FindHeaderAndUnits(head, &layout);
@@ -949,16 +949,17 @@ void CheckPlausible(ForceRecord& r, const std::string& file) {
   }
 }
 
-// The first kHeadLines lines (copied: the source's views do not outlive a
+// The first head_lines lines (copied: the source's views do not outlive a
 // refill), without a UTF-8 byte-order mark; `more` says whether the file
 // goes on. Throws for an empty file.
 std::vector<std::string> ReadHead(LineSource& source,
                                   const std::string& name,
+                                  int head_lines,
                                   bool* more) {
   std::vector<std::string> head;
   std::string_view line;
   *more = true;
-  while (static_cast<int>(head.size()) < kHeadLines &&
+  while (static_cast<int>(head.size()) < head_lines &&
          (*more = source.Next(&line))) {
     head.emplace_back(line);
   }
@@ -1416,8 +1417,9 @@ ForceRecord Read(LineSource& source,
     throw ForceError(fmt::format("{}: invalid read options: {}", name, why));
   }
   bool more = true;
-  const std::vector<std::string> head = ReadHead(source, name, &more);
-  const Layout layout = DetectLayout(head, name);
+  const std::vector<std::string> head =
+      ReadHead(source, name, options.head_lines, &more);
+  const Layout layout = DetectLayout(head, name, options);
   const Columns column = ChooseColumns(layout, options, name);
   RequireChannels(column, layout, name);
 
@@ -1500,6 +1502,10 @@ bool ReadForceOptions::IsValid(std::string* why) const {
   }
   if (max_nan_run < 0) return fail("max_nan_run must be >= 0");
   if (max_line_bytes < 64) return fail("max_line_bytes must be >= 64");
+  if (head_lines < 2 || head_lines > 100000)
+    return fail("head_lines must be 2 to 100000");
+  if (delimiter_vote_lines < 1)
+    return fail("delimiter_vote_lines must be >= 1");
   if (!x_unit.empty() && !internal::LengthToMm(x_unit))
     return fail("the x unit is not a length unit (mm, um, m, ...)");
   if (!force_unit.empty() && !internal::ForceToN(force_unit))

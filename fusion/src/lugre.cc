@@ -89,6 +89,12 @@ bool LugreOptions::IsValid(std::string* why) const {
     if (why) *why = "max_iterations must be >= 1";
     return false;
   }
+  if (!(initial.sigma0_n_per_mm > 0 && initial.stribeck_speed_mm_s > 0 &&
+        std::isfinite(initial.sigma1_n_s_per_mm) &&
+        std::isfinite(initial.sigma2_n_s_per_mm))) {
+    if (why) *why = "the initial sigma0 and v_s must be > 0, all finite";
+    return false;
+  }
   return true;
 }
 
@@ -174,8 +180,11 @@ LugreFit FitLugre(const force::ForceRecord& r,
     if (fc == 0) fc = Percentile(central, 0.5);
     if (fs == 0) fs = std::max(fc, Percentile(all, 0.99));
   }
-  // Start: bristle stiffness from the stick slope, no damping, v_s 5 mm/s.
-  double params[4] = {150.0, 1e-3, 0.0, 5.0};
+  const LugreParameters& p0 = options.initial;
+  double params[4] = {p0.sigma0_n_per_mm,
+                      p0.sigma1_n_s_per_mm,
+                      p0.sigma2_n_s_per_mm,
+                      p0.stribeck_speed_mm_s};
   ceres::Problem problem;
   problem.AddResidualBlock(
       LugreCost::Create(&dt, &v, &q, warmup, fc, fs), nullptr, params);

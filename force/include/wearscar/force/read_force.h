@@ -37,6 +37,11 @@ struct ReadForceOptions {
   // Longest line, bytes: a file without line breaks is not a text export
   // (and is refused before it fills the memory).
   std::size_t max_line_bytes = std::size_t{1} << 22;
+  // Lines read before the data to find the delimiter, header, units and
+  // metadata; the last delimiter_vote_lines non-empty ones of them vote for
+  // the delimiter.
+  int head_lines = 400;
+  int delimiter_vote_lines = 20;
 
   bool IsValid(std::string* why) const;
 };

@@ -39,6 +39,9 @@ struct LugreOptions {
   double coulomb_n = 0.0;
   double static_n = 0.0;
   int max_iterations = 200;
+  // Where Ceres starts: a bristle stiffness of the order of the stick slope,
+  // little damping, no viscous term, v_s 5 mm/s (F_c and F_s are ignored).
+  LugreParameters initial{150.0, 1e-3, 0.0, 5.0};
   bool IsValid(std::string* why) const;
 };
 

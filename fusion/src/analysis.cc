@@ -7,6 +7,7 @@
 
 #include "student_t.h"
 #include "wearscar/fusion/forward_model.h"
+#include "wearscar/support/check.h"
 
 namespace wearscar::fusion {
 
@@ -174,6 +175,8 @@ RunningIn DetectRunningIn(const std::vector<double>& v, double tolerance) {
 
 ForceAnalysis AnalyzeForce(const force::ForceRecord& record,
                            const AnalysisOptions& options) {
+  WEARSCAR_CHECK(record.IsConsistent(),
+                 "AnalyzeForce needs channels of one length");
   std::string why;
   if (!options.IsValid(&why)) throw FusionError("analysis options: " + why);
   ForceAnalysis a;

@@ -8,6 +8,7 @@
 
 #include "minimize.h"
 #include "wearscar/fusion/forward_model.h"
+#include "wearscar/support/check.h"
 
 namespace wearscar::fusion {
 namespace {
@@ -104,6 +105,12 @@ std::string MuFit::BriefReport() const {
 }
 
 MuFit FitMu(const CycleSamples& samples, const FitMuOptions& o) {
+  for (const SlipSamples* s : {&samples.forward, &samples.reverse}) {
+    WEARSCAR_CHECK(s->p_n.size() == s->q_n.size() &&
+                       s->k.size() == s->q_n.size() &&
+                       (s->x_mm.size() == 0 || s->x_mm.size() == s->q_n.size()),
+                   "FitMu needs q, p and k (and x) of one length");
+  }
   MuFit fit;
   std::string why;
   if (!o.IsValid(&why)) {
@@ -347,6 +354,8 @@ FrictionFits FitFriction(const force::ForceRecord& record,
                          SlopeSource source,
                          const FrictionFitOptions& options,
                          const SlopeProfile* scan_slope) {
+  WEARSCAR_CHECK(record.IsConsistent(),
+                 "FitFriction needs channels of one length");
   std::string why;
   if (!options.IsValid(&why)) throw FusionError("friction fit options: " + why);
   if (source == SlopeSource::kScan && scan_slope == nullptr) {

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "wearscar/fusion/forward_model.h"
+#include "wearscar/support/check.h"
 
 namespace wearscar::fusion {
 
@@ -186,6 +187,10 @@ ScanAnalysis AnalyzeScan(const force::ForceRecord& record,
 TestResult AnalyzeTest(const force::ForceRecord& record,
                        std::optional<scan::HeightMap> height_map,
                        const FuseOptions& options) {
+  WEARSCAR_CHECK(record.IsConsistent(),
+                 "AnalyzeTest needs channels of one length");
+  WEARSCAR_CHECK(!height_map || height_map->IsConsistent(),
+                 "AnalyzeTest needs a consistent map");
   std::string why;
   if (!options.IsValid(&why)) throw FusionError("fuse options: " + why);
   TestResult result;

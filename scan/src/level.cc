@@ -12,6 +12,8 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/photo.hpp>
 
+#include "wearscar/support/check.h"
+
 namespace wearscar::scan {
 namespace {
 
@@ -79,6 +81,8 @@ bool LevelOptions::IsValid(std::string* why) const {
 }
 
 LevelSummary LevelHeightMap(HeightMap* map, const LevelOptions& options) {
+  WEARSCAR_CHECK(map != nullptr && map->IsConsistent(),
+                 "LevelHeightMap needs a consistent map");
   std::string why;
   if (!options.IsValid(&why)) throw ScanError("level options: " + why);
   LevelSummary summary;
@@ -162,7 +166,19 @@ LevelSummary LevelHeightMap(HeightMap* map, const LevelOptions& options) {
   return summary;
 }
 
+bool SpikeOptions::IsValid(std::string* why) const {
+  if ((kernel != 3 && kernel != 5) || !(threshold_mm > 0)) {
+    if (why) *why = "the spike kernel must be 3 or 5 and the threshold > 0";
+    return false;
+  }
+  return true;
+}
+
 int RemoveSpikes(HeightMap* map, const SpikeOptions& options) {
+  WEARSCAR_CHECK(map != nullptr && map->IsConsistent(),
+                 "RemoveSpikes needs a consistent map");
+  std::string why;
+  if (!options.IsValid(&why)) throw ScanError("spike options: " + why);
   const int rows = static_cast<int>(map->rows()),
             cols = static_cast<int>(map->cols());
   // OpenCV views the row-major Eigen memory; NaN is replaced by 0 (the

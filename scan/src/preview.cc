@@ -12,6 +12,7 @@
 
 #include "file_io.h"
 #include "wearscar/scan/level.h"
+#include "wearscar/support/check.h"
 #include "wearscar/support/robust_stats.h"
 
 namespace wearscar::scan {
@@ -55,9 +56,22 @@ std::string EncodePng(const cv::Mat& image, const std::string& source) {
 
 }  // namespace
 
+bool PreviewOptions::IsValid(std::string* why) const {
+  if (max_width_px < 16 ||
+      !(low_percentile >= 0 && low_percentile < high_percentile &&
+        high_percentile <= 1)) {
+    if (why) *why = "the width must be >= 16 px and 0 <= low < high <= 1";
+    return false;
+  }
+  return true;
+}
+
 std::string EncodeTrackPreviewPng(const HeightMap& map,
                                   const Track& track,
                                   const PreviewOptions& o) {
+  WEARSCAR_CHECK(map.IsConsistent(), "a preview needs a consistent map");
+  std::string why;
+  if (!o.IsValid(&why)) throw ScanError("preview options: " + why);
   const int rows = static_cast<int>(map.rows()),
             cols = static_cast<int>(map.cols());
   if (rows < 2 || cols < 2 || o.max_width_px < 16) {

@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
+#include "wearscar/support/check.h"
 #include "wearscar/support/robust_stats.h"
 
 namespace wearscar::scan {
@@ -252,6 +253,7 @@ double RoughnessOutside(const HeightMap& map, const cv::Mat& mask) {
 }  // namespace
 
 Track FindTrack(const HeightMap& map, const TrackOptions& options) {
+  WEARSCAR_CHECK(map.IsConsistent(), "FindTrack needs a consistent map");
   std::string why;
   if (!options.IsValid(&why)) throw ScanError("track options: " + why);
   if (options.manual) return ManualTrack(map, options);
@@ -367,6 +369,8 @@ WearProfile SampleLine(const HeightMap& map,
 WearProfile ExtractCentreline(const HeightMap& map,
                               const Track& track,
                               const ProfileOptions& options) {
+  WEARSCAR_CHECK(map.IsConsistent(),
+                 "ExtractCentreline needs a consistent map");
   std::string why;
   if (!options.IsValid(&why)) throw ScanError("profile options: " + why);
   const double step =

@@ -42,6 +42,12 @@ struct ForceRecord {
   ForceMetadata metadata;
 
   Eigen::Index size() const { return time_s.size(); }
+  // The four channels have one length (what every analysis requires).
+  bool IsConsistent() const {
+    return x_mm.size() == time_s.size() &&
+           tangential_n.size() == time_s.size() &&
+           normal_n.size() == time_s.size();
+  }
 };
 
 }  // namespace wearscar::force

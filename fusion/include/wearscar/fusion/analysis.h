@@ -105,6 +105,7 @@ struct ForceAnalysis {
 // Segments, finds gross slip, computes the classic COFs and fits mu-hat per
 // cycle with the force-side slope. Throws force::ForceError for records that
 // cannot be segmented.
+// Requires record.IsConsistent().
 ForceAnalysis AnalyzeForce(const force::ForceRecord& record,
                            const AnalysisOptions& options);
 

@@ -74,6 +74,7 @@ struct MuFit {
 };
 
 // mu-hat = argmin J: grid bracketing, then Brent's method in the bracket.
+// Requires q, p and k (and x when given) of one length per direction.
 MuFit FitMu(const CycleSamples& samples, const FitMuOptions& options = {});
 
 // J on a grid of mu (paper Fig. 11).
@@ -153,6 +154,7 @@ struct FrictionFits {
 
 // mu-hat for every cycle (Eq. 6), slope from the chosen source, with the
 // noise split of every cycle's J.
+// Requires record.IsConsistent().
 FrictionFits FitFriction(const force::ForceRecord& record,
                          const force::CycleSet& cycles,
                          SlopeSource source,

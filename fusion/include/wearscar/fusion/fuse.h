@@ -82,6 +82,8 @@ struct TestResult {
 // scan without a findable track, or whose profile cannot be aligned with
 // the stroke, is left out with the reason in scan_skipped and the warnings
 // (with SlopeChoice::kScan it is an error).
+// Requires record.IsConsistent() and a consistent map (checked in debug
+// and sanitizer builds; the readers return only such data).
 TestResult AnalyzeTest(const force::ForceRecord& record,
                        std::optional<scan::HeightMap> height_map,
                        const FuseOptions& options = {});

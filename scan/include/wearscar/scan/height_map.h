@@ -42,6 +42,12 @@ struct HeightMap {
   Eigen::Index rows() const { return height_mm.rows(); }
   Eigen::Index cols() const { return height_mm.cols(); }
   Eigen::Index ValidCount() const { return valid.cast<Eigen::Index>().sum(); }
+  // valid and height_mm of one size, positive pitches (what every analysis
+  // of a map requires; the readers return only such maps).
+  bool IsConsistent() const {
+    return valid.rows() == height_mm.rows() &&
+           valid.cols() == height_mm.cols() && dx_mm > 0 && dy_mm > 0;
+  }
 };
 
 // Largest pixel count a reader accepts before allocating (2^28).

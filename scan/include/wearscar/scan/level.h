@@ -45,14 +45,18 @@ struct LevelSummary {
 // Fits the reference on the unworn area (PCL RANSAC plane, then least
 // squares of the chosen order on its inliers, mask-aware) and subtracts it
 // in place. Throws ScanError when too few valid pixels exist.
+// Requires map != nullptr and map->IsConsistent().
 LevelSummary LevelHeightMap(HeightMap* map, const LevelOptions& options = {});
 
 struct SpikeOptions {
   int kernel = 5;              // median window, pixels (3 or 5)
   double threshold_mm = 0.01;  // |z - median| beyond this is a spike
+  bool IsValid(std::string* why) const;
 };
 
 // Marks spikes invalid (NaN); returns how many. Run after levelling.
+// Requires map != nullptr and map->IsConsistent(). Throws ScanError for
+// invalid options.
 int RemoveSpikes(HeightMap* map, const SpikeOptions& options = {});
 
 // A copy with invalid pixels filled for display only (OpenCV inpainting);

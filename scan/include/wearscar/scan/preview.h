@@ -11,6 +11,7 @@ struct PreviewOptions {
   int max_width_px = 1600;  // larger maps are scaled down (area averaging)
   // Height colour scale between these percentiles of the valid heights.
   double low_percentile = 0.01, high_percentile = 0.99;
+  bool IsValid(std::string* why) const;
 };
 
 // A PNG preview of a levelled map: heights in colour (viridis; invalid

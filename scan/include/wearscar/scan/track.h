@@ -62,6 +62,7 @@ struct TrackOptions {
 // Finds the largest elongated depression of a levelled map (smoothing,
 // threshold, morphology, connected components, PCA). Throws NoTrackError
 // (a ScanError) when no track is found.
+// Requires levelled.IsConsistent().
 Track FindTrack(const HeightMap& levelled, const TrackOptions& options = {});
 
 // No track in the map: everything that does not need one still stands.
@@ -87,6 +88,7 @@ struct ProfileOptions {
 };
 
 // Centreline profile: bilinear samples (NaN-aware) averaged over the band.
+// Requires levelled.IsConsistent().
 WearProfile ExtractCentreline(const HeightMap& levelled,
                               const Track& track,
                               const ProfileOptions& options = {});

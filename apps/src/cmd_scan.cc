@@ -32,8 +32,8 @@ void PrintTrack(const std::string& file, const scan::Track& t) {
       "  track: centre ({:.3f}, {:.3f}) mm, angle {:.2f} deg, length {:.3f} "
       "mm, width {:.3f} mm, mean depth {:.1f} um, max depth {:.1f} um, "
       "volume {:.4g} mm^3 ({})\n",
-      t.center_x_mm,
-      t.center_y_mm,
+      t.centre_x_mm,
+      t.centre_y_mm,
       t.angle_deg,
       t.length_mm,
       t.width_mm,
@@ -146,9 +146,9 @@ void AddScanCommand(CLI::App& app) {
   cmd->add_flag(
       "--manual-track", args->analysis.track.manual, "Place the track by hand");
   cmd->add_option(
-      "--track-x", args->analysis.track.center_x_mm, "Track centre x, mm");
+      "--track-x", args->analysis.track.centre_x_mm, "Track centre x, mm");
   cmd->add_option(
-      "--track-y", args->analysis.track.center_y_mm, "Track centre y, mm");
+      "--track-y", args->analysis.track.centre_y_mm, "Track centre y, mm");
   cmd->add_option(
       "--track-angle", args->analysis.track.angle_deg, "Track angle, degrees");
   cmd->add_option("--track-length",

@@ -71,9 +71,8 @@ void AddForceFileOptions(CLI::App* cmd, CommonArgs* a) {
 void AddSlopeOptions(CLI::App* cmd, CommonArgs* a) {
   auto& o = a->fuse;
   auto& s = o.analysis.friction.slope;
-  cmd->add_option("--spring",
-                  s.spring_stiffness_n_per_mm,
-                  "Loading spring stiffness S, N/mm")
+  cmd->add_option(
+         "--spring", s.spring_n_per_mm, "Loading spring stiffness S, N/mm")
       ->capture_default_str()
       ->group("Method");
   cmd->add_option("--k-estimate",
@@ -274,11 +273,11 @@ void AddTrackOptions(CLI::App* cmd, CommonArgs* a) {
                   "Track angle, degrees (manual placement)")
       ->group("Scan");
   cmd->add_option("--track-x",
-                  o.track.center_x_mm,
+                  o.track.centre_x_mm,
                   "Track centre x, mm (manual placement)")
       ->group("Scan");
   cmd->add_option("--track-y",
-                  o.track.center_y_mm,
+                  o.track.centre_y_mm,
                   "Track centre y, mm (manual placement)")
       ->group("Scan");
 }

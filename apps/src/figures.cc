@@ -190,18 +190,18 @@ void WriteScanMap(const std::string& dir,
   // index 0: the axis; index 1: the two edges of the track.
   std::string track;
   track += fmt::format("{},{}\n{},{}\n\n\n",
-                       t.center_x_mm - half * ax,
-                       t.center_y_mm - half * ay,
-                       t.center_x_mm + half * ax,
-                       t.center_y_mm + half * ay);
+                       t.centre_x_mm - half * ax,
+                       t.centre_y_mm - half * ay,
+                       t.centre_x_mm + half * ax,
+                       t.centre_y_mm + half * ay);
   for (double side : {-1.0, 1.0}) {
     const double ox = -ay * side * (0.5 * t.width_mm),
                  oy = ax * side * (0.5 * t.width_mm);
     track += fmt::format("{},{}\n{},{}\n\n",
-                         t.center_x_mm - half * ax + ox,
-                         t.center_y_mm - half * ay + oy,
-                         t.center_x_mm + half * ax + ox,
-                         t.center_y_mm + half * ay + oy);
+                         t.centre_x_mm - half * ax + ox,
+                         t.centre_y_mm - half * ay + oy,
+                         t.centre_x_mm + half * ax + ox,
+                         t.centre_y_mm + half * ay + oy);
   }
   (void)band;
   WriteTextAtomically((fs::path(dir) / "track.csv").string(), track);

@@ -53,8 +53,8 @@ bool SlopeOptions::IsValid(std::string* why) const {
   }
   if (!(min_span_mm >= 0)) return fail("min_span_mm must be >= 0");
   if (max_half_width < 1) return fail("max_half_width must be >= 1");
-  if (!(spring_stiffness_n_per_mm > 0)) {
-    return fail("spring_stiffness_n_per_mm must be > 0");
+  if (!(spring_n_per_mm > 0)) {
+    return fail("spring_n_per_mm must be > 0");
   }
   return true;
 }
@@ -221,7 +221,7 @@ Eigen::VectorXd SlopeFromNormalForce(
     const SlopeOptions& options) {
   // k = df/dx with f = P / S (paper Eqs. 4-5).
   return DerivativeAlongX(x_mm, normal_n, begin, end, options) /
-         options.spring_stiffness_n_per_mm;
+         options.spring_n_per_mm;
 }
 
 }  // namespace wearscar::force

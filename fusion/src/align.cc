@@ -374,7 +374,7 @@ Eigen::VectorXd ScanHeightAtPlate(
   return out;
 }
 
-SlopeProfile ScanSlopeInPlate(const scan::WearProfile& sp,
+PlateProfile ScanSlopeInPlate(const scan::WearProfile& sp,
                               const Alignment& a,
                               const force::SlopeOptions& derivative,
                               double stroke_min_mm,
@@ -416,7 +416,7 @@ SlopeProfile ScanSlopeInPlate(const scan::WearProfile& sp,
     std::reverse(xs.begin(), xs.end());
     std::reverse(ks.begin(), ks.end());
   }
-  SlopeProfile k;
+  PlateProfile k;
   k.x_mm = Eigen::Map<const Eigen::VectorXd>(
       xs.data(), static_cast<Eigen::Index>(xs.size()));
   k.k = Eigen::Map<const Eigen::VectorXd>(ks.data(),

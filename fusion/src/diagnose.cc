@@ -494,13 +494,13 @@ class CycleSlopes {
             1);
     sg_.polynomial_order = o.slope_polynomial_order;
     sg_.min_span_mm = 0;
-    spring_ = friction.slope.spring_stiffness_n_per_mm;
+    spring_ = friction.slope.spring_n_per_mm;
     half_ = friction.k_estimate == KEstimate::kEnsemble
                 ? std::max(friction.ensemble.cycles, o.slope_cycles) / 2
                 : 0;
   }
 
-  void operator()(int c, SlopeProfile kp[2], SlopeProfile kq[2]) const {
+  void operator()(int c, PlateProfile kp[2], PlateProfile kq[2]) const {
     const int n = static_cast<int>(cycles_.cycles.size());
     std::vector<int> window;
     for (int j = std::max(0, c - half_); j <= std::min(n - 1, c + half_); ++j)
@@ -548,7 +548,7 @@ class CycleSlopes {
 
 // Depth without a scan: the force side's mean profile below its highest
 // point (the constant part is absorbed by mu).
-SlopeProfile ForceSideDepth(const Eigen::MatrixXd& p_prof,
+PlateProfile ForceSideDepth(const Eigen::MatrixXd& p_prof,
                             const ProfileGrid& grid,
                             double spring) {
   Eigen::VectorXd f(grid.bins);
@@ -569,7 +569,7 @@ DiagCycle GatherCycle(const force::ForceRecord& record,
                       const force::Cycle& cy,
                       int c,
                       const CycleSlopes& slopes,
-                      const SlopeProfile& depth,
+                      const PlateProfile& depth,
                       int decimation) {
   double cmin = INFINITY, cmax = -INFINITY;
   for (Eigen::Index i = cy.forward.begin; i < cy.reverse.end; ++i) {
@@ -579,7 +579,7 @@ DiagCycle GatherCycle(const force::ForceRecord& record,
   }
   DiagCycle dc;
   dc.cycle = c;
-  SlopeProfile kp[2], kq[2];
+  PlateProfile kp[2], kq[2];
   slopes(c, kp, kq);
   double f2 = 0, r2 = 0;
   for (const force::HalfCycle* h : {&cy.forward, &cy.reverse}) {
@@ -729,7 +729,7 @@ std::vector<const Effect*> CandidatePool(const DiagnoseOptions& o) {
 Diagnosis Diagnose(const force::ForceRecord& record,
                    const force::CycleSet& cycles,
                    const FrictionFitOptions& friction,
-                   const SlopeProfile* depth,
+                   const PlateProfile* depth,
                    const DiagnoseOptions& o) {
   std::string why;
   if (!o.IsValid(&why)) throw FusionError("diagnose options: " + why);
@@ -748,7 +748,7 @@ Diagnosis Diagnose(const force::ForceRecord& record,
   const ProfileGrid grid =
       MakeProfileGrid(record, cycles, out.cycles, o.profile_step_mm);
   const CycleSlopes slopes(record, cycles, grid, friction, o);
-  SlopeProfile force_depth;
+  PlateProfile force_depth;
   if (depth == nullptr) {
     force_depth = ForceSideDepth(
         slopes.Bin(out.cycles, record.normal_n), grid, slopes.spring());
@@ -800,7 +800,7 @@ Diagnosis DiagnoseTest(const force::ForceRecord& record,
                        const TestResult& r,
                        const FuseOptions& fuse,
                        const DiagnoseOptions& options) {
-  SlopeProfile depth;
+  PlateProfile depth;
   if (r.scan) {
     const auto& fp = r.scan->force_profile;
     depth.x_mm = fp.x_mm;

@@ -105,7 +105,7 @@ CycleBins::Sums CycleBins::Window(
   return s;
 }
 
-double SlopeProfile::At(double x) const {
+double PlateProfile::At(double x) const {
   const Eigen::Index n = x_mm.size();
   if (n < 2 || !(x >= x_mm[0] && x <= x_mm[n - 1])) return std::nan("");
   const double* begin = x_mm.data();
@@ -136,7 +136,7 @@ namespace {
 // Slope at each non-empty bin of a binned profile (mean x, mean value,
 // count): weighted least-squares quadratic over the bins within span / 2,
 // widened up to 4x until it holds min_bins non-empty bins.
-SlopeProfile SlopeOfBinnedProfile(const CycleBins& bins,
+PlateProfile SlopeOfBinnedProfile(const CycleBins& bins,
                                   const CycleBins::Sums& s,
                                   const EnsembleSlopeOptions& o,
                                   double spring) {
@@ -147,7 +147,7 @@ SlopeProfile SlopeOfBinnedProfile(const CycleBins& bins,
   for (int b = 0; b < nb; ++b) {
     if (s.count[b] > 0) used.push_back(b);
   }
-  SlopeProfile p;
+  PlateProfile p;
   p.x_mm.resize(static_cast<Eigen::Index>(used.size()));
   p.k.resize(static_cast<Eigen::Index>(used.size()));
   const int half0 =
@@ -211,7 +211,7 @@ std::pair<int, int> EnsembleWindow(const CycleBins& normal_bins,
           std::min(cycle + half, normal_bins.last_cycle())};
 }
 
-std::array<SlopeProfile, 2> EnsembleSlopeFromSums(
+std::array<PlateProfile, 2> EnsembleSlopeFromSums(
     const CycleBins& normal_bins,
     const std::array<CycleBins::Sums, 2>& sums,
     double spring,
@@ -222,7 +222,7 @@ std::array<SlopeProfile, 2> EnsembleSlopeFromSums(
           SlopeOfBinnedProfile(normal_bins, sums[1], o, spring)};
 }
 
-std::array<SlopeProfile, 2> EnsembleSlopeAt(const CycleBins& normal_bins,
+std::array<PlateProfile, 2> EnsembleSlopeAt(const CycleBins& normal_bins,
                                             int cycle,
                                             double spring,
                                             const EnsembleSlopeOptions& o) {

@@ -31,7 +31,7 @@ double DirectionCost(const SlipSamples& s, double mu) {
 void AppendSlip(const force::ForceRecord& r,
                 const force::HalfCycle& half,
                 const FrictionFitOptions& o,
-                const SlopeProfile* profile,
+                const PlateProfile* profile,
                 SlipSamples* out) {
   out->direction = half.direction;
   const Eigen::Index b = half.slip_begin, e = half.slip_end;
@@ -167,8 +167,8 @@ CycleSamples GatherCycle(const force::ForceRecord& record,
                          const force::Cycle& cycle,
                          SlopeSource source,
                          const FrictionFitOptions& options,
-                         const SlopeProfile* scan_slope,
-                         const std::array<SlopeProfile, 2>* force_slopes) {
+                         const PlateProfile* scan_slope,
+                         const std::array<PlateProfile, 2>* force_slopes) {
   if (source == SlopeSource::kScan && scan_slope == nullptr) {
     throw FusionError(
         "slope from the scan requested but no scan slope profile given");
@@ -177,8 +177,8 @@ CycleSamples GatherCycle(const force::ForceRecord& record,
       options.slope.window > 0 && options.slope.half_width > 0
           ? options
           : Resolved(options, SamplingRateOf(record));
-  const SlopeProfile* forward = nullptr;
-  const SlopeProfile* reverse = nullptr;
+  const PlateProfile* forward = nullptr;
+  const PlateProfile* reverse = nullptr;
   if (source == SlopeSource::kScan) {
     forward = reverse = scan_slope;
   } else if (force_slopes != nullptr) {
@@ -272,17 +272,17 @@ CycleSamples ForceSlopes::Gather(int c) const {
   }
   window_first_ = first;
   window_last_ = last;
-  const std::array<SlopeProfile, 2> k =
+  const std::array<PlateProfile, 2> k =
       EnsembleSlopeFromSums(*normal_bins_,
                             window_sums_,
-                            options_.slope.spring_stiffness_n_per_mm,
+                            options_.slope.spring_n_per_mm,
                             options_.ensemble);
   return GatherCycle(
       record_, cycle, SlopeSource::kForce, options_, nullptr, &k);
 }
 
 std::string ForceSlopes::Describe() const {
-  const double s = options_.slope.spring_stiffness_n_per_mm;
+  const double s = options_.slope.spring_n_per_mm;
   if (normal_bins_) {
     return fmt::format(
         "k = (1/S) dP/dx, S = {} N/mm, from P(x) averaged over {} "
@@ -353,7 +353,7 @@ FrictionFits FitFriction(const force::ForceRecord& record,
                          const force::CycleSet& cycles,
                          SlopeSource source,
                          const FrictionFitOptions& options,
-                         const SlopeProfile* scan_slope) {
+                         const PlateProfile* scan_slope) {
   WEARSCAR_CHECK(record.IsConsistent(),
                  "FitFriction needs channels of one length");
   std::string why;
@@ -430,7 +430,7 @@ std::vector<MuFit> FitFrictionPerCycle(const force::ForceRecord& record,
                                        const force::CycleSet& cycles,
                                        SlopeSource source,
                                        const FrictionFitOptions& options,
-                                       const SlopeProfile* scan_slope) {
+                                       const PlateProfile* scan_slope) {
   return FitFriction(record, cycles, source, options, scan_slope).cycles;
 }
 

@@ -125,11 +125,11 @@ ScanAnalysis AnalyzeScan(const force::ForceRecord& record,
         std::max(nc - fpo.cycles, std::min(force.running_in.cycles, nc - 1));
     fpo.last_cycle = nc - 1;
   }
-  s.force_profile = ComputeForceProfile(
-      record,
-      force.cycles,
-      options.analysis.friction.slope.spring_stiffness_n_per_mm,
-      fpo);
+  s.force_profile =
+      ComputeForceProfile(record,
+                          force.cycles,
+                          options.analysis.friction.slope.spring_n_per_mm,
+                          fpo);
   try {
     s.alignment = AlignProfiles(s.force_profile, s.profile, options.align);
   } catch (const FusionError& e) {

@@ -41,7 +41,7 @@ nlohmann::json Range(const Interval& i) {
 nlohmann::json OptionsJson(const force::ForceRecord& record,
                            const FuseOptions& o) {
   const auto& f = o.analysis.friction;
-  return {{"spring_n_per_mm", f.slope.spring_stiffness_n_per_mm},
+  return {{"spring_n_per_mm", f.slope.spring_n_per_mm},
           {"k_estimate", KEstimateName(f.k_estimate)},
           {"ensemble_cycles", f.ensemble.cycles},
           {"ensemble_bin_mm", f.ensemble.bin_mm},
@@ -423,8 +423,8 @@ std::vector<std::pair<std::string, std::string>> DiagnosisFiles(
 }
 
 nlohmann::json TrackJson(const scan::Track& t) {
-  return {{"center_x_mm", t.center_x_mm},
-          {"center_y_mm", t.center_y_mm},
+  return {{"center_x_mm", t.centre_x_mm},
+          {"center_y_mm", t.centre_y_mm},
           {"angle_deg", t.angle_deg},
           {"length_mm", t.length_mm},
           {"width_mm", t.width_mm},

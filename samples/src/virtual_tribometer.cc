@@ -679,8 +679,8 @@ scan::HeightMap ScanTrack(const SimulationOptions& o,
   map.metadata.source = "simulator:" + o.name;
   map.metadata.format = "simulated";
   map.metadata.instrument = "wearscar virtual scanner";
-  truth->scan_center_x_mm = f.cx;
-  truth->scan_center_y_mm = f.cy;
+  truth->scan_centre_x_mm = f.cx;
+  truth->scan_centre_y_mm = f.cy;
   truth->scan_angle_deg = o.scan_angle_deg;
   truth->scan_flipped = o.scan_flipped;
   truth->plane_dzdx = o.plane_dzdx;

@@ -129,8 +129,8 @@ std::string EncodeTrackPreviewPng(const HeightMap& map,
   const double th = track.angle_deg * kPi / 180.0;
   const double ax = std::cos(th), ay = std::sin(th);
   auto to_px = [&](double s, double w) {
-    const double x = track.center_x_mm + s * ax - w * ay;
-    const double y = track.center_y_mm + s * ay + w * ax;
+    const double x = track.centre_x_mm + s * ax - w * ay;
+    const double y = track.centre_y_mm + s * ay + w * ax;
     return cv::Point2d(x * px, y * py);
   };
   const int thick = std::max(1, image.cols / 500);

@@ -85,8 +85,8 @@ namespace {
 Track ManualTrack(const HeightMap& map, const TrackOptions& options) {
   Track t;
   t.manual = true;
-  t.center_x_mm = options.center_x_mm;
-  t.center_y_mm = options.center_y_mm;
+  t.centre_x_mm = options.centre_x_mm;
+  t.centre_y_mm = options.centre_y_mm;
   t.angle_deg = options.angle_deg;
   t.length_mm =
       options.manual_length_mm > 0
@@ -207,8 +207,8 @@ void MeasureExtent(const HeightMap& map,
                hi = Percentile(along, 1 - options.length_quantile);
   t->length_mm = hi - lo;
   const double shift = 0.5 * (lo + hi);
-  t->center_x_mm = k.mean.x() + shift * a.x();
-  t->center_y_mm = k.mean.y() + shift * a.y();
+  t->centre_x_mm = k.mean.x() + shift * a.x();
+  t->centre_y_mm = k.mean.y() + shift * a.y();
   t->width_mm = Percentile(across, 1 - options.width_quantile) -
                 Percentile(across, options.width_quantile);
   t->max_depth_mm = max_depth;
@@ -224,7 +224,7 @@ double MeanDepthAlongAxis(const HeightMap& map,
   int n_ok = 0;
   for (double s = -0.4 * t.length_mm; s <= 0.4 * t.length_mm; s += step) {
     const double z = SampleBilinear(
-        map, t.center_x_mm + s * a.x(), t.center_y_mm + s * a.y());
+        map, t.centre_x_mm + s * a.x(), t.centre_y_mm + s * a.y());
     if (!std::isfinite(z)) continue;
     sum += -z;
     ++n_ok;
@@ -349,8 +349,8 @@ WearProfile SampleLine(const HeightMap& map,
     for (int j = -m; j <= m; ++j) {
       const double w = m > 0 ? (0.5 * band) * j / m : 0.0;
       const double u = along ? s : fixed, v = along ? fixed + w : s;
-      const double x = t.center_x_mm + u * ax - v * ay;
-      const double y = t.center_y_mm + u * ay + v * ax;
+      const double x = t.centre_x_mm + u * ax - v * ay;
+      const double y = t.centre_y_mm + u * ay + v * ax;
       const double h = SampleBilinear(map, x, y);
       if (std::isfinite(h)) {
         sum += h;

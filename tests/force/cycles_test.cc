@@ -178,7 +178,7 @@ TEST(Slope, RecoversKnownPathSlopeFromNormalForce) {
     SlopeOptions o;
     o.method = m;
     o.window = m == DerivativeMethod::kSavitzkyGolay ? 21 : 10;
-    o.spring_stiffness_n_per_mm = s;
+    o.spring_n_per_mm = s;
     const Eigen::VectorXd k = SlopeFromNormalForce(x, p, 200, n - 200, o);
     double worst = 0;
     for (int i = 200; i < n - 200; ++i) {

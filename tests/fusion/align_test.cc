@@ -65,7 +65,7 @@ TEST_P(AlignTest, RecoversShiftFlipAndScale) {
   EXPECT_GT(a.correlation, 0.97);
   // The scan slope in plate coordinates equals scale^-1 * df/dx = surface'(x).
   force::SlopeOptions d{force::DerivativeMethod::kSavitzkyGolay, 15, 2};
-  const SlopeProfile k = ScanSlopeInPlate(sp, a, d);
+  const PlateProfile k = ScanSlopeInPlate(sp, a, d);
   const double x = -1.3;
   const double truth = (Surface(x + 1e-4) - Surface(x - 1e-4)) / 2e-4;
   EXPECT_NEAR(k.At(x), truth, 0.01 + 20 * c.noise);
@@ -107,7 +107,7 @@ TEST(Align, ScanSlopeStopsAtTheStrokeEnds) {
                     : 0.0);
   }
   const force::SlopeOptions d{force::DerivativeMethod::kSavitzkyGolay, 15, 2};
-  const SlopeProfile k = ScanSlopeInPlate(sp, a, d, -stroke, stroke);
+  const PlateProfile k = ScanSlopeInPlate(sp, a, d, -stroke, stroke);
   ASSERT_GT(k.x_mm.size(), 2);
   EXPECT_LT(k.x_mm[0], -stroke);  // one sample beyond each end
   EXPECT_GT(k.x_mm[k.x_mm.size() - 1], stroke);
@@ -116,7 +116,7 @@ TEST(Align, ScanSlopeStopsAtTheStrokeEnds) {
     EXPECT_NEAR(k.At(x), slope, 1e-4) << x;
   }
   // Without the stroke, the same window bends k at the ends.
-  const SlopeProfile whole = ScanSlopeInPlate(sp, a, d);
+  const PlateProfile whole = ScanSlopeInPlate(sp, a, d);
   EXPECT_GT(std::abs(whole.At(stroke - 0.01) - slope), 5e-4);
 }
 
@@ -169,8 +169,8 @@ TEST_P(FullSizeAccuracy, MuHatWithEitherSlopeAndAlignmentMatchTheTruth) {
   const auto& tr = r.scan->track;
   const double th = tr.angle_deg * M_PI / 180;
   const double shift_true =
-      (t.truth.scan_center_x_mm - tr.center_x_mm) * std::cos(th) +
-      (t.truth.scan_center_y_mm - tr.center_y_mm) * std::sin(th);
+      (t.truth.scan_centre_x_mm - tr.centre_x_mm) * std::cos(th) +
+      (t.truth.scan_centre_y_mm - tr.centre_y_mm) * std::sin(th);
   EXPECT_EQ(a.flipped, t.truth.scan_flipped);
   EXPECT_NEAR(a.shift_mm, shift_true, 2 * o.scan_pitch_mm) << a.message;
   RecordProperty("median_error_force", std::to_string(median(ef)));

@@ -16,7 +16,7 @@ inline Diagnosis DiagnoseSimulated(samples::SimulationOptions o) {
   f.fit_lugre = false;
   f.analysis.running_in_cycles = 100;
   const TestResult r = AnalyzeTest(t.record, t.scan, f);
-  SlopeProfile depth;
+  PlateProfile depth;
   depth.x_mm = r.scan->force_profile.x_mm;
   depth.k = -ScanHeightAtPlate(r.scan->profile, r.scan->alignment, depth.x_mm);
   DiagnoseOptions d;

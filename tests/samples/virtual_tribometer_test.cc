@@ -110,9 +110,9 @@ TEST(VirtualTribometer, ScanShowsTrackAtKnownDepthOnKnownPlane) {
   }
   // Centre of the track: depth below the plane near the truth.
   const int col =
-      static_cast<int>(std::round(t.truth.scan_center_x_mm / o.scan_pitch_mm));
+      static_cast<int>(std::round(t.truth.scan_centre_x_mm / o.scan_pitch_mm));
   const int row =
-      static_cast<int>(std::round(t.truth.scan_center_y_mm / o.scan_pitch_mm));
+      static_cast<int>(std::round(t.truth.scan_centre_y_mm / o.scan_pitch_mm));
   const double plane = o.plane_z0_mm + o.plane_dzdx * col * o.scan_pitch_mm +
                        o.plane_dzdy * row * o.scan_pitch_mm;
   const double truth_depth =
@@ -476,9 +476,9 @@ TEST(VirtualTribometer, ScanHasTheRealisticDefects) {
     for (int side : {-1, 1}) {
       const double s_mm = k * 0.02;
       const double th = tr.scan_angle_deg * M_PI / 180;
-      const double X = tr.scan_center_x_mm + s_mm * std::cos(th) -
+      const double X = tr.scan_centre_x_mm + s_mm * std::cos(th) -
                        side * edge * std::sin(th);
-      const double Y = tr.scan_center_y_mm + s_mm * std::sin(th) +
+      const double Y = tr.scan_centre_y_mm + s_mm * std::sin(th) +
                        side * edge * std::cos(th);
       const int c = static_cast<int>(std::lround(X / s.scan_pitch_mm));
       const int rr = static_cast<int>(std::lround(Y / s.scan_pitch_mm));

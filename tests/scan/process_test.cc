@@ -75,8 +75,8 @@ TEST_P(TrackTest, FindsAxisCentreAndCentrelineOfKnownTrack) {
   // the worn extent depends on how deep the two ends are (alignment with the
   // force side absorbs that shift).
   const double th = angle * M_PI / 180;
-  const double dx = track.center_x_mm - t.truth.scan_center_x_mm;
-  const double dy = track.center_y_mm - t.truth.scan_center_y_mm;
+  const double dx = track.centre_x_mm - t.truth.scan_centre_x_mm;
+  const double dy = track.centre_y_mm - t.truth.scan_centre_y_mm;
   EXPECT_NEAR(-dx * std::sin(th) + dy * std::cos(th), 0.0, 0.01);
   EXPECT_NEAR(dx * std::cos(th) + dy * std::sin(th), 0.0, 0.15);
   // Track: the stroke (5.7 mm) plus the sphere's footprint at both ends.
@@ -142,8 +142,8 @@ TEST(Track, AnalyticGrooveOnTiltedPlane) {
   EXPECT_NEAR(lv.dzdy(), -0.0022, 2e-5);
   const Track t = FindTrack(m);
   EXPECT_NEAR(t.angle_deg, angle, 0.2) << t.message;
-  EXPECT_NEAR(t.center_x_mm, cx, pitch) << t.message;  // within 1 pixel
-  EXPECT_NEAR(t.center_y_mm, cy, pitch) << t.message;
+  EXPECT_NEAR(t.centre_x_mm, cx, pitch) << t.message;  // within 1 pixel
+  EXPECT_NEAR(t.centre_y_mm, cy, pitch) << t.message;
   EXPECT_NEAR(t.mean_depth_mm, depth, 0.02 * depth);
   EXPECT_NEAR(t.max_depth_mm, depth, 0.02 * depth + 0.0015);  // + noise peak
   // Width where the depth exceeds the detection threshold (25% of the

@@ -31,8 +31,8 @@ struct SlopeOptions {
   // 0 = from half_span_ms (0.5 ms: the paper's Eq. 5, h = 1, at 2 kHz).
   int half_width = 0;
   double half_span_ms = 0.5;
-  int polynomial_order = 2;                  // Savitzky-Golay only
-  double spring_stiffness_n_per_mm = 10.19;  // S, paper Table 1
+  int polynomial_order = 2;        // Savitzky-Golay only
+  double spring_n_per_mm = 10.19;  // S, paper Table 1
   // Near a reversal x barely moves and noise dominates a fixed stencil: the
   // difference (or SG window) widens until it spans at least this x
   // distance, mm. 0 = the paper's fixed three-point stencil.

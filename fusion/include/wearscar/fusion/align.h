@@ -91,7 +91,7 @@ Alignment AlignProfiles(const ForceProfile& force_profile,
 // which the sphere never climbs, would otherwise tilt k near the reversals
 // and bias mu-hat low (by 0.002 on a 0.2 mm deep track). The profile covers
 // the stroke; the scan sample just beyond each end repeats the end's slope.
-SlopeProfile ScanSlopeInPlate(
+PlateProfile ScanSlopeInPlate(
     const scan::WearProfile& scan_profile,
     const Alignment& alignment,
     const force::SlopeOptions& derivative,

@@ -104,7 +104,7 @@ struct Diagnosis {
 Diagnosis Diagnose(const force::ForceRecord& record,
                    const force::CycleSet& cycles,
                    const FrictionFitOptions& friction,
-                   const SlopeProfile* depth_mm,
+                   const PlateProfile* depth_mm,
                    const DiagnoseOptions& options = {});
 
 // Diagnoses a test AnalyzeTest analysed with `fuse`: the groove depth from

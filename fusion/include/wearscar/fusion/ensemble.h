@@ -79,13 +79,15 @@ class CycleBins {
   std::vector<std::uint16_t> count_;
 };
 
-// A slope of the sliding path known along the plate coordinate (from the
-// scan, or from an ensemble of cycles), linearly interpolated; NaN outside.
-struct SlopeProfile {
+// A quantity known along the plate coordinate, linearly interpolated, NaN
+// outside: the slope k of the sliding path (from the scan, or from an
+// ensemble of cycles) or a groove depth (the diagnosis).
+struct PlateProfile {
   Eigen::VectorXd x_mm;  // increasing
-  Eigen::VectorXd k;
+  Eigen::VectorXd k;     // the values at x_mm (a slope, or a depth in mm)
   double At(double x) const;
 };
+using SlopeProfile = PlateProfile;  // the former name
 
 struct EnsembleSlopeOptions {
   // Neighbouring cycles averaged, centred on the cycle (odd; fewer at the
@@ -102,7 +104,7 @@ struct EnsembleSlopeOptions {
 // k = (1/S) dP/dx of one cycle per direction ([0] forward, [1] reverse)
 // from P(x) averaged over the cycles of `normal_bins` (P binned per cycle
 // and direction) around `cycle`.
-std::array<SlopeProfile, 2> EnsembleSlopeAt(
+std::array<PlateProfile, 2> EnsembleSlopeAt(
     const CycleBins& normal_bins,
     int cycle,
     double spring_n_per_mm,
@@ -114,7 +116,7 @@ std::pair<int, int> EnsembleWindow(const CycleBins& normal_bins,
                                    int cycle,
                                    const EnsembleSlopeOptions& options);
 // k per direction from P summed over a window (sums[0] forward, [1] reverse).
-std::array<SlopeProfile, 2> EnsembleSlopeFromSums(
+std::array<PlateProfile, 2> EnsembleSlopeFromSums(
     const CycleBins& normal_bins,
     const std::array<CycleBins::Sums, 2>& sums,
     double spring_n_per_mm,

@@ -105,8 +105,8 @@ CycleSamples GatherCycle(
     const force::Cycle& cycle,
     SlopeSource source,
     const FrictionFitOptions& options,
-    const SlopeProfile* scan_slope = nullptr,
-    const std::array<SlopeProfile, 2>* force_slopes = nullptr);
+    const PlateProfile* scan_slope = nullptr,
+    const std::array<PlateProfile, 2>* force_slopes = nullptr);
 
 // The sampling rate of a record: the stated one, else from its clock
 // (0 when neither is known).
@@ -159,7 +159,7 @@ FrictionFits FitFriction(const force::ForceRecord& record,
                          const force::CycleSet& cycles,
                          SlopeSource source,
                          const FrictionFitOptions& options = {},
-                         const SlopeProfile* scan_slope = nullptr);
+                         const PlateProfile* scan_slope = nullptr);
 
 // FitFriction's per-cycle fits.
 std::vector<MuFit> FitFrictionPerCycle(
@@ -167,6 +167,6 @@ std::vector<MuFit> FitFrictionPerCycle(
     const force::CycleSet& cycles,
     SlopeSource source,
     const FrictionFitOptions& options = {},
-    const SlopeProfile* scan_slope = nullptr);
+    const PlateProfile* scan_slope = nullptr);
 
 }  // namespace wearscar::fusion

@@ -59,7 +59,7 @@ struct ScanAnalysis {
   scan::WearProfile profile;
   ForceProfile force_profile;
   Alignment alignment;
-  SlopeProfile slope;           // k_scan in plate coordinates
+  PlateProfile slope;           // k_scan in plate coordinates
   std::vector<MuFit> fit_scan;  // mu-hat per cycle with k from the scan
 };
 

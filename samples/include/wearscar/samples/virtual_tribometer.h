@@ -124,7 +124,7 @@ struct GroundTruth {
   Eigen::VectorXd elastic_mm;     // varying part of the penetration
   // Scan placement: plate x = flip * (s - along_offset) where s is the
   // along-track coordinate from the track centre (cx, cy) in the scan.
-  double scan_center_x_mm = 0.0, scan_center_y_mm = 0.0;
+  double scan_centre_x_mm = 0.0, scan_centre_y_mm = 0.0;
   double scan_angle_deg = 0.0;
   bool scan_flipped = false;
   double plane_dzdx = 0.0, plane_dzdy = 0.0, plane_z0_mm = 0.0;

@@ -11,8 +11,8 @@ namespace wearscar::scan {
 // The worn track: an axis through its centre. The along-track coordinate s
 // runs along (cos angle, sin angle) from the centre; across w runs at +90°.
 struct Track {
-  double center_x_mm = 0.0;
-  double center_y_mm = 0.0;
+  double centre_x_mm = 0.0;
+  double centre_y_mm = 0.0;
   double angle_deg = 0.0;  // in (-90, 90]
   double length_mm = 0.0;
   double width_mm = 0.0;  // where the depth exceeds the detection threshold
@@ -53,7 +53,7 @@ struct TrackOptions {
   double confident_elongation = 3.0;
   // Manual placement instead of detection (angle in degrees).
   bool manual = false;
-  double center_x_mm = 0.0, center_y_mm = 0.0, angle_deg = 0.0;
+  double centre_x_mm = 0.0, centre_y_mm = 0.0, angle_deg = 0.0;
   double manual_length_mm = 0.0;  // 0 = to the edges of the field
 
   bool IsValid(std::string* why) const;

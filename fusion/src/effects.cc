@@ -12,6 +12,7 @@ namespace {
 class Ploughing : public Effect {
  public:
   std::string Name() const override { return "ploughing"; }
+  std::string Key() const override { return "ploughing"; }
   std::string Formula() const override { return "Q += s c_p depth(x)"; }
   std::vector<std::string> ParameterNames() const override {
     return {"c_p_N_per_mm"};
@@ -29,6 +30,7 @@ class Ploughing : public Effect {
 class Stribeck : public Effect {
  public:
   std::string Name() const override { return "velocity dependence (Stribeck)"; }
+  std::string Key() const override { return "stribeck"; }
   std::string Formula() const override {
     return "mu_eff = mu (1 + a exp(-(v/v_s)^2))";
   }
@@ -47,6 +49,7 @@ class Stribeck : public Effect {
 class Viscous : public Effect {
  public:
   std::string Name() const override { return "viscous term"; }
+  std::string Key() const override { return "viscous"; }
   std::string Formula() const override { return "Q += s c_v |v|"; }
   std::vector<std::string> ParameterNames() const override {
     return {"c_v_N_s_per_mm"};
@@ -63,6 +66,7 @@ class Viscous : public Effect {
 class Asymmetry : public Effect {
  public:
   std::string Name() const override { return "direction asymmetry"; }
+  std::string Key() const override { return "asymmetry"; }
   std::string Formula() const override { return "mu_eff = mu (1 + s a)"; }
   std::vector<std::string> ParameterNames() const override { return {"a"}; }
   std::vector<double> Initial() const override { return {0.01}; }
@@ -78,6 +82,7 @@ class Asymmetry : public Effect {
 class TimeLag : public Effect {
  public:
   std::string Name() const override { return "time lag of the Q channel"; }
+  std::string Key() const override { return "q_lag"; }
   std::string Formula() const override { return "Q_measured(t) = Q(t - tau)"; }
   std::vector<std::string> ParameterNames() const override { return {"tau_s"}; }
   std::vector<double> Initial() const override { return {0.0005}; }
@@ -93,6 +98,7 @@ class TimeLag : public Effect {
 class Crosstalk : public Effect {
  public:
   std::string Name() const override { return "crosstalk of Q into P"; }
+  std::string Key() const override { return "crosstalk"; }
   std::string Formula() const override {
     return "P = P_measured - c Q_measured, k = k_measured - c (1/S) dQ/dx";
   }
@@ -111,6 +117,7 @@ class Crosstalk : public Effect {
 class Hook : public Effect {
  public:
   std::string Name() const override { return "end-of-stroke hook"; }
+  std::string Key() const override { return "hook"; }
   std::string Formula() const override {
     return "Q += s H exp(-d_end / lambda)";
   }
@@ -133,6 +140,7 @@ class ElasticCompliance : public Effect {
   std::string Name() const override {
     return "elastic compliance of the track";
   }
+  std::string Key() const override { return "elastic"; }
   std::string Formula() const override { return "k = k_measured / (1 + beta)"; }
   std::vector<std::string> ParameterNames() const override { return {"beta"}; }
   std::vector<double> Initial() const override { return {0.1}; }
@@ -163,7 +171,7 @@ const std::vector<std::unique_ptr<Effect>>& EffectLibrary() {
 
 const Effect* FindEffect(const std::string& name) {
   for (const auto& e : EffectLibrary()) {
-    if (e->Name() == name) return e.get();
+    if (e->Name() == name || e->Key() == name) return e.get();
   }
   return nullptr;
 }

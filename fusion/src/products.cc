@@ -354,7 +354,9 @@ nlohmann::json MapJson(const ResidualMap& m) {
 }
 
 nlohmann::json CandidateJson(const CandidateResult& c) {
+  const Effect* e = FindEffect(c.effect);
   return {{"effect", c.effect},
+          {"key", e ? e->Key() : std::string()},
           {"parameter_names", c.parameter_names},
           {"parameters", c.parameters},
           {"uncertainties", c.uncertainties},
@@ -407,6 +409,7 @@ nlohmann::json DiagnosisJson(const std::string& name, const Diagnosis& d) {
   j["library"] = nlohmann::json::array();
   for (const auto& e : EffectLibrary()) {
     j["library"].push_back({{"name", e->Name()},
+                            {"key", e->Key()},
                             {"formula", e->Formula()},
                             {"parameters", e->ParameterNames()}});
   }

@@ -11,6 +11,8 @@
 #include "wearscar/force/cycles.h"
 #include "wearscar/force/read_force.h"
 #include "wearscar/fusion/analysis.h"
+#include "wearscar/fusion/effects.h"
+#include "wearscar/fusion/effects.h"
 #include "wearscar/scan/gsf.h"
 #include "wearscar/scan/read_scan.h"
 
@@ -490,6 +492,30 @@ TEST(VirtualTribometer, ScanHasTheRealisticDefects) {
     }
   }
   EXPECT_NEAR(rim / n, s.rim_fraction * d0, 0.35 * s.rim_fraction * d0);
+}
+
+}  // namespace
+}  // namespace wearscar::samples
+
+namespace wearscar::samples {
+namespace {
+
+// One vocabulary for the effects: every effect the diagnosis can name is a
+// switch of the simulator under its key (the elastic part has its own
+// --elastic), and the switch sets the strength the diagnosis reports.
+TEST(VirtualTribometer, EffectSwitchesAreTheDiagnosisKeys) {
+  for (const auto& e : fusion::EffectLibrary()) {
+    if (e->Key() == "elastic") continue;
+    HiddenEffects fx;
+    EXPECT_NO_THROW(ApplyEffectSetting(e->Key() + "=0.5", &fx)) << e->Key();
+    EXPECT_NE(HiddenEffectNames().find(e->Key() + " ("), std::string::npos)
+        << e->Key();
+    EXPECT_EQ(fusion::FindEffect(e->Key()), e.get());
+  }
+  HiddenEffects fx;
+  ApplyEffectSetting("hook=1.5", &fx);
+  EXPECT_EQ(fx.hook_n, 1.5);
+  EXPECT_THROW(ApplyEffectSetting("plowing=2", &fx), std::invalid_argument);
 }
 
 }  // namespace

@@ -32,7 +32,10 @@ struct EffectContext {
 class Effect {
  public:
   virtual ~Effect() = default;
-  virtual std::string Name() const = 0;
+  virtual std::string Name() const = 0;  // in words, for reports
+  // One word: the effect's name in options, in the simulator's switch
+  // (wearscar simulate --effect KEY=strength) and in diagnosis.json.
+  virtual std::string Key() const = 0;
   virtual std::string Formula() const = 0;
   virtual std::vector<std::string> ParameterNames() const = 0;  // with units
   virtual std::vector<double> Initial() const = 0;
@@ -49,7 +52,7 @@ class Effect {
 // P, end-of-stroke hook, elastic compliance of the track.
 const std::vector<std::unique_ptr<Effect>>& EffectLibrary();
 
-// Finds an effect by name; nullptr when unknown.
+// Finds an effect by its name or its key; nullptr when unknown.
 const Effect* FindEffect(const std::string& name);
 
 }  // namespace wearscar::fusion

@@ -12,7 +12,6 @@
 #include "wearscar/force/read_force.h"
 #include "wearscar/fusion/analysis.h"
 #include "wearscar/fusion/effects.h"
-#include "wearscar/fusion/effects.h"
 #include "wearscar/scan/gsf.h"
 #include "wearscar/scan/read_scan.h"
 

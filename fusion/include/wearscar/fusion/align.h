@@ -61,6 +61,8 @@ struct Alignment {
   double amplitude_ratio_high = std::numeric_limits<double>::quiet_NaN();
   int overlap_samples = 0;
   std::string message = "not run";
+  // The search's outcome: shift, flip, correlation, scale, points.
+  std::string BriefReport() const { return message; }
 
   double ScanCoordinate(double x_mm) const {
     return (flipped ? -x_mm : x_mm) + shift_mm;

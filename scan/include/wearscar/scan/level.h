@@ -30,6 +30,8 @@ struct LevelSummary {
   int points_used = 0;
   double rms_mm = 0.0;  // residual RMS on the inliers
   std::string message = "not run";
+  // "order 1 on 57605 of 59200 points, RMS 0.00027 mm" (Ceres style).
+  std::string BriefReport() const { return message; }
   // Plane form for order 1: z = z0 + dzdx x + dzdy y.
   double z0_mm() const {
     return coefficients.size() > 0 ? coefficients[0] : 0.0;

@@ -32,6 +32,8 @@ struct Track {
   bool low_confidence = false;
   bool manual = false;
   std::string message = "not run";
+  // How it was found (pixels, elongation, threshold, confidence) or placed.
+  std::string BriefReport() const { return message; }
 };
 
 struct TrackOptions {

@@ -30,7 +30,7 @@ bool ParseDerivativeMethod(const std::string& text, DerivativeMethod* method) {
   return false;
 }
 
-bool SlopeOptions::IsValid(std::string* why) const {
+bool DerivativeOptions::IsValid(std::string* why) const {
   auto fail = [&](const char* m) {
     if (why) *why = m;
     return false;
@@ -53,14 +53,27 @@ bool SlopeOptions::IsValid(std::string* why) const {
   }
   if (!(min_span_mm >= 0)) return fail("min_span_mm must be >= 0");
   if (max_half_width < 1) return fail("max_half_width must be >= 1");
+  return true;
+}
+
+bool SlopeOptions::IsValid(std::string* why) const {
+  if (!DerivativeOptions::IsValid(why)) return false;
   if (!(spring_n_per_mm > 0)) {
-    return fail("spring_n_per_mm must be > 0");
+    if (why) *why = "spring_n_per_mm must be > 0";
+    return false;
   }
   return true;
 }
 
 SlopeOptions SlopeOptions::ForSamplingRate(double rate_hz) const {
   SlopeOptions o = *this;
+  static_cast<DerivativeOptions&>(o) =
+      DerivativeOptions::ForSamplingRate(rate_hz);
+  return o;
+}
+
+DerivativeOptions DerivativeOptions::ForSamplingRate(double rate_hz) const {
+  DerivativeOptions o = *this;
   const bool rate_known = rate_hz > 0 && std::isfinite(rate_hz);
   auto samples = [&](double ms, int paper) {
     if (!rate_known) return paper;
@@ -75,7 +88,7 @@ SlopeOptions SlopeOptions::ForSamplingRate(double rate_hz) const {
   return o;
 }
 
-std::string SlopeOptions::Describe() const {
+std::string DerivativeOptions::Describe() const {
   if (method == DerivativeMethod::kSavitzkyGolay) {
     return fmt::format(
         "Savitzky-Golay, order {}, {} samples", polynomial_order, window);
@@ -130,7 +143,7 @@ Eigen::VectorXd DerivativeAlongX(
     const Eigen::Ref<const Eigen::VectorXd>& signal,
     Eigen::Index begin,
     Eigen::Index end,
-    const SlopeOptions& options) {
+    const DerivativeOptions& options) {
   const Eigen::Index n = end - begin;
   Eigen::VectorXd d =
       Eigen::VectorXd::Constant(std::max<Eigen::Index>(n, 0), std::nan(""));

@@ -376,10 +376,10 @@ Eigen::VectorXd ScanHeightAtPlate(
 
 PlateProfile ScanSlopeInPlate(const scan::WearProfile& sp,
                               const Alignment& a,
-                              const force::SlopeOptions& derivative,
+                              const force::DerivativeOptions& derivative,
                               double stroke_min_mm,
                               double stroke_max_mm) {
-  force::SlopeOptions d = derivative;
+  force::DerivativeOptions d = derivative;
   d.min_span_mm = 0;              // s is uniform: no widening needed
   d.shift_window_at_ends = true;  // only the path's own samples enter
   // x = flip (s - shift); dh/dx = flip dh/ds.

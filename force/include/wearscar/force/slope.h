@@ -18,7 +18,9 @@ const char* DerivativeMethodName(DerivativeMethod method);
 // Parses "central" / "moving-average" / "savgol" / "savitzky-golay".
 bool ParseDerivativeMethod(const std::string& text, DerivativeMethod* method);
 
-struct SlopeOptions {
+// How a derivative along x is taken, for any signal sampled along x (P
+// along the stroke, a scan's centreline).
+struct DerivativeOptions {
   DerivativeMethod method = DerivativeMethod::kMovingAverageCentral;
   // Smoothing span in samples: moving average, or SG window (odd). 0 = from
   // window_ms and the record's sampling rate (ForSamplingRate).
@@ -31,8 +33,7 @@ struct SlopeOptions {
   // 0 = from half_span_ms (0.5 ms: the paper's Eq. 5, h = 1, at 2 kHz).
   int half_width = 0;
   double half_span_ms = 0.5;
-  int polynomial_order = 2;        // Savitzky-Golay only
-  double spring_n_per_mm = 10.19;  // S, paper Table 1
+  int polynomial_order = 2;  // Savitzky-Golay only
   // Near a reversal x barely moves and noise dominates a fixed stencil: the
   // difference (or SG window) widens until it spans at least this x
   // distance, mm. 0 = the paper's fixed three-point stencil.
@@ -47,9 +48,18 @@ struct SlopeOptions {
   // The spans in samples for a record sampled at rate_hz (> 0): window and
   // half_width kept when given, else from window_ms and half_span_ms, at
   // least 1 sample (3, odd, for Savitzky-Golay).
-  SlopeOptions ForSamplingRate(double rate_hz) const;
+  DerivativeOptions ForSamplingRate(double rate_hz) const;
   // "moving average 10 samples (5.0 ms), central difference +-1 sample".
   std::string Describe() const;
+};
+
+// The slope of the sliding path seen by the force channel: the derivative
+// of P along x, divided by the loading spring's stiffness S.
+struct SlopeOptions : DerivativeOptions {
+  double spring_n_per_mm = 10.19;  // S, paper Table 1
+
+  bool IsValid(std::string* why) const;
+  SlopeOptions ForSamplingRate(double rate_hz) const;
 };
 
 // Centred moving average over `window` samples (shrinking at the ends),
@@ -67,7 +77,7 @@ Eigen::VectorXd DerivativeAlongX(
     const Eigen::Ref<const Eigen::VectorXd>& signal,
     Eigen::Index begin,
     Eigen::Index end,
-    const SlopeOptions& options);
+    const DerivativeOptions& options);
 
 // Slope of the sliding path seen by the force channel, k = (1/S) dP/dx
 // (paper Eqs. 4-5), over [begin, end).

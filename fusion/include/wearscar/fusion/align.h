@@ -96,7 +96,7 @@ Alignment AlignProfiles(const ForceProfile& force_profile,
 PlateProfile ScanSlopeInPlate(
     const scan::WearProfile& scan_profile,
     const Alignment& alignment,
-    const force::SlopeOptions& derivative,
+    const force::DerivativeOptions& derivative,
     double stroke_min_mm = -std::numeric_limits<double>::infinity(),
     double stroke_max_mm = std::numeric_limits<double>::infinity());
 

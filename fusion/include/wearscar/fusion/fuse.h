@@ -34,9 +34,15 @@ struct FuseOptions {
   }();
   ForceProfileOptions force_profile;
   AlignOptions align;
-  // Derivative of the scan profile (window in scan samples).
-  force::SlopeOptions scan_slope{
-      force::DerivativeMethod::kSavitzkyGolay, 15, 2};
+  // Derivative of the scan profile (window in scan samples): quadratic
+  // Savitzky-Golay over 15 samples. No spring: the scan sees the path.
+  force::DerivativeOptions scan_slope = [] {
+    force::DerivativeOptions d;
+    d.method = force::DerivativeMethod::kSavitzkyGolay;
+    d.window = 15;
+    d.polynomial_order = 2;
+    return d;
+  }();
   VerdictOptions verdict;
   DataWarningOptions warnings;
   // Which slope mu-hat is fitted with when a scan is given: the force

@@ -369,7 +369,7 @@ Eigen::VectorXd ScanHeightAtPlate(
   Eigen::VectorXd out(x_mm.size());
   for (Eigen::Index i = 0; i < x_mm.size(); ++i) {
     out[i] =
-        Interp(sp.height_mm, sp.s_mm[0], sp.step_mm, a.ScanCoordinate(x_mm[i]));
+        Interp(sp.height_mm, sp.s_mm[0], sp.step_mm, a.ScanFromPlate(x_mm[i]));
   }
   return out;
 }

@@ -187,3 +187,25 @@ INSTANTIATE_TEST_SUITE_P(Twelve,
 
 }  // namespace
 }  // namespace wearscar::fusion
+
+namespace wearscar::fusion {
+namespace {
+
+// The alignment's two frames are inverse maps of each other, flipped or
+// not, and the shift is where the plate's origin falls on the scan.
+TEST(Alignment, PlateFromScanInvertsScanFromPlate) {
+  for (bool flipped : {false, true}) {
+    Alignment a;
+    a.shift_mm = 0.37;
+    a.flipped = flipped;
+    EXPECT_DOUBLE_EQ(a.ScanFromPlate(0.0), 0.37);
+    for (double x : {-2.85, -1.0, 0.0, 0.5, 2.85}) {
+      EXPECT_NEAR(a.PlateFromScan(a.ScanFromPlate(x)), x, 1e-12);
+    }
+    EXPECT_DOUBLE_EQ(a.ScanFromPlate(1.0) - a.ScanFromPlate(0.0),
+                     flipped ? -1.0 : 1.0);
+  }
+}
+
+}  // namespace
+}  // namespace wearscar::fusion

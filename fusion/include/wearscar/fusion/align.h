@@ -64,8 +64,14 @@ struct Alignment {
   // The search's outcome: shift, flip, correlation, scale, points.
   std::string BriefReport() const { return message; }
 
-  double ScanCoordinate(double x_mm) const {
+  // The two frames (COLMAP's a_from_b naming): the plate's x along the
+  // stroke (the force record's) and the scan's s along the track from its
+  // centre. s = scan_from_plate(x) = (flipped ? -x : x) + shift_mm.
+  double ScanFromPlate(double x_mm) const {
     return (flipped ? -x_mm : x_mm) + shift_mm;
+  }
+  double PlateFromScan(double s_mm) const {
+    return flipped ? shift_mm - s_mm : s_mm - shift_mm;
   }
 };
 

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "units.h"
+#include "wearscar/support/check.h"
 #include "wearscar/support/text.h"
 
 namespace wearscar::force {
@@ -553,12 +554,8 @@ std::string LayoutKind(const Layout& layout) {
 Layout DetectLayout(const std::vector<std::string>& head,
                     const std::string& name,
                     const ReadForceOptions& options) {
-  if (head.empty()) {
-    throw ForceError(
-        fmt::format("{}: the file is empty; expected a delimited "
-                    "force export (header row, then numbers)",
-                    name));
-  }
+  // ReadHead refuses an empty file.
+  WEARSCAR_CHECK(!head.empty(), "DetectLayout needs the head lines");
   Layout layout;
   layout.delimiter = DetectDelimiter(head, options.delimiter_vote_lines);
   layout.decimal = DetectDecimal(head, layout.delimiter);

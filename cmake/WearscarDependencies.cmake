@@ -15,6 +15,7 @@ pkg_check_modules(ZSTD REQUIRED IMPORTED_TARGET libzstd)
 pkg_check_modules(LIBPNG REQUIRED IMPORTED_TARGET libpng)
 find_package(pugixml REQUIRED)
 find_package(ZLIB REQUIRED)
+find_package(OpenSSL 3 REQUIRED COMPONENTS Crypto)
 
 # fast_float is header-only; Debian ships the header without a CMake config.
 find_path(FASTFLOAT_INCLUDE_DIR fast_float/fast_float.h REQUIRED)

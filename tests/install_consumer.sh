@@ -6,6 +6,8 @@
 #   install_consumer.sh <build dir> <source dir> <scratch dir>
 set -euo pipefail
 build=$1 source=$2 scratch=$3
+# One date for both runs' provenance (result.json), so they compare.
+export SOURCE_DATE_EPOCH=1700000000
 rm -rf "$scratch"
 cmake --install "$build" --prefix "$scratch/prefix" > /dev/null
 test -x "$scratch/prefix/bin/wearscar"
@@ -25,7 +27,7 @@ force="$scratch/sim/S-RL-R.force.csv" scan="$scratch/sim/S-RL-R.scan.gsf"
   -o "$scratch/by-command" > /dev/null
 mkdir -p "$scratch/by-library"
 "$scratch/consumer/consumer" "$force" "$scan" S-RL-R "$scratch/by-library"
-diff -r --exclude=.wearscar.lock "$scratch/by-command" "$scratch/by-library"
+diff -r --exclude=.wearscar.lock --exclude=.wearscar-manifest "$scratch/by-command" "$scratch/by-library"
 # With the scan used: its profiles are among them.
 test -f "$scratch/by-library/profiles.csv"
 echo "the library wrote what the command wrote: $(ls "$scratch/by-library" | tr '\n' ' ')"

@@ -92,8 +92,8 @@ void AuditSpecimen(const AuditArgs& a,
     if (!s.scan.empty()) map = scan::ReadScan(s.scan, a.common.read_scan);
     const fusion::TestResult r =
         fusion::AnalyzeTest(record, std::move(map), a.common.fuse);
-    WriteTestResults(dir, s.name, record, r, a.common.fuse);
-    nlohmann::json row = ResultJson(s.name, record, r, a.common.fuse);
+    nlohmann::json row =
+        WriteTestResults(dir, s.name, record, r, a.common.fuse);
     row.update(sec->row);
     row["scan_file"] = s.scan;
     sec->row = row;
@@ -121,15 +121,37 @@ void AuditSpecimen(const AuditArgs& a,
   }
 }
 
+// The audit folder's manifest: the tables, the report, the batch figures
+// and their data, one folder per specimen. An unsharded run removes what
+// an earlier audit wrote there and this one did not; a shard adds to it.
+void RecordAuditOutputs(const AuditArgs& a,
+                        const std::vector<ReportSection>& sections,
+                        const FigureSet& batch) {
+  std::vector<std::string> entries = {
+      "summary.csv", "summary.jsonl", "summary.json", "report.html"};
+  for (const auto& sec : sections) entries.push_back(sec.name + "/");
+  for (const std::string& png : batch.png) {
+    const fs::path p = fs::path(png).filename();
+    entries.push_back(p.string());
+    entries.push_back(fs::path(p).replace_extension(".svg").string());
+  }
+  std::error_code ec;
+  if (fs::exists(fs::path(a.out) / "method_differences.csv", ec))
+    entries.push_back("method_differences.csv");
+  for (const auto& e :
+       fs::directory_iterator(fs::path(a.out) / kFigureData, ec)) {
+    entries.push_back((fs::path(kFigureData) / e.path().filename()).string());
+  }
+  RecordOutputs(a.out, entries, a.batch.shard_count == 1);
+}
+
 // One line per specimen: failed, flagged or ok, with mu-hat and J.
 void PrintSections(const std::vector<ReportSection>& sections) {
   for (const auto& sec : sections) {
     if (sec.failed) {
-      fmt::print(
-          "  FAILED   {}: {}\n", sec.name, sec.row["error"].get<std::string>());
+      Say("  FAILED   {}: {}\n", sec.name, sec.row["error"].get<std::string>());
     } else {
-      fmt::print(
-          "  {:8} {}: mu-hat {:.4f}, J {:.3f} (noise floor {:.3f}){}\n",
+      Say("  {:8} {}: mu-hat {:.4f}, J {:.3f} (noise floor {:.3f}){}\n",
           sec.flagged ? "FLAGGED" : "ok",
           sec.name,
           Dig(sec.row, {"comparison", "mu_hat_force", "mean"}).get<double>(),
@@ -201,6 +223,7 @@ void RunAudit(AuditArgs a) {
     }
     batch = DrawAuditFigures(a.out, ok);
   }
+  RecordAuditOutputs(a, sections, batch);
   const std::string title =
       a.batch.shard_count > 1
           ? fmt::format("wearscar audit of {} (shard {}/{})",
@@ -211,18 +234,18 @@ void RunAudit(AuditArgs a) {
   WriteTextAtomically((fs::path(a.out) / "report.html").string(),
                       RenderReport(title, sections, batch));
   PrintSections(sections);
-  fmt::print("{} specimens: {} explained, {} not explained, {} failed\n",
-             sections.size(),
-             sections.size() - flagged - failed,
-             flagged,
-             failed);
-  fmt::print("report: {}\n",
-             fs::absolute(fs::path(a.out) / "report.html").string());
-  fmt::print("tables: {} and summary.json\n",
-             (fs::path(a.out) / "summary.csv").string());
+  Say("{} specimens: {} explained, {} not explained, {} failed\n",
+      sections.size(),
+      sections.size() - flagged - failed,
+      flagged,
+      failed);
+  Say("report: {}\n", fs::absolute(fs::path(a.out) / "report.html").string());
+  Say("tables: {} and summary.json\n",
+      (fs::path(a.out) / "summary.csv").string());
   if (!batch.message.empty())
     fmt::print(stderr, "wearscar: {}\n", batch.message);
-  SetExitStatus(failed > 0        ? std::min(failed, 125)
+  PrintJsonSummary(nlohmann::json(rows));
+  SetExitStatus(failed > 0        ? kExitSpecimensFailed
                 : figures_missing ? kExitFiguresMissing
                                   : 0);
 }
@@ -237,7 +260,9 @@ void AddAuditCommand(CLI::App& app) {
       "manifest), "
       "analyse them in parallel, write a summary table, one folder per "
       "specimen and "
-      "report.html. Exit status: the number of specimens that failed.");
+      "report.html. Exit status: 0 when every specimen was analysed, 2 for a "
+      "usage error, 3 when any specimen failed (the others are complete), 4 "
+      "when figures asked for were not drawn.");
   cmd->add_option("input",
                   args->input,
                   "Folder of files, or manifest.csv (specimen,force,scan)")
@@ -252,12 +277,22 @@ void AddAuditCommand(CLI::App& app) {
                   args->batch.name_pattern,
                   "Regular expression naming a specimen in file names")
       ->capture_default_str();
+  cmd->add_flag("--recursive,!--no-recursive",
+                args->batch.recursive,
+                "Look for specimens in sub-folders too (default; folders "
+                "wearscar wrote are skipped)");
   cmd->add_flag("--no-figures", args->no_figures, "Skip the figures");
   cmd->add_flag(
       "--diagnose",
       args->diagnose,
       "Also diagnose each specimen (named missing effects, residual maps)");
-  AddCommonOptions(cmd, &args->common, true);
+  AddPrintModeOptions(cmd);
+  AddCommonOptions(cmd, &args->common, kFuseOptions);
+  cmd->footer(
+      "Examples:\n"
+      "  wearscar audit lab/ -o audit\n"
+      "  wearscar audit manifest.csv -o audit --diagnose -j 2\n"
+      "  wearscar audit lab/ -o audit --shard 2/4 --no-figures --quiet");
   cmd->callback([args] { RunAudit(*args); });
 }
 

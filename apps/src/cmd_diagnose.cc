@@ -34,12 +34,18 @@ void RunDiagnose(DiagnoseArgs a) {
   const fusion::Diagnosis d = DiagnoseTest(record, r, fo, dopt);
   const std::string name = SpecimenName(a.force_file);
   PrintDiagnosis(name, d, r.scan.has_value());
+  if (CurrentPrintMode() == PrintMode::kJson) {
+    for (const auto& [file, text] : fusion::DiagnosisFiles(name, d)) {
+      if (file == "diagnosis.json")
+        PrintJsonSummary(nlohmann::json::parse(text));
+    }
+  }
   if (a.out.empty()) return;
   const OutputLock lock(a.out);
   StagedOutput stage(a.out);
   WriteDiagnosis(stage.dir(), name, d, !a.no_figures);
   stage.Commit();
-  fmt::print("wrote {}/diagnosis.json and the residual maps\n", a.out);
+  Say("wrote {}/diagnosis.json and the residual maps\n", a.out);
 }
 
 }  // namespace
@@ -52,7 +58,10 @@ void AddDiagnoseCommand(CLI::App& app) {
                                  "from a library (greedy forward selection, "
                                  "block cross-validation over cycles), add it, "
                                  "and show the held-out gap shrink");
-  cmd->add_option("--force", args->force_file, "Force export")->required();
+  cmd->add_option("force,--force",
+                  args->force_file,
+                  "Force export (positional or --force)")
+      ->required();
   cmd->add_option(
       "--scan", args->scan_file, "Height map (optional: depth for ploughing)");
   cmd->add_option(
@@ -77,7 +86,13 @@ void AddDiagnoseCommand(CLI::App& app) {
          "--profile-span", d.profile_span_mm, "Base slope smoothing span, mm")
       ->capture_default_str();
   cmd->add_flag("--no-figures", args->no_figures, "Skip the figures");
-  AddCommonOptions(cmd, &args->common, true);
+  AddPrintModeOptions(cmd);
+  AddCommonOptions(cmd, &args->common, kDiagnoseOptions);
+  cmd->footer(
+      "Examples:\n"
+      "  wearscar diagnose S-RL-R.force.csv --scan S-RL-R.scan.gsf -o diag\n"
+      "  wearscar diagnose test.csv --candidates ploughing,viscous --json\n"
+      "  wearscar diagnose test.csv --max-cycles 40 --folds 5");
   cmd->callback([args] { RunDiagnose(*args); });
 }
 

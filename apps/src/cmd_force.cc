@@ -23,33 +23,32 @@ void RunForce(ForceArgs a) {
       force::ReadForceFile(a.file, a.common.read_force);
   const fusion::TestResult r =
       fusion::AnalyzeTest(record, std::nullopt, a.common.fuse);
-  fmt::print("{}: {} samples at {:.0f} Hz ({} layout), stroke {:.3f} mm\n",
-             a.file,
-             record.size(),
-             record.metadata.sampling_rate_hz,
-             record.metadata.layout,
-             r.force.cycles.stroke_mm);
-  for (const auto& w : record.metadata.warnings) fmt::print("  note: {}\n", w);
+  Say("{}: {} samples at {:.0f} Hz ({} layout), stroke {:.3f} mm\n",
+      a.file,
+      record.size(),
+      record.metadata.sampling_rate_hz,
+      record.metadata.layout,
+      r.force.cycles.stroke_mm);
+  for (const auto& w : record.metadata.warnings) Say("  note: {}\n", w);
   PrintSummary(a.file, r);
   if (a.out.empty()) {
     // A short per-cycle table: the first cycles, every n-th, the last ones.
     const int n = static_cast<int>(r.force.cycles.cycles.size());
     const int every = std::max(1, n / 10);
-    fmt::print("\n  {:>5} {:>8} {:>7} {:>8} {:>9} {:>9} {:>8}\n",
-               "cycle",
-               "mu_hat",
-               "J",
-               "mu_mean",
-               "mu_energy",
-               "P_range_N",
-               "QP_corr");
+    Say("\n  {:>5} {:>8} {:>7} {:>8} {:>9} {:>9} {:>8}\n",
+        "cycle",
+        "mu_hat",
+        "J",
+        "mu_mean",
+        "mu_energy",
+        "P_range_N",
+        "QP_corr");
     for (int c = 0; c < n; ++c) {
       if (!(c < 3 || c >= n - 3 || c % every == 0)) continue;
       const auto& f = r.force.fit_force[c];
       const auto& cof = r.force.cof[c];
-      fmt::print(
-          "  {:>5} {:>8.4f} {:>7.3f} {:>8.4f} {:>9.4f} {:>9.3f} {:>8.2f}{}\n",
-          c,
+      Say("  {:>5} {:>8.4f} {:>7.3f} {:>8.4f} {:>9.4f} {:>9.3f} {:>8.2f}{}\n",
+          c + 1,
           f.converged ? f.mu_hat : std::nan(""),
           f.converged ? f.cost : std::nan(""),
           cof.mu_mean,
@@ -58,15 +57,18 @@ void RunForce(ForceArgs a) {
           cof.qp_correlation,
           c < r.force.running_in.cycles ? "  running-in" : "");
     }
-    fmt::print("  (all cycles and more columns: --out DIR)\n");
+    Say("  (all cycles and more columns: --out DIR)\n");
+    PrintJsonSummary(
+        fusion::MakeTestProducts(a.file, record, r, a.common.fuse).result);
     return;
   }
   const OutputLock lock(a.out);
   StagedOutput stage(a.out);
-  const auto files =
+  const nlohmann::json summary =
       WriteTestResults(stage.dir(), a.file, record, r, a.common.fuse);
-  stage.Commit();
-  fmt::print("wrote {} files to {}/\n", files.size(), a.out);
+  const size_t written = stage.Commit();
+  Say("wrote {} files to {}/\n", written, a.out);
+  PrintJsonSummary(summary);
 }
 
 }  // namespace
@@ -78,10 +80,19 @@ void AddForceCommand(CLI::App& app) {
       "Analyse a force record alone: cycles, gross slip, mean and energy COFs, "
       "mu-hat per "
       "cycle with the slope from the normal force (k = (1/S) dP/dx)");
-  cmd->add_option("file", args->file, "Force export (CSV/TSV/semicolon)")
+  cmd->add_option("file,--force",
+                  args->file,
+                  "Force export, CSV/TSV/semicolon (positional or --force)")
       ->required();
   cmd->add_option("-o,--out", args->out, "Directory for the results");
-  AddCommonOptions(cmd, &args->common, false);
+  AddPrintModeOptions(cmd);
+  AddCommonOptions(cmd, &args->common, kForceCommandOptions);
+  cmd->footer(
+      "Examples:\n"
+      "  wearscar force B-RT-R.force.csv\n"
+      "  wearscar force rtec_export.csv --spring 10.19 -o out/force\n"
+      "  wearscar force rig.txt --columns x=Pos:um,q=Ff,p=Fn --rate 2000 "
+      "--json");
   cmd->callback([args] { RunForce(*args); });
 }
 

@@ -18,12 +18,17 @@ struct FuseArgs {
   std::string out;
   std::string name;
   fusion::ProductOptions write;
+  int detail_cycle = 0;    // from 1; 0 = the last
+  std::vector<int> loops;  // from 1
   bool no_figures = false;
   CommonArgs common;
 };
 
 void RunFuse(FuseArgs a) {
   FinaliseCommonOptions(&a.common);
+  // Cycles are numbered from 1 on the command line, from 0 in the library.
+  a.common.fuse.detail_cycle = a.detail_cycle - 1;
+  for (int c : a.loops) a.write.loop_cycles.push_back(c - 1);
   const force::ForceRecord record =
       force::ReadForceFile(a.force_file, a.common.read_force);
   std::optional<scan::HeightMap> map;
@@ -37,27 +42,33 @@ void RunFuse(FuseArgs a) {
   const std::string name = a.name.empty() ? SpecimenName(a.force_file) : a.name;
   PrintSummary(name, r);
   if (a.out.empty()) {
-    fmt::print("nothing written (give -o DIR for the tables and figures)\n");
+    PrintJsonSummary(
+        fusion::MakeTestProducts(name, record, r, a.common.fuse, a.write)
+            .result);
+    Say("nothing written (give -o DIR for the tables and figures)\n");
     return;
   }
   // One writer per folder; everything is staged and moved into place only
   // when the whole set is there.
   const OutputLock lock(a.out);
   StagedOutput stage(a.out);
-  const auto files =
+  nlohmann::json summary =
       WriteTestResults(stage.dir(), name, record, r, a.common.fuse, a.write);
   FigureSet figs;
   if (!a.no_figures) {
     figs = DrawTestFigures(stage.dir(), name, r, a.common.fuse);
-    if (!figs.missing.empty()) AddWarningToResult(stage.dir(), figs.message);
+    if (!figs.missing.empty()) {
+      AddWarningToResult(stage.dir(), figs.message);
+      summary["warnings"].push_back(figs.message);
+    }
   }
-  stage.Commit();
-  fmt::print("wrote {} files to {}/\n", files.size(), a.out);
+  const size_t written = stage.Commit();
+  Say("wrote {} files to {}/\n", written, a.out);
+  PrintJsonSummary(summary);
   if (!a.no_figures) {
     if (!figs.message.empty())
       fmt::print(stderr, "wearscar: warning: {}\n", figs.message);
-    fmt::print(
-        "drew {} figures (PNG and SVG) in {}/\n", 2 * figs.png.size(), a.out);
+    Say("drew {} figures (PNG and SVG) in {}/\n", 2 * figs.png.size(), a.out);
     if (!figs.missing.empty()) SetExitStatus(kExitFiguresMissing);
   }
 }
@@ -72,7 +83,10 @@ void AddFuseCommand(CLI::App& app) {
                                  "displacement P/S, fit mu-hat with the slope "
                                  "from either, report the mismatch and the "
                                  "wear-scar verdict");
-  cmd->add_option("--force", args->force_file, "Force export")->required();
+  cmd->add_option("force,--force",
+                  args->force_file,
+                  "Force export (positional or --force)")
+      ->required();
   cmd->add_option("--scan",
                   args->scan_file,
                   "Height map (" + scan::ScanExtensionList() +
@@ -80,12 +94,24 @@ void AddFuseCommand(CLI::App& app) {
   cmd->add_option("-o,--out", args->out, "Directory for the results");
   cmd->add_option("--name", args->name, "Specimen name in the outputs");
   cmd->add_option("--detail-cycle",
-                  args->common.fuse.detail_cycle,
-                  "Cycle for slopes, reconstruction and J(mu) (default: last)");
-  cmd->add_option(
-      "--loops", args->write.loop_cycles, "Cycles whose loops are exported");
+                  args->detail_cycle,
+                  "Cycle (from 1) for slopes, reconstruction, J(mu) and LuGre "
+                  "(default: last)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--loops",
+                  args->loops,
+                  "Cycles (from 1) whose loops are exported (default: 1, 3, 11 "
+                  "and the last)")
+      ->check(CLI::PositiveNumber);
   cmd->add_flag("--no-figures", args->no_figures, "Skip the figures");
-  AddCommonOptions(cmd, &args->common, true);
+  AddPrintModeOptions(cmd);
+  AddCommonOptions(cmd, &args->common, kFuseOptions);
+  cmd->footer(
+      "Examples:\n"
+      "  wearscar fuse B-RT-R.force.csv --scan B-RT-R.zon -o out/B-RT-R\n"
+      "  wearscar fuse test.csv --scan track.x3p --slope scan --json\n"
+      "  wearscar fuse rig.txt --columns x=Pos:um,q=Ff,p=Fn --spring 8.5 -o "
+      "out");
   cmd->callback([args] { RunFuse(*args); });
 }
 

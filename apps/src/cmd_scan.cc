@@ -28,8 +28,7 @@ struct ScanArgs {
 };
 
 void PrintTrack(const std::string& file, const scan::Track& t) {
-  fmt::print(
-      "  track: centre ({:.3f}, {:.3f}) mm, angle {:.2f} deg, length {:.3f} "
+  Say("  track: centre ({:.3f}, {:.3f}) mm, angle {:.2f} deg, length {:.3f} "
       "mm, width {:.3f} mm, mean depth {:.1f} um, max depth {:.1f} um, "
       "volume {:.4g} mm^3 ({})\n",
       t.centre_x_mm,
@@ -51,8 +50,7 @@ void RunScan(ScanArgs a) {
     throw UsageError("scan: " + why);
   }
   scan::HeightMap map = scan::ReadScan(a.file, a.read);
-  fmt::print(
-      "{}: {} x {} pixels, pitch {:.4g} x {:.4g} um ({}{}{}), {} valid\n",
+  Say("{}: {} x {} pixels, pitch {:.4g} x {:.4g} um ({}{}{}), {} valid\n",
       a.file,
       map.cols(),
       map.rows(),
@@ -65,14 +63,16 @@ void RunScan(ScanArgs a) {
   // No track: everything that does not need one is still written, with
   // "track": null and the reason, and the command exits 0 with a warning.
   const fusion::MapAnalysis r = fusion::AnalyzeMap(std::move(map), a.analysis);
-  fmt::print(
-      "  levelled: {}; {} spikes removed\n", r.level.message, r.spikes_removed);
+  Say("  levelled: {}; {} spikes removed\n", r.level.message, r.spikes_removed);
   if (r.track) {
     PrintTrack(a.file, *r.track);
   } else {
     fmt::print(stderr, "wearscar: warning: {}\n", r.no_track);
   }
-  if (a.out.empty()) return;
+  if (a.out.empty()) {
+    PrintJsonSummary(fusion::MakeMapProducts(a.file, r).result);
+    return;
+  }
   // Staged: a run that fails late (a full disk, a map too small for the
   // preview) leaves nothing new in the folder.
   const OutputLock lock(a.out);
@@ -90,7 +90,8 @@ void RunScan(ScanArgs a) {
       r.levelled, r.track ? *r.track : scan::Track{}, path("preview.png"));
   WriteTextAtomically(path(files.back().first), files.back().second);
   stage.Commit();
-  fmt::print("wrote {} to {}/\n", fmt::join(written, ", "), a.out);
+  Say("wrote {} to {}/\n", fmt::join(written, ", "), a.out);
+  PrintJsonSummary(nlohmann::json::parse(files.back().second));
 }
 
 }  // namespace
@@ -168,6 +169,13 @@ void AddScanCommand(CLI::App& app) {
                   args->analysis.section_half_width_mm,
                   "Cross-section half width, mm")
       ->capture_default_str();
+  AddPrintModeOptions(cmd);
+  cmd->footer(
+      "Examples:\n"
+      "  wearscar scan track.zon -o out/scan\n"
+      "  wearscar scan map.x3p --level-order 2 --sections -2,0,2\n"
+      "  wearscar scan flat.gsf --manual-track --track-x 3.8 --track-y 2.8 "
+      "--track-angle 0 --json");
   cmd->callback([args] { RunScan(*args); });
 }
 

@@ -95,10 +95,10 @@ void RunSimulate(const SimulateArgs& a) {
   if (wants("gsf")) files.push_back("<case>.scan.gsf");
   if (wants("keyence-csv")) files.push_back("<case>.keyence.csv");
   files.push_back("<case>.truth.json");
-  fmt::print("wrote {} case(s) to {}/ ({})\n",
-             cases.size(),
-             a.out,
-             fmt::join(files, ", "));
+  Say("wrote {} case(s) to {}/ ({})\n",
+      cases.size(),
+      a.out,
+      fmt::join(files, ", "));
 }
 
 }  // namespace
@@ -178,6 +178,12 @@ void AddSimulateCommand(CLI::App& app) {
       ->delimiter(',')
       ->check(CLI::IsMember({"csv", "rtec", "gsf", "keyence-csv"}))
       ->capture_default_str();
+  cmd->footer(
+      "Examples:\n"
+      "  wearscar simulate --all -o samples\n"
+      "  wearscar simulate --case S-RL-R --cycles 600 --rate 2000 -o full\n"
+      "  wearscar simulate --case B-RT-R --effect ploughing=1.0 --seed 7 -o "
+      "hidden");
   cmd->callback([args] { RunSimulate(*args); });
 }
 

@@ -202,7 +202,8 @@ void AddScanSlopeOptions(CLI::App* cmd, CommonArgs* a) {
   cmd->add_option(
          "--compare-first",
          o.force_profile.first_cycle,
-         "Compare from this cycle (with --compare-last) instead of the last N")
+         "Compare from this cycle (from 1; with --compare-last) instead of "
+         "the last N")
       ->group("Scan");
   cmd->add_option(
          "--compare-last", o.force_profile.last_cycle, "Last cycle compared")
@@ -310,12 +311,21 @@ void AddScanFileOptions(CLI::App* cmd, CommonArgs* a) {
 
 }  // namespace
 
-void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
-  AddForceFileOptions(cmd, a);
-  AddSlopeOptions(cmd, a);
-  AddRunningInOptions(cmd, a);
-  AddVerdictOptions(cmd, a);
-  AddLugreOptions(cmd, a);
+void AddCommonOptions(CLI::App* cmd, CommonArgs* a, unsigned groups) {
+  if (groups & kForceFileOptions) AddForceFileOptions(cmd, a);
+  if (groups & kSlopeOptions) {
+    AddSlopeOptions(cmd, a);
+    AddRunningInOptions(cmd, a);
+  }
+  if (groups & kVerdictOptions) AddVerdictOptions(cmd, a);
+  if (groups & kLugreOptions) AddLugreOptions(cmd, a);
+  if (groups & kCompareOptions) AddScanSlopeOptions(cmd, a);
+  if (groups & kMapOptions) {
+    AddLevelOptions(cmd, a);
+    AddTrackOptions(cmd, a);
+    AddScanFileOptions(cmd, a);
+  }
+  // Options a command does not have are skipped.
   AddRangeChecks(cmd,
                  {{"--rate", 0.0, 1e8},
                   {"--spring", 1e-6, 1e6},
@@ -331,15 +341,9 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* a, bool with_scan) {
                   {"--max-cost", 1e-9, 100},
                   {"--max-method-difference", 1e-9, 10},
                   {"--lugre-fc", 0, 1e5},
-                  {"--lugre-fs", 0, 1e5}});
-  if (!with_scan) return;
-  AddScanSlopeOptions(cmd, a);
-  AddLevelOptions(cmd, a);
-  AddTrackOptions(cmd, a);
-  AddScanFileOptions(cmd, a);
-  AddRangeChecks(cmd,
-                 {{"--compare-first", -1, 1e7},
-                  {"--compare-last", -1, 1e7},
+                  {"--lugre-fs", 0, 1e5},
+                  {"--compare-first", 1, 1e7},
+                  {"--compare-last", 1, 1e7},
                   {"--compare-cycles", 1, 1e7},
                   {"--max-amplitude-ratio", 1e-9, 1e3},
                   {"--min-correlation", -1, 1},
@@ -459,6 +463,11 @@ void FinaliseCommonOptions(CommonArgs* a) {
         fp.last_cycle));
   }
   a->fuse.analysis.running_in_cycles = ParseRunningIn(a->running_in);
+  // Cycles are numbered from 1 on the command line, from 0 in the library.
+  for (int* c : {&a->fuse.force_profile.first_cycle,
+                 &a->fuse.force_profile.last_cycle}) {
+    if (*c >= 1) *c -= 1;
+  }
   if (!a->columns.empty()) ApplyColumns(a->columns, &a->read_force);
   std::string why;
   // Units by the option's own name.

@@ -25,7 +25,24 @@ struct CommonArgs {
   std::string columns;         // time=NAME,x=NAME,q=NAME,p=NAME (names or #N)
 };
 
-void AddCommonOptions(CLI::App* cmd, CommonArgs* args, bool with_scan);
+// Groups of shared options; a command adds those it uses, so that its
+// --help lists nothing it ignores.
+enum OptionGroup : unsigned {
+  kForceFileOptions = 1u << 0,  // columns, units, rate
+  kSlopeOptions = 1u << 1,      // spring, k estimate, stencil, running-in
+  kVerdictOptions = 1u << 2,    // the verdict's limits
+  kLugreOptions = 1u << 3,
+  kCompareOptions = 1u << 4,  // the slope choice, cycles compared with the scan
+  kMapOptions = 1u << 5,      // reading, levelling and the track of a scan
+};
+constexpr unsigned kForceCommandOptions =
+    kForceFileOptions | kSlopeOptions | kVerdictOptions | kLugreOptions;
+constexpr unsigned kFuseOptions =
+    kForceCommandOptions | kCompareOptions | kMapOptions;
+constexpr unsigned kDiagnoseOptions =
+    kForceFileOptions | kSlopeOptions | kMapOptions;
+
+void AddCommonOptions(CLI::App* cmd, CommonArgs* args, unsigned groups);
 
 // Applies the string options and checks everything; UsageError when invalid.
 void FinaliseCommonOptions(CommonArgs* args);

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "figures.h"
 #include "output.h"
 #include "wearscar/fusion/products.h"
 
@@ -32,29 +33,27 @@ std::string ParameterText(const fusion::CandidateResult& c) {
 void PrintDiagnosis(const std::string& name,
                     const fusion::Diagnosis& d,
                     bool from_scan) {
-  fmt::print(
-      "{}: diagnosis on {} cycles ({}-{}), slope from each cycle's binned P "
+  Say("{}: diagnosis on {} cycles ({}-{}), slope from each cycle's binned P "
       "profile, "
       "depth from the {}\n",
       name,
       d.cycles.size(),
-      d.cycles.front(),
-      d.cycles.back(),
+      d.cycles.front() + 1,
+      d.cycles.back() + 1,
       from_scan ? "scan" : "force side");
-  fmt::print("where the wear-scar model misses: {}\n\n", d.before.where);
-  fmt::print("{:<5} {:<34} {:>10} {:>10} {:>7} {:>8} {:>9}  {}\n",
-             "step",
-             "best candidate",
-             "J before",
-             "J after",
-             "gain",
-             "cycles+",
-             "dBIC",
-             "parameters");
+  Say("where the wear-scar model misses: {}\n\n", d.before.where);
+  Say("{:<5} {:<34} {:>10} {:>10} {:>7} {:>8} {:>9}  {}\n",
+      "step",
+      "best candidate",
+      "J before",
+      "J after",
+      "gain",
+      "cycles+",
+      "dBIC",
+      "parameters");
   for (size_t i = 0; i < d.steps.size(); ++i) {
     const auto& c = d.steps[i].chosen;
-    fmt::print(
-        "{:<5} {:<34} {:>10.4f} {:>10.4f} {:>6.0f}% {:>7.0f}% {:>9.1f}  {} "
+    Say("{:<5} {:<34} {:>10.4f} {:>10.4f} {:>6.0f}% {:>7.0f}% {:>9.1f}  {} "
         "{}\n",
         i + 1,
         c.effect,
@@ -66,8 +65,8 @@ void PrintDiagnosis(const std::string& name,
         ParameterText(c),
         c.accepted ? "NAMED" : "(rejected: stop)");
   }
-  fmt::print("\n{}\n", d.BriefReport());
-  if (!d.named.empty()) fmt::print("after: {}\n", d.after.where);
+  Say("\n{}\n", d.BriefReport());
+  if (!d.named.empty()) Say("after: {}\n", d.after.where);
 }
 
 std::string WriteDiagnosis(const std::string& dir,
@@ -106,11 +105,8 @@ std::string WriteDiagnosis(const std::string& dir,
         d.named.empty() ? std::string("none named")
                         : fmt::format("{}", fmt::join(d.named, ", ")));
   }
-  WriteTextAtomically((fs::path(dir) / "diagnosis.gp").string(), gp);
-  const std::string cmd =
-      fmt::format("cd '{}' && gnuplot diagnosis.gp > diagnosis.log 2>&1",
-                  fs::absolute(dir).string());
-  if (std::system(cmd.c_str()) != 0) return "";
+  WriteTextAtomically(FigureDataPath(dir, "diagnosis.gp"), gp);
+  if (!RunGnuplotScript(dir, "diagnosis.gp")) return "";
   return (fs::path(dir) / "diagnosis_residual_map.png").string();
 }
 

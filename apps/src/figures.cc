@@ -60,6 +60,23 @@ pid_t SpawnGnuplot(const std::string& dir,
   return pid;
 }
 
+// gnuplot on <dir>/figure-data/<script>, in `dir` (the figures' data
+// files are named relative to it), its output in <script stem>.log beside
+// the script. Returns the pid, or -1.
+pid_t StartGnuplot(const std::string& dir, const std::string& script) {
+  const std::string abs = fs::absolute(dir).string();
+  const std::string stem = fs::path(script).stem().string();
+  return SpawnGnuplot(abs,
+                      std::string(kFigureData) + "/" + script,
+                      FigureDataPath(abs, stem + ".log"));
+}
+
+bool WaitGnuplot(pid_t pid) {
+  int status = 0;
+  return pid >= 0 && waitpid(pid, &status, 0) == pid && WIFEXITED(status) &&
+         WEXITSTATUS(status) == 0;
+}
+
 // A figure file is drawn when it exists, is not empty and starts as its
 // format does.
 bool LooksDrawn(const std::string& path, const char* term) {
@@ -96,25 +113,15 @@ std::string RunGnuplot(const std::string& dir,
                             Quote(f.title));
       script += f.body + "\nunset output\nreset session\n" + preamble;
     }
-    WriteTextAtomically(
-        (fs::path(dir) / fmt::format("figures_{}.gp", term)).string(), script);
+    WriteTextAtomically(FigureDataPath(dir, fmt::format("figures_{}.gp", term)),
+                        script);
   }
-  const std::string abs = fs::absolute(dir).string();
   pid_t pids[2];
   int i = 0;
-  for (const char* term : {"png", "svg"}) {
-    pids[i++] = SpawnGnuplot(abs,
-                             fmt::format("figures_{}.gp", term),
-                             fmt::format("{}/figures_{}.log", abs, term));
-  }
+  for (const char* term : {"png", "svg"})
+    pids[i++] = StartGnuplot(dir, fmt::format("figures_{}.gp", term));
   bool failed = false;
-  for (pid_t pid : pids) {
-    int status = 0;
-    if (pid < 0 || waitpid(pid, &status, 0) != pid || !WIFEXITED(status) ||
-        WEXITSTATUS(status) != 0) {
-      failed = true;
-    }
-  }
+  for (pid_t pid : pids) failed |= !WaitGnuplot(pid);
   for (const Figure& f : figures) {
     for (const char* term : {"png", "svg"}) {
       const std::string final_path =
@@ -135,7 +142,9 @@ std::string RunGnuplot(const std::string& dir,
       2 * figures.size(),
       (*missing)[0],
       missing->size() > 1 ? ", ..." : "",
-      failed ? "; gnuplot failed: see figures_png.log and figures_svg.log"
+      failed ? fmt::format("; gnuplot failed: see {}/figures_png.log and "
+                           "figures_svg.log",
+                           kFigureData)
              : "");
 }
 
@@ -182,13 +191,13 @@ void WriteScanMap(const std::string& dir,
       std::memcpy(bytes.data() + 4 * (static_cast<size_t>(r) * w + c), &v, 4);
     }
   }
-  WriteTextAtomically((fs::path(dir) / "scan_map.f32").string(), bytes);
+  WriteTextAtomically(FigureDataPath(dir, "scan_map.f32"), bytes);
   const auto& t = s.track;
   const double th = t.angle_deg * M_PI / 180, ax = std::cos(th),
                ay = std::sin(th);
   const double half = 0.5 * t.length_mm, band = 0.5 * s.profile.band_width_mm;
   // index 0: the axis; index 1: the two edges of the track.
-  std::string track;
+  std::string track = "x_mm,y_mm\n";
   track += fmt::format("{},{}\n{},{}\n\n\n",
                        t.centre_x_mm - half * ax,
                        t.centre_y_mm - half * ay,
@@ -204,7 +213,7 @@ void WriteScanMap(const std::string& dir,
                          t.centre_y_mm + half * ay + oy);
   }
   (void)band;
-  WriteTextAtomically((fs::path(dir) / "track.csv").string(), track);
+  WriteTextAtomically(FigureDataPath(dir, "track_outline.csv"), track);
   const double d = f * m.dx_mm;
   fig->body = fmt::format(
       "set size ratio -1\nset xlabel 'x (mm)'\nset ylabel 'y (mm)'\nset "
@@ -212,20 +221,29 @@ void WriteScanMap(const std::string& dir,
       "set palette defined (0 '#2c0e5a', 1 '#3b5ba5', 2 '#2fa39a', 3 "
       "'#a6d96a', 4 '#fee08b', 5 "
       "'#f9f9f9')\nset key bottom right inside opaque\n"
-      "plot 'scan_map.f32' binary array=({},{}) dx={} dy={} origin=(0,0) "
-      "format='%float32' with "
-      "image notitle, 'track.csv' index 0 using 1:2 with lines lw 2 lc rgb "
-      "'red' title "
-      "'track axis (centreline)', '' index 1 using 1:2 with lines lw 1 dt 2 lc "
-      "rgb 'black' "
-      "title 'track width'",
+      "plot '{4}/scan_map.f32' binary array=({0},{1}) dx={2} dy={3} "
+      "origin=(0,0) format='%float32' with image notitle, "
+      "'{4}/track_outline.csv' skip 1 index 0 using 1:2 with lines lw 2 lc "
+      "rgb 'red' title 'track axis (centreline)', '' skip 1 index 1 using 1:2 "
+      "with lines lw 1 dt 2 lc rgb 'black' title 'track width'",
       w,
       h,
       d,
-      d);
+      d,
+      kFigureData);
 }
 
 }  // namespace
+
+std::string FigureDataPath(const std::string& dir, const std::string& file) {
+  const fs::path sub = fs::path(dir) / kFigureData;
+  EnsureDirectory(sub.string());
+  return (sub / file).string();
+}
+
+bool RunGnuplotScript(const std::string& dir, const std::string& script) {
+  return WaitGnuplot(StartGnuplot(dir, script));
+}
 
 bool PlotterAvailable(std::string* why) {
   static const int status = std::system("gnuplot --version > /dev/null 2>&1");
@@ -339,21 +357,21 @@ void AddDetailFigures(const std::string& name,
   figs->push_back(
       {"fig10_slope",
        name + fmt::format(": slope k of the sliding path, cycle {} (Fig. 10)",
-                          r.detail_cycle),
+                          r.detail_cycle + 1),
        "set xlabel 'x (mm)'\nset ylabel 'k'\nplot 'detail.csv' skip 1 using "
        "3:6 title "
        "'k from P' lc rgb '#888888', '' skip 1 using 3:7 lw 2 title 'k from "
        "scan'"});
   figs->push_back(
       {"fig11_cost",
-       name + fmt::format(": J(mu), cycle {} (Fig. 11)", r.detail_cycle),
+       name + fmt::format(": J(mu), cycle {} (Fig. 11)", r.detail_cycle + 1),
        "set xlabel 'mu'\nset ylabel 'J'\nset logscale y\nplot 'cost_curve.csv' "
        "skip 1 "
        "using 1:2 title 'k from P', '' skip 1 using 1:3 title 'k from scan'"});
   figs->push_back(
       {"fig12_reconstruction",
        name + fmt::format(": measured and reconstructed Q, cycle {} (Fig. 12)",
-                          r.detail_cycle),
+                          r.detail_cycle + 1),
        "set xlabel 'x (mm)'\nset ylabel 'Q (N)'\nplot 'detail.csv' skip 1 "
        "using 3:8 "
        "lc rgb '#1f77b4' title 'wear-scar, k from P', '' skip 1 using 3:9 lw 2 "
@@ -365,7 +383,7 @@ void AddDetailFigures(const std::string& name,
     figs->push_back(
         {"fig17_lugre",
          name + fmt::format(": LuGre and wear-scar, cycle {} (Fig. 17)",
-                            r.detail_cycle),
+                            r.detail_cycle + 1),
          "set xlabel 'x (mm)'\nset ylabel 'Q (N)'\nplot 'lugre.csv' skip 1 "
          "using 2:3 "
          "lc rgb 'black' title 'measured', '' skip 1 using 2:4 dt 2 lw 2 title "
@@ -451,17 +469,15 @@ FigureSet DrawAuditFigures(const std::string& dir,
     for (size_t i = 0; i < specimens.size(); ++i) {
       const std::string rel =
           fs::relative(fs::path(specimens[i].dir) / "cycles.csv", dir).string();
-      // Colour per specimen, dash per species (spruce dashed) so twelve
-      // curves stay apart.
-      const bool spruce =
-          !specimens[i].name.empty() && specimens[i].name[0] == 'S';
+      // Eight colours, then the next dash pattern: 40 specimens stay
+      // apart (the key wraps in columns).
       body +=
           fmt::format("{}{} skip 1 using 1:{} lc {} dt {} title {} noenhanced",
                       i ? ", " : "",
                       Quote(rel),
                       column,
                       i % 8 + 1,
-                      spruce ? 2 : 1,
+                      (i / 8) % 5 + 1,
                       Quote(specimens[i].name));
     }
     figs.push_back({stem, title, body});

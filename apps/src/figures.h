@@ -18,6 +18,18 @@ struct FigureSet {
   std::vector<std::string> missing;
 };
 
+// What the figures are drawn from besides the result tables (gnuplot
+// scripts and their logs, the downsampled map, the track outline) goes
+// into this sub-folder of the output folder.
+inline constexpr const char* kFigureData = "figure-data";
+
+// <dir>/figure-data/<file>, creating the sub-folder.
+std::string FigureDataPath(const std::string& dir, const std::string& file);
+
+// Runs gnuplot on the script <dir>/figure-data/<script> in `dir` and waits;
+// its output goes to figure-data/<stem>.log. False when it failed.
+bool RunGnuplotScript(const std::string& dir, const std::string& script);
+
 // True when gnuplot runs; `why` says what is missing otherwise.
 bool PlotterAvailable(std::string* why);
 

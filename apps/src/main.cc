@@ -7,31 +7,77 @@
 
 #include "commands.h"
 #include "wearscar/fusion/logging.h"
+#include "wearscar/fusion/provenance.h"
+
+namespace {
+
+std::string VersionText() {
+  return fmt::format("wearscar {} (commit {})",
+                     wearscar::fusion::Version(),
+                     wearscar::fusion::GitCommit());
+}
+
+// The subcommands' names, for the message about an unknown one.
+std::string CommandNames(const CLI::App& app) {
+  std::string names;
+  for (const CLI::App* sub :
+       app.get_subcommands([](const CLI::App*) { return true; }))
+    names += (names.empty() ? "" : ", ") + sub->get_name();
+  return names;
+}
+
+bool IsCommand(CLI::App& app, const std::string& name) {
+  try {
+    app.get_subcommand(name);
+    return true;
+  } catch (const CLI::OptionNotFound&) {
+    return false;
+  }
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{
       "wearscar: identify the sliding friction coefficient (mu-hat) of "
-      "reciprocating "
-      "friction tests whose loops look non-Coulomb, from the tribometer's "
-      "force record "
-      "and a profilometer scan of the worn track (wear-scar interaction, "
-      "Q = P (k + s mu) / (1 - s mu k))."};
+      "reciprocating friction tests whose loops look non-Coulomb, from the "
+      "tribometer's force record and a profilometer scan of the worn track "
+      "(wear-scar interaction, Q = P (k + s mu) / (1 - s mu k)).",
+      "wearscar"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", VersionText());
+  app.footer(
+      "Examples:\n"
+      "  wearscar fuse test.csv --scan track.zon -o out\n"
+      "  wearscar audit lab/ -o audit\n"
+      "  wearscar simulate --all -o samples\n"
+      "Every command's options: wearscar COMMAND --help");
   // One line on stderr for an error, nothing from the solvers' own logs.
   wearscar::fusion::QuietSolverLogging();
-  auto* version = app.add_subcommand("version", "Print the version and exit");
-  version->callback([] { fmt::print("wearscar {}\n", WEARSCAR_VERSION); });
+  auto* version =
+      app.add_subcommand("version", "Print the version and git commit");
+  version->callback([] { fmt::print("{}\n", VersionText()); });
   wearscar::app::AddSimulateCommand(app);
   wearscar::app::AddForceCommand(app);
   wearscar::app::AddFuseCommand(app);
   wearscar::app::AddAuditCommand(app);
   wearscar::app::AddDiagnoseCommand(app);
   wearscar::app::AddScanCommand(app);
+  if (argc > 1 && argv[1][0] != '-' && !IsCommand(app, argv[1])) {
+    fmt::print(stderr,
+               "wearscar: unknown command '{}'; expected one of {} "
+               "(wearscar --help)\n",
+               argv[1],
+               CommandNames(app));
+    return 2;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     fmt::print(stderr, "wearscar: {}\n", e.what());

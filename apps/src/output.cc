@@ -5,6 +5,7 @@
 #include <sys/file.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -12,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <vector>
 
 #include "commands.h"
 #include "wearscar/support/atomic_file.h"
@@ -20,7 +22,26 @@ namespace wearscar::app {
 
 namespace {
 int g_exit_status = 0;
+PrintMode g_print_mode = PrintMode::kText;
 }  // namespace
+
+PrintMode CurrentPrintMode() { return g_print_mode; }
+
+void AddPrintModeOptions(CLI::App* cmd) {
+  auto* quiet = cmd->add_flag_callback(
+      "-q,--quiet",
+      [] { g_print_mode = PrintMode::kQuiet; },
+      "Print nothing on stdout (warnings and errors still go to stderr)");
+  cmd->add_flag_callback(
+         "--json",
+         [] { g_print_mode = PrintMode::kJson; },
+         "Print the summary as JSON on stdout instead of text")
+      ->excludes(quiet);
+}
+
+void PrintJsonSummary(const nlohmann::json& summary) {
+  if (g_print_mode == PrintMode::kJson) fmt::print("{}\n", summary.dump(2));
+}
 
 void SetExitStatus(int status) { g_exit_status = status; }
 int ExitStatus() { return g_exit_status; }
@@ -49,15 +70,84 @@ StagedOutput::~StagedOutput() {
   std::filesystem::remove_all(staging_, ec);
 }
 
-void StagedOutput::Commit() {
-  for (const auto& e : std::filesystem::directory_iterator(staging_)) {
-    if (!e.is_regular_file()) continue;
-    const auto to = std::filesystem::path(out_) / e.path().filename();
-    if (std::rename(e.path().c_str(), to.c_str()) != 0) {
+namespace {
+
+constexpr const char* kManifest = ".wearscar-manifest";
+
+// A manifest entry is a relative path inside the folder (a folder entry
+// ends with '/'); anything else (absolute, "..", empty) is ignored, so an
+// edited manifest cannot make wearscar remove files outside the folder.
+bool SafeEntry(const std::string& entry) {
+  const std::filesystem::path p(entry);
+  if (entry.empty() || p.is_absolute()) return false;
+  for (const auto& part : p) {
+    if (part == ".." || part == ".") return false;
+  }
+  return true;
+}
+
+std::vector<std::string> ReadManifest(const std::string& out) {
+  std::ifstream in(std::filesystem::path(out) / kManifest);
+  std::vector<std::string> entries;
+  for (std::string line; std::getline(in, line);) {
+    if (SafeEntry(line)) entries.push_back(line);
+  }
+  return entries;
+}
+
+}  // namespace
+
+void RecordOutputs(const std::string& out,
+                   std::vector<std::string> entries,
+                   bool remove_stale) {
+  namespace fs = std::filesystem;
+  std::sort(entries.begin(), entries.end());
+  if (remove_stale) {
+    for (const std::string& old : ReadManifest(out)) {
+      if (std::binary_search(entries.begin(), entries.end(), old)) continue;
+      const fs::path p = fs::path(out) / old;
+      std::error_code ec;
+      if (old.back() == '/') {
+        // A folder goes only when wearscar wrote it (it has a manifest).
+        if (fs::is_regular_file(p / kManifest, ec)) fs::remove_all(p, ec);
+      } else if (fs::is_regular_file(fs::symlink_status(p, ec))) {
+        fs::remove(p, ec);
+        // A sub-folder left empty goes with its last file.
+        for (fs::path d = fs::path(old).parent_path(); !d.empty();
+             d = d.parent_path()) {
+          if (!fs::remove(fs::path(out) / d, ec)) break;
+        }
+      }
+    }
+  } else {
+    for (const std::string& old : ReadManifest(out)) entries.push_back(old);
+    std::sort(entries.begin(), entries.end());
+    entries.erase(std::unique(entries.begin(), entries.end()), entries.end());
+  }
+  std::string text;
+  for (const std::string& e : entries) text += e + "\n";
+  WriteTextAtomically((fs::path(out) / kManifest).string(), text);
+}
+
+size_t StagedOutput::Commit() {
+  namespace fs = std::filesystem;
+  std::vector<std::string> fresh;
+  for (const auto& e : fs::recursive_directory_iterator(staging_)) {
+    if (e.is_regular_file())
+      fresh.push_back(fs::relative(e.path(), staging_).string());
+  }
+  // Files of the earlier run that this one does not write go first, so
+  // that a name reused as a folder (or the reverse) can move in.
+  RecordOutputs(out_, fresh, true);
+  for (const std::string& f : fresh) {
+    const fs::path to = fs::path(out_) / f;
+    EnsureDirectory(to.parent_path().string());
+    if (std::rename((fs::path(staging_) / f).c_str(), to.c_str()) != 0) {
       throw UsageError(fmt::format(
           "{}: cannot move into place: {}", to.string(), std::strerror(errno)));
     }
   }
+  return fresh.size();
 }
 
 std::string StagedOutput::Final(const std::string& staged_path) const {

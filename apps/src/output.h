@@ -1,5 +1,8 @@
 #pragma once
 
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -14,6 +17,24 @@ class UsageError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+// What an analysing command prints on stdout: its human summary (the
+// default), nothing (--quiet) or its summary as JSON (--json). Warnings
+// and errors go to stderr in every mode.
+enum class PrintMode { kText, kQuiet, kJson };
+PrintMode CurrentPrintMode();
+// Adds -q,--quiet and --json to a command.
+void AddPrintModeOptions(CLI::App* cmd);
+
+// fmt::print to stdout in text mode only.
+template <typename... Args>
+void Say(fmt::format_string<Args...> format, Args&&... args) {
+  if (CurrentPrintMode() == PrintMode::kText)
+    fmt::print(format, std::forward<Args>(args)...);
+}
+
+// The command's summary on stdout in --json mode (indented, one document).
+void PrintJsonSummary(const nlohmann::json& summary);
 
 // Writes text to a temporary name beside `path`, then renames. A failure
 // (a full disk, a read-only folder) removes the temporary file and says
@@ -33,9 +54,11 @@ class StagedOutput {
   const std::string& dir() const { return staging_; }
   // The final folder.
   const std::string& out() const { return out_; }
-  // Moves every file of the staging folder into the final folder
-  // (replacing files of the same name) and removes the staging.
-  void Commit();
+  // Moves every file of the staging folder (and its sub-folders) into the
+  // final folder, replacing files of the same name; removes the files an
+  // earlier wearscar run wrote there that this one did not (RecordOutputs).
+  // Returns the number of files written.
+  size_t Commit();
   // A path under dir() as it will be after Commit.
   std::string Final(const std::string& staged_path) const;
 
@@ -56,6 +79,16 @@ class OutputLock {
  private:
   int fd_ = -1;
 };
+
+// Keeps <out>/.wearscar-manifest, the list of what wearscar wrote in a
+// folder (relative paths; a folder written by wearscar ends with '/').
+// With remove_stale, what the previous manifest lists and `entries` does
+// not is removed (a folder only when it has a manifest of its own: files
+// wearscar did not write are never touched); without, the lists are
+// merged (an audit shard adds to the folder).
+void RecordOutputs(const std::string& out,
+                   std::vector<std::string> entries,
+                   bool remove_stale);
 
 using fusion::Table;
 

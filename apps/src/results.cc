@@ -13,20 +13,18 @@
 
 namespace wearscar::app {
 
-std::vector<std::string> WriteTestResults(const std::string& dir,
-                                          const std::string& name,
-                                          const force::ForceRecord& record,
-                                          const fusion::TestResult& r,
-                                          const fusion::FuseOptions& o,
-                                          const fusion::ProductOptions& w) {
+nlohmann::json WriteTestResults(const std::string& dir,
+                                const std::string& name,
+                                const force::ForceRecord& record,
+                                const fusion::TestResult& r,
+                                const fusion::FuseOptions& o,
+                                const fusion::ProductOptions& w) {
   EnsureDirectory(dir);
-  std::vector<std::string> files;
-  for (const auto& [file, text] :
-       fusion::MakeTestProducts(name, record, r, o, w).Files()) {
-    files.push_back((std::filesystem::path(dir) / file).string());
-    WriteTextAtomically(files.back(), text);
-  }
-  return files;
+  fusion::TestProducts products =
+      fusion::MakeTestProducts(name, record, r, o, w);
+  for (const auto& [file, text] : products.Files())
+    WriteTextAtomically((std::filesystem::path(dir) / file).string(), text);
+  return std::move(products.result);
 }
 
 void AddWarningToResult(const std::string& dir, const std::string& warning) {
@@ -41,29 +39,27 @@ void AddWarningToResult(const std::string& dir, const std::string& warning) {
 
 void PrintSummary(const std::string& name, const fusion::TestResult& r) {
   const auto& m = r.mismatch;
-  fmt::print("{}: {} cycles; compared over cycles {}-{}\n  {}\n",
-             name,
-             r.force.cycles.cycles.size(),
-             m.first_cycle,
-             m.last_cycle,
-             r.force.running_in.rule);
+  Say("{}: {} cycles; compared over cycles {}-{}\n  {}\n",
+      name,
+      r.force.cycles.cycles.size(),
+      m.first_cycle + 1,
+      m.last_cycle + 1,
+      r.force.running_in.rule);
   if (m.mu_force.count > 0) {
-    fmt::print(
-        "  mu-hat, k from P     {:.4f} +- {:.4f}   J {:.3f} (noise floor "
+    Say("  mu-hat, k from P     {:.4f} +- {:.4f}   J {:.3f} (noise floor "
         "{:.3f}, excess {:.3f})\n",
         m.mu_force.mean,
         m.mu_force.sd,
         m.cost_force.mean,
         m.split_force.floor,
         m.split_force.excess);
-    fmt::print("    {}\n", r.force.slope_estimate);
+    Say("    {}\n", r.force.slope_estimate);
   } else {
-    fmt::print("  mu-hat, k from P     not fitted (--slope scan)\n");
+    Say("  mu-hat, k from P     not fitted (--slope scan)\n");
   }
   if (m.has_scan) {
     if (m.mu_scan.count > 0) {
-      fmt::print(
-          "  mu-hat, k from scan  {:.4f} +- {:.4f}   J {:.3f} (noise floor "
+      Say("  mu-hat, k from scan  {:.4f} +- {:.4f}   J {:.3f} (noise floor "
           "{:.3f}, excess {:.3f})\n",
           m.mu_scan.mean,
           m.mu_scan.sd,
@@ -71,11 +67,10 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
           m.split_scan.floor,
           m.split_scan.excess);
     } else {
-      fmt::print("  mu-hat, k from scan  not fitted (--slope force)\n");
+      Say("  mu-hat, k from scan  not fitted (--slope force)\n");
     }
     const auto& a = r.scan->alignment;
-    fmt::print(
-        "  profiles: r = {:.3f}, amplitude ratio {:.2f}, shift {:.3f} mm{}, "
+    Say("  profiles: r = {:.3f}, amplitude ratio {:.2f}, shift {:.3f} mm{}, "
         "RMS(k_P - "
         "k_scan) {:.3f}\n",
         a.correlation,
@@ -84,14 +79,18 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
         a.flipped ? " (flipped)" : "",
         m.k_rms_difference);
   }
-  fmt::print(
-      "  mu mean {:.4f}, mu energy {:.4f}\n", m.mu_mean.mean, m.mu_energy.mean);
+  Say("  mu mean {:.4f}, mu energy {:.4f}\n", m.mu_mean.mean, m.mu_energy.mean);
   if (r.lugre) {
-    fmt::print(
-        "  LuGre, cycle {}: {}\n", r.detail_cycle, r.lugre->BriefReport());
+    Say("  LuGre, cycle {}: {}\n", r.detail_cycle + 1, r.lugre->BriefReport());
   }
-  fmt::print("  verdict: {}\n", r.verdict.Summary());
-  for (const auto& w : r.warnings) fmt::print("  warning: {}\n", w);
+  Say("  verdict: {}\n", r.verdict.Summary());
+  for (const auto& w : r.warnings) {
+    if (CurrentPrintMode() == PrintMode::kText) {
+      Say("  warning: {}\n", w);
+    } else {
+      fmt::print(stderr, "wearscar: warning: {}: {}\n", name, w);
+    }
+  }
 }
 
 }  // namespace wearscar::app

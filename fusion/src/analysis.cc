@@ -169,7 +169,7 @@ RunningIn DetectRunningIn(const std::vector<double>& v, double tolerance) {
       r.cycles,
       r.tolerance,
       slope,
-      r.cycles);
+      r.cycles + 1);
   return r;
 }
 

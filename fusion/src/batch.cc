@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -181,13 +182,11 @@ std::string SpecimenName(const std::string& path) {
   return stem;
 }
 
-std::vector<Specimen> PairFolder(const std::string& dir,
-                                 const std::string& name_pattern) {
-  const std::regex re(name_pattern);
-  std::vector<fs::path> files;
-  for (const auto& e : fs::directory_iterator(dir)) {
-    if (e.is_regular_file()) files.push_back(e.path());
-  }
+namespace {
+
+// The specimens of the files of one folder (not its sub-folders).
+std::vector<Specimen> PairFiles(std::vector<fs::path> files,
+                                const std::regex& re) {
   std::sort(files.begin(), files.end());
   struct Slot {
     Specimen s;
@@ -214,14 +213,88 @@ std::vector<Specimen> PairFolder(const std::string& dir,
     }
   }
   std::vector<Specimen> out;
-  for (auto& [key, slot] : by_key) {
-    Specimen& s = slot.s;
-    if (s.force.empty() && s.error.empty()) {
-      s.error = fmt::format("no force file for the scan {}",
-                            fs::path(s.scan).filename().string());
+  for (auto& [key, slot] : by_key) out.push_back(slot.s);
+  return out;
+}
+
+// A sub-folder holding one force file and one scan whose names do not
+// pair (lab/B-RT-R/test.csv with lab/B-RT-R/surface.zon) is one specimen
+// named after the folder.
+void PairByFolder(const fs::path& folder, std::vector<Specimen>* specimens) {
+  if (specimens->size() != 2) return;
+  Specimen& a = (*specimens)[0];
+  Specimen& b = (*specimens)[1];
+  if (!a.error.empty() || !b.error.empty()) return;
+  const bool a_force = !a.force.empty() && a.scan.empty(),
+             b_force = !b.force.empty() && b.scan.empty();
+  const bool a_scan = a.force.empty() && !a.scan.empty(),
+             b_scan = b.force.empty() && !b.scan.empty();
+  if (!((a_force && b_scan) || (a_scan && b_force))) return;
+  Specimen s;
+  s.name = folder.filename().string();
+  s.force = a_force ? a.force : b.force;
+  s.scan = a_scan ? a.scan : b.scan;
+  *specimens = {s};
+}
+
+// A folder wearscar wrote (it has a manifest: an earlier --out) or a
+// hidden one is not searched.
+bool SkipFolder(const fs::path& dir) {
+  std::error_code ec;
+  return dir.filename().string().rfind('.', 0) == 0 ||
+         fs::exists(dir / ".wearscar-manifest", ec);
+}
+
+}  // namespace
+
+std::vector<Specimen> PairFolder(const std::string& dir,
+                                 const std::string& name_pattern,
+                                 bool recursive) {
+  const std::regex re(name_pattern);
+  std::map<fs::path, std::vector<fs::path>> by_folder;
+  by_folder[fs::path(dir)];
+  if (recursive) {
+    std::error_code ec;
+    fs::recursive_directory_iterator it(
+        dir, fs::directory_options::skip_permission_denied, ec);
+    for (; !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+      if (it->is_directory() && SkipFolder(it->path())) {
+        it.disable_recursion_pending();
+      } else if (it->is_regular_file()) {
+        by_folder[it->path().parent_path()].push_back(it->path());
+      }
     }
-    out.push_back(s);
+  } else {
+    for (const auto& e : fs::directory_iterator(dir)) {
+      if (e.is_regular_file()) by_folder[fs::path(dir)].push_back(e.path());
+    }
   }
+  std::vector<Specimen> out;
+  std::map<std::string, std::string> folder_of;  // specimen name -> folder
+  for (auto& [folder, files] : by_folder) {
+    std::vector<Specimen> here = PairFiles(files, re);
+    if (folder != fs::path(dir)) PairByFolder(folder, &here);
+    for (Specimen& s : here) {
+      if (s.force.empty() && s.error.empty()) {
+        s.error = fmt::format("no force file for the scan {}",
+                              fs::path(s.scan).filename().string());
+      }
+      auto [at, fresh] = folder_of.emplace(s.name, folder.string());
+      if (!fresh && s.error.empty()) {
+        s.error = fmt::format(
+            "specimen '{}' is in two folders ({} and {}); expected one "
+            "name per specimen (rename one, or use a manifest)",
+            s.name,
+            at->second,
+            folder.string());
+        s.name += "~" + std::to_string(out.size());
+      }
+      out.push_back(s);
+    }
+  }
+  std::sort(out.begin(), out.end(), [](const Specimen& a, const Specimen& b) {
+    return a.name < b.name;
+  });
   return out;
 }
 
@@ -282,7 +355,7 @@ std::vector<Specimen> FindSpecimens(const std::string& input,
   if (!options.IsValid(&why)) throw FusionError("batch options: " + why);
   std::vector<Specimen> all;
   if (fs::is_directory(input)) {
-    all = PairFolder(input, options.name_pattern);
+    all = PairFolder(input, options.name_pattern, options.recursive);
   } else if (fs::is_regular_file(input)) {
     all = ReadManifest(input);
   } else {
@@ -292,6 +365,17 @@ std::vector<Specimen> FindSpecimens(const std::string& input,
   for (size_t i = 0; i < all.size(); ++i) {
     if (static_cast<int>(i % options.shard_count) == options.shard_index - 1)
       mine.push_back(all[i]);
+  }
+  if (mine.empty() && all.empty() && fs::is_directory(input)) {
+    throw FusionError(fmt::format(
+        "{}: no specimens found: looked{} for force exports (text: .csv, "
+        ".txt, .dat, ...) and scans ({}), paired by the name pattern '{}' or "
+        "by the stem before .force/.scan; expected at least one force file "
+        "(or give a manifest.csv)",
+        input,
+        options.recursive ? " in it and its sub-folders" : "",
+        scan::ScanExtensionList(),
+        options.name_pattern));
   }
   if (mine.empty())
     throw FusionError(fmt::format("{}: no specimens found", input));
@@ -365,11 +449,25 @@ SummaryColumns() {
           {"track_mean_depth_mm", {"scan", "track", "mean_depth_mm"}},
           {"track_max_depth_mm", {"scan", "track", "max_depth_mm"}},
           {"track_width_mm", {"scan", "track", "width_mm"}},
+          {"wear_volume_mm3", {"wear", "volume_mm3"}},
+          {"normal_load_N", {"wear", "normal_load_n"}},
+          {"sliding_distance_m", {"wear", "sliding_distance_m"}},
+          {"specific_wear_rate_mm3_per_N_m",
+           {"wear", "specific_wear_rate_mm3_per_n_m"}},
           {"explained", {"verdict", "explained"}},
           {"verdict", {"verdict", "summary"}},
           {"warnings", {"warnings"}},
           {"diagnosis", {"diagnosis"}},
           {"error", {"error"}},
+          {"force_file", {"provenance", "inputs", "0", "path"}},
+          {"force_bytes", {"provenance", "inputs", "0", "bytes"}},
+          {"force_sha256", {"provenance", "inputs", "0", "sha256"}},
+          {"scan_file", {"provenance", "inputs", "1", "path"}},
+          {"scan_bytes", {"provenance", "inputs", "1", "bytes"}},
+          {"scan_sha256", {"provenance", "inputs", "1", "sha256"}},
+          {"wearscar_version", {"provenance", "wearscar_version"}},
+          {"git_commit", {"provenance", "git_commit"}},
+          {"date_utc", {"provenance", "date_utc"}},
       };
   return kColumns;
 }
@@ -386,8 +484,14 @@ std::string SummaryCsv(const std::vector<nlohmann::json>& rows, bool header) {
   for (const nlohmann::json& row : rows) {
     for (size_t c = 0; c < columns.size(); ++c) {
       nlohmann::json v = row;
-      for (const std::string& k : columns[c].second)
-        v = v.is_object() && v.contains(k) ? v[k] : nlohmann::json();
+      for (const std::string& k : columns[c].second) {
+        if (v.is_array()) {  // a path step into a list is its index
+          const size_t i = std::strtoul(k.c_str(), nullptr, 10);
+          v = i < v.size() ? v[i] : nlohmann::json();
+        } else {
+          v = v.is_object() && v.contains(k) ? v[k] : nlohmann::json();
+        }
+      }
       csv += (c ? "," : "") + CsvCell(v);
     }
     csv += "\n";

@@ -90,6 +90,18 @@ MismatchReport CompareSlopes(const force::ForceRecord& record,
   return r;
 }
 
+const char* SlopeChoiceName(SlopeChoice choice) {
+  switch (choice) {
+    case SlopeChoice::kForce:
+      return "force";
+    case SlopeChoice::kScan:
+      return "scan";
+    case SlopeChoice::kBoth:
+      break;
+  }
+  return "both";
+}
+
 bool ParseSlopeChoice(const std::string& name, SlopeChoice* choice) {
   if (name == "force") {
     *choice = SlopeChoice::kForce;
@@ -205,7 +217,7 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
     // A scan that cannot serve (no track, no overlap with the stroke) does
     // not lose the test: the force side stands, with a warning that says
     // why (unless the scan's slope alone was asked for).
-    const std::string file = height_map->metadata.source;
+    result.scan_file = height_map->metadata.source;
     try {
       result.scan =
           AnalyzeScan(record, result.force, std::move(*height_map), options);
@@ -240,6 +252,11 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
     result.warnings.push_back("the scan's track: " +
                               result.scan->track.message);
   }
+  result.wear =
+      MeasureWear(record,
+                  result.force.cycles,
+                  result.scan ? std::optional<scan::Track>(result.scan->track)
+                              : std::nullopt);
   result.detail_cycle = options.detail_cycle >= 0 && options.detail_cycle < n
                             ? options.detail_cycle
                             : n - 1;

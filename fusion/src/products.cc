@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 
 #include "wearscar/fusion/effects.h"
 #include "wearscar/fusion/error.h"
@@ -13,6 +14,16 @@ namespace wearscar::fusion {
 namespace {
 
 double Nan() { return std::nan(""); }
+
+// Cycles are numbered from 1 in every output, as in the paper (0-based
+// inside the library); a cycle not set (-1) is null.
+std::vector<int> OneBased(std::vector<int> cycles) {
+  for (int& c : cycles) ++c;
+  return cycles;
+}
+nlohmann::json CycleNumber(int zero_based) {
+  return zero_based >= 0 ? nlohmann::json(zero_based + 1) : nlohmann::json();
+}
 
 nlohmann::json Stat(const Statistic& s) {
   return {{"mean", s.mean}, {"sd", s.sd}, {"count", s.count}};
@@ -36,6 +47,8 @@ nlohmann::json Range(const Interval& i) {
           {"count", i.count},
           {"batches", i.batches}};
 }
+
+nlohmann::json ScanOptionsJson(const FuseOptions& o);
 
 // Every option that shaped the analysis.
 nlohmann::json OptionsJson(const force::ForceRecord& record,
@@ -64,14 +77,68 @@ nlohmann::json OptionsJson(const force::ForceRecord& record,
           {"max_cost", o.verdict.max_cost},
           {"max_amplitude_ratio", o.verdict.max_amplitude_ratio},
           {"min_correlation", o.verdict.min_correlation},
-          {"max_method_difference", o.verdict.max_method_difference}};
+          {"max_method_difference", o.verdict.max_method_difference},
+          {"slope", SlopeChoiceName(o.slopes)},
+          {"lugre", o.fit_lugre},
+          {"scan", ScanOptionsJson(o)}};
+}
+
+// The options of the scan side (used when a scan was given).
+nlohmann::json ScanOptionsJson(const FuseOptions& o) {
+  const auto& t = o.track;
+  nlohmann::json track = {{"min_depth_mm", t.min_depth_mm},
+                          {"depth_fraction", t.depth_fraction},
+                          {"min_elongation", t.min_elongation},
+                          {"smoothing_sigma_px", t.smoothing_sigma_px},
+                          {"manual", t.manual}};
+  if (t.manual) {
+    track["centre_x_mm"] = t.centre_x_mm;
+    track["centre_y_mm"] = t.centre_y_mm;
+    track["angle_deg"] = t.angle_deg;
+    track["length_mm"] = t.manual_length_mm;
+  }
+  return {{"level_order", o.level.polynomial_order},
+          {"level_ransac_threshold_mm", o.level.ransac_threshold_mm},
+          {"spike_threshold_mm", o.spikes.threshold_mm},
+          {"spike_kernel_px", o.spikes.kernel},
+          {"track", track},
+          {"band_mm", o.profile.band_width_mm},
+          {"centreline_extend_mm", o.profile.extend_mm},
+          {"scan_derivative", force::DerivativeMethodName(o.scan_slope.method)},
+          {"scan_window_samples", o.scan_slope.window},
+          {"compare_cycles", o.force_profile.cycles},
+          {"compare_first", CycleNumber(o.force_profile.first_cycle)},
+          {"compare_last", CycleNumber(o.force_profile.last_cycle)},
+          {"profile_step_mm", o.force_profile.step_mm}};
+}
+
+// The track's size, the load and distance, and the specific wear rate
+// (null where there was no usable scan).
+nlohmann::json WearJson(const Wear& w) {
+  return {{"volume_mm3", w.volume_mm3},
+          {"mean_depth_mm", w.mean_depth_mm},
+          {"max_depth_mm", w.max_depth_mm},
+          {"width_mm", w.width_mm},
+          {"length_mm", w.length_mm},
+          {"normal_load_n", w.normal_load_n},
+          {"sliding_distance_m", w.sliding_distance_m},
+          {"specific_wear_rate_mm3_per_n_m", w.specific_rate_mm3_per_n_m}};
+}
+
+// The force file as read: layout, channels and their units.
+nlohmann::json ForceFileJson(const force::ForceMetadata& m) {
+  return {{"layout", m.layout},
+          {"channels", m.channel_names},
+          {"units", m.channel_units},
+          {"time_rebuilt", m.time_rebuilt},
+          {"normal_sign_flipped", m.normal_sign_flipped}};
 }
 
 // The comparison of the slopes over the compared cycles.
 nlohmann::json ComparisonJson(const TestResult& r) {
   const auto& m = r.mismatch;
-  nlohmann::json j = {{"first_cycle", m.first_cycle},
-                      {"last_cycle", m.last_cycle},
+  nlohmann::json j = {{"first_cycle", CycleNumber(m.first_cycle)},
+                      {"last_cycle", CycleNumber(m.last_cycle)},
                       {"mu_hat_force", Stat(m.mu_force)},
                       {"J_force", Stat(m.cost_force)},
                       {"mu_mean", Stat(m.mu_mean)},
@@ -114,7 +181,7 @@ nlohmann::json ScanJson(const ScanAnalysis& s) {
 
 nlohmann::json LugreJson(const TestResult& r) {
   const auto& p = r.lugre->parameters;
-  return {{"cycle", r.detail_cycle},
+  return {{"cycle", CycleNumber(r.detail_cycle)},
           {"sigma0_n_per_mm", p.sigma0_n_per_mm},
           {"sigma1_n_s_per_mm", p.sigma1_n_s_per_mm},
           {"sigma2_n_s_per_mm", p.sigma2_n_s_per_mm},
@@ -139,7 +206,7 @@ Table CycleTable(const TestResult& r) {
     const MuFit* s = r.scan ? &r.scan->fit_scan[c] : nullptr;
     const bool sok = s && s->converged;
     t.rows.push_back(
-        {static_cast<double>(c),
+        {static_cast<double>(c + 1),
          f.converged ? f.mu_hat : Nan(),
          f.converged ? f.cost : Nan(),
          f.converged ? f.cost_floor : Nan(),
@@ -184,7 +251,7 @@ Table LoopTable(const force::ForceRecord& record,
     if (c < 0 || c >= n) continue;
     for (Eigen::Index i = cycles[c].forward.begin; i < cycles[c].reverse.end;
          ++i) {
-      l.rows.push_back({static_cast<double>(c),
+      l.rows.push_back({static_cast<double>(c + 1),
                         record.time_s[i],
                         record.x_mm[i],
                         record.tangential_n[i],
@@ -215,7 +282,7 @@ Table DetailTable(const TestResult& r,
     for (Eigen::Index i = 0; i < s->q_n.size(); ++i) {
       const double ks = r.scan ? r.scan->slope.At(s->x_mm[i]) : Nan();
       d.rows.push_back(
-          {static_cast<double>(dc),
+          {static_cast<double>(dc + 1),
            static_cast<double>(s->direction),
            s->x_mm[i],
            s->q_n[i],
@@ -349,7 +416,7 @@ nlohmann::json MapJson(const ResidualMap& m) {
           {"from_reversal_mm", vec(m.from_reversal_mm)},
           {"forward_by_reversal_mean_abs_r_N", row(m.reversal_mean_abs_n, 0)},
           {"reverse_by_reversal_mean_abs_r_N", row(m.reversal_mean_abs_n, 1)},
-          {"block_first_cycle", m.block_first_cycle},
+          {"block_first_cycle", OneBased(m.block_first_cycle)},
           {"block_mean_abs_r_N", vec(m.block_mean_abs_n)}};
 }
 
@@ -388,7 +455,9 @@ Table ResidualMapTable(const ResidualMap& m) {
 nlohmann::json DiagnosisJson(const std::string& name, const Diagnosis& d) {
   nlohmann::json j;
   j["specimen"] = name;
-  j["cycles"] = d.cycles;
+  std::vector<int> numbers;
+  for (int c : d.cycles) numbers.push_back(c + 1);
+  j["cycles"] = numbers;
   j["named"] = d.named;
   j["heldout_J_initial"] = d.heldout_initial;
   j["heldout_J_final"] = d.heldout_final;
@@ -505,7 +574,8 @@ int CycleColumn(const std::string& name) {
 nlohmann::json ResultJson(const std::string& name,
                           const force::ForceRecord& record,
                           const TestResult& r,
-                          const FuseOptions& o) {
+                          const FuseOptions& o,
+                          const Provenance* provenance) {
   nlohmann::json j;
   j["specimen"] = name;
   j["force_file"] = record.metadata.source;
@@ -515,6 +585,8 @@ nlohmann::json ResultJson(const std::string& name,
   j["cycles"] = r.force.cycles.cycles.size();
   j["stroke_mm"] = r.force.cycles.stroke_mm;
   j["slip_fallback_half_cycles"] = r.force.slip_fallbacks;
+  j["force_file_read"] = ForceFileJson(record.metadata);
+  if (!r.scan_file.empty()) j["scan_file"] = r.scan_file;
   j["options"] = OptionsJson(record, o);
   j["running_in"] = {
       {"cycles", r.force.running_in.cycles},
@@ -530,6 +602,7 @@ nlohmann::json ResultJson(const std::string& name,
                            {"mu_mean", Stat(r.force.mu_mean)},
                            {"mu_energy", Stat(r.force.mu_energy)}};
   j["comparison"] = ComparisonJson(r);
+  j["wear"] = WearJson(r.wear);
   if (r.scan) j["scan"] = ScanJson(*r.scan);
   if (r.lugre) j["lugre"] = LugreJson(r);
   j["verdict"] = {{"explained", r.verdict.explained},
@@ -538,7 +611,22 @@ nlohmann::json ResultJson(const std::string& name,
   std::vector<std::string> warnings = record.metadata.warnings;
   warnings.insert(warnings.end(), r.warnings.begin(), r.warnings.end());
   j["warnings"] = warnings;
+  if (provenance) j["provenance"] = provenance->ToJson();
   return j;
+}
+
+Provenance TestProvenance(const force::ForceRecord& record,
+                          const TestResult& result) {
+  std::vector<InputFile> inputs;
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  for (auto [role, path] : {std::pair<const char*, const std::string*>{
+                                "force", &record.metadata.source},
+                            {"scan", &result.scan_file}}) {
+    if (!path->empty() && fs::is_regular_file(*path, ec))
+      inputs.push_back(DescribeInputFile(role, *path));
+  }
+  return CurrentProvenance(std::move(inputs));
 }
 
 TestProducts MakeTestProducts(const std::string& name,
@@ -568,7 +656,12 @@ TestProducts MakeTestProducts(const std::string& name,
   if (r.lugre) {
     out.tables.emplace_back("lugre.csv", LugreTable(record, r, kf, dc, mu_f));
   }
-  out.result = ResultJson(name, record, r, o);
+  if (p.provenance) {
+    const Provenance prov = TestProvenance(record, r);
+    out.result = ResultJson(name, record, r, o, &prov);
+  } else {
+    out.result = ResultJson(name, record, r, o);
+  }
   return out;
 }
 

@@ -16,37 +16,13 @@
 #include <string>
 #include <vector>
 
+#include "cli_helpers.h"
+
 namespace {
 
-struct CommandResult {
-  int status = -1;
-  std::string output;  // stdout + stderr
-};
-
-// A shell command line; its standard output and exit status.
-CommandResult Shell(const std::string& cmd) {
-  CommandResult r;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  if (!pipe) return r;
-  std::array<char, 65536> buf;
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0)
-    r.output.append(buf.data(), n);
-  const int st = pclose(pipe);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
-
-CommandResult Wearscar(const std::string& args) {
-  return Shell(std::string(WEARSCAR_BINARY) + " " + args + " 2>&1");
-}
+using namespace wearscar_test;
 
 const std::string kData = std::string(WEARSCAR_TEST_DATA) + "/force/";
-
-std::string Slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 TEST(Cli, VersionAndHelp) {
   CommandResult v = Wearscar("version");
@@ -695,10 +671,6 @@ TEST(Cli, SimulateEffectAndSeedAreDeterministicAndRecorded) {
       << nan.output;
 }
 
-int CountLines(const std::string& text) {
-  return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
-}
-
 // Three small simulated specimens and one whose force file is broken, in a
 // folder of the calling test's own (ctest runs tests as parallel processes).
 std::string AuditFolder(const std::string& tag) {
@@ -771,7 +743,7 @@ TEST(Audit, OneBadSpecimenIsReportedAndTheRestComplete) {
   const CommandResult r =
       Wearscar("audit " + AuditFolder("bad") +
                " --running-in 30 --compare-cycles 30 -o " + out);
-  EXPECT_EQ(r.status, 1) << r.output;  // one failed specimen
+  EXPECT_EQ(r.status, 3) << r.output;  // a specimen failed (usage: 2)
   EXPECT_NE(r.output.find("FAILED   B-RL-L"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("FLAGGED  S-RL-R"), std::string::npos) << r.output;
   EXPECT_NE(

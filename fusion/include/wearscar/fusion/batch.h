@@ -35,6 +35,9 @@ struct BatchOptions {
   int jobs = 0;  // specimens analysed at once; 0 = one per core
   // This run processes specimens i, i + n, i + 2n, ... (1-based i of n).
   int shard_index = 1, shard_count = 1;
+  // Search the folder's sub-folders too (not hidden ones, not folders
+  // wearscar wrote).
+  bool recursive = true;
 
   bool IsValid(std::string* why) const;
 };
@@ -49,8 +52,14 @@ std::string SpecimenName(const std::string& path);
 // key is the name pattern's match, else the stem without its role suffix.
 // Two candidates of the same rank for one role, or a scan without a force
 // file, are the specimen's error.
+// With `recursive`, sub-folders too (hidden ones and those holding a
+// .wearscar-manifest, an earlier output, are skipped): files pair within
+// their folder, and a sub-folder with one force file and one scan whose
+// names do not pair is one specimen named after the folder. A name found
+// in two folders is an error of the second.
 std::vector<Specimen> PairFolder(const std::string& dir,
-                                 const std::string& name_pattern);
+                                 const std::string& name_pattern,
+                                 bool recursive = false);
 
 // manifest.csv: a header naming specimen, force and (optional) scan in any
 // order (RFC 4180 cells), paths relative to the manifest. Throws

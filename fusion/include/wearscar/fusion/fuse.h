@@ -8,6 +8,7 @@
 #include "wearscar/fusion/analysis.h"
 #include "wearscar/fusion/lugre.h"
 #include "wearscar/fusion/verdict.h"
+#include "wearscar/fusion/wear.h"
 #include "wearscar/scan/height_map.h"
 #include "wearscar/scan/level.h"
 #include "wearscar/scan/track.h"
@@ -19,6 +20,7 @@ enum class SlopeChoice { kForce, kScan, kBoth };
 
 // "force", "scan", "both"; false for anything else.
 bool ParseSlopeChoice(const std::string& name, SlopeChoice* choice);
+const char* SlopeChoiceName(SlopeChoice choice);
 
 struct FuseOptions {
   AnalysisOptions analysis;
@@ -78,6 +80,10 @@ struct TestResult {
   // given was not used (scan_skipped, also the first warning).
   std::vector<std::string> warnings;
   std::string scan_skipped;
+  std::string scan_file;  // the scan's source, used or not ("" without one)
+  // Track size, load, sliding distance and specific wear rate (the scan
+  // side NaN without a usable scan).
+  Wear wear;
   int detail_cycle = 0;
   std::optional<LugreFit> lugre;
 };

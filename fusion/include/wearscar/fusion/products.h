@@ -9,6 +9,7 @@
 #include "wearscar/force/force_record.h"
 #include "wearscar/fusion/diagnose.h"
 #include "wearscar/fusion/fuse.h"
+#include "wearscar/fusion/provenance.h"
 
 namespace wearscar::fusion {
 
@@ -30,6 +31,9 @@ struct ProductOptions {
   int detail_cycle = -1;
   // Points of J(mu) over the fit's mu interval (paper Fig. 11).
   int cost_curve_points = 201;
+  // result.json's "provenance": this build, the date, and the size and
+  // SHA-256 of every input file (TestProvenance).
+  bool provenance = true;
 
   bool IsValid(std::string* why) const;
 };
@@ -55,10 +59,18 @@ int CycleColumn(const std::string& name);
 // inputs, every option that shaped the analysis, running-in, statistics
 // after running-in, the comparison of the slopes, the scan's levelling,
 // track and alignment, LuGre, the verdict and the warnings.
+// With a provenance, its "provenance" too.
 nlohmann::json ResultJson(const std::string& name,
                           const force::ForceRecord& record,
                           const TestResult& result,
-                          const FuseOptions& options);
+                          const FuseOptions& options,
+                          const Provenance* provenance = nullptr);
+
+// The provenance of a test: this build, now, and the force and scan files
+// it was read from (those that are files). Throws FusionError naming a
+// file that cannot be read.
+Provenance TestProvenance(const force::ForceRecord& record,
+                          const TestResult& result);
 
 // A height map analysed alone (wearscar scan): levelled, spikes removed,
 // the track found (or why not), its centreline and cross-sections.

@@ -1,0 +1,343 @@
+// What a lab relies on around the numbers: command-line conventions,
+// provenance, wear, cycle numbering and output folders that can be
+// trusted after a re-run.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli_helpers.h"
+
+namespace {
+
+using namespace wearscar_test;
+namespace fs = std::filesystem;
+
+// A small simulated test (30 cycles at 1 kHz, a 256 x 192 scan) in a
+// folder of the calling test's own.
+std::string Simulated(const std::string& tag,
+                      const std::string& cases = "--case B-RT-R") {
+  const std::string dir = ::testing::TempDir() + "/lab-" + tag;
+  fs::remove_all(dir);
+  const CommandResult s =
+      Wearscar("simulate " + cases +
+               " --cycles 30 --rate 1000 --scan-cols 256 --scan-rows 192 "
+               "--scan-pitch 0.0296 --formats csv,gsf -o " +
+               dir);
+  EXPECT_EQ(s.status, 0) << s.output;
+  return dir;
+}
+
+nlohmann::json ParseJson(const std::string& text) {
+  return nlohmann::json::parse(text, nullptr, false);
+}
+
+// stdout only (stderr discarded).
+CommandResult Stdout(const std::string& args) {
+  return Shell(std::string(WEARSCAR_BINARY) + " " + args + " 2>/dev/null");
+}
+
+TEST(Conventions, VersionNamesTheCommit) {
+  const std::regex line(
+      "wearscar [0-9]+\\.[0-9]+\\.[0-9]+ \\(commit "
+      "([0-9a-f]{40}(-dirty)?|unknown)\\)\n");
+  for (const char* args : {"--version", "version"}) {
+    const CommandResult v = Wearscar(args);
+    EXPECT_EQ(v.status, 0) << args;
+    EXPECT_TRUE(std::regex_match(v.output, line)) << args << ": " << v.output;
+  }
+}
+
+TEST(Conventions, AnUnknownCommandSaysSo) {
+  const CommandResult r = Wearscar("fusee a.csv");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.output,
+            "wearscar: unknown command 'fusee'; expected one of version, "
+            "simulate, force, fuse, audit, diagnose, scan (wearscar --help)\n");
+}
+
+TEST(Conventions, HelpShowsTheProgramNameAndEndsWithExamples) {
+  for (const std::string cmd :
+       {"simulate", "force", "fuse", "audit", "diagnose", "scan"}) {
+    const CommandResult h = Wearscar(cmd + " --help");
+    EXPECT_EQ(h.status, 0) << cmd;
+    EXPECT_NE(h.output.find("Usage: wearscar " + cmd + " "), std::string::npos)
+        << h.output.substr(0, 300);
+    const size_t examples = h.output.rfind("Examples:\n");
+    ASSERT_NE(examples, std::string::npos) << cmd;
+    // Two or three examples of this very command, and nothing after them.
+    std::istringstream tail(h.output.substr(examples + 10));
+    int n = 0;
+    for (std::string l; std::getline(tail, l);) {
+      if (l.empty()) continue;
+      EXPECT_EQ(l.rfind("  wearscar " + cmd + " ", 0), 0u) << cmd << ": " << l;
+      ++n;
+    }
+    EXPECT_GE(n, 2) << cmd;
+    EXPECT_LE(n, 3) << cmd;
+  }
+}
+
+TEST(Conventions, DiagnoseListsOnlyTheOptionsItUses) {
+  const std::string h = Wearscar("diagnose --help").output;
+  for (const char* unused : {"--max-excess",
+                             "--max-cost",
+                             "--lugre-fc",
+                             "--no-lugre",
+                             "--compare-cycles",
+                             "--max-amplitude-ratio",
+                             "--slope "}) {
+    EXPECT_EQ(h.find(unused), std::string::npos) << unused;
+  }
+  for (const char* used :
+       {"--spring", "--running-in", "--level-order", "--candidates", "--json"})
+    EXPECT_NE(h.find(used), std::string::npos) << used;
+}
+
+TEST(Conventions, QuietJsonAndTheForceFileEitherWay) {
+  const std::string dir = Simulated("modes");
+  const std::string f = dir + "/B-RT-R.force.csv", s = dir + "/B-RT-R.scan.gsf";
+  const CommandResult positional =
+      Stdout("fuse " + f + " --scan " + s + " --running-in 10 --json");
+  const CommandResult option =
+      Stdout("fuse --force " + f + " --scan " + s + " --running-in 10 --json");
+  ASSERT_EQ(positional.status, 0) << positional.output;
+  ASSERT_EQ(option.status, 0) << option.output;
+  const nlohmann::json a = ParseJson(positional.output),
+                       b = ParseJson(option.output);
+  ASSERT_TRUE(a.is_object()) << positional.output.substr(0, 500);
+  ASSERT_TRUE(b.is_object()) << option.output.substr(0, 500);
+  // The truth of B-RT-R: mu 0.15 falling to about 0.14 over 30 cycles.
+  const double mu = a["comparison"]["mu_hat_force"]["mean"];
+  EXPECT_NEAR(mu, 0.142, 0.01);
+  EXPECT_EQ(a["comparison"], b["comparison"]);
+  // Without -o: the summary, and it says nothing was written.
+  const CommandResult text = Stdout("fuse " + f + " --running-in 10");
+  EXPECT_NE(text.output.find("mu-hat, k from P"), std::string::npos);
+  EXPECT_NE(text.output.find("nothing written (give -o DIR"),
+            std::string::npos);
+  EXPECT_FALSE(fs::exists(dir + "/out"));
+  // --quiet: nothing on stdout, the files all the same.
+  const CommandResult quiet = Stdout("fuse " + f +
+                                     " --running-in 10 --quiet "
+                                     "--no-figures -o " +
+                                     dir + "/out");
+  EXPECT_EQ(quiet.status, 0);
+  EXPECT_EQ(quiet.output, "");
+  EXPECT_TRUE(fs::exists(dir + "/out/result.json"));
+  EXPECT_EQ(Wearscar("fuse " + f + " --quiet --json").status, 2);
+  // Every analysing command speaks JSON.
+  for (const std::string& args : std::vector<std::string>{
+           "force " + f,
+           "scan " + s,
+           "diagnose " + f + " --max-cycles 12",
+           "audit " + dir + " --no-figures -o " + dir + "/audit"}) {
+    const CommandResult j = Stdout(args + " --json");
+    EXPECT_EQ(j.status, 0) << args;
+    const nlohmann::json parsed = ParseJson(j.output);
+    EXPECT_FALSE(parsed.is_discarded())
+        << args << ": " << j.output.substr(0, 300);
+  }
+}
+
+TEST(Conventions, CyclesAreNumberedFromOne) {
+  const std::string dir = Simulated("cycles");
+  const std::string out = dir + "/out";
+  const CommandResult r = Wearscar(
+      "fuse " + dir + "/B-RT-R.force.csv --scan " + dir +
+      "/B-RT-R.scan.gsf --detail-cycle 1 --loops 2 --loops 30 --no-figures "
+      "--compare-first 21 --compare-last 30 -o " +
+      out);
+  ASSERT_EQ(r.status, 0) << r.output;
+  std::ifstream cycles(out + "/cycles.csv");
+  std::string header, first, last;
+  std::getline(cycles, header);
+  std::getline(cycles, first);
+  for (std::string l; std::getline(cycles, l);) last = l;
+  EXPECT_EQ(first.rfind("1,", 0), 0u) << first;
+  EXPECT_EQ(last.rfind("30,", 0), 0u) << last;
+  const nlohmann::json j = ParseJson(Slurp(out + "/result.json"));
+  EXPECT_EQ(j["comparison"]["first_cycle"], 21);
+  EXPECT_EQ(j["comparison"]["last_cycle"], 30);
+  EXPECT_EQ(j["lugre"]["cycle"], 1);
+  EXPECT_EQ(j["options"]["scan"]["compare_first"], 21);
+  std::ifstream detail(out + "/detail.csv");
+  std::getline(detail, header);
+  std::getline(detail, first);
+  EXPECT_EQ(first.rfind("1,", 0), 0u) << first;
+  // loops.csv holds cycles 2 and 30 only.
+  std::ifstream loops(out + "/loops.csv");
+  std::getline(loops, header);
+  std::set<std::string> seen;
+  for (std::string l; std::getline(loops, l);)
+    seen.insert(l.substr(0, l.find(',')));
+  EXPECT_EQ(seen, (std::set<std::string>{"2", "30"}));
+  EXPECT_NE(r.output.find("compared over cycles 21-30"), std::string::npos)
+      << r.output;
+  EXPECT_EQ(
+      Wearscar("fuse " + dir + "/B-RT-R.force.csv --detail-cycle 0").status, 2);
+}
+
+TEST(Provenance, ResultsNameTheBuildTheInputsAndEveryOption) {
+  const std::string dir = Simulated("provenance");
+  const std::string f = dir + "/B-RT-R.force.csv", s = dir + "/B-RT-R.scan.gsf";
+  const CommandResult r =
+      Shell("SOURCE_DATE_EPOCH=86400 " + std::string(WEARSCAR_BINARY) +
+            " fuse " + f + " --scan " + s +
+            " --level-order 2 --band 0.15 --scan-window 21 --no-figures -o " +
+            dir + "/out 2>&1");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const nlohmann::json j = ParseJson(Slurp(dir + "/out/result.json"));
+  const nlohmann::json& p = j["provenance"];
+  EXPECT_EQ(p["date_utc"], "1970-01-02T00:00:00Z");
+  const std::string version = Wearscar("version").output;
+  EXPECT_NE(
+      version.find(p["wearscar_version"].get<std::string>() + " (commit " +
+                   p["git_commit"].get<std::string>() + ")"),
+      std::string::npos)
+      << version;
+  ASSERT_EQ(p["inputs"].size(), 2u);
+  // Sizes and checksums as coreutils sees them.
+  for (int i = 0; i < 2; ++i) {
+    const std::string path = i == 0 ? f : s;
+    EXPECT_EQ(p["inputs"][i]["role"], i == 0 ? "force" : "scan");
+    EXPECT_EQ(p["inputs"][i]["path"], path);
+    EXPECT_EQ(p["inputs"][i]["bytes"], fs::file_size(path));
+    const std::string sum = Shell("sha256sum " + path).output.substr(0, 64);
+    EXPECT_EQ(p["inputs"][i]["sha256"], sum);
+  }
+  // Scan-side options as used.
+  EXPECT_EQ(j["options"]["scan"]["level_order"], 2);
+  EXPECT_EQ(j["options"]["scan"]["band_mm"], 0.15);
+  EXPECT_EQ(j["options"]["scan"]["scan_window_samples"], 21);
+  EXPECT_EQ(j["options"]["slope"], "both");
+  EXPECT_EQ(j["force_file_read"]["units"],
+            nlohmann::json({"s", "mm", "N", "N"}));
+  // The audit table carries them per specimen.
+  const CommandResult a =
+      Wearscar("audit " + dir + " --no-figures -o " + dir + "/audit");
+  ASSERT_EQ(a.status, 0) << a.output;
+  const std::string csv = Slurp(dir + "/audit/summary.csv");
+  EXPECT_NE(csv.find(p["inputs"][0]["sha256"].get<std::string>()),
+            std::string::npos);
+  EXPECT_NE(csv.find(",force_sha256,"), std::string::npos);
+  EXPECT_NE(csv.find(",git_commit,date_utc\n"), std::string::npos);
+}
+
+TEST(Wear, ArchardRateFromTheTrackAndTheSlidingDistance) {
+  const std::string dir = Simulated("wear");
+  const CommandResult r =
+      Wearscar("fuse " + dir + "/B-RT-R.force.csv --scan " + dir +
+               "/B-RT-R.scan.gsf --no-figures -o " + dir + "/out");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const nlohmann::json j = ParseJson(Slurp(dir + "/out/result.json"));
+  const nlohmann::json& w = j["wear"];
+  // 30 cycles of +-2.85 mm: 30 x 4 x 2.85 mm of sliding; the load 30 N.
+  EXPECT_NEAR(w["sliding_distance_m"].get<double>(), 0.342, 0.342 * 0.005);
+  EXPECT_NEAR(w["normal_load_n"].get<double>(), 30.0, 0.3);
+  const double v = w["volume_mm3"];
+  EXPECT_GT(v, 0.0);
+  EXPECT_DOUBLE_EQ(w["specific_wear_rate_mm3_per_n_m"].get<double>(),
+                   v / (w["normal_load_n"].get<double>() *
+                        w["sliding_distance_m"].get<double>()));
+  EXPECT_EQ(w["volume_mm3"], j["scan"]["track"]["volume_mm3"]);
+  // Without a scan the force side stands and the rate is unknown (null).
+  const CommandResult f = Stdout("force " + dir + "/B-RT-R.force.csv --json");
+  const nlohmann::json fj = ParseJson(f.output);
+  EXPECT_TRUE(fj["wear"]["specific_wear_rate_mm3_per_n_m"].is_null());
+  EXPECT_NEAR(fj["wear"]["sliding_distance_m"].get<double>(), 0.342, 0.002);
+}
+
+TEST(Outputs, ARerunRemovesWhatTheEarlierRunWroteAndNothingElse) {
+  const std::string dir = Simulated("rerun");
+  const std::string out = dir + "/out";
+  const std::string fuse = "fuse " + dir + "/B-RT-R.force.csv --scan " + dir +
+                           "/B-RT-R.scan.gsf -o " + out;
+  ASSERT_EQ(Wearscar(fuse).status, 0);
+  ASSERT_TRUE(fs::exists(out + "/fig08ab_scan_map.png"));
+  // The figures' sources are in a sub-folder; the track outline has a
+  // header.
+  EXPECT_TRUE(fs::exists(out + "/figure-data/figures_png.gp"));
+  EXPECT_EQ(
+      Slurp(out + "/figure-data/track_outline.csv").rfind("x_mm,y_mm\n", 0),
+      0u);
+  EXPECT_FALSE(fs::exists(out + "/figures_png.gp"));
+  // A file of the user's, and a manifest line pointing outside the folder.
+  std::ofstream(out + "/notes.txt") << "mine\n";
+  std::ofstream(dir + "/outside.txt") << "mine too\n";
+  std::ofstream(out + "/.wearscar-manifest", std::ios::app)
+      << "../outside.txt\n";
+  ASSERT_EQ(Wearscar(fuse + " --no-figures").status, 0);
+  EXPECT_FALSE(fs::exists(out + "/fig08ab_scan_map.png"));
+  EXPECT_FALSE(fs::exists(out + "/figure-data"));
+  EXPECT_TRUE(fs::exists(out + "/result.json"));
+  EXPECT_TRUE(fs::exists(out + "/notes.txt"));
+  EXPECT_TRUE(fs::exists(dir + "/outside.txt"));
+  const std::string manifest = Slurp(out + "/.wearscar-manifest");
+  EXPECT_EQ(manifest.find(".png"), std::string::npos) << manifest;
+  EXPECT_NE(manifest.find("result.json\n"), std::string::npos) << manifest;
+}
+
+TEST(Outputs, AnAuditRerunDropsSpecimensNoLongerThereButNotOtherFolders) {
+  const std::string dir =
+      Simulated("rerun-audit", "--case B-RT-R --case S-TL-L");
+  const std::string out = dir + "-audit";
+  fs::remove_all(out);
+  ASSERT_EQ(Wearscar("audit " + dir + " --no-figures -o " + out).status, 0);
+  ASSERT_TRUE(fs::exists(out + "/S-TL-L/result.json"));
+  fs::create_directories(out + "/my-notes");
+  std::ofstream(out + "/my-notes/a.txt") << "mine\n";
+  fs::remove(dir + "/S-TL-L.force.csv");
+  fs::remove(dir + "/S-TL-L.scan.gsf");
+  ASSERT_EQ(Wearscar("audit " + dir + " --no-figures -o " + out).status, 0);
+  EXPECT_FALSE(fs::exists(out + "/S-TL-L"));
+  EXPECT_TRUE(fs::exists(out + "/B-RT-R/result.json"));
+  EXPECT_TRUE(fs::exists(out + "/my-notes/a.txt"));
+}
+
+TEST(Audit, FindsSpecimensInSubFoldersAndSaysWhatItLookedFor) {
+  const std::string dir = Simulated("tree", "--case B-RT-R --case S-TL-L");
+  const std::string lab = dir + "-lab";
+  fs::remove_all(lab);
+  // lab/beech/B-RT-R.{force.csv,scan.gsf}: paired by name in a sub-folder;
+  // lab/spruce/specimen7/{test.csv,surface.gsf}: one force file and one
+  // scan, the specimen named after the folder.
+  fs::create_directories(lab + "/beech");
+  fs::create_directories(lab + "/spruce/specimen7");
+  fs::copy_file(dir + "/B-RT-R.force.csv", lab + "/beech/B-RT-R.force.csv");
+  fs::copy_file(dir + "/B-RT-R.scan.gsf", lab + "/beech/B-RT-R.scan.gsf");
+  fs::copy_file(dir + "/S-TL-L.force.csv", lab + "/spruce/specimen7/test.csv");
+  fs::copy_file(dir + "/S-TL-L.scan.gsf",
+                lab + "/spruce/specimen7/surface.gsf");
+  // An earlier output inside the tree is not searched.
+  ASSERT_EQ(
+      Wearscar("audit " + lab + " --no-figures -o " + lab + "/audit").status,
+      0);
+  const CommandResult r =
+      Wearscar("audit " + lab + " --no-figures -o " + lab + "/audit");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("2 specimens: "), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::exists(lab + "/audit/B-RT-R/result.json"));
+  const nlohmann::json j =
+      ParseJson(Slurp(lab + "/audit/specimen7/result.json"));
+  EXPECT_EQ(j["provenance"]["inputs"][1]["path"],
+            lab + "/spruce/specimen7/surface.gsf");
+  // Not recursive: nothing at the top, and the message says what it
+  // looked for.
+  const CommandResult none =
+      Wearscar("audit " + lab + " --no-recursive -o " + lab + "/audit2");
+  EXPECT_EQ(none.status, 2);
+  EXPECT_NE(none.output.find(lab + ": no specimens found: looked for force "
+                                   "exports"),
+            std::string::npos)
+      << none.output;
+  EXPECT_NE(none.output.find("x3p, gsf"), std::string::npos) << none.output;
+}
+
+}  // namespace

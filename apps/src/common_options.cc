@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-#include "output.h"
+#include "usage_error.h"
 
 namespace wearscar::app {
 
@@ -320,11 +320,11 @@ void AddCommonOptions(CLI::App* cmd, CommonArgs* a, unsigned groups) {
   if (groups & kVerdictOptions) AddVerdictOptions(cmd, a);
   if (groups & kLugreOptions) AddLugreOptions(cmd, a);
   if (groups & kCompareOptions) AddScanSlopeOptions(cmd, a);
-  if (groups & kMapOptions) {
+  if (groups & kLevelTrackOptions) {
     AddLevelOptions(cmd, a);
     AddTrackOptions(cmd, a);
-    AddScanFileOptions(cmd, a);
   }
+  if (groups & kScanFileOptions) AddScanFileOptions(cmd, a);
   // Options a command does not have are skipped.
   AddRangeChecks(cmd,
                  {{"--rate", 0.0, 1e8},

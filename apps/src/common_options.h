@@ -33,7 +33,9 @@ enum OptionGroup : unsigned {
   kVerdictOptions = 1u << 2,    // the verdict's limits
   kLugreOptions = 1u << 3,
   kCompareOptions = 1u << 4,  // the slope choice, cycles compared with the scan
-  kMapOptions = 1u << 5,      // reading, levelling and the track of a scan
+  kScanFileOptions = 1u << 5,    // reading a scan
+  kLevelTrackOptions = 1u << 6,  // levelling and the track of a scan
+  kMapOptions = kScanFileOptions | kLevelTrackOptions,
 };
 constexpr unsigned kForceCommandOptions =
     kForceFileOptions | kSlopeOptions | kVerdictOptions | kLugreOptions;

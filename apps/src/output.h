@@ -7,16 +7,11 @@
 #include <string>
 #include <vector>
 
+#include "usage_error.h"
 #include "wearscar/fusion/batch.h"
 #include "wearscar/fusion/products.h"
 
 namespace wearscar::app {
-
-// Thrown for bad command-line input; main maps it to exit status 2.
-class UsageError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 // What an analysing command prints on stdout: its human summary (the
 // default), nothing (--quiet) or its summary as JSON (--json). Warnings

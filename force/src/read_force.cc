@@ -649,11 +649,26 @@ int FindOverride(const std::string& spec,
     }
     return col - 1;
   }
-  for (size_t c = 0; c < layout.names.size(); ++c) {
-    if (Lower(layout.names[c]) == Lower(spec)) return static_cast<int>(c);
-  }
+  // The name as the reader split it ("x" of "x_mm"), or as the header
+  // wrote it with its unit: x_mm, "x (mm)", "x [mm]", x/mm.
+  const std::string wanted = Lower(spec);
   std::string known;
-  for (const auto& nm : layout.names) known += (known.empty() ? "" : ", ") + nm;
+  for (size_t c = 0; c < layout.names.size(); ++c) {
+    const std::string name = Lower(layout.names[c]);
+    const std::string unit =
+        c < layout.units.size() ? Lower(layout.units[c]) : std::string();
+    if (wanted == name) return static_cast<int>(c);
+    if (!unit.empty()) {
+      for (const std::string& form : {name + "_" + unit,
+                                      name + " (" + unit + ")",
+                                      name + " [" + unit + "]",
+                                      name + "/" + unit}) {
+        if (wanted == form) return static_cast<int>(c);
+      }
+    }
+    known += (known.empty() ? "" : ", ") + layout.names[c];
+    if (!unit.empty()) known += " (" + layout.units[c] + ")";
+  }
   throw ForceError(
       fmt::format("{}: no column named '{}' for {}; the header has: {}",
                   file,

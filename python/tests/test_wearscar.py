@@ -1,0 +1,212 @@
+"""The Python module against the truth, the real files and the command
+line: same numbers, same options, same messages."""
+import filecmp
+import json
+import os
+import pathlib
+import runpy
+import subprocess
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import wearscar
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+SAMPLES = ROOT / "samples" / "data"
+SHARED = pathlib.Path(os.environ.get("WEARSCAR_SHARED_DATA",
+                                     ROOT.parent / "shared" / "data"))
+BINARY = os.environ.get("WEARSCAR_BINARY", "")
+
+
+def small(case="B-RT-R", **options):
+    settings = dict(cycles=60, rate=1000, scan_cols=256, scan_rows=192,
+                    scan_pitch=0.0296, seed=5)
+    settings.update(options)
+    return wearscar.simulate(case, **settings)
+
+
+def test_the_notebook_example_recovers_mu_within_its_noise(capsys):
+    runpy.run_path(os.environ.get(
+        "WEARSCAR_EXAMPLES", ROOT / "python" / "examples") +
+        "/fit_simulated_test.py")
+    out = capsys.readouterr().out
+    assert "explained by wear-scar interaction" in out
+    # The example prints the mean of mu-hat and of the truth: equal within
+    # 0.003 at the calibrated noise (noise 1).
+    line = next(l for l in out.splitlines() if l.startswith("mu-hat (k from P)"))
+    mean = float(line.split("mean ")[1].split(",")[0])
+    truth = float(line.split("truth ")[1].split(",")[0])
+    assert abs(mean - truth) < 0.003, line
+
+
+def test_fuse_recovers_the_simulated_mu_per_cycle():
+    test = small()
+    result = wearscar.fuse(test.force, test.scan, running_in=20)
+    truth = np.array(test.truth["mu_per_cycle"])
+    cycles = result.cycles
+    assert cycles["cycle"][0] == 1 and cycles["cycle"][-1] == 60
+    steady = cycles["cycle"] > 20
+    assert np.abs(cycles["mu_hat_force"][steady] - truth[steady]).max() < 0.01
+    assert abs(result.mu_hat_scan - truth[steady].mean()) < 0.005
+    assert result.explained
+    # Plain values for a notebook's json.dump.
+    json.dumps(result.to_dict())
+
+
+def test_a_coulomb_test_made_of_numpy_arrays_gives_its_mu():
+    # Flat track (P constant, k = 0): Q = s mu P exactly, mu = 0.23.
+    t = np.arange(0, 30, 1 / 1000.0)
+    x = 2.85 * np.sin(2 * np.pi * t)
+    v = np.gradient(x, t)
+    p = np.full_like(t, 30.0)
+    q = np.sign(v) * 0.23 * p
+    record = wearscar.ForceRecord(t, x, q, p)
+    assert len(record) == t.size
+    result = wearscar.fuse(record, running_in=2, no_lugre=True)
+    assert result.mu_hat == pytest.approx(0.23, abs=1e-3)
+    with pytest.raises(wearscar.OptionError, match="one length"):
+        wearscar.ForceRecord(t, x[:-1], q, p)
+
+
+def test_read_force_gives_arrays_in_mm_n_s():
+    record = wearscar.read_force(SAMPLES / "B-RT-R.force.csv")
+    assert record.x_mm.dtype == np.float64
+    # 20 cycles at 500 Hz (the bundled samples are small).
+    assert len(record) == record.time_s.size == 10500
+    assert np.diff(record.time_s).mean() == pytest.approx(0.002)
+    assert record.x_mm.max() == pytest.approx(2.85, abs=0.01)
+    assert record.p_n.mean() == pytest.approx(30.0, abs=0.3)
+    assert record.metadata["units"] == ["s", "mm", "N", "N"]
+    # Options by the command line's names: the x column read in um is a
+    # 0.0057 mm stroke, refused as implausible.
+    with pytest.raises(wearscar.ForceError, match="check the x unit"):
+        wearscar.read_force(SAMPLES / "B-RT-R.force.csv", x_unit="um")
+    metres = wearscar.read_force(SAMPLES / "B-RT-R.force.csv",
+                                 columns="x=x_mm:mm", force_unit="N")
+    assert np.array_equal(metres.x_mm, record.x_mm)
+
+
+@pytest.mark.skipif(not (SHARED / "other" / "plu-1.plu").exists(),
+                    reason="../shared/data (real instrument files) is absent")
+def test_read_scan_reads_a_real_sensofar_file_to_its_reference():
+    scan = wearscar.read_scan(SHARED / "other" / "plu-1.plu")
+    assert scan.shape == (576, 768)
+    assert scan.height_mm.dtype == np.float32
+    assert scan.shape[1] * scan.dx_mm == pytest.approx(1.274880066, abs=1e-8)
+    # rms 2.834391 um (the file's reference value).
+    z = scan.height_mm.astype(np.float64)
+    assert np.sqrt(np.nanmean((z - np.nanmean(z)) ** 2)) == pytest.approx(
+        2.834391e-3, abs=2e-9)
+    assert scan.metadata["instrument"] == "Sensofar"
+
+
+def test_errors_carry_the_command_lines_messages(tmp_path):
+    bad = tmp_path / "bad.csv"
+    rows = [f"{i / 1000},{i % 7},{'abc' if i == 10 else 1.5},30"
+            for i in range(20)]
+    bad.write_text("time_s,x_mm,Q_N,P_N\n" + "\n".join(rows) + "\n")
+    with pytest.raises(wearscar.ForceError) as error:
+        wearscar.read_force(bad)
+    assert str(error.value) == (
+        f"{bad}: line 12, column 3 ('Q'): found 'abc', expected a number")
+    with pytest.raises(wearscar.OptionError) as error:
+        wearscar.fuse(SAMPLES / "B-RT-R.force.csv", spring=0)
+    assert "--spring: Value 0 not in range" in str(error.value)
+    with pytest.raises(TypeError, match="unexpected keyword argument 'sprung'"):
+        wearscar.fuse(SAMPLES / "B-RT-R.force.csv", sprung=10)
+    with pytest.raises(wearscar.OptionError, match="--k-estimate"):
+        wearscar.fuse(SAMPLES / "B-RT-R.force.csv", k_estimate="median")
+    if BINARY:
+        for args, call in (
+                (["force", str(bad)], lambda: wearscar.read_force(bad)),
+                (["fuse", str(SAMPLES / "B-RT-R.force.csv"), "--running-in",
+                  "x"], lambda: wearscar.fuse(SAMPLES / "B-RT-R.force.csv",
+                                               running_in="x"))):
+            cli = subprocess.run([BINARY] + args, capture_output=True,
+                                 text=True)
+            assert cli.returncode == 2
+            with pytest.raises(ValueError) as error:
+                call()
+            assert cli.stderr.strip().endswith(str(error.value).split(": ", 1)[-1])
+
+
+def test_defaults_are_the_command_lines():
+    result = wearscar.fuse(SAMPLES / "B-RT-R.force.csv",
+                           SAMPLES / "B-RT-R.scan.gsf")
+    options = result.summary["options"]
+    assert options["spring_n_per_mm"] == 10.19
+    assert options["k_estimate"] == "ensemble"
+    assert options["slope"] == "both"
+    assert options["scan"]["level_order"] == 1
+    changed = wearscar.fuse(SAMPLES / "B-RT-R.force.csv", spring=8.5,
+                            k_estimate="cycle", running_in=5,
+                            slope="force").summary["options"]
+    assert changed["spring_n_per_mm"] == 8.5
+    assert changed["k_estimate"] == "cycle"
+    assert changed["running_in_cycles"] == 5
+    assert changed["slope"] == "force"
+
+
+@pytest.mark.skipif(not BINARY, reason="WEARSCAR_BINARY not given")
+def test_result_write_gives_the_files_of_wearscar_fuse(tmp_path, monkeypatch):
+    monkeypatch.setenv("SOURCE_DATE_EPOCH", "1700000000")
+    force = str(SAMPLES / "S-RL-R.force.csv")
+    scan = str(SAMPLES / "S-RL-R.scan.gsf")
+    subprocess.run([BINARY, "fuse", force, "--scan", scan, "--no-figures",
+                    "--running-in", "5", "-o", str(tmp_path / "cli")],
+                   check=True, capture_output=True)
+    result = wearscar.fuse(force, scan, running_in=5)
+    written = result.write(tmp_path / "py")
+    names = sorted(pathlib.Path(p).name for p in written)
+    assert "result.json" in names and "profiles.csv" in names
+    match, mismatch, errors = filecmp.cmpfiles(tmp_path / "cli",
+                                               tmp_path / "py", names,
+                                               shallow=False)
+    assert mismatch == [] and errors == []
+    assert not result.explained  # S-RL-R: the elastic part
+
+
+def test_audit_of_the_bundled_samples(tmp_path):
+    rows = wearscar.audit(SAMPLES, out=tmp_path, jobs=2, running_in=5,
+                          compare_cycles=15)
+    assert len(rows) == 12
+    by_name = {row["specimen"]: row for row in rows}
+    assert by_name["B-RT-R"]["species"] == "beech"
+    assert not by_name["S-RL-R"]["verdict"]["explained"]
+    assert by_name["B-RT-R"]["verdict"]["explained"]
+    assert (tmp_path / "summary.csv").read_text().count("\n") == 13
+    assert (tmp_path / "B-RT-R" / "cycles.csv").exists()
+
+
+def test_long_calls_release_the_gil():
+    test = small(cycles=300, rate=2000)
+    done = threading.Event()
+    ticks = [0]
+
+    def count():
+        while not done.is_set():
+            ticks[0] += 1
+
+    counter = threading.Thread(target=count)
+    counter.start()
+    start = time.perf_counter()
+    wearscar.fuse(test.force, test.scan)
+    elapsed = time.perf_counter() - start
+    done.set()
+    counter.join()
+    # Python ran beside the analysis: with the GIL held the counter would
+    # get at most a few switch intervals.
+    assert elapsed > 0.05
+    assert ticks[0] > 10000, (ticks[0], elapsed)
+
+
+def test_simulate_takes_effects_and_lists_of_cases():
+    runs = small(["B-RT-R", "S-TL-L"], cycles=20)
+    assert [r.case for r in runs] == ["B-RT-R", "S-TL-L"]
+    hidden = small(effect="ploughing=1.0", cycles=20)
+    assert hidden.truth["effects"]["ploughing_n_per_mm"] == 1.0
+    with pytest.raises(wearscar.OptionError, match="simulate"):
+        small("X-RT-R")

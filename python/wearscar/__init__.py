@@ -1,0 +1,190 @@
+"""wearscar for Python: the sliding friction coefficient of reciprocating
+friction tests from the force record and a profilometer scan of the worn
+track (wear-scar interaction, Q = P (k + s mu) / (1 - s mu k)).
+
+    import wearscar
+    test = wearscar.simulate("B-RT-R", cycles=60, seed=3)
+    result = wearscar.fuse(test.force, test.scan, running_in=20)
+    result.mu_hat, result.summary["verdict"]["summary"]
+
+Keyword arguments are the command line's options with '_' for '-' and the
+same defaults (``wearscar fuse --help`` lists them): ``spring=10.19``,
+``k_estimate="cycle"``, ``running_in=20``, ``slope="scan"``,
+``no_lugre=True``, ``columns="x=Pos:um,q=Ff,p=Fn"``. Bad values raise
+``OptionError`` (a ValueError) with the command line's message; a keyword
+that is not an option raises TypeError; bad files raise ``ForceError`` or
+``ScanError`` naming the file, the line or byte, what was found and what
+was expected. Long calls release the GIL.
+"""
+
+import json
+import os
+
+from ._wearscar import (ForceError, ForceRecord, FusionError, HeightMap,
+                        OptionError, ScanError, git_commit, version)
+from . import _wearscar
+
+__all__ = [
+    "read_force", "read_scan", "fuse", "audit", "simulate", "Result",
+    "Simulation", "ForceRecord", "HeightMap", "ForceError", "ScanError",
+    "FusionError", "OptionError", "version", "git_commit", "__version__",
+]
+
+__version__ = version()
+
+
+def _args(options):
+    """Keyword arguments as command-line options: spring=10.19 ->
+    ["--spring", "10.19"]; True -> the flag; False and None -> left out;
+    a list or tuple -> the option repeated over its items."""
+    out = []
+    for key, value in options.items():
+        flag = "--" + key.replace("_", "-")
+        if value is None or value is False:
+            continue
+        if value is True:
+            out.append(flag)
+        elif isinstance(value, (list, tuple)):
+            for item in value:
+                out += [flag, _text(item)]
+        else:
+            out += [flag, _text(value)]
+    return out
+
+
+def _text(value):
+    if isinstance(value, float):
+        return repr(value)
+    if isinstance(value, os.PathLike):
+        return os.fspath(value)
+    return str(value)
+
+
+def _path_or(value):
+    return os.fspath(value) if isinstance(value, (str, os.PathLike)) else value
+
+
+def read_force(path, **options):
+    """The force export at `path` as a ForceRecord (NumPy arrays time_s,
+    x_mm, q_n, p_n and a metadata dict). Options: time_column, x_column,
+    q_column, p_column, columns, x_unit, force_unit, time_unit, rate,
+    lenient."""
+    return _wearscar._read_force(os.fspath(path), _args(options))
+
+
+def read_scan(path, **options):
+    """The height map at `path` (any format `wearscar scan` reads) as a
+    HeightMap (height_mm: NumPy float32 rows x cols in mm, NaN where not
+    measured; dx_mm, dy_mm; metadata). Options: measurement, large_maps,
+    max_pixel_aspect, ascii_pitch, ascii_unit."""
+    return _wearscar._read_scan(os.fspath(path), _args(options))
+
+
+class Result:
+    """One analysed test: what `wearscar fuse --no-figures` writes.
+
+    summary: result.json as a dict (mu-hat statistics, both slopes, the
+      verdict, wear, provenance, every option).
+    tables: {"cycles": {"cycle": array, "mu_hat_force": array, ...},
+      "loops": ..., "detail": ..., "cost_curve": ..., "profiles": ...}.
+    mu_hat: mean mu-hat (k from P) over the compared cycles.
+    """
+
+    def __init__(self, output):
+        self._output = output
+        self.name = output.name
+        self.summary = json.loads(output.summary_json())
+        self.tables = {}
+        for file, columns, values in output.tables():
+            key = file[:-4] if file.endswith(".csv") else file
+            self.tables[key] = {c: values[:, i] for i, c in enumerate(columns)}
+
+    @property
+    def cycles(self):
+        """cycles.csv: one entry per cycle, numbered from 1."""
+        return self.tables["cycles"]
+
+    @property
+    def mu_hat(self):
+        return self.summary["comparison"]["mu_hat_force"]["mean"]
+
+    @property
+    def mu_hat_scan(self):
+        stat = self.summary["comparison"].get("mu_hat_scan")
+        return None if stat is None else stat["mean"]
+
+    @property
+    def explained(self):
+        return self.summary["verdict"]["explained"]
+
+    def to_dict(self):
+        """The summary and the tables (lists) as plain Python values."""
+        return {"summary": self.summary,
+                "tables": {name: {c: v.tolist() for c, v in t.items()}
+                           for name, t in self.tables.items()}}
+
+    def write(self, out):
+        """Writes the files of `wearscar fuse --no-figures` into `out`;
+        returns their paths."""
+        return self._output.write(os.fspath(out))
+
+    def __repr__(self):
+        return "<wearscar.Result {}: mu-hat {:.4f}, {}>".format(
+            self.name, self.mu_hat, self.summary["verdict"]["summary"][:60])
+
+
+def fuse(force, scan=None, name=None, detail_cycle=None, loops=None,
+         **options):
+    """Analyses one test. `force` is a path or a ForceRecord, `scan` a path,
+    a HeightMap or None (the force slope only). Options are those of
+    `wearscar fuse` (reading, method, verdict, scan); cycles are numbered
+    from 1 (detail_cycle, loops). Returns a Result."""
+    product_args = _args({"detail_cycle": detail_cycle, "loops": loops})
+    return Result(_wearscar._fuse(_path_or(force), _path_or(scan),
+                                  _args(options), name or "", product_args))
+
+
+def audit(folder, out=None, jobs=0, name_pattern=None, recursive=True,
+          **options):
+    """Pairs and analyses every specimen of a folder (or a manifest.csv)
+    as `wearscar audit` does, `jobs` at a time (0 = one per core). Returns
+    one dict per specimen (its result.json with species, plane, direction,
+    or "error"). With `out`, writes each specimen's files and
+    summary.csv/json there."""
+    rows = _wearscar._audit(os.fspath(folder), _args(options),
+                            name_pattern or "", recursive, jobs,
+                            os.fspath(out) if out is not None else "")
+    return json.loads(rows)
+
+
+class Simulation:
+    """A simulated test: force (ForceRecord), scan (HeightMap) and truth
+    (the ground truth: mu per cycle, noise, effects, geometry)."""
+
+    def __init__(self, simulated):
+        self.force = simulated.force
+        self.scan = simulated.scan
+        self.truth = json.loads(simulated.truth_json)
+        self.case = self.truth["case"]
+
+    def __repr__(self):
+        return "<wearscar.Simulation {}: {} samples, {} x {} scan>".format(
+            self.case, len(self.force), *self.scan.shape)
+
+
+def simulate(case="B-RT-R", **options):
+    """The virtual tribometer and profilometer (`wearscar simulate`): the
+    paper's case `case` (a name or a list of names; all=True for the 12)
+    with options cycles, rate, amplitude, frequency, scan_cols, scan_rows,
+    scan_pitch, noise, elastic, no_elastic, triangle, seed, effect
+    ("ploughing=1.0" or a list). Returns a Simulation, or a list of them
+    for several cases."""
+    if options.get("all"):
+        cases = []
+    elif isinstance(case, (list, tuple)):
+        cases = list(case)
+    else:
+        cases = [case]
+    runs = [Simulation(s) for s in
+            _wearscar._simulate(_args({"case": cases, **options}))]
+    return runs[0] if len(runs) == 1 and len(cases) == 1 else runs

@@ -5,6 +5,7 @@
 
 #include "commands.h"
 #include "common_options.h"
+#include "figures.h"
 #include "output.h"
 #include "results.h"
 
@@ -14,6 +15,7 @@ namespace {
 struct ForceArgs {
   std::string file;
   std::string out;
+  bool no_figures = false;
   CommonArgs common;
 };
 
@@ -64,10 +66,26 @@ void RunForce(ForceArgs a) {
   }
   const OutputLock lock(a.out);
   StagedOutput stage(a.out);
-  const nlohmann::json summary =
+  nlohmann::json summary =
       WriteTestResults(stage.dir(), a.file, record, r, a.common.fuse);
+  FigureSet figs;
+  if (!a.no_figures) {
+    figs = DrawTestFigures(stage.dir(), SpecimenName(a.file), r, a.common.fuse);
+    if (!figs.missing.empty()) {
+      AddWarningToResult(stage.dir(), figs.message);
+      summary["warnings"].push_back(figs.message);
+    }
+  }
   const size_t written = stage.Commit();
   Say("wrote {} files to {}/\n", written, a.out);
+  if (!a.no_figures) {
+    if (!figs.message.empty())
+      fmt::print(stderr, "wearscar: warning: {}\n", figs.message);
+    Say("drew {} figures (PNG and SVG): loops, envelopes, mu-hat, J and the "
+        "energy COF per cycle, slope, J(mu) and reconstruction\n",
+        2 * figs.png.size());
+    if (!figs.missing.empty()) SetExitStatus(kExitFiguresMissing);
+  }
   PrintJsonSummary(summary);
 }
 
@@ -85,6 +103,7 @@ void AddForceCommand(CLI::App& app) {
                   "Force export, CSV/TSV/semicolon (positional or --force)")
       ->required();
   cmd->add_option("-o,--out", args->out, "Directory for the results");
+  cmd->add_flag("--no-figures", args->no_figures, "Skip the figures");
   AddPrintModeOptions(cmd);
   AddCommonOptions(cmd, &args->common, kForceCommandOptions);
   cmd->footer(

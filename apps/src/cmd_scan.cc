@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "commands.h"
+#include "figures.h"
 #include "output.h"
 #include "wearscar/fusion/products.h"
 #include "wearscar/scan/formats.h"
@@ -25,6 +26,7 @@ struct ScanArgs {
   std::string out;
   scan::ReadScanOptions read;
   fusion::MapAnalysisOptions analysis;
+  bool no_figures = false;
 };
 
 void PrintTrack(const std::string& file, const scan::Track& t) {
@@ -89,7 +91,18 @@ void RunScan(ScanArgs a) {
   scan::WriteTrackPreviewPng(
       r.levelled, r.track ? *r.track : scan::Track{}, path("preview.png"));
   WriteTextAtomically(path(files.back().first), files.back().second);
+  FigureSet figs;
+  if (!a.no_figures) {
+    figs = DrawMapFigure(stage.dir(), fs::path(a.file).filename().string(), r);
+    for (const std::string& png : figs.png) {
+      written.push_back(fs::path(png).filename().string());
+      written.push_back(
+          fs::path(png).replace_extension(".svg").filename().string());
+    }
+  }
   stage.Commit();
+  if (!figs.message.empty())
+    fmt::print(stderr, "wearscar: warning: {}\n", figs.message);
   Say("wrote {} to {}/\n", fmt::join(written, ", "), a.out);
   PrintJsonSummary(nlohmann::json::parse(files.back().second));
 }
@@ -169,6 +182,7 @@ void AddScanCommand(CLI::App& app) {
                   args->analysis.section_half_width_mm,
                   "Cross-section half width, mm")
       ->capture_default_str();
+  cmd->add_flag("--no-figures", args->no_figures, "Skip the map figure");
   AddPrintModeOptions(cmd);
   cmd->footer(
       "Examples:\n"

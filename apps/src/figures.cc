@@ -104,10 +104,10 @@ std::string RunGnuplot(const std::string& dir,
     std::string script = preamble;
     for (const Figure& f : figures) {
       script += std::string(term) == "png"
-                    ? "set terminal pngcairo size 960,560 enhanced font "
+                    ? "set terminal pngcairo size 960,560 noenhanced font "
                       "'DejaVu Sans,10'\n"
-                    : "set terminal svg size 960,560 enhanced font 'DejaVu "
-                      "Sans,10' background 'white'\n";
+                    : "set terminal svg size 960,560 noenhanced font "
+                      "'DejaVu Sans,10' background 'white'\n";
       script += fmt::format("set output {}\nset title {} noenhanced\n",
                             Quote(f.stem + "." + term + ".part"),
                             Quote(f.title));
@@ -165,12 +165,47 @@ FigureSet Collect(const std::string& dir,
   return set;
 }
 
+// A scale bar's length: 1, 2 or 5 x 10^n mm, at most a fifth of `width`.
+double ScaleBarMm(double width_mm) {
+  const double target = width_mm / 5;
+  const double decade = std::pow(10.0, std::floor(std::log10(target)));
+  for (double m : {5.0, 2.0, 1.0}) {
+    if (m * decade <= target) return m * decade;
+  }
+  return decade;
+}
+
+// The track's axis (index 0) and its two edges (index 1) for gnuplot.
+void WriteTrackOutline(const std::string& dir, const scan::Track& t) {
+  const double th = t.angle_deg * M_PI / 180, ax = std::cos(th),
+               ay = std::sin(th);
+  const double half = 0.5 * t.length_mm;
+  std::string track = "x_mm,y_mm\n";
+  track += fmt::format("{},{}\n{},{}\n\n\n",
+                       t.centre_x_mm - half * ax,
+                       t.centre_y_mm - half * ay,
+                       t.centre_x_mm + half * ax,
+                       t.centre_y_mm + half * ay);
+  for (double side : {-1.0, 1.0}) {
+    const double ox = -ay * side * (0.5 * t.width_mm),
+                 oy = ax * side * (0.5 * t.width_mm);
+    track += fmt::format("{},{}\n{},{}\n\n",
+                         t.centre_x_mm - half * ax + ox,
+                         t.centre_y_mm - half * ay + oy,
+                         t.centre_x_mm + half * ax + ox,
+                         t.centre_y_mm + half * ay + oy);
+  }
+  WriteTextAtomically(FigureDataPath(dir, "track_outline.csv"), track);
+}
+
 // The levelled map downsampled to at most 320 columns as float32 for
-// gnuplot's binary array reader (NaN = not measured).
+// gnuplot's binary array reader (NaN = not measured), with the track's
+// axis and edges when there is one, axes in mm, a colour bar in um and a
+// scale bar.
 void WriteScanMap(const std::string& dir,
-                  const fusion::ScanAnalysis& s,
+                  const scan::HeightMap& m,
+                  const scan::Track* t,
                   Figure* fig) {
-  const scan::HeightMap& m = s.levelled;
   const int f = std::max<int>(1, static_cast<int>(std::ceil(m.cols() / 320.0)));
   const int w = static_cast<int>(m.cols() / f),
             h = static_cast<int>(m.rows() / f);
@@ -192,44 +227,36 @@ void WriteScanMap(const std::string& dir,
     }
   }
   WriteTextAtomically(FigureDataPath(dir, "scan_map.f32"), bytes);
-  const auto& t = s.track;
-  const double th = t.angle_deg * M_PI / 180, ax = std::cos(th),
-               ay = std::sin(th);
-  const double half = 0.5 * t.length_mm, band = 0.5 * s.profile.band_width_mm;
-  // index 0: the axis; index 1: the two edges of the track.
-  std::string track = "x_mm,y_mm\n";
-  track += fmt::format("{},{}\n{},{}\n\n\n",
-                       t.centre_x_mm - half * ax,
-                       t.centre_y_mm - half * ay,
-                       t.centre_x_mm + half * ax,
-                       t.centre_y_mm + half * ay);
-  for (double side : {-1.0, 1.0}) {
-    const double ox = -ay * side * (0.5 * t.width_mm),
-                 oy = ax * side * (0.5 * t.width_mm);
-    track += fmt::format("{},{}\n{},{}\n\n",
-                         t.centre_x_mm - half * ax + ox,
-                         t.centre_y_mm - half * ay + oy,
-                         t.centre_x_mm + half * ax + ox,
-                         t.centre_y_mm + half * ay + oy);
-  }
-  (void)band;
-  WriteTextAtomically(FigureDataPath(dir, "track_outline.csv"), track);
-  const double d = f * m.dx_mm;
+  const double dx = f * m.dx_mm, dy = f * m.dy_mm;
+  const double bar = ScaleBarMm(w * dx), x0 = 0.05 * w * dx, y0 = 0.06 * h * dy;
   fig->body = fmt::format(
       "set size ratio -1\nset xlabel 'x (mm)'\nset ylabel 'y (mm)'\nset "
       "cblabel 'height (um)'\n"
       "set palette defined (0 '#2c0e5a', 1 '#3b5ba5', 2 '#2fa39a', 3 "
-      "'#a6d96a', 4 '#fee08b', 5 "
-      "'#f9f9f9')\nset key bottom right inside opaque\n"
+      "'#a6d96a', 4 '#fee08b', 5 '#f9f9f9')\nset key bottom right inside "
+      "opaque\n"
+      "set arrow 1 from first {5}, first {6} to first {7}, first {6} nohead "
+      "lw 4 lc rgb 'black' front\n"
+      "set label 1 '{8:g} mm' at first {9}, first {10} center front\n"
       "plot '{4}/scan_map.f32' binary array=({0},{1}) dx={2} dy={3} "
-      "origin=(0,0) format='%float32' with image notitle, "
-      "'{4}/track_outline.csv' skip 1 index 0 using 1:2 with lines lw 2 lc "
-      "rgb 'red' title 'track axis (centreline)', '' skip 1 index 1 using 1:2 "
-      "with lines lw 1 dt 2 lc rgb 'black' title 'track width'",
+      "origin=(0,0) format='%float32' with image notitle",
       w,
       h,
-      d,
-      d,
+      dx,
+      dy,
+      kFigureData,
+      x0,
+      y0,
+      x0 + bar,
+      bar,
+      x0 + bar / 2,
+      y0 + 0.05 * h * dy);
+  if (!t) return;
+  WriteTrackOutline(dir, *t);
+  fig->body += fmt::format(
+      ", '{0}/track_outline.csv' skip 1 index 0 using 1:2 with lines lw 2 "
+      "lc rgb 'red' title 'track axis (centreline)', '' skip 1 index 1 using "
+      "1:2 with lines lw 1 dt 2 lc rgb 'black' title 'track width'",
       kFigureData);
 }
 
@@ -299,28 +326,44 @@ int Col(const char* name) {
   return c;
 }
 
+// The running-in cycles shaded and labelled on a plot over cycles
+// (Figs. 5, 6, 13-15); nothing when there is none.
+std::string RunningInMark(const fusion::TestResult& r) {
+  const int n = r.force.running_in.cycles;
+  if (n <= 0) return "";
+  return fmt::format(
+      "set object 1 rect from first 0.5, graph 0 to first {0}.5, graph 1 "
+      "behind fc rgb '#e6e6e6' fs solid 1.0 noborder\n"
+      "set label 1 'running-in ({0} cycles)' at first 1, graph 0.96 front\n",
+      n);
+}
+
 // Figs. 5-7: loops and envelopes.
 void AddForceFigures(const std::string& dir,
                      const std::string& name,
+                     const fusion::TestResult& r,
                      std::vector<Figure>* figs) {
+  const std::string mark = RunningInMark(r);
   const std::string loops_plot = LoopsPlot(dir);
   figs->push_back({"fig07_loops",
                    name + ": hysteresis loops (Fig. 7)",
                    "set xlabel 'x (mm)'\nset ylabel 'Q (N)'\n" + loops_plot});
-  figs->push_back({"fig05_q_envelope",
-                   name + ": envelope of Q (Fig. 5)",
-                   fmt::format("set xlabel 'cycle'\nset ylabel 'Q (N)'\nplot "
-                               "'cycles.csv' skip 1 using 1:{} title 'Q max', "
-                               "'' skip 1 using 1:{} title 'Q min'",
-                               Col("Q_max_N"),
-                               Col("Q_min_N"))});
-  figs->push_back({"fig06_p_envelope",
-                   name + ": envelope of P (Fig. 6)",
-                   fmt::format("set xlabel 'cycle'\nset ylabel 'P (N)'\nplot "
-                               "'cycles.csv' skip 1 using 1:{} title 'P max', "
-                               "'' skip 1 using 1:{} title 'P min'",
-                               Col("P_max_N"),
-                               Col("P_min_N"))});
+  figs->push_back(
+      {"fig05_q_envelope",
+       name + ": envelope of Q (Fig. 5)",
+       mark + fmt::format("set xlabel 'cycle'\nset ylabel 'Q (N)'\nplot "
+                          "'cycles.csv' skip 1 using 1:{} title 'Q max', "
+                          "'' skip 1 using 1:{} title 'Q min'",
+                          Col("Q_max_N"),
+                          Col("Q_min_N"))});
+  figs->push_back(
+      {"fig06_p_envelope",
+       name + ": envelope of P (Fig. 6)",
+       mark + fmt::format("set xlabel 'cycle'\nset ylabel 'P (N)'\nplot "
+                          "'cycles.csv' skip 1 using 1:{} title 'P max', "
+                          "'' skip 1 using 1:{} title 'P min'",
+                          Col("P_max_N"),
+                          Col("P_min_N"))});
 }
 
 // Figs. 8a-d: the scan map with the track, the aligned profiles.
@@ -332,7 +375,7 @@ void AddScanFigures(const std::string& dir,
     Figure map{"fig08ab_scan_map",
                name + ": levelled scan, detected track (Fig. 8a-b)",
                ""};
-    WriteScanMap(dir, *r.scan, &map);
+    WriteScanMap(dir, r.scan->levelled, &r.scan->track, &map);
     figs->push_back(map);
     figs->push_back(
         {"fig08cd_profiles",
@@ -340,14 +383,34 @@ void AddScanFigures(const std::string& dir,
              ": spring displacement P/S and aligned scan profile (Fig. 8c-d)",
          fmt::format("set xlabel 'x (mm)'\nset ylabel 'height (mm)'\nplot "
                      "'profiles.csv' skip 1 "
-                     "using 1:($2-{0}) title 'P/S forward', '' skip 1 using "
-                     "1:($3-{0}) title "
-                     "'P/S reverse', '' skip 1 using 1:($5*{1}) lw 2 title "
-                     "'scan centreline x "
-                     "{1:.2f}'",
+                     "using 1:($2-{0}) title 'P/S forward - {0:.4f} mm', '' "
+                     "skip 1 using 1:($3-{0}) title 'P/S reverse - {0:.4f} "
+                     "mm', '' skip 1 using 1:($5*{1}) lw 2 title 'scan "
+                     "centreline x {1:.2f}'",
                      r.scan->alignment.offset_mm,
                      r.scan->alignment.scale)});
   }
+}
+
+// The minimum of J(mu) of each slope on Fig. 11: mu-hat and its J.
+std::string CostMinima(const fusion::TestResult& r) {
+  std::string plot;
+  auto point = [&](const fusion::MuFit& f, const char* slope, int pt) {
+    if (!f.converged) return;
+    plot += fmt::format(
+        ", '+' using ({0}):({1}) every ::0::0 with points pt {2} ps 1.6 lc "
+        "rgb 'black' title 'minimum, k from {3}: mu-hat {0:.4f}, J {1:.4f}'",
+        f.mu_hat,
+        f.cost,
+        pt,
+        slope);
+  };
+  const int dc = r.detail_cycle;
+  if (dc >= 0 && dc < static_cast<int>(r.force.fit_force.size()))
+    point(r.force.fit_force[dc], "P", 7);
+  if (r.scan && dc >= 0 && dc < static_cast<int>(r.scan->fit_scan.size()))
+    point(r.scan->fit_scan[dc], "scan", 5);
+  return plot;
 }
 
 // Figs. 10-12 and 17 on the detail cycle.
@@ -367,7 +430,8 @@ void AddDetailFigures(const std::string& name,
        name + fmt::format(": J(mu), cycle {} (Fig. 11)", r.detail_cycle + 1),
        "set xlabel 'mu'\nset ylabel 'J'\nset logscale y\nplot 'cost_curve.csv' "
        "skip 1 "
-       "using 1:2 title 'k from P', '' skip 1 using 1:3 title 'k from scan'"});
+       "using 1:2 title 'k from P', '' skip 1 using 1:3 title 'k from scan'" +
+           CostMinima(r)});
   figs->push_back(
       {"fig12_reconstruction",
        name + fmt::format(": measured and reconstructed Q, cycle {} (Fig. 12)",
@@ -393,18 +457,21 @@ void AddDetailFigures(const std::string& name,
 
 // Figs. 13-15 per cycle.
 void AddCycleFigures(const std::string& name,
+                     const fusion::TestResult& r,
                      const fusion::FuseOptions& opt,
                      std::vector<Figure>* figs) {
-  figs->push_back({"fig13_mu_hat",
-                   name + ": mu-hat per cycle (Fig. 13)",
-                   fmt::format("set xlabel 'cycle'\nset ylabel 'mu'\nplot "
-                               "'cycles.csv' skip 1 using 1:{} title 'mu-hat, "
-                               "k from P', '' skip 1 using 1:{} title 'mu-hat, "
-                               "k from scan', '' skip 1 using 1:{} title 'mean "
-                               "method'",
-                               Col("mu_hat_force"),
-                               Col("mu_hat_scan"),
-                               Col("mu_mean"))});
+  const std::string mark = RunningInMark(r);
+  figs->push_back(
+      {"fig13_mu_hat",
+       name + ": mu-hat per cycle (Fig. 13)",
+       mark + fmt::format("set xlabel 'cycle'\nset ylabel 'mu'\nplot "
+                          "'cycles.csv' skip 1 using 1:{} title 'mu-hat, "
+                          "k from P', '' skip 1 using 1:{} title 'mu-hat, "
+                          "k from scan', '' skip 1 using 1:{} title 'mean "
+                          "method'",
+                          Col("mu_hat_force"),
+                          Col("mu_hat_scan"),
+                          Col("mu_mean"))});
   // J as the paper defines it beside the part this test's noise explains
   // (its floor): the verdict judges what stands above the floor.
   const bool paper =
@@ -412,29 +479,33 @@ void AddCycleFigures(const std::string& name,
   figs->push_back(
       {"fig14_cost",
        name + ": J per cycle and its noise floor (Fig. 14)",
-       fmt::format(
-           "set xlabel 'cycle'\nset ylabel 'J'\nset yrange [0:*]\nplot "
-           "'cycles.csv' skip 1 using 1:{} lc rgb '#1f77b4' title 'J, k from "
-           "P', '' skip 1 using 1:{} with lines lw 2 lc rgb 'black' dt 2 "
-           "title 'its noise floor', '' skip 1 using 1:{} lc rgb '#ff7f0e' "
-           "title 'J, k from scan', '' skip 1 using 1:{} with lines lw 2 lc "
-           "rgb '#d62728' dt 3 title 'its noise floor'{}",
-           Col("J_force"),
-           Col("J_force_floor"),
-           Col("J_scan"),
-           Col("J_scan_floor"),
-           paper ? fmt::format(", {} dt 3 lc rgb 'red' title 'threshold "
-                               "(paper)'",
-                               opt.verdict.max_cost)
-                 : std::string())});
-  figs->push_back({"fig15_energy_cof",
-                   name + ": energy-based COF (Fig. 15)",
-                   fmt::format("set xlabel 'cycle'\nset ylabel 'mu'\nplot "
-                               "'cycles.csv' skip 1 using 1:{} title 'E_d / (4 "
-                               "P delta_g)', '' skip 1 using 1:{} title 'E_d / "
-                               "(4 P delta_max)'",
-                               Col("mu_energy_g"),
-                               Col("mu_energy_max"))});
+       mark +
+           fmt::format(
+               "set xlabel 'cycle'\nset ylabel 'J'\nset yrange [0:*]\nplot "
+               "'cycles.csv' skip 1 using 1:{} lc rgb '#1f77b4' title 'J, k "
+               "from "
+               "P', '' skip 1 using 1:{} with lines lw 2 lc rgb 'black' dt 2 "
+               "title 'its noise floor', '' skip 1 using 1:{} lc rgb '#ff7f0e' "
+               "title 'J, k from scan', '' skip 1 using 1:{} with lines lw 2 "
+               "lc "
+               "rgb '#d62728' dt 3 title 'its noise floor'{}",
+               Col("J_force"),
+               Col("J_force_floor"),
+               Col("J_scan"),
+               Col("J_scan_floor"),
+               paper ? fmt::format(", {} dt 3 lc rgb 'red' title 'threshold "
+                                   "(paper)'",
+                                   opt.verdict.max_cost)
+                     : std::string())});
+  figs->push_back(
+      {"fig15_energy_cof",
+       name + ": energy-based COF (Fig. 15)",
+       mark + fmt::format("set xlabel 'cycle'\nset ylabel 'mu'\nplot "
+                          "'cycles.csv' skip 1 using 1:{} title 'E_d / (4 "
+                          "P delta_g)', '' skip 1 using 1:{} title 'E_d / "
+                          "(4 P delta_max)'",
+                          Col("mu_energy_g"),
+                          Col("mu_energy_max"))});
 }
 
 }  // namespace
@@ -446,10 +517,26 @@ FigureSet DrawTestFigures(const std::string& dir,
   std::string why;
   if (!PlotterAvailable(&why)) return FigureSet{{}, {}, why, {}};
   std::vector<Figure> figs;
-  AddForceFigures(dir, name, &figs);
+  AddForceFigures(dir, name, r, &figs);
   AddScanFigures(dir, name, r, &figs);
   AddDetailFigures(name, r, &figs);
-  AddCycleFigures(name, opt, &figs);
+  AddCycleFigures(name, r, opt, &figs);
+  std::vector<std::string> missing;
+  const std::string message = RunGnuplot(dir, figs, &missing);
+  return Collect(dir, figs, message, std::move(missing));
+}
+
+FigureSet DrawMapFigure(const std::string& dir,
+                        const std::string& name,
+                        const fusion::MapAnalysis& map) {
+  std::string why;
+  if (!PlotterAvailable(&why)) return FigureSet{{}, {}, why, {}};
+  std::vector<Figure> figs(1);
+  figs[0] = {"scan_map",
+             name + (map.track ? ": levelled map and the worn track"
+                               : ": levelled map (no track found)"),
+             ""};
+  WriteScanMap(dir, map.levelled, map.track ? &*map.track : nullptr, &figs[0]);
   std::vector<std::string> missing;
   const std::string message = RunGnuplot(dir, figs, &missing);
   return Collect(dir, figs, message, std::move(missing));
@@ -464,8 +551,12 @@ FigureSet DrawAuditFigures(const std::string& dir,
                     const char* title,
                     int column,
                     const char* ylabel) {
-    std::string body =
-        fmt::format("set xlabel 'cycle'\nset ylabel '{}'\nplot ", ylabel);
+    // Beyond 20 specimens the key's font shrinks and it wraps into
+    // columns, so that it stays beside the plot.
+    std::string body = fmt::format(
+        "set xlabel 'cycle'\nset ylabel '{}'\n{}plot ",
+        ylabel,
+        specimens.size() > 20 ? "set key font ',7' maxrows 40\n" : "");
     for (size_t i = 0; i < specimens.size(); ++i) {
       const std::string rel =
           fs::relative(fs::path(specimens[i].dir) / "cycles.csv", dir).string();

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "wearscar/fusion/fuse.h"
+#include "wearscar/fusion/products.h"
 
 namespace wearscar::app {
 
@@ -37,6 +38,12 @@ FigureSet DrawTestFigures(const std::string& dir,
                           const std::string& name,
                           const fusion::TestResult& result,
                           const fusion::FuseOptions& options);
+
+// The levelled map of `wearscar scan` with axes in mm, a colour bar in um,
+// a scale bar and the track when one was found (scan_map.png and .svg).
+FigureSet DrawMapFigure(const std::string& dir,
+                        const std::string& name,
+                        const fusion::MapAnalysis& map);
 
 // Figures across specimens (Figs. 13-16 for a batch) into `dir`.
 struct SpecimenSeries {

@@ -194,6 +194,7 @@ Progress::Progress(std::string label, long total)
       tty_(isatty(STDERR_FILENO) != 0) {}
 
 void Progress::Update(long done) {
+  if (g_print_mode != PrintMode::kText) return;  // --quiet, --json
   const int percent = total_ > 0 ? static_cast<int>(100 * done / total_) : 100;
   if (tty_) {
     if (percent == last_percent_) return;
@@ -215,7 +216,7 @@ void Progress::Update(long done) {
 
 void Progress::Finish() {
   Update(total_);
-  if (tty_) fmt::print(stderr, "\n");
+  if (tty_ && g_print_mode == PrintMode::kText) fmt::print(stderr, "\n");
 }
 
 }  // namespace wearscar::app

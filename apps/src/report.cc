@@ -6,6 +6,8 @@
 #include <fstream>
 #include <iterator>
 
+#include "wearscar/fusion/provenance.h"
+
 namespace wearscar::app {
 namespace {
 
@@ -98,19 +100,25 @@ th {{ background: #eee; }} td.name, td.text {{ text-align: left; }}
 tr.flagged td {{ background: #ffe3b3; }} tr.failed td {{ background: #ffc4c4; }}
 figure {{ display: inline-block; margin: 0.5em; }} img {{ max-width: 720px; border: 1px solid #ddd; }}
 figcaption {{ font-size: 0.85em; color: #555; }}
+table.numbers {{ margin: 0.5em 1em 0.5em 0; display: inline-table; vertical-align: top; }}
+details {{ margin: 1em 0; font-size: 0.85em; }} pre {{ white-space: pre-wrap; }}
 </style></head><body>
 <h1>{0}</h1>
+<p class="made">made by wearscar {4} (commit {5}) on {6}</p>
 <p>{1} specimens: {2} not explained by wear-scar interaction, {3} failed to analyse.
 mu-hat: the wear-scar coefficient of friction (Eq. 6) with the slope of the sliding path from the
 normal force (k = dP/dx / S) and, with a scan, from the worn track's centreline.</p>
 <table id="summary"><thead><tr><th>specimen</th><th>species</th><th>plane</th><th>direction</th>
 <th>mu-hat (k from P)</th><th>sd</th><th>mu-hat (k from scan)</th><th>mu mean</th><th>mu energy</th>
-<th>J</th><th>J noise floor</th><th>J excess</th><th>J (k from scan)</th><th>r profiles</th><th>amplitude ratio</th><th>verdict</th></tr></thead><tbody>
+<th>J</th><th>J noise floor</th><th>J excess</th><th>J (k from scan)</th><th>its floor</th><th>r profiles</th><th>amplitude ratio</th><th>wear rate (mm<sup>3</sup>/(N m))</th><th>warnings</th><th>verdict</th></tr></thead><tbody>
 )",
                      Escape(title),
                      sections.size(),
                      flagged,
-                     failed);
+                     failed,
+                     fusion::Version(),
+                     fusion::GitCommit(),
+                     fusion::CurrentProvenance().date_utc);
 }
 
 // One specimen's row of the summary table.
@@ -128,17 +136,26 @@ std::string SummaryRow(const ReportSection& s) {
         return *j;
       };
   const std::string cls = s.failed ? "failed" : s.flagged ? "flagged" : "ok";
-  std::string verdict = s.failed ? "error: " + get("error").get<std::string>()
-                        : get("verdict", "summary").is_string()
-                            ? get("verdict", "summary").get<std::string>()
-                            : "";
+  // The verdict in a word; the whole sentence on hover and in the
+  // specimen's section.
+  const std::string full = s.failed
+                               ? "error: " + get("error").get<std::string>()
+                           : get("verdict", "summary").is_string()
+                               ? get("verdict", "summary").get<std::string>()
+                               : "";
+  const std::string verdict = fmt::format("<span title=\"{}\">{}</span>",
+                                          Escape(full),
+                                          s.failed    ? "failed"
+                                          : s.flagged ? "not explained"
+                                                      : "explained");
   h += fmt::format(
       "<tr class=\"{}\"><td class=\"name\"><a href=\"#{}\">{}</a></td><td "
       "class=\"text\">{}</td>"
       "<td class=\"text\">{}</td><td "
       "class=\"text\">{}</td><td>{}</td><td>{}</td><td>{}</td>"
       "<td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
-      "<td>{}</td><td>{}</td><td class=\"text\">{}</td></tr>\n",
+      "<td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td "
+      "class=\"text\">{}</td></tr>\n",
       cls,
       Escape(s.name),
       Escape(s.name),
@@ -156,9 +173,107 @@ std::string SummaryRow(const ReportSection& s) {
       Number(get("comparison", "J_force_split", "noise_floor"), "{:.3f}"),
       Number(get("comparison", "J_force_split", "excess"), "{:.3f}"),
       Number(get("comparison", "J_scan", "mean"), "{:.3f}"),
+      Number(get("comparison", "J_scan_split", "noise_floor"), "{:.3f}"),
       Number(get("comparison", "profile_correlation"), "{:.3f}"),
       Number(get("comparison", "amplitude_ratio"), "{:.2f}"),
-      Escape(verdict));
+      Number(get("wear", "specific_wear_rate_mm3_per_n_m"), "{:.3g}"),
+      get("warnings").is_array() ? std::to_string(get("warnings").size())
+                                 : std::string(),
+      verdict);
+  return h;
+}
+
+// A number of the row at a path, or "" where there is none.
+std::string At(const nlohmann::json& row,
+               std::initializer_list<const char*> path,
+               const char* spec = "{:.4f}") {
+  const nlohmann::json* j = &row;
+  for (const char* k : path) {
+    if (!j->is_object() || !j->contains(k)) return "";
+    j = &(*j)[k];
+  }
+  return Number(*j, spec);
+}
+
+// The specimen's numbers: mu-hat and J with k from P beside k from the
+// scan, the other coefficients, wear, LuGre.
+std::string NumbersTable(const nlohmann::json& r) {
+  auto pm = [&](const char* stat) {
+    const std::string m = At(r, {"comparison", stat, "mean"}),
+                      sd = At(r, {"comparison", stat, "sd"});
+    return m.empty() ? m : m + " &plusmn; " + sd;
+  };
+  std::string h =
+      "<table class=\"numbers\"><thead><tr><th></th><th>k from P "
+      "(spring)</th><th>k from the scan</th></tr></thead><tbody>\n";
+  h += fmt::format(
+      "<tr><td class=\"text\">mu-hat (mean &plusmn; sd over "
+      "the compared cycles)</td><td>{}</td><td>{}</td></tr>\n",
+      pm("mu_hat_force"),
+      pm("mu_hat_scan"));
+  h += fmt::format(
+      "<tr><td class=\"text\">J (Eq. 6)</td><td>{}</td><td>{}</td></tr>\n",
+      At(r, {"comparison", "J_force", "mean"}, "{:.3f}"),
+      At(r, {"comparison", "J_scan", "mean"}, "{:.3f}"));
+  h += fmt::format(
+      "<tr><td class=\"text\">J's noise floor (what the noise "
+      "explains)</td><td>{}</td><td>{}</td></tr>\n",
+      At(r, {"comparison", "J_force_split", "noise_floor"}, "{:.3f}"),
+      At(r, {"comparison", "J_scan_split", "noise_floor"}, "{:.3f}"));
+  h += fmt::format(
+      "<tr><td class=\"text\">J excess</td><td>{}</td><td>{}</td></tr>\n",
+      At(r, {"comparison", "J_force_split", "excess"}, "{:.3f}"),
+      At(r, {"comparison", "J_scan_split", "excess"}, "{:.3f}"));
+  h += "</tbody></table>\n<table class=\"numbers\"><tbody>\n";
+  const std::pair<const char*, std::string> rows[] = {
+      {"mu mean (Q/P over gross slip)", pm("mu_mean")},
+      {"mu energy", pm("mu_energy")},
+      {"wear volume (mm<sup>3</sup>)", At(r, {"wear", "volume_mm3"}, "{:.4g}")},
+      {"track mean / max depth (mm)",
+       At(r, {"wear", "mean_depth_mm"}) + " / " +
+           At(r, {"wear", "max_depth_mm"})},
+      {"track width (mm)", At(r, {"wear", "width_mm"}, "{:.3f}")},
+      {"normal load (N)", At(r, {"wear", "normal_load_n"}, "{:.2f}")},
+      {"sliding distance (m)", At(r, {"wear", "sliding_distance_m"}, "{:.4g}")},
+      {"specific wear rate (mm<sup>3</sup>/(N m))",
+       At(r, {"wear", "specific_wear_rate_mm3_per_n_m"}, "{:.4g}")},
+  };
+  for (const auto& [label, value] : rows) {
+    h += fmt::format(
+        "<tr><td class=\"text\">{}</td><td>{}</td></tr>\n", label, value);
+  }
+  if (r.contains("lugre") && r["lugre"].is_object()) {
+    h += fmt::format(
+        "<tr><td class=\"text\">LuGre (cycle {})</td><td "
+        "class=\"text\">J {} &mdash; {}</td></tr>\n",
+        r["lugre"].value("cycle", 0),
+        At(r, {"lugre", "J"}, "{:.4f}"),
+        Escape(r["lugre"].value("message", std::string())));
+  }
+  return h + "</tbody></table>\n";
+}
+
+// Where the numbers came from: the build, the date, the inputs and the
+// options (folded).
+std::string ProvenanceBlock(const nlohmann::json& r) {
+  if (!r.contains("provenance")) return "";
+  const nlohmann::json& p = r["provenance"];
+  std::string h = fmt::format(
+      "<details><summary>provenance: wearscar {} (commit {}), {}</summary>\n"
+      "<ul>\n",
+      Escape(p.value("wearscar_version", std::string())),
+      Escape(p.value("git_commit", std::string())),
+      Escape(p.value("date_utc", std::string())));
+  for (const auto& in : p.value("inputs", nlohmann::json::array())) {
+    h += fmt::format("<li>{}: {} ({} bytes, SHA-256 {})</li>\n",
+                     Escape(in.value("role", std::string())),
+                     Escape(in.value("path", std::string())),
+                     in.value("bytes", 0),
+                     Escape(in.value("sha256", std::string())));
+  }
+  h += "</ul>\n<pre>options: " +
+       Escape(r.value("options", nlohmann::json::object()).dump(2)) +
+       "</pre></details>\n";
   return h;
 }
 
@@ -173,6 +288,7 @@ std::string SpecimenSection(const ReportSection& s) {
   }
   h +=
       "<p>" + Escape(s.row["verdict"]["summary"].get<std::string>()) + "</p>\n";
+  h += NumbersTable(s.row);
   if (s.row.contains("slope_estimate") && s.row["slope_estimate"].is_string())
     h += "<p class=\"note\">" +
          Escape(s.row["slope_estimate"].get<std::string>()) + "</p>\n";
@@ -190,7 +306,7 @@ std::string SpecimenSection(const ReportSection& s) {
   for (size_t i = 0; i < s.figures.png.size(); ++i) {
     h += Image(s.figures.png[i], s.figures.titles[i]);
   }
-  return h;
+  return h + ProvenanceBlock(s.row);
 }
 
 }  // namespace

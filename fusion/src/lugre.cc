@@ -199,9 +199,19 @@ LugreFit FitLugre(const force::ForceRecord& r,
   fit.parameters = {params[0], params[1], params[2], params[3], fc, fs};
   fit.iterations = static_cast<int>(summary.iterations.size());
   fit.converged = summary.termination_type == ceres::CONVERGENCE;
-  fit.message = summary.termination_type == ceres::CONVERGENCE
-                    ? "converged"
-                    : summary.message;
+  // A negative damping fits the loop but no bristle dissipates energy
+  // that way: such a fit is reported as fitted, not as a physical model.
+  std::string implausible;
+  if (params[1] < 0) implausible = "sigma1 < 0";
+  if (params[2] < 0)
+    implausible += (implausible.empty() ? "" : ", ") + std::string("sigma2 < 0");
+  fit.physically_plausible = implausible.empty();
+  fit.message =
+      summary.termination_type != ceres::CONVERGENCE
+          ? summary.message
+      : implausible.empty()
+          ? "converged"
+          : "fitted (physically implausible: " + implausible + ")";
   // Eq. 11 on the fitted cycle.
   const size_t n = v.size() - warmup;
   fit.samples = static_cast<int>(n);

@@ -192,6 +192,7 @@ nlohmann::json LugreJson(const TestResult& r) {
           {"J", r.lugre->cost},
           {"J_wearscar_same_cycle", r.force.fit_force[r.detail_cycle].cost},
           {"converged", r.lugre->converged},
+          {"physically_plausible", r.lugre->physically_plausible},
           {"message", r.lugre->message}};
 }
 

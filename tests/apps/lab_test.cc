@@ -341,3 +341,92 @@ TEST(Audit, FindsSpecimensInSubFoldersAndSaysWhatItLookedFor) {
 }
 
 }  // namespace
+
+namespace {
+
+// Figures that say what they show: the running-in marked, the minimum of
+// J(mu) marked at the fitted mu-hat, the offset of P/S stated, labels
+// drawn as written, the force command's and the scan command's figures.
+TEST(Figures, SayWhatTheyShow) {
+  const std::string dir = Simulated("figures");
+  const std::string out = dir + "/out";
+  const CommandResult r =
+      Wearscar("fuse " + dir + "/B-RT-R.force.csv --scan " + dir +
+               "/B-RT-R.scan.gsf --running-in 7 -o " + out);
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::string gp = Slurp(out + "/figure-data/figures_png.gp");
+  // Running-in shaded on Figs. 5, 6, 13, 14 and 15.
+  size_t marks = 0;
+  for (size_t at = gp.find("'running-in (7 cycles)'"); at != std::string::npos;
+       at = gp.find("'running-in (7 cycles)'", at + 1))
+    ++marks;
+  EXPECT_EQ(marks, 5u);
+  const nlohmann::json j = ParseJson(Slurp(out + "/result.json"));
+  // The minimum of J(mu) at the detail cycle's mu-hat (cycles.csv's last
+  // row), and the P/S offset in the legend.
+  std::ifstream cycles(out + "/cycles.csv");
+  std::string last;
+  for (std::string l; std::getline(cycles, l);) last = l;
+  const double mu_last = std::stod(last.substr(last.find(',') + 1));
+  char expected[64];
+  std::snprintf(expected, sizeof expected, "k from P: mu-hat %.4f", mu_last);
+  EXPECT_NE(gp.find(expected), std::string::npos) << expected;
+  EXPECT_NE(gp.find("'P/S forward - "), std::string::npos);
+  // Labels are drawn as written (delta_max is no subscript).
+  EXPECT_EQ(gp.find(" enhanced"), std::string::npos);
+  EXPECT_NE(gp.find("noenhanced"), std::string::npos);
+  EXPECT_NE(gp.find("E_d / (4 P delta_max)"), std::string::npos);
+  // LuGre says whether its fit is physical.
+  EXPECT_TRUE(j["lugre"]["physically_plausible"].is_boolean());
+  // The force command draws the force-side figures; scan draws the map.
+  ASSERT_EQ(
+      Wearscar("force " + dir + "/B-RT-R.force.csv -o " + dir + "/f").status,
+      0);
+  for (const char* f : {"fig05_q_envelope.png",
+                        "fig07_loops.svg",
+                        "fig13_mu_hat.png",
+                        "fig11_cost.png"})
+    EXPECT_TRUE(fs::exists(dir + "/f/" + f)) << f;
+  EXPECT_FALSE(fs::exists(dir + "/f/fig08ab_scan_map.png"));
+  ASSERT_EQ(
+      Wearscar("scan " + dir + "/B-RT-R.scan.gsf -o " + dir + "/s").status, 0);
+  EXPECT_TRUE(fs::exists(dir + "/s/scan_map.png"));
+  const std::string scan_gp = Slurp(dir + "/s/figure-data/figures_png.gp");
+  EXPECT_NE(scan_gp.find("cblabel 'height (um)'"), std::string::npos);
+  // A 1 mm scale bar on the 7.6 mm wide map.
+  EXPECT_NE(scan_gp.find("set label 1 '1 mm' at first"), std::string::npos);
+}
+
+// The report's numbers per specimen: mu-hat and J with both slopes side
+// by side, wear, provenance.
+TEST(Report, ShowsEachSpecimensNumbersAndWhereTheyCameFrom) {
+  const std::string dir = Simulated("report");
+  const std::string out = dir + "-audit";
+  fs::remove_all(out);
+  ASSERT_EQ(Wearscar("audit " + dir + " -o " + out).status, 0);
+  const std::string html = Slurp(out + "/report.html");
+  const nlohmann::json j = ParseJson(Slurp(out + "/B-RT-R/result.json"));
+  char jf[32], js[32], rate[32];
+  std::snprintf(jf,
+                sizeof jf,
+                "<td>%.3f</td>",
+                j["comparison"]["J_force"]["mean"].get<double>());
+  std::snprintf(js,
+                sizeof js,
+                "<td>%.3f</td>",
+                j["comparison"]["J_scan"]["mean"].get<double>());
+  std::snprintf(rate,
+                sizeof rate,
+                "%.4g",
+                j["wear"]["specific_wear_rate_mm3_per_n_m"].get<double>());
+  EXPECT_NE(html.find(std::string("J (Eq. 6)</td>") + jf + js),
+            std::string::npos)
+      << jf << js;
+  EXPECT_NE(html.find(rate), std::string::npos) << rate;
+  EXPECT_NE(
+      html.find(j["provenance"]["inputs"][0]["sha256"].get<std::string>()),
+      std::string::npos);
+  EXPECT_NE(html.find("made by wearscar "), std::string::npos);
+}
+
+}  // namespace

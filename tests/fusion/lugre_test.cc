@@ -63,6 +63,24 @@ TEST(Lugre, RecoversKnownParametersIncludingNegativeSigma2) {
   EXPECT_LT(fit.cost, 1e-3);
   EXPECT_EQ(fit.samples,
             cycles.cycles[2].reverse.end - cycles.cycles[2].forward.begin);
+  // The negative viscous damping fits, and is said to be unphysical.
+  EXPECT_FALSE(fit.physically_plausible);
+  EXPECT_EQ(fit.message, "fitted (physically implausible: sigma2 < 0)");
+}
+
+TEST(Lugre, PositiveDampingsAreReportedAsConverged) {
+  const LugreParameters truth{120.0, 0.05, 0.01, 6.0, 4.0, 6.5};
+  const force::ForceRecord r = LugreRecord(truth, 4.5);
+  force::CycleSet cycles = force::SegmentCycles(r.x_mm);
+  force::FindGrossSlip(r, &cycles);
+  LugreOptions o;
+  o.coulomb_n = truth.coulomb_n;
+  o.static_n = truth.static_n;
+  const LugreFit fit = FitLugre(r, cycles, 2, o);
+  EXPECT_NEAR(fit.parameters.sigma2_n_s_per_mm, 0.01, 0.001)
+      << fit.BriefReport();
+  EXPECT_TRUE(fit.physically_plausible);
+  EXPECT_EQ(fit.message, "converged");
 }
 
 TEST(Lugre, BadOptionsAndCycleAreErrors) {

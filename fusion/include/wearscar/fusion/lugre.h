@@ -51,6 +51,9 @@ struct LugreFit {
   int samples = 0;
   int iterations = 0;
   bool converged = false;
+  // Both dampings >= 0; a converged fit with a negative one says
+  // "fitted (physically implausible: sigma1 < 0)" in its message.
+  bool physically_plausible = true;
   std::string message = "not run";
   Eigen::VectorXd time_s, x_mm, q_measured_n,
       q_lugre_n;  // the fitted cycle (Fig. 17)

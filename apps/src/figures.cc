@@ -348,22 +348,19 @@ void AddForceFigures(const std::string& dir,
   figs->push_back({"fig07_loops",
                    name + ": hysteresis loops (Fig. 7)",
                    "set xlabel 'x (mm)'\nset ylabel 'Q (N)'\n" + loops_plot});
-  figs->push_back(
-      {"fig05_q_envelope",
-       name + ": envelope of Q (Fig. 5)",
-       mark + fmt::format("set xlabel 'cycle'\nset ylabel 'Q (N)'\nplot "
-                          "'cycles.csv' skip 1 using 1:{} title 'Q max', "
-                          "'' skip 1 using 1:{} title 'Q min'",
-                          Col("Q_max_N"),
-                          Col("Q_min_N"))});
-  figs->push_back(
-      {"fig06_p_envelope",
-       name + ": envelope of P (Fig. 6)",
-       mark + fmt::format("set xlabel 'cycle'\nset ylabel 'P (N)'\nplot "
-                          "'cycles.csv' skip 1 using 1:{} title 'P max', "
-                          "'' skip 1 using 1:{} title 'P min'",
-                          Col("P_max_N"),
-                          Col("P_min_N"))});
+  // Figs. 5 and 6: the envelope (max and min per cycle) of Q and of P.
+  for (const char force : {'Q', 'P'}) {
+    figs->push_back(
+        {force == 'Q' ? "fig05_q_envelope" : "fig06_p_envelope",
+         name + fmt::format(
+                    ": envelope of {} (Fig. {})", force, force == 'Q' ? 5 : 6),
+         mark + fmt::format("set xlabel 'cycle'\nset ylabel '{0} (N)'\nplot "
+                            "'cycles.csv' skip 1 using 1:{1} title '{0} max', "
+                            "'' skip 1 using 1:{2} title '{0} min'",
+                            force,
+                            Col(force == 'Q' ? "Q_max_N" : "P_max_N"),
+                            Col(force == 'Q' ? "Q_min_N" : "P_min_N"))});
+  }
 }
 
 // Figs. 8a-d: the scan map with the track, the aligned profiles.

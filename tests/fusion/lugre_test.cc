@@ -44,15 +44,21 @@ TEST(Lugre, ExactBristleUpdateIsStableWhereEulerIsNot) {
   EXPECT_GT(worst, 6.0 * 10);
 }
 
-TEST(Lugre, RecoversKnownParametersIncludingNegativeSigma2) {
-  const LugreParameters truth{120.0, 0.05, -0.01, 6.0, 4.0, 6.5};
+// LuGre fitted on cycle 2 of a record made with `truth` (F_c, F_s given).
+LugreFit FitKnown(const LugreParameters& truth, force::CycleSet* cycles) {
   const force::ForceRecord r = LugreRecord(truth, 4.5);
-  force::CycleSet cycles = force::SegmentCycles(r.x_mm);
-  force::FindGrossSlip(r, &cycles);
+  *cycles = force::SegmentCycles(r.x_mm);
+  force::FindGrossSlip(r, cycles);
   LugreOptions o;
   o.coulomb_n = truth.coulomb_n;
   o.static_n = truth.static_n;
-  const LugreFit fit = FitLugre(r, cycles, 2, o);
+  return FitLugre(r, *cycles, 2, o);
+}
+
+TEST(Lugre, RecoversKnownParametersIncludingNegativeSigma2) {
+  const LugreParameters truth{120.0, 0.05, -0.01, 6.0, 4.0, 6.5};
+  force::CycleSet cycles;
+  const LugreFit fit = FitKnown(truth, &cycles);
   EXPECT_NEAR(fit.parameters.sigma0_n_per_mm, 120.0, 6.0) << fit.BriefReport();
   EXPECT_NEAR(fit.parameters.sigma1_n_s_per_mm, 0.05, 0.01)
       << fit.BriefReport();
@@ -69,14 +75,8 @@ TEST(Lugre, RecoversKnownParametersIncludingNegativeSigma2) {
 }
 
 TEST(Lugre, PositiveDampingsAreReportedAsConverged) {
-  const LugreParameters truth{120.0, 0.05, 0.01, 6.0, 4.0, 6.5};
-  const force::ForceRecord r = LugreRecord(truth, 4.5);
-  force::CycleSet cycles = force::SegmentCycles(r.x_mm);
-  force::FindGrossSlip(r, &cycles);
-  LugreOptions o;
-  o.coulomb_n = truth.coulomb_n;
-  o.static_n = truth.static_n;
-  const LugreFit fit = FitLugre(r, cycles, 2, o);
+  force::CycleSet cycles;
+  const LugreFit fit = FitKnown({120.0, 0.05, 0.01, 6.0, 4.0, 6.5}, &cycles);
   EXPECT_NEAR(fit.parameters.sigma2_n_s_per_mm, 0.01, 0.001)
       << fit.BriefReport();
   EXPECT_TRUE(fit.physically_plausible);

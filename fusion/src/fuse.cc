@@ -213,6 +213,22 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
   ao.fit_force_slope = options.slopes != SlopeChoice::kScan;
   result.force = AnalyzeForce(record, ao);
   const int n = static_cast<int>(result.force.cycles.cycles.size());
+  // A cycle asked for beyond the test is refused, not replaced (messages
+  // count cycles from 1, as every output does).
+  for (auto [what, cycle] :
+       {std::pair<const char*, int>{"the detail cycle", options.detail_cycle},
+        {"the first compared cycle", options.force_profile.first_cycle},
+        {"the last compared cycle", options.force_profile.last_cycle}}) {
+    if (cycle >= n) {
+      throw FusionError(fmt::format(
+          "{} is cycle {}, but the test has {} complete cycles; expected 1 "
+          "to {}",
+          what,
+          cycle + 1,
+          n,
+          n));
+    }
+  }
   if (height_map) {
     // A scan that cannot serve (no track, no overlap with the stroke) does
     // not lose the test: the force side stands, with a warning that says

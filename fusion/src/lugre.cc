@@ -204,14 +204,13 @@ LugreFit FitLugre(const force::ForceRecord& r,
   std::string implausible;
   if (params[1] < 0) implausible = "sigma1 < 0";
   if (params[2] < 0)
-    implausible += (implausible.empty() ? "" : ", ") + std::string("sigma2 < 0");
+    implausible +=
+        (implausible.empty() ? "" : ", ") + std::string("sigma2 < 0");
   fit.physically_plausible = implausible.empty();
-  fit.message =
-      summary.termination_type != ceres::CONVERGENCE
-          ? summary.message
-      : implausible.empty()
-          ? "converged"
-          : "fitted (physically implausible: " + implausible + ")";
+  fit.message = summary.termination_type != ceres::CONVERGENCE ? summary.message
+                : implausible.empty()
+                    ? "converged"
+                    : "fitted (physically implausible: " + implausible + ")";
   // Eq. 11 on the fitted cycle.
   const size_t n = v.size() - warmup;
   fit.samples = static_cast<int>(n);

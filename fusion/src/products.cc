@@ -638,6 +638,16 @@ TestProducts MakeTestProducts(const std::string& name,
   std::string why;
   if (!p.IsValid(&why)) throw FusionError("product options: " + why);
   const int n = static_cast<int>(r.force.cycles.cycles.size());
+  for (int c : p.loop_cycles) {
+    if (c >= n) {
+      throw FusionError(fmt::format(
+          "the loops of cycle {} were asked for, but the test has {} "
+          "complete cycles; expected 1 to {}",
+          c + 1,
+          n,
+          n));
+    }
+  }
   TestProducts out;
   out.tables.emplace_back("cycles.csv", CycleTable(r));
   out.tables.emplace_back("loops.csv", LoopTable(record, r, p.loop_cycles));

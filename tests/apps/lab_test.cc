@@ -182,6 +182,19 @@ TEST(Conventions, CyclesAreNumberedFromOne) {
       << r.output;
   EXPECT_EQ(
       Wearscar("fuse " + dir + "/B-RT-R.force.csv --detail-cycle 0").status, 2);
+  // A cycle beyond the test is refused, named from 1.
+  const CommandResult beyond =
+      Wearscar("fuse " + dir + "/B-RT-R.force.csv --detail-cycle 31");
+  EXPECT_EQ(beyond.status, 2);
+  EXPECT_NE(beyond.output.find("the detail cycle is cycle 31, but the test "
+                               "has 30 complete cycles; expected 1 to 30"),
+            std::string::npos)
+      << beyond.output;
+  EXPECT_EQ(Wearscar("fuse " + dir + "/B-RT-R.force.csv --loops 31 -o " + dir +
+                     "/none")
+                .status,
+            2);
+  EXPECT_FALSE(fs::exists(dir + "/none/cycles.csv"));
 }
 
 TEST(Provenance, ResultsNameTheBuildTheInputsAndEveryOption) {

@@ -154,10 +154,11 @@ TEST(Track, AnalyticGrooveOnTiltedPlane) {
   // two end caps, 0.2415 mm^3. Only pixels deeper than the detection
   // threshold are summed: the shallow rim (under a quarter of the depth)
   // is 2.6% of the cross-section, so the volume reads 2-4% low.
-  const double cap_area = r * r * std::acos((r - depth) / r) -
-                          (r - depth) * std::sqrt(2 * r * depth - depth * depth);
-  const double volume = cap_area * 2 * half_len +
-                        M_PI * depth * depth * (3 * r - depth) / 3;
+  const double cap_area =
+      r * r * std::acos((r - depth) / r) -
+      (r - depth) * std::sqrt(2 * r * depth - depth * depth);
+  const double volume =
+      cap_area * 2 * half_len + M_PI * depth * depth * (3 * r - depth) / 3;
   EXPECT_GT(t.volume_mm3, 0.955 * volume) << volume;
   EXPECT_LT(t.volume_mm3, 0.985 * volume) << volume;
   // Centreline: flat at -D over the stroke.

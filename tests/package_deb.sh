@@ -10,14 +10,17 @@ mkdir -p "$scratch"
   cat "$scratch/cpack.log"; exit 1; }
 deb="$scratch/wearscar_${version}_amd64.deb"
 test -f "$deb" || { echo "no $deb"; ls "$scratch"; exit 1; }
-dpkg-deb --info "$deb" | grep -q "Depends:.*libopencv-core" || {
-  echo "the package does not depend on OpenCV"; dpkg-deb --info "$deb"; exit 1; }
+# (read whole first: grep -q closing the pipe early would fail it)
+info=$(dpkg-deb --info "$deb")
+grep -q "Depends:.*libopencv-core" <<< "$info" || {
+  echo "the package does not depend on OpenCV"; echo "$info"; exit 1; }
 root="$scratch/root"
 dpkg -x "$deb" "$root"
 test -f "$root/usr/include/wearscar/fusion/products.h"
 test -f "$root/usr/lib/x86_64-linux-gnu/cmake/wearscar/wearscarConfig.cmake" ||
   test -f "$root/usr/lib/cmake/wearscar/wearscarConfig.cmake"
-"$root/usr/bin/wearscar" version | grep -q "^wearscar ${version} (commit "
+printed=$("$root/usr/bin/wearscar" version)
+grep -q "^wearscar ${version} (commit " <<< "$printed"
 PYTHONPATH="$root/usr/lib/python3/dist-packages" /usr/bin/python3 -c "
 import wearscar
 assert wearscar.__version__ == '${version}', wearscar.__version__

@@ -18,7 +18,7 @@ namespace {
 struct Sample {
   Eigen::Index index;  // into the record
   int s;
-  double x, t, speed, p, q, k, q_slope, depth, to_end;
+  double x, t, speed, p, q, k, q_slope, depth, softness, to_end;
 };
 
 struct DiagCycle {
@@ -66,6 +66,7 @@ double Residual(const Data& d,
   c.s = s.s;
   c.speed_mm_s = s.speed;
   c.depth_mm = s.depth;
+  c.softness = s.softness;
   c.to_end_mm = s.to_end;
   c.q_slope = s.q_slope;
   c.q_measured_n = s.q;
@@ -563,6 +564,25 @@ PlateProfile ForceSideDepth(const Eigen::MatrixXd& p_prof,
   return {grid.centres, (top - f.array()).matrix()};
 }
 
+// A profile's shape over [lo, hi] normalised to mean 0 and sd 1 (zero
+// where it does not vary).
+PlateProfile Normalised(const PlateProfile& p, double lo, double hi) {
+  double sum = 0, sum2 = 0;
+  int n = 0;
+  for (Eigen::Index i = 0; i < p.k.size(); ++i) {
+    if (p.x_mm[i] < lo || p.x_mm[i] > hi || !std::isfinite(p.k[i])) continue;
+    sum += p.k[i];
+    sum2 += p.k[i] * p.k[i];
+    ++n;
+  }
+  PlateProfile out = p;
+  const double mean = n > 0 ? sum / n : 0;
+  const double sd = n > 1 ? std::sqrt(std::max(0.0, sum2 / n - mean * mean)) : 0;
+  out.k = sd > 0 ? Eigen::VectorXd((p.k.array() - mean) / sd)
+                 : Eigen::VectorXd::Zero(p.k.size());
+  return out;
+}
+
 // The gross-slip samples of cycle c (every o.decimation-th) with their
 // slopes, depth, speed and distance to the stroke end.
 DiagCycle GatherCycle(const force::ForceRecord& record,
@@ -570,6 +590,7 @@ DiagCycle GatherCycle(const force::ForceRecord& record,
                       int c,
                       const CycleSlopes& slopes,
                       const PlateProfile& depth,
+                      const PlateProfile& softness,
                       int decimation) {
   double cmin = INFINITY, cmax = -INFINITY;
   for (Eigen::Index i = cy.forward.begin; i < cy.reverse.end; ++i) {
@@ -599,10 +620,12 @@ DiagCycle GatherCycle(const force::ForceRecord& record,
       s.k = kp[row].At(s.x);
       s.q_slope = kq[row].At(s.x);
       s.depth = depth.At(s.x);
+      s.softness = softness.At(s.x);
       s.to_end = h->direction > 0 ? cmax - s.x : s.x - cmin;
       if (!std::isfinite(s.x) || !std::isfinite(s.p) || !std::isfinite(s.q) ||
           !std::isfinite(s.k) || !std::isfinite(s.q_slope) ||
-          !std::isfinite(s.depth) || !std::isfinite(s.speed)) {
+          !std::isfinite(s.depth) || !std::isfinite(s.softness) ||
+          !std::isfinite(s.speed)) {
         continue;
       }
       (h->direction > 0 ? f2 : r2) += s.q * s.q;
@@ -761,9 +784,10 @@ Diagnosis Diagnose(const force::ForceRecord& record,
                 ? (record.time_s[record.size() - 1] - record.time_s[0]) /
                       (record.size() - 1)
                 : 1e-3;
+  const PlateProfile softness = Normalised(*depth, grid.x_lo, grid.x_hi);
   for (int c : out.cycles) {
-    DiagCycle dc =
-        GatherCycle(record, cycles.cycles[c], c, slopes, *depth, o.decimation);
+    DiagCycle dc = GatherCycle(
+        record, cycles.cycles[c], c, slopes, *depth, softness, o.decimation);
     if (static_cast<int>(dc.samples.size()) >= o.min_samples_per_cycle)
       data.cycles.push_back(std::move(dc));
   }

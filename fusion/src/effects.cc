@@ -151,6 +151,25 @@ class ElasticCompliance : public Effect {
   }
 };
 
+// Friction that varies along the track with the wood: mu_eff = mu (1 + a
+// g(x)), g the groove depth's shape normalised to mean 0 and sd 1 (a proxy
+// of the local softness: earlywood wears deeper than latewood).
+class MuVariation : public Effect {
+ public:
+  std::string Name() const override {
+    return "friction varying along the track";
+  }
+  std::string Key() const override { return "mu_variation"; }
+  std::string Formula() const override { return "mu_eff = mu (1 + a g(x))"; }
+  std::vector<std::string> ParameterNames() const override { return {"a"}; }
+  std::vector<double> Initial() const override { return {0.02}; }
+  std::vector<double> Lower() const override { return {-0.3}; }
+  std::vector<double> Upper() const override { return {0.3}; }
+  void Apply(const double* p, EffectContext* c) const override {
+    c->mu_factor *= 1.0 + p[0] * c->softness;
+  }
+};
+
 }  // namespace
 
 const std::vector<std::unique_ptr<Effect>>& EffectLibrary() {
@@ -164,6 +183,7 @@ const std::vector<std::unique_ptr<Effect>>& EffectLibrary() {
     v.push_back(std::make_unique<Crosstalk>());
     v.push_back(std::make_unique<Hook>());
     v.push_back(std::make_unique<ElasticCompliance>());
+    v.push_back(std::make_unique<MuVariation>());
     return v;
   }();
   return library;

@@ -14,7 +14,8 @@ bool FuseOptions::IsValid(std::string* why) const {
   return analysis.IsValid(why) && level.IsValid(why) && track.IsValid(why) &&
          profile.IsValid(why) && force_profile.IsValid(why) &&
          align.IsValid(why) && scan_slope.IsValid(why) &&
-         verdict.IsValid(why) && warnings.IsValid(why);
+         verdict.IsValid(why) && warnings.IsValid(why) &&
+         friction_map.IsValid(why);
 }
 
 MismatchReport CompareSlopes(const force::ForceRecord& record,
@@ -268,6 +269,11 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
     result.warnings.push_back("the scan's track: " +
                               result.scan->track.message);
   }
+  result.friction_map = ComputeFrictionMap(record,
+                                           result.force.cycles,
+                                           options.analysis.friction,
+                                           result.force.running_in.cycles,
+                                           options.friction_map);
   result.wear =
       MeasureWear(record,
                   result.force.cycles,

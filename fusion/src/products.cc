@@ -604,6 +604,13 @@ nlohmann::json ResultJson(const std::string& name,
                            {"mu_energy", Stat(r.force.mu_energy)}};
   j["comparison"] = ComparisonJson(r);
   j["wear"] = WearJson(r.wear);
+  j["friction_map"] = {
+      {"bin_mm", o.friction_map.bin_mm},
+      {"bins", r.friction_map.x_mm.size()},
+      {"first_steady_cycle", r.friction_map.first_steady_cycle + 1},
+      {"spatial_sd_raw", r.friction_map.spatial_sd_raw},
+      {"spatial_sd_corrected", r.friction_map.spatial_sd_corrected},
+      {"spatial_sd_noise_floor", r.friction_map.spatial_sd_noise}};
   if (r.scan) j["scan"] = ScanJson(*r.scan);
   if (r.lugre) j["lugre"] = LugreJson(r);
   j["verdict"] = {{"explained", r.verdict.explained},

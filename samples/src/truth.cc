@@ -27,6 +27,7 @@ constexpr EffectField kEffectFields[] = {
     {"hook", &HiddenEffects::hook_n, "N"},
     {"hook_length", &HiddenEffects::hook_length_mm, "mm"},
     {"viscous", &HiddenEffects::viscous_n_s_per_mm, "N s/mm"},
+    {"mu_variation", &HiddenEffects::mu_variation, "relative"},
 };
 
 }  // namespace
@@ -126,6 +127,16 @@ nlohmann::json TruthJson(const SimulationOptions& o, const SimulatedTest& t) {
                   {"hook_n", e.hook_n},
                   {"hook_length_mm", e.hook_length_mm},
                   {"viscous_n_s_per_mm", e.viscous_n_s_per_mm}};
+  if (e.mu_variation != 0) {
+    // The along-track pattern of mu (every 0.05 mm of the stroke).
+    j["effects"]["mu_variation"] = e.mu_variation;
+    std::vector<double> x, factor;
+    for (Eigen::Index i = 0; i < t.truth.profile_x_mm.size(); i += 5) {
+      x.push_back(t.truth.profile_x_mm[i]);
+      factor.push_back(t.truth.mu_factor[i]);
+    }
+    j["mu_along_track"] = {{"x_mm", x}, {"mu_factor", factor}};
+  }
   return j;
 }
 

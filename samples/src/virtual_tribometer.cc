@@ -214,6 +214,9 @@ bool SimulationOptions::IsValid(std::string* why) const {
     return fail("hook_length_mm must be > 0");
   }
   if (effects.q_lag_s < 0) return fail("q_lag_s must be >= 0");
+  if (!(std::abs(effects.mu_variation) <= 0.3)) {
+    return fail("mu_variation must be in [-0.3, 0.3] (mu stays positive)");
+  }
   if (!(noise_scale >= 0 && noise_scale <= 1000))
     return fail("noise_scale must be in [0, 1000]");
   if (!(q_noise_n >= 0 && p_noise_n >= 0 && x_noise_mm >= 0))
@@ -230,7 +233,14 @@ namespace {
 // the rings and a random texture.
 struct Specimen {
   Grid wear_shape, wear_slope, elastic_shape;
-  double wear_sd = 0;  // sd of wear_shape over the stroke
+  double wear_sd = 0;  // sd of wear_shape over the stroke (its mean is 1)
+
+  // mu_eff / mu at x for HiddenEffects::mu_variation = a: 1 + a g(x), g
+  // the wear shape normalised to mean 0 and sd 1 over the stroke.
+  double MuFactor(double x, double a) const {
+    if (a == 0 || !(wear_sd > 0)) return 1.0;
+    return 1.0 + a * (wear_shape(x) - 1.0) / wear_sd;
+  }
 };
 
 // The fraction of latewood at x: smooth band edges (logistic, 4% of a
@@ -355,7 +365,7 @@ SlidingBounds ForcesAt(const SimulationOptions& o,
                        double v) {
   const HiddenEffects& fx = o.effects;
   const double depth_amp = schedule.DepthAmp(c);
-  const double mu = schedule.Mu(c);
+  const double mu = schedule.Mu(c) * s.MuFactor(x, fx.mu_variation);
   const double depth = depth_amp * s.wear_shape(x);
   // Sphere height f = -(worn depth + elastic penetration); the spring turns
   // it into P. The contact tilt k follows the worn (geometric) path only:
@@ -486,7 +496,10 @@ void FillTruth(const SimulationOptions& o,
       Eigen::VectorXd::LinSpaced(np, -o.amplitude_mm, o.amplitude_mm);
   truth->worn_depth_mm.resize(np);
   truth->elastic_mm.resize(np);
+  truth->mu_factor.resize(np);
   for (int i = 0; i < np; ++i) {
+    truth->mu_factor[i] =
+        s.MuFactor(truth->profile_x_mm[i], o.effects.mu_variation);
     truth->worn_depth_mm[i] = final_amp * s.wear_shape(truth->profile_x_mm[i]);
     truth->elastic_mm[i] =
         schedule.elastic_sd_mm * s.elastic_shape(truth->profile_x_mm[i]);

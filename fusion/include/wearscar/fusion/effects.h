@@ -15,6 +15,9 @@ struct EffectContext {
   int s = 1;                // direction of motion
   double speed_mm_s = 0;    // |dx/dt|
   double depth_mm = 0;      // groove depth at x (scan, or force side)
+  // The groove depth's shape normalised to mean 0 and sd 1 over the
+  // stroke: a proxy of the local softness (earlywood wears deeper).
+  double softness = 0;
   double to_end_mm = 0;     // distance to the stroke end ahead
   double q_slope = 0;       // (1/S) dQ/dx of the measured Q (crosstalk)
   double q_measured_n = 0;  // measured Q at this sample
@@ -49,7 +52,8 @@ class Effect {
 
 // The library, in a fixed order: ploughing, velocity dependence (Stribeck),
 // viscous term, direction asymmetry, channel time lag, crosstalk of Q into
-// P, end-of-stroke hook, elastic compliance of the track.
+// P, end-of-stroke hook, elastic compliance of the track, friction varying
+// along the track.
 const std::vector<std::unique_ptr<Effect>>& EffectLibrary();
 
 // Finds an effect by its name or its key; nullptr when unknown.

@@ -6,6 +6,7 @@
 
 #include "wearscar/fusion/align.h"
 #include "wearscar/fusion/analysis.h"
+#include "wearscar/fusion/friction_map.h"
 #include "wearscar/fusion/lugre.h"
 #include "wearscar/fusion/verdict.h"
 #include "wearscar/fusion/wear.h"
@@ -47,6 +48,8 @@ struct FuseOptions {
   }();
   VerdictOptions verdict;
   DataWarningOptions warnings;
+  // mu(x, cycle) along the stroke, raw and corrected for the slope.
+  FrictionMapOptions friction_map;
   // Which slope mu-hat is fitted with when a scan is given: the force
   // side's k = (1/S) dP/dx, the scan's, or both (without a scan: force).
   SlopeChoice slopes = SlopeChoice::kBoth;
@@ -84,6 +87,9 @@ struct TestResult {
   // Track size, load, sliding distance and specific wear rate (the scan
   // side NaN without a usable scan).
   Wear wear;
+  // mu along the stroke per cycle and direction (force-side k), and its
+  // along-track variation after running-in.
+  FrictionMap friction_map;
   int detail_cycle = 0;
   std::optional<LugreFit> lugre;
 };

@@ -31,6 +31,10 @@ struct HiddenEffects {
   double hook_length_mm = 0.3;
   // Viscous resistance s * c * |v|, c in N s/mm.
   double viscous_n_s_per_mm = 0.0;
+  // Friction that varies along the track with the wood's hardness:
+  // mu_eff(x) = mu (1 + a g(x)), g the worn depth's shape along the stroke
+  // normalised to mean 0 and sd 1 (softer earlywood wears deeper).
+  double mu_variation = 0.0;
 };
 
 enum class Drive { kSine, kTriangle };
@@ -122,6 +126,7 @@ struct GroundTruth {
   Eigen::VectorXd profile_x_mm;
   Eigen::VectorXd worn_depth_mm;  // > 0 into the surface
   Eigen::VectorXd elastic_mm;     // varying part of the penetration
+  Eigen::VectorXd mu_factor;      // mu_eff / mu along the stroke
   // Scan placement: plate x = flip * (s - along_offset) where s is the
   // along-track coordinate from the track centre (cx, cy) in the scan.
   double scan_centre_x_mm = 0.0, scan_centre_y_mm = 0.0;

@@ -1,0 +1,64 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "wearscar/force/cycles.h"
+#include "wearscar/force/force_record.h"
+#include "wearscar/fusion/fit_mu.h"
+
+namespace wearscar::fusion {
+
+struct FrictionMapOptions {
+  // Bin width along the stroke, mm: about the contact radius (the paper's
+  // 3.25 mm sphere under 30 N on wood leaves a track about 1-1.5 mm wide).
+  double bin_mm = 0.5;
+  // A bin of a cycle and direction with fewer gross-slip samples is empty.
+  int min_samples = 3;
+
+  bool IsValid(std::string* why) const;
+};
+
+// The friction coefficient along the stroke, per cycle and direction: raw,
+// s Q / P, and corrected for the slope k of the sliding path, Eqs. 1-2
+// solved for the local coefficient at each gross-slip sample,
+//   mu_local = s (Q - P k) / (P + k Q),
+// with k the force side's (1/S) dP/dx. Where the wear-scar interaction
+// explains the loops the corrected map is flat along x while the raw one
+// follows the track; where it is not, friction varies along the track or an
+// effect is missing.
+struct FrictionMap {
+  std::vector<double> x_mm;  // bin centres
+  int cycles = 0;
+  // Per (cycle, direction, bin) at (cycle * 2 + direction) * bins + bin;
+  // direction 0 forward, 1 reverse. NaN where the bin is empty.
+  std::vector<double> mu_raw, mu_corrected;
+  std::vector<int> samples;
+  // The along-track variation over the steady cycles: the sd over x of the
+  // map averaged over those cycles (each cycle and direction about its own
+  // mean, so the drift of mu over cycles does not count), raw and
+  // corrected, and the sd that the noise alone leaves in that average (the
+  // standard error of each bin's mean over cycles, rms over the bins).
+  int first_steady_cycle = 0;
+  double spatial_sd_raw = 0.0;
+  double spatial_sd_corrected = 0.0;
+  double spatial_sd_noise = 0.0;
+  // The steady average per direction and bin (forward then reverse), about
+  // each direction's mean: the along-track pattern of mu.
+  std::vector<double> steady_corrected;
+
+  size_t Index(int cycle, int direction, size_t bin) const {
+    return (static_cast<size_t>(cycle) * 2 + direction) * x_mm.size() + bin;
+  }
+};
+
+// The map of every complete cycle; the variation over cycles
+// [first_steady, last]. Throws FusionError for invalid options.
+// Requires record.IsConsistent().
+FrictionMap ComputeFrictionMap(const force::ForceRecord& record,
+                               const force::CycleSet& cycles,
+                               const FrictionFitOptions& friction,
+                               int first_steady,
+                               const FrictionMapOptions& options = {});
+
+}  // namespace wearscar::fusion

@@ -1,0 +1,199 @@
+#include "wearscar/fusion/friction_map.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "wearscar/fusion/error.h"
+#include "wearscar/support/check.h"
+
+namespace wearscar::fusion {
+namespace {
+
+constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+
+// Sums per (cycle, direction, bin).
+struct Bins {
+  double lo = 0, width = 1;
+  size_t count = 0;
+  std::vector<double> raw, corrected;
+  std::vector<int> n;
+};
+
+void Accumulate(const SlipSamples& s, int cycle, Bins* b) {
+  const int d = s.direction > 0 ? 0 : 1;
+  for (Eigen::Index i = 0; i < s.q_n.size(); ++i) {
+    const double q = s.q_n[i], p = s.p_n[i], k = s.k[i], x = s.x_mm[i];
+    if (!std::isfinite(q) || !std::isfinite(p) || !std::isfinite(k) ||
+        !std::isfinite(x) || !(p > 0))
+      continue;
+    const double denominator = p + k * q;
+    if (!(std::abs(denominator) > 1e-9 * p)) continue;
+    const auto bin = static_cast<long>(std::floor((x - b->lo) / b->width));
+    if (bin < 0 || bin >= static_cast<long>(b->count)) continue;
+    const size_t at = (static_cast<size_t>(cycle) * 2 + d) * b->count + bin;
+    b->raw[at] += s.direction * q / p;
+    b->corrected[at] += s.direction * (q - p * k) / denominator;
+    ++b->n[at];
+  }
+}
+
+// The along-track variation of the steady average of the map values v, and
+// the noise floor of that average. Each cycle and direction is taken about
+// its own mean (the drift of mu over cycles is not along-track variation).
+// Successive cycles share noise (the ensemble slope spans `block` cycles):
+// the floor is the standard error from the means of consecutive blocks of
+// that many cycles.
+void SpatialVariation(const FrictionMap& m,
+                      const std::vector<double>& v,
+                      int first,
+                      int block,
+                      double* sd,
+                      double* noise,
+                      std::vector<double>* pattern) {
+  const size_t bins = m.x_mm.size();
+  const int steady = m.cycles - first;
+  // centred[(c - first) * 2 * bins + d * bins + b]
+  std::vector<double> centred(static_cast<size_t>(steady) * 2 * bins, kNan);
+  for (int c = first; c < m.cycles; ++c) {
+    for (int d = 0; d < 2; ++d) {
+      double mean = 0;
+      int k = 0;
+      for (size_t b = 0; b < bins; ++b) {
+        const double x = v[m.Index(c, d, b)];
+        if (std::isfinite(x)) mean += x, ++k;
+      }
+      for (size_t b = 0; k > 0 && b < bins; ++b) {
+        centred[(static_cast<size_t>(c - first) * 2 + d) * bins + b] =
+            v[m.Index(c, d, b)] - mean / k;
+      }
+    }
+  }
+  const int blocks = steady / std::max(1, block);
+  double var_x = 0, var_noise = 0;
+  int used = 0;
+  pattern->assign(2 * bins, kNan);
+  std::vector<double> means(2 * bins, kNan), se2(2 * bins, kNan);
+  for (size_t i = 0; i < 2 * bins; ++i) {
+    // Block means of this cell over the steady cycles.
+    std::vector<double> bm;
+    for (int k = 0; k < blocks; ++k) {
+      double s = 0;
+      int n = 0;
+      for (int c = k * block; c < (k + 1) * block; ++c) {
+        const double x = centred[static_cast<size_t>(c) * 2 * bins + i];
+        if (std::isfinite(x)) s += x, ++n;
+      }
+      if (n > 0) bm.push_back(s / n);
+    }
+    if (static_cast<int>(bm.size()) < std::max(2, blocks / 2)) continue;
+    double mean = 0;
+    for (double x : bm) mean += x;
+    mean /= bm.size();
+    double var = 0;
+    for (double x : bm) var += (x - mean) * (x - mean);
+    means[i] = mean;
+    se2[i] = var / (bm.size() - 1) / bm.size();
+  }
+  for (int d = 0; d < 2; ++d) {
+    double centre = 0;
+    int k = 0;
+    for (size_t b = 0; b < bins; ++b) {
+      if (std::isfinite(means[d * bins + b]))
+        centre += means[d * bins + b], ++k;
+    }
+    for (size_t b = 0; k > 0 && b < bins; ++b) {
+      const size_t i = d * bins + b;
+      if (!std::isfinite(means[i])) continue;
+      (*pattern)[i] = means[i] - centre / k;
+      var_x += (*pattern)[i] * (*pattern)[i];
+      var_noise += se2[i];
+      ++used;
+    }
+  }
+  *sd = used > 1 ? std::sqrt(var_x / used) : kNan;
+  *noise = used > 1 ? std::sqrt(var_noise / used) : kNan;
+}
+
+}  // namespace
+
+bool FrictionMapOptions::IsValid(std::string* why) const {
+  if (!(bin_mm > 0 && bin_mm < 100)) {
+    if (why) *why = "friction map: bin_mm must be in (0, 100) mm";
+    return false;
+  }
+  if (min_samples < 1) {
+    if (why) *why = "friction map: min_samples must be >= 1";
+    return false;
+  }
+  return true;
+}
+
+FrictionMap ComputeFrictionMap(const force::ForceRecord& record,
+                               const force::CycleSet& cycles,
+                               const FrictionFitOptions& friction,
+                               int first_steady,
+                               const FrictionMapOptions& options) {
+  WEARSCAR_CHECK(record.IsConsistent(), "ComputeFrictionMap needs one length");
+  std::string why;
+  if (!options.IsValid(&why)) throw FusionError(why);
+  FrictionMap m;
+  m.cycles = static_cast<int>(cycles.cycles.size());
+  if (m.cycles == 0) return m;
+  double lo = INFINITY, hi = -INFINITY;
+  for (const force::Cycle& c : cycles.cycles) {
+    for (Eigen::Index i = c.forward.begin; i < c.reverse.end; ++i) {
+      if (!std::isfinite(record.x_mm[i])) continue;
+      lo = std::min(lo, record.x_mm[i]);
+      hi = std::max(hi, record.x_mm[i]);
+    }
+  }
+  if (!(hi > lo)) return m;
+  Bins b;
+  b.width = options.bin_mm;
+  b.count = static_cast<size_t>(std::ceil((hi - lo) / b.width));
+  b.lo = 0.5 * (lo + hi) - 0.5 * b.count * b.width;  // centred on the stroke
+  const size_t cells = static_cast<size_t>(m.cycles) * 2 * b.count;
+  b.raw.assign(cells, 0);
+  b.corrected.assign(cells, 0);
+  b.n.assign(cells, 0);
+  const ForceSlopes slopes(record, cycles, friction);
+  for (int c = 0; c < m.cycles; ++c) {
+    const CycleSamples s = slopes.Gather(c);
+    Accumulate(s.forward, c, &b);
+    Accumulate(s.reverse, c, &b);
+  }
+  for (size_t i = 0; i < b.count; ++i)
+    m.x_mm.push_back(b.lo + (i + 0.5) * b.width);
+  m.mu_raw.resize(cells);
+  m.mu_corrected.resize(cells);
+  m.samples = b.n;
+  for (size_t i = 0; i < cells; ++i) {
+    const bool ok = b.n[i] >= options.min_samples;
+    m.mu_raw[i] = ok ? b.raw[i] / b.n[i] : kNan;
+    m.mu_corrected[i] = ok ? b.corrected[i] / b.n[i] : kNan;
+  }
+  m.first_steady_cycle = std::clamp(first_steady, 0, m.cycles - 1);
+  std::vector<double> raw_pattern;
+  double raw_noise = 0;
+  const int block = slopes.SharedCycles();
+  SpatialVariation(m,
+                   m.mu_raw,
+                   m.first_steady_cycle,
+                   block,
+                   &m.spatial_sd_raw,
+                   &raw_noise,
+                   &raw_pattern);
+  SpatialVariation(m,
+                   m.mu_corrected,
+                   m.first_steady_cycle,
+                   block,
+                   &m.spatial_sd_corrected,
+                   &m.spatial_sd_noise,
+                   &m.steady_corrected);
+  return m;
+}
+
+}  // namespace wearscar::fusion

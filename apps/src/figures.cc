@@ -452,6 +452,48 @@ void AddDetailFigures(const std::string& name,
   }
 }
 
+// The friction map: mu along the stroke (x) and over the cycles, raw
+// (s Q / P) above corrected for the slope of the sliding path, forward
+// sliding; below them the track's height along the same x (the spring's
+// P/S, and the aligned scan when there is one).
+void AddFrictionMapFigure(const std::string& name,
+                          const fusion::TestResult& r,
+                          std::vector<Figure>* figs) {
+  const auto& m = r.friction_map;
+  std::string body = fmt::format(
+      "set multiplot layout {0},1 title 'spatial variation of mu after "
+      "running-in: corrected {1:.4f} (noise floor {2:.4f}), raw {3:.4f}'\n"
+      "unset key\nset ylabel 'cycle'\nset cblabel 'mu'\nset palette "
+      "defined (0 '#2c0e5a', 1 '#3b5ba5', 2 '#2fa39a', 3 '#a6d96a', 4 "
+      "'#fee08b')\nset xrange [{4}:{5}]\nset lmargin 10\nset rmargin 16\n"
+      "set style fill solid noborder\n"
+      "set title 'raw: s Q / P (forward)'\nplot 'friction_map.csv' skip 1 "
+      "using 3:($2 > 0 ? $1 : 1/0):({6}):(0.5):4 with boxxyerror palette\n"
+      "set title 'corrected for the slope: s (Q - P k) / (P + k Q) "
+      "(forward)'\nplot 'friction_map.csv' skip 1 using 3:($2 > 0 ? $1 : "
+      "1/0):({6}):(0.5):5 with boxxyerror palette\n",
+      r.scan ? 3 : 2,
+      m.spatial_sd_corrected,
+      m.spatial_sd_noise,
+      m.spatial_sd_raw,
+      m.x_mm.empty() ? -3.0 : m.x_mm.front() - 0.5 * (m.x_mm[1] - m.x_mm[0]),
+      m.x_mm.empty() ? 3.0 : m.x_mm.back() + 0.5 * (m.x_mm[1] - m.x_mm[0]),
+      m.x_mm.size() > 1 ? 0.5 * (m.x_mm[1] - m.x_mm[0]) : 0.25);
+  if (r.scan) {
+    body +=
+        "set title 'the track along x'\nset key inside top right\nset xlabel "
+        "'x (mm)'\nset "
+        "ylabel 'height (mm)'\nplot 'profiles.csv' skip 1 using 1:(-$4) with "
+        "lines title '-P/S (mean of both directions)', '' skip 1 using 1:(-$6) "
+        "with lines lw 2 title 'scan (aligned, scaled)'\n";
+  }
+  body += "unset multiplot";
+  if (m.x_mm.size() < 2) return;
+  figs->push_back({"fig_friction_map",
+                   name + ": friction map mu(x, cycle), raw and corrected",
+                   body});
+}
+
 // Figs. 13-15 per cycle.
 void AddCycleFigures(const std::string& name,
                      const fusion::TestResult& r,
@@ -518,6 +560,7 @@ FigureSet DrawTestFigures(const std::string& dir,
   AddScanFigures(dir, name, r, &figs);
   AddDetailFigures(name, r, &figs);
   AddCycleFigures(name, r, opt, &figs);
+  AddFrictionMapFigure(name, r, &figs);
   std::vector<std::string> missing;
   const std::string message = RunGnuplot(dir, figs, &missing);
   return Collect(dir, figs, message, std::move(missing));

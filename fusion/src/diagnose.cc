@@ -577,7 +577,8 @@ PlateProfile Normalised(const PlateProfile& p, double lo, double hi) {
   }
   PlateProfile out = p;
   const double mean = n > 0 ? sum / n : 0;
-  const double sd = n > 1 ? std::sqrt(std::max(0.0, sum2 / n - mean * mean)) : 0;
+  const double sd =
+      n > 1 ? std::sqrt(std::max(0.0, sum2 / n - mean * mean)) : 0;
   out.k = sd > 0 ? Eigen::VectorXd((p.k.array() - mean) / sd)
                  : Eigen::VectorXd::Zero(p.k.size());
   return out;

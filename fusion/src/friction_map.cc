@@ -193,6 +193,10 @@ FrictionMap ComputeFrictionMap(const force::ForceRecord& record,
                    &m.spatial_sd_corrected,
                    &m.spatial_sd_noise,
                    &m.steady_corrected);
+  m.spatial_sd_excess =
+      std::sqrt(std::max(0.0,
+                         m.spatial_sd_corrected * m.spatial_sd_corrected -
+                             m.spatial_sd_noise * m.spatial_sd_noise));
   return m;
 }
 

@@ -237,6 +237,29 @@ Table CycleTable(const TestResult& r) {
   return t;
 }
 
+// friction_map.csv: mu along the stroke per cycle and direction, raw and
+// corrected for the slope (cycles from 1, direction +1 forward, -1
+// reverse; empty bins left out).
+Table FrictionMapTable(const FrictionMap& m) {
+  Table t;
+  t.columns = {"cycle", "direction", "x_mm", "mu_raw", "mu_corrected", "n"};
+  for (int c = 0; c < m.cycles; ++c) {
+    for (int d = 0; d < 2; ++d) {
+      for (size_t b = 0; b < m.x_mm.size(); ++b) {
+        const size_t i = m.Index(c, d, b);
+        if (!std::isfinite(m.mu_corrected[i])) continue;
+        t.rows.push_back({static_cast<double>(c + 1),
+                          d == 0 ? 1.0 : -1.0,
+                          m.x_mm[b],
+                          m.mu_raw[i],
+                          m.mu_corrected[i],
+                          static_cast<double>(m.samples[i])});
+      }
+    }
+  }
+  return t;
+}
+
 // loops.csv: the samples of the chosen cycles' hysteresis loops.
 Table LoopTable(const force::ForceRecord& record,
                 const TestResult& r,
@@ -610,7 +633,8 @@ nlohmann::json ResultJson(const std::string& name,
       {"first_steady_cycle", r.friction_map.first_steady_cycle + 1},
       {"spatial_sd_raw", r.friction_map.spatial_sd_raw},
       {"spatial_sd_corrected", r.friction_map.spatial_sd_corrected},
-      {"spatial_sd_noise_floor", r.friction_map.spatial_sd_noise}};
+      {"spatial_sd_noise_floor", r.friction_map.spatial_sd_noise},
+      {"spatial_sd_excess", r.friction_map.spatial_sd_excess}};
   if (r.scan) j["scan"] = ScanJson(*r.scan);
   if (r.lugre) j["lugre"] = LugreJson(r);
   j["verdict"] = {{"explained", r.verdict.explained},
@@ -658,6 +682,7 @@ TestProducts MakeTestProducts(const std::string& name,
   TestProducts out;
   out.tables.emplace_back("cycles.csv", CycleTable(r));
   out.tables.emplace_back("loops.csv", LoopTable(record, r, p.loop_cycles));
+  out.tables.emplace_back("friction_map.csv", FrictionMapTable(r.friction_map));
   const int dc = p.detail_cycle >= 0 && p.detail_cycle < n   ? p.detail_cycle
                  : r.detail_cycle >= 0 && r.detail_cycle < n ? r.detail_cycle
                                                              : n - 1;

@@ -79,7 +79,13 @@ INSTANTIATE_TEST_SUITE_P(
             Hidden{"hook",
                    "end-of-stroke hook",
                    1.0,
-                   [](samples::HiddenEffects* e, double v) { e->hook_n = v; }}),
+                   [](samples::HiddenEffects* e, double v) { e->hook_n = v; }},
+            Hidden{"mu_variation",
+                   "friction varying along the track",
+                   0.2,
+                   [](samples::HiddenEffects* e, double v) {
+                     e->mu_variation = v;
+                   }}),
         ::testing::Values(1.0, 2.0)),
     [](const auto& param_info) {
       return std::string(std::get<0>(param_info.param).label) + "_noise" +

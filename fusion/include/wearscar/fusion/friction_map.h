@@ -43,6 +43,9 @@ struct FrictionMap {
   double spatial_sd_raw = 0.0;
   double spatial_sd_corrected = 0.0;
   double spatial_sd_noise = 0.0;
+  // What the corrected sd has beyond the floor: sqrt(sd^2 - floor^2), 0
+  // when the floor explains it all.
+  double spatial_sd_excess = 0.0;
   // The steady average per direction and bin (forward then reverse), about
   // each direction's mean: the along-track pattern of mu.
   std::vector<double> steady_corrected;

@@ -237,6 +237,10 @@ std::string NumbersTable(const nlohmann::json& r) {
       {"sliding distance (m)", At(r, {"wear", "sliding_distance_m"}, "{:.4g}")},
       {"specific wear rate (mm<sup>3</sup>/(N m))",
        At(r, {"wear", "specific_wear_rate_mm3_per_n_m"}, "{:.4g}")},
+      {"spatial variation of mu, corrected (its noise floor); raw",
+       At(r, {"friction_map", "spatial_sd_corrected"}) + " (" +
+           At(r, {"friction_map", "spatial_sd_noise_floor"}) + "); " +
+           At(r, {"friction_map", "spatial_sd_raw"})},
   };
   for (const auto& [label, value] : rows) {
     h += fmt::format(

@@ -103,7 +103,10 @@ void AuditSpecimen(const AuditArgs& a,
                r.mismatch.mu_force_minus_mean.mean,
                r.mismatch.mu_force_minus_mean.sd,
                r.mismatch.mu_force_minus_energy.mean,
-               r.mismatch.mu_force_minus_energy.sd};
+               r.mismatch.mu_force_minus_energy.sd,
+               r.mismatch.mu_force.mean,
+               r.mismatch.mu_force.sd,
+               r.wear.specific_rate_mm3_per_n_m};
     if (!a.no_figures)
       sec->figures = DrawTestFigures(dir, s.name, r, a.common.fuse);
     if (a.diagnose) AuditDiagnosis(a, s.name, dir, record, r, sec);
@@ -136,8 +139,9 @@ void RecordAuditOutputs(const AuditArgs& a,
     entries.push_back(fs::path(p).replace_extension(".svg").string());
   }
   std::error_code ec;
-  if (fs::exists(fs::path(a.out) / "method_differences.csv", ec))
-    entries.push_back("method_differences.csv");
+  for (const char* data : {"method_differences.csv", "wear_and_mu.csv"}) {
+    if (fs::exists(fs::path(a.out) / data, ec)) entries.push_back(data);
+  }
   for (const auto& e :
        fs::directory_iterator(fs::path(a.out) / kFigureData, ec)) {
     entries.push_back((fs::path(kFigureData) / e.path().filename()).string());

@@ -566,6 +566,34 @@ FigureSet DrawTestFigures(const std::string& dir,
   return Collect(dir, figs, message, std::move(missing));
 }
 
+namespace {
+
+// The batch: each specimen's specific wear rate against its mu-hat (with
+// its sd over cycles), labelled (wear_and_mu.csv).
+void AddWearFigure(const std::string& dir,
+                   const std::vector<SpecimenSeries>& specimens,
+                   std::vector<Figure>* figs) {
+  std::string data = "specimen,mu_hat,mu_hat_sd,wear_rate_mm3_per_N_m\n";
+  int points = 0;
+  for (const SpecimenSeries& s : specimens) {
+    if (!std::isfinite(s.wear_rate) || !std::isfinite(s.mu_hat)) continue;
+    data += fmt::format(
+        "{},{},{},{}\n", s.name, s.mu_hat, s.mu_hat_sd, s.wear_rate);
+    ++points;
+  }
+  if (points == 0) return;
+  WriteTextAtomically((fs::path(dir) / "wear_and_mu.csv").string(), data);
+  figs->push_back(
+      {"audit_wear_vs_mu",
+       "specific wear rate against mu-hat, all specimens",
+       "set xlabel 'mu-hat (k from P)'\nset ylabel 'specific wear rate "
+       "(mm^3/(N m))'\nunset key\nplot 'wear_and_mu.csv' skip 1 using "
+       "2:4:3 with xerrorbars pt 7 lc rgb '#1f77b4', '' skip 1 using 2:4:1 "
+       "with labels offset 1,0.6 left font ',8'"});
+}
+
+}  // namespace
+
 FigureSet DrawMapFigure(const std::string& dir,
                         const std::string& name,
                         const fusion::MapAnalysis& map) {
@@ -652,6 +680,7 @@ FigureSet DrawAuditFigures(const std::string& dir,
        "using ($1+0.1):5:6 with yerrorbars pt 5 title 'mu-hat - mu energy', 0 "
        "lc rgb "
        "'black' notitle"});
+  AddWearFigure(dir, specimens, &figs);
   std::vector<std::string> missing;
   const std::string message = RunGnuplot(dir, figs, &missing);
   return Collect(dir, figs, message, std::move(missing));

@@ -51,6 +51,8 @@ struct SpecimenSeries {
   std::string dir;  // holding cycles.csv
   double diff_mean_mean = 0, diff_mean_sd = 0, diff_energy_mean = 0,
          diff_energy_sd = 0;
+  double mu_hat = 0, mu_hat_sd = 0;  // k from P, over the compared cycles
+  double wear_rate = 0;              // mm^3/(N m); NaN without a scan
 };
 FigureSet DrawAuditFigures(const std::string& dir,
                            const std::vector<SpecimenSeries>& specimens);

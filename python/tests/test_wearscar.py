@@ -208,5 +208,9 @@ def test_simulate_takes_effects_and_lists_of_cases():
     assert [r.case for r in runs] == ["B-RT-R", "S-TL-L"]
     hidden = small(effect="ploughing=1.0", cycles=20)
     assert hidden.truth["effects"]["ploughing_n_per_mm"] == 1.0
+    # Plain values all the way down (a notebook's json.dump).
+    plain = json.loads(json.dumps(runs[0].to_dict(), allow_nan=True))
+    assert len(plain["force"]["x_mm"]) == len(runs[0].force)
+    assert len(plain["scan"]["height_mm"]) == runs[0].scan.shape[0]
     with pytest.raises(wearscar.OptionError, match="simulate"):
         small("X-RT-R")

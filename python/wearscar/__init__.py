@@ -33,6 +33,25 @@ __all__ = [
 __version__ = version()
 
 
+def _record_to_dict(record):
+    """The record as plain Python values: lists in mm, N, s, and the
+    metadata."""
+    return {"time_s": record.time_s.tolist(), "x_mm": record.x_mm.tolist(),
+            "q_n": record.q_n.tolist(), "p_n": record.p_n.tolist(),
+            "metadata": record.metadata}
+
+
+def _map_to_dict(height_map):
+    """The map as plain Python values (NaN where not measured)."""
+    return {"height_mm": height_map.height_mm.tolist(),
+            "dx_mm": height_map.dx_mm, "dy_mm": height_map.dy_mm,
+            "metadata": height_map.metadata}
+
+
+ForceRecord.to_dict = _record_to_dict
+HeightMap.to_dict = _map_to_dict
+
+
 def _args(options):
     """Keyword arguments as command-line options: spring=10.19 ->
     ["--spring", "10.19"]; True -> the flag; False and None -> left out;
@@ -166,6 +185,10 @@ class Simulation:
         self.scan = simulated.scan
         self.truth = json.loads(simulated.truth_json)
         self.case = self.truth["case"]
+
+    def to_dict(self):
+        return {"force": self.force.to_dict(), "scan": self.scan.to_dict(),
+                "truth": self.truth}
 
     def __repr__(self):
         return "<wearscar.Simulation {}: {} samples, {} x {} scan>".format(

@@ -440,6 +440,13 @@ TEST(Report, ShowsEachSpecimensNumbersAndWhereTheyCameFrom) {
       html.find(j["provenance"]["inputs"][0]["sha256"].get<std::string>()),
       std::string::npos);
   EXPECT_NE(html.find("made by wearscar "), std::string::npos);
+  // The batch figure of wear against mu-hat, from its own table.
+  EXPECT_TRUE(fs::exists(out + "/audit_wear_vs_mu.png"));
+  const std::string wear = Slurp(out + "/wear_and_mu.csv");
+  EXPECT_EQ(
+      wear.rfind("specimen,mu_hat,mu_hat_sd,wear_rate_mm3_per_N_m\nB-RT-R,", 0),
+      0u)
+      << wear;
 }
 
 }  // namespace

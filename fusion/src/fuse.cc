@@ -15,7 +15,7 @@ bool FuseOptions::IsValid(std::string* why) const {
          profile.IsValid(why) && force_profile.IsValid(why) &&
          align.IsValid(why) && scan_slope.IsValid(why) &&
          verdict.IsValid(why) && warnings.IsValid(why) &&
-         friction_map.IsValid(why);
+         friction_map.IsValid(why) && track_history.IsValid(why);
 }
 
 MismatchReport CompareSlopes(const force::ForceRecord& record,
@@ -274,6 +274,11 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
                                            options.analysis.friction,
                                            result.force.running_in.cycles,
                                            options.friction_map);
+  result.track_history =
+      ComputeTrackHistory(record,
+                          result.force.cycles,
+                          options.analysis.friction.slope.spring_n_per_mm,
+                          options.track_history);
   result.wear =
       MeasureWear(record,
                   result.force.cycles,

@@ -232,7 +232,10 @@ Table CycleTable(const TestResult& r) {
          cof.qp_correlation,
          static_cast<int>(c) < r.force.running_in.cycles ? 1.0 : 0.0,
          static_cast<double>(cycles[c].forward.slip_fallback +
-                             cycles[c].reverse.slip_fallback)});
+                             cycles[c].reverse.slip_fallback),
+         c < r.track_history.waviness_sd_mm.size()
+             ? r.track_history.waviness_sd_mm[c]
+             : Nan()});
   }
   return t;
 }
@@ -254,6 +257,24 @@ Table FrictionMapTable(const FrictionMap& m) {
                           m.mu_raw[i],
                           m.mu_corrected[i],
                           static_cast<double>(m.samples[i])});
+      }
+    }
+  }
+  return t;
+}
+
+// track_history.csv: h = P/S about its mean along the stroke, per cycle
+// and direction (cycles from 1; empty bins left out).
+Table TrackHistoryTable(const TrackHistory& h) {
+  Table t;
+  t.columns = {"cycle", "direction", "x_mm", "h_mm"};
+  for (int c = 0; c < h.cycles; ++c) {
+    for (int d = 0; d < 2; ++d) {
+      for (size_t b = 0; b < h.x_mm.size(); ++b) {
+        const double v = h.height_mm[h.Index(c, d, b)];
+        if (std::isfinite(v))
+          t.rows.push_back(
+              {static_cast<double>(c + 1), d == 0 ? 1.0 : -1.0, h.x_mm[b], v});
       }
     }
   }
@@ -579,13 +600,13 @@ std::vector<std::pair<std::string, std::string>> TestProducts::Files() const {
 
 const std::vector<std::string>& CycleColumns() {
   static const std::vector<std::string> kColumns = {
-      "cycle",          "mu_hat_force", "J_force",        "J_force_floor",
-      "J_force_excess", "mu_hat_scan",  "J_scan",         "J_scan_floor",
-      "J_scan_excess",  "samples",      "mu_mean",        "mu_energy_max",
-      "mu_energy_g",    "E_d_Nmm",      "delta_max_mm",   "delta_g_mm",
-      "P_mean_N",       "Q_max_N",      "Q_min_N",        "P_max_N",
-      "P_min_N",        "P_range_N",    "QP_correlation", "running_in",
-      "slip_fallback"};
+      "cycle",          "mu_hat_force",  "J_force",        "J_force_floor",
+      "J_force_excess", "mu_hat_scan",   "J_scan",         "J_scan_floor",
+      "J_scan_excess",  "samples",       "mu_mean",        "mu_energy_max",
+      "mu_energy_g",    "E_d_Nmm",       "delta_max_mm",   "delta_g_mm",
+      "P_mean_N",       "Q_max_N",       "Q_min_N",        "P_max_N",
+      "P_min_N",        "P_range_N",     "QP_correlation", "running_in",
+      "slip_fallback",  "waviness_sd_mm"};
   return kColumns;
 }
 
@@ -635,6 +656,20 @@ nlohmann::json ResultJson(const std::string& name,
       {"spatial_sd_corrected", r.friction_map.spatial_sd_corrected},
       {"spatial_sd_noise_floor", r.friction_map.spatial_sd_noise},
       {"spatial_sd_excess", r.friction_map.spatial_sd_excess}};
+  const TrackHistory& h = r.track_history;
+  j["track_history"] = {
+      {"bin_mm", o.track_history.bin_mm},
+      {"steady_from_cycle", h.cycles > 0 ? h.steady_cycle + 1 : 0},
+      {"final_waviness_sd_mm", h.final_waviness_sd_mm},
+      {"growth_per_cycle_mm", h.growth_per_cycle_mm},
+      {"first_waviness_sd_mm",
+       h.waviness_sd_mm.empty() ? Nan() : h.waviness_sd_mm.front()}};
+  if (r.scan) {
+    // The final state against the scan: the alignment's amplitude ratio
+    // (P/S over the compared cycles against the scanned profile).
+    j["track_history"]["final_vs_scan_amplitude_ratio"] =
+        r.scan->alignment.amplitude_ratio;
+  }
   if (r.scan) j["scan"] = ScanJson(*r.scan);
   if (r.lugre) j["lugre"] = LugreJson(r);
   j["verdict"] = {{"explained", r.verdict.explained},
@@ -683,6 +718,8 @@ TestProducts MakeTestProducts(const std::string& name,
   out.tables.emplace_back("cycles.csv", CycleTable(r));
   out.tables.emplace_back("loops.csv", LoopTable(record, r, p.loop_cycles));
   out.tables.emplace_back("friction_map.csv", FrictionMapTable(r.friction_map));
+  out.tables.emplace_back("track_history.csv",
+                          TrackHistoryTable(r.track_history));
   const int dc = p.detail_cycle >= 0 && p.detail_cycle < n   ? p.detail_cycle
                  : r.detail_cycle >= 0 && r.detail_cycle < n ? r.detail_cycle
                                                              : n - 1;

@@ -516,6 +516,11 @@ void FillTruth(const SimulationOptions& o,
   truth->explained_by_wear_scar =
       schedule.elastic_sd_mm < kElasticLimit * sd_of(d);
   const Eigen::ArrayXd f = d + truth->elastic_mm.array();
+  truth->waviness_sd_mm.resize(o.cycles);
+  for (int c = 0; c < o.cycles; ++c) {
+    truth->waviness_sd_mm[c] = sd_of(d * (schedule.DepthAmp(c) / final_amp) +
+                                     truth->elastic_mm.array());
+  }
   truth->force_profile_sd_mm = sd_of(f);
   truth->force_profile_range_mm = f.maxCoeff() - f.minCoeff();
   truth->scan_profile_sd_mm = sd_of(d);

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "wearscar/fusion/fuse.h"
+#include "wearscar/fusion/track_history.h"
 #include "wearscar/samples/virtual_tribometer.h"
 
 namespace wearscar::fusion {
@@ -147,6 +148,61 @@ TEST(FrictionMap, BadOptionsAreRefused) {
   fo.friction_map.bin_mm = -1;
   EXPECT_FALSE(fo.IsValid(&why));
 }
+
+}  // namespace
+}  // namespace wearscar::fusion
+
+namespace wearscar::fusion {
+namespace {
+
+// The track's history from the spring: the waviness of P/S per cycle
+// follows the simulator's truth (the sd of the sphere's path under load at
+// that cycle) within 10% in every cycle after running-in, at noise 1 and 2,
+// where the tracks cross the rings (waviness 10-30 um; measured worst
+// 0.9-2.4%). Along the rings the waviness is 1-2 um, about the P sensor's
+// resolution over S (0.015 N / 10.19 N/mm): there single cycles are off by
+// up to 10-30% and the mean over the steady cycles within 10%.
+class HistoryCase
+    : public ::testing::TestWithParam<std::tuple<const char*, double>> {};
+
+TEST_P(HistoryCase, WavinessFollowsTheTruthAfterRunningIn) {
+  const auto [name, noise] = GetParam();
+  const Mapped m = Simulate(name, noise);
+  const TrackHistory& h = m.result.track_history;
+  const auto& truth = m.test.truth.waviness_sd_mm;
+  ASSERT_EQ(h.waviness_sd_mm.size(), static_cast<size_t>(truth.size()));
+  double worst = 0, mean = 0;
+  const int first = m.result.force.running_in.cycles;
+  for (int c = first; c < h.cycles; ++c) {
+    const double e = std::abs(h.waviness_sd_mm[c] / truth[c] - 1);
+    worst = std::max(worst, e);
+    mean += e / (h.cycles - first);
+  }
+  RecordProperty("worst_relative_error", std::to_string(worst));
+  RecordProperty("mean_relative_error", std::to_string(mean));
+  const bool across_rings = std::string(name).back() == 'R';  // x-RT-R, x-RL-R
+  EXPECT_LE(across_rings ? worst : mean, 0.10) << name << ": worst " << worst;
+  // It grows with the wear.
+  EXPECT_GT(h.final_waviness_sd_mm, 2 * h.waviness_sd_mm.front());
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases,
+                         HistoryCase,
+                         ::testing::Combine(::testing::Values("B-RT-R",
+                                                              "S-RT-R",
+                                                              "B-RL-R",
+                                                              "S-RL-R",
+                                                              "B-TL-T",
+                                                              "S-RL-L"),
+                                            ::testing::Values(1.0, 2.0)),
+                         [](const auto& param_info) {
+                           std::string n = std::get<0>(param_info.param);
+                           for (char& c : n)
+                             if (c == '-') c = '_';
+                           return n + "_noise" +
+                                  std::to_string(static_cast<int>(
+                                      std::get<1>(param_info.param)));
+                         });
 
 }  // namespace
 }  // namespace wearscar::fusion

@@ -7,6 +7,7 @@
 #include "wearscar/fusion/align.h"
 #include "wearscar/fusion/analysis.h"
 #include "wearscar/fusion/friction_map.h"
+#include "wearscar/fusion/track_history.h"
 #include "wearscar/fusion/lugre.h"
 #include "wearscar/fusion/verdict.h"
 #include "wearscar/fusion/wear.h"
@@ -50,6 +51,8 @@ struct FuseOptions {
   DataWarningOptions warnings;
   // mu(x, cycle) along the stroke, raw and corrected for the slope.
   FrictionMapOptions friction_map;
+  // h(x, cycle) from P/S: the track's shape under load as it wears.
+  TrackHistoryOptions track_history;
   // Which slope mu-hat is fitted with when a scan is given: the force
   // side's k = (1/S) dP/dx, the scan's, or both (without a scan: force).
   SlopeChoice slopes = SlopeChoice::kBoth;
@@ -90,6 +93,8 @@ struct TestResult {
   // mu along the stroke per cycle and direction (force-side k), and its
   // along-track variation after running-in.
   FrictionMap friction_map;
+  // The force-side profile of every cycle, its waviness over the cycles.
+  TrackHistory track_history;
   int detail_cycle = 0;
   std::optional<LugreFit> lugre;
 };

@@ -127,6 +127,9 @@ struct GroundTruth {
   Eigen::VectorXd worn_depth_mm;  // > 0 into the surface
   Eigen::VectorXd elastic_mm;     // varying part of the penetration
   Eigen::VectorXd mu_factor;      // mu_eff / mu along the stroke
+  // Per cycle: the sd along the stroke of the sphere's path under load
+  // (worn depth at that cycle plus the elastic part): what P/S shows.
+  Eigen::VectorXd waviness_sd_mm;
   // Scan placement: plate x = flip * (s - along_offset) where s is the
   // along-track coordinate from the track centre (cx, cy) in the scan.
   double scan_centre_x_mm = 0.0, scan_centre_y_mm = 0.0;

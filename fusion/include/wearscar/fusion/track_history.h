@@ -1,0 +1,48 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "wearscar/force/cycles.h"
+#include "wearscar/force/force_record.h"
+
+namespace wearscar::fusion {
+
+struct TrackHistoryOptions {
+  double bin_mm = 0.1;  // along the stroke
+  // The waviness is steady from the first cycle after which it stays
+  // within this fraction of its late trend (a line fitted over the second
+  // half of the test).
+  double steady_tolerance = 0.05;
+
+  bool IsValid(std::string* why) const;
+};
+
+// The track's history from the spring alone: the force-side profile P/S of
+// every cycle and direction, relative to its own mean (the load control
+// holds the mean force, not the shape), is the track's shape under load as
+// it wears: h(x, cycle), in mm, negative where the track is deeper.
+struct TrackHistory {
+  std::vector<double> x_mm;  // bin centres
+  int cycles = 0;
+  // At (cycle * 2 + direction) * bins + bin; NaN where a bin is empty.
+  std::vector<double> height_mm;
+  // Per cycle: the sd of h along the stroke (the waviness amplitude), the
+  // mean of the two directions.
+  std::vector<double> waviness_sd_mm;
+  int steady_cycle = 0;               // 0-based
+  double final_waviness_sd_mm = 0.0;  // over the last tenth of the cycles
+  double growth_per_cycle_mm = 0.0;   // of the late trend
+
+  size_t Index(int cycle, int direction, size_t bin) const {
+    return (static_cast<size_t>(cycle) * 2 + direction) * x_mm.size() + bin;
+  }
+};
+
+// Throws FusionError for invalid options. Requires record.IsConsistent().
+TrackHistory ComputeTrackHistory(const force::ForceRecord& record,
+                                 const force::CycleSet& cycles,
+                                 double spring_n_per_mm,
+                                 const TrackHistoryOptions& options = {});
+
+}  // namespace wearscar::fusion

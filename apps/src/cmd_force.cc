@@ -109,7 +109,7 @@ void AddForceCommand(CLI::App& app) {
   cmd->footer(
       "Examples:\n"
       "  wearscar force B-RT-R.force.csv\n"
-      "  wearscar force rtec_export.csv --spring 10.19 -o out/force\n"
+      "  wearscar force rtec_export.csv --spring 8.5 -o out/force\n"
       "  wearscar force rig.txt --columns x=Pos:um,q=Ff,p=Fn --rate 2000 "
       "--json");
   cmd->callback([args] { RunForce(*args); });

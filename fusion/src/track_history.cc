@@ -137,8 +137,8 @@ TrackHistory ComputeTrackHistory(const force::ForceRecord& record,
       for (size_t b = 0; b < bins; ++b) {
         if (count[b] < 2) continue;
         const double m = sum[b] / count[b];
-        noise += std::max(0.0, (sum2[b] / count[b] - m * m)) /
-                 (count[b] - 1) / (spring_n_per_mm * spring_n_per_mm);
+        noise += std::max(0.0, (sum2[b] / count[b] - m * m)) / (count[b] - 1) /
+                 (spring_n_per_mm * spring_n_per_mm);
         ++noisy;
       }
       const double s = SdOf(h.height_mm, h.Index(c, d, 0), bins);

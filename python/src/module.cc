@@ -56,7 +56,7 @@ void CheckKeywords(CLI::App& parser,
   }
 }
 
-// Parses `args` (["--spring", "10.19", ...]) with the options of `groups`.
+// Parses `args` (["--spring", "8.5", ...]) with the options of `groups`.
 app::CommonArgs ParseOptions(const std::vector<std::string>& args,
                              unsigned groups,
                              const std::string& function) {

@@ -11,10 +11,10 @@ namespace wearscar::fusion {
 // extra is applied. Effects only touch the fields their formula names.
 struct EffectContext {
   // Inputs (read only for effects).
-  double x_mm = 0;          // plate position
-  int s = 1;                // direction of motion
-  double speed_mm_s = 0;    // |dx/dt|
-  double depth_mm = 0;      // groove depth at x (scan, or force side)
+  double x_mm = 0;        // plate position
+  int s = 1;              // direction of motion
+  double speed_mm_s = 0;  // |dx/dt|
+  double depth_mm = 0;    // groove depth at x (scan, or force side)
   // The groove depth's shape normalised to mean 0 and sd 1 over the
   // stroke: a proxy of the local softness (earlywood wears deeper).
   double softness = 0;

@@ -39,8 +39,8 @@ struct ProductOptions {
 };
 
 // Everything `wearscar fuse` writes for one test: the tables (cycles.csv,
-// loops.csv, friction_map.csv, detail.csv, cost_curve.csv; with a scan profiles.csv and
-// centreline.csv; with LuGre lugre.csv) and result.json.
+// loops.csv, friction_map.csv, detail.csv, cost_curve.csv; with a scan
+// profiles.csv and centreline.csv; with LuGre lugre.csv) and result.json.
 struct TestProducts {
   std::vector<std::pair<std::string, Table>> tables;  // file name, table
   nlohmann::json result;  // result.json (scan.json for a map alone)

@@ -494,6 +494,37 @@ void AddFrictionMapFigure(const std::string& name,
                    body});
 }
 
+// The track's history from the spring: h(x, cycle) = P/S about its mean
+// (forward sliding) above, its waviness per cycle below.
+void AddTrackHistoryFigure(const std::string& name,
+                           const fusion::TestResult& r,
+                           std::vector<Figure>* figs) {
+  const auto& h = r.track_history;
+  if (h.x_mm.size() < 2 || h.cycles < 2) return;
+  const double half = 0.5 * (h.x_mm[1] - h.x_mm[0]);
+  figs->push_back(
+      {"fig_track_history",
+       name + ": the track's history from the spring, h(x, cycle) = P/S",
+       fmt::format(
+           "set multiplot layout 2,1 title 'waviness {0:.4f} mm in cycle 1, "
+           "{1:.4f} mm at the end; steady from cycle {2}'\nset lmargin 10\n"
+           "set rmargin 16\nset style fill solid noborder\nset palette "
+           "defined (0 '#2c0e5a', 1 '#3b5ba5', 2 '#2fa39a', 3 '#a6d96a', 4 "
+           "'#fee08b')\nset xlabel 'x (mm)'\nset ylabel 'cycle'\nset "
+           "cblabel 'h (mm)'\nunset key\nset title 'h(x, cycle): P/S about its "
+           "mean, forward sliding'\nplot 'track_history.csv' skip 1 "
+           "using 3:($2 > 0 ? $1 : 1/0):({3}):(0.5):4 with boxxyerror "
+           "palette\nset xlabel 'cycle'\nset ylabel 'waviness (mm)'\nunset "
+           "colorbox\nset title 'waviness: the sd of h along the stroke'\n"
+           "plot 'cycles.csv' skip 1 using 1:{4} with lines lw 2\n"
+           "unset multiplot",
+           h.waviness_sd_mm.front(),
+           h.final_waviness_sd_mm,
+           h.steady_cycle + 1,
+           half,
+           Col("waviness_sd_mm"))});
+}
+
 // Figs. 13-15 per cycle.
 void AddCycleFigures(const std::string& name,
                      const fusion::TestResult& r,
@@ -561,6 +592,7 @@ FigureSet DrawTestFigures(const std::string& dir,
   AddDetailFigures(name, r, &figs);
   AddCycleFigures(name, r, opt, &figs);
   AddFrictionMapFigure(name, r, &figs);
+  AddTrackHistoryFigure(name, r, &figs);
   std::vector<std::string> missing;
   const std::string message = RunGnuplot(dir, figs, &missing);
   return Collect(dir, figs, message, std::move(missing));

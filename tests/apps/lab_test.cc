@@ -389,6 +389,17 @@ TEST(Figures, SayWhatTheyShow) {
   EXPECT_EQ(gp.find(" enhanced"), std::string::npos);
   EXPECT_NE(gp.find("noenhanced"), std::string::npos);
   EXPECT_NE(gp.find("E_d / (4 P delta_max)"), std::string::npos);
+  // The friction map and the track's history: their tables and figures.
+  EXPECT_TRUE(fs::exists(out + "/fig_friction_map.png"));
+  EXPECT_TRUE(fs::exists(out + "/fig_track_history.svg"));
+  EXPECT_EQ(Slurp(out + "/friction_map.csv")
+                .rfind("cycle,direction,x_mm,mu_raw,mu_corrected,n\n1,1,", 0),
+            0u);
+  EXPECT_EQ(Slurp(out + "/track_history.csv")
+                .rfind("cycle,direction,x_mm,h_mm\n1,1,", 0),
+            0u);
+  EXPECT_TRUE(j["friction_map"]["spatial_sd_corrected"].is_number());
+  EXPECT_EQ(j["track_history"]["bin_mm"], 0.1);
   // LuGre says whether its fit is physical.
   EXPECT_TRUE(j["lugre"]["physically_plausible"].is_boolean());
   // The force command draws the force-side figures; scan draws the map.

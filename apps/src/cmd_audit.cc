@@ -83,7 +83,7 @@ void AuditSpecimen(const AuditArgs& a,
   sec->row = fusion::SpecimenIdentity(s.name, a.batch.naming);
   const std::string final_dir = (fs::path(a.out) / s.name).string();
   try {
-    StagedOutput stage(final_dir);
+    StagedOutput stage(final_dir, "audit");
     const std::string& dir = stage.dir();
     if (!s.error.empty()) throw UsageError(s.error);
     const force::ForceRecord record =
@@ -146,7 +146,7 @@ void RecordAuditOutputs(const AuditArgs& a,
        fs::directory_iterator(fs::path(a.out) / kFigureData, ec)) {
     entries.push_back((fs::path(kFigureData) / e.path().filename()).string());
   }
-  RecordOutputs(a.out, entries, a.batch.shard_count == 1);
+  RecordOutputs(a.out, "audit", entries, a.batch.shard_count == 1);
 }
 
 // One line per specimen: failed, flagged or ok, with mu-hat and J.

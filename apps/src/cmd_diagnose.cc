@@ -42,7 +42,7 @@ void RunDiagnose(DiagnoseArgs a) {
   }
   if (a.out.empty()) return;
   const OutputLock lock(a.out);
-  StagedOutput stage(a.out);
+  StagedOutput stage(a.out, "diagnose");
   WriteDiagnosis(stage.dir(), name, d, !a.no_figures);
   stage.Commit();
   Say("wrote {}/diagnosis.json and the residual maps\n", a.out);

@@ -65,7 +65,7 @@ void RunForce(ForceArgs a) {
     return;
   }
   const OutputLock lock(a.out);
-  StagedOutput stage(a.out);
+  StagedOutput stage(a.out, "force");
   nlohmann::json summary =
       WriteTestResults(stage.dir(), a.file, record, r, a.common.fuse);
   FigureSet figs;

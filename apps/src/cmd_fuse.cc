@@ -51,7 +51,7 @@ void RunFuse(FuseArgs a) {
   // One writer per folder; everything is staged and moved into place only
   // when the whole set is there.
   const OutputLock lock(a.out);
-  StagedOutput stage(a.out);
+  StagedOutput stage(a.out, "fuse");
   nlohmann::json summary =
       WriteTestResults(stage.dir(), name, record, r, a.common.fuse, a.write);
   FigureSet figs;

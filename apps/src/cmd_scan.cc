@@ -78,7 +78,7 @@ void RunScan(ScanArgs a) {
   // Staged: a run that fails late (a full disk, a map too small for the
   // preview) leaves nothing new in the folder.
   const OutputLock lock(a.out);
-  StagedOutput stage(a.out);
+  StagedOutput stage(a.out, "scan");
   std::vector<std::string> written;
   auto path = [&](const std::string& file) {
     written.push_back(file);

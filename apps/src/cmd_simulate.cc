@@ -31,6 +31,7 @@ void RunSimulate(const SimulateCommandArgs& a) {
   EnsureDirectory(a.out);
   Progress progress("simulate", static_cast<long>(cases.size()));
   long done = 0;
+  std::vector<std::string> written;  // for the folder's manifest
   for (const auto& o : cases) {
     const samples::SimulatedTest test = samples::Simulate(o);
     const std::string base = (std::filesystem::path(a.out) / o.name).string();
@@ -41,9 +42,20 @@ void RunSimulate(const SimulateCommandArgs& a) {
       scan::WriteKeyenceCsv(test.scan, base + ".keyence.csv");
     WriteTextAtomically(base + ".truth.json",
                         samples::TruthJson(o, test).dump(2) + "\n");
+    for (const auto& [format, suffix] :
+         {std::pair<const char*, const char*>{"csv", ".force.csv"},
+          {"rtec", ".rtec.csv"},
+          {"gsf", ".scan.gsf"},
+          {"keyence-csv", ".keyence.csv"}}) {
+      if (wants(format)) written.push_back(o.name + suffix);
+    }
+    written.push_back(o.name + ".truth.json");
     progress.Update(++done);
   }
   progress.Finish();
+  // A re-run with fewer cases or formats removes what this one no longer
+  // writes (and nothing else).
+  RecordOutputs(a.out, "simulate", written, true);
   std::vector<std::string> files;
   if (wants("csv")) files.push_back("<case>.force.csv");
   if (wants("rtec")) files.push_back("<case>.rtec.csv");

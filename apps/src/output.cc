@@ -50,7 +50,8 @@ void WriteTextAtomically(const std::string& path, const std::string& text) {
   support::WriteFileAtomically<UsageError>(path, text);
 }
 
-StagedOutput::StagedOutput(std::string out) : out_(std::move(out)) {
+StagedOutput::StagedOutput(std::string out, std::string command)
+    : out_(std::move(out)), command_(std::move(command)) {
   EnsureDirectory(out_);
   // Staging left by a run that was killed (the caller holds the folder's
   // lock, so no other run is using one).
@@ -86,46 +87,65 @@ bool SafeEntry(const std::string& entry) {
   return true;
 }
 
-std::vector<std::string> ReadManifest(const std::string& out) {
+// The folder's manifest: one line per file (or folder) wearscar wrote,
+// "COMMAND<tab>PATH".
+struct ManifestEntry {
+  std::string command, path;
+};
+
+std::vector<ManifestEntry> ReadManifest(const std::string& out) {
   std::ifstream in(std::filesystem::path(out) / kManifest);
-  std::vector<std::string> entries;
+  std::vector<ManifestEntry> entries;
   for (std::string line; std::getline(in, line);) {
-    if (SafeEntry(line)) entries.push_back(line);
+    const size_t tab = line.find('\t');
+    if (tab == std::string::npos) continue;
+    ManifestEntry e{line.substr(0, tab), line.substr(tab + 1)};
+    if (SafeEntry(e.path)) entries.push_back(std::move(e));
   }
   return entries;
+}
+
+// Removes what `old` names in `out`: a file, or a folder that has a
+// manifest of its own (wearscar wrote it); a sub-folder left empty goes
+// with its last file.
+void RemoveStale(const std::string& out, const std::string& old) {
+  namespace fs = std::filesystem;
+  const fs::path p = fs::path(out) / old;
+  std::error_code ec;
+  if (old.back() == '/') {
+    if (fs::is_regular_file(p / kManifest, ec)) fs::remove_all(p, ec);
+    return;
+  }
+  if (!fs::is_regular_file(fs::symlink_status(p, ec))) return;
+  fs::remove(p, ec);
+  for (fs::path d = fs::path(old).parent_path(); !d.empty();
+       d = d.parent_path()) {
+    if (!fs::remove(fs::path(out) / d, ec)) break;
+  }
 }
 
 }  // namespace
 
 void RecordOutputs(const std::string& out,
+                   const std::string& command,
                    std::vector<std::string> entries,
                    bool remove_stale) {
   namespace fs = std::filesystem;
   std::sort(entries.begin(), entries.end());
-  if (remove_stale) {
-    for (const std::string& old : ReadManifest(out)) {
-      if (std::binary_search(entries.begin(), entries.end(), old)) continue;
-      const fs::path p = fs::path(out) / old;
-      std::error_code ec;
-      if (old.back() == '/') {
-        // A folder goes only when wearscar wrote it (it has a manifest).
-        if (fs::is_regular_file(p / kManifest, ec)) fs::remove_all(p, ec);
-      } else if (fs::is_regular_file(fs::symlink_status(p, ec))) {
-        fs::remove(p, ec);
-        // A sub-folder left empty goes with its last file.
-        for (fs::path d = fs::path(old).parent_path(); !d.empty();
-             d = d.parent_path()) {
-          if (!fs::remove(fs::path(out) / d, ec)) break;
-        }
-      }
+  std::vector<ManifestEntry> kept;
+  for (ManifestEntry& e : ReadManifest(out)) {
+    const bool rewritten =
+        std::binary_search(entries.begin(), entries.end(), e.path);
+    if (rewritten) continue;  // listed again below, under this command
+    if (e.command == command && remove_stale) {
+      RemoveStale(out, e.path);
+    } else {
+      kept.push_back(std::move(e));  // another command's, or a shard's
     }
-  } else {
-    for (const std::string& old : ReadManifest(out)) entries.push_back(old);
-    std::sort(entries.begin(), entries.end());
-    entries.erase(std::unique(entries.begin(), entries.end()), entries.end());
   }
   std::string text;
-  for (const std::string& e : entries) text += e + "\n";
+  for (const ManifestEntry& e : kept) text += e.command + "\t" + e.path + "\n";
+  for (const std::string& e : entries) text += command + "\t" + e + "\n";
   WriteTextAtomically((fs::path(out) / kManifest).string(), text);
 }
 
@@ -138,7 +158,7 @@ size_t StagedOutput::Commit() {
   }
   // Files of the earlier run that this one does not write go first, so
   // that a name reused as a folder (or the reverse) can move in.
-  RecordOutputs(out_, fresh, true);
+  RecordOutputs(out_, command_, fresh, true);
   for (const std::string& f : fresh) {
     const fs::path to = fs::path(out_) / f;
     EnsureDirectory(to.parent_path().string());

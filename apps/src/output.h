@@ -41,7 +41,8 @@ void WriteTextAtomically(const std::string& path, const std::string& text);
 // that fails leaves nothing new (the destructor removes the staging).
 class StagedOutput {
  public:
-  explicit StagedOutput(std::string out);
+  // `command` names the run in the folder's manifest (RecordOutputs).
+  StagedOutput(std::string out, std::string command);
   ~StagedOutput();
   StagedOutput(const StagedOutput&) = delete;
   StagedOutput& operator=(const StagedOutput&) = delete;
@@ -58,7 +59,7 @@ class StagedOutput {
   std::string Final(const std::string& staged_path) const;
 
  private:
-  std::string out_, staging_;
+  std::string out_, command_, staging_;
 };
 
 // An exclusive lock on an output folder for the life of the object (flock
@@ -76,12 +77,15 @@ class OutputLock {
 };
 
 // Keeps <out>/.wearscar-manifest, the list of what wearscar wrote in a
-// folder (relative paths; a folder written by wearscar ends with '/').
-// With remove_stale, what the previous manifest lists and `entries` does
-// not is removed (a folder only when it has a manifest of its own: files
-// wearscar did not write are never touched); without, the lists are
-// merged (an audit shard adds to the folder).
+// folder and which command wrote it (relative paths; a folder written by
+// wearscar ends with '/'). With remove_stale, what the same command wrote
+// there before and `entries` does not name is removed (a folder only when
+// it has a manifest of its own); what another command wrote (the
+// simulated inputs a fuse reads from the same folder) and files wearscar
+// did not write are never touched. Without remove_stale nothing is
+// removed and the lists are merged (an audit shard adds to the folder).
 void RecordOutputs(const std::string& out,
+                   const std::string& command,
                    std::vector<std::string> entries,
                    bool remove_stale);
 

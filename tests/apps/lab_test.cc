@@ -285,7 +285,7 @@ TEST(Outputs, ARerunRemovesWhatTheEarlierRunWroteAndNothingElse) {
   std::ofstream(out + "/notes.txt") << "mine\n";
   std::ofstream(dir + "/outside.txt") << "mine too\n";
   std::ofstream(out + "/.wearscar-manifest", std::ios::app)
-      << "../outside.txt\n";
+      << "fuse\t../outside.txt\n";
   ASSERT_EQ(Wearscar(fuse + " --no-figures").status, 0);
   EXPECT_FALSE(fs::exists(out + "/fig08ab_scan_map.png"));
   EXPECT_FALSE(fs::exists(out + "/figure-data"));
@@ -294,7 +294,39 @@ TEST(Outputs, ARerunRemovesWhatTheEarlierRunWroteAndNothingElse) {
   EXPECT_TRUE(fs::exists(dir + "/outside.txt"));
   const std::string manifest = Slurp(out + "/.wearscar-manifest");
   EXPECT_EQ(manifest.find(".png"), std::string::npos) << manifest;
-  EXPECT_NE(manifest.find("result.json\n"), std::string::npos) << manifest;
+  EXPECT_NE(manifest.find("fuse\tresult.json\n"), std::string::npos)
+      << manifest;
+}
+
+// Analysing simulated files into the folder that holds them: the inputs
+// another command wrote there stay, whatever fuse removes of its own.
+TEST(Outputs, AFuseIntoTheInputsFolderLeavesTheInputs) {
+  const std::string dir = Simulated("samefolder");
+  const std::string fuse = "fuse " + dir + "/B-RT-R.force.csv --scan " + dir +
+                           "/B-RT-R.scan.gsf -o " + dir;
+  ASSERT_EQ(Wearscar(fuse).status, 0);
+  ASSERT_EQ(Wearscar(fuse + " --no-figures").status, 0);
+  EXPECT_TRUE(fs::exists(dir + "/B-RT-R.force.csv"));
+  EXPECT_TRUE(fs::exists(dir + "/B-RT-R.scan.gsf"));
+  EXPECT_TRUE(fs::exists(dir + "/B-RT-R.truth.json"));
+  EXPECT_FALSE(fs::exists(dir + "/fig07_loops.png"));
+  EXPECT_TRUE(fs::exists(dir + "/result.json"));
+}
+
+TEST(Outputs, ASimulateRerunDropsWhatItNoLongerWrites) {
+  const std::string dir =
+      Simulated("resimulate", "--case B-RT-R --case S-TL-L");
+  std::ofstream(dir + "/notes.txt") << "mine\n";
+  const CommandResult r = Wearscar(
+      "simulate --case B-RT-R --cycles 20 --rate 1000 --scan-cols 64 "
+      "--scan-rows 48 --scan-pitch 0.1 --formats csv -o " +
+      dir);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir + "/B-RT-R.force.csv"));
+  EXPECT_TRUE(fs::exists(dir + "/B-RT-R.truth.json"));
+  EXPECT_FALSE(fs::exists(dir + "/B-RT-R.scan.gsf"));
+  EXPECT_FALSE(fs::exists(dir + "/S-TL-L.force.csv"));
+  EXPECT_TRUE(fs::exists(dir + "/notes.txt"));
 }
 
 TEST(Outputs, AnAuditRerunDropsSpecimensNoLongerThereButNotOtherFolders) {

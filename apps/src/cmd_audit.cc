@@ -100,12 +100,9 @@ void AuditSpecimen(const AuditArgs& a,
     sec->flagged = !r.verdict.explained;
     *series = {s.name,
                final_dir,
-               r.mismatch.mu_force_minus_mean.mean,
-               r.mismatch.mu_force_minus_mean.sd,
-               r.mismatch.mu_force_minus_energy.mean,
-               r.mismatch.mu_force_minus_energy.sd,
-               r.mismatch.mu_force.mean,
-               r.mismatch.mu_force.sd,
+               r.mismatch.mu_force_minus_mean,
+               r.mismatch.mu_force_minus_energy,
+               r.mismatch.mu_force,
                r.wear.specific_rate_mm3_per_n_m};
     if (!a.no_figures)
       sec->figures = DrawTestFigures(dir, s.name, r, a.common.fuse);

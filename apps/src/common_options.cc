@@ -224,6 +224,14 @@ void AddScanSlopeOptions(CLI::App* cmd, CommonArgs* a) {
                   "Compare the scan with the last N cycles")
       ->capture_default_str()
       ->group("Scan");
+  cmd->add_flag("--scan-slope-history",
+                o.scan_slope_history,
+                "Scale the scan's slope of each cycle by that cycle's "
+                "waviness from the spring over the final one, so the "
+                "scan-side mu-hat does not carry the track's growth (borrows "
+                "from the force side: the two slopes are then not "
+                "independent)")
+      ->group("Scan");
 }
 
 // Levelling, the centreline band and the scan slope.

@@ -534,14 +534,24 @@ void AddCycleFigures(const std::string& name,
   figs->push_back(
       {"fig13_mu_hat",
        name + ": mu-hat per cycle (Fig. 13)",
-       mark + fmt::format("set xlabel 'cycle'\nset ylabel 'mu'\nplot "
-                          "'cycles.csv' skip 1 using 1:{} title 'mu-hat, "
-                          "k from P', '' skip 1 using 1:{} title 'mu-hat, "
-                          "k from scan', '' skip 1 using 1:{} title 'mean "
-                          "method'",
-                          Col("mu_hat_force"),
-                          Col("mu_hat_scan"),
-                          Col("mu_mean"))});
+       mark + fmt::format(
+                  "set xlabel 'cycle'\nset ylabel 'mu'\nset style fill "
+                  "transparent solid 0.25 noborder\nplot 'cycles.csv' skip 1 "
+                  "using 1:{3}:{4} with filledcurves lc rgb '#1f77b4' title "
+                  "'95% interval, k from P', '' skip 1 using 1:{5}:{6} with "
+                  "filledcurves lc rgb '#ff7f0e' title '95% interval, k from "
+                  "scan', '' skip 1 using 1:{0} pt 7 ps 0.4 lc rgb '#1f77b4' "
+                  "title 'mu-hat, k from P', '' skip 1 using 1:{1} pt 7 ps "
+                  "0.4 lc rgb '#ff7f0e' title 'mu-hat, k from scan', '' skip "
+                  "1 using 1:{2} with lines lc rgb '#2ca02c' title 'mean "
+                  "method'",
+                  Col("mu_hat_force"),
+                  Col("mu_hat_scan"),
+                  Col("mu_mean"),
+                  Col("mu_hat_force_low"),
+                  Col("mu_hat_force_high"),
+                  Col("mu_hat_scan_low"),
+                  Col("mu_hat_scan_high"))});
   // J as the paper defines it beside the part this test's noise explains
   // (its floor): the verdict judges what stands above the floor.
   const bool paper =
@@ -600,17 +610,32 @@ FigureSet DrawTestFigures(const std::string& dir,
 
 namespace {
 
+// A statistic's 95% interval, the mean itself where none was estimated.
+double Low(const fusion::Statistic& s) {
+  return std::isfinite(s.low) ? s.low : s.mean;
+}
+double High(const fusion::Statistic& s) {
+  return std::isfinite(s.high) ? s.high : s.mean;
+}
+
 // The batch: each specimen's specific wear rate against its mu-hat (with
-// its sd over cycles), labelled (wear_and_mu.csv).
+// its 95% interval), labelled (wear_and_mu.csv).
 void AddWearFigure(const std::string& dir,
                    const std::vector<SpecimenSeries>& specimens,
                    std::vector<Figure>* figs) {
-  std::string data = "specimen,mu_hat,mu_hat_sd,wear_rate_mm3_per_N_m\n";
+  std::string data =
+      "specimen,mu_hat,mu_hat_sd,wear_rate_mm3_per_N_m,mu_hat_low,"
+      "mu_hat_high\n";
   int points = 0;
   for (const SpecimenSeries& s : specimens) {
-    if (!std::isfinite(s.wear_rate) || !std::isfinite(s.mu_hat)) continue;
-    data += fmt::format(
-        "{},{},{},{}\n", s.name, s.mu_hat, s.mu_hat_sd, s.wear_rate);
+    if (!std::isfinite(s.wear_rate) || !std::isfinite(s.mu_hat.mean)) continue;
+    data += fmt::format("{},{},{},{},{},{}\n",
+                        s.name,
+                        s.mu_hat.mean,
+                        s.mu_hat.sd,
+                        s.wear_rate,
+                        Low(s.mu_hat),
+                        High(s.mu_hat));
     ++points;
   }
   if (points == 0) return;
@@ -620,7 +645,7 @@ void AddWearFigure(const std::string& dir,
        "specific wear rate against mu-hat, all specimens",
        "set xlabel 'mu-hat (k from P)'\nset ylabel 'specific wear rate "
        "(mm^3/(N m))'\nunset key\nplot 'wear_and_mu.csv' skip 1 using "
-       "2:4:3 with xerrorbars pt 7 lc rgb '#1f77b4', '' skip 1 using 2:4:1 "
+       "2:4:5:6 with xerrorbars pt 7 lc rgb '#1f77b4', '' skip 1 using 2:4:1 "
        "with labels offset 1,0.6 left font ',8'"});
 }
 
@@ -686,32 +711,35 @@ FigureSet DrawAuditFigures(const std::string& dir,
          "energy-based COF, all specimens (Fig. 15)",
          Col("mu_energy_g"),
          "mu_Ed");
-  // Fig. 16: mean +- sd of the per-cycle differences.
-  std::string data = "index,name,dm,dm_sd,de,de_sd\n";
+  // Fig. 16: the mean per-cycle differences with their 95% intervals.
+  std::string data =
+      "index,name,dm,dm_sd,de,de_sd,dm_low,dm_high,de_low,de_high\n";
   for (size_t i = 0; i < specimens.size(); ++i) {
     const auto& s = specimens[i];
-    data += fmt::format("{},{},{},{},{},{}\n",
+    data += fmt::format("{},{},{},{},{},{},{},{},{},{}\n",
                         i,
                         s.name,
-                        s.diff_mean_mean,
-                        s.diff_mean_sd,
-                        s.diff_energy_mean,
-                        s.diff_energy_sd);
+                        s.diff_mean.mean,
+                        s.diff_mean.sd,
+                        s.diff_energy.mean,
+                        s.diff_energy.sd,
+                        Low(s.diff_mean),
+                        High(s.diff_mean),
+                        Low(s.diff_energy),
+                        High(s.diff_energy));
   }
   WriteTextAtomically((fs::path(dir) / "method_differences.csv").string(),
                       data);
   figs.push_back(
       {"audit_fig16_differences",
-       "mu-hat minus mean and energy COF, mean +- sd over cycles (Fig. 16)",
+       "mu-hat minus mean and energy COF, means over the cycles with their "
+       "95% intervals (Fig. 16)",
        "set ylabel 'difference'\nset xtics rotate by -45 noenhanced\nset "
-       "xrange "
-       "[-0.5:*]\nset offsets 0,0.5,0,0\nplot 'method_differences.csv' skip 1 "
-       "using "
-       "($1-0.1):3:4:xtic(2) with yerrorbars pt 7 title 'mu-hat - mu mean', '' "
-       "skip 1 "
-       "using ($1+0.1):5:6 with yerrorbars pt 5 title 'mu-hat - mu energy', 0 "
-       "lc rgb "
-       "'black' notitle"});
+       "xrange [-0.5:*]\nset offsets 0,0.5,0,0\nplot "
+       "'method_differences.csv' skip 1 using ($1-0.1):3:7:8:xtic(2) with "
+       "yerrorbars pt 7 title 'mu-hat - mu mean', '' skip 1 using "
+       "($1+0.1):5:9:10 with yerrorbars pt 5 title 'mu-hat - mu energy', 0 "
+       "lc rgb 'black' notitle"});
   AddWearFigure(dir, specimens, &figs);
   std::vector<std::string> missing;
   const std::string message = RunGnuplot(dir, figs, &missing);

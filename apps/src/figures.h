@@ -49,10 +49,10 @@ FigureSet DrawMapFigure(const std::string& dir,
 struct SpecimenSeries {
   std::string name;
   std::string dir;  // holding cycles.csv
-  double diff_mean_mean = 0, diff_mean_sd = 0, diff_energy_mean = 0,
-         diff_energy_sd = 0;
-  double mu_hat = 0, mu_hat_sd = 0;  // k from P, over the compared cycles
-  double wear_rate = 0;              // mm^3/(N m); NaN without a scan
+  // Over the compared cycles, with their 95% intervals: mu-hat minus the
+  // mean and the energy COF (Fig. 16), and mu-hat (k from P).
+  fusion::Statistic diff_mean, diff_energy, mu_hat;
+  double wear_rate = 0;  // mm^3/(N m); NaN without a scan
 };
 FigureSet DrawAuditFigures(const std::string& dir,
                            const std::vector<SpecimenSeries>& specimens);

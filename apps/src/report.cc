@@ -109,7 +109,7 @@ details {{ margin: 1em 0; font-size: 0.85em; }} pre {{ white-space: pre-wrap; }}
 mu-hat: the wear-scar coefficient of friction (Eq. 6) with the slope of the sliding path from the
 normal force (k = dP/dx / S) and, with a scan, from the worn track's centreline.</p>
 <table id="summary"><thead><tr><th>specimen</th><th>species</th><th>plane</th><th>direction</th>
-<th>mu-hat (k from P)</th><th>sd</th><th>mu-hat (k from scan)</th><th>mu mean</th><th>mu energy</th>
+<th>mu-hat (k from P)</th><th>its 95% interval</th><th>mu-hat (k from scan)</th><th>mu mean</th><th>mu energy</th>
 <th>J</th><th>J noise floor</th><th>J excess</th><th>J (k from scan)</th><th>its floor</th><th>r profiles</th><th>amplitude ratio</th><th>wear rate (mm<sup>3</sup>/(N m))</th><th>warnings</th><th>verdict</th></tr></thead><tbody>
 )",
                      Escape(title),
@@ -165,7 +165,11 @@ std::string SummaryRow(const ReportSection& s) {
       Escape(get("direction").is_string() ? get("direction").get<std::string>()
                                           : ""),
       Number(get("comparison", "mu_hat_force", "mean")),
-      Number(get("comparison", "mu_hat_force", "sd")),
+      get("comparison", "mu_hat_force", "interval95").is_array()
+          ? Number(get("comparison", "mu_hat_force", "interval95")[0]) +
+                "&ndash;" +
+                Number(get("comparison", "mu_hat_force", "interval95")[1])
+          : std::string(),
       Number(get("comparison", "mu_hat_scan", "mean")),
       Number(get("comparison", "mu_mean", "mean")),
       Number(get("comparison", "mu_energy", "mean")),
@@ -198,17 +202,27 @@ std::string At(const nlohmann::json& row,
 // The specimen's numbers: mu-hat and J with k from P beside k from the
 // scan, the other coefficients, wear, LuGre.
 std::string NumbersTable(const nlohmann::json& r) {
+  // mean (95% interval), sd
   auto pm = [&](const char* stat) {
     const std::string m = At(r, {"comparison", stat, "mean"}),
                       sd = At(r, {"comparison", stat, "sd"});
-    return m.empty() ? m : m + " &plusmn; " + sd;
+    const nlohmann::json* iv = &r;
+    for (const char* k : {"comparison", stat, "interval95"}) {
+      iv = iv->is_object() && iv->contains(k) ? &(*iv)[k] : nullptr;
+      if (iv == nullptr) break;
+    }
+    const std::string range =
+        iv && iv->is_array() && iv->size() == 2
+            ? " (" + Number((*iv)[0]) + "&ndash;" + Number((*iv)[1]) + ")"
+            : "";
+    return m.empty() ? m : m + range + ", sd " + sd;
   };
   std::string h =
       "<table class=\"numbers\"><thead><tr><th></th><th>k from P "
       "(spring)</th><th>k from the scan</th></tr></thead><tbody>\n";
   h += fmt::format(
-      "<tr><td class=\"text\">mu-hat (mean &plusmn; sd over "
-      "the compared cycles)</td><td>{}</td><td>{}</td></tr>\n",
+      "<tr><td class=\"text\">mu-hat (mean over the compared cycles, its "
+      "95% interval, the sd of the cycles)</td><td>{}</td><td>{}</td></tr>\n",
       pm("mu_hat_force"),
       pm("mu_hat_scan"));
   h += fmt::format(

@@ -37,6 +37,16 @@ void AddWarningToResult(const std::string& dir, const std::string& warning) {
   WriteTextAtomically(path, j.dump(2) + "\n");
 }
 
+namespace {
+
+// "(95%: low-high)", or nothing without an interval.
+std::string Interval95(const fusion::Statistic& s) {
+  if (!std::isfinite(s.low)) return "";
+  return fmt::format("(95%: {:.4f}-{:.4f})", s.low, s.high);
+}
+
+}  // namespace
+
 void PrintSummary(const std::string& name, const fusion::TestResult& r) {
   const auto& m = r.mismatch;
   Say("{}: {} cycles; compared over cycles {}-{}\n  {}\n",
@@ -46,9 +56,10 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
       m.last_cycle + 1,
       r.force.running_in.rule);
   if (m.mu_force.count > 0) {
-    Say("  mu-hat, k from P     {:.4f} +- {:.4f}   J {:.3f} (noise floor "
-        "{:.3f}, excess {:.3f})\n",
+    Say("  mu-hat, k from P     {:.4f} {}, sd {:.4f}   J {:.3f} (noise "
+        "floor {:.3f}, excess {:.3f})\n",
         m.mu_force.mean,
+        Interval95(m.mu_force),
         m.mu_force.sd,
         m.cost_force.mean,
         m.split_force.floor,
@@ -59,9 +70,10 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
   }
   if (m.has_scan) {
     if (m.mu_scan.count > 0) {
-      Say("  mu-hat, k from scan  {:.4f} +- {:.4f}   J {:.3f} (noise floor "
-          "{:.3f}, excess {:.3f})\n",
+      Say("  mu-hat, k from scan  {:.4f} {}, sd {:.4f}   J {:.3f} (noise "
+          "floor {:.3f}, excess {:.3f})\n",
           m.mu_scan.mean,
+          Interval95(m.mu_scan),
           m.mu_scan.sd,
           m.cost_scan.mean,
           m.split_scan.floor,
@@ -79,7 +91,11 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
         a.flipped ? " (flipped)" : "",
         m.k_rms_difference);
   }
-  Say("  mu mean {:.4f}, mu energy {:.4f}\n", m.mu_mean.mean, m.mu_energy.mean);
+  Say("  mu mean {:.4f} {}, mu energy {:.4f} {}\n",
+      m.mu_mean.mean,
+      Interval95(m.mu_mean),
+      m.mu_energy.mean,
+      Interval95(m.mu_energy));
   if (r.lugre) {
     Say("  LuGre, cycle {}: {}\n", r.detail_cycle + 1, r.lugre->BriefReport());
   }

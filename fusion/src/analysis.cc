@@ -78,6 +78,91 @@ Interval MeanInterval(const std::vector<double>& values,
   return r;
 }
 
+Statistic SummariseWithErrors(const std::vector<double>& values,
+                              const std::vector<double>& standard_errors,
+                              int first,
+                              int last,
+                              int correlated_cycles) {
+  WEARSCAR_CHECK(values.size() == standard_errors.size(),
+                 "SummariseWithErrors needs one error per value");
+  WEARSCAR_CHECK(correlated_cycles >= 1,
+                 "SummariseWithErrors needs correlated_cycles >= 1");
+  first = std::max(first, 0);
+  last = std::min(last, static_cast<int>(values.size()) - 1);
+  std::vector<int> cycle;
+  std::vector<double> v, se;
+  bool all_errors = true;
+  for (int c = first; c <= last; ++c) {
+    if (!std::isfinite(values[c])) continue;
+    all_errors = all_errors && std::isfinite(standard_errors[c]);
+    cycle.push_back(c);
+    v.push_back(values[c]);
+    se.push_back(standard_errors[c]);
+  }
+  Statistic s = Summarise(v, 0);
+  const int n = static_cast<int>(v.size());
+  if (n == 0 || !all_errors) return s;  // no interval
+  // sum over pairs closer than the correlation length, by their cycle
+  // numbers (cycles left out leave gaps).
+  double var = 0, se2 = 0;
+  for (int i = 0; i < n; ++i) {
+    se2 += se[i] * se[i];
+    for (int j = i; j < n && cycle[j] - cycle[i] < correlated_cycles; ++j) {
+      const double rho =
+          1.0 - static_cast<double>(cycle[j] - cycle[i]) / correlated_cycles;
+      var += (i == j ? 1.0 : 2.0) * rho * se[i] * se[j];
+    }
+  }
+  const double half = 1.96 * std::sqrt(var) / n;
+  s.low = s.mean - half;
+  s.high = s.mean + half;
+  s.effective_count = var > 0 ? static_cast<double>(n) * se2 / var : n;
+  return s;
+}
+
+Statistic SummariseSeries(const std::vector<double>& values,
+                          int first,
+                          int last) {
+  first = std::max(first, 0);
+  last = std::min(last, static_cast<int>(values.size()) - 1);
+  std::vector<double> t, v;
+  for (int c = first; c <= last; ++c) {
+    if (!std::isfinite(values[c])) continue;
+    t.push_back(c);
+    v.push_back(values[c]);
+  }
+  Statistic s = Summarise(v, 0);
+  const int n = static_cast<int>(v.size());
+  if (n < 4) return s;
+  // Residuals about the least-squares line.
+  double tm = 0;
+  for (double x : t) tm += x;
+  tm /= n;
+  double sxy = 0, sxx = 0;
+  for (int i = 0; i < n; ++i) {
+    sxy += (t[i] - tm) * (v[i] - s.mean);
+    sxx += (t[i] - tm) * (t[i] - tm);
+  }
+  const double slope = sxx > 0 ? sxy / sxx : 0.0;
+  std::vector<double> r(static_cast<std::size_t>(n));
+  double rr = 0, lag1 = 0;
+  for (int i = 0; i < n; ++i) {
+    r[i] = v[i] - s.mean - slope * (t[i] - tm);
+    rr += r[i] * r[i];
+    if (i > 0) lag1 += r[i] * r[i - 1];
+  }
+  const double rho = rr > 0 ? std::clamp(lag1 / rr, 0.0, 0.99) : 0.0;
+  const double n_eff =
+      std::clamp(n * (1.0 - rho) / (1.0 + rho), 2.0, static_cast<double>(n));
+  const double sd = std::sqrt(rr / (n - 2));
+  const double half = internal::StudentT975(static_cast<int>(n_eff) - 1) * sd /
+                      std::sqrt(n_eff);
+  s.low = s.mean - half;
+  s.high = s.mean + half;
+  s.effective_count = n_eff;
+  return s;
+}
+
 CostSplit SplitCost(const std::vector<MuFit>& fits, int first, int last) {
   CostSplit s;
   std::vector<double> j, noise[2], repeat[2];
@@ -194,6 +279,7 @@ ForceAnalysis AnalyzeForce(const force::ForceRecord& record,
     a.slope_estimate = std::move(fits.slope);
     a.k_signal_rms = fits.k_signal_rms;
     a.k_noise_rms = fits.k_noise_rms;
+    a.correlated_cycles = fits.correlated_cycles;
   } else {
     a.fit_force.assign(a.cycles.cycles.size(), MuFit{});
     for (auto& f : a.fit_force) f.message = "not fitted (scan slope only)";
@@ -220,18 +306,19 @@ ForceAnalysis AnalyzeForce(const force::ForceRecord& record,
     a.running_in = DetectRunningIn(friction, options.running_in_tolerance);
   }
   const int first = a.running_in.cycles;
-  std::vector<double> mu, j, mm, me;
+  std::vector<double> mu, se, j, mm, me;
   for (int i = 0; i < n; ++i) {
     const bool ok = a.fit_force[i].converged;
     mu.push_back(ok ? a.fit_force[i].mu_hat : std::nan(""));
+    se.push_back(ok ? a.fit_force[i].standard_error : std::nan(""));
     j.push_back(ok ? a.fit_force[i].cost : std::nan(""));
     mm.push_back(a.cof[i].mu_mean);
     me.push_back(a.cof[i].mu_energy_g);
   }
-  a.mu_hat = Summarise(mu, first);
+  a.mu_hat = SummariseWithErrors(mu, se, first, n - 1, a.correlated_cycles);
   a.cost = Summarise(j, first);
-  a.mu_mean = Summarise(mm, first);
-  a.mu_energy = Summarise(me, first);
+  a.mu_mean = SummariseSeries(mm, first, n - 1);
+  a.mu_energy = SummariseSeries(me, first, n - 1);
   return a;
 }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "minimize.h"
 #include "wearscar/fusion/forward_model.h"
@@ -63,6 +64,48 @@ void AppendSlip(const force::ForceRecord& r,
   out->x_mm.conservativeResize(n);
 }
 
+// Standard error of mu-hat (MuFit::standard_error). With r = Qm - Qw and
+// g = dQw/dmu = s P (1 + k^2) / (1 - s mu k)^2 per sample, J's stationarity
+// sum_d a_d r_d.g_d = 0 (a_d = 1 / (|r_d| |Qm_d|)) linearised gives
+// d mu = sum_d a_d e_d.g_d / sum_d a_d |g_d|^2, whose variance is estimated
+// from the scores r g summed in blocks along each direction.
+double StandardError(const CycleSamples& samples, double mu, double block_mm) {
+  double numerator = 0, denominator = 0;
+  for (const SlipSamples* s : {&samples.forward, &samples.reverse}) {
+    const Eigen::Index n = s->q_n.size();
+    if (n < 2 || s->x_mm.size() != n) return std::nan("");
+    const double x0 = s->x_mm[0];
+    const double length = std::abs(s->x_mm[n - 1] - x0);
+    if (!(length > 0)) return std::nan("");
+    const int b = static_cast<int>(std::clamp(length / block_mm, 2.0, 1e5));
+    const double sm = s->direction * mu;
+    double rr = 0, gg = 0;
+    std::vector<double> sums(static_cast<std::size_t>(b), 0.0);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double k = s->k[i], d = 1.0 - sm * k;
+      const double r = s->q_n[i] - s->p_n[i] * (k + sm) / d;
+      const double g = s->direction * s->p_n[i] * (1.0 + k * k) / (d * d);
+      rr += r * r;
+      gg += g * g;
+      const int j = static_cast<int>(std::abs(s->x_mm[i] - x0) / length * b);
+      sums[static_cast<std::size_t>(std::clamp(j, 0, b - 1))] += r * g;
+    }
+    double var = 0, cross = 0;
+    for (int j = 0; j < b; ++j) {
+      var += sums[j] * sums[j];
+      if (j > 0) cross += sums[j] * sums[j - 1];
+    }
+    var = std::max(var + 2.0 * cross, 0.25 * var);
+    const double qq = s->q_n.squaredNorm();
+    if (!(qq > 0)) return std::nan("");
+    if (!(rr > 0)) return 0.0;  // an exact fit: this direction fixes mu
+    const double a = 1.0 / std::sqrt(rr * qq);
+    numerator += a * a * var;
+    denominator += a * gg;
+  }
+  return denominator > 0 ? std::sqrt(numerator) / denominator : std::nan("");
+}
+
 FrictionFitOptions Resolved(const FrictionFitOptions& o, double rate_hz) {
   FrictionFitOptions r = o;
   r.slope = o.slope.ForSamplingRate(rate_hz);
@@ -86,6 +129,7 @@ bool FitMuOptions::IsValid(std::string* why) const {
   if (grid_points < 3) return fail("grid_points must be >= 3");
   if (!(tolerance > 0)) return fail("tolerance must be > 0");
   if (max_iterations < 1) return fail("max_iterations must be >= 1");
+  if (!(error_block_mm > 0)) return fail("error_block_mm must be > 0");
   return true;
 }
 
@@ -143,6 +187,9 @@ MuFit FitMu(const CycleSamples& samples, const FitMuOptions& o) {
   fit.at_bound =
       (x - o.mu_min) < 10 * o.tolerance || (o.mu_max - x) < 10 * o.tolerance;
   fit.message = fit.converged ? "converged" : "iteration limit reached";
+  if (fit.converged) {
+    fit.standard_error = StandardError(samples, x, o.error_block_mm);
+  }
   return fit;
 }
 
@@ -353,9 +400,13 @@ FrictionFits FitFriction(const force::ForceRecord& record,
                          const force::CycleSet& cycles,
                          SlopeSource source,
                          const FrictionFitOptions& options,
-                         const PlateProfile* scan_slope) {
+                         const PlateProfile* scan_slope,
+                         const std::vector<double>* slope_scale) {
   WEARSCAR_CHECK(record.IsConsistent(),
                  "FitFriction needs channels of one length");
+  WEARSCAR_CHECK(
+      slope_scale == nullptr || slope_scale->size() == cycles.cycles.size(),
+      "FitFriction needs one slope scale per cycle");
   std::string why;
   if (!options.IsValid(&why)) throw FusionError("friction fit options: " + why);
   if (source == SlopeSource::kScan && scan_slope == nullptr) {
@@ -371,8 +422,10 @@ FrictionFits FitFriction(const force::ForceRecord& record,
     force_slopes.emplace(record, cycles, options);
     out.slope = force_slopes->Describe();
     shared = force_slopes->SharedCycles();
+    out.correlated_cycles = shared;
   } else {
     out.slope = "k = dh/dx of the scan's centreline in plate coordinates";
+    out.correlated_cycles = std::max(1, n);
   }
   const FrictionFitOptions resolved = Resolved(options, SamplingRateOf(record));
   // The misfit Qm - Qw and k of every cycle, binned along x for the noise
@@ -382,12 +435,16 @@ FrictionFits FitFriction(const force::ForceRecord& record,
   CycleBins misfit(grid, 0, n - 1), slope(grid, 0, n - 1);
   std::vector<std::array<double, 2>> misfit_total(n), q_total(n), k_total(n);
   for (int c = 0; c < n; ++c) {
-    const CycleSamples s = force_slopes ? force_slopes->Gather(c)
-                                        : GatherCycle(record,
-                                                      cycles.cycles[c],
-                                                      SlopeSource::kScan,
-                                                      resolved,
-                                                      scan_slope);
+    CycleSamples s = force_slopes ? force_slopes->Gather(c)
+                                  : GatherCycle(record,
+                                                cycles.cycles[c],
+                                                SlopeSource::kScan,
+                                                resolved,
+                                                scan_slope);
+    if (!force_slopes && slope_scale != nullptr) {
+      s.forward.k *= (*slope_scale)[c];
+      s.reverse.k *= (*slope_scale)[c];
+    }
     MuFit fit = FitMu(s, options.fit);
     int d = 0;
     for (const SlipSamples* h : {&s.forward, &s.reverse}) {
@@ -430,8 +487,10 @@ std::vector<MuFit> FitFrictionPerCycle(const force::ForceRecord& record,
                                        const force::CycleSet& cycles,
                                        SlopeSource source,
                                        const FrictionFitOptions& options,
-                                       const PlateProfile* scan_slope) {
-  return FitFriction(record, cycles, source, options, scan_slope).cycles;
+                                       const PlateProfile* scan_slope,
+                                       const std::vector<double>* slope_scale) {
+  return FitFriction(record, cycles, source, options, scan_slope, slope_scale)
+      .cycles;
 }
 
 }  // namespace wearscar::fusion

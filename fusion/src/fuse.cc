@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -9,13 +10,23 @@
 #include "wearscar/support/check.h"
 
 namespace wearscar::fusion {
+namespace {
+
+bool CheckScanSlopeScale(double max_scale, std::string* why) {
+  if (max_scale >= 1.0 && std::isfinite(max_scale)) return true;
+  if (why) *why = "max_scan_slope_scale must be finite and >= 1";
+  return false;
+}
+
+}  // namespace
 
 bool FuseOptions::IsValid(std::string* why) const {
   return analysis.IsValid(why) && level.IsValid(why) && track.IsValid(why) &&
          profile.IsValid(why) && force_profile.IsValid(why) &&
          align.IsValid(why) && scan_slope.IsValid(why) &&
          verdict.IsValid(why) && warnings.IsValid(why) &&
-         friction_map.IsValid(why) && track_history.IsValid(why);
+         friction_map.IsValid(why) && track_history.IsValid(why) &&
+         CheckScanSlopeScale(max_scan_slope_scale, why);
 }
 
 MismatchReport CompareSlopes(const force::ForceRecord& record,
@@ -32,19 +43,38 @@ MismatchReport CompareSlopes(const force::ForceRecord& record,
     for (int c = first; c <= last; ++c) v.push_back(value(c));
     return Summarise(v, 0);
   };
+  // mu-hat and what is computed from it carry the fits' standard errors,
+  // correlated over the cycles that share a slope; the classic COFs are
+  // judged by their own scatter (SummariseSeries).
+  auto series = [&](auto value) {
+    std::vector<double> v;
+    for (int c = first; c <= last; ++c) v.push_back(value(c));
+    return SummariseSeries(v, 0, static_cast<int>(v.size()) - 1);
+  };
+  auto with_errors =
+      [&](const std::vector<MuFit>& fits, int correlated, auto value) {
+        std::vector<double> v, se;
+        for (int c = first; c <= last; ++c) {
+          const bool ok = fits[c].converged;
+          v.push_back(ok ? value(c) : std::nan(""));
+          se.push_back(ok ? fits[c].standard_error : std::nan(""));
+        }
+        return SummariseWithErrors(
+            v, se, 0, static_cast<int>(v.size()) - 1, correlated);
+      };
   const auto& ff = force.fit_force;
-  r.mu_force = stat(
-      [&](int c) { return ff[c].converged ? ff[c].mu_hat : std::nan(""); });
+  const int shared = force.correlated_cycles;
+  r.mu_force = with_errors(ff, shared, [&](int c) { return ff[c].mu_hat; });
   r.cost_force =
       stat([&](int c) { return ff[c].converged ? ff[c].cost : std::nan(""); });
-  r.mu_mean = stat([&](int c) { return force.cof[c].mu_mean; });
-  r.mu_energy = stat([&](int c) { return force.cof[c].mu_energy_g; });
-  r.mu_force_minus_mean = stat([&](int c) {
-    return ff[c].converged ? ff[c].mu_hat - force.cof[c].mu_mean : std::nan("");
-  });
-  r.mu_force_minus_energy = stat([&](int c) {
-    return ff[c].converged ? ff[c].mu_hat - force.cof[c].mu_energy_g
-                           : std::nan("");
+  r.mu_mean = series([&](int c) { return force.cof[c].mu_mean; });
+  r.mu_energy = series([&](int c) { return force.cof[c].mu_energy_g; });
+  // The classic COFs' own noise is small against mu-hat's (they average
+  // Q/P over whole half cycles): the differences carry mu-hat's errors.
+  r.mu_force_minus_mean = with_errors(
+      ff, shared, [&](int c) { return ff[c].mu_hat - force.cof[c].mu_mean; });
+  r.mu_force_minus_energy = with_errors(ff, shared, [&](int c) {
+    return ff[c].mu_hat - force.cof[c].mu_energy_g;
   });
   r.split_force = SplitCost(ff, first, last);
   // mu-hat minus mu_energy with the slope the verdict judges.
@@ -66,8 +96,9 @@ MismatchReport CompareSlopes(const force::ForceRecord& record,
   const auto& fs = scan->fit_scan;
   r.split_scan = SplitCost(fs, first, last);
   if (r.cost_force.count == 0) r.method_difference = method_difference(fs);
-  r.mu_scan = stat(
-      [&](int c) { return fs[c].converged ? fs[c].mu_hat : std::nan(""); });
+  // One scan slope for every cycle: its errors are common to all.
+  r.mu_scan =
+      with_errors(fs, last - first + 1, [&](int c) { return fs[c].mu_hat; });
   r.cost_scan =
       stat([&](int c) { return fs[c].converged ? fs[c].cost : std::nan(""); });
   r.mu_force_minus_scan = r.mu_force.mean - r.mu_scan.mean;
@@ -121,10 +152,28 @@ namespace {
 // The scan side of one test (levelling, track, centreline, alignment, scan
 // slope, mu-hat with it). Throws scan::NoTrackError when the map holds no
 // track, FusionError when its profile cannot be aligned with the force's.
+// Per cycle, its waviness from the spring over the final one, within
+// [0, max_scan_slope_scale]; 1 where the history has no value.
+std::vector<double> ScanSlopeScale(const TrackHistory& history,
+                                   const FuseOptions& options) {
+  std::vector<double> scale(history.waviness_sd_mm.size(), 1.0);
+  const double final_sd = history.final_waviness_sd_mm;
+  if (!(final_sd > 0)) return scale;
+  for (size_t c = 0; c < scale.size(); ++c) {
+    const double r = history.waviness_sd_mm[c] / final_sd;
+    if (std::isfinite(r))
+      scale[c] = std::clamp(r, 0.0, options.max_scan_slope_scale);
+  }
+  return scale;
+}
+
+// `history` (null unless options.scan_slope_history) scales the scan's
+// slope per cycle.
 ScanAnalysis AnalyzeScan(const force::ForceRecord& record,
                          const ForceAnalysis& force,
                          scan::HeightMap map,
-                         const FuseOptions& options) {
+                         const FuseOptions& options,
+                         const TrackHistory* history) {
   ScanAnalysis s;
   s.level = scan::LevelHeightMap(&map, options.level);
   s.spikes_removed = scan::RemoveSpikes(&map, options.spikes);
@@ -182,11 +231,13 @@ ScanAnalysis AnalyzeScan(const force::ForceRecord& record,
   s.slope = ScanSlopeInPlate(
       s.profile, s.alignment, options.scan_slope, stroke_min, stroke_max);
   if (options.slopes != SlopeChoice::kForce) {
+    if (history != nullptr) s.slope_scale = ScanSlopeScale(*history, options);
     s.fit_scan = FitFrictionPerCycle(record,
                                      force.cycles,
                                      SlopeSource::kScan,
                                      options.analysis.friction,
-                                     &s.slope);
+                                     &s.slope,
+                                     history ? &s.slope_scale : nullptr);
   } else {
     s.fit_scan.assign(force.cycles.cycles.size(), MuFit{});
     for (auto& f : s.fit_scan) f.message = "not fitted (force slope only)";
@@ -230,14 +281,25 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
           n));
     }
   }
+  // The track's history from the spring (before the scan: it may scale
+  // the scan's slope).
+  result.track_history =
+      ComputeTrackHistory(record,
+                          result.force.cycles,
+                          options.analysis.friction.slope.spring_n_per_mm,
+                          options.track_history);
   if (height_map) {
     // A scan that cannot serve (no track, no overlap with the stroke) does
     // not lose the test: the force side stands, with a warning that says
     // why (unless the scan's slope alone was asked for).
     result.scan_file = height_map->metadata.source;
     try {
-      result.scan =
-          AnalyzeScan(record, result.force, std::move(*height_map), options);
+      result.scan = AnalyzeScan(
+          record,
+          result.force,
+          std::move(*height_map),
+          options,
+          options.scan_slope_history ? &result.track_history : nullptr);
     } catch (const std::exception& e) {
       if (options.slopes == SlopeChoice::kScan) throw;
       result.scan_skipped = fmt::format(
@@ -274,11 +336,6 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
                                            options.analysis.friction,
                                            result.force.running_in.cycles,
                                            options.friction_map);
-  result.track_history =
-      ComputeTrackHistory(record,
-                          result.force.cycles,
-                          options.analysis.friction.slope.spring_n_per_mm,
-                          options.track_history);
   result.wear =
       MeasureWear(record,
                   result.force.cycles,

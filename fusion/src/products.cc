@@ -25,8 +25,15 @@ nlohmann::json CycleNumber(int zero_based) {
   return zero_based >= 0 ? nlohmann::json(zero_based + 1) : nlohmann::json();
 }
 
+// mean, sd, count; with the mean's 95% interval and the effective number
+// of independent cycles where they were estimated.
 nlohmann::json Stat(const Statistic& s) {
-  return {{"mean", s.mean}, {"sd", s.sd}, {"count", s.count}};
+  nlohmann::json j = {{"mean", s.mean}, {"sd", s.sd}, {"count", s.count}};
+  if (std::isfinite(s.low)) {
+    j["interval95"] = {s.low, s.high};
+    j["effective_cycles"] = s.effective_count;
+  }
+  return j;
 }
 
 nlohmann::json Split(const CostSplit& s) {
@@ -109,7 +116,8 @@ nlohmann::json ScanOptionsJson(const FuseOptions& o) {
           {"compare_cycles", o.force_profile.cycles},
           {"compare_first", CycleNumber(o.force_profile.first_cycle)},
           {"compare_last", CycleNumber(o.force_profile.last_cycle)},
-          {"profile_step_mm", o.force_profile.step_mm}};
+          {"profile_step_mm", o.force_profile.step_mm},
+          {"scan_slope_history", o.scan_slope_history}};
 }
 
 // The track's size, the load and distance, and the specific wear rate
@@ -165,18 +173,21 @@ nlohmann::json ComparisonJson(const TestResult& r) {
 nlohmann::json ScanJson(const ScanAnalysis& s) {
   const auto& t = s.track;
   const auto& a = s.alignment;
-  return {{"level", LevelJson(s.level)},
-          {"spikes_removed", s.spikes_removed},
-          {"track", TrackJson(t)},
-          {"alignment",
-           {{"shift_mm", a.shift_mm},
-            {"flipped", a.flipped},
-            {"correlation", a.correlation},
-            {"correlation_forward", a.correlation_forward},
-            {"correlation_reverse", a.correlation_reverse},
-            {"scale", a.scale},
-            {"amplitude_ratio", a.amplitude_ratio},
-            {"overlap_samples", a.overlap_samples}}}};
+  nlohmann::json j = {{"level", LevelJson(s.level)},
+                      {"spikes_removed", s.spikes_removed},
+                      {"track", TrackJson(t)},
+                      {"alignment",
+                       {{"shift_mm", a.shift_mm},
+                        {"flipped", a.flipped},
+                        {"correlation", a.correlation},
+                        {"correlation_forward", a.correlation_forward},
+                        {"correlation_reverse", a.correlation_reverse},
+                        {"scale", a.scale},
+                        {"amplitude_ratio", a.amplitude_ratio},
+                        {"overlap_samples", a.overlap_samples}}}};
+  // --scan-slope-history: the factor on the scan's slope per cycle.
+  if (!s.slope_scale.empty()) j["slope_scale"] = s.slope_scale;
+  return j;
 }
 
 nlohmann::json LugreJson(const TestResult& r) {
@@ -195,6 +206,10 @@ nlohmann::json LugreJson(const TestResult& r) {
           {"physically_plausible", r.lugre->physically_plausible},
           {"message", r.lugre->message}};
 }
+
+// The normal distribution's two-sided 95% quantile: mu-hat's interval per
+// cycle is mu_hat +- kZ95 MuFit::standard_error.
+constexpr double kZ95 = 1.96;
 
 // cycles.csv: one row per cycle.
 Table CycleTable(const TestResult& r) {
@@ -235,7 +250,11 @@ Table CycleTable(const TestResult& r) {
                              cycles[c].reverse.slip_fallback),
          c < r.track_history.waviness_sd_mm.size()
              ? r.track_history.waviness_sd_mm[c]
-             : Nan()});
+             : Nan(),
+         f.converged ? f.mu_hat - kZ95 * f.standard_error : Nan(),
+         f.converged ? f.mu_hat + kZ95 * f.standard_error : Nan(),
+         sok ? s->mu_hat - kZ95 * s->standard_error : Nan(),
+         sok ? s->mu_hat + kZ95 * s->standard_error : Nan()});
   }
   return t;
 }
@@ -599,14 +618,36 @@ std::vector<std::pair<std::string, std::string>> TestProducts::Files() const {
 }
 
 const std::vector<std::string>& CycleColumns() {
-  static const std::vector<std::string> kColumns = {
-      "cycle",          "mu_hat_force",  "J_force",        "J_force_floor",
-      "J_force_excess", "mu_hat_scan",   "J_scan",         "J_scan_floor",
-      "J_scan_excess",  "samples",       "mu_mean",        "mu_energy_max",
-      "mu_energy_g",    "E_d_Nmm",       "delta_max_mm",   "delta_g_mm",
-      "P_mean_N",       "Q_max_N",       "Q_min_N",        "P_max_N",
-      "P_min_N",        "P_range_N",     "QP_correlation", "running_in",
-      "slip_fallback",  "waviness_sd_mm"};
+  static const std::vector<std::string> kColumns = {"cycle",
+                                                    "mu_hat_force",
+                                                    "J_force",
+                                                    "J_force_floor",
+                                                    "J_force_excess",
+                                                    "mu_hat_scan",
+                                                    "J_scan",
+                                                    "J_scan_floor",
+                                                    "J_scan_excess",
+                                                    "samples",
+                                                    "mu_mean",
+                                                    "mu_energy_max",
+                                                    "mu_energy_g",
+                                                    "E_d_Nmm",
+                                                    "delta_max_mm",
+                                                    "delta_g_mm",
+                                                    "P_mean_N",
+                                                    "Q_max_N",
+                                                    "Q_min_N",
+                                                    "P_max_N",
+                                                    "P_min_N",
+                                                    "P_range_N",
+                                                    "QP_correlation",
+                                                    "running_in",
+                                                    "slip_fallback",
+                                                    "waviness_sd_mm",
+                                                    "mu_hat_force_low",
+                                                    "mu_hat_force_high",
+                                                    "mu_hat_scan_low",
+                                                    "mu_hat_scan_high"};
   return kColumns;
 }
 

@@ -52,6 +52,16 @@ def test_fuse_recovers_the_simulated_mu_per_cycle():
     assert np.abs(cycles["mu_hat_force"][steady] - truth[steady]).max() < 0.01
     assert abs(result.mu_hat_scan - truth[steady].mean()) < 0.005
     assert result.explained
+    # Error bars: each cycle's interval around its mu-hat, the test's mean
+    # inside its 95% interval, which the keyword option leaves to the scan.
+    low, high = cycles["mu_hat_force_low"], cycles["mu_hat_force_high"]
+    assert np.all(low < cycles["mu_hat_force"])
+    assert np.all(cycles["mu_hat_force"] < high)
+    lo, hi = result.summary["comparison"]["mu_hat_force"]["interval95"]
+    assert lo < result.summary["comparison"]["mu_hat_force"]["mean"] < hi
+    history = wearscar.fuse(test.force, test.scan, running_in=20,
+                            scan_slope_history=True)
+    assert history.summary["options"]["scan"]["scan_slope_history"] is True
     # Plain values for a notebook's json.dump.
     json.dumps(result.to_dict())
 

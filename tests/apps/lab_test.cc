@@ -3,6 +3,7 @@
 // trusted after a re-run.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -241,6 +242,12 @@ TEST(Provenance, ResultsNameTheBuildTheInputsAndEveryOption) {
             std::string::npos);
   EXPECT_NE(csv.find(",force_sha256,"), std::string::npos);
   EXPECT_NE(csv.find(",git_commit,date_utc\n"), std::string::npos);
+  // The intervals: mu-hat's, the classic COFs' and Fig. 16's differences.
+  for (const char* c : {",mu_hat_low,mu_hat_high,mu_hat_effective_cycles,",
+                        ",mu_mean_low,mu_mean_high,",
+                        ",mu_energy_low,mu_energy_high,",
+                        ",mu_hat_minus_mu_energy_low,"})
+    EXPECT_NE(csv.find(c), std::string::npos) << c;
 }
 
 TEST(Wear, ArchardRateFromTheTrackAndTheSlidingDistance) {
@@ -434,6 +441,38 @@ TEST(Figures, SayWhatTheyShow) {
   EXPECT_EQ(j["track_history"]["bin_mm"], 0.1);
   // LuGre says whether its fit is physical.
   EXPECT_TRUE(j["lugre"]["physically_plausible"].is_boolean());
+  // Error bars: every cycle's mu-hat inside its 95% interval in
+  // cycles.csv, drawn as a band on Fig. 13; the test's mean inside its own.
+  EXPECT_NE(gp.find("'95% interval, k from P'"), std::string::npos);
+  std::ifstream table(out + "/cycles.csv");
+  std::string line;
+  std::getline(table, line);
+  std::vector<std::string> header;
+  for (std::stringstream h(line); std::getline(h, line, ',');)
+    header.push_back(line);
+  auto column = [&](const char* name) {
+    return std::find(header.begin(), header.end(), name) - header.begin();
+  };
+  const auto mu_col = column("mu_hat_force"),
+             low_col = column("mu_hat_force_low"),
+             high_col = column("mu_hat_force_high");
+  ASSERT_LT(high_col, static_cast<long>(header.size()));
+  int rows = 0;
+  for (std::string row; std::getline(table, row); ++rows) {
+    std::vector<double> v;
+    for (std::stringstream cells(row); std::getline(cells, line, ',');)
+      v.push_back(std::stod(line));
+    EXPECT_LT(v[low_col], v[mu_col]) << row;
+    EXPECT_GT(v[high_col], v[mu_col]) << row;
+    EXPECT_LT(v[high_col] - v[low_col], 0.01) << row;
+  }
+  EXPECT_GT(rows, 5);
+  const auto& mu = j["comparison"]["mu_hat_force"];
+  ASSERT_TRUE(mu["interval95"].is_array()) << mu.dump();
+  EXPECT_LT(mu["interval95"][0].get<double>(), mu["mean"].get<double>());
+  EXPECT_GT(mu["interval95"][1].get<double>(), mu["mean"].get<double>());
+  EXPECT_GT(mu["effective_cycles"].get<double>(), 1.0);
+  EXPECT_LE(mu["effective_cycles"].get<double>(), mu["count"].get<double>());
   // The force command draws the force-side figures; scan draws the map.
   ASSERT_EQ(
       Wearscar("force " + dir + "/B-RT-R.force.csv -o " + dir + "/f").status,
@@ -451,6 +490,25 @@ TEST(Figures, SayWhatTheyShow) {
   EXPECT_NE(scan_gp.find("cblabel 'height (um)'"), std::string::npos);
   // A 1 mm scale bar on the 7.6 mm wide map.
   EXPECT_NE(scan_gp.find("set label 1 '1 mm' at first"), std::string::npos);
+}
+
+// --scan-slope-history is recorded with the options and changes only the
+// scan side: the force side's mu-hat stays, the scan side's moves.
+TEST(Options, ScanSlopeHistoryIsRecordedAndMovesOnlyTheScanSide) {
+  const std::string dir = Simulated("history", "--case S-RT-R");
+  const std::string base = "fuse " + dir + "/S-RT-R.force.csv --scan " + dir +
+                           "/S-RT-R.scan.gsf --no-figures -o ";
+  ASSERT_EQ(Wearscar(base + dir + "/plain").status, 0);
+  const CommandResult r = Wearscar(base + dir + "/hist --scan-slope-history");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const nlohmann::json a = ParseJson(Slurp(dir + "/plain/result.json"));
+  const nlohmann::json b = ParseJson(Slurp(dir + "/hist/result.json"));
+  EXPECT_EQ(a["options"]["scan"]["scan_slope_history"], false);
+  EXPECT_EQ(b["options"]["scan"]["scan_slope_history"], true);
+  EXPECT_EQ(a["comparison"]["mu_hat_force"]["mean"],
+            b["comparison"]["mu_hat_force"]["mean"]);
+  EXPECT_NE(a["comparison"]["mu_hat_scan"]["mean"],
+            b["comparison"]["mu_hat_scan"]["mean"]);
 }
 
 // The report's numbers per specimen: mu-hat and J with both slopes side
@@ -483,11 +541,22 @@ TEST(Report, ShowsEachSpecimensNumbersAndWhereTheyCameFrom) {
       html.find(j["provenance"]["inputs"][0]["sha256"].get<std::string>()),
       std::string::npos);
   EXPECT_NE(html.find("made by wearscar "), std::string::npos);
+  // mu-hat's 95% interval beside its mean, in the table and the numbers.
+  char iv[64];
+  std::snprintf(iv,
+                sizeof iv,
+                "%.4f&ndash;%.4f",
+                j["comparison"]["mu_hat_force"]["interval95"][0].get<double>(),
+                j["comparison"]["mu_hat_force"]["interval95"][1].get<double>());
+  EXPECT_NE(html.find(iv), std::string::npos) << iv;
+  EXPECT_NE(html.find("<th>its 95% interval</th>"), std::string::npos);
   // The batch figure of wear against mu-hat, from its own table.
   EXPECT_TRUE(fs::exists(out + "/audit_wear_vs_mu.png"));
   const std::string wear = Slurp(out + "/wear_and_mu.csv");
   EXPECT_EQ(
-      wear.rfind("specimen,mu_hat,mu_hat_sd,wear_rate_mm3_per_N_m\nB-RT-R,", 0),
+      wear.rfind("specimen,mu_hat,mu_hat_sd,wear_rate_mm3_per_N_m,mu_hat_low,"
+                 "mu_hat_high\nB-RT-R,",
+                 0),
       0u)
       << wear;
 }

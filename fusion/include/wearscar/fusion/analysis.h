@@ -27,11 +27,16 @@ struct AnalysisOptions {
   bool IsValid(std::string* why) const;
 };
 
-// Mean and standard deviation over the cycles after running-in.
+// Mean and standard deviation over the cycles after running-in, and the
+// mean's 95% interval where one was estimated (NaN otherwise) with the
+// effective number of independent cycles behind it.
 struct Statistic {
   double mean = 0.0;
   double sd = 0.0;
   int count = 0;
+  double low = std::numeric_limits<double>::quiet_NaN();
+  double high = std::numeric_limits<double>::quiet_NaN();
+  double effective_count = std::numeric_limits<double>::quiet_NaN();
 };
 
 // A mean over cycles with its 95% interval, from the means of consecutive
@@ -52,6 +57,32 @@ Interval MeanInterval(const std::vector<double>& values,
                       int first,
                       int last,
                       int batches = 10);
+
+// The mean of per-cycle estimates values[first..last] whose errors have
+// the standard errors given (MuFit::standard_error) and are correlated over
+// `correlated_cycles` successive cycles: the force side's ensemble slope
+// shares P samples between cycles fewer than that apart (triangular
+// correlation 1 - |c - c'| / correlated_cycles); a slope common to all
+// cycles (the scan's) makes them all one (pass the number of cycles). The
+// 95% interval is mean +- 1.96 sqrt(sum_cc' rho se_c se_c') / n;
+// effective_count = n^2 mean(se^2) / sum_cc' rho se_c se_c'. Cycles whose
+// value is not finite are left out; when a finite value has no finite
+// error there is no interval (low, high NaN).
+Statistic SummariseWithErrors(const std::vector<double>& values,
+                              const std::vector<double>& standard_errors,
+                              int first,
+                              int last,
+                              int correlated_cycles);
+
+// The mean of a per-cycle series values[first..last] whose scatter about
+// its straight-line trend is the uncertainty (the classic COFs: no
+// per-cycle error is known): the trend's residuals' lag-1 autocorrelation
+// r gives the effective number of cycles n (1 - r) / (1 + r) (AR(1), at
+// most n, at least 2), and the interval is mean +- t_0.975 sd_residual /
+// sqrt(n_eff). The slow drift itself is not counted as uncertainty.
+Statistic SummariseSeries(const std::vector<double>& values,
+                          int first,
+                          int last);
 
 // J over a range of cycles split into the part measurement noise explains
 // (its floor) and the excess it does not, per direction in quadrature:
@@ -94,6 +125,9 @@ struct ForceAnalysis {
   std::vector<MuFit> fit_force;  // mu-hat with k from the force channel
   RunningIn running_in;
   Statistic mu_hat, cost, mu_mean, mu_energy;
+  // Successive cycles whose mu-hat errors are correlated through the
+  // force-side slope (ForceSlopes::SharedCycles).
+  int correlated_cycles = 1;
   int slip_fallbacks = 0;  // half cycles where the central fallback was used
   // How the force side's k was estimated (FrictionFits::slope) and the
   // root mean square of its repeatable part and of its noise.

@@ -53,6 +53,15 @@ struct FuseOptions {
   FrictionMapOptions friction_map;
   // h(x, cycle) from P/S: the track's shape under load as it wears.
   TrackHistoryOptions track_history;
+  // The scan shows the track's final state; earlier cycles slid on a
+  // shallower track. When set, the scan's slope of each cycle is scaled by
+  // that cycle's waviness from the spring over the final waviness
+  // (TrackHistory; the factor kept within [0, max_scan_slope_scale]), so the
+  // scan-side mu-hat no longer carries the track's growth. This borrows
+  // from the force side: the scan-side mu-hat is then no longer
+  // independent of P.
+  bool scan_slope_history = false;
+  double max_scan_slope_scale = 2.0;
   // Which slope mu-hat is fitted with when a scan is given: the force
   // side's k = (1/S) dP/dx, the scan's, or both (without a scan: force).
   SlopeChoice slopes = SlopeChoice::kBoth;
@@ -75,6 +84,9 @@ struct ScanAnalysis {
   Alignment alignment;
   PlateProfile slope;           // k_scan in plate coordinates
   std::vector<MuFit> fit_scan;  // mu-hat per cycle with k from the scan
+  // Per cycle, the factor on the scan's slope (FuseOptions::
+  // scan_slope_history); empty when the slope was used as scanned.
+  std::vector<double> slope_scale;
 };
 
 struct TestResult {

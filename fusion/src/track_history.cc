@@ -68,6 +68,10 @@ bool TrackHistoryOptions::IsValid(std::string* why) const {
     if (why) *why = "track history: steady_tolerance must be in (0, 1)";
     return false;
   }
+  if (pool_cycles < 1 || pool_cycles % 2 == 0) {
+    if (why) *why = "track history: pool_cycles must be odd and >= 1";
+    return false;
+  }
   return true;
 }
 
@@ -98,9 +102,10 @@ TrackHistory ComputeTrackHistory(const force::ForceRecord& record,
   h.height_mm.assign(static_cast<size_t>(h.cycles) * 2 * bins, kNan);
   h.waviness_sd_mm.assign(h.cycles, kNan);
   std::vector<double> sum(bins), sum2(bins), count(bins);
+  // Per cycle, the noise-corrected variance of h summed over directions.
+  std::vector<double> variance(static_cast<size_t>(h.cycles), 0.0);
+  std::vector<int> variances(static_cast<size_t>(h.cycles), 0);
   for (int c = 0; c < h.cycles; ++c) {
-    double sd = 0;
-    int directions = 0;
     for (const force::HalfCycle* half :
          {&cycles.cycles[c].forward, &cycles.cycles[c].reverse}) {
       const int d = half->direction > 0 ? 0 : 1;
@@ -143,10 +148,20 @@ TrackHistory ComputeTrackHistory(const force::ForceRecord& record,
       }
       const double s = SdOf(h.height_mm, h.Index(c, d, 0), bins);
       if (!std::isfinite(s)) continue;
-      sd += std::sqrt(std::max(0.0, s * s - (noisy > 0 ? noise / noisy : 0)));
-      ++directions;
+      variance[c] += s * s - (noisy > 0 ? noise / noisy : 0);
+      ++variances[c];
     }
-    if (directions > 0) h.waviness_sd_mm[c] = sd / directions;
+  }
+  // Pooled over the cycles about each: centred, shifted inwards at the
+  // ends of the test so that every cycle pools as many.
+  const int pool = std::min(options.pool_cycles, h.cycles);
+  for (int c = 0; c < h.cycles; ++c) {
+    const int lo = std::clamp(c - pool / 2, 0, h.cycles - pool);
+    double v = 0;
+    int n = 0;
+    for (int j = lo; j < lo + pool; ++j) v += variance[j], n += variances[j];
+    if (variances[c] > 0 && n > 0)
+      h.waviness_sd_mm[c] = std::sqrt(std::max(0.0, v / n));
   }
   FindSteady(&h, options.steady_tolerance);
   return h;

@@ -158,11 +158,14 @@ namespace {
 
 // The track's history from the spring: the waviness of P/S per cycle
 // follows the simulator's truth (the sd of the sphere's path under load at
-// that cycle) within 10% in every cycle after running-in, at noise 1 and 2,
-// where the tracks cross the rings (waviness 10-30 um; measured worst
-// 0.9-2.4%). Along the rings the waviness is 1-2 um, about the P sensor's
-// resolution over S (0.015 N / 10.19 N/mm): there single cycles are off by
-// up to 10-30% and the mean over the steady cycles within 10%.
+// that cycle) after running-in, at noise 1 and 2. Where the tracks cross
+// the rings (waviness 10-50 um) within 5% in every cycle (measured worst
+// 0.5-1.9%). Along the rings the waviness is 1-2 um, about the P sensor's
+// resolution over S (0.015 N / 10.19 N/mm); pooled over 15 cycles
+// (TrackHistoryOptions::pool_cycles) every cycle is within 12% and the
+// mean within 5% (measured worst 1.9-5.1% at noise 1, 3.5-10.6% at noise
+// 2: S-RL-L's 10.6% is over the 10%; single cycles unpooled were
+// off 10-30%).
 class HistoryCase
     : public ::testing::TestWithParam<std::tuple<const char*, double>> {};
 
@@ -182,7 +185,8 @@ TEST_P(HistoryCase, WavinessFollowsTheTruthAfterRunningIn) {
   RecordProperty("worst_relative_error", std::to_string(worst));
   RecordProperty("mean_relative_error", std::to_string(mean));
   const bool across_rings = std::string(name).back() == 'R';  // x-RT-R, x-RL-R
-  EXPECT_LE(across_rings ? worst : mean, 0.10) << name << ": worst " << worst;
+  EXPECT_LE(worst, across_rings ? 0.05 : 0.12) << name << ": worst " << worst;
+  EXPECT_LE(mean, 0.05) << name << ": mean " << mean;
   // It grows with the wear.
   EXPECT_GT(h.final_waviness_sd_mm, 2 * h.waviness_sd_mm.front());
 }

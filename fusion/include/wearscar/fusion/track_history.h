@@ -14,6 +14,12 @@ struct TrackHistoryOptions {
   // within this fraction of its late trend (a line fitted over the second
   // half of the test).
   double steady_tolerance = 0.05;
+  // The waviness of a cycle pools the (noise-corrected) variance of h over
+  // this many cycles centred on it (odd; shifted inwards at the ends):
+  // along the rings the waviness is 1-2 um, about the P sensor's
+  // resolution over S, and a single cycle's estimate scatters by 10-30%;
+  // the track changes little over a few cycles after running-in.
+  int pool_cycles = 15;
 
   bool IsValid(std::string* why) const;
 };
@@ -28,7 +34,8 @@ struct TrackHistory {
   // At (cycle * 2 + direction) * bins + bin; NaN where a bin is empty.
   std::vector<double> height_mm;
   // Per cycle: the sd of h along the stroke (the waviness amplitude), the
-  // mean of the two directions.
+  // root of the noise-corrected variance over the two directions and over
+  // TrackHistoryOptions::pool_cycles cycles about this one.
   std::vector<double> waviness_sd_mm;
   int steady_cycle = 0;               // 0-based
   double final_waviness_sd_mm = 0.0;  // over the last tenth of the cycles

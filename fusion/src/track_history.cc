@@ -156,10 +156,11 @@ TrackHistory ComputeTrackHistory(const force::ForceRecord& record,
   // ends of the test so that every cycle pools as many.
   const int pool = std::min(options.pool_cycles, h.cycles);
   for (int c = 0; c < h.cycles; ++c) {
-    const int lo = std::clamp(c - pool / 2, 0, h.cycles - pool);
+    const int from = std::clamp(c - pool / 2, 0, h.cycles - pool);
     double v = 0;
     int n = 0;
-    for (int j = lo; j < lo + pool; ++j) v += variance[j], n += variances[j];
+    for (int j = from; j < from + pool; ++j)
+      v += variance[j], n += variances[j];
     if (variances[c] > 0 && n > 0)
       h.waviness_sd_mm[c] = std::sqrt(std::max(0.0, v / n));
   }

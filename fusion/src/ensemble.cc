@@ -1,5 +1,6 @@
 #include "wearscar/fusion/ensemble.h"
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -128,13 +129,50 @@ bool EnsembleSlopeOptions::IsValid(std::string* why) const {
     return fail("ensemble span must be in [2 bins, 10 mm]");
   if (min_bins < 3 || min_bins > 1000)
     return fail("ensemble min_bins must be in [3, 1000]");
+  if (polynomial_order < 2 || polynomial_order > 4)
+    return fail("ensemble polynomial order must be 2, 3 or 4");
   return true;
 }
 
 namespace {
 
+// The slope c1 of the weighted least-squares polynomial of `order` in u
+// through the bins [lo, hi] of `used`, u = (x - xb) / scale; NaN when the
+// normal equations are singular.
+double LocalPolynomialSlope(const CycleBins& bins,
+                            const CycleBins::Sums& s,
+                            const std::vector<int>& used,
+                            std::size_t lo,
+                            std::size_t hi,
+                            double xb,
+                            double scale,
+                            int order) {
+  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 5, 5>;
+  using SmallVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 5, 1>;
+  double moment[9] = {};
+  SmallVector t = SmallVector::Zero(order + 1);
+  for (std::size_t j = lo; j <= hi; ++j) {
+    const int bj = used[j];
+    const double w = s.count[bj];
+    const double uu = (bins.MeanX(s, bj) - xb) / scale;
+    double power = 1;
+    for (int p = 0; p <= 2 * order; ++p, power *= uu) {
+      moment[p] += w * power;
+      if (p <= order) t[p] += s.value[bj] * power;  // value = w * mean
+    }
+  }
+  Small normal(order + 1, order + 1);
+  for (int r = 0; r <= order; ++r) {
+    for (int c = 0; c <= order; ++c) normal(r, c) = moment[r + c];
+  }
+  const Eigen::FullPivLU<Small> lu(normal);
+  if (!lu.isInvertible()) return std::nan("");
+  return lu.solve(t)[1];
+}
+
 // Slope at each non-empty bin of a binned profile (mean x, mean value,
-// count): weighted least-squares quadratic over the bins within span / 2,
+// count): weighted least-squares polynomial (quadratic by default) over the
+// bins within span / 2,
 // widened up to 4x until it holds min_bins non-empty bins.
 PlateProfile SlopeOfBinnedProfile(const CycleBins& bins,
                                   const CycleBins::Sums& s,
@@ -162,7 +200,17 @@ PlateProfile SlopeOfBinnedProfile(const CycleBins& bins,
       std::size_t lo = u, hi = u;
       while (lo > 0 && used[lo - 1] >= b - half) --lo;
       while (hi + 1 < used.size() && used[hi + 1] <= b + half) ++hi;
-      if (static_cast<int>(hi - lo + 1) < o.min_bins) continue;
+      const int needed = o.polynomial_order == 2
+                             ? o.min_bins
+                             : std::max(o.min_bins, o.polynomial_order + 2);
+      if (static_cast<int>(hi - lo + 1) < needed) continue;
+      if (o.polynomial_order != 2) {
+        const double scale = half * bin_mm;
+        k = LocalPolynomialSlope(
+                bins, s, used, lo, hi, xb, scale, o.polynomial_order) /
+            scale / spring;
+        break;
+      }
       // Weighted normal equations of a + c1 u + c2 u^2, u = (x - xb) /
       // (half bins), solved for c1 by Cramer's rule (the 3x3 system is
       // symmetric: moments m0..m4 of u, and t0..t2 of y u^p).

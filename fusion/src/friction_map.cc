@@ -45,7 +45,7 @@ void Accumulate(const SlipSamples& s, int cycle, Bins* b) {
 // its own mean (the drift of mu over cycles is not along-track variation).
 // Successive cycles share noise (the ensemble slope spans `block` cycles):
 // the floor is the standard error from the means of consecutive blocks of
-// that many cycles.
+// that many cycles, with their lag-1 covariance.
 void SpatialVariation(const FrictionMap& m,
                       const std::vector<double>& v,
                       int first,
@@ -92,10 +92,16 @@ void SpatialVariation(const FrictionMap& m,
     double mean = 0;
     for (double x : bm) mean += x;
     mean /= bm.size();
-    double var = 0;
-    for (double x : bm) var += (x - mean) * (x - mean);
+    double var = 0, lag1 = 0;
+    for (size_t k = 0; k < bm.size(); ++k) {
+      var += (bm[k] - mean) * (bm[k] - mean);
+      if (k > 0) lag1 += (bm[k] - mean) * (bm[k - 1] - mean);
+    }
     means[i] = mean;
-    se2[i] = var / (bm.size() - 1) / bm.size();
+    // Neighbouring blocks still share the ensembles that straddle their
+    // boundary (a correlation of about 0.25 for blocks as long as the
+    // ensemble): the lag-1 covariance enters the variance of the mean.
+    se2[i] = (var + 2 * lag1) / (bm.size() - 1) / bm.size();
   }
   for (int d = 0; d < 2; ++d) {
     double centre = 0;
@@ -114,7 +120,7 @@ void SpatialVariation(const FrictionMap& m,
     }
   }
   *sd = used > 1 ? std::sqrt(var_x / used) : kNan;
-  *noise = used > 1 ? std::sqrt(var_noise / used) : kNan;
+  *noise = used > 1 ? std::sqrt(std::max(0.0, var_noise) / used) : kNan;
 }
 
 }  // namespace
@@ -126,6 +132,15 @@ bool FrictionMapOptions::IsValid(std::string* why) const {
   }
   if (min_samples < 1) {
     if (why) *why = "friction map: min_samples must be >= 1";
+    return false;
+  }
+  if (slope_polynomial_order != 0 &&
+      (slope_polynomial_order < 2 || slope_polynomial_order > 4)) {
+    if (why) *why = "friction map: slope polynomial order must be 0 or 2-4";
+    return false;
+  }
+  if (!(slope_span_mm >= 0 && slope_span_mm <= 10)) {
+    if (why) *why = "friction map: slope span must be in [0, 10] mm";
     return false;
   }
   return true;
@@ -159,7 +174,15 @@ FrictionMap ComputeFrictionMap(const force::ForceRecord& record,
   b.raw.assign(cells, 0);
   b.corrected.assign(cells, 0);
   b.n.assign(cells, 0);
-  const ForceSlopes slopes(record, cycles, friction);
+  FrictionFitOptions map_friction = friction;
+  if (options.slope_polynomial_order != 0) {
+    map_friction.ensemble.polynomial_order = options.slope_polynomial_order;
+  }
+  if (options.slope_span_mm > 0) {
+    map_friction.ensemble.span_mm =
+        std::max(options.slope_span_mm, 2 * map_friction.ensemble.bin_mm);
+  }
+  const ForceSlopes slopes(record, cycles, map_friction);
   for (int c = 0; c < m.cycles; ++c) {
     const CycleSamples s = slopes.Gather(c);
     Accumulate(s.forward, c, &b);

@@ -691,6 +691,13 @@ nlohmann::json ResultJson(const std::string& name,
   j["wear"] = WearJson(r.wear);
   j["friction_map"] = {
       {"bin_mm", o.friction_map.bin_mm},
+      {"slope_polynomial_order",
+       o.friction_map.slope_polynomial_order != 0
+           ? o.friction_map.slope_polynomial_order
+           : o.analysis.friction.ensemble.polynomial_order},
+      {"slope_span_mm",
+       o.friction_map.slope_span_mm > 0 ? o.friction_map.slope_span_mm
+                                        : o.analysis.friction.ensemble.span_mm},
       {"bins", r.friction_map.x_mm.size()},
       {"first_steady_cycle", r.friction_map.first_steady_cycle + 1},
       {"spatial_sd_raw", r.friction_map.spatial_sd_raw},

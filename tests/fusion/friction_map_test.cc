@@ -40,24 +40,49 @@ Mapped Simulate(const std::string& name,
 class CleanCase
     : public ::testing::TestWithParam<std::tuple<const char*, double>> {};
 
-// Clean crossing-ring cases: the corrected map is flat — what its
-// along-track sd has beyond the noise floor is under 0.5% of mu (measured:
-// 0.2-0.3% of mu, 0.00025-0.0004, a residual of the slope estimate at the
-// track's steepest flanks; the noise floor is 0.0001-0.0003, so the ratio
-// reads 1-4x) — while the raw one follows the track, at least 5x more
-// variable (measured 100-300x).
+// Clean crossing-ring cases: the corrected map is flat within its noise
+// floor while the raw one follows the track, at least 5x more variable
+// (measured 100-400x). "Within the floor": the ratio of the corrected
+// map's along-track sd to its floor is what a plate without any track gives
+// (measured, noise 1: on a flat plate, 120 seeds, median 1.05, 95th
+// percentile 1.66, largest 2.5; on these four tracks at noise 1 and 2, 21
+// seeds each, median 1.00, 95th percentile 1.45, largest 1.72), so it is
+// held under 2. With the fit's local quadratic for k the ratio read 1.5-6
+// (a bias of span^2 times P's third derivative at the steepest flanks).
 TEST_P(CleanCase, CorrectedMapIsFlatRawMapFollowsTheTrack) {
   const auto [name, noise] = GetParam();
   const Mapped m = Simulate(name, noise);
   const FrictionMap& f = m.result.friction_map;
   ASSERT_GT(f.x_mm.size(), 8u);
-  const double mu = m.result.mismatch.mu_force.mean;
-  EXPECT_LE(f.spatial_sd_excess, 0.005 * mu)
+  EXPECT_LE(f.spatial_sd_corrected, 2.0 * f.spatial_sd_noise)
       << name << ": corrected " << f.spatial_sd_corrected << ", floor "
       << f.spatial_sd_noise;
   EXPECT_GE(f.spatial_sd_raw, 5.0 * f.spatial_sd_corrected)
       << name << ": raw " << f.spatial_sd_raw << ", corrected "
       << f.spatial_sd_corrected;
+}
+
+// The same map with the fit's quadratic for k is not flat within its
+// floor on the steepest track (S-RT-R): the cubic is what makes it so.
+TEST(FrictionMap, TheFitsQuadraticLeavesTheFlanksInTheMap) {
+  samples::SimulationOptions o = samples::PaperCase("S-RT-R");
+  o.cycles = 200;
+  o.elastic_mm = 0;
+  o.noise_scale = 0;
+  o.scan_cols = 64;
+  o.scan_rows = 48;
+  o.scan_pitch_mm = 0.12;
+  const samples::SimulatedTest t = samples::Simulate(o);
+  FuseOptions quadratic;
+  quadratic.fit_lugre = false;
+  quadratic.friction_map.slope_polynomial_order = 2;
+  FuseOptions cubic = quadratic;
+  cubic.friction_map.slope_polynomial_order = 3;
+  const FrictionMap q =
+      AnalyzeTest(t.record, std::nullopt, quadratic).friction_map;
+  const FrictionMap c = AnalyzeTest(t.record, std::nullopt, cubic).friction_map;
+  EXPECT_GT(q.spatial_sd_corrected, 3 * q.spatial_sd_noise);
+  EXPECT_LT(c.spatial_sd_corrected, 0.5 * q.spatial_sd_corrected);
 }
 
 INSTANTIATE_TEST_SUITE_P(

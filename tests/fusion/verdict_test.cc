@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "paper_cases.h"
+#include "wearscar/fusion/ensemble.h"
 #include "wearscar/fusion/fuse.h"
 #include "wearscar/samples/virtual_tribometer.h"
 
@@ -86,6 +87,46 @@ TEST(EnsembleSlope, HasAFractionOfTheNoiseOfOneCycle) {
   for (double x = -2.5; x <= 2.5; x += 0.01, ++n)
     k2 += std::pow(TrueSlope(t.truth, x), 2);
   EXPECT_LT(e_ensemble, 0.25 * std::sqrt(k2 / n));
+}
+
+// The ensemble's local polynomial on a noise-free cubic P(x) = a x^3: the
+// quadratic's slope at the centre of its +-h span is biased by
+// a sum(u^4)/sum(u^2) (3 a h^2 / 5 in the continuum), the cubic's is exact.
+TEST(EnsembleSlope, ACubicRemovesTheQuadraticsBiasOnACubicTrack) {
+  PlateGrid grid;
+  grid.x0_mm = -1.0;
+  grid.bin_mm = 0.01;
+  grid.bins = 200;
+  CycleBins bins(grid, 0, 0);
+  const double a = 0.5, spring = 10.0;  // N/mm^3, N/mm
+  for (int b = 0; b < grid.bins; ++b) {
+    const double x = grid.x0_mm + (b + 0.5) * grid.bin_mm;
+    bins.Add(0, +1, x, 30.0 + a * x * x * x);
+    bins.Add(0, -1, x, 30.0 + a * x * x * x);
+  }
+  EnsembleSlopeOptions quadratic;  // span 0.1 mm: +-5 bins
+  quadratic.cycles = 1;
+  EnsembleSlopeOptions cubic = quadratic;
+  cubic.polynomial_order = 3;
+  const auto kq = EnsembleSlopeAt(bins, 0, spring, quadratic);
+  const auto kc = EnsembleSlopeAt(bins, 0, spring, cubic);
+  double u2 = 0, u4 = 0;
+  for (int u = -5; u <= 5; ++u) u2 += u * u, u4 += std::pow(u, 4);
+  const double bias = a * u4 / u2 * grid.bin_mm * grid.bin_mm / spring;
+  int checked = 0;
+  for (Eigen::Index i = 0; i < kq[0].x_mm.size(); ++i) {
+    const double x = kq[0].x_mm[i];
+    if (std::abs(x) > 0.9) continue;  // full spans only
+    const double truth = 3 * a * x * x / spring;
+    EXPECT_NEAR(kq[0].k[i] - truth, bias, 1e-3 * bias + 2e-6) << x;
+    EXPECT_NEAR(kc[0].k[i], truth, 0.02 * bias + 2e-6) << x;
+    ++checked;
+  }
+  EXPECT_GT(checked, 150);
+  std::string why;
+  cubic.polynomial_order = 5;
+  EXPECT_FALSE(cubic.IsValid(&why));
+  EXPECT_NE(why.find("polynomial order"), std::string::npos) << why;
 }
 
 TEST(NoiseSplit, FloorFollowsTheNoiseTheExcessDoesNot) {

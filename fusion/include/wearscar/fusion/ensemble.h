@@ -98,6 +98,11 @@ struct EnsembleSlopeOptions {
   // mm, widened until it holds min_bins non-empty bins.
   double span_mm = 0.1;
   int min_bins = 5;
+  // Degree of the local polynomial, 2-4. Its slope at the centre of a
+  // symmetric span is biased by about span^2 P'''(x) / 40 at degree 2 (the
+  // track's curvature of slope, largest at its steepest flanks) and by a
+  // term in span^4 at degree 3 or 4, for about 2x the noise at one span.
+  int polynomial_order = 2;
   bool IsValid(std::string* why) const;
 };
 

@@ -15,6 +15,13 @@ struct FrictionMapOptions {
   double bin_mm = 0.5;
   // A bin of a cycle and direction with fewer gross-slip samples is empty.
   int min_samples = 3;
+  // The map's k: the ensemble slope of the fit (FrictionFitOptions) with
+  // the local polynomial's degree and span replaced by these. The fit's
+  // quadratic is biased at the track's steepest flanks by about span^2
+  // P'''/40, which averages out of a cycle's mu-hat but stays in the map,
+  // bin by bin; a cubic removes that term (0 keeps the fit's).
+  int slope_polynomial_order = 3;
+  double slope_span_mm = 0.1;
 
   bool IsValid(std::string* why) const;
 };

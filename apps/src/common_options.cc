@@ -92,6 +92,11 @@ void AddSlopeOptions(CLI::App* cmd, CommonArgs* a) {
                   "Span of x of the ensemble slope's local fit, mm")
       ->capture_default_str()
       ->group("Method");
+  cmd->add_flag("--no-k-noise-correction",
+                a->no_k_noise_correction,
+                "Keep mu-hat's second-order bias from the noise in the "
+                "ensemble's k (about -3 mu var(k noise); removed by default)")
+      ->group("Method");
   cmd->add_option("--window-ms",
                   s.window_ms,
                   "Smoothing window of P in time, ms (cycle estimate; 5 ms = "
@@ -436,6 +441,7 @@ void ApplyColumns(const std::string& columns, force::ReadForceOptions* r) {
 
 void FinaliseCommonOptions(CommonArgs* a) {
   a->fuse.fit_lugre = !a->no_lugre;
+  a->fuse.analysis.friction.correct_k_noise_bias = !a->no_k_noise_correction;
   if (!force::ParseDerivativeMethod(a->derivative,
                                     &a->fuse.analysis.friction.slope.method)) {
     throw UsageError(fmt::format(

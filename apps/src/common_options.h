@@ -17,6 +17,7 @@ struct CommonArgs {
   std::string derivative = "central";
   std::string scan_derivative = "savgol";
   bool no_lugre = false;
+  bool no_k_noise_correction = false;
   std::string running_in = "auto";
   std::string k_estimate = "ensemble";  // ensemble | cycle
   bool large_maps = false;              // --large-maps

@@ -279,6 +279,8 @@ ForceAnalysis AnalyzeForce(const force::ForceRecord& record,
     a.slope_estimate = std::move(fits.slope);
     a.k_signal_rms = fits.k_signal_rms;
     a.k_noise_rms = fits.k_noise_rms;
+    a.k_ensemble_noise_rms = fits.k_ensemble_noise_rms;
+    a.k_noise_correction = fits.k_noise_correction;
     a.correlated_cycles = fits.correlated_cycles;
   } else {
     a.fit_force.assign(a.cycles.cycles.size(), MuFit{});

@@ -106,6 +106,38 @@ double StandardError(const CycleSamples& samples, double mu, double block_mm) {
   return denominator > 0 ? std::sqrt(numerator) / denominator : std::nan("");
 }
 
+// The second-order bias of mu-hat per unit variance of the noise e in k,
+// d mu / var(e). With f(mu, k) = P (k + m) / (1 - m k), m = s mu,
+// D = 1 - m k, the stationarity of J (weights a_d as in StandardError)
+// averaged over e gives
+//   mu-hat - mu = var(e) sum_d a_d sum_i T_i / sum_d a_d sum_i f_mu^2,
+//   T = -f_k f_mu,k - f_kk f_mu / 2 = -s P^2 (1 + m^2) (2 (k + m) +
+//       m (1 + k^2)) / D^5,
+// about -3 mu for small k.
+double KNoiseBiasPerVariance(const CycleSamples& samples, double mu) {
+  double numerator = 0, denominator = 0;
+  for (const SlipSamples* s : {&samples.forward, &samples.reverse}) {
+    const double m = s->direction * mu;
+    double rr = 0, tt = 0, gg = 0;
+    for (Eigen::Index i = 0; i < s->q_n.size(); ++i) {
+      const double p = s->p_n[i], k = s->k[i], d = 1.0 - m * k;
+      const double d2 = d * d;
+      const double r = s->q_n[i] - p * (k + m) / d;
+      const double g = s->direction * p * (1.0 + k * k) / d2;
+      tt += -s->direction * p * p * (1.0 + m * m) *
+            (2.0 * (k + m) + m * (1.0 + k * k)) / (d2 * d2 * d);
+      gg += g * g;
+      rr += r * r;
+    }
+    const double qq = s->q_n.squaredNorm();
+    if (!(rr > 0 && qq > 0)) return 0.0;
+    const double a = 1.0 / std::sqrt(rr * qq);
+    numerator += a * tt;
+    denominator += a * gg;
+  }
+  return denominator > 0 ? numerator / denominator : 0.0;
+}
+
 FrictionFitOptions Resolved(const FrictionFitOptions& o, double rate_hz) {
   FrictionFitOptions r = o;
   r.slope = o.slope.ForSamplingRate(rate_hz);
@@ -328,6 +360,51 @@ CycleSamples ForceSlopes::Gather(int c) const {
       record_, cycle, SlopeSource::kForce, options_, nullptr, &k);
 }
 
+double ForceSlopes::EnsembleNoiseVariance(int first,
+                                          int last,
+                                          int probes) const {
+  if (!normal_bins_ || probes < 1) return std::nan("");
+  first = std::max(first, normal_bins_->first_cycle());
+  last = std::min(last, normal_bins_->last_cycle());
+  if (last < first) return std::nan("");
+  const PlateGrid& grid = normal_bins_->grid();
+  const double centre = grid.x0_mm + 0.5 * grid.bins * grid.bin_mm;
+  const double half_range = 0.4 * grid.bins * grid.bin_mm;
+  const double spring = options_.slope.spring_n_per_mm;
+  double sum = 0;
+  long n = 0;
+  const int step = std::max(1, (last - first + 1) / probes);
+  for (int c = first; c <= last; c += step) {
+    const auto [lo, hi] = EnsembleWindow(*normal_bins_, c, options_.ensemble);
+    if (hi - lo < 2) continue;
+    const int odd = (hi - lo + 1) / 2, even = hi - lo + 1 - odd;
+    const double scale = static_cast<double>(odd) * even /
+                         ((odd + even) * static_cast<double>(odd + even));
+    std::array<CycleBins::Sums, 2> halves;
+    for (int d = 0; d < 2; ++d) {
+      const int direction = d == 0 ? +1 : -1;
+      halves[0] = normal_bins_->Window(direction, 1, 0);  // empty sums
+      halves[1] = halves[0];
+      for (int j = lo; j <= hi; ++j) {
+        normal_bins_->Accumulate(&halves[(j - lo) % 2], j, direction, +1);
+      }
+      const std::array<PlateProfile, 2> a = EnsembleSlopeFromSums(
+          *normal_bins_, {halves[0], halves[0]}, spring, options_.ensemble);
+      const std::array<PlateProfile, 2> b = EnsembleSlopeFromSums(
+          *normal_bins_, {halves[1], halves[1]}, spring, options_.ensemble);
+      const PlateProfile& pa = a[0];
+      for (Eigen::Index i = 0; i < pa.x_mm.size(); ++i) {
+        if (std::abs(pa.x_mm[i] - centre) > half_range) continue;
+        const double diff = pa.k[i] - b[0].At(pa.x_mm[i]);
+        if (!std::isfinite(diff)) continue;
+        sum += scale * diff * diff;
+        ++n;
+      }
+    }
+  }
+  return n > 0 ? sum / n : std::nan("");
+}
+
 std::string ForceSlopes::Describe() const {
   const double s = options_.slope.spring_n_per_mm;
   if (normal_bins_) {
@@ -394,6 +471,24 @@ void SplitSlopeNoise(const std::vector<std::array<RepeatSplit, 2>>& split_k,
   }
 }
 
+// Each converged cycle's mu-hat less its second-order bias from the k noise
+// the split estimated.
+void RemoveKNoiseBias(const std::vector<double>& bias_per_variance,
+                      FrictionFits* out) {
+  const double variance = out->k_ensemble_noise_rms * out->k_ensemble_noise_rms;
+  double sum = 0;
+  int n = 0;
+  for (size_t c = 0; c < out->cycles.size(); ++c) {
+    MuFit& f = out->cycles[c];
+    if (!f.converged) continue;
+    const double correction = -variance * bias_per_variance[c];
+    f.mu_hat += correction;
+    sum += correction;
+    ++n;
+  }
+  out->k_noise_correction = n > 0 ? sum / n : 0.0;
+}
+
 }  // namespace
 
 FrictionFits FitFriction(const force::ForceRecord& record,
@@ -434,6 +529,7 @@ FrictionFits FitFriction(const force::ForceRecord& record,
       PlateGrid::Covering(record, cycles, options.repeatability.bin_mm);
   CycleBins misfit(grid, 0, n - 1), slope(grid, 0, n - 1);
   std::vector<std::array<double, 2>> misfit_total(n), q_total(n), k_total(n);
+  std::vector<double> bias_per_variance(n, 0.0);
   for (int c = 0; c < n; ++c) {
     CycleSamples s = force_slopes ? force_slopes->Gather(c)
                                   : GatherCycle(record,
@@ -446,6 +542,8 @@ FrictionFits FitFriction(const force::ForceRecord& record,
       s.reverse.k *= (*slope_scale)[c];
     }
     MuFit fit = FitMu(s, options.fit);
+    if (fit.converged)
+      bias_per_variance[c] = KNoiseBiasPerVariance(s, fit.mu_hat);
     int d = 0;
     for (const SlipSamples* h : {&s.forward, &s.reverse}) {
       double rr = 0, qq = 0, kk = 0;
@@ -479,6 +577,12 @@ FrictionFits FitFriction(const force::ForceRecord& record,
   if (source == SlopeSource::kForce) {
     SplitSlopeNoise(
         SplitRepeatable(slope, k_total, shared, options.repeatability), &out);
+    out.k_ensemble_noise_rms =
+        std::sqrt(force_slopes->EnsembleNoiseVariance(0, n - 1));
+    if (options.correct_k_noise_bias &&
+        std::isfinite(out.k_ensemble_noise_rms)) {
+      RemoveKNoiseBias(bias_per_variance, &out);
+    }
   }
   return out;
 }

@@ -66,6 +66,7 @@ nlohmann::json OptionsJson(const force::ForceRecord& record,
           {"ensemble_cycles", f.ensemble.cycles},
           {"ensemble_bin_mm", f.ensemble.bin_mm},
           {"ensemble_span_mm", f.ensemble.span_mm},
+          {"correct_k_noise_bias", f.correct_k_noise_bias},
           {"derivative", force::DerivativeMethodName(f.slope.method)},
           {"window_samples",
            f.slope.ForSamplingRate(SamplingRateOf(record)).window},
@@ -682,7 +683,9 @@ nlohmann::json ResultJson(const std::string& name,
       {"rule", r.force.running_in.rule}};
   j["slope_estimate"] = r.force.slope_estimate;
   j["k_rms"] = {{"repeatable", r.force.k_signal_rms},
-                {"noise", r.force.k_noise_rms}};
+                {"noise", r.force.k_noise_rms},
+                {"noise_from_ensemble_halves", r.force.k_ensemble_noise_rms},
+                {"mu_hat_bias_removed", r.force.k_noise_correction}};
   j["after_running_in"] = {{"mu_hat", Stat(r.force.mu_hat)},
                            {"J", Stat(r.force.cost)},
                            {"mu_mean", Stat(r.force.mu_mean)},

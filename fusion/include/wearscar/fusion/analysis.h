@@ -134,6 +134,12 @@ struct ForceAnalysis {
   std::string slope_estimate;
   double k_signal_rms = MuFit::kNotComputed;
   double k_noise_rms = MuFit::kNotComputed;
+  // The ensemble k's noise from its odd and even halves
+  // (FrictionFits::k_ensemble_noise_rms), and what
+  // FrictionFitOptions::correct_k_noise_bias added to mu-hat, mean over the
+  // converged cycles.
+  double k_ensemble_noise_rms = MuFit::kNotComputed;
+  double k_noise_correction = 0.0;
 };
 
 // Segments, finds gross slip, computes the classic COFs and fits mu-hat per

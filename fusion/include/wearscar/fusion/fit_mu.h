@@ -107,6 +107,12 @@ struct FrictionFitOptions {
   FitMuOptions fit;
   // The noise split of J (MuFit::cost_floor, cost_excess).
   RepeatabilityOptions repeatability;
+  // Errors in variables: noise e in the ensemble's k biases mu-hat at
+  // second order, by about -3 mu var(e) (the model is curved in k). With
+  // this on, each cycle's mu-hat has that bias removed, var(e) being the
+  // k noise the split estimates (FrictionFits::k_ensemble_noise_rms). Ensemble
+  // only: the paper's k per cycle is left as the paper has it.
+  bool correct_k_noise_bias = true;
   bool IsValid(std::string* why) const;
 };
 
@@ -144,6 +150,13 @@ class ForceSlopes {
   std::string Describe() const;
   // Cycles whose k shares P samples with cycle c's: |c' - c| < this.
   int SharedCycles() const;
+  // The variance of the ensemble's k noise per sample, from `probes`
+  // cycles spread over [first, last]: each ensemble split into its odd and
+  // even cycles, the variance of the two halves' difference over the
+  // central 80% of the stroke scaled by n_odd n_even / n^2. The track's
+  // change over cycles cancels between the interleaved halves. NaN for k
+  // per cycle or when nothing could be compared.
+  double EnsembleNoiseVariance(int first, int last, int probes = 24) const;
 
  private:
   const force::ForceRecord& record_;
@@ -168,6 +181,14 @@ struct FrictionFits {
   // (noise). Force side only; NaN for the scan's.
   double k_signal_rms = MuFit::kNotComputed;
   double k_noise_rms = MuFit::kNotComputed;
+  // The ensemble k's noise (rms per sample) from its odd and even halves
+  // (ForceSlopes::EnsembleNoiseVariance): the noise alone, where the split's
+  // k_noise_rms also holds the track's change between a cycle and its
+  // template. correct_k_noise_bias uses this one. NaN for k per cycle.
+  double k_ensemble_noise_rms = MuFit::kNotComputed;
+  // The mean over converged cycles of what correct_k_noise_bias added to
+  // mu-hat (0 when it is off or does not apply).
+  double k_noise_correction = 0.0;
 };
 
 // mu-hat for every cycle (Eq. 6), slope from the chosen source, with the

@@ -1,6 +1,6 @@
 #include "wearscar/fusion/ensemble.h"
 
-#include <Eigen/LU>
+#include <Eigen/LU>  // the 4 x 4 determinant
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -116,6 +116,18 @@ double PlateProfile::At(double x) const {
   return (1 - t) * k[i] + t * k[i + 1];
 }
 
+double PlateProfile::AtNear(double x, Eigen::Index* hint) const {
+  const Eigen::Index n = x_mm.size();
+  if (n < 2 || !(x >= x_mm[0] && x <= x_mm[n - 1])) return std::nan("");
+  // The i of At: the last x_mm[i] <= x, at most n - 2.
+  Eigen::Index i = std::clamp<Eigen::Index>(*hint, 0, n - 2);
+  while (i > 0 && x < x_mm[i]) --i;
+  while (i < n - 2 && x >= x_mm[i + 1]) ++i;
+  *hint = i;
+  const double t = (x - x_mm[i]) / (x_mm[i + 1] - x_mm[i]);
+  return (1 - t) * k[i] + t * k[i + 1];
+}
+
 bool EnsembleSlopeOptions::IsValid(std::string* why) const {
   auto fail = [&](const char* m) {
     if (why) *why = m;
@@ -129,45 +141,51 @@ bool EnsembleSlopeOptions::IsValid(std::string* why) const {
     return fail("ensemble span must be in [2 bins, 10 mm]");
   if (min_bins < 3 || min_bins > 1000)
     return fail("ensemble min_bins must be in [3, 1000]");
-  if (polynomial_order < 2 || polynomial_order > 4)
-    return fail("ensemble polynomial order must be 2, 3 or 4");
+  if (polynomial_order < 2 || polynomial_order > 3)
+    return fail("ensemble polynomial order must be 2 or 3");
   return true;
 }
 
 namespace {
 
-// The slope c1 of the weighted least-squares polynomial of `order` in u
-// through the bins [lo, hi] of `used`, u = (x - xb) / scale; NaN when the
-// normal equations are singular.
-double LocalPolynomialSlope(const CycleBins& bins,
-                            const CycleBins::Sums& s,
-                            const std::vector<int>& used,
-                            std::size_t lo,
-                            std::size_t hi,
-                            double xb,
-                            double scale,
-                            int order) {
-  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 5, 5>;
-  using SmallVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 5, 1>;
-  double moment[9] = {};
-  SmallVector t = SmallVector::Zero(order + 1);
+// The slope c1 of the weighted least-squares cubic in u = (x - xb) / scale
+// through the bins [lo, hi] (mean x, count as weight, value = weight times
+// the mean), by Cramer's rule on the 4 x 4 normal equations; NaN when they
+// are singular.
+double CubicSlope(const double* mean_x,
+                  const double* weight,
+                  const double* value,
+                  std::size_t lo,
+                  std::size_t hi,
+                  double xb,
+                  double scale) {
+  const double inverse_scale = 1.0 / scale;
+  double m[7] = {}, t[4] = {};
   for (std::size_t j = lo; j <= hi; ++j) {
-    const int bj = used[j];
-    const double w = s.count[bj];
-    const double uu = (bins.MeanX(s, bj) - xb) / scale;
-    double power = 1;
-    for (int p = 0; p <= 2 * order; ++p, power *= uu) {
-      moment[p] += w * power;
-      if (p <= order) t[p] += s.value[bj] * power;  // value = w * mean
-    }
+    const double w = weight[j], y = value[j];
+    const double u = (mean_x[j] - xb) * inverse_scale;
+    const double u2 = u * u, u3 = u2 * u;
+    m[0] += w;
+    m[1] += w * u;
+    m[2] += w * u2;
+    m[3] += w * u3;
+    m[4] += w * u2 * u2;
+    m[5] += w * u2 * u3;
+    m[6] += w * u3 * u3;
+    t[0] += y;
+    t[1] += y * u;
+    t[2] += y * u2;
+    t[3] += y * u3;
   }
-  Small normal(order + 1, order + 1);
-  for (int r = 0; r <= order; ++r) {
-    for (int c = 0; c <= order; ++c) normal(r, c) = moment[r + c];
+  Eigen::Matrix4d normal;
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) normal(r, c) = m[r + c];
   }
-  const Eigen::FullPivLU<Small> lu(normal);
-  if (!lu.isInvertible()) return std::nan("");
-  return lu.solve(t)[1];
+  const double det = normal.determinant();
+  const double m0 = m[0];
+  if (!(std::abs(det) > 1e-12 * m0 * m0 * m0 * m0)) return std::nan("");
+  normal.col(1) << t[0], t[1], t[2], t[3];
+  return normal.determinant() / det;
 }
 
 // Slope at each non-empty bin of a binned profile (mean x, mean value,
@@ -185,6 +203,14 @@ PlateProfile SlopeOfBinnedProfile(const CycleBins& bins,
   for (int b = 0; b < nb; ++b) {
     if (s.count[b] > 0) used.push_back(b);
   }
+  // Mean x, weight and value of each non-empty bin, once.
+  std::vector<double> mean_x(used.size()), weight(used.size()),
+      value(used.size());
+  for (std::size_t u = 0; u < used.size(); ++u) {
+    mean_x[u] = bins.MeanX(s, used[u]);
+    weight[u] = s.count[used[u]];
+    value[u] = s.value[used[u]];
+  }
   PlateProfile p;
   p.x_mm.resize(static_cast<Eigen::Index>(used.size()));
   p.k.resize(static_cast<Eigen::Index>(used.size()));
@@ -193,7 +219,7 @@ PlateProfile SlopeOfBinnedProfile(const CycleBins& bins,
   Eigen::Index m = 0;
   for (std::size_t u = 0; u < used.size(); ++u) {
     const int b = used[u];
-    const double xb = bins.MeanX(s, b);
+    const double xb = mean_x[u];
     double k = std::nan("");
     for (int half = half0; half <= 4 * half0; half *= 2) {
       // Neighbouring non-empty bins within +-half bins.
@@ -206,8 +232,8 @@ PlateProfile SlopeOfBinnedProfile(const CycleBins& bins,
       if (static_cast<int>(hi - lo + 1) < needed) continue;
       if (o.polynomial_order != 2) {
         const double scale = half * bin_mm;
-        k = LocalPolynomialSlope(
-                bins, s, used, lo, hi, xb, scale, o.polynomial_order) /
+        k = CubicSlope(
+                mean_x.data(), weight.data(), value.data(), lo, hi, xb, scale) /
             scale / spring;
         break;
       }
@@ -217,10 +243,9 @@ PlateProfile SlopeOfBinnedProfile(const CycleBins& bins,
       const double scale = half * bin_mm;
       double m0 = 0, m1 = 0, m2 = 0, m3 = 0, m4 = 0, t0 = 0, t1 = 0, t2 = 0;
       for (std::size_t j = lo; j <= hi; ++j) {
-        const int bj = used[j];
-        const double w = s.count[bj];
-        const double uu = (bins.MeanX(s, bj) - xb) / scale;
-        const double y = s.value[bj];  // = w * mean
+        const double w = weight[j];
+        const double uu = (mean_x[j] - xb) / scale;
+        const double y = value[j];  // = w * mean
         const double u2 = uu * uu;
         m0 += w;
         m1 += w * uu;

@@ -41,7 +41,9 @@ void AppendSlip(const force::ForceRecord& r,
     k = force::SlopeFromNormalForce(r.x_mm, r.normal_n, b, e, o.slope);
   } else {
     k.resize(e - b);
-    for (Eigen::Index i = b; i < e; ++i) k[i - b] = profile->At(r.x_mm[i]);
+    Eigen::Index hint = 0;
+    for (Eigen::Index i = b; i < e; ++i)
+      k[i - b] = profile->AtNear(r.x_mm[i], &hint);
   }
   // Keep the samples where everything is finite.
   Eigen::Index n = 0;

@@ -135,8 +135,8 @@ bool FrictionMapOptions::IsValid(std::string* why) const {
     return false;
   }
   if (slope_polynomial_order != 0 &&
-      (slope_polynomial_order < 2 || slope_polynomial_order > 4)) {
-    if (why) *why = "friction map: slope polynomial order must be 0 or 2-4";
+      (slope_polynomial_order < 2 || slope_polynomial_order > 3)) {
+    if (why) *why = "friction map: slope polynomial order must be 0, 2 or 3";
     return false;
   }
   if (!(slope_span_mm >= 0 && slope_span_mm <= 10)) {

@@ -15,7 +15,9 @@
 #include "wearscar/force/read_force.h"
 #include "wearscar/fusion/analysis.h"
 #include "wearscar/fusion/forward_model.h"
+#include "wearscar/fusion/friction_map.h"
 #include "wearscar/fusion/fuse.h"
+#include "wearscar/fusion/track_history.h"
 #include "wearscar/samples/virtual_tribometer.h"
 #include "wearscar/scan/gsf.h"
 #include "wearscar/scan/level.h"
@@ -247,6 +249,35 @@ void BM_Fuse600Cycles(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_Fuse600Cycles)->Unit(benchmark::kMillisecond);
+
+// The friction map and the track's history are parts of BM_Fuse600Cycles:
+// their share of it is their time over its (issue: at most 20%).
+void BM_FrictionMap600Cycles(benchmark::State& state) {
+  const auto& r = Test600().record;
+  fusion::FrictionMapOptions o;
+  o.slope_polynomial_order = static_cast<int>(state.range(0));
+  for (auto _ : state) {
+    const fusion::FrictionMap m =
+        fusion::ComputeFrictionMap(r, Cycles600(), {}, 60, o);
+    benchmark::DoNotOptimize(m.spatial_sd_corrected);
+  }
+}
+// Arg: the local polynomial's degree for the map's k (3 the default, 2 the
+// fit's quadratic).
+BENCHMARK(BM_FrictionMap600Cycles)
+    ->Arg(3)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond);
+
+void BM_TrackHistory600Cycles(benchmark::State& state) {
+  const auto& r = Test600().record;
+  for (auto _ : state) {
+    const fusion::TrackHistory h =
+        fusion::ComputeTrackHistory(r, Cycles600(), 10.19);
+    benchmark::DoNotOptimize(h.final_waviness_sd_mm);
+  }
+}
+BENCHMARK(BM_TrackHistory600Cycles)->Unit(benchmark::kMillisecond);
 
 // The whole command line on the paper's 12 cases (600 cycles, 2 kHz,
 // 1024 x 768 scans), figures and report included.

@@ -124,9 +124,33 @@ TEST(EnsembleSlope, ACubicRemovesTheQuadraticsBiasOnACubicTrack) {
   }
   EXPECT_GT(checked, 150);
   std::string why;
-  cubic.polynomial_order = 5;
+  cubic.polynomial_order = 4;
   EXPECT_FALSE(cubic.IsValid(&why));
   EXPECT_NE(why.find("polynomial order"), std::string::npos) << why;
+}
+
+// AtNear is At with a search from the last interval: the same values for x
+// that jitter back and forth along a stroke, jump, or leave the profile.
+TEST(PlateProfile, AtNearGivesAtsValues) {
+  PlateProfile p;
+  p.x_mm = Eigen::VectorXd::LinSpaced(50, -2.0, 2.0);
+  p.k = p.x_mm.array().sin();
+  p.x_mm[10] += 0.01;  // unequal steps
+  Eigen::Index hint = 0;
+  int compared = 0;
+  for (int i = 0; i < 4000; ++i) {
+    double x = -2.2 + 4.4 * i / 3999.0 + 0.003 * std::sin(7.0 * i);
+    if (i == 2000) x = -1.9;  // a jump back
+    const double at = p.At(x), near = p.AtNear(x, &hint);
+    if (std::isnan(at)) {
+      EXPECT_TRUE(std::isnan(near)) << x;
+      continue;
+    }
+    EXPECT_EQ(at, near) << x;
+    ++compared;
+  }
+  EXPECT_GT(compared, 3000);
+  EXPECT_EQ(p.At(2.0), p.AtNear(2.0, &hint));
 }
 
 TEST(NoiseSplit, FloorFollowsTheNoiseTheExcessDoesNot) {

@@ -85,7 +85,11 @@ class CycleBins {
 struct PlateProfile {
   Eigen::VectorXd x_mm;  // increasing
   Eigen::VectorXd k;     // the values at x_mm (a slope, or a depth in mm)
+  // Linear interpolation at x; NaN outside [x_mm[0], x_mm[n - 1]].
   double At(double x) const;
+  // The same value, the interval searched from *hint (updated) outwards:
+  // for x that moves little from one call to the next, as along a stroke.
+  double AtNear(double x, Eigen::Index* hint) const;
 };
 using SlopeProfile = PlateProfile;  // the former name
 
@@ -98,10 +102,11 @@ struct EnsembleSlopeOptions {
   // mm, widened until it holds min_bins non-empty bins.
   double span_mm = 0.1;
   int min_bins = 5;
-  // Degree of the local polynomial, 2-4. Its slope at the centre of a
+  // Degree of the local polynomial, 2 or 3. Its slope at the centre of a
   // symmetric span is biased by about span^2 P'''(x) / 40 at degree 2 (the
   // track's curvature of slope, largest at its steepest flanks) and by a
-  // term in span^4 at degree 3 or 4, for about 2x the noise at one span.
+  // term in span^4 at degree 3 (as at 4: on a symmetric span the slopes of
+  // degrees 3 and 4 are one), for about 2x the noise at one span.
   int polynomial_order = 2;
   bool IsValid(std::string* why) const;
 };

@@ -6,7 +6,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <random>
+#include <string>
 #include <tuple>
 
 #include "wearscar/fusion/analysis.h"
@@ -158,6 +160,23 @@ TEST(SummariseSeries, CoversTheMeanOfAutocorrelatedScatterAboutATrend) {
   EXPECT_NEAR(n_eff / series, n * (1 - r) / (1 + r), 5.0);
 }
 
+// A paper case as the coverage studies run it: 100 cycles at 1 kHz, no
+// elastic part, a small scan (unused: k from P).
+samples::SimulatedTest ShortTest(const std::string& name,
+                                 double noise,
+                                 std::uint64_t seed) {
+  samples::SimulationOptions o = samples::PaperCase(name);
+  o.cycles = 100;
+  o.sampling_rate_hz = 1000;
+  o.elastic_mm = 0;
+  o.noise_scale = noise;
+  o.scan_cols = 32;
+  o.scan_rows = 24;
+  o.scan_pitch_mm = 0.25;
+  o.seed = seed;
+  return samples::Simulate(o);
+}
+
 // Errors in variables: the noise in the ensemble's k biases mu-hat low by
 // about 3 mu var(k noise). At four times the calibrated noise (S-RT-T, 100
 // cycles at 1 kHz, 24 seeds) the bias is several times the scatter of its
@@ -167,16 +186,7 @@ TEST(KNoiseBias, IsRemovedFromMuHat) {
   double with = 0, without = 0, spread = 0, removed = 0;
   const int seeds = 24;
   for (int seed = 1; seed <= seeds; ++seed) {
-    samples::SimulationOptions o = samples::PaperCase("S-RT-T");
-    o.cycles = 100;
-    o.sampling_rate_hz = 1000;
-    o.elastic_mm = 0;
-    o.noise_scale = 4;
-    o.scan_cols = 32;
-    o.scan_rows = 24;
-    o.scan_pitch_mm = 0.25;
-    o.seed = 7000 + seed;
-    const samples::SimulatedTest t = samples::Simulate(o);
+    const samples::SimulatedTest t = ShortTest("S-RT-T", 4, 7000 + seed);
     for (bool correct : {false, true}) {
       FuseOptions fo;
       fo.fit_lugre = false;
@@ -215,16 +225,7 @@ TEST(KNoiseBias, IsRemovedFromMuHat) {
 TEST(KNoiseBias, NoiseFromTheEnsemblesHalvesFollowsTheSensorNoise) {
   double halves[2] = {}, split[2] = {};
   for (int i = 0; i < 2; ++i) {
-    samples::SimulationOptions o = samples::PaperCase("S-RT-R");
-    o.cycles = 100;
-    o.sampling_rate_hz = 1000;
-    o.elastic_mm = 0;
-    o.noise_scale = i + 1;
-    o.scan_cols = 32;
-    o.scan_rows = 24;
-    o.scan_pitch_mm = 0.25;
-    o.seed = 7001;
-    const samples::SimulatedTest t = samples::Simulate(o);
+    const samples::SimulatedTest t = ShortTest("S-RT-R", i + 1, 7001);
     FuseOptions fo;
     fo.fit_lugre = false;
     const TestResult r = AnalyzeTest(t.record, std::nullopt, fo);
@@ -252,16 +253,7 @@ TEST_P(Coverage, PerTestIntervalHoldsTheTruth) {
   int inside = 0, tests = 0;
   long cycles_inside = 0, cycles = 0;
   for (int seed = 1; seed <= 100; ++seed) {
-    samples::SimulationOptions o = samples::PaperCase(name);
-    o.cycles = 100;
-    o.sampling_rate_hz = 1000;
-    o.elastic_mm = 0;
-    o.noise_scale = noise;
-    o.scan_cols = 32;
-    o.scan_rows = 24;
-    o.scan_pitch_mm = 0.25;
-    o.seed = 5000 + seed;
-    const samples::SimulatedTest t = samples::Simulate(o);
+    const samples::SimulatedTest t = ShortTest(name, noise, 5000 + seed);
     FuseOptions fo;
     fo.fit_lugre = false;
     const TestResult r = AnalyzeTest(t.record, std::nullopt, fo);

@@ -39,6 +39,15 @@ inline std::string Slurp(const std::string& path) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
+// Every gnuplot script a command wrote in <out>/figure-data (each draws
+// some of the figures, in both formats), one after the other.
+inline std::string FigureScripts(const std::string& out) {
+  std::string all;
+  for (int k = 1; k <= 2; ++k)
+    all += Slurp(out + "/figure-data/figures_" + std::to_string(k) + ".gp");
+  return all;
+}
+
 inline int CountLines(const std::string& text) {
   return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
 }

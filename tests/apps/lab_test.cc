@@ -283,7 +283,7 @@ TEST(Outputs, ARerunRemovesWhatTheEarlierRunWroteAndNothingElse) {
   ASSERT_TRUE(fs::exists(out + "/fig08ab_scan_map.png"));
   // The figures' sources are in a sub-folder; the track outline has a
   // header.
-  EXPECT_TRUE(fs::exists(out + "/figure-data/figures_png.gp"));
+  EXPECT_TRUE(fs::exists(out + "/figure-data/figures_1.gp"));
   EXPECT_EQ(
       Slurp(out + "/figure-data/track_outline.csv").rfind("x_mm,y_mm\n", 0),
       0u);
@@ -406,13 +406,13 @@ TEST(Figures, SayWhatTheyShow) {
       Wearscar("fuse " + dir + "/B-RT-R.force.csv --scan " + dir +
                "/B-RT-R.scan.gsf --running-in 7 -o " + out);
   ASSERT_EQ(r.status, 0) << r.output;
-  const std::string gp = Slurp(out + "/figure-data/figures_png.gp");
-  // Running-in shaded on Figs. 5, 6, 13, 14 and 15.
+  const std::string gp = FigureScripts(out);
+  // Running-in shaded on Figs. 5, 6, 13, 14 and 15, in both formats.
   size_t marks = 0;
   for (size_t at = gp.find("'running-in (7 cycles)'"); at != std::string::npos;
        at = gp.find("'running-in (7 cycles)'", at + 1))
     ++marks;
-  EXPECT_EQ(marks, 5u);
+  EXPECT_EQ(marks, 10u);
   const nlohmann::json j = ParseJson(Slurp(out + "/result.json"));
   // The minimum of J(mu) at the detail cycle's mu-hat (cycles.csv's last
   // row), and the P/S offset in the legend.
@@ -486,7 +486,7 @@ TEST(Figures, SayWhatTheyShow) {
   ASSERT_EQ(
       Wearscar("scan " + dir + "/B-RT-R.scan.gsf -o " + dir + "/s").status, 0);
   EXPECT_TRUE(fs::exists(dir + "/s/scan_map.png"));
-  const std::string scan_gp = Slurp(dir + "/s/figure-data/figures_png.gp");
+  const std::string scan_gp = FigureScripts(dir + "/s");
   EXPECT_NE(scan_gp.find("cblabel 'height (um)'"), std::string::npos);
   // A 1 mm scale bar on the 7.6 mm wide map.
   EXPECT_NE(scan_gp.find("set label 1 '1 mm' at first"), std::string::npos);

@@ -9,19 +9,26 @@
 namespace wearscar::force {
 namespace {
 
-// Quantile of the finite values (q in [0, 1]).
-double Quantile(const Eigen::Ref<const Eigen::VectorXd>& v, double q) {
+// Two quantiles of the finite values (0 <= lo <= hi <= 1) from one copy:
+// after the first selection everything above it is at least as large, so
+// the second selects within that part only. NaN when nothing is finite.
+std::pair<double, double> Quantiles(const Eigen::Ref<const Eigen::VectorXd>& v,
+                                    double lo,
+                                    double hi) {
   std::vector<double> finite;
   finite.reserve(static_cast<size_t>(v.size()));
   for (Eigen::Index i = 0; i < v.size(); ++i) {
     if (std::isfinite(v[i])) finite.push_back(v[i]);
   }
-  if (finite.empty()) return std::nan("");
-  const size_t k =
-      static_cast<size_t>(q * static_cast<double>(finite.size() - 1));
-  std::nth_element(
-      finite.begin(), finite.begin() + static_cast<long>(k), finite.end());
-  return finite[k];
+  if (finite.empty()) return {std::nan(""), std::nan("")};
+  const auto rank = [&](double q) {
+    return static_cast<long>(q * static_cast<double>(finite.size() - 1));
+  };
+  const long a = rank(lo), b = rank(hi);
+  std::nth_element(finite.begin(), finite.begin() + a, finite.end());
+  const double low = finite[a];
+  std::nth_element(finite.begin() + a, finite.begin() + b, finite.end());
+  return {low, finite[b]};
 }
 
 // Least-squares slope of q over x on [b, e); NaN when x does not spread.
@@ -184,7 +191,7 @@ CycleSet SegmentCycles(const Eigen::Ref<const Eigen::VectorXd>& x_mm,
     throw ForceError("invalid segment options: " + why);
   CycleSet set;
   const Eigen::Index n = x_mm.size();
-  const double p01 = Quantile(x_mm, 0.01), p99 = Quantile(x_mm, 0.99);
+  const auto [p01, p99] = Quantiles(x_mm, 0.01, 0.99);
   set.stroke_mm = p99 - p01;
   if (!(set.stroke_mm > 0)) {
     throw ForceError(fmt::format(

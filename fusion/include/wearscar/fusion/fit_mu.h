@@ -59,7 +59,7 @@ struct MuFit {
   double mu_hat = 0.0;
   double cost = 0.0;   // J at mu_hat
   int samples = 0;     // gross-slip samples used (both directions)
-  int iterations = 0;  // Brent iterations after the grid
+  int iterations = 0;  // Newton steps (or Brent's after the grid, its fallback)
   bool converged = false;
   bool at_bound = false;  // the minimum sits on mu_min or mu_max
   std::string message = "not run";

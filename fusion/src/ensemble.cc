@@ -73,6 +73,30 @@ void CycleBins::Add(int cycle, int direction, double x_mm, double value) {
   ++count_[o];
 }
 
+void CycleBins::AddRange(int cycle,
+                         int direction,
+                         const double* x_mm,
+                         const double* value,
+                         Eigen::Index begin,
+                         Eigen::Index end) {
+  if (cycle < first_ || cycle > last_) return;
+  const std::size_t o = Offset(cycle, direction);
+  float* sum = value_.data() + o;
+  float* sum_x = x_.data() + o;
+  std::uint16_t* count = count_.data() + o;
+  for (Eigen::Index i = begin; i < end; ++i) {
+    const double x = x_mm[i], v = value[i];
+    // Bin (NaN fails both comparisons), as in PlateGrid::Bin.
+    const double t = (x - grid_.x0_mm) / grid_.bin_mm;
+    if (!std::isfinite(v) || !(t >= 0) || !(t < grid_.bins)) continue;
+    const int b = static_cast<int>(t);
+    if (count[b] == std::numeric_limits<std::uint16_t>::max()) continue;
+    sum[b] += static_cast<float>(v);
+    sum_x[b] += static_cast<float>(x - (grid_.x0_mm + b * grid_.bin_mm));
+    ++count[b];
+  }
+}
+
 void CycleBins::Accumulate(Sums* sums,
                            int cycle,
                            int direction,
@@ -216,6 +240,9 @@ PlateProfile SlopeOfBinnedProfile(const CycleBins& bins,
   p.k.resize(static_cast<Eigen::Index>(used.size()));
   const int half0 =
       std::max(1, static_cast<int>(std::lround(0.5 * o.span_mm / bin_mm)));
+  const int needed = o.polynomial_order == 2
+                         ? o.min_bins
+                         : std::max(o.min_bins, o.polynomial_order + 2);
   Eigen::Index m = 0;
   for (std::size_t u = 0; u < used.size(); ++u) {
     const int b = used[u];
@@ -226,9 +253,6 @@ PlateProfile SlopeOfBinnedProfile(const CycleBins& bins,
       std::size_t lo = u, hi = u;
       while (lo > 0 && used[lo - 1] >= b - half) --lo;
       while (hi + 1 < used.size() && used[hi + 1] <= b + half) ++hi;
-      const int needed = o.polynomial_order == 2
-                             ? o.min_bins
-                             : std::max(o.min_bins, o.polynomial_order + 2);
       if (static_cast<int>(hi - lo + 1) < needed) continue;
       if (o.polynomial_order != 2) {
         const double scale = half * bin_mm;
@@ -240,11 +264,11 @@ PlateProfile SlopeOfBinnedProfile(const CycleBins& bins,
       // Weighted normal equations of a + c1 u + c2 u^2, u = (x - xb) /
       // (half bins), solved for c1 by Cramer's rule (the 3x3 system is
       // symmetric: moments m0..m4 of u, and t0..t2 of y u^p).
-      const double scale = half * bin_mm;
+      const double scale = half * bin_mm, inverse_scale = 1.0 / scale;
       double m0 = 0, m1 = 0, m2 = 0, m3 = 0, m4 = 0, t0 = 0, t1 = 0, t2 = 0;
       for (std::size_t j = lo; j <= hi; ++j) {
         const double w = weight[j];
-        const double uu = (mean_x[j] - xb) / scale;
+        const double uu = (mean_x[j] - xb) * inverse_scale;
         const double y = value[j];  // = w * mean
         const double u2 = uu * uu;
         m0 += w;

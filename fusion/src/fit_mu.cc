@@ -401,9 +401,12 @@ ForceSlopes::ForceSlopes(const force::ForceRecord& record,
   for (int c = lo; c <= hi; ++c) {
     for (const force::HalfCycle* h :
          {&cycles.cycles[c].forward, &cycles.cycles[c].reverse}) {
-      for (Eigen::Index i = h->begin; i < h->end; ++i) {
-        normal_bins_->Add(c, h->direction, record.x_mm[i], record.normal_n[i]);
-      }
+      normal_bins_->AddRange(c,
+                             h->direction,
+                             record.x_mm.data(),
+                             record.normal_n.data(),
+                             h->begin,
+                             h->end);
     }
   }
 }

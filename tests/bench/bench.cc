@@ -275,18 +275,25 @@ void BM_Simulate600CyclesWithScan(benchmark::State& state) {
 }
 BENCHMARK(BM_Simulate600CyclesWithScan)->Unit(benchmark::kMillisecond);
 
-// Read + level + spikes + track + centreline of a scan written as GSF.
-void BM_ScanPipeline(benchmark::State& state) {
-  const int cols = static_cast<int>(state.range(0)), rows = cols * 3 / 4;
+// A simulated 4:3 scan `cols` wide (the paper's 7.6 mm field) as GSF,
+// written once.
+std::string ScanGsf(int cols) {
   const std::string path = Scratch() + "/scan_" + std::to_string(cols) + ".gsf";
-  {
+  if (!fs::exists(path)) {
     samples::SimulationOptions o = samples::PaperCase("B-RT-R");
     o.cycles = 2;
     o.scan_cols = cols;
-    o.scan_rows = rows;
+    o.scan_rows = cols * 3 / 4;
     o.scan_pitch_mm = 0.0074 * 1024.0 / cols;
     scan::WriteGsf(samples::Simulate(o).scan, path);
   }
+  return path;
+}
+
+// Read + level + spikes + track + centreline of a scan written as GSF.
+void BM_ScanPipeline(benchmark::State& state) {
+  const int cols = static_cast<int>(state.range(0)), rows = cols * 3 / 4;
+  const std::string path = ScanGsf(cols);
   for (auto _ : state) {
     scan::HeightMap m = scan::ReadGsf(path);
     scan::LevelHeightMap(&m);
@@ -299,6 +306,23 @@ void BM_ScanPipeline(benchmark::State& state) {
                           rows);
 }
 BENCHMARK(BM_ScanPipeline)->Arg(1024)->Arg(4096)->Unit(benchmark::kMillisecond);
+
+// The same through the command (`wearscar scan FILE -q`: read, level,
+// spikes, track, centreline and cross-sections, nothing written), as a
+// user's process with the command's allocator.
+void BM_ScanCommand(benchmark::State& state) {
+  const std::string cmd = std::string(WEARSCAR_BINARY) + " scan " +
+                          ScanGsf(static_cast<int>(state.range(0))) + " -q";
+  for (auto _ : state) {
+    if (std::system(cmd.c_str()) != 0) state.SkipWithError("scan failed");
+  }
+}
+BENCHMARK(BM_ScanCommand)
+    ->Arg(1024)
+    ->Arg(4096)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(2.0);
 
 void BM_Fuse600Cycles(benchmark::State& state) {
   const auto& t = Test600();

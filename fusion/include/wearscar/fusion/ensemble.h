@@ -43,6 +43,14 @@ class CycleBins {
   // direction +1 (forward) or -1 (reverse); samples outside the grid or the
   // cycle range, or with a non-finite value, are ignored.
   void Add(int cycle, int direction, double x_mm, double value);
+  // Add for the samples [begin, end) of x and value, one cycle and
+  // direction (the same sums; the cycle's place is found once).
+  void AddRange(int cycle,
+                int direction,
+                const double* x_mm,
+                const double* value,
+                Eigen::Index begin,
+                Eigen::Index end);
 
   // Sums per bin; x relative to the bin's left edge (MeanX gives plate x).
   struct Sums {

@@ -5,6 +5,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
@@ -108,10 +109,15 @@ cv::Mat DeepPixels(const HeightMap& map,
   cv::Mat depth(rows, cols, CV_32F);
   depths->reserve(static_cast<size_t>(rows) * cols / 4 + 1);
   for (int r = 0; r < rows; ++r) {
+    const float* height = &map.height_mm(r, 0);
+    const std::uint8_t* valid = &map.valid(r, 0);
+    float* out = depth.ptr<float>(r);
+    // Every 4th pixel of the whole map in row-major order.
     for (int c = 0; c < cols; ++c) {
-      const float d = map.valid(r, c) ? -map.height_mm(r, c) : 0.0f;
-      depth.at<float>(r, c) = d;
-      if ((r * cols + c) % 4 == 0 && map.valid(r, c)) depths->push_back(d);
+      out[c] = valid[c] ? -height[c] : 0.0f;
+    }
+    for (int c = (4 - (r * cols) % 4) % 4; c < cols; c += 4) {
+      if (valid[c]) depths->push_back(out[c]);
     }
   }
   if (options.smoothing_sigma_px > 0) {
@@ -120,9 +126,9 @@ cv::Mat DeepPixels(const HeightMap& map,
   *threshold = std::max(
       options.min_depth_mm,
       options.depth_fraction * Percentile(*depths, options.depth_quantile));
+  // 255 where deeper than the threshold, straight into bytes.
   cv::Mat mask;
-  cv::threshold(depth, mask, *threshold, 255, cv::THRESH_BINARY);
-  mask.convertTo(mask, CV_8U);
+  cv::compare(depth, *threshold, mask, cv::CMP_GT);
   if (options.morphology_px > 1) {
     const cv::Mat k = cv::getStructuringElement(
         cv::MORPH_ELLIPSE,

@@ -246,6 +246,25 @@ ScanAnalysis AnalyzeScan(const force::ForceRecord& record,
   return s;
 }
 
+// A cycle asked for beyond the test's n complete cycles is refused, not
+// replaced (messages count cycles from 1, as every output does).
+void RefuseCyclesBeyondTheTest(const FuseOptions& options, int n) {
+  for (auto [what, cycle] :
+       {std::pair<const char*, int>{"the detail cycle", options.detail_cycle},
+        {"the first compared cycle", options.force_profile.first_cycle},
+        {"the last compared cycle", options.force_profile.last_cycle}}) {
+    if (cycle >= n) {
+      throw FusionError(fmt::format(
+          "{} is cycle {}, but the test has {} complete cycles; expected 1 "
+          "to {}",
+          what,
+          cycle + 1,
+          n,
+          n));
+    }
+  }
+}
+
 }  // namespace
 
 TestResult AnalyzeTest(const force::ForceRecord& record,
@@ -265,22 +284,7 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
   ao.fit_force_slope = options.slopes != SlopeChoice::kScan;
   result.force = AnalyzeForce(record, ao);
   const int n = static_cast<int>(result.force.cycles.cycles.size());
-  // A cycle asked for beyond the test is refused, not replaced (messages
-  // count cycles from 1, as every output does).
-  for (auto [what, cycle] :
-       {std::pair<const char*, int>{"the detail cycle", options.detail_cycle},
-        {"the first compared cycle", options.force_profile.first_cycle},
-        {"the last compared cycle", options.force_profile.last_cycle}}) {
-    if (cycle >= n) {
-      throw FusionError(fmt::format(
-          "{} is cycle {}, but the test has {} complete cycles; expected 1 "
-          "to {}",
-          what,
-          cycle + 1,
-          n,
-          n));
-    }
-  }
+  RefuseCyclesBeyondTheTest(options, n);
   // The track's history from the spring (before the scan: it may scale
   // the scan's slope).
   result.track_history =

@@ -133,6 +133,30 @@ Eigen::VectorXd SimulateLugre(const LugreParameters& p,
   return f;
 }
 
+namespace {
+
+// F_c and F_s where not given (0): the median |Q| of the central half of
+// each gross slip, and the 99th percentile of |Q| over the cycle (at least
+// F_c).
+void CoulombAndStatic(const force::ForceRecord& r,
+                      const force::Cycle& c,
+                      double* fc,
+                      double* fs) {
+  if (*fc != 0 && *fs != 0) return;
+  std::vector<double> central, all;
+  for (const force::HalfCycle* h : {&c.forward, &c.reverse}) {
+    const Eigen::Index n = h->slip_end - h->slip_begin;
+    for (Eigen::Index i = h->slip_begin + n / 4; i < h->slip_end - n / 4; ++i)
+      central.push_back(std::abs(r.tangential_n[i]));
+    for (Eigen::Index i = h->begin; i < h->end; ++i)
+      all.push_back(std::abs(r.tangential_n[i]));
+  }
+  if (*fc == 0) *fc = Percentile(central, 0.5);
+  if (*fs == 0) *fs = std::max(*fc, Percentile(all, 0.99));
+}
+
+}  // namespace
+
 LugreFit FitLugre(const force::ForceRecord& r,
                   const force::CycleSet& cycles,
                   int cycle,
@@ -164,22 +188,8 @@ LugreFit FitLugre(const force::ForceRecord& r,
   }
   const size_t warmup =
       static_cast<size_t>(begin - std::max<Eigen::Index>(1, warm_begin));
-  // F_c and F_s.
   double fc = options.coulomb_n, fs = options.static_n;
-  if (fc == 0 || fs == 0) {
-    std::vector<double> central, all;
-    for (const force::HalfCycle* h : {&c.forward, &c.reverse}) {
-      const Eigen::Index n = h->slip_end - h->slip_begin;
-      for (Eigen::Index i = h->slip_begin + n / 4; i < h->slip_end - n / 4;
-           ++i) {
-        central.push_back(std::abs(r.tangential_n[i]));
-      }
-      for (Eigen::Index i = h->begin; i < h->end; ++i)
-        all.push_back(std::abs(r.tangential_n[i]));
-    }
-    if (fc == 0) fc = Percentile(central, 0.5);
-    if (fs == 0) fs = std::max(fc, Percentile(all, 0.99));
-  }
+  CoulombAndStatic(r, c, &fc, &fs);
   const LugreParameters& p0 = options.initial;
   double params[4] = {p0.sigma0_n_per_mm,
                       p0.sigma1_n_s_per_mm,

@@ -42,7 +42,10 @@ PlateGrid PlateGrid::Covering(const force::ForceRecord& record,
   return g;
 }
 
-CycleBins::CycleBins(const PlateGrid& grid, int first_cycle, int last_cycle)
+CycleBins::CycleBins(const PlateGrid& grid,
+                     int first_cycle,
+                     int last_cycle,
+                     bool with_x)
     : grid_(grid), first_(first_cycle), last_(last_cycle) {
   if (last_ < first_ || grid_.bins <= 0) {
     last_ = first_ - 1;
@@ -51,7 +54,7 @@ CycleBins::CycleBins(const PlateGrid& grid, int first_cycle, int last_cycle)
   const std::size_t n = static_cast<std::size_t>(last_ - first_ + 1) * 2 *
                         static_cast<std::size_t>(grid_.bins);
   value_.assign(n, 0.0f);
-  x_.assign(n, 0.0f);
+  if (with_x) x_.assign(n, 0.0f);
   count_.assign(n, 0);
 }
 
@@ -69,7 +72,8 @@ void CycleBins::Add(int cycle, int direction, double x_mm, double value) {
   if (count_[o] == std::numeric_limits<std::uint16_t>::max()) return;
   value_[o] += static_cast<float>(value);
   // x relative to the bin's left edge keeps float precision on any stroke.
-  x_[o] += static_cast<float>(x_mm - (grid_.x0_mm + b * grid_.bin_mm));
+  if (!x_.empty())
+    x_[o] += static_cast<float>(x_mm - (grid_.x0_mm + b * grid_.bin_mm));
   ++count_[o];
 }
 
@@ -82,7 +86,7 @@ void CycleBins::AddRange(int cycle,
   if (cycle < first_ || cycle > last_) return;
   const std::size_t o = Offset(cycle, direction);
   float* sum = value_.data() + o;
-  float* sum_x = x_.data() + o;
+  float* sum_x = x_.empty() ? nullptr : x_.data() + o;
   std::uint16_t* count = count_.data() + o;
   for (Eigen::Index i = begin; i < end; ++i) {
     const double x = x_mm[i], v = value[i];
@@ -92,7 +96,8 @@ void CycleBins::AddRange(int cycle,
     const int b = static_cast<int>(t);
     if (count[b] == std::numeric_limits<std::uint16_t>::max()) continue;
     sum[b] += static_cast<float>(v);
-    sum_x[b] += static_cast<float>(x - (grid_.x0_mm + b * grid_.bin_mm));
+    if (sum_x != nullptr)
+      sum_x[b] += static_cast<float>(x - (grid_.x0_mm + b * grid_.bin_mm));
     ++count[b];
   }
 }
@@ -105,13 +110,15 @@ void CycleBins::Accumulate(Sums* sums,
   const std::size_t nb = static_cast<std::size_t>(std::max(grid_.bins, 0));
   const std::size_t o = Offset(cycle, direction);
   const float* v = value_.data() + o;
-  const float* x = x_.data() + o;
   const std::uint16_t* n = count_.data() + o;
   for (std::size_t b = 0; b < nb; ++b) {
     sums->value[b] += sign * static_cast<double>(v[b]);
-    sums->x[b] += sign * static_cast<double>(x[b]);
     sums->count[b] += sign * static_cast<int>(n[b]);
   }
+  if (x_.empty()) return;
+  const float* x = x_.data() + o;
+  for (std::size_t b = 0; b < nb; ++b)
+    sums->x[b] += sign * static_cast<double>(x[b]);
 }
 
 CycleBins::Sums CycleBins::Window(

@@ -615,7 +615,8 @@ FrictionFits FitFriction(const force::ForceRecord& record,
   // split (sums of squares per cycle and direction beside).
   const PlateGrid grid =
       PlateGrid::Covering(record, cycles, options.repeatability.bin_mm);
-  CycleBins misfit(grid, 0, n - 1), slope(grid, 0, n - 1);
+  CycleBins misfit(grid, 0, n - 1, /*with_x=*/false),
+      slope(grid, 0, n - 1, /*with_x=*/false);
   std::vector<std::array<double, 2>> misfit_total(n), q_total(n), k_total(n);
   std::vector<double> bias_per_variance(n, 0.0);
   for (int c = 0; c < n; ++c) {

@@ -35,10 +35,16 @@ struct PlateGrid {
 
 // Per cycle and direction, the sum of a quantity, of x and the count of
 // samples in each bin. Cycles are added in any order; sums over ranges of
-// cycles are taken afterwards.
+// cycles are taken afterwards. Without `with_x` the sums of x are not kept
+// (Sums::x stays zero, MeanX is meaningless): 40% less memory where only
+// the values are needed (the noise split's bins; 6000 cycles of a 6 mm
+// stroke in 0.01 mm bins hold 70 MB with x, 42 MB without).
 class CycleBins {
  public:
-  CycleBins(const PlateGrid& grid, int first_cycle, int last_cycle);
+  CycleBins(const PlateGrid& grid,
+            int first_cycle,
+            int last_cycle,
+            bool with_x = true);
 
   // direction +1 (forward) or -1 (reverse); samples outside the grid or the
   // cycle range, or with a non-finite value, are ignored.

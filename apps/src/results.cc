@@ -22,8 +22,16 @@ nlohmann::json WriteTestResults(const std::string& dir,
   EnsureDirectory(dir);
   fusion::TestProducts products =
       fusion::MakeTestProducts(name, record, r, o, w);
-  for (const auto& [file, text] : products.Files())
-    WriteTextAtomically((std::filesystem::path(dir) / file).string(), text);
+  // One table's text at a time, each freed once written (TestProducts::
+  // Files would hold them all: 6000 cycles' tables are tens of MB).
+  for (auto& [file, table] : products.tables) {
+    WriteTextAtomically((std::filesystem::path(dir) / file).string(),
+                        table.ToCsv());
+    table = {};
+  }
+  WriteTextAtomically(
+      (std::filesystem::path(dir) / products.result_name).string(),
+      products.result.dump(2) + "\n");
   return std::move(products.result);
 }
 

@@ -45,13 +45,16 @@ PlateGrid PlateGrid::Covering(const force::ForceRecord& record,
 CycleBins::CycleBins(const PlateGrid& grid,
                      int first_cycle,
                      int last_cycle,
-                     bool with_x)
+                     bool with_x,
+                     int ring_cycles)
     : grid_(grid), first_(first_cycle), last_(last_cycle) {
   if (last_ < first_ || grid_.bins <= 0) {
     last_ = first_ - 1;
     return;
   }
-  const std::size_t n = static_cast<std::size_t>(last_ - first_ + 1) * 2 *
+  const int held = last_ - first_ + 1;
+  ring_ = ring_cycles > 0 && ring_cycles < held ? ring_cycles : 0;
+  const std::size_t n = static_cast<std::size_t>(ring_ > 0 ? ring_ : held) * 2 *
                         static_cast<std::size_t>(grid_.bins);
   value_.assign(n, 0.0f);
   if (with_x) x_.assign(n, 0.0f);
@@ -59,9 +62,18 @@ CycleBins::CycleBins(const PlateGrid& grid,
 }
 
 std::size_t CycleBins::Offset(int cycle, int direction) const {
-  return (static_cast<std::size_t>(cycle - first_) * 2 +
-          (direction > 0 ? 0 : 1)) *
+  const int slot = ring_ > 0 ? (cycle - first_) % ring_ : cycle - first_;
+  return (static_cast<std::size_t>(slot) * 2 + (direction > 0 ? 0 : 1)) *
          static_cast<std::size_t>(grid_.bins);
+}
+
+void CycleBins::ClearCycle(int cycle) {
+  if (cycle < first_ || cycle > last_) return;
+  const std::size_t o = Offset(cycle, +1),
+                    n = 2 * static_cast<std::size_t>(grid_.bins);
+  std::fill_n(value_.begin() + o, n, 0.0f);
+  if (!x_.empty()) std::fill_n(x_.begin() + o, n, 0.0f);
+  std::fill_n(count_.begin() + o, n, std::uint16_t{0});
 }
 
 void CycleBins::Add(int cycle, int direction, double x_mm, double value) {

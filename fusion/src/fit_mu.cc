@@ -396,19 +396,36 @@ ForceSlopes::ForceSlopes(const force::ForceRecord& record,
   // P of the cycles any ensemble in [first, last] reaches, binned along x.
   const int half = options_.ensemble.cycles / 2;
   const int lo = std::max(0, first - half), hi = std::min(n - 1, last + half);
+  // One ensemble's cycles at a time; each is binned when a window first
+  // needs it (Gather slides the window along the cycles).
+  const int ring = options_.ensemble.cycles;
   normal_bins_.emplace(
-      PlateGrid::Covering(record, cycles, options_.ensemble.bin_mm), lo, hi);
-  for (int c = lo; c <= hi; ++c) {
-    for (const force::HalfCycle* h :
-         {&cycles.cycles[c].forward, &cycles.cycles[c].reverse}) {
-      normal_bins_->AddRange(c,
-                             h->direction,
-                             record.x_mm.data(),
-                             record.normal_n.data(),
-                             h->begin,
-                             h->end);
-    }
+      PlateGrid::Covering(record, cycles, options_.ensemble.bin_mm),
+      lo,
+      hi,
+      /*with_x=*/true,
+      ring);
+  binned_cycle_.assign(static_cast<std::size_t>(std::min(ring, hi - lo + 1)),
+                       -1);
+}
+
+void ForceSlopes::BinCycle(int c) const {
+  const int lo = normal_bins_->first_cycle();
+  if (c < lo || c > normal_bins_->last_cycle()) return;
+  int& held =
+      binned_cycle_[static_cast<std::size_t>(c - lo) % binned_cycle_.size()];
+  if (held == c) return;
+  normal_bins_->ClearCycle(c);
+  for (const force::HalfCycle* h :
+       {&cycles_.cycles[c].forward, &cycles_.cycles[c].reverse}) {
+    normal_bins_->AddRange(c,
+                           h->direction,
+                           record_.x_mm.data(),
+                           record_.normal_n.data(),
+                           h->begin,
+                           h->end);
   }
+  held = c;
 }
 
 CycleSamples ForceSlopes::Gather(int c) const {
@@ -420,22 +437,27 @@ CycleSamples ForceSlopes::Gather(int c) const {
       EnsembleWindow(*normal_bins_, c, options_.ensemble);
   const bool overlaps = window_last_ >= window_first_ &&
                         first <= window_last_ && last >= window_first_;
-  for (int d = 0; d < 2; ++d) {
-    const int direction = d == 0 ? +1 : -1;
-    CycleBins::Sums& s = window_sums_[d];
-    if (!overlaps) {
-      s = normal_bins_->Window(direction, first, last);
-      continue;
+  if (overlaps) {
+    // Slide: remove the cycles that left the window (still in their ring
+    // slots), then bin and add those that came.
+    for (int d = 0; d < 2; ++d) {
+      const int direction = d == 0 ? +1 : -1;
+      CycleBins::Sums& s = window_sums_[d];
+      for (int j = window_first_; j < first; ++j)
+        normal_bins_->Accumulate(&s, j, direction, -1);
+      for (int j = last + 1; j <= window_last_; ++j)
+        normal_bins_->Accumulate(&s, j, direction, -1);
     }
-    // Slide: remove the cycles that left the window, add those that came.
-    for (int j = window_first_; j < first; ++j)
-      normal_bins_->Accumulate(&s, j, direction, -1);
-    for (int j = last + 1; j <= window_last_; ++j)
-      normal_bins_->Accumulate(&s, j, direction, -1);
-    for (int j = first; j < window_first_; ++j)
-      normal_bins_->Accumulate(&s, j, direction, +1);
-    for (int j = window_last_ + 1; j <= last; ++j)
-      normal_bins_->Accumulate(&s, j, direction, +1);
+    for (int j = first; j <= last; ++j) {
+      if (j >= window_first_ && j <= window_last_) continue;
+      BinCycle(j);
+      for (int d = 0; d < 2; ++d)
+        normal_bins_->Accumulate(&window_sums_[d], j, d == 0 ? +1 : -1, +1);
+    }
+  } else {
+    for (int j = first; j <= last; ++j) BinCycle(j);
+    for (int d = 0; d < 2; ++d)
+      window_sums_[d] = normal_bins_->Window(d == 0 ? +1 : -1, first, last);
   }
   window_first_ = first;
   window_last_ = last;
@@ -469,6 +491,7 @@ double ForceSlopes::EnsembleNoiseVariance(int first,
     const double scale = static_cast<double>(odd) * even /
                          ((odd + even) * static_cast<double>(odd + even));
     std::array<CycleBins::Sums, 2> halves;
+    for (int j = lo; j <= hi; ++j) BinCycle(j);
     for (int d = 0; d < 2; ++d) {
       const int direction = d == 0 ? +1 : -1;
       halves[0] = normal_bins_->Window(direction, 1, 0);  // empty sums
@@ -490,6 +513,8 @@ double ForceSlopes::EnsembleNoiseVariance(int first,
       }
     }
   }
+  // The probes took ring slots the last window's sums counted on.
+  window_last_ = window_first_ - 1;
   return n > 0 ? sum / n : std::nan("");
 }
 

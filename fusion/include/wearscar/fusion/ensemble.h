@@ -41,10 +41,19 @@ struct PlateGrid {
 // stroke in 0.01 mm bins hold 70 MB with x, 42 MB without).
 class CycleBins {
  public:
+  // With `ring_cycles` > 0 only that many cycles are stored at once: cycle
+  // c shares its storage with c +- ring_cycles, and the caller clears a
+  // cycle (ClearCycle) before adding the one that takes its place; the
+  // range [first_cycle, last_cycle] still bounds the cycles accepted. A
+  // sliding window of cycles then costs the window's memory, not the
+  // test's (ForceSlopes).
   CycleBins(const PlateGrid& grid,
             int first_cycle,
             int last_cycle,
-            bool with_x = true);
+            bool with_x = true,
+            int ring_cycles = 0);
+  // Zeroes the storage of cycle's slot (both directions).
+  void ClearCycle(int cycle);
 
   // direction +1 (forward) or -1 (reverse); samples outside the grid or the
   // cycle range, or with a non-finite value, are ignored.
@@ -89,6 +98,7 @@ class CycleBins {
   std::size_t Offset(int cycle, int direction) const;
   PlateGrid grid_;
   int first_ = 0, last_ = -1;
+  int ring_ = 0;  // cycles stored (0: all of [first_, last_])
   std::vector<float> value_, x_;
   std::vector<std::uint16_t> count_;
 };

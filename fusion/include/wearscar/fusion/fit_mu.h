@@ -162,7 +162,12 @@ class ForceSlopes {
   const force::ForceRecord& record_;
   const force::CycleSet& cycles_;
   FrictionFitOptions options_;  // the derivative's spans resolved
-  std::optional<CycleBins> normal_bins_;
+  // P binned along x, for one ensemble's cycles at a time (a ring): a
+  // cycle is binned when a window reaches it.
+  mutable std::optional<CycleBins> normal_bins_;
+  mutable std::vector<int> binned_cycle_;  // per ring slot, -1 empty
+  // Bins cycle c into its ring slot unless it is there already.
+  void BinCycle(int c) const;
   // The ensemble sums of the last window asked for, per direction.
   mutable std::array<CycleBins::Sums, 2> window_sums_;
   mutable int window_first_ = 0, window_last_ = -1;

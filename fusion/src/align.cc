@@ -8,6 +8,7 @@
 
 #include "student_t.h"
 #include "wearscar/fusion/forward_model.h"
+#include "wearscar/support/interpolate.h"
 
 namespace wearscar::fusion {
 namespace {
@@ -16,11 +17,7 @@ namespace {
 double Interp(const Eigen::VectorXd& v, double x0, double step, double x) {
   const double t = (x - x0) / step;
   if (!(t >= 0) || t > static_cast<double>(v.size() - 1)) return std::nan("");
-  const Eigen::Index i =
-      std::min<Eigen::Index>(static_cast<Eigen::Index>(t), v.size() - 2);
-  const double w = t - static_cast<double>(i);
-  if (w == 0) return v[i];
-  return (1 - w) * v[i] + w * v[i + 1];
+  return support::InterpolateAtIndex(v, t);
 }
 
 struct Ncc {

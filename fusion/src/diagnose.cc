@@ -11,6 +11,7 @@
 #include "minimize.h"
 #include "wearscar/fusion/error.h"
 #include "wearscar/fusion/forward_model.h"
+#include "wearscar/support/interpolate.h"
 
 namespace wearscar::fusion {
 namespace {
@@ -47,12 +48,9 @@ double QAt(const Data& d, const Sample& s, double shift) {
   if (shift == 0) return s.q;
   // Linear interpolation of the measured Q at t + shift (uniform sampling).
   const double pos = static_cast<double>(s.index) + shift / d.dt;
-  const Eigen::Index n = d.record->size();
-  const Eigen::Index i = std::clamp<Eigen::Index>(
-      static_cast<Eigen::Index>(std::floor(pos)), 0, n - 2);
-  const double w = std::clamp(pos - static_cast<double>(i), 0.0, 1.0);
-  return (1 - w) * d.record->tangential_n[i] +
-         w * d.record->tangential_n[i + 1];
+  const double last = static_cast<double>(d.record->size() - 1);
+  return support::InterpolateAtIndex(d.record->tangential_n,
+                                     std::clamp(pos, 0.0, last));
 }
 
 // Residual Q_measured - Q_model of one sample.

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "wearscar/fusion/forward_model.h"
+#include "wearscar/support/interpolate.h"
 #include "wearscar/support/robust_stats.h"
 
 namespace wearscar::samples {
@@ -55,9 +56,7 @@ struct Grid {
     const Eigen::Index n = v.size();
     if (t <= 0) return v[0];
     if (t >= static_cast<double>(n - 1)) return v[n - 1];
-    const Eigen::Index i = static_cast<Eigen::Index>(t);
-    const double w = t - static_cast<double>(i);
-    return (1 - w) * v[i] + w * v[i + 1];
+    return support::InterpolateAtIndex(v, t);
   }
   Grid Derivative() const {
     Grid d{x0, step, Eigen::VectorXd::Zero(v.size())};

@@ -19,6 +19,7 @@
 #include <string_view>
 #include <vector>
 
+#include "layouts.h"
 #include "units.h"
 #include "wearscar/support/check.h"
 #include "wearscar/support/text.h"
@@ -510,45 +511,15 @@ void ReadNamesAndUnits(const std::vector<std::string>& head, Layout* layout) {
   }
 }
 
-// The instruments' layouts, named for the record (information only: the
-// parsing is shared). The first whose rule matches names the layout.
-struct LayoutRule {
-  const char* kind;
-  bool (*matches)(const Layout& layout,
-                  const std::string& names,   // lower case, '|' after each
-                  const std::string& units);  // the same
-};
-
-constexpr LayoutRule kLayoutRules[] = {
-    {"rtec",  // Rtec MFT: DAQ.Fx, DAQ.Fz, Piezo X, RecipeStep
-     [](const Layout&, const std::string& n, const std::string&) {
-       return n.find("daq.") != std::string::npos ||
-              n.find("recipestep") != std::string::npos;
-     }},
-    {"bruker",  // Bruker/CETR UMT: a units row in gram-force
-     [](const Layout& l, const std::string&, const std::string& u) {
-       return l.units_line >= 0 && (u.find("gf|") != std::string::npos ||
-                                    u.find("g|") != std::string::npos);
-     }},
-    {"anton-paar",  // Anton Paar TRB: tab separated, "Friction force"
-     [](const Layout& l, const std::string& n, const std::string&) {
-       return l.delimiter == '\t' &&
-              n.find("friction force") != std::string::npos;
-     }},
-    {"home-built",  // no time column, the rate in the metadata
-     [](const Layout& l, const std::string&, const std::string&) {
-       return l.metadata_rate_hz > 0;
-     }},
-};
-
-std::string LayoutKind(const Layout& layout) {
-  std::string names, units;
-  for (const auto& nm : layout.names) names += Lower(nm) + "|";
-  for (const auto& u : layout.units) units += Lower(u) + "|";
-  for (const LayoutRule& rule : kLayoutRules) {
-    if (rule.matches(layout, names, units)) return rule.kind;
-  }
-  return "delimited";
+// The layout's name for the record, by the rules in layouts.cc.
+std::string LayoutKindOf(const Layout& layout) {
+  internal::LayoutFacts facts;
+  facts.delimiter = layout.delimiter;
+  facts.units_row = layout.units_line >= 0;
+  facts.metadata_rate_hz = layout.metadata_rate_hz;
+  for (const auto& nm : layout.names) facts.names += Lower(nm) + "|";
+  for (const auto& u : layout.units) facts.units += Lower(u) + "|";
+  return internal::LayoutKind(facts);
 }
 
 Layout DetectLayout(const std::vector<std::string>& head,
@@ -565,70 +536,21 @@ Layout DetectLayout(const std::vector<std::string>& head,
   layout.metadata_rate_hz = FindMetadataRate(
       head,
       layout.header_line >= 0 ? layout.header_line : layout.first_data_line);
-  layout.kind = LayoutKind(layout);
+  layout.kind = LayoutKindOf(layout);
   return layout;
 }
 
 // ---------------------------------------------------------------------------
 // Column matching by pattern.
 
-enum Channel { kTime = 0, kX = 1, kQ = 2, kP = 3 };
+using internal::Channel;
+using internal::kP;
+using internal::kQ;
+using internal::kTime;
+using internal::kX;
+using internal::MatchScore;
 constexpr const char* kChannelLabel[] = {
     "time", "position x", "tangential force Q", "normal force P"};
-
-std::vector<std::string> Tokens(const std::string& name) {
-  std::vector<std::string> tokens;
-  std::string cur;
-  for (char ch : Lower(name)) {
-    if (std::isalnum(static_cast<unsigned char>(ch))) {
-      cur += ch;
-    } else if (!cur.empty()) {
-      tokens.push_back(cur);
-      cur.clear();
-    }
-  }
-  if (!cur.empty()) tokens.push_back(cur);
-  return tokens;
-}
-
-// Score of a header name for a channel: 0 = no match, higher = better.
-int MatchScore(Channel channel, const std::string& name) {
-  const std::string lower = Lower(name);
-  const auto tokens = Tokens(name);
-  auto has = [&](const char* t) {
-    return std::find(tokens.begin(), tokens.end(), t) != tokens.end();
-  };
-  auto contains = [&](const char* s) {
-    return lower.find(s) != std::string::npos;
-  };
-  if (has("cof") || has("mu") || contains("coefficient")) return 0;
-  switch (channel) {
-    case kTime:
-      if (has("timestamp") || lower == "time" || lower == "t") return 3;
-      if (has("time") || has("zeit") || has("temps")) return 2;
-      return 0;
-    case kX:
-      if (contains("piezo x") || has("position") || has("displacement"))
-        return 3;
-      if (lower == "x" || has("pos") || has("stroke") || has("lvdt") ||
-          has("weg"))
-        return 2;
-      if (has("x") && !has("fx")) return 1;
-      return 0;
-    case kQ:
-      if (has("fx") || contains("friction force") || contains("tangential"))
-        return 3;
-      if (has("friction") || has("ff") || has("ft") || lower == "q" ||
-          has("lateral"))
-        return 2;
-      return 0;
-    case kP:
-      if (has("fz") || contains("normal force") || has("fn")) return 3;
-      if (has("normal") || has("load") || lower == "p") return 2;
-      return 0;
-  }
-  return 0;
-}
 
 int FindOverride(const std::string& spec,
                  const Layout& layout,
@@ -1032,11 +954,8 @@ void RequireChannels(const Columns& column,
   for (const auto& nm : layout.names) known += (known.empty() ? "" : ", ") + nm;
   if (layout.header_line < 0) known = "(no header row)";
   bool has_cof = false;
-  for (const auto& nm : layout.names) {
-    const auto t = Tokens(nm);
-    has_cof |= std::find(t.begin(), t.end(), "cof") != t.end() ||
-               std::find(t.begin(), t.end(), "mu") != t.end();
-  }
+  for (const auto& nm : layout.names)
+    has_cof |= internal::IsComputedCoefficient(nm);
   std::string list;
   for (size_t i = 0; i < missing.size(); ++i) {
     list += (i == 0                    ? ""
@@ -1062,10 +981,7 @@ void RequireChannels(const Columns& column,
 int FindStepColumn(const Layout& layout) {
   int step_column = -1;
   for (int c = 0; c < static_cast<int>(layout.names.size()); ++c) {
-    const std::string lower = Lower(layout.names[c]);
-    if (lower.find("recipestep") != std::string::npos || lower == "step") {
-      step_column = c;
-    }
+    if (internal::IsStepColumn(layout.names[c])) step_column = c;
   }
   return step_column;
 }

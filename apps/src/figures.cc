@@ -593,11 +593,11 @@ void AddCycleFigures(const std::string& name,
                   "using 1:{3}:{4} with filledcurves lc rgb '#1f77b4' title "
                   "'95% interval, k from P', '' skip 1 using 1:{5}:{6} with "
                   "filledcurves lc rgb '#ff7f0e' title '95% interval, k from "
-                  "scan', '' skip 1 using 1:{0} with points pt 7 ps 0.4 lc rgb "
+                  "scan', '' skip 1 using 1:{0} with points pt 7 ps 0.6 lc rgb "
                   "'#1f77b4' "
                   "title 'mu-hat, k from P', '' skip 1 using 1:{1} with points "
                   "pt 7 ps "
-                  "0.4 lc rgb '#ff7f0e' title 'mu-hat, k from scan', '' skip "
+                  "0.6 lc rgb '#ff7f0e' title 'mu-hat, k from scan', '' skip "
                   "1 using 1:{2} with lines lc rgb '#2ca02c' title 'mean "
                   "method'",
                   Col("mu_hat_force"),

@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -430,6 +433,40 @@ TEST(Figures, SayWhatTheyShow) {
   EXPECT_NE(gp.find("E_d / (4 P delta_max)"), std::string::npos);
   // The friction map and the track's history: their tables and figures.
   EXPECT_TRUE(fs::exists(out + "/fig_friction_map.png"));
+  // The map is drawn from a float32 grid, one row of bins per cycle
+  // (forward): the same numbers as friction_map.csv's forward rows.
+  {
+    std::ifstream csv(out + "/friction_map.csv");
+    std::string row;
+    std::getline(csv, row);
+    std::vector<std::array<double, 4>> forward;  // cycle, x, raw, corrected
+    std::set<double> bins;
+    int map_cycles = 0;
+    while (std::getline(csv, row)) {
+      double c, d, x, raw, corrected;
+      ASSERT_EQ(
+          std::sscanf(
+              row.c_str(), "%lf,%lf,%lf,%lf,%lf", &c, &d, &x, &raw, &corrected),
+          5)
+          << row;
+      bins.insert(x);
+      map_cycles = std::max(map_cycles, static_cast<int>(c));
+      if (d > 0) forward.push_back({c, x, raw, corrected});
+    }
+    const std::string grid =
+        Slurp(out + "/figure-data/friction_map_corrected.f32");
+    ASSERT_EQ(grid.size(), 4 * bins.size() * map_cycles);
+    ASSERT_GT(forward.size(), 10u);
+    for (const auto& [c, x, raw, corrected] : forward) {
+      const size_t b = std::distance(bins.begin(), bins.find(x));
+      float v;
+      std::memcpy(
+          &v,
+          grid.data() + 4 * ((static_cast<size_t>(c) - 1) * bins.size() + b),
+          4);
+      EXPECT_NEAR(v, corrected, 1e-6 * std::abs(corrected) + 1e-9);
+    }
+  }
   EXPECT_TRUE(fs::exists(out + "/fig_track_history.svg"));
   EXPECT_EQ(Slurp(out + "/friction_map.csv")
                 .rfind("cycle,direction,x_mm,mu_raw,mu_corrected,n\n1,1,", 0),

@@ -338,6 +338,15 @@ std::array<PlateProfile, 2> EnsembleSlopeFromSums(
           SlopeOfBinnedProfile(normal_bins, sums[1], o, spring)};
 }
 
+PlateProfile EnsembleSlopeOfSums(const CycleBins& normal_bins,
+                                 const CycleBins::Sums& sums,
+                                 double spring,
+                                 const EnsembleSlopeOptions& o) {
+  std::string why;
+  if (!o.IsValid(&why)) throw FusionError("ensemble slope options: " + why);
+  return SlopeOfBinnedProfile(normal_bins, sums, o, spring);
+}
+
 std::array<PlateProfile, 2> EnsembleSlopeAt(const CycleBins& normal_bins,
                                             int cycle,
                                             double spring,

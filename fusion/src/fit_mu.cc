@@ -499,14 +499,13 @@ double ForceSlopes::EnsembleNoiseVariance(int first,
       for (int j = lo; j <= hi; ++j) {
         normal_bins_->Accumulate(&halves[(j - lo) % 2], j, direction, +1);
       }
-      const std::array<PlateProfile, 2> a = EnsembleSlopeFromSums(
-          *normal_bins_, {halves[0], halves[0]}, spring, options_.ensemble);
-      const std::array<PlateProfile, 2> b = EnsembleSlopeFromSums(
-          *normal_bins_, {halves[1], halves[1]}, spring, options_.ensemble);
-      const PlateProfile& pa = a[0];
+      const PlateProfile pa = EnsembleSlopeOfSums(
+          *normal_bins_, halves[0], spring, options_.ensemble);
+      const PlateProfile pb = EnsembleSlopeOfSums(
+          *normal_bins_, halves[1], spring, options_.ensemble);
       for (Eigen::Index i = 0; i < pa.x_mm.size(); ++i) {
         if (std::abs(pa.x_mm[i] - centre) > half_range) continue;
-        const double diff = pa.k[i] - b[0].At(pa.x_mm[i]);
+        const double diff = pa.k[i] - pb.At(pa.x_mm[i]);
         if (!std::isfinite(diff)) continue;
         sum += scale * diff * diff;
         ++n;

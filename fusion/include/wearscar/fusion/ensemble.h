@@ -155,6 +155,11 @@ std::array<PlateProfile, 2> EnsembleSlopeFromSums(
     const std::array<CycleBins::Sums, 2>& sums,
     double spring_n_per_mm,
     const EnsembleSlopeOptions& options);
+// The same for one direction's sums.
+PlateProfile EnsembleSlopeOfSums(const CycleBins& normal_bins,
+                                 const CycleBins::Sums& sums,
+                                 double spring_n_per_mm,
+                                 const EnsembleSlopeOptions& options);
 
 // How the force side's k = (1/S) dP/dx is estimated.
 enum class KEstimate {

@@ -41,11 +41,7 @@ endif()
 # 10 us per fresh 4 KiB page; glibc's malloc maps and unmaps each large
 # block anew. Only the command links it (a library must not choose its
 # users' allocator), and never under sanitizers, which bring their own.
-set(wearscar_mimalloc_default ON)
-if(WEARSCAR_SANITIZE OR WEARSCAR_FUZZ)
-  set(wearscar_mimalloc_default OFF)
-endif()
-option(WEARSCAR_MIMALLOC "Link the wearscar command with mimalloc" ${wearscar_mimalloc_default})
+option(WEARSCAR_MIMALLOC "Link the wearscar command with mimalloc" ${wearscar_uninstrumented})
 if(WEARSCAR_MIMALLOC)
   find_package(mimalloc 2 REQUIRED)
 endif()

@@ -31,7 +31,7 @@ nlohmann::json WriteTestResults(const std::string& dir,
   }
   WriteTextAtomically(
       (std::filesystem::path(dir) / products.result_name).string(),
-      products.result.dump(2) + "\n");
+      products.ResultText());
   return std::move(products.result);
 }
 

@@ -620,9 +620,11 @@ std::vector<std::pair<std::string, std::string>> TestProducts::Files() const {
   std::vector<std::pair<std::string, std::string>> files;
   for (const auto& [name, table] : tables)
     files.emplace_back(name, table.ToCsv());
-  files.emplace_back(result_name, result.dump(2) + "\n");
+  files.emplace_back(result_name, ResultText());
   return files;
 }
+
+std::string TestProducts::ResultText() const { return result.dump(2) + "\n"; }
 
 const std::vector<std::string>& CycleColumns() {
   static const std::vector<std::string> kColumns = {"cycle",

@@ -48,6 +48,8 @@ struct TestProducts {
 
   // File name and contents of every product, the JSON summary last.
   std::vector<std::pair<std::string, std::string>> Files() const;
+  // The JSON summary's text as Files() gives it.
+  std::string ResultText() const;
 };
 
 // The columns of cycles.csv, and the 1-based index of one of them (for

@@ -2,8 +2,10 @@
 
 #include "commands.h"
 #include "common_options.h"
-#include "diagnosis_output.h"
 #include "output.h"
+#include "summaries.h"
+#include "wearscar/fusion/batch.h"
+#include "wearscar/report/test_folder.h"
 
 namespace wearscar::app {
 namespace {
@@ -31,8 +33,8 @@ void RunDiagnose(DiagnoseArgs a) {
   const fusion::TestResult r = fusion::AnalyzeTest(record, std::move(map), fo);
   fusion::DiagnoseOptions dopt = a.diagnose;
   dopt.running_in_cycles = r.force.running_in.cycles;  // given or detected
-  const fusion::Diagnosis d = DiagnoseTest(record, r, fo, dopt);
-  const std::string name = SpecimenName(a.force_file);
+  const fusion::Diagnosis d = fusion::DiagnoseTest(record, r, fo, dopt);
+  const std::string name = fusion::SpecimenName(a.force_file);
   PrintDiagnosis(name, d, r.scan.has_value());
   if (CurrentPrintMode() == PrintMode::kJson) {
     for (const auto& [file, text] : fusion::DiagnosisFiles(name, d)) {
@@ -43,7 +45,7 @@ void RunDiagnose(DiagnoseArgs a) {
   if (a.out.empty()) return;
   const OutputLock lock(a.out);
   StagedOutput stage(a.out, "diagnose");
-  WriteDiagnosis(stage.dir(), name, d, !a.no_figures);
+  report::WriteDiagnosis(stage.dir(), name, d, !a.no_figures);
   stage.Commit();
   Say("wrote {}/diagnosis.json and the residual maps\n", a.out);
 }

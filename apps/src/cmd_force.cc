@@ -5,9 +5,11 @@
 
 #include "commands.h"
 #include "common_options.h"
-#include "figures.h"
 #include "output.h"
-#include "results.h"
+#include "summaries.h"
+#include "wearscar/fusion/batch.h"
+#include "wearscar/report/figures.h"
+#include "wearscar/report/test_folder.h"
 
 namespace wearscar::app {
 namespace {
@@ -67,12 +69,13 @@ void RunForce(ForceArgs a) {
   const OutputLock lock(a.out);
   StagedOutput stage(a.out, "force");
   nlohmann::json summary =
-      WriteTestResults(stage.dir(), a.file, record, r, a.common.fuse);
-  FigureSet figs;
+      report::WriteTestResults(stage.dir(), a.file, record, r, a.common.fuse);
+  report::FigureSet figs;
   if (!a.no_figures) {
-    figs = DrawTestFigures(stage.dir(), SpecimenName(a.file), r, a.common.fuse);
+    figs = report::DrawTestFigures(
+        stage.dir(), fusion::SpecimenName(a.file), r, a.common.fuse);
     if (!figs.missing.empty()) {
-      AddWarningToResult(stage.dir(), figs.message);
+      report::AddWarningToResult(stage.dir(), figs.message);
       summary["warnings"].push_back(figs.message);
     }
   }

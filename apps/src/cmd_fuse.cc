@@ -4,9 +4,11 @@
 
 #include "commands.h"
 #include "common_options.h"
-#include "figures.h"
 #include "output.h"
-#include "results.h"
+#include "summaries.h"
+#include "wearscar/fusion/batch.h"
+#include "wearscar/report/figures.h"
+#include "wearscar/report/test_folder.h"
 #include "wearscar/scan/formats.h"
 
 namespace wearscar::app {
@@ -39,7 +41,8 @@ void RunFuse(FuseArgs a) {
   }
   const fusion::TestResult r =
       fusion::AnalyzeTest(record, std::move(map), a.common.fuse);
-  const std::string name = a.name.empty() ? SpecimenName(a.force_file) : a.name;
+  const std::string name =
+      a.name.empty() ? fusion::SpecimenName(a.force_file) : a.name;
   PrintSummary(name, r);
   if (a.out.empty()) {
     PrintJsonSummary(
@@ -52,13 +55,13 @@ void RunFuse(FuseArgs a) {
   // when the whole set is there.
   const OutputLock lock(a.out);
   StagedOutput stage(a.out, "fuse");
-  nlohmann::json summary =
-      WriteTestResults(stage.dir(), name, record, r, a.common.fuse, a.write);
-  FigureSet figs;
+  nlohmann::json summary = report::WriteTestResults(
+      stage.dir(), name, record, r, a.common.fuse, a.write);
+  report::FigureSet figs;
   if (!a.no_figures) {
-    figs = DrawTestFigures(stage.dir(), name, r, a.common.fuse);
+    figs = report::DrawTestFigures(stage.dir(), name, r, a.common.fuse);
     if (!figs.missing.empty()) {
-      AddWarningToResult(stage.dir(), figs.message);
+      report::AddWarningToResult(stage.dir(), figs.message);
       summary["warnings"].push_back(figs.message);
     }
   }

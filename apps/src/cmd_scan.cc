@@ -6,9 +6,9 @@
 #include <optional>
 
 #include "commands.h"
-#include "figures.h"
 #include "output.h"
 #include "wearscar/fusion/products.h"
+#include "wearscar/report/figures.h"
 #include "wearscar/scan/formats.h"
 #include "wearscar/scan/gsf.h"
 #include "wearscar/scan/level.h"
@@ -91,9 +91,10 @@ void RunScan(ScanArgs a) {
   scan::WriteTrackPreviewPng(
       r.levelled, r.track ? *r.track : scan::Track{}, path("preview.png"));
   WriteTextAtomically(path(files.back().first), files.back().second);
-  FigureSet figs;
+  report::FigureSet figs;
   if (!a.no_figures) {
-    figs = DrawMapFigure(stage.dir(), fs::path(a.file).filename().string(), r);
+    figs = report::DrawMapFigure(
+        stage.dir(), fs::path(a.file).filename().string(), r);
     for (const std::string& png : figs.png) {
       written.push_back(fs::path(png).filename().string());
       written.push_back(

@@ -16,4 +16,11 @@ void AddScanCommand(CLI::App& app);
 void SetExitStatus(int status);
 int ExitStatus();
 
+// Exit status of fuse and audit when the results were written but figures
+// asked for were not drawn (README).
+constexpr int kExitFiguresMissing = 4;
+// Exit status of audit when any specimen failed (the rest are complete);
+// 2 stays a usage error.
+constexpr int kExitSpecimensFailed = 3;
+
 }  // namespace wearscar::app

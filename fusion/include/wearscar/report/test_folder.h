@@ -1,21 +1,21 @@
 #pragma once
 
+// One test's folder: the tables and result.json of fusion::MakeTestProducts,
+// the diagnosis's files and its figure, each written atomically.
+
 #include <nlohmann/json.hpp>
 #include <string>
-#include <vector>
 
 #include "wearscar/force/force_record.h"
+#include "wearscar/fusion/diagnose.h"
 #include "wearscar/fusion/fuse.h"
 #include "wearscar/fusion/products.h"
 
-namespace wearscar::app {
-
-using fusion::CycleColumn;
-using fusion::CycleColumns;
-using fusion::ResultJson;
+namespace wearscar::report {
 
 // Writes the products of one test (fusion::MakeTestProducts) into `dir`,
-// each atomically; returns result.json's contents.
+// each atomically, one table's text at a time; returns result.json's
+// contents.
 nlohmann::json WriteTestResults(const std::string& dir,
                                 const std::string& name,
                                 const force::ForceRecord& record,
@@ -27,14 +27,11 @@ nlohmann::json WriteTestResults(const std::string& dir,
 // and not drawn are known only after it was written).
 void AddWarningToResult(const std::string& dir, const std::string& warning);
 
-// Exit status of fuse and audit when the results were written but figures
-// asked for were not drawn (README).
-constexpr int kExitFiguresMissing = 4;
-// Exit status of audit when any specimen failed (the rest are complete);
-// 2 stays a usage error.
-constexpr int kExitSpecimensFailed = 3;
+// diagnosis.json, residual_map_before.csv / after.csv and (with figures)
+// diagnosis_residual_map.png/.svg in `dir`. Returns the PNG path or "".
+std::string WriteDiagnosis(const std::string& dir,
+                           const std::string& name,
+                           const fusion::Diagnosis& d,
+                           bool figures);
 
-// Prints the human summary of one test to stdout.
-void PrintSummary(const std::string& name, const fusion::TestResult& result);
-
-}  // namespace wearscar::app
+}  // namespace wearscar::report

@@ -6,7 +6,7 @@
 #include "wearscar/fusion/fuse.h"
 #include "wearscar/fusion/products.h"
 
-namespace wearscar::app {
+namespace wearscar::report {
 
 // The figures of one test (the paper's Figs. 5-8, 10-15, 17), drawn by
 // gnuplot from the CSV files WriteTestResults wrote into `dir`, as PNG and
@@ -57,4 +57,4 @@ struct SpecimenSeries {
 FigureSet DrawAuditFigures(const std::string& dir,
                            const std::vector<SpecimenSeries>& specimens);
 
-}  // namespace wearscar::app
+}  // namespace wearscar::report

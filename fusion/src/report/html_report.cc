@@ -1,4 +1,4 @@
-#include "report.h"
+#include "wearscar/report/html_report.h"
 
 #include <fmt/format.h>
 
@@ -8,7 +8,7 @@
 
 #include "wearscar/fusion/provenance.h"
 
-namespace wearscar::app {
+namespace wearscar::report {
 namespace {
 
 std::string Escape(const std::string& s) {
@@ -357,4 +357,4 @@ window.addEventListener('load', function () {
   return h;
 }
 
-}  // namespace wearscar::app
+}  // namespace wearscar::report

@@ -4,9 +4,9 @@
 #include <string>
 #include <vector>
 
-#include "figures.h"
+#include "wearscar/report/figures.h"
 
-namespace wearscar::app {
+namespace wearscar::report {
 
 // One specimen's section of the report.
 struct ReportSection {
@@ -27,4 +27,4 @@ std::string RenderReport(const std::string& title,
 // Base64 of bytes (RFC 4648).
 std::string Base64(const std::string& bytes);
 
-}  // namespace wearscar::app
+}  // namespace wearscar::report

@@ -1,49 +1,12 @@
-#include "results.h"
+#include "summaries.h"
 
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <cmath>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
 
 #include "output.h"
-#include "wearscar/fusion/forward_model.h"
 
 namespace wearscar::app {
-
-nlohmann::json WriteTestResults(const std::string& dir,
-                                const std::string& name,
-                                const force::ForceRecord& record,
-                                const fusion::TestResult& r,
-                                const fusion::FuseOptions& o,
-                                const fusion::ProductOptions& w) {
-  EnsureDirectory(dir);
-  fusion::TestProducts products =
-      fusion::MakeTestProducts(name, record, r, o, w);
-  // One table's text at a time, each freed once written (TestProducts::
-  // Files would hold them all: 6000 cycles' tables are tens of MB).
-  for (auto& [file, table] : products.tables) {
-    WriteTextAtomically((std::filesystem::path(dir) / file).string(),
-                        table.ToCsv());
-    table = {};
-  }
-  WriteTextAtomically(
-      (std::filesystem::path(dir) / products.result_name).string(),
-      products.ResultText());
-  return std::move(products.result);
-}
-
-void AddWarningToResult(const std::string& dir, const std::string& warning) {
-  const std::string path =
-      (std::filesystem::path(dir) / "result.json").string();
-  std::ifstream in(path);
-  nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
-  if (j.is_discarded() || !j.is_object()) return;
-  j["warnings"].push_back(warning);
-  WriteTextAtomically(path, j.dump(2) + "\n");
-}
 
 namespace {
 
@@ -115,6 +78,57 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
       fmt::print(stderr, "wearscar: warning: {}: {}\n", name, w);
     }
   }
+}
+
+std::string ParameterText(const fusion::CandidateResult& c) {
+  std::string s;
+  for (size_t i = 0; i < c.parameters.size(); ++i) {
+    s += fmt::format("{}{} = {:.4g} +- {:.2g}",
+                     i ? ", " : "",
+                     c.parameter_names[i],
+                     c.parameters[i],
+                     c.uncertainties[i]);
+  }
+  return s;
+}
+
+void PrintDiagnosis(const std::string& name,
+                    const fusion::Diagnosis& d,
+                    bool from_scan) {
+  Say("{}: diagnosis on {} cycles ({}-{}), slope from each cycle's binned P "
+      "profile, "
+      "depth from the {}\n",
+      name,
+      d.cycles.size(),
+      d.cycles.front() + 1,
+      d.cycles.back() + 1,
+      from_scan ? "scan" : "force side");
+  Say("where the wear-scar model misses: {}\n\n", d.before.where);
+  Say("{:<5} {:<34} {:>10} {:>10} {:>7} {:>8} {:>9}  {}\n",
+      "step",
+      "best candidate",
+      "J before",
+      "J after",
+      "gain",
+      "cycles+",
+      "dBIC",
+      "parameters");
+  for (size_t i = 0; i < d.steps.size(); ++i) {
+    const auto& c = d.steps[i].chosen;
+    Say("{:<5} {:<34} {:>10.4f} {:>10.4f} {:>6.0f}% {:>7.0f}% {:>9.1f}  {} "
+        "{}\n",
+        i + 1,
+        c.effect,
+        c.heldout_before,
+        c.heldout_after,
+        100 * c.relative_gain,
+        100 * c.improved_fraction,
+        c.delta_bic,
+        ParameterText(c),
+        c.accepted ? "NAMED" : "(rejected: stop)");
+  }
+  Say("\n{}\n", d.BriefReport());
+  if (!d.named.empty()) Say("after: {}\n", d.after.where);
 }
 
 }  // namespace wearscar::app

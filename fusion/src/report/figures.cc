@@ -1,4 +1,4 @@
-#include "figures.h"
+#include "wearscar/report/figures.h"
 
 #include <fcntl.h>
 #include <fmt/format.h>
@@ -13,11 +13,11 @@
 #include <filesystem>
 #include <fstream>
 
-#include "output.h"
-#include "results.h"
+#include "wearscar/fusion/products.h"
+#include "wearscar/report/output_folder.h"
 #include "wearscar/support/check.h"
 
-namespace wearscar::app {
+namespace wearscar::report {
 namespace {
 
 namespace fs = std::filesystem;
@@ -323,7 +323,7 @@ std::string LoopsPlot(const std::string& dir) {
 // The column of cycles.csv a figure plots (a name that is not a column is
 // a bug of this program).
 int Col(const char* name) {
-  const int c = CycleColumn(name);
+  const int c = fusion::CycleColumn(name);
   WEARSCAR_CHECK(c > 0, "a figure plots a column of cycles.csv");
   return c;
 }
@@ -801,4 +801,4 @@ FigureSet DrawAuditFigures(const std::string& dir,
   return Collect(dir, figs, message, std::move(missing));
 }
 
-}  // namespace wearscar::app
+}  // namespace wearscar::report

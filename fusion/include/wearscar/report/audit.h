@@ -1,0 +1,57 @@
+#pragma once
+
+// The audit of a batch: every specimen analysed (in parallel), its folder
+// written, its figures drawn and, when asked, its diagnosis; then the
+// batch's tables (summary.csv, summary.jsonl, summary.json), its figures
+// and report.html. What `wearscar audit` does, for any program.
+
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "wearscar/force/read_force.h"
+#include "wearscar/fusion/batch.h"
+#include "wearscar/fusion/diagnose.h"
+#include "wearscar/fusion/fuse.h"
+#include "wearscar/report/figures.h"
+#include "wearscar/report/html_report.h"
+#include "wearscar/scan/read_scan.h"
+
+namespace wearscar::report {
+
+struct AuditOptions {
+  fusion::BatchOptions batch;
+  force::ReadForceOptions read_force;
+  scan::ReadScanOptions read_scan;
+  fusion::FuseOptions fuse;
+  bool figures = true;    // each specimen's and the batch's (gnuplot)
+  bool diagnose = false;  // name the effects a flagged model misses
+  fusion::DiagnoseOptions diagnose_options;
+};
+
+struct AuditResult {
+  // One per specimen in the order given: its summary row (result.json with
+  // its identity, or its error), verdict and figures.
+  std::vector<ReportSection> specimens;
+  FigureSet batch_figures;
+  int failed = 0;   // specimens that could not be analysed
+  int flagged = 0;  // not explained by wear-scar interaction
+  // Figures asked for and not drawn for some specimen.
+  bool figures_missing = false;
+  std::string report_path;  // <out>/report.html
+};
+
+// Audits `specimens` (fusion::FindSpecimens) into `out`, which it locks
+// (OutputLock) for the run: <out>/<specimen>/ per specimen, staged so that
+// its files appear together; a specimen that fails is its section's error
+// and the rest complete. `title` heads report.html. progress(done) is
+// called after each specimen, one call at a time. Throws OutputError when
+// `out` cannot be written.
+AuditResult Audit(const std::vector<fusion::Specimen>& specimens,
+                  const std::string& out,
+                  const std::string& title,
+                  const AuditOptions& options,
+                  const std::function<void(long)>& progress = {});
+
+}  // namespace wearscar::report

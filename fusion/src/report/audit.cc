@@ -1,0 +1,180 @@
+#include "wearscar/report/audit.h"
+
+#include <atomic>
+#include <filesystem>
+#include <optional>
+
+#include "wearscar/fusion/error.h"
+#include "wearscar/report/output_folder.h"
+#include "wearscar/report/test_folder.h"
+
+namespace wearscar::report {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The diagnosis of one specimen into its folder and report section; a
+// diagnosis that cannot run is reported, the analysis stands.
+void AuditDiagnosis(const AuditOptions& o,
+                    const std::string& name,
+                    const std::string& dir,
+                    const force::ForceRecord& record,
+                    const fusion::TestResult& r,
+                    ReportSection* sec) {
+  try {
+    fusion::DiagnoseOptions dopt = o.diagnose_options;
+    dopt.running_in_cycles = r.force.running_in.cycles;
+    const fusion::Diagnosis d = fusion::DiagnoseTest(record, r, o.fuse, dopt);
+    const std::string png = WriteDiagnosis(dir, name, d, o.figures);
+    sec->row["missing_effects"] = d.named;
+    sec->row["diagnosis"] = d.message;
+    if (!png.empty()) {
+      sec->figures.png.push_back(png);
+      sec->figures.titles.push_back(
+          name + ": diagnosis, residual map before and after");
+    }
+  } catch (const std::exception& e) {
+    sec->row["diagnosis"] = std::string("not run: ") + e.what();
+  }
+}
+
+// One specimen: read, analyse, write its folder (staged: its files appear
+// together or not at all), draw its figures and, when asked, diagnose it.
+// Failures are the section's error; the batch goes on.
+void AuditSpecimen(const AuditOptions& o,
+                   const std::string& out,
+                   const fusion::Specimen& s,
+                   ReportSection* sec,
+                   SpecimenSeries* series,
+                   std::atomic<bool>* figures_missing) {
+  sec->name = s.name;
+  sec->row = fusion::SpecimenIdentity(s.name, o.batch.naming);
+  const std::string final_dir = (fs::path(out) / s.name).string();
+  try {
+    StagedOutput stage(final_dir, "audit");
+    const std::string& dir = stage.dir();
+    if (!s.error.empty()) throw fusion::FusionError(s.error);
+    const force::ForceRecord record =
+        force::ReadForceFile(s.force, o.read_force);
+    std::optional<scan::HeightMap> map;
+    if (!s.scan.empty()) map = scan::ReadScan(s.scan, o.read_scan);
+    const fusion::TestResult r =
+        fusion::AnalyzeTest(record, std::move(map), o.fuse);
+    nlohmann::json row = WriteTestResults(dir, s.name, record, r, o.fuse);
+    row.update(sec->row);
+    row["scan_file"] = s.scan;
+    sec->row = row;
+    sec->flagged = !r.verdict.explained;
+    *series = {s.name,
+               final_dir,
+               r.mismatch.mu_force_minus_mean,
+               r.mismatch.mu_force_minus_energy,
+               r.mismatch.mu_force,
+               r.wear.specific_rate_mm3_per_n_m};
+    if (o.figures) sec->figures = DrawTestFigures(dir, s.name, r, o.fuse);
+    if (o.diagnose) AuditDiagnosis(o, s.name, dir, record, r, sec);
+    if (!sec->figures.missing.empty()) {
+      AddWarningToResult(dir, sec->figures.message);
+      *figures_missing = true;
+    }
+    stage.Commit();
+    // The report and the batch figures read the files where they are now.
+    for (std::string& png : sec->figures.png) png = stage.Final(png);
+  } catch (const std::exception& e) {
+    sec->failed = true;
+    sec->flagged = false;
+    sec->row["error"] = e.what();
+  }
+}
+
+// The audit folder's manifest: the tables, the report, the batch figures
+// and their data, one folder per specimen. An unsharded run removes what
+// an earlier audit wrote there and this one did not; a shard adds to it.
+void RecordAuditOutputs(const std::string& out,
+                        bool sharded,
+                        const std::vector<ReportSection>& sections,
+                        const FigureSet& batch) {
+  std::vector<std::string> entries = {
+      "summary.csv", "summary.jsonl", "summary.json", "report.html"};
+  for (const auto& sec : sections) entries.push_back(sec.name + "/");
+  for (const std::string& png : batch.png) {
+    const fs::path p = fs::path(png).filename();
+    entries.push_back(p.string());
+    entries.push_back(fs::path(p).replace_extension(".svg").string());
+  }
+  std::error_code ec;
+  for (const char* data : {"method_differences.csv", "wear_and_mu.csv"}) {
+    if (fs::exists(fs::path(out) / data, ec)) entries.push_back(data);
+  }
+  for (const auto& e : fs::directory_iterator(fs::path(out) / kFigureData, ec))
+    entries.push_back((fs::path(kFigureData) / e.path().filename()).string());
+  RecordOutputs(out, "audit", entries, !sharded);
+}
+
+// summary.csv (shard 1, or an unsharded run, writes the header, so that
+// the shards' files concatenate into one table), summary.jsonl (one row
+// per line: it concatenates as it is) and summary.json.
+void WriteSummaries(const std::string& out,
+                    bool header,
+                    const std::vector<ReportSection>& sections) {
+  std::vector<nlohmann::json> rows;
+  std::string jsonl;
+  for (const auto& sec : sections) {
+    rows.push_back(sec.row);
+    jsonl += sec.row.dump() + "\n";
+  }
+  WriteTextAtomically((fs::path(out) / "summary.csv").string(),
+                      fusion::SummaryCsv(rows, header));
+  WriteTextAtomically((fs::path(out) / "summary.jsonl").string(), jsonl);
+  WriteTextAtomically((fs::path(out) / "summary.json").string(),
+                      nlohmann::json(rows).dump(2) + "\n");
+}
+
+}  // namespace
+
+AuditResult Audit(const std::vector<fusion::Specimen>& specimens,
+                  const std::string& out,
+                  const std::string& title,
+                  const AuditOptions& o,
+                  const std::function<void(long)>& progress) {
+  EnsureDirectory(out);
+  // One audit per folder at a time: two would interleave summary.csv and
+  // the specimen folders.
+  const OutputLock out_lock(out);
+  AuditResult result;
+  result.specimens.resize(specimens.size());
+  std::vector<SpecimenSeries> series(specimens.size());
+  std::atomic<bool> figures_missing{false};
+  fusion::ForEachSpecimen(
+      specimens.size(),
+      o.batch.jobs,
+      [&](size_t i) {
+        AuditSpecimen(o,
+                      out,
+                      specimens[i],
+                      &result.specimens[i],
+                      &series[i],
+                      &figures_missing);
+      },
+      [&](long done) {
+        if (progress) progress(done);
+      });
+  std::vector<SpecimenSeries> analysed;
+  for (size_t i = 0; i < specimens.size(); ++i) {
+    result.failed += result.specimens[i].failed;
+    result.flagged += result.specimens[i].flagged;
+    if (!result.specimens[i].failed) analysed.push_back(series[i]);
+  }
+  result.figures_missing = figures_missing;
+  WriteSummaries(out, o.batch.shard_index == 1, result.specimens);
+  if (o.figures) result.batch_figures = DrawAuditFigures(out, analysed);
+  RecordAuditOutputs(
+      out, o.batch.shard_count > 1, result.specimens, result.batch_figures);
+  result.report_path = (fs::path(out) / "report.html").string();
+  WriteTextAtomically(
+      result.report_path,
+      RenderReport(title, result.specimens, result.batch_figures));
+  return result;
+}
+
+}  // namespace wearscar::report

@@ -1,0 +1,85 @@
+#include "wearscar/report/test_folder.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "wearscar/report/figures.h"
+#include "wearscar/report/output_folder.h"
+
+namespace wearscar::report {
+
+namespace fs = std::filesystem;
+
+nlohmann::json WriteTestResults(const std::string& dir,
+                                const std::string& name,
+                                const force::ForceRecord& record,
+                                const fusion::TestResult& r,
+                                const fusion::FuseOptions& o,
+                                const fusion::ProductOptions& w) {
+  EnsureDirectory(dir);
+  fusion::TestProducts products =
+      fusion::MakeTestProducts(name, record, r, o, w);
+  // One table's text at a time, each freed once written (TestProducts::
+  // Files would hold them all: 6000 cycles' tables are tens of MB).
+  for (auto& [file, table] : products.tables) {
+    WriteTextAtomically((fs::path(dir) / file).string(), table.ToCsv());
+    table = {};
+  }
+  WriteTextAtomically((fs::path(dir) / products.result_name).string(),
+                      products.ResultText());
+  return std::move(products.result);
+}
+
+void AddWarningToResult(const std::string& dir, const std::string& warning) {
+  const std::string path = (fs::path(dir) / "result.json").string();
+  std::ifstream in(path);
+  nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  if (j.is_discarded() || !j.is_object()) return;
+  j["warnings"].push_back(warning);
+  WriteTextAtomically(path, j.dump(2) + "\n");
+}
+
+std::string WriteDiagnosis(const std::string& dir,
+                           const std::string& name,
+                           const fusion::Diagnosis& d,
+                           bool figures) {
+  EnsureDirectory(dir);
+  for (const auto& [file, text] : fusion::DiagnosisFiles(name, d)) {
+    WriteTextAtomically((fs::path(dir) / file).string(), text);
+  }
+  if (!figures || !PlotterAvailable(nullptr)) return "";
+  std::string gp;
+  for (const char* term :
+       {"pngcairo size 960,560", "svg size 960,560 background 'white'"}) {
+    const std::string ext =
+        std::string(term).rfind("png", 0) == 0 ? "png" : "svg";
+    gp += fmt::format(
+        "set terminal {0}\nset output 'diagnosis_residual_map.{1}'\nset "
+        "datafile separator "
+        "','\nset grid\nset xlabel 'x (mm)'\nset ylabel 'mean |Q_measured - "
+        "Q_model| (N)'\nset "
+        "key outside right top\nset title '{2}: residual along the stroke "
+        "before and after the "
+        "named effects ({3})' noenhanced\nplot 'residual_map_before.csv' skip "
+        "1 using 1:2 with "
+        "lines lw 2 title 'before, forward', '' skip 1 using 1:3 with lines lw "
+        "2 title 'before, "
+        "reverse', 'residual_map_after.csv' skip 1 using 1:2 with lines dt 2 "
+        "title 'after, "
+        "forward', '' skip 1 using 1:3 with lines dt 2 title 'after, "
+        "reverse'\nunset output\n",
+        term,
+        ext,
+        name,
+        d.named.empty() ? std::string("none named")
+                        : fmt::format("{}", fmt::join(d.named, ", ")));
+  }
+  WriteTextAtomically(FigureDataPath(dir, "diagnosis.gp"), gp);
+  if (!RunGnuplotScript(dir, "diagnosis.gp")) return "";
+  return (fs::path(dir) / "diagnosis_residual_map.png").string();
+}
+
+}  // namespace wearscar::report

@@ -13,6 +13,7 @@ cmake --install "$build" --prefix "$scratch/prefix" > /dev/null
 test -x "$scratch/prefix/bin/wearscar"
 test -f "$scratch/prefix/include/wearscar/fusion/fit_mu.h"
 test -f "$scratch/prefix/include/wearscar/fusion/products.h"
+test -f "$scratch/prefix/include/wearscar/report/audit.h"
 # The private support headers are not installed.
 test ! -e "$scratch/prefix/include/wearscar/support"
 cmake -S "$source/tests/consumer" -B "$scratch/consumer" \
@@ -31,3 +32,11 @@ diff -r --exclude=.wearscar.lock --exclude=.wearscar-manifest "$scratch/by-comma
 # With the scan used: its profiles are among them.
 test -f "$scratch/by-library/profiles.csv"
 echo "the library wrote what the command wrote: $(ls "$scratch/by-library" | tr '\n' ' ')"
+# The audit of the same folder, by the command and by wearscar::report.
+"$wearscar" audit "$scratch/sim" --no-figures -q -o "$scratch/audit-by-command"
+"$scratch/consumer/consumer" audit "$scratch/sim" "$scratch/audit-by-library"
+diff -r --exclude=.wearscar.lock --exclude=.wearscar-manifest \
+  "$scratch/audit-by-command" "$scratch/audit-by-library"
+test -f "$scratch/audit-by-library/report.html"
+test -f "$scratch/audit-by-library/S-RL-R/result.json"
+echo "the library audited as the command did: $(ls "$scratch/audit-by-library" | tr '\n' ' ')"

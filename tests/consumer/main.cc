@@ -2,7 +2,8 @@
 // tilted plane (wearscar::scan, PCL inside) and fits mu on samples made by
 // the wear-scar model (wearscar::fusion), exit 0 when both come back.
 // With FORCE SCAN NAME OUT: what `wearscar fuse --no-figures` writes, through
-// the public API only (tests/install_consumer.sh compares the two folders).
+// the public API only; with audit INPUT OUT, what `wearscar audit --no-figures`
+// writes (tests/install_consumer.sh compares the folders).
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -13,6 +14,7 @@
 #include "wearscar/fusion/forward_model.h"
 #include "wearscar/fusion/fuse.h"
 #include "wearscar/fusion/products.h"
+#include "wearscar/report/audit.h"
 #include "wearscar/scan/level.h"
 #include "wearscar/scan/read_scan.h"
 
@@ -75,9 +77,27 @@ int Fuse(const std::string& force_file,
   return 0;
 }
 
+// What `wearscar audit INPUT --no-figures -o OUT` writes.
+int Audit(const std::string& input, const std::string& out) {
+  namespace ws = wearscar;
+  ws::report::AuditOptions options;
+  options.figures = false;
+  const auto specimens = ws::fusion::FindSpecimens(input, options.batch);
+  const auto audit =
+      ws::report::Audit(specimens, out, "wearscar audit of " + input, options);
+  std::printf("%zu specimens, %d not explained, %d failed: %s\n",
+              audit.specimens.size(),
+              audit.flagged,
+              audit.failed,
+              audit.report_path.c_str());
+  return audit.failed == 0 ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc == 5) return Fuse(argv[1], argv[2], argv[3], argv[4]);
+  if (argc == 4 && std::string(argv[1]) == "audit")
+    return Audit(argv[2], argv[3]);
   return LevelAndFit();
 }

@@ -132,11 +132,19 @@ void WriteSummaries(const std::string& out,
 
 }  // namespace
 
+bool AuditOptions::IsValid(std::string* why) const {
+  return batch.IsValid(why) && read_force.IsValid(why) &&
+         read_scan.IsValid(why) && fuse.IsValid(why) &&
+         (!diagnose || diagnose_options.IsValid(why));
+}
+
 AuditResult Audit(const std::vector<fusion::Specimen>& specimens,
                   const std::string& out,
                   const std::string& title,
                   const AuditOptions& o,
                   const std::function<void(long)>& progress) {
+  std::string why;
+  if (!o.IsValid(&why)) throw fusion::FusionError("audit options: " + why);
   EnsureDirectory(out);
   // One audit per folder at a time: two would interleave summary.csv and
   // the specimen folders.

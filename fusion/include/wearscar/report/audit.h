@@ -28,6 +28,10 @@ struct AuditOptions {
   bool figures = true;    // each specimen's and the batch's (gnuplot)
   bool diagnose = false;  // name the effects a flagged model misses
   fusion::DiagnoseOptions diagnose_options;
+
+  // Every part valid (the batch's, the readers', the analysis's and, when
+  // diagnosing, the diagnosis's); `why` names the first that is not.
+  bool IsValid(std::string* why) const;
 };
 
 struct AuditResult {
@@ -46,8 +50,9 @@ struct AuditResult {
 // (OutputLock) for the run: <out>/<specimen>/ per specimen, staged so that
 // its files appear together; a specimen that fails is its section's error
 // and the rest complete. `title` heads report.html. progress(done) is
-// called after each specimen, one call at a time. Throws OutputError when
-// `out` cannot be written.
+// called after each specimen, one call at a time. Throws
+// fusion::FusionError for invalid options (naming them) and OutputError
+// when `out` cannot be written.
 AuditResult Audit(const std::vector<fusion::Specimen>& specimens,
                   const std::string& out,
                   const std::string& title,

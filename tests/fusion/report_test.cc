@@ -1,0 +1,126 @@
+// wearscar::report: the audit of a batch through the library, as a lab's
+// own program would run it.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "wearscar/force/read_force.h"
+#include "wearscar/fusion/error.h"
+#include "wearscar/report/audit.h"
+#include "wearscar/samples/virtual_tribometer.h"
+#include "wearscar/scan/gsf.h"
+
+namespace wearscar::report {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path FreshFolder(const std::string& name) {
+  const fs::path p =
+      fs::temp_directory_path() /
+      fmt::format("wearscar-report-{}-{:08x}", name, std::random_device{}());
+  fs::create_directories(p);
+  return p;
+}
+
+std::string Slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// B-RT-R simulated (a force export and its scan) beside an S-RL-R whose
+// force file is not a force export.
+fs::path TwoSpecimens(samples::SimulatedTest* test) {
+  const fs::path in = FreshFolder("in");
+  samples::SimulationOptions o = samples::PaperCase("B-RT-R");
+  o.cycles = 80;
+  o.seed = 7;
+  o.scan_cols = 384;
+  o.scan_rows = 288;
+  o.scan_pitch_mm = 0.0198;
+  *test = samples::Simulate(o);
+  force::WriteForceCsv(test->record, (in / "B-RT-R.force.csv").string());
+  scan::WriteGsf(test->scan, (in / "B-RT-R.scan.gsf").string());
+  std::ofstream(in / "S-RL-R.force.csv") << "not,a,force\nexport,at,all\n";
+  return in;
+}
+
+TEST(Audit, OneBadSpecimenIsReportedAndTheOtherIsComplete) {
+  samples::SimulatedTest test;
+  const fs::path in = TwoSpecimens(&test);
+  const fs::path out = FreshFolder("out");
+  AuditOptions options;
+  options.figures = false;
+  long calls = 0, last = 0;
+  const AuditResult r = Audit(fusion::FindSpecimens(in.string(), options.batch),
+                              out.string(),
+                              "two specimens",
+                              options,
+                              [&](long done) {
+                                ++calls;
+                                last = done;
+                              });
+  ASSERT_EQ(r.specimens.size(), 2u);
+  EXPECT_EQ(calls, 2);
+  EXPECT_EQ(last, 2);
+  EXPECT_EQ(r.failed, 1);
+  for (const ReportSection& s : r.specimens) {
+    if (s.name == "S-RL-R") {
+      EXPECT_TRUE(s.failed);
+      EXPECT_NE(s.row["error"].get<std::string>().find("S-RL-R.force.csv"),
+                std::string::npos)
+          << s.row.dump();
+      // Nothing of it was moved into place.
+      EXPECT_FALSE(fs::exists(out / "S-RL-R" / "result.json"));
+      continue;
+    }
+    ASSERT_EQ(s.name, "B-RT-R");
+    ASSERT_FALSE(s.failed) << s.row.dump();
+    EXPECT_EQ(s.row["species"], "beech");
+    // mu-hat against the simulator's truth over the compared cycles, at
+    // the sensor noise calibrated to the paper (errors 0.0001 and 0.0011).
+    const int first = s.row["comparison"]["first_cycle"].get<int>() - 1,
+              last_cycle = s.row["comparison"]["last_cycle"].get<int>() - 1;
+    const double truth =
+        test.truth.mu_per_cycle.segment(first, last_cycle - first + 1).mean();
+    EXPECT_NEAR(s.row["comparison"]["mu_hat_force"]["mean"].get<double>(),
+                truth,
+                0.002);
+    EXPECT_NEAR(
+        s.row["comparison"]["mu_hat_scan"]["mean"].get<double>(), truth, 0.005);
+    EXPECT_TRUE(fs::exists(out / "B-RT-R" / "result.json"));
+    EXPECT_TRUE(fs::exists(out / "B-RT-R" / "cycles.csv"));
+  }
+  // The batch's tables and report name both, the failure with its reason.
+  EXPECT_EQ(r.report_path, (out / "report.html").string());
+  const std::string html = Slurp(out / "report.html");
+  EXPECT_NE(html.find("two specimens"), std::string::npos);
+  EXPECT_NE(html.find("class=\"failed\""), std::string::npos);
+  const std::string csv = Slurp(out / "summary.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3);
+  fs::remove_all(in);
+  fs::remove_all(out);
+}
+
+TEST(Audit, InvalidOptionsAreNamedBeforeAnythingIsWritten) {
+  const fs::path out = FreshFolder("invalid") / "audit";
+  AuditOptions options;
+  options.batch.jobs = -2;
+  try {
+    Audit({}, out.string(), "nothing", options);
+    FAIL() << "invalid options were used";
+  } catch (const fusion::FusionError& e) {
+    EXPECT_STREQ(e.what(), "audit options: jobs must be >= 0");
+  }
+  EXPECT_FALSE(fs::exists(out));
+  fs::remove_all(out.parent_path());
+}
+
+}  // namespace
+}  // namespace wearscar::report

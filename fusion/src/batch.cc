@@ -349,6 +349,18 @@ std::vector<Specimen> ReadManifest(const std::string& path) {
   return out;
 }
 
+SpecimenAnalysis AnalyzeSpecimen(const Specimen& s,
+                                 const force::ReadForceOptions& read_force,
+                                 const scan::ReadScanOptions& read_scan,
+                                 const FuseOptions& fuse) {
+  if (!s.error.empty()) throw FusionError(s.error);
+  SpecimenAnalysis a{force::ReadForceFile(s.force, read_force), {}};
+  std::optional<scan::HeightMap> map;
+  if (!s.scan.empty()) map = scan::ReadScan(s.scan, read_scan);
+  a.result = AnalyzeTest(a.record, std::move(map), fuse);
+  return a;
+}
+
 std::vector<Specimen> FindSpecimens(const std::string& input,
                                     const BatchOptions& options) {
   std::string why;

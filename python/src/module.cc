@@ -185,13 +185,10 @@ nlohmann::json AuditOne(const fusion::Specimen& s,
                         const std::string& out) {
   nlohmann::json row = fusion::SpecimenIdentity(s.name, batch.naming);
   try {
-    if (!s.error.empty()) throw fusion::FusionError(s.error);
-    const force::ForceRecord record =
-        force::ReadForceFile(s.force, a.read_force);
-    std::optional<scan::HeightMap> map;
-    if (!s.scan.empty()) map = scan::ReadScan(s.scan, a.read_scan);
-    const fusion::TestResult r =
-        fusion::AnalyzeTest(record, std::move(map), a.fuse);
+    const fusion::SpecimenAnalysis an =
+        fusion::AnalyzeSpecimen(s, a.read_force, a.read_scan, a.fuse);
+    const force::ForceRecord& record = an.record;
+    const fusion::TestResult& r = an.result;
     TestOutput t{s.name, fusion::MakeTestProducts(s.name, record, r, a.fuse)};
     if (!out.empty()) t.Write((fs::path(out) / s.name).string());
     nlohmann::json full = t.products.result;

@@ -2,7 +2,6 @@
 
 #include <atomic>
 #include <filesystem>
-#include <optional>
 
 #include "wearscar/fusion/error.h"
 #include "wearscar/report/output_folder.h"
@@ -53,13 +52,10 @@ void AuditSpecimen(const AuditOptions& o,
   try {
     StagedOutput stage(final_dir, "audit");
     const std::string& dir = stage.dir();
-    if (!s.error.empty()) throw fusion::FusionError(s.error);
-    const force::ForceRecord record =
-        force::ReadForceFile(s.force, o.read_force);
-    std::optional<scan::HeightMap> map;
-    if (!s.scan.empty()) map = scan::ReadScan(s.scan, o.read_scan);
-    const fusion::TestResult r =
-        fusion::AnalyzeTest(record, std::move(map), o.fuse);
+    const fusion::SpecimenAnalysis a =
+        fusion::AnalyzeSpecimen(s, o.read_force, o.read_scan, o.fuse);
+    const force::ForceRecord& record = a.record;
+    const fusion::TestResult& r = a.result;
     nlohmann::json row = WriteTestResults(dir, s.name, record, r, o.fuse);
     row.update(sec->row);
     row["scan_file"] = s.scan;

@@ -7,6 +7,10 @@
 #include <utility>
 #include <vector>
 
+#include "wearscar/force/read_force.h"
+#include "wearscar/fusion/fuse.h"
+#include "wearscar/scan/read_scan.h"
+
 namespace wearscar::fusion {
 
 // One specimen of a batch: its force export and, optionally, its scan.
@@ -71,6 +75,18 @@ std::vector<Specimen> ReadManifest(const std::string& path);
 // Throws FusionError when there is nothing to process.
 std::vector<Specimen> FindSpecimens(const std::string& input,
                                     const BatchOptions& options);
+
+// A specimen's files read and analysed.
+struct SpecimenAnalysis {
+  force::ForceRecord record;
+  TestResult result;
+};
+// Throws the specimen's pairing error (FusionError), the readers' errors
+// and the analysis's.
+SpecimenAnalysis AnalyzeSpecimen(const Specimen& specimen,
+                                 const force::ReadForceOptions& read_force,
+                                 const scan::ReadScanOptions& read_scan,
+                                 const FuseOptions& fuse);
 
 // {"specimen", "species", "plane", "direction"} from the name (empty
 // strings where the pattern does not match).

@@ -2,7 +2,9 @@
 // functions in wearscar/__init__.py are the command line's options (same
 // names with '_' for '-', same defaults, same checks and messages): they
 // arrive here as an argument list and are parsed by the command line's own
-// option code (apps/src/common_options.h, simulate_options.h).
+// option code (apps/options/common_options.h, simulate_options.h). Files,
+// figures and the audit's report are written by wearscar::report, as the
+// command writes them.
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -25,9 +27,12 @@
 #include "wearscar/fusion/logging.h"
 #include "wearscar/fusion/products.h"
 #include "wearscar/fusion/provenance.h"
+#include "wearscar/report/audit.h"
+#include "wearscar/report/figures.h"
+#include "wearscar/report/output_folder.h"
+#include "wearscar/report/test_folder.h"
 #include "wearscar/samples/virtual_tribometer.h"
 #include "wearscar/scan/read_scan.h"
-#include "wearscar/support/atomic_file.h"
 
 namespace py = pybind11;
 
@@ -76,10 +81,13 @@ app::CommonArgs ParseOptions(const std::vector<std::string>& args,
   return a;
 }
 
-// The products of one analysed test: result.json and the tables.
+// One analysed test: its products (result.json and the tables) and what
+// its figures are drawn from.
 struct TestOutput {
   std::string name;
   fusion::TestProducts products;
+  std::shared_ptr<const fusion::TestResult> result;
+  fusion::FuseOptions options;
 
   std::string SummaryJson() const { return products.result.dump(); }
 
@@ -104,15 +112,26 @@ struct TestOutput {
     return out;
   }
 
-  // The files `wearscar fuse --no-figures` writes, each atomically.
-  std::vector<std::string> Write(const std::string& dir) const {
-    fs::create_directories(dir);
+  // The files `wearscar fuse` writes, each atomically (with `figures`, the
+  // figures too), and why figures asked for were not drawn ("" when they
+  // were or were not asked for).
+  std::pair<std::vector<std::string>, std::string> Write(const std::string& dir,
+                                                         bool figures) const {
+    report::EnsureDirectory(dir);
     std::vector<std::string> written;
     for (const auto& [file, text] : products.Files()) {
       written.push_back((fs::path(dir) / file).string());
-      support::WriteFileAtomically<fusion::FusionError>(written.back(), text);
+      report::WriteTextAtomically(written.back(), text);
     }
-    return written;
+    if (!figures) return {written, ""};
+    const report::FigureSet f =
+        report::DrawTestFigures(dir, name, *result, options);
+    if (!f.missing.empty()) report::AddWarningToResult(dir, f.message);
+    for (const std::string& png : f.png) {
+      written.push_back(png);
+      written.push_back(fs::path(png).replace_extension(".svg").string());
+    }
+    return {written, f.message};
   }
 };
 
@@ -170,28 +189,25 @@ TestOutput Fuse(const py::object& force,
   out.name = !name.empty()   ? name
              : !path.empty() ? fusion::SpecimenName(path)
                              : "test";
-  const fusion::TestResult r =
-      fusion::AnalyzeTest(record, std::move(map), a.fuse);
+  out.result = std::make_shared<const fusion::TestResult>(
+      fusion::AnalyzeTest(record, std::move(map), a.fuse));
+  out.options = a.fuse;
   out.products =
-      fusion::MakeTestProducts(out.name, record, r, a.fuse, products);
+      fusion::MakeTestProducts(out.name, record, *out.result, a.fuse, products);
   return out;
 }
 
 // One row of the batch table: the specimen's result.json with its
-// identity, or its error.
+// identity, or its error (nothing written).
 nlohmann::json AuditOne(const fusion::Specimen& s,
                         const app::CommonArgs& a,
-                        const fusion::BatchOptions& batch,
-                        const std::string& out) {
+                        const fusion::BatchOptions& batch) {
   nlohmann::json row = fusion::SpecimenIdentity(s.name, batch.naming);
   try {
     const fusion::SpecimenAnalysis an =
         fusion::AnalyzeSpecimen(s, a.read_force, a.read_scan, a.fuse);
-    const force::ForceRecord& record = an.record;
-    const fusion::TestResult& r = an.result;
-    TestOutput t{s.name, fusion::MakeTestProducts(s.name, record, r, a.fuse)};
-    if (!out.empty()) t.Write((fs::path(out) / s.name).string());
-    nlohmann::json full = t.products.result;
+    nlohmann::json full =
+        fusion::MakeTestProducts(s.name, an.record, an.result, a.fuse).result;
     full.update(row);
     return full;
   } catch (const std::exception& e) {
@@ -200,14 +216,18 @@ nlohmann::json AuditOne(const fusion::Specimen& s,
   }
 }
 
+// With `out`, what `wearscar audit` writes there (report::Audit); without,
+// the rows alone.
 std::string Audit(const std::string& input,
                   const std::vector<std::string>& args,
                   const std::string& name_pattern,
                   bool recursive,
                   int jobs,
-                  const std::string& out) {
+                  const std::string& out,
+                  bool figures) {
   const app::CommonArgs a = ParseOptions(args, app::kFuseOptions, "audit");
-  fusion::BatchOptions batch;
+  report::AuditOptions o;
+  fusion::BatchOptions& batch = o.batch;
   if (!name_pattern.empty()) batch.name_pattern = name_pattern;
   batch.recursive = recursive;
   batch.jobs = jobs;
@@ -215,19 +235,21 @@ std::string Audit(const std::string& input,
   const std::vector<fusion::Specimen> specimens =
       fusion::FindSpecimens(input, batch);
   std::vector<nlohmann::json> rows(specimens.size());
-  fusion::ForEachSpecimen(
-      specimens.size(),
-      batch.jobs,
-      [&](size_t i) { rows[i] = AuditOne(specimens[i], a, batch, out); },
-      [](long) {});
-  if (!out.empty()) {
-    support::WriteFileAtomically<fusion::FusionError>(
-        (fs::path(out) / "summary.csv").string(),
-        fusion::SummaryCsv(rows, true));
-    support::WriteFileAtomically<fusion::FusionError>(
-        (fs::path(out) / "summary.json").string(),
-        nlohmann::json(rows).dump(2) + "\n");
+  if (out.empty()) {
+    fusion::ForEachSpecimen(
+        specimens.size(),
+        batch.jobs,
+        [&](size_t i) { rows[i] = AuditOne(specimens[i], a, batch); },
+        [](long) {});
+    return nlohmann::json(rows).dump();
   }
+  o.read_force = a.read_force;
+  o.read_scan = a.read_scan;
+  o.fuse = a.fuse;
+  o.figures = figures;
+  const report::AuditResult r =
+      report::Audit(specimens, out, "wearscar audit of " + input, o);
+  for (size_t i = 0; i < rows.size(); ++i) rows[i] = r.specimens[i].row;
   return nlohmann::json(rows).dump();
 }
 
@@ -418,6 +440,8 @@ PYBIND11_MODULE(_wearscar, m) {
       m, "FusionError", PyExc_ValueError);
   static py::exception<app::UsageError> option_error(
       m, "OptionError", PyExc_ValueError);
+  static py::exception<report::OutputError> output_error(
+      m, "OutputError", PyExc_OSError);
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
@@ -429,6 +453,8 @@ PYBIND11_MODULE(_wearscar, m) {
       fusion_error(e.what());
     } catch (const app::UsageError& e) {
       option_error(e.what());
+    } catch (const report::OutputError& e) {
+      output_error(e.what());
     } catch (const python::UnknownOption& e) {
       PyErr_SetString(PyExc_TypeError, e.what());
     }

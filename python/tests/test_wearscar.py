@@ -5,6 +5,7 @@ import json
 import os
 import pathlib
 import runpy
+import shutil
 import subprocess
 import threading
 import time
@@ -179,6 +180,29 @@ def test_result_write_gives_the_files_of_wearscar_fuse(tmp_path, monkeypatch):
     assert not result.explained  # S-RL-R: the elastic part
 
 
+@pytest.mark.skipif(not BINARY or not shutil.which("gnuplot"),
+                    reason="WEARSCAR_BINARY not given or gnuplot missing")
+def test_result_write_draws_the_figures_of_wearscar_fuse(tmp_path):
+    force = str(SAMPLES / "B-RT-R.force.csv")
+    scan = str(SAMPLES / "B-RT-R.scan.gsf")
+    subprocess.run([BINARY, "fuse", force, "--scan", scan, "--running-in",
+                    "5", "-o", str(tmp_path / "cli")],
+                   check=True, capture_output=True)
+    result = wearscar.fuse(force, scan, running_in=5)
+    written = result.write(tmp_path / "py", figures=True)
+    figures = sorted(pathlib.Path(p).name for p in written
+                     if p.endswith((".png", ".svg")))
+    by_command = sorted(p.name for p in (tmp_path / "cli").iterdir()
+                        if p.suffix in (".png", ".svg"))
+    assert figures == by_command and len(figures) == 28  # 14 figures
+    for name in figures:
+        head = (tmp_path / "py" / name).read_bytes()[:5]
+        assert head == (b"\x89PNG\r" if name.endswith(".png") else b"<?xml")
+    # Without figures, none is drawn.
+    plain = result.write(tmp_path / "plain")
+    assert not any(p.endswith(".png") for p in plain)
+
+
 def test_audit_of_the_bundled_samples(tmp_path):
     rows = wearscar.audit(SAMPLES, out=tmp_path, jobs=2, running_in=5,
                           compare_cycles=15)
@@ -188,7 +212,18 @@ def test_audit_of_the_bundled_samples(tmp_path):
     assert not by_name["S-RL-R"]["verdict"]["explained"]
     assert by_name["B-RT-R"]["verdict"]["explained"]
     assert (tmp_path / "summary.csv").read_text().count("\n") == 13
+    assert (tmp_path / "summary.jsonl").read_text().count("\n") == 12
     assert (tmp_path / "B-RT-R" / "cycles.csv").exists()
+    # The report as `wearscar audit --no-figures` writes it: the flagged
+    # specimen highlighted, no figure.
+    report = (tmp_path / "report.html").read_text()
+    assert report.count('<tr class="flagged">') == 1
+    assert "data:image/png" not in report
+    assert not (tmp_path / "B-RT-R" / "fig13_mu_hat.png").exists()
+    # Without `out`, the same rows and nothing written.
+    again = wearscar.audit(SAMPLES, jobs=2, running_in=5, compare_cycles=15)
+    assert [r["comparison"]["mu_hat_force"]["mean"] for r in again] == \
+        [r["comparison"]["mu_hat_force"]["mean"] for r in rows]
 
 
 def test_long_calls_release_the_gil():

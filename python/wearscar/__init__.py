@@ -14,20 +14,23 @@ same defaults (``wearscar fuse --help`` lists them): ``spring=10.19``,
 ``OptionError`` (a ValueError) with the command line's message; a keyword
 that is not an option raises TypeError; bad files raise ``ForceError`` or
 ``ScanError`` naming the file, the line or byte, what was found and what
-was expected. Long calls release the GIL.
+was expected; a folder that cannot be written raises ``OutputError`` (an
+OSError). Long calls release the GIL.
 """
 
 import json
 import os
+import warnings
 
 from ._wearscar import (ForceError, ForceRecord, FusionError, HeightMap,
-                        OptionError, ScanError, git_commit, version)
+                        OptionError, OutputError, ScanError, git_commit,
+                        version)
 from . import _wearscar
 
 __all__ = [
     "read_force", "read_scan", "fuse", "audit", "simulate", "Result",
     "Simulation", "ForceRecord", "HeightMap", "ForceError", "ScanError",
-    "FusionError", "OptionError", "version", "git_commit", "__version__",
+    "FusionError", "OptionError", "OutputError", "version", "git_commit", "__version__",
 ]
 
 __version__ = version()
@@ -142,10 +145,15 @@ class Result:
                 "tables": {name: {c: v.tolist() for c, v in t.items()}
                            for name, t in self.tables.items()}}
 
-    def write(self, out):
-        """Writes the files of `wearscar fuse --no-figures` into `out`;
-        returns their paths."""
-        return self._output.write(os.fspath(out))
+    def write(self, out, figures=False):
+        """Writes the files of `wearscar fuse --no-figures` into `out` and,
+        with figures=True, the figures of `wearscar fuse` too (PNG and SVG,
+        drawn by gnuplot); returns their paths. Figures that could not be
+        drawn are a warning (also in result.json), not an error."""
+        written, why = self._output.write(os.fspath(out), bool(figures))
+        if why:
+            warnings.warn("wearscar: " + why, RuntimeWarning, stacklevel=2)
+        return written
 
     def __repr__(self):
         return "<wearscar.Result {}: mu-hat {:.4f}, {}>".format(
@@ -164,15 +172,18 @@ def fuse(force, scan=None, name=None, detail_cycle=None, loops=None,
 
 
 def audit(folder, out=None, jobs=0, name_pattern=None, recursive=True,
-          **options):
+          figures=False, **options):
     """Pairs and analyses every specimen of a folder (or a manifest.csv)
     as `wearscar audit` does, `jobs` at a time (0 = one per core). Returns
     one dict per specimen (its result.json with species, plane, direction,
-    or "error"). With `out`, writes each specimen's files and
-    summary.csv/json there."""
+    or "error"). With `out`, writes there what `wearscar audit --no-figures`
+    writes (a folder per specimen, summary.csv, .jsonl and .json,
+    report.html); with figures=True as well, the figures as `wearscar
+    audit` draws them."""
     rows = _wearscar._audit(os.fspath(folder), _args(options),
                             name_pattern or "", recursive, jobs,
-                            os.fspath(out) if out is not None else "")
+                            os.fspath(out) if out is not None else "",
+                            bool(figures))
     return json.loads(rows)
 
 

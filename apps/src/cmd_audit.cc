@@ -10,7 +10,6 @@
 #include "wearscar/fusion/batch.h"
 #include "wearscar/report/audit.h"
 #include "wearscar/scan/formats.h"
-#include "wearscar/support/text.h"
 
 namespace wearscar::app {
 namespace {

@@ -80,6 +80,9 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
   }
 }
 
+namespace {
+
+// "c_p_N_per_mm = 7.5 +- 0.2, ..."
 std::string ParameterText(const fusion::CandidateResult& c) {
   std::string s;
   for (size_t i = 0; i < c.parameters.size(); ++i) {
@@ -91,6 +94,8 @@ std::string ParameterText(const fusion::CandidateResult& c) {
   }
   return s;
 }
+
+}  // namespace
 
 void PrintDiagnosis(const std::string& name,
                     const fusion::Diagnosis& d,

@@ -10,9 +10,6 @@ namespace wearscar::app {
 // Prints the human summary of one test to stdout (text mode).
 void PrintSummary(const std::string& name, const fusion::TestResult& result);
 
-// "c_p_N_per_mm = 7.5 +- 0.2, ..."
-std::string ParameterText(const fusion::CandidateResult& c);
-
 // Prints the diagnosis's table of steps to stdout (text mode).
 void PrintDiagnosis(const std::string& name,
                     const fusion::Diagnosis& d,

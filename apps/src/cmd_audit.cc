@@ -138,7 +138,7 @@ void AddAuditCommand(CLI::App& app) {
                 args->audit.batch.recursive,
                 "Look for specimens in sub-folders too (default; folders "
                 "wearscar wrote are skipped)");
-  cmd->add_flag("--no-figures", args->no_figures, "Skip the figures");
+  AddFigureOptions(cmd, &args->no_figures, &args->audit.figure_formats);
   cmd->add_flag(
       "--diagnose",
       args->audit.diagnose,

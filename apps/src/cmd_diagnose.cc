@@ -16,6 +16,7 @@ struct DiagnoseArgs {
   std::string out;
   fusion::DiagnoseOptions diagnose;
   bool no_figures = false;
+  report::FigureFormats figure_formats;
   CommonArgs common;
 };
 
@@ -45,7 +46,7 @@ void RunDiagnose(DiagnoseArgs a) {
   if (a.out.empty()) return;
   const OutputLock lock(a.out);
   StagedOutput stage(a.out, "diagnose");
-  report::WriteDiagnosis(stage.dir(), name, d, !a.no_figures);
+  report::WriteDiagnosis(stage.dir(), name, d, !a.no_figures, a.figure_formats);
   stage.Commit();
   Say("wrote {}/diagnosis.json and the residual maps\n", a.out);
 }
@@ -87,7 +88,7 @@ void AddDiagnoseCommand(CLI::App& app) {
   cmd->add_option(
          "--profile-span", d.profile_span_mm, "Base slope smoothing span, mm")
       ->capture_default_str();
-  cmd->add_flag("--no-figures", args->no_figures, "Skip the figures");
+  AddFigureOptions(cmd, &args->no_figures, &args->figure_formats);
   AddPrintModeOptions(cmd);
   AddCommonOptions(cmd, &args->common, kDiagnoseOptions);
   cmd->footer(

@@ -18,6 +18,7 @@ struct ForceArgs {
   std::string file;
   std::string out;
   bool no_figures = false;
+  report::FigureFormats figure_formats;
   CommonArgs common;
 };
 
@@ -72,8 +73,11 @@ void RunForce(ForceArgs a) {
       report::WriteTestResults(stage.dir(), a.file, record, r, a.common.fuse);
   report::FigureSet figs;
   if (!a.no_figures) {
-    figs = report::DrawTestFigures(
-        stage.dir(), fusion::SpecimenName(a.file), r, a.common.fuse);
+    figs = report::DrawTestFigures(stage.dir(),
+                                   fusion::SpecimenName(a.file),
+                                   r,
+                                   a.common.fuse,
+                                   a.figure_formats);
     if (!figs.missing.empty()) {
       report::AddWarningToResult(stage.dir(), figs.message);
       summary["warnings"].push_back(figs.message);
@@ -84,9 +88,7 @@ void RunForce(ForceArgs a) {
   if (!a.no_figures) {
     if (!figs.message.empty())
       fmt::print(stderr, "wearscar: warning: {}\n", figs.message);
-    Say("drew {} figures (PNG and SVG): loops, envelopes, mu-hat, J and the "
-        "energy COF per cycle, slope, J(mu) and reconstruction\n",
-        2 * figs.png.size());
+    SayFiguresDrawn(figs, a.figure_formats, a.out);
     if (!figs.missing.empty()) SetExitStatus(kExitFiguresMissing);
   }
   PrintJsonSummary(summary);
@@ -106,7 +108,7 @@ void AddForceCommand(CLI::App& app) {
                   "Force export, CSV/TSV/semicolon (positional or --force)")
       ->required();
   cmd->add_option("-o,--out", args->out, "Directory for the results");
-  cmd->add_flag("--no-figures", args->no_figures, "Skip the figures");
+  AddFigureOptions(cmd, &args->no_figures, &args->figure_formats);
   AddPrintModeOptions(cmd);
   AddCommonOptions(cmd, &args->common, kForceCommandOptions);
   cmd->footer(

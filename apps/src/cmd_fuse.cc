@@ -23,6 +23,7 @@ struct FuseArgs {
   int detail_cycle = 0;    // from 1; 0 = the last
   std::vector<int> loops;  // from 1
   bool no_figures = false;
+  report::FigureFormats figure_formats;
   CommonArgs common;
 };
 
@@ -59,7 +60,8 @@ void RunFuse(FuseArgs a) {
       stage.dir(), name, record, r, a.common.fuse, a.write);
   report::FigureSet figs;
   if (!a.no_figures) {
-    figs = report::DrawTestFigures(stage.dir(), name, r, a.common.fuse);
+    figs = report::DrawTestFigures(
+        stage.dir(), name, r, a.common.fuse, a.figure_formats);
     if (!figs.missing.empty()) {
       report::AddWarningToResult(stage.dir(), figs.message);
       summary["warnings"].push_back(figs.message);
@@ -71,7 +73,7 @@ void RunFuse(FuseArgs a) {
   if (!a.no_figures) {
     if (!figs.message.empty())
       fmt::print(stderr, "wearscar: warning: {}\n", figs.message);
-    Say("drew {} figures (PNG and SVG) in {}/\n", 2 * figs.png.size(), a.out);
+    SayFiguresDrawn(figs, a.figure_formats, a.out);
     if (!figs.missing.empty()) SetExitStatus(kExitFiguresMissing);
   }
 }
@@ -106,7 +108,7 @@ void AddFuseCommand(CLI::App& app) {
                   "Cycles (from 1) whose loops are exported (default: 1, 3, 11 "
                   "and the last)")
       ->check(CLI::PositiveNumber);
-  cmd->add_flag("--no-figures", args->no_figures, "Skip the figures");
+  AddFigureOptions(cmd, &args->no_figures, &args->figure_formats);
   AddPrintModeOptions(cmd);
   AddCommonOptions(cmd, &args->common, kFuseOptions);
   cmd->footer(

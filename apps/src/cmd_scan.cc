@@ -27,6 +27,7 @@ struct ScanArgs {
   scan::ReadScanOptions read;
   fusion::MapAnalysisOptions analysis;
   bool no_figures = false;
+  report::FigureFormats figure_formats;
 };
 
 void PrintTrack(const std::string& file, const scan::Track& t) {
@@ -94,12 +95,9 @@ void RunScan(ScanArgs a) {
   report::FigureSet figs;
   if (!a.no_figures) {
     figs = report::DrawMapFigure(
-        stage.dir(), fs::path(a.file).filename().string(), r);
-    for (const std::string& png : figs.png) {
-      written.push_back(fs::path(png).filename().string());
-      written.push_back(
-          fs::path(png).replace_extension(".svg").filename().string());
-    }
+        stage.dir(), fs::path(a.file).filename().string(), r, a.figure_formats);
+    for (const std::string& file : figs.files)
+      written.push_back(fs::path(file).filename().string());
   }
   stage.Commit();
   if (!figs.message.empty())
@@ -183,7 +181,8 @@ void AddScanCommand(CLI::App& app) {
                   args->analysis.section_half_width_mm,
                   "Cross-section half width, mm")
       ->capture_default_str();
-  cmd->add_flag("--no-figures", args->no_figures, "Skip the map figure");
+  AddFigureOptions(
+      cmd, &args->no_figures, &args->figure_formats, "Skip the map figure");
   AddPrintModeOptions(cmd);
   cmd->footer(
       "Examples:\n"

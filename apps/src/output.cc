@@ -28,6 +28,39 @@ void AddPrintModeOptions(CLI::App* cmd) {
       ->excludes(quiet);
 }
 
+void AddFigureOptions(CLI::App* cmd,
+                      bool* no_figures,
+                      report::FigureFormats* formats,
+                      const std::string& skip_help) {
+  cmd->add_flag("--no-figures", *no_figures, skip_help);
+  cmd->add_option_function<std::string>(
+         "--figure-format",
+         [formats](const std::string& text) {
+           report::FigureFormats::Parse(text, formats);
+         },
+         "Figure files: svg (the default: vector, drawn in a quarter of "
+         "PNG's time), png, or svg,png")
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            report::FigureFormats f;
+            return report::FigureFormats::Parse(text, &f)
+                       ? std::string()
+                       : "expected svg, png or svg,png; found '" + text + "'";
+          },
+          "svg|png|svg,png"));
+}
+
+void SayFiguresDrawn(const report::FigureSet& figures,
+                     const report::FigureFormats& formats,
+                     const std::string& out) {
+  Say("drew {} figures ({}) in {}/\n",
+      figures.shown.size(),
+      formats.png && formats.svg ? "SVG and PNG"
+      : formats.png              ? "PNG"
+                                 : "SVG",
+      out);
+}
+
 void PrintJsonSummary(const nlohmann::json& summary) {
   if (g_print_mode == PrintMode::kJson) fmt::print("{}\n", summary.dump(2));
 }

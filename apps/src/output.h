@@ -7,6 +7,7 @@
 #include <string>
 
 #include "usage_error.h"
+#include "wearscar/report/figures.h"
 #include "wearscar/report/output_folder.h"
 
 namespace wearscar::app {
@@ -31,6 +32,18 @@ void Say(fmt::format_string<Args...> format, Args&&... args) {
   if (CurrentPrintMode() == PrintMode::kText)
     fmt::print(format, std::forward<Args>(args)...);
 }
+
+// Adds --no-figures and --figure-format (svg, png or svg,png) to a
+// command.
+void AddFigureOptions(CLI::App* cmd,
+                      bool* no_figures,
+                      report::FigureFormats* formats,
+                      const std::string& skip_help = "Skip the figures");
+
+// "drew 14 figures (SVG) in out/" in text mode.
+void SayFiguresDrawn(const report::FigureSet& figures,
+                     const report::FigureFormats& formats,
+                     const std::string& out);
 
 // The command's summary on stdout in --json mode (indented, one document).
 void PrintJsonSummary(const nlohmann::json& summary);

@@ -115,22 +115,26 @@ struct TestOutput {
   // The files `wearscar fuse` writes, each atomically (with `figures`, the
   // figures too), and why figures asked for were not drawn ("" when they
   // were or were not asked for).
-  std::pair<std::vector<std::string>, std::string> Write(const std::string& dir,
-                                                         bool figures) const {
+  std::pair<std::vector<std::string>, std::string> Write(
+      const std::string& dir, const std::string& figures) const {
     report::EnsureDirectory(dir);
     std::vector<std::string> written;
     for (const auto& [file, text] : products.Files()) {
       written.push_back((fs::path(dir) / file).string());
       report::WriteTextAtomically(written.back(), text);
     }
-    if (!figures) return {written, ""};
-    const report::FigureSet f =
-        report::DrawTestFigures(dir, name, *result, options);
-    if (!f.missing.empty()) report::AddWarningToResult(dir, f.message);
-    for (const std::string& png : f.png) {
-      written.push_back(png);
-      written.push_back(fs::path(png).replace_extension(".svg").string());
+    if (figures.empty()) return {written, ""};
+    report::FigureFormats formats;
+    if (!report::FigureFormats::Parse(figures, &formats)) {
+      throw app::UsageError(
+          "write: figures: expected svg, png or svg,png; "
+          "found '" +
+          figures + "'");
     }
+    const report::FigureSet f =
+        report::DrawTestFigures(dir, name, *result, options, formats);
+    if (!f.missing.empty()) report::AddWarningToResult(dir, f.message);
+    written.insert(written.end(), f.files.begin(), f.files.end());
     return {written, f.message};
   }
 };
@@ -224,7 +228,7 @@ std::string Audit(const std::string& input,
                   bool recursive,
                   int jobs,
                   const std::string& out,
-                  bool figures) {
+                  const std::string& figures) {
   const app::CommonArgs a = ParseOptions(args, app::kFuseOptions, "audit");
   report::AuditOptions o;
   fusion::BatchOptions& batch = o.batch;
@@ -246,7 +250,13 @@ std::string Audit(const std::string& input,
   o.read_force = a.read_force;
   o.read_scan = a.read_scan;
   o.fuse = a.fuse;
-  o.figures = figures;
+  o.figures = !figures.empty();
+  if (o.figures && !report::FigureFormats::Parse(figures, &o.figure_formats)) {
+    throw app::UsageError(
+        "audit: figures: expected svg, png or svg,png; "
+        "found '" +
+        figures + "'");
+  }
   const report::AuditResult r =
       report::Audit(specimens, out, "wearscar audit of " + input, o);
   for (size_t i = 0; i < rows.size(); ++i) rows[i] = r.specimens[i].row;

@@ -186,10 +186,11 @@ def test_result_write_draws_the_figures_of_wearscar_fuse(tmp_path):
     force = str(SAMPLES / "B-RT-R.force.csv")
     scan = str(SAMPLES / "B-RT-R.scan.gsf")
     subprocess.run([BINARY, "fuse", force, "--scan", scan, "--running-in",
-                    "5", "-o", str(tmp_path / "cli")],
+                    "5", "--figure-format", "svg,png", "-o",
+                    str(tmp_path / "cli")],
                    check=True, capture_output=True)
     result = wearscar.fuse(force, scan, running_in=5)
-    written = result.write(tmp_path / "py", figures=True)
+    written = result.write(tmp_path / "py", figures="svg,png")
     figures = sorted(pathlib.Path(p).name for p in written
                      if p.endswith((".png", ".svg")))
     by_command = sorted(p.name for p in (tmp_path / "cli").iterdir()
@@ -198,6 +199,12 @@ def test_result_write_draws_the_figures_of_wearscar_fuse(tmp_path):
     for name in figures:
         head = (tmp_path / "py" / name).read_bytes()[:5]
         assert head == (b"\x89PNG\r" if name.endswith(".png") else b"<?xml")
+    # figures=True: the command's default, SVG alone.
+    svg = result.write(tmp_path / "svg", figures=True)
+    assert sum(p.endswith(".svg") for p in svg) == 14
+    assert not any(p.endswith(".png") for p in svg)
+    with pytest.raises(wearscar.OptionError, match="expected svg, png"):
+        result.write(tmp_path / "bad", figures="jpeg")
     # Without figures, none is drawn.
     plain = result.write(tmp_path / "plain")
     assert not any(p.endswith(".png") for p in plain)

@@ -147,10 +147,12 @@ class Result:
 
     def write(self, out, figures=False):
         """Writes the files of `wearscar fuse --no-figures` into `out` and,
-        with figures=True, the figures of `wearscar fuse` too (PNG and SVG,
-        drawn by gnuplot); returns their paths. Figures that could not be
-        drawn are a warning (also in result.json), not an error."""
-        written, why = self._output.write(os.fspath(out), bool(figures))
+        with figures=True (or "svg", "png", "svg,png"), the figures of
+        `wearscar fuse` too, drawn by gnuplot (True: SVG, the command's
+        default); returns their paths. Figures that could not be drawn are
+        a warning (also in result.json), not an error."""
+        written, why = self._output.write(os.fspath(out),
+                                          _figure_formats(figures))
         if why:
             warnings.warn("wearscar: " + why, RuntimeWarning, stacklevel=2)
         return written
@@ -158,6 +160,15 @@ class Result:
     def __repr__(self):
         return "<wearscar.Result {}: mu-hat {:.4f}, {}>".format(
             self.name, self.mu_hat, self.summary["verdict"]["summary"][:60])
+
+
+def _figure_formats(figures):
+    """"" for none, else the --figure-format text."""
+    if figures is True:
+        return "svg"
+    if not figures:
+        return ""
+    return str(figures)
 
 
 def fuse(force, scan=None, name=None, detail_cycle=None, loops=None,
@@ -178,12 +189,12 @@ def audit(folder, out=None, jobs=0, name_pattern=None, recursive=True,
     one dict per specimen (its result.json with species, plane, direction,
     or "error"). With `out`, writes there what `wearscar audit --no-figures`
     writes (a folder per specimen, summary.csv, .jsonl and .json,
-    report.html); with figures=True as well, the figures as `wearscar
-    audit` draws them."""
+    report.html); with figures=True (or "svg", "png", "svg,png") the
+    figures too, as `wearscar audit --figure-format` draws them."""
     rows = _wearscar._audit(os.fspath(folder), _args(options),
                             name_pattern or "", recursive, jobs,
                             os.fspath(out) if out is not None else "",
-                            bool(figures))
+                            _figure_formats(figures))
     return json.loads(rows)
 
 

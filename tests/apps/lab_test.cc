@@ -283,7 +283,13 @@ TEST(Outputs, ARerunRemovesWhatTheEarlierRunWroteAndNothingElse) {
   const std::string fuse = "fuse " + dir + "/B-RT-R.force.csv --scan " + dir +
                            "/B-RT-R.scan.gsf -o " + out;
   ASSERT_EQ(Wearscar(fuse).status, 0);
-  ASSERT_TRUE(fs::exists(out + "/fig08ab_scan_map.png"));
+  // SVG by default; a rerun asking for PNG alone leaves no SVG behind.
+  ASSERT_TRUE(fs::exists(out + "/fig08ab_scan_map.svg"));
+  EXPECT_FALSE(fs::exists(out + "/fig08ab_scan_map.png"));
+  ASSERT_EQ(Wearscar(fuse + " --figure-format png").status, 0);
+  EXPECT_TRUE(fs::exists(out + "/fig08ab_scan_map.png"));
+  EXPECT_EQ(Slurp(out + "/fig08ab_scan_map.png").substr(1, 3), "PNG");
+  EXPECT_FALSE(fs::exists(out + "/fig08ab_scan_map.svg"));
   // The figures' sources are in a sub-folder; the track outline has a
   // header.
   EXPECT_TRUE(fs::exists(out + "/figure-data/figures_1.gp"));
@@ -298,12 +304,14 @@ TEST(Outputs, ARerunRemovesWhatTheEarlierRunWroteAndNothingElse) {
       << "fuse\t../outside.txt\n";
   ASSERT_EQ(Wearscar(fuse + " --no-figures").status, 0);
   EXPECT_FALSE(fs::exists(out + "/fig08ab_scan_map.png"));
+  EXPECT_FALSE(fs::exists(out + "/fig08ab_scan_map.svg"));
   EXPECT_FALSE(fs::exists(out + "/figure-data"));
   EXPECT_TRUE(fs::exists(out + "/result.json"));
   EXPECT_TRUE(fs::exists(out + "/notes.txt"));
   EXPECT_TRUE(fs::exists(dir + "/outside.txt"));
   const std::string manifest = Slurp(out + "/.wearscar-manifest");
   EXPECT_EQ(manifest.find(".png"), std::string::npos) << manifest;
+  EXPECT_EQ(manifest.find(".svg"), std::string::npos) << manifest;
   EXPECT_NE(manifest.find("fuse\tresult.json\n"), std::string::npos)
       << manifest;
 }
@@ -319,7 +327,7 @@ TEST(Outputs, AFuseIntoTheInputsFolderLeavesTheInputs) {
   EXPECT_TRUE(fs::exists(dir + "/B-RT-R.force.csv"));
   EXPECT_TRUE(fs::exists(dir + "/B-RT-R.scan.gsf"));
   EXPECT_TRUE(fs::exists(dir + "/B-RT-R.truth.json"));
-  EXPECT_FALSE(fs::exists(dir + "/fig07_loops.png"));
+  EXPECT_FALSE(fs::exists(dir + "/fig07_loops.svg"));
   EXPECT_TRUE(fs::exists(dir + "/result.json"));
 }
 
@@ -405,10 +413,12 @@ namespace {
 TEST(Figures, SayWhatTheyShow) {
   const std::string dir = Simulated("figures");
   const std::string out = dir + "/out";
-  const CommandResult r =
-      Wearscar("fuse " + dir + "/B-RT-R.force.csv --scan " + dir +
-               "/B-RT-R.scan.gsf --running-in 7 -o " + out);
+  const CommandResult r = Wearscar(
+      "fuse " + dir + "/B-RT-R.force.csv --scan " + dir +
+      "/B-RT-R.scan.gsf --running-in 7 --figure-format svg,png -o " + out);
   ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("drew 14 figures (SVG and PNG)"), std::string::npos)
+      << r.output;
   const std::string gp = FigureScripts(out);
   // Running-in shaded on Figs. 5, 6, 13, 14 and 15, in both formats.
   size_t marks = 0;
@@ -514,15 +524,16 @@ TEST(Figures, SayWhatTheyShow) {
   ASSERT_EQ(
       Wearscar("force " + dir + "/B-RT-R.force.csv -o " + dir + "/f").status,
       0);
-  for (const char* f : {"fig05_q_envelope.png",
+  for (const char* f : {"fig05_q_envelope.svg",
                         "fig07_loops.svg",
-                        "fig13_mu_hat.png",
-                        "fig11_cost.png"})
+                        "fig13_mu_hat.svg",
+                        "fig11_cost.svg"})
     EXPECT_TRUE(fs::exists(dir + "/f/" + f)) << f;
-  EXPECT_FALSE(fs::exists(dir + "/f/fig08ab_scan_map.png"));
+  EXPECT_FALSE(fs::exists(dir + "/f/fig08ab_scan_map.svg"));
+  EXPECT_FALSE(fs::exists(dir + "/f/fig05_q_envelope.png"));
   ASSERT_EQ(
       Wearscar("scan " + dir + "/B-RT-R.scan.gsf -o " + dir + "/s").status, 0);
-  EXPECT_TRUE(fs::exists(dir + "/s/scan_map.png"));
+  EXPECT_TRUE(fs::exists(dir + "/s/scan_map.svg"));
   const std::string scan_gp = FigureScripts(dir + "/s");
   EXPECT_NE(scan_gp.find("cblabel 'height (um)'"), std::string::npos);
   // A 1 mm scale bar on the 7.6 mm wide map.
@@ -588,7 +599,10 @@ TEST(Report, ShowsEachSpecimensNumbersAndWhereTheyCameFrom) {
   EXPECT_NE(html.find(iv), std::string::npos) << iv;
   EXPECT_NE(html.find("<th>its 95% interval</th>"), std::string::npos);
   // The batch figure of wear against mu-hat, from its own table.
-  EXPECT_TRUE(fs::exists(out + "/audit_wear_vs_mu.png"));
+  EXPECT_TRUE(fs::exists(out + "/audit_wear_vs_mu.svg"));
+  // The figures are embedded in the page as they were drawn (SVG).
+  EXPECT_NE(html.find("src=\"data:image/svg+xml,%3C?xml"), std::string::npos);
+  EXPECT_EQ(html.find("src=\"data:image/png"), std::string::npos);
   const std::string wear = Slurp(out + "/wear_and_mu.csv");
   EXPECT_EQ(
       wear.rfind("specimen,mu_hat,mu_hat_sd,wear_rate_mm3_per_N_m,mu_hat_low,"

@@ -461,8 +461,10 @@ TEST(Faults, AKilledRunLeavesNoHalfFileAndAQuotedFolderIsJustAName) {
                 .status,
             0);
   const std::string out = dir + "/it's out";
-  const std::string args = "fuse --force " + dir + "/S-RT-R.force.csv --scan " +
-                           dir + "/S-RT-R.scan.gsf --no-lugre -o";
+  const std::string args =
+      "fuse --force " + dir + "/S-RT-R.force.csv --scan " + dir +
+      "/S-RT-R.scan.gsf --no-lugre --figure-format svg,png "
+      "-o";
   for (int delay_ms : {50, 150, 300, 600}) {
     const pid_t pid = fork();
     ASSERT_GE(pid, 0);
@@ -756,12 +758,12 @@ TEST(Audit, OneBadSpecimenIsReportedAndTheRestComplete) {
   EXPECT_NE(csv.find("line 22, column 3 ('Q'): found 'abc'"), std::string::npos)
       << csv;
   for (const char* f : {"B-RT-R/result.json",
-                        "B-RT-R/fig08ab_scan_map.png",
+                        "B-RT-R/fig08ab_scan_map.svg",
                         "B-RT-R/fig12_reconstruction.svg",
                         "S-TL-L/cycles.csv",
                         "report.html",
                         "summary.json",
-                        "audit_fig16_differences.png"}) {
+                        "audit_fig16_differences.svg"}) {
     EXPECT_TRUE(std::filesystem::exists(out + "/" + f)) << f;
   }
 }

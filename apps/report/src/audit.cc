@@ -24,11 +24,12 @@ void AuditDiagnosis(const AuditOptions& o,
     fusion::DiagnoseOptions dopt = o.diagnose_options;
     dopt.running_in_cycles = r.force.running_in.cycles;
     const fusion::Diagnosis d = fusion::DiagnoseTest(record, r, o.fuse, dopt);
-    const std::string png = WriteDiagnosis(dir, name, d, o.figures);
+    const std::string shown =
+        WriteDiagnosis(dir, name, d, o.figures, o.figure_formats);
     sec->row["missing_effects"] = d.named;
     sec->row["diagnosis"] = d.message;
-    if (!png.empty()) {
-      sec->figures.png.push_back(png);
+    if (!shown.empty()) {
+      sec->figures.shown.push_back(shown);
       sec->figures.titles.push_back(
           name + ": diagnosis, residual map before and after");
     }
@@ -67,7 +68,9 @@ void AuditSpecimen(const AuditOptions& o,
                r.mismatch.mu_force_minus_energy,
                r.mismatch.mu_force,
                r.wear.specific_rate_mm3_per_n_m};
-    if (o.figures) sec->figures = DrawTestFigures(dir, s.name, r, o.fuse);
+    if (o.figures) {
+      sec->figures = DrawTestFigures(dir, s.name, r, o.fuse, o.figure_formats);
+    }
     if (o.diagnose) AuditDiagnosis(o, s.name, dir, record, r, sec);
     if (!sec->figures.missing.empty()) {
       AddWarningToResult(dir, sec->figures.message);
@@ -75,7 +78,7 @@ void AuditSpecimen(const AuditOptions& o,
     }
     stage.Commit();
     // The report and the batch figures read the files where they are now.
-    for (std::string& png : sec->figures.png) png = stage.Final(png);
+    for (std::string& shown : sec->figures.shown) shown = stage.Final(shown);
   } catch (const std::exception& e) {
     sec->failed = true;
     sec->flagged = false;
@@ -93,11 +96,8 @@ void RecordAuditOutputs(const std::string& out,
   std::vector<std::string> entries = {
       "summary.csv", "summary.jsonl", "summary.json", "report.html"};
   for (const auto& sec : sections) entries.push_back(sec.name + "/");
-  for (const std::string& png : batch.png) {
-    const fs::path p = fs::path(png).filename();
-    entries.push_back(p.string());
-    entries.push_back(fs::path(p).replace_extension(".svg").string());
-  }
+  for (const std::string& file : batch.files)
+    entries.push_back(fs::path(file).filename().string());
   std::error_code ec;
   for (const char* data : {"method_differences.csv", "wear_and_mu.csv"}) {
     if (fs::exists(fs::path(out) / data, ec)) entries.push_back(data);
@@ -131,6 +131,7 @@ void WriteSummaries(const std::string& out,
 bool AuditOptions::IsValid(std::string* why) const {
   return batch.IsValid(why) && read_force.IsValid(why) &&
          read_scan.IsValid(why) && fuse.IsValid(why) &&
+         (!figures || figure_formats.IsValid(why)) &&
          (!diagnose || diagnose_options.IsValid(why));
 }
 
@@ -171,7 +172,8 @@ AuditResult Audit(const std::vector<fusion::Specimen>& specimens,
   }
   result.figures_missing = figures_missing;
   WriteSummaries(out, o.batch.shard_index == 1, result.specimens);
-  if (o.figures) result.batch_figures = DrawAuditFigures(out, analysed);
+  if (o.figures)
+    result.batch_figures = DrawAuditFigures(out, analysed, o.figure_formats);
   RecordAuditOutputs(
       out, o.batch.shard_count > 1, result.specimens, result.batch_figures);
   result.report_path = (fs::path(out) / "report.html").string();

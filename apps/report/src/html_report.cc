@@ -40,15 +40,35 @@ std::string Number(const nlohmann::json& j, const char* fmt_spec = "{:.4f}") {
   return std::isfinite(v) ? fmt::format(fmt::runtime(fmt_spec), v) : "";
 }
 
+// SVG text as a data URI's payload: the characters a URL or a quoted
+// attribute cannot hold as they are percent-encoded, the rest kept (a
+// tenth larger than the SVG, where base64 is a third).
+std::string SvgUriText(const std::string& svg) {
+  std::string out;
+  out.reserve(svg.size() + svg.size() / 8);
+  for (const char c : svg) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u >= 0x7f || c == '%' || c == '#' || c == '"' || c == '&' ||
+        c == '<' || c == '>') {
+      out += fmt::format("%{:02X}", u);
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+// A figure embedded as a data URI (PNG or SVG, by its extension).
 std::string Image(const std::string& path, const std::string& title) {
   std::ifstream in(path, std::ios::binary);
   const std::string bytes{std::istreambuf_iterator<char>(in), {}};
+  const bool svg = path.size() > 4 && path.substr(path.size() - 4) == ".svg";
   return fmt::format(
-      "<figure><img alt=\"{0}\" "
-      "src=\"data:image/png;base64,{1}\"><figcaption>{0}</figcaption>"
+      "<figure><img alt=\"{0}\" src=\"{1}\"><figcaption>{0}</figcaption>"
       "</figure>\n",
       Escape(title),
-      Base64(bytes));
+      svg ? "data:image/svg+xml," + SvgUriText(bytes)
+          : "data:image/png;base64," + Base64(bytes));
 }
 
 }  // namespace
@@ -321,8 +341,8 @@ std::string SpecimenSection(const ReportSection& s) {
   }
   if (!s.figures.message.empty())
     h += "<p>" + Escape(s.figures.message) + "</p>\n";
-  for (size_t i = 0; i < s.figures.png.size(); ++i) {
-    h += Image(s.figures.png[i], s.figures.titles[i]);
+  for (size_t i = 0; i < s.figures.shown.size(); ++i) {
+    h += Image(s.figures.shown[i], s.figures.titles[i]);
   }
   return h + ProvenanceBlock(s.row);
 }
@@ -335,11 +355,11 @@ std::string RenderReport(const std::string& title,
   std::string h = ReportHead(title, sections);
   for (const auto& s : sections) h += SummaryRow(s);
   h += "</tbody></table>\n";
-  if (!batch.png.empty() || !batch.message.empty()) {
+  if (!batch.shown.empty() || !batch.message.empty()) {
     h += "<h2>All specimens</h2>\n";
     if (!batch.message.empty()) h += "<p>" + Escape(batch.message) + "</p>\n";
-    for (size_t i = 0; i < batch.png.size(); ++i)
-      h += Image(batch.png[i], batch.titles[i]);
+    for (size_t i = 0; i < batch.shown.size(); ++i)
+      h += Image(batch.shown[i], batch.titles[i]);
   }
   for (const auto& s : sections) h += SpecimenSection(s);
   // Marks the page once every image has decoded (read by the browser test

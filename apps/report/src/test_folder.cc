@@ -45,17 +45,19 @@ void AddWarningToResult(const std::string& dir, const std::string& warning) {
 std::string WriteDiagnosis(const std::string& dir,
                            const std::string& name,
                            const fusion::Diagnosis& d,
-                           bool figures) {
+                           bool figures,
+                           const FigureFormats& formats) {
   EnsureDirectory(dir);
   for (const auto& [file, text] : fusion::DiagnosisFiles(name, d)) {
     WriteTextAtomically((fs::path(dir) / file).string(), text);
   }
   if (!figures || !PlotterAvailable(nullptr)) return "";
   std::string gp;
-  for (const char* term :
-       {"pngcairo size 960,560", "svg size 960,560 background 'white'"}) {
-    const std::string ext =
-        std::string(term).rfind("png", 0) == 0 ? "png" : "svg";
+  std::vector<std::pair<const char*, const char*>> terms;
+  if (formats.png) terms.emplace_back("pngcairo size 960,560", "png");
+  if (formats.svg)
+    terms.emplace_back("svg size 960,560 background 'white'", "svg");
+  for (const auto& [term, ext] : terms) {
     gp += fmt::format(
         "set terminal {0}\nset output 'diagnosis_residual_map.{1}'\nset "
         "datafile separator "
@@ -78,8 +80,9 @@ std::string WriteDiagnosis(const std::string& dir,
                         : fmt::format("{}", fmt::join(d.named, ", ")));
   }
   WriteTextAtomically(FigureDataPath(dir, "diagnosis.gp"), gp);
-  if (!RunGnuplotScript(dir, "diagnosis.gp")) return "";
-  return (fs::path(dir) / "diagnosis_residual_map.png").string();
+  if (terms.empty() || !RunGnuplotScript(dir, "diagnosis.gp")) return "";
+  return (fs::path(dir) / "diagnosis_residual_map.").string() +
+         terms.front().second;
 }
 
 }  // namespace wearscar::report

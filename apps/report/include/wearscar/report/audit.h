@@ -25,7 +25,8 @@ struct AuditOptions {
   force::ReadForceOptions read_force;
   scan::ReadScanOptions read_scan;
   fusion::FuseOptions fuse;
-  bool figures = true;    // each specimen's and the batch's (gnuplot)
+  bool figures = true;  // each specimen's and the batch's (gnuplot)
+  FigureFormats figure_formats;
   bool diagnose = false;  // name the effects a flagged model misses
   fusion::DiagnoseOptions diagnose_options;
 

@@ -8,13 +8,30 @@
 
 namespace wearscar::report {
 
-// The figures of one test (the paper's Figs. 5-8, 10-15, 17), drawn by
-// gnuplot from the CSV files WriteTestResults wrote into `dir`, as PNG and
-// SVG. Writes the scan map data first when the result has a scan.
+// The files each figure is drawn as. SVG (vector: any browser, office
+// suite or journal takes it) is the default: gnuplot draws it in a quarter
+// of the time of its PNG, three quarters of which go into the PNG's zlib
+// compression and filters (measured, README "Speed").
+struct FigureFormats {
+  bool svg = true;
+  bool png = false;
+
+  // From "svg", "png" or both joined by a comma.
+  static bool Parse(const std::string& text, FigureFormats* formats);
+  // "svg", "png" or "svg,png".
+  std::string Text() const;
+  // At least one format.
+  bool IsValid(std::string* why) const;
+};
+
+// Figures drawn by gnuplot into a folder.
 struct FigureSet {
-  std::vector<std::string> png;  // in display order
+  // One file per figure drawn, in display order: its PNG when PNG was
+  // drawn, else its SVG (what a report shows).
+  std::vector<std::string> shown;
   std::vector<std::string> titles;
-  std::string message;  // empty when everything was drawn
+  std::vector<std::string> files;  // every file drawn, in every format
+  std::string message;             // empty when everything was drawn
   // Figures asked for and not drawn (or drawn empty): file names.
   std::vector<std::string> missing;
 };
@@ -34,16 +51,22 @@ bool RunGnuplotScript(const std::string& dir, const std::string& script);
 // True when gnuplot runs; `why` says what is missing otherwise.
 bool PlotterAvailable(std::string* why);
 
+// The figures of one test (the paper's Figs. 5-8, 10-15, 17, the friction
+// map and the track's history), drawn by gnuplot from the CSV files
+// WriteTestResults wrote into `dir`. Writes the scan map data first when
+// the result has a scan.
 FigureSet DrawTestFigures(const std::string& dir,
                           const std::string& name,
                           const fusion::TestResult& result,
-                          const fusion::FuseOptions& options);
+                          const fusion::FuseOptions& options,
+                          const FigureFormats& formats = {});
 
 // The levelled map of `wearscar scan` with axes in mm, a colour bar in um,
-// a scale bar and the track when one was found (scan_map.png and .svg).
+// a scale bar and the track when one was found (scan_map.svg / .png).
 FigureSet DrawMapFigure(const std::string& dir,
                         const std::string& name,
-                        const fusion::MapAnalysis& map);
+                        const fusion::MapAnalysis& map,
+                        const FigureFormats& formats = {});
 
 // Figures across specimens (Figs. 13-16 for a batch) into `dir`.
 struct SpecimenSeries {
@@ -55,6 +78,7 @@ struct SpecimenSeries {
   double wear_rate = 0;  // mm^3/(N m); NaN without a scan
 };
 FigureSet DrawAuditFigures(const std::string& dir,
-                           const std::vector<SpecimenSeries>& specimens);
+                           const std::vector<SpecimenSeries>& specimens,
+                           const FigureFormats& formats = {});
 
 }  // namespace wearscar::report

@@ -10,6 +10,7 @@
 #include "wearscar/fusion/diagnose.h"
 #include "wearscar/fusion/fuse.h"
 #include "wearscar/fusion/products.h"
+#include "wearscar/report/figures.h"
 
 namespace wearscar::report {
 
@@ -28,10 +29,12 @@ nlohmann::json WriteTestResults(const std::string& dir,
 void AddWarningToResult(const std::string& dir, const std::string& warning);
 
 // diagnosis.json, residual_map_before.csv / after.csv and (with figures)
-// diagnosis_residual_map.png/.svg in `dir`. Returns the PNG path or "".
+// diagnosis_residual_map.svg / .png in `dir`. Returns the figure to show
+// (FigureSet::shown) or "" when none was drawn.
 std::string WriteDiagnosis(const std::string& dir,
                            const std::string& name,
                            const fusion::Diagnosis& d,
-                           bool figures);
+                           bool figures,
+                           const FigureFormats& formats = {});
 
 }  // namespace wearscar::report

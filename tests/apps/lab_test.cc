@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdlib>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -406,6 +407,31 @@ TEST(Audit, FindsSpecimensInSubFoldersAndSaysWhatItLookedFor) {
 }  // namespace
 
 namespace {
+
+// The figure formats asked for, and only those, for each command's
+// figures (here the diagnosis's residual map); a format that is none is a
+// usage error naming what is expected.
+TEST(Figures, AreDrawnInTheFormatsAskedFor) {
+  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "gnuplot is not installed (scripts/install-deps does)";
+  const std::string dir = Simulated("formats");
+  const std::string diagnose =
+      "diagnose " + dir + "/B-RT-R.force.csv --max-cycles 12 -q -o ";
+  ASSERT_EQ(Wearscar(diagnose + dir + "/svg").status, 0);
+  EXPECT_EQ(Slurp(dir + "/svg/diagnosis_residual_map.svg").rfind("<?xml", 0),
+            0u);
+  EXPECT_FALSE(fs::exists(dir + "/svg/diagnosis_residual_map.png"));
+  ASSERT_EQ(Wearscar(diagnose + dir + "/png --figure-format png").status, 0);
+  EXPECT_EQ(Slurp(dir + "/png/diagnosis_residual_map.png").substr(1, 3), "PNG");
+  EXPECT_FALSE(fs::exists(dir + "/png/diagnosis_residual_map.svg"));
+  const CommandResult bad =
+      Wearscar(diagnose + dir + "/bad --figure-format jpg");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.output.find(
+                "--figure-format: expected svg, png or svg,png; found 'jpg'"),
+            std::string::npos)
+      << bad.output;
+}
 
 // Figures that say what they show: the running-in marked, the minimum of
 // J(mu) marked at the fitted mu-hat, the offset of P/S stated, labels

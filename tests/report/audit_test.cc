@@ -1,5 +1,7 @@
 // wearscar::report: the audit of a batch through the library, as a lab's
 // own program would run it.
+#include "wearscar/report/audit.h"
+
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
@@ -10,7 +12,6 @@
 
 #include "wearscar/force/read_force.h"
 #include "wearscar/fusion/error.h"
-#include "wearscar/report/audit.h"
 #include "wearscar/samples/virtual_tribometer.h"
 #include "wearscar/scan/gsf.h"
 

@@ -1,7 +1,5 @@
 #include <fmt/format.h>
 
-#include <optional>
-
 #include "commands.h"
 #include "common_options.h"
 #include "output.h"
@@ -32,18 +30,19 @@ void RunFuse(FuseArgs a) {
   // Cycles are numbered from 1 on the command line, from 0 in the library.
   a.common.fuse.detail_cycle = a.detail_cycle - 1;
   for (int c : a.loops) a.write.loop_cycles.push_back(c - 1);
-  const force::ForceRecord record =
-      force::ReadForceFile(a.force_file, a.common.read_force);
-  std::optional<scan::HeightMap> map;
-  if (!a.scan_file.empty()) {
-    map = scan::ReadScan(a.scan_file, a.common.read_scan);
-  } else if (a.common.fuse.slopes == fusion::SlopeChoice::kScan) {
+  if (a.scan_file.empty() &&
+      a.common.fuse.slopes == fusion::SlopeChoice::kScan) {
     throw UsageError("fuse: --slope scan needs --scan");
   }
-  const fusion::TestResult r =
-      fusion::AnalyzeTest(record, std::move(map), a.common.fuse);
   const std::string name =
       a.name.empty() ? fusion::SpecimenName(a.force_file) : a.name;
+  const fusion::SpecimenAnalysis analysis =
+      fusion::AnalyzeSpecimen({name, a.force_file, a.scan_file, ""},
+                              a.common.read_force,
+                              a.common.read_scan,
+                              a.common.fuse);
+  const force::ForceRecord& record = analysis.record;
+  const fusion::TestResult& r = analysis.result;
   PrintSummary(name, r);
   if (a.out.empty()) {
     PrintJsonSummary(

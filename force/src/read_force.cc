@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cctype>
 #include <cerrno>
 #include <charconv>
@@ -13,6 +14,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <future>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -22,6 +24,8 @@
 #include "layouts.h"
 #include "units.h"
 #include "wearscar/support/check.h"
+#include "wearscar/support/huge_pages.h"
+#include "wearscar/support/sha256.h"
 #include "wearscar/support/text.h"
 
 namespace wearscar::force {
@@ -1013,7 +1017,10 @@ class RowReader {
         needed_(*std::max_element(column.begin(), column.end())),
         slot_of_field_(columns_, -1) {
     for (int ch = 0; ch < 4; ++ch) {
-      if (column_[ch] >= 0) data_[ch].resize(capacity);
+      if (column_[ch] < 0) continue;
+      data_[ch].resize(capacity);
+      support::AdviseHugePages(data_[ch].data(),
+                               sizeof(double) * data_[ch].size());
     }
     // Fast path slots: the four channels, the RecipeStep column, and the
     // first field (a text first field means a footer or a bad row).
@@ -1466,9 +1473,28 @@ ForceRecord ReadForceFile(const std::string& path,
     throw ForceError(
         fmt::format("{}: cannot open: {}", path, std::strerror(errno)));
   }
+  // The checksum on a second core while the rows are parsed; stopped at
+  // the next block when the parse fails first.
+  std::atomic<bool> stop{false};
+  std::future<support::FileChecksum> checksum;
+  if (options.checksum) {
+    checksum = std::async(std::launch::async, [&path, &stop] {
+      return support::Sha256OfFile(path, &stop);
+    });
+  }
+  struct StopOnExit {
+    std::atomic<bool>* stop;
+    ~StopOnExit() { stop->store(true); }
+  } stop_on_exit{&stop};
   const size_t lines = CountLines(file.get());
   FileLines source(file.get(), path, options.max_line_bytes);
-  return Read(source, path, lines, options);
+  ForceRecord record = Read(source, path, lines, options);
+  if (checksum.valid()) {
+    support::FileChecksum c = checksum.get();
+    record.metadata.source_bytes = c.bytes;
+    record.metadata.source_sha256 = std::move(c.sha256);
+  }
+  return record;
 }
 
 ForceRecord ReadForceText(const std::string& text,

@@ -275,6 +275,29 @@ void RefuseCyclesBeyondTheTest(const FuseOptions& options, int n) {
   }
 }
 
+// What needs only the force side once it is analysed: the friction map
+// and the LuGre fit (on a second core while the scan's slope is fitted).
+struct ForceOnlyProducts {
+  FrictionMap friction_map;
+  std::optional<LugreFit> lugre;
+};
+
+ForceOnlyProducts ComputeForceOnlyProducts(const force::ForceRecord& record,
+                                           const ForceAnalysis& force,
+                                           int detail_cycle,
+                                           const FuseOptions& options) {
+  ForceOnlyProducts p;
+  p.friction_map = ComputeFrictionMap(record,
+                                      force.cycles,
+                                      options.analysis.friction,
+                                      force.running_in.cycles,
+                                      options.friction_map);
+  if (options.fit_lugre) {
+    p.lugre = FitLugre(record, force.cycles, detail_cycle, options.lugre);
+  }
+  return p;
+}
+
 }  // namespace
 
 TestResult AnalyzeTest(const force::ForceRecord& record,
@@ -308,6 +331,14 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
   result.force = AnalyzeForce(record, ao);
   const int n = static_cast<int>(result.force.cycles.cycles.size());
   RefuseCyclesBeyondTheTest(options, n);
+  result.detail_cycle = options.detail_cycle >= 0 && options.detail_cycle < n
+                            ? options.detail_cycle
+                            : n - 1;
+  std::future<ForceOnlyProducts> force_only =
+      std::async(std::launch::async, [&] {
+        return ComputeForceOnlyProducts(
+            record, result.force, result.detail_cycle, options);
+      });
   // The track's history from the spring (before the scan: it may scale
   // the scan's slope).
   result.track_history =
@@ -357,23 +388,14 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
     result.warnings.push_back("the scan's track: " +
                               result.scan->track.message);
   }
-  result.friction_map = ComputeFrictionMap(record,
-                                           result.force.cycles,
-                                           options.analysis.friction,
-                                           result.force.running_in.cycles,
-                                           options.friction_map);
   result.wear =
       MeasureWear(record,
                   result.force.cycles,
                   result.scan ? std::optional<scan::Track>(result.scan->track)
                               : std::nullopt);
-  result.detail_cycle = options.detail_cycle >= 0 && options.detail_cycle < n
-                            ? options.detail_cycle
-                            : n - 1;
-  if (options.fit_lugre) {
-    result.lugre = FitLugre(
-        record, result.force.cycles, result.detail_cycle, options.lugre);
-  }
+  ForceOnlyProducts p = force_only.get();
+  result.friction_map = std::move(p.friction_map);
+  result.lugre = std::move(p.lugre);
   return result;
 }
 

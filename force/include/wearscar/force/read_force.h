@@ -42,6 +42,10 @@ struct ReadForceOptions {
   // the delimiter.
   int head_lines = 400;
   int delimiter_vote_lines = 20;
+  // ReadForceFile: the file's SHA-256 into the record's metadata (for the
+  // results' provenance), computed on a second thread while the rows are
+  // parsed.
+  bool checksum = true;
 
   bool IsValid(std::string* why) const;
 };

@@ -150,7 +150,7 @@ HeightMap ParseAl3d(const std::string& bytes,
           "the depth image");
 
   HeightMap map;
-  map.height_mm.resize(rows, cols);
+  map.Resize(rows, cols);
   const double tolerance = 1.5e-7 * std::abs(invalid);
   for (std::int64_t r = 0; r < rows; ++r) {
     const char* p = in.Data(offset + static_cast<std::uint64_t>(r) * stride);

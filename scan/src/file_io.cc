@@ -11,6 +11,7 @@
 
 #include "wearscar/scan/height_map.h"
 #include "wearscar/support/atomic_file.h"
+#include "wearscar/support/huge_pages.h"
 
 namespace wearscar::scan::internal {
 
@@ -59,7 +60,10 @@ std::string ReadFileBytes(const std::string& path, size_t max_bytes) {
   if (!in)
     throw ScanError(
         fmt::format("{}: cannot open: {}", path, std::strerror(errno)));
-  std::string bytes(size, '\0');
+  std::string bytes;
+  bytes.reserve(size);
+  support::AdviseHugePages(bytes.data(), size);
+  bytes.resize(size);
   in.read(bytes.data(), static_cast<std::streamsize>(size));
   if (static_cast<size_t>(in.gcount()) != size) {
     throw ScanError(

@@ -162,7 +162,7 @@ HeightMap ParseGsf(const std::string& bytes, const std::string& name) {
                     yres));
   }
   HeightMap map;
-  map.height_mm.resize(yres, xres);
+  map.Resize(yres, xres);
   const float scale = static_cast<float>(*z_unit);
   std::memcpy(map.height_mm.data(), bytes.data() + data, need);
   map.height_mm *= scale;

@@ -107,7 +107,7 @@ HeightMap ParseVk4(const std::string& bytes, const std::string& name) {
   constexpr std::uint64_t kImageHeader = 796;
   in.Need(height + kImageHeader, need, "the height pixels");
   HeightMap map;
-  map.height_mm.resize(h, w);
+  map.Resize(h, w);
   const char* p = in.Data(height + kImageHeader);
   const double to_mm = z_pm * 1e-9;
   for (std::uint64_t i = 0; i < std::uint64_t{w} * h; ++i) {
@@ -251,7 +251,7 @@ HeightMap ZonFromArchive(const internal::ZipArchive& zip,
       fmt::format("{}: member '{}'", name, heights_member);
   const GridHeader g = ReadGridHeader(data, where, 4);
   HeightMap map;
-  map.height_mm.resize(g.height, g.width);
+  map.Resize(g.height, g.width);
   const float scale = static_cast<float>(m_per_unit * 1e3);
   for (int r = 0; r < g.height; ++r) {
     const char* row =

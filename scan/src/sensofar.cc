@@ -81,7 +81,7 @@ HeightMap ParsePlu(const std::string& bytes,
   in.Need(data, static_cast<std::uint64_t>(cols * rows) * 4, "the heights");
 
   HeightMap map;
-  map.height_mm.resize(rows, cols);
+  map.Resize(rows, cols);
   const char* p = in.Data(data);
   for (std::int64_t i = 0; i < rows * cols; ++i) {
     float v;

@@ -310,7 +310,7 @@ HeightMap ParseKeyenceCsv(const std::string& bytes, const std::string& name) {
         kVrMinField,
         kVrMaxField));
   }
-  map.height_mm.resize(ny, nx);
+  map.Resize(ny, nx);
   for (long r = 0; r < ny; ++r) {
     for (long c = 0; c < nx; ++c) map.height_mm(r, c) = rows[r][c];
   }

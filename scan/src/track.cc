@@ -123,9 +123,10 @@ cv::Mat DeepPixels(const HeightMap& map,
   if (options.smoothing_sigma_px > 0) {
     cv::GaussianBlur(depth, depth, cv::Size(0, 0), options.smoothing_sigma_px);
   }
-  *threshold = std::max(
-      options.min_depth_mm,
-      options.depth_fraction * Percentile(*depths, options.depth_quantile));
+  *threshold =
+      std::max(options.min_depth_mm,
+               options.depth_fraction *
+                   Percentile(std::move(*depths), options.depth_quantile));
   // 255 where deeper than the threshold, straight into bytes.
   cv::Mat mask;
   cv::compare(depth, *threshold, mask, cv::CMP_GT);
@@ -193,6 +194,8 @@ void MeasureExtent(const HeightMap& map,
                    const TrackOptions& options,
                    Track* t) {
   std::vector<double> along, across;
+  along.reserve(static_cast<size_t>(k.pixels));
+  across.reserve(static_cast<size_t>(k.pixels));
   double max_depth = 0, volume = 0;
   const Eigen::Vector2d& a = k.axis;
   for (int r = 0; r < labels.rows; ++r) {
@@ -209,14 +212,15 @@ void MeasureExtent(const HeightMap& map,
       }
     }
   }
-  const double lo = Percentile(along, options.length_quantile),
-               hi = Percentile(along, 1 - options.length_quantile);
+  const auto [lo, hi] = support::Percentiles(
+      std::move(along), options.length_quantile, 1 - options.length_quantile);
   t->length_mm = hi - lo;
   const double shift = 0.5 * (lo + hi);
   t->centre_x_mm = k.mean.x() + shift * a.x();
   t->centre_y_mm = k.mean.y() + shift * a.y();
-  t->width_mm = Percentile(across, 1 - options.width_quantile) -
-                Percentile(across, options.width_quantile);
+  const auto [left, right] = support::Percentiles(
+      std::move(across), options.width_quantile, 1 - options.width_quantile);
+  t->width_mm = right - left;
   t->max_depth_mm = max_depth;
   t->volume_mm3 = volume;
 }

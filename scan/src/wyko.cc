@@ -172,7 +172,7 @@ HeightMap ParseOpd(const std::string& bytes,
   const double scale_mm = 1e-6 * wavelength_nm / mult;
 
   HeightMap map;
-  map.height_mm.resize(ny, nx);
+  map.Resize(ny, nx);
   const char* p = in.Data(data->offset + 6);
   // Column by column (x slow); the first stored row is the bottom of the
   // image as the instrument shows it.

@@ -258,7 +258,7 @@ HeightMap ParseX3p(const std::string& bytes,
   const pugi::xml_node root = LoadMainXml(zip, name, &doc);
   const Matrix m = ReadMatrix(root, name);
   HeightMap map;
-  map.height_mm.resize(m.sy, m.sx);
+  map.Resize(m.sy, m.sx);
   const pugi::xml_node r3 = root.child("Record3");
   if (const pugi::xml_node link = r3.child("DataLink")) {
     ReadLinkedPoints(zip, link, m, name, map.height_mm.data());

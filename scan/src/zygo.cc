@@ -146,7 +146,7 @@ HeightMap ParseMetroPro(const std::string& bytes,
   }
 
   HeightMap map;
-  map.height_mm.resize(rows, cols);
+  map.Resize(rows, cols);
   const char* p = in.Data(data);
   for (std::int64_t i = 0; i < rows * cols; ++i) {
     unsigned char b[4];

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 namespace wearscar::support {
@@ -16,6 +17,22 @@ inline double Percentile(std::vector<double> v, double q) {
   const size_t k = static_cast<size_t>(q * static_cast<double>(v.size() - 1));
   std::nth_element(v.begin(), v.begin() + static_cast<long>(k), v.end());
   return v[k];
+}
+
+// The q_low- and q_high-quantiles (q_low <= q_high) of v, as two calls of
+// Percentile would give them, from one copy: the second selection looks
+// only above the first.
+inline std::pair<double, double> Percentiles(std::vector<double> v,
+                                             double q_low,
+                                             double q_high) {
+  if (v.empty()) return {0.0, 0.0};
+  const auto rank = [&v](double q) {
+    return static_cast<long>(q * static_cast<double>(v.size() - 1));
+  };
+  const long lo = rank(q_low), hi = std::max(lo, rank(q_high));
+  std::nth_element(v.begin(), v.begin() + lo, v.end());
+  if (hi > lo) std::nth_element(v.begin() + lo + 1, v.begin() + hi, v.end());
+  return {v[lo], v[hi]};
 }
 
 inline constexpr double kPi = 3.14159265358979323846;

@@ -1,7 +1,9 @@
 #include "wearscar/report/audit.h"
 
+#include <algorithm>
 #include <atomic>
 #include <filesystem>
+#include <thread>
 
 #include "wearscar/fusion/error.h"
 #include "wearscar/report/output_folder.h"
@@ -46,7 +48,8 @@ void AuditSpecimen(const AuditOptions& o,
                    const fusion::Specimen& s,
                    ReportSection* sec,
                    SpecimenSeries* series,
-                   std::atomic<bool>* figures_missing) {
+                   std::atomic<bool>* figures_missing,
+                   int gnuplots) {
   sec->name = s.name;
   sec->row = fusion::SpecimenIdentity(s.name, o.batch.naming);
   const std::string final_dir = (fs::path(out) / s.name).string();
@@ -69,7 +72,8 @@ void AuditSpecimen(const AuditOptions& o,
                r.mismatch.mu_force,
                r.wear.specific_rate_mm3_per_n_m};
     if (o.figures) {
-      sec->figures = DrawTestFigures(dir, s.name, r, o.fuse, o.figure_formats);
+      sec->figures =
+          DrawTestFigures(dir, s.name, r, o.fuse, o.figure_formats, gnuplots);
     }
     if (o.diagnose) AuditDiagnosis(o, s.name, dir, record, r, sec);
     if (!sec->figures.missing.empty()) {
@@ -150,6 +154,13 @@ AuditResult Audit(const std::vector<fusion::Specimen>& specimens,
   result.specimens.resize(specimens.size());
   std::vector<SpecimenSeries> series(specimens.size());
   std::atomic<bool> figures_missing{false};
+  // Workers side by side keep the cores busy: one gnuplot per specimen
+  // then (each start costs about 40 ms of CPU), two for a lone worker.
+  const size_t cores = std::max(1u, std::thread::hardware_concurrency());
+  const size_t workers =
+      std::min(specimens.size(),
+               o.batch.jobs > 0 ? static_cast<size_t>(o.batch.jobs) : cores);
+  const int gnuplots = workers > 1 ? 1 : 2;
   fusion::ForEachSpecimen(
       specimens.size(),
       o.batch.jobs,
@@ -159,7 +170,8 @@ AuditResult Audit(const std::vector<fusion::Specimen>& specimens,
                       specimens[i],
                       &result.specimens[i],
                       &series[i],
-                      &figures_missing);
+                      &figures_missing,
+                      gnuplots);
       },
       [&](long done) {
         if (progress) progress(done);

@@ -110,9 +110,11 @@ std::vector<const char*> Terms(const FigureFormats& formats) {
 // the set's `missing`, with a message.
 FigureSet Draw(const std::string& dir,
                const std::vector<Figure>& figures,
-               const FigureFormats& formats) {
+               const FigureFormats& formats,
+               int processes = 2) {
   const std::vector<const char*> terms = Terms(formats);
-  const size_t scripts = std::min<size_t>(2, figures.size());
+  const size_t scripts = std::min<size_t>(
+      static_cast<size_t>(std::clamp(processes, 1, 2)), figures.size());
   // Heaviest first, each to the script with the least weight so far.
   std::vector<size_t> order(figures.size());
   std::iota(order.begin(), order.end(), size_t{0});
@@ -720,7 +722,8 @@ FigureSet DrawTestFigures(const std::string& dir,
                           const std::string& name,
                           const fusion::TestResult& r,
                           const fusion::FuseOptions& opt,
-                          const FigureFormats& formats) {
+                          const FigureFormats& formats,
+                          int processes) {
   std::string why;
   if (!PlotterAvailable(&why)) return FigureSet{{}, {}, {}, why, {}};
   std::vector<Figure> figs;
@@ -730,7 +733,7 @@ FigureSet DrawTestFigures(const std::string& dir,
   AddCycleFigures(name, r, opt, &figs);
   AddFrictionMapFigure(dir, name, r, &figs);
   AddTrackHistoryFigure(dir, name, r, &figs);
-  return Draw(dir, figs, formats);
+  return Draw(dir, figs, formats, processes);
 }
 
 namespace {

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cctype>
 #include <cerrno>
 #include <charconv>
@@ -14,7 +13,6 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <future>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -1408,10 +1406,13 @@ ForceRecord Read(LineSource& source,
   return record;
 }
 
-size_t CountLines(std::FILE* file) {
+// Lines in the file (its line breaks + 1), feeding `hash` (when given) the
+// bytes on the way.
+size_t CountLines(std::FILE* file, support::Sha256* hash) {
   std::vector<char> block(size_t{1} << 20);
   size_t lines = 1, got;
   while ((got = std::fread(block.data(), 1, block.size(), file)) > 0) {
+    if (hash != nullptr) hash->Update(block.data(), got);
     const char* p = block.data();
     const char* end = p + got;
     while ((p = static_cast<const char*>(std::memchr(p, '\n', end - p))) !=
@@ -1473,26 +1474,16 @@ ForceRecord ReadForceFile(const std::string& path,
     throw ForceError(
         fmt::format("{}: cannot open: {}", path, std::strerror(errno)));
   }
-  // The checksum on a second core while the rows are parsed; stopped at
-  // the next block when the parse fails first.
-  std::atomic<bool> stop{false};
-  std::future<support::FileChecksum> checksum;
-  if (options.checksum) {
-    checksum = std::async(std::launch::async, [&path, &stop] {
-      return support::Sha256OfFile(path, &stop);
-    });
-  }
-  struct StopOnExit {
-    std::atomic<bool>* stop;
-    ~StopOnExit() { stop->store(true); }
-  } stop_on_exit{&stop};
-  const size_t lines = CountLines(file.get());
+  // The checksum of the bytes as the lines are counted (one pass over the
+  // file serves both).
+  support::Sha256 hash;
+  const size_t lines =
+      CountLines(file.get(), options.checksum ? &hash : nullptr);
   FileLines source(file.get(), path, options.max_line_bytes);
   ForceRecord record = Read(source, path, lines, options);
-  if (checksum.valid()) {
-    support::FileChecksum c = checksum.get();
-    record.metadata.source_bytes = c.bytes;
-    record.metadata.source_sha256 = std::move(c.sha256);
+  if (options.checksum) {
+    record.metadata.source_bytes = hash.bytes();
+    record.metadata.source_sha256 = hash.Hex();
   }
   return record;
 }

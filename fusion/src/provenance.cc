@@ -33,12 +33,13 @@ std::time_t Now() {
 }  // namespace
 
 std::string Sha256OfFile(const std::string& path) {
-  support::FileChecksum c = support::Sha256OfFile(path);
-  if (c.sha256.empty()) {
+  std::string error;
+  std::string hex = support::Sha256OfFile(path, &error);
+  if (hex.empty()) {
     throw FusionError(
-        fmt::format("{}: cannot read for its checksum: {}", path, c.error));
+        fmt::format("{}: cannot read for its checksum: {}", path, error));
   }
-  return c.sha256;
+  return hex;
 }
 
 InputFile DescribeInputFile(const std::string& role, const std::string& path) {

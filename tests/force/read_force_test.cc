@@ -340,9 +340,8 @@ TEST(ReadForce, WriteThenReadRoundTrip) {
   EXPECT_LT((a.normal_n - b.normal_n).cwiseAbs().maxCoeff(), 1e-5);
 }
 
-// The record carries the SHA-256 of the bytes it was read from (hashed on a
-// second thread during the parse): the digest sha256sum gives for the
-// fixture, and its size.
+// The record carries the SHA-256 of the bytes it was read from: the digest
+// sha256sum gives for the fixture, and its size.
 TEST(ReadForce, RecordCarriesTheFilesChecksum) {
   const ForceRecord r = ReadForceFile(kData + "cetr_umt.csv");
   EXPECT_EQ(r.metadata.source_sha256,

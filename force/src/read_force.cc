@@ -23,7 +23,6 @@
 #include "units.h"
 #include "wearscar/support/check.h"
 #include "wearscar/support/huge_pages.h"
-#include "wearscar/support/sha256.h"
 #include "wearscar/support/text.h"
 
 namespace wearscar::force {
@@ -1406,13 +1405,10 @@ ForceRecord Read(LineSource& source,
   return record;
 }
 
-// Lines in the file (its line breaks + 1), feeding `hash` (when given) the
-// bytes on the way.
-size_t CountLines(std::FILE* file, support::Sha256* hash) {
+size_t CountLines(std::FILE* file) {
   std::vector<char> block(size_t{1} << 20);
   size_t lines = 1, got;
   while ((got = std::fread(block.data(), 1, block.size(), file)) > 0) {
-    if (hash != nullptr) hash->Update(block.data(), got);
     const char* p = block.data();
     const char* end = p + got;
     while ((p = static_cast<const char*>(std::memchr(p, '\n', end - p))) !=
@@ -1474,18 +1470,9 @@ ForceRecord ReadForceFile(const std::string& path,
     throw ForceError(
         fmt::format("{}: cannot open: {}", path, std::strerror(errno)));
   }
-  // The checksum of the bytes as the lines are counted (one pass over the
-  // file serves both).
-  support::Sha256 hash;
-  const size_t lines =
-      CountLines(file.get(), options.checksum ? &hash : nullptr);
+  const size_t lines = CountLines(file.get());
   FileLines source(file.get(), path, options.max_line_bytes);
-  ForceRecord record = Read(source, path, lines, options);
-  if (options.checksum) {
-    record.metadata.source_bytes = hash.bytes();
-    record.metadata.source_sha256 = hash.Hex();
-  }
-  return record;
+  return Read(source, path, lines, options);
 }
 
 ForceRecord ReadForceText(const std::string& text,

@@ -749,16 +749,8 @@ Provenance TestProvenance(const force::ForceRecord& record,
   for (auto [role, path] : {std::pair<const char*, const std::string*>{
                                 "force", &record.metadata.source},
                             {"scan", &result.scan_file}}) {
-    if (path == &record.metadata.source &&
-        !record.metadata.source_sha256.empty()) {
-      // Hashed as it was read (ReadForceFile).
-      inputs.push_back({role,
-                        *path,
-                        record.metadata.source_bytes,
-                        record.metadata.source_sha256});
-    } else if (!path->empty() && fs::is_regular_file(*path, ec)) {
+    if (!path->empty() && fs::is_regular_file(*path, ec))
       inputs.push_back(DescribeInputFile(role, *path));
-    }
   }
   return CurrentProvenance(std::move(inputs));
 }

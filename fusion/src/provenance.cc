@@ -1,6 +1,7 @@
 #include "wearscar/fusion/provenance.h"
 
 #include <fmt/format.h>
+#include <openssl/evp.h>
 
 #include <cerrno>
 #include <cstdio>
@@ -10,13 +11,15 @@
 #include <memory>
 
 #include "wearscar/fusion/error.h"
-#include "wearscar/support/sha256.h"
 
 namespace wearscar::fusion {
 namespace {
 
 struct FileCloser {
   void operator()(std::FILE* f) const { std::fclose(f); }
+};
+struct DigestFree {
+  void operator()(EVP_MD_CTX* c) const { EVP_MD_CTX_free(c); }
 };
 
 // Seconds since the epoch: SOURCE_DATE_EPOCH when it holds a number, else
@@ -33,12 +36,28 @@ std::time_t Now() {
 }  // namespace
 
 std::string Sha256OfFile(const std::string& path) {
-  std::string error;
-  std::string hex = support::Sha256OfFile(path, &error);
-  if (hex.empty()) {
-    throw FusionError(
-        fmt::format("{}: cannot read for its checksum: {}", path, error));
+  std::unique_ptr<std::FILE, FileCloser> f(std::fopen(path.c_str(), "rb"));
+  if (!f) {
+    throw FusionError(fmt::format(
+        "{}: cannot read for its checksum: {}", path, std::strerror(errno)));
   }
+  std::unique_ptr<EVP_MD_CTX, DigestFree> ctx(EVP_MD_CTX_new());
+  if (!ctx || EVP_DigestInit_ex(ctx.get(), EVP_sha256(), nullptr) != 1)
+    throw FusionError(path + ": SHA-256 is not available");
+  std::vector<unsigned char> buffer(1 << 20);
+  size_t got = 0;
+  while ((got = std::fread(buffer.data(), 1, buffer.size(), f.get())) > 0)
+    EVP_DigestUpdate(ctx.get(), buffer.data(), got);
+  if (std::ferror(f.get())) {
+    throw FusionError(
+        fmt::format("{}: read error while computing its checksum", path));
+  }
+  unsigned char digest[EVP_MAX_MD_SIZE];
+  unsigned int length = 0;
+  EVP_DigestFinal_ex(ctx.get(), digest, &length);
+  std::string hex;
+  for (unsigned int i = 0; i < length; ++i)
+    hex += fmt::format("{:02x}", digest[i]);
   return hex;
 }
 

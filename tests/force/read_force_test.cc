@@ -340,19 +340,5 @@ TEST(ReadForce, WriteThenReadRoundTrip) {
   EXPECT_LT((a.normal_n - b.normal_n).cwiseAbs().maxCoeff(), 1e-5);
 }
 
-// The record carries the SHA-256 of the bytes it was read from: the digest
-// sha256sum gives for the fixture, and its size.
-TEST(ReadForce, RecordCarriesTheFilesChecksum) {
-  const ForceRecord r = ReadForceFile(kData + "cetr_umt.csv");
-  EXPECT_EQ(r.metadata.source_sha256,
-            "4366181d35e696ee8845ea06cc0257e6db6ad6b6762c8823e84923fdd3ec24b6");
-  EXPECT_EQ(r.metadata.source_bytes, 45705u);
-  ReadForceOptions o;
-  o.checksum = false;
-  const ForceRecord plain = ReadForceFile(kData + "cetr_umt.csv", o);
-  EXPECT_TRUE(plain.metadata.source_sha256.empty());
-  EXPECT_EQ(plain.size(), r.size());
-}
-
 }  // namespace
 }  // namespace wearscar::force

@@ -1,7 +1,6 @@
 #pragma once
 
 #include <Eigen/Core>
-#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -29,11 +28,6 @@ struct ForceMetadata {
   int clock_restarts_joined = 0;     // Rtec RecipeStep, CETR step restarts
   int blocks_joined = 0;             // repeated header blocks (CETR test steps)
   int rows_dropped = 0;              // lenient mode only
-  // The file's size and SHA-256 (64 hex digits) as it was read (hashed in
-  // the pass that counts its lines; ReadForceOptions::checksum); empty for
-  // a record from text or the simulator.
-  std::uintmax_t source_bytes = 0;
-  std::string source_sha256;
   std::vector<std::string> warnings;
 };
 

@@ -42,10 +42,6 @@ struct ReadForceOptions {
   // the delimiter.
   int head_lines = 400;
   int delimiter_vote_lines = 20;
-  // ReadForceFile: the file's SHA-256 into the record's metadata (for the
-  // results' provenance), from the bytes it reads anyway, instead of a
-  // second reading of the file when the results are written.
-  bool checksum = true;
 
   bool IsValid(std::string* why) const;
 };

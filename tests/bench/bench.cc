@@ -154,7 +154,7 @@ void BM_FloorOnePass(benchmark::State& state) {
 BENCHMARK(BM_FloorOnePass)->Unit(benchmark::kMillisecond);
 
 // The command as a user runs it, on the 45 MB CSV and a 1024 x 768 GSF:
-// without figures (arg 0) and with the 13 figures in PNG and SVG (arg 1).
+// without figures (arg 0) and with its figures in SVG, the default (arg 1).
 void BM_FuseCommand(benchmark::State& state) {
   const std::string scan = Scratch() + "/S-RT-R.scan.gsf";
   scan::WriteGsf(Test600().scan, scan);
@@ -171,6 +171,19 @@ BENCHMARK(BM_FuseCommand)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MinTime(3.0);
+
+// The start of the command alone (`wearscar version`): loading its shared
+// libraries and their relocations, a floor under every command's time.
+void BM_CommandStart(benchmark::State& state) {
+  const std::string cmd = std::string(WEARSCAR_BINARY) + " version > /dev/null";
+  for (auto _ : state) {
+    if (std::system(cmd.c_str()) != 0) state.SkipWithError("version failed");
+  }
+}
+BENCHMARK(BM_CommandStart)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(1.0);
 
 void BM_SegmentCycles(benchmark::State& state) {
   const auto& r = Test600().record;

@@ -334,10 +334,11 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
   result.detail_cycle = options.detail_cycle >= 0 && options.detail_cycle < n
                             ? options.detail_cycle
                             : n - 1;
-  std::future<ForceOnlyProducts> force_only =
-      std::async(std::launch::async, [&] {
-        return ComputeForceOnlyProducts(
-            record, result.force, result.detail_cycle, options);
+  // Nothing below changes result.force, which this thread reads.
+  std::future<ForceOnlyProducts> force_only = std::async(
+      std::launch::async,
+      [&record, &force = result.force, detail = result.detail_cycle, &options] {
+        return ComputeForceOnlyProducts(record, force, detail, options);
       });
   // The track's history from the spring (before the scan: it may scale
   // the scan's slope).

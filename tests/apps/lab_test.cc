@@ -629,6 +629,31 @@ TEST(Report, ShowsEachSpecimensNumbersAndWhereTheyCameFrom) {
   // The figures are embedded in the page as they were drawn (SVG).
   EXPECT_NE(html.find("src=\"data:image/svg+xml,%3C?xml"), std::string::npos);
   EXPECT_EQ(html.find("src=\"data:image/png"), std::string::npos);
+  // Each embedded SVG, percent-decoded, is byte for byte a figure the
+  // audit wrote (the batch's and the specimen's).
+  std::set<std::string> drawn;
+  for (const auto& e : fs::recursive_directory_iterator(out)) {
+    if (e.path().extension() == ".svg") drawn.insert(Slurp(e.path().string()));
+  }
+  const std::string uri = "src=\"data:image/svg+xml,";
+  int embedded = 0;
+  for (size_t at = html.find(uri); at != std::string::npos;
+       at = html.find(uri, at + 1)) {
+    const size_t begin = at + uri.size(), end = html.find('"', begin);
+    ASSERT_NE(end, std::string::npos);
+    std::string svg;
+    for (size_t i = begin; i < end; ++i) {
+      if (html[i] == '%' && i + 2 < end) {
+        svg += static_cast<char>(std::stoi(html.substr(i + 1, 2), nullptr, 16));
+        i += 2;
+      } else {
+        svg += html[i];
+      }
+    }
+    EXPECT_EQ(drawn.count(svg), 1u) << "embedded figure " << embedded;
+    ++embedded;
+  }
+  EXPECT_GE(embedded, 14);
   const std::string wear = Slurp(out + "/wear_and_mu.csv");
   EXPECT_EQ(
       wear.rfind("specimen,mu_hat,mu_hat_sd,wear_rate_mm3_per_N_m,mu_hat_low,"

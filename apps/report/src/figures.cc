@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <spawn.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -14,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <numeric>
+#include <string_view>
 
 #include "wearscar/fusion/products.h"
 #include "wearscar/report/output_folder.h"
@@ -111,10 +113,12 @@ std::vector<const char*> Terms(const FigureFormats& formats) {
 FigureSet Draw(const std::string& dir,
                const std::vector<Figure>& figures,
                const FigureFormats& formats,
-               int processes = 2) {
+               int processes = 2,
+               GnuplotSession* session = nullptr) {
   const std::vector<const char*> terms = Terms(formats);
   const size_t scripts = std::min<size_t>(
-      static_cast<size_t>(std::clamp(processes, 1, 2)), figures.size());
+      session != nullptr ? 1 : static_cast<size_t>(std::clamp(processes, 1, 2)),
+      figures.size());
   // Heaviest first, each to the script with the least weight so far.
   std::vector<size_t> order(figures.size());
   std::iota(order.begin(), order.end(), size_t{0});
@@ -133,6 +137,7 @@ FigureSet Draw(const std::string& dir,
       "set datafile separator ','\nset datafile missing ''\nset grid\nset "
       "key outside right top\nset style data lines\n";
   std::vector<pid_t> pids;
+  bool session_failed = false;
   for (size_t k = 0; k < scripts; ++k) {
     std::string script = preamble;
     for (size_t i : parts[k]) {
@@ -151,9 +156,13 @@ FigureSet Draw(const std::string& dir,
     }
     const std::string name = fmt::format("figures_{}.gp", k + 1);
     WriteTextAtomically(FigureDataPath(dir, name), script);
-    pids.push_back(StartGnuplot(dir, name));
+    if (session != nullptr) {
+      session_failed |= !session->Run(dir, name);
+    } else {
+      pids.push_back(StartGnuplot(dir, name));
+    }
   }
-  bool failed = false;
+  bool failed = session_failed;
   for (pid_t pid : pids) failed |= !WaitGnuplot(pid);
   FigureSet set;
   for (const Figure& f : figures) {
@@ -323,6 +332,104 @@ bool FigureFormats::IsValid(std::string* why) const {
 
 bool RunGnuplotScript(const std::string& dir, const std::string& script) {
   return WaitGnuplot(StartGnuplot(dir, script));
+}
+
+GnuplotSession::~GnuplotSession() { Stop(); }
+
+bool GnuplotSession::Start() {
+  // Its input a socket (a write to a gnuplot that ended fails instead of
+  // raising SIGPIPE), its output and errors one pipe; the ends kept here
+  // close on exec, so that no other program started meanwhile holds them.
+  int in[2], out[2];
+  if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, in) != 0) return false;
+  if (pipe2(out, O_CLOEXEC) != 0) {
+    close(in[0]);
+    close(in[1]);
+    return false;
+  }
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, in[1], STDIN_FILENO);
+  posix_spawn_file_actions_adddup2(&actions, out[1], STDOUT_FILENO);
+  posix_spawn_file_actions_adddup2(&actions, out[1], STDERR_FILENO);
+  std::string program = "gnuplot";
+  char* argv[] = {program.data(), nullptr};
+  pid_t pid = -1;
+  const int error =
+      posix_spawnp(&pid, "gnuplot", &actions, nullptr, argv, environ);
+  posix_spawn_file_actions_destroy(&actions);
+  close(in[1]);
+  close(out[1]);
+  if (error != 0) {
+    close(in[0]);
+    close(out[0]);
+    return false;
+  }
+  pid_ = pid;
+  input_ = in[0];
+  output_ = fdopen(out[0], "r");
+  if (output_ == nullptr) {
+    close(out[0]);
+    Stop();
+    return false;
+  }
+  return true;
+}
+
+void GnuplotSession::Stop() {
+  if (input_ >= 0) close(input_);  // gnuplot ends at the end of its input
+  if (output_ != nullptr) std::fclose(output_);
+  if (pid_ >= 0) {
+    int status = 0;
+    waitpid(pid_, &status, 0);
+  }
+  input_ = -1;
+  output_ = nullptr;
+  pid_ = -1;
+}
+
+bool GnuplotSession::Run(const std::string& dir, const std::string& script) {
+  const std::string abs = fs::absolute(dir).string();
+  // A folder name with a line break cannot be a gnuplot command's string.
+  if (abs.find_first_of("\r\n") != std::string::npos)
+    return RunGnuplotScript(dir, script);
+  if (pid_ < 0 && !Start()) return false;
+  // After the script, a line that says it is done and whether it failed
+  // (GPVAL_ERRNO; gnuplot reading its input goes on after an error).
+  const std::string marker = fmt::format("wearscar-done-{}", ++serial_);
+  const std::string commands = fmt::format(
+      "cd {}\nload {}\nprint sprintf('{} %d', GPVAL_ERRNO)\nreset errors\n",
+      Quote(abs),
+      Quote(std::string(kFigureData) + "/" + script),
+      marker);
+  for (size_t sent = 0; sent < commands.size();) {
+    const ssize_t n = send(
+        input_, commands.data() + sent, commands.size() - sent, MSG_NOSIGNAL);
+    if (n <= 0) {
+      Stop();
+      return false;
+    }
+    sent += static_cast<size_t>(n);
+  }
+  std::string log;
+  bool done = false, ok = false;
+  char* line = nullptr;
+  size_t capacity = 0;
+  ssize_t length;
+  while ((length = getline(&line, &capacity, output_)) > 0) {
+    const std::string_view text(line, static_cast<size_t>(length));
+    if (text.substr(0, marker.size() + 1) == marker + " ") {
+      done = true;
+      ok = text.substr(marker.size() + 1, 2) == "0\n";
+      break;
+    }
+    log.append(text);
+  }
+  std::free(line);
+  const std::string stem = fs::path(script).stem().string();
+  WriteTextAtomically(FigureDataPath(abs, stem + ".log"), log);
+  if (!done) Stop();  // gnuplot ended: a new one for the next script
+  return done && ok;
 }
 
 namespace {
@@ -718,6 +825,24 @@ void AddCycleFigures(const std::string& name,
 
 }  // namespace
 
+namespace {
+
+std::vector<Figure> TestFigures(const std::string& dir,
+                                const std::string& name,
+                                const fusion::TestResult& r,
+                                const fusion::FuseOptions& opt) {
+  std::vector<Figure> figs;
+  AddForceFigures(dir, name, r, &figs);
+  AddScanFigures(dir, name, r, &figs);
+  AddDetailFigures(name, r, &figs);
+  AddCycleFigures(name, r, opt, &figs);
+  AddFrictionMapFigure(dir, name, r, &figs);
+  AddTrackHistoryFigure(dir, name, r, &figs);
+  return figs;
+}
+
+}  // namespace
+
 FigureSet DrawTestFigures(const std::string& dir,
                           const std::string& name,
                           const fusion::TestResult& r,
@@ -726,14 +851,19 @@ FigureSet DrawTestFigures(const std::string& dir,
                           int processes) {
   std::string why;
   if (!PlotterAvailable(&why)) return FigureSet{{}, {}, {}, why, {}};
-  std::vector<Figure> figs;
-  AddForceFigures(dir, name, r, &figs);
-  AddScanFigures(dir, name, r, &figs);
-  AddDetailFigures(name, r, &figs);
-  AddCycleFigures(name, r, opt, &figs);
-  AddFrictionMapFigure(dir, name, r, &figs);
-  AddTrackHistoryFigure(dir, name, r, &figs);
-  return Draw(dir, figs, formats, processes);
+  return Draw(dir, TestFigures(dir, name, r, opt), formats, processes);
+}
+
+FigureSet DrawTestFigures(GnuplotSession* session,
+                          const std::string& dir,
+                          const std::string& name,
+                          const fusion::TestResult& r,
+                          const fusion::FuseOptions& opt,
+                          const FigureFormats& formats) {
+  WEARSCAR_CHECK(session != nullptr, "DrawTestFigures needs a session");
+  std::string why;
+  if (!PlotterAvailable(&why)) return FigureSet{{}, {}, {}, why, {}};
+  return Draw(dir, TestFigures(dir, name, r, opt), formats, 1, session);
 }
 
 namespace {

@@ -106,6 +106,11 @@ LevelSummary LevelHeightMap(HeightMap* map, const LevelOptions& options) {
   // per failed draw): wearscar reports through LevelSummary instead.
   pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
   pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
+  // Sized once: growing by doubling wrote every point again into fresh
+  // memory (page faults on this scale of map cost more than the copies).
+  cloud->reserve(
+      static_cast<std::size_t>(((map->rows() + stride - 1) / stride) *
+                               ((map->cols() + stride - 1) / stride)));
   for (Eigen::Index r = 0; r < map->rows(); r += stride) {
     for (Eigen::Index c = 0; c < map->cols(); c += stride) {
       if (!map->valid(r, c)) continue;
@@ -136,20 +141,28 @@ LevelSummary LevelHeightMap(HeightMap* map, const LevelOptions& options) {
   const int order = options.polynomial_order;
   const int terms = (order + 1) * (order + 2) / 2;
   Eigen::VectorXd coef;
+  // The passes' systems in the top rows of one matrix (inliers are points
+  // of the cloud: never more rows than it has).
+  Eigen::MatrixXd design(static_cast<Eigen::Index>(cloud->size()), terms);
+  Eigen::VectorXd heights(static_cast<Eigen::Index>(cloud->size()));
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr;
+  std::vector<int> next;
+  next.reserve(cloud->size());
   for (int pass = 0; pass < 4; ++pass) {
-    Eigen::MatrixXd a(inliers.size(), terms);
-    Eigen::VectorXd b(inliers.size());
+    const auto rows = static_cast<Eigen::Index>(inliers.size());
+    auto a = design.topRows(rows);
+    auto b = heights.head(rows);
     for (size_t i = 0; i < inliers.size(); ++i) {
       const auto& p = (*cloud)[inliers[i]];
       a.row(static_cast<Eigen::Index>(i)) =
           Monomials(p.x, p.y, order).transpose();
       b[static_cast<Eigen::Index>(i)] = p.z;
     }
-    coef = a.colPivHouseholderQr().solve(b);
+    coef = qr.compute(a).solve(b);
     summary.rms_mm =
         std::sqrt((a * coef - b).squaredNorm() / static_cast<double>(b.size()));
     const double band = std::max(2.5 * summary.rms_mm, 1e-9);
-    std::vector<int> next;
+    next.clear();
     for (int i = 0; i < static_cast<int>(cloud->size()); ++i) {
       const auto& p = (*cloud)[i];
       if (std::abs(Monomials(p.x, p.y, order).dot(coef) - p.z) < band)

@@ -16,11 +16,12 @@ namespace wearscar::support {
 // a first write then maps 2 MiB at once instead of 512 pages of 4 KiB,
 // each a page fault (about 10 us apiece on a virtual machine). Only a
 // hint: it changes no value, fails silently, and does nothing for buffers
-// under 4 MiB or where the kernel does not offer it.
+// under 2 MiB (a 2-4 MiB buffer holds one whole 2 MiB page when its start
+// allows) or where the kernel does not offer it.
 inline void AdviseHugePages(void* data, std::size_t bytes) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
   constexpr std::uintptr_t kHuge = std::uintptr_t{2} << 20;
-  if (data == nullptr || bytes < 2 * kHuge) return;
+  if (data == nullptr || bytes < kHuge) return;
   const auto begin = reinterpret_cast<std::uintptr_t>(data);
   const std::uintptr_t first = (begin + kHuge - 1) & ~(kHuge - 1);
   const std::uintptr_t last = (begin + bytes) & ~(kHuge - 1);

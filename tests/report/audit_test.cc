@@ -10,6 +10,7 @@
 #include <random>
 #include <sstream>
 
+#include "report_helpers.h"
 #include "wearscar/force/read_force.h"
 #include "wearscar/fusion/error.h"
 #include "wearscar/samples/virtual_tribometer.h"
@@ -19,21 +20,8 @@ namespace wearscar::report {
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path FreshFolder(const std::string& name) {
-  const fs::path p =
-      fs::temp_directory_path() /
-      fmt::format("wearscar-report-{}-{:08x}", name, std::random_device{}());
-  fs::create_directories(p);
-  return p;
-}
-
-std::string Slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test_support::FreshFolder;
+using test_support::Slurp;
 
 // B-RT-R simulated (a force export and its scan) beside an S-RL-R whose
 // force file is not a force export.

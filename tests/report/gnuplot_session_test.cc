@@ -1,34 +1,26 @@
 // wearscar::report::GnuplotSession: one gnuplot for script after script,
 // as an audit's worker draws specimen after specimen.
-#include <fmt/format.h>
 #include <gtest/gtest.h>
-#include <sys/wait.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
-#include <random>
-#include <sstream>
+#include <string>
 
+#include "report_helpers.h"
 #include "wearscar/report/figures.h"
 
 namespace wearscar::report {
 namespace {
 
 namespace fs = std::filesystem;
+using test_support::Slurp;
 
+// A fresh folder with its figure-data sub-folder.
 fs::path FreshFolder(const std::string& name) {
-  const fs::path p =
-      fs::temp_directory_path() /
-      fmt::format("wearscar-gnuplot-{}-{:08x}", name, std::random_device{}());
+  const fs::path p = test_support::FreshFolder("gnuplot-" + name);
   fs::create_directories(p / kFigureData);
   return p;
-}
-
-std::string Slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 // A script drawing `data.csv` of its folder (relative names: the script

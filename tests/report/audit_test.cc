@@ -2,13 +2,10 @@
 // own program would run it.
 #include "wearscar/report/audit.h"
 
-#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
-#include <random>
-#include <sstream>
 
 #include "report_helpers.h"
 #include "wearscar/force/read_force.h"

@@ -72,7 +72,9 @@ TEST(GnuplotSession, AnErrorIsThatScriptsAndTheSessionGoesOn) {
   std::string why;
   if (!PlotterAvailable(&why)) GTEST_SKIP() << why;
   const fs::path bad = FreshFolder("bad"), good = FreshFolder("good");
-  WriteScript(bad, "s.gp", "plot no_such_function(x)");
+  // Its messages sent elsewhere, then an error.
+  WriteScript(
+      bad, "s.gp", "set print 'elsewhere.txt'\nplot no_such_function(x)");
   WriteScript(good, "s.gp", "plot 'data.csv' skip 1 using 1:2 title 'after'");
   GnuplotSession session;
   EXPECT_FALSE(session.Run(bad.string(), "s.gp"));

@@ -394,11 +394,13 @@ bool GnuplotSession::Run(const std::string& dir, const std::string& script) {
   if (abs.find_first_of("\r\n") != std::string::npos)
     return RunGnuplotScript(dir, script);
   if (pid_ < 0 && !Start()) return false;
-  // After the script, a line that says it is done and whether it failed
-  // (GPVAL_ERRNO; gnuplot reading its input goes on after an error).
+  // After the script, a line on gnuplot's error output (`set print` with
+  // no file, whatever the script set) that says it is done and whether it
+  // failed (GPVAL_ERRNO; gnuplot reading its input goes on after an error).
   const std::string marker = fmt::format("wearscar-done-{}", ++serial_);
   const std::string commands = fmt::format(
-      "cd {}\nload {}\nprint sprintf('{} %d', GPVAL_ERRNO)\nreset errors\n",
+      "cd {}\nload {}\nset print\nprint sprintf('{} %d', "
+      "GPVAL_ERRNO)\nreset errors\n",
       Quote(abs),
       Quote(std::string(kFigureData) + "/" + script),
       marker);

@@ -83,8 +83,9 @@ bool PlotterAvailable(std::string* why);
 // WriteTestResults wrote into `dir`. Writes the scan map data first when
 // the result has a scan. `processes` gnuplots share the figures side by
 // side: 2 keep both cores of a single test busy; 1 where the caller's
-// workers already do (an audit), sparing a gnuplot start (about 40 ms of
-// CPU) per test.
+// workers already do. Workers drawing test after test (an audit) use the
+// overload below with a GnuplotSession each, sparing a gnuplot start per
+// test.
 FigureSet DrawTestFigures(const std::string& dir,
                           const std::string& name,
                           const fusion::TestResult& result,

@@ -643,6 +643,7 @@ FrictionFits FitFriction(const force::ForceRecord& record,
       slope(grid, 0, n - 1, /*with_x=*/false);
   std::vector<std::array<double, 2>> misfit_total(n), q_total(n), k_total(n);
   std::vector<double> bias_per_variance(n, 0.0);
+  Eigen::VectorXd residual;
   for (int c = 0; c < n; ++c) {
     CycleSamples s = force_slopes ? force_slopes->Gather(c)
                                   : GatherCycle(record,
@@ -660,20 +661,22 @@ FrictionFits FitFriction(const force::ForceRecord& record,
     int d = 0;
     for (const SlipSamples* h : {&s.forward, &s.reverse}) {
       double rr = 0, qq = 0, kk = 0;
-      for (Eigen::Index i = 0; i < h->q_n.size(); ++i) {
+      const Eigen::Index m = h->q_n.size();
+      residual.resize(m);
+      for (Eigen::Index i = 0; i < m; ++i) {
         const double r =
             fit.converged
                 ? h->q_n[i] - WearScarTangentialForce(
                                   h->p_n[i], h->k[i], fit.mu_hat, h->direction)
                 : std::nan("");
-        if (std::isfinite(r)) {
-          misfit.Add(c, h->direction, h->x_mm[i], r);
-          rr += r * r;
-        }
+        residual[i] = r;
+        if (std::isfinite(r)) rr += r * r;
         qq += h->q_n[i] * h->q_n[i];
-        slope.Add(c, h->direction, h->x_mm[i], h->k[i]);
         kk += h->k[i] * h->k[i];
       }
+      // Binned in one pass each (AddRange skips what is not finite).
+      misfit.AddRange(c, h->direction, h->x_mm.data(), residual.data(), 0, m);
+      slope.AddRange(c, h->direction, h->x_mm.data(), h->k.data(), 0, m);
       misfit_total[c][d] = rr;
       q_total[c][d] = qq;
       k_total[c][d] = kk;

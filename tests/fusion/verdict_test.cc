@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -87,6 +88,51 @@ TEST(EnsembleSlope, HasAFractionOfTheNoiseOfOneCycle) {
   for (double x = -2.5; x <= 2.5; x += 0.01, ++n)
     k2 += std::pow(TrueSlope(t.truth, x), 2);
   EXPECT_LT(e_ensemble, 0.25 * std::sqrt(k2 / n));
+}
+
+// AddRange (the fits bin their residuals and slopes with it) gives the
+// sums of Add called sample by sample, to the bit: samples beyond the grid
+// or the cycles held, NaN and infinite x or values are left out alike.
+TEST(CycleBins, AddRangeIsAddSampleBySample) {
+  PlateGrid grid;
+  grid.x0_mm = -3.0;
+  grid.bin_mm = 0.01;
+  grid.bins = 600;
+  const double inf = std::numeric_limits<double>::infinity();
+  const double nan = std::nan("");
+  std::vector<double> x, v;
+  for (int i = 0; i < 5000; ++i) {
+    x.push_back(3.3 * std::sin(0.37 * i));  // beyond the grid at both ends
+    v.push_back(30.0 + 0.01 * i + std::cos(1.3 * i));
+  }
+  x[1007] = nan, x[1008] = inf, x[1009] = -inf, v[1010] = nan, v[1011] = inf;
+  x[1012] = grid.x0_mm;                            // the first bin's edge
+  x[1013] = grid.x0_mm + grid.bins * grid.bin_mm;  // past the last bin
+  for (bool with_x : {true, false}) {
+    CycleBins one(grid, 1, 2, with_x), range(grid, 1, 2, with_x);
+    for (int cycle : {0, 1, 2, 3}) {  // 0 and 3 are not held
+      for (int direction : {+1, -1}) {
+        const Eigen::Index begin = 100 * cycle + (direction > 0 ? 0 : 50);
+        const Eigen::Index end = begin + 2500;
+        for (Eigen::Index i = begin; i < end; ++i)
+          one.Add(cycle, direction, x[i], v[i]);
+        range.AddRange(cycle, direction, x.data(), v.data(), begin, end);
+      }
+    }
+    for (int cycle : {1, 2}) {
+      for (int direction : {+1, -1}) {
+        const CycleBins::Sums a = one.Cycle(cycle, direction);
+        const CycleBins::Sums b = range.Cycle(cycle, direction);
+        EXPECT_EQ(a.count, b.count);
+        EXPECT_EQ(a.value, b.value);
+        EXPECT_EQ(a.x, b.x);
+        long held = 0;
+        for (int n : a.count) held += n;
+        EXPECT_GT(held, 1500);  // most samples land (|x| < 3 mm: 73%)
+        EXPECT_LT(held, 2000);
+      }
+    }
+  }
 }
 
 // The ensemble's local polynomial on a noise-free cubic P(x) = a x^3: the

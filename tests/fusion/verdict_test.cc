@@ -395,6 +395,49 @@ TEST(DataWarnings, GrossSlipByTheFallbackOnMostHalfCycles) {
 namespace wearscar::fusion {
 namespace {
 
+// FuseOptions::parallel = false (an audit's workers) runs every stage on
+// the caller's thread: the same result to the bit, and a scan that cannot
+// serve is left out with the same warning.
+TEST(AnalyzeTest, OnTheCallersThreadAloneGivesTheSameResult) {
+  samples::SimulationOptions o = samples::PaperCase("B-RT-R", false);
+  o.cycles = 40;
+  samples::SimulatedTest t = samples::Simulate(o);
+  FuseOptions threads, alone;
+  alone.parallel = false;
+  const TestResult a = AnalyzeTest(t.record, t.scan, threads);
+  const TestResult b = AnalyzeTest(t.record, t.scan, alone);
+  ASSERT_TRUE(a.scan.has_value());
+  ASSERT_TRUE(b.scan.has_value());
+  ASSERT_EQ(a.force.fit_force.size(), 40u);
+  ASSERT_EQ(b.force.fit_force.size(), 40u);
+  for (size_t c = 0; c < 40; ++c) {
+    EXPECT_EQ(a.force.fit_force[c].mu_hat, b.force.fit_force[c].mu_hat) << c;
+    EXPECT_EQ(a.scan->fit_scan[c].mu_hat, b.scan->fit_scan[c].mu_hat) << c;
+  }
+  EXPECT_EQ(a.scan->alignment.shift_mm, b.scan->alignment.shift_mm);
+  ASSERT_EQ(a.friction_map.mu_corrected.size(),
+            b.friction_map.mu_corrected.size());
+  for (size_t i = 0; i < a.friction_map.mu_corrected.size(); ++i) {
+    const double p = a.friction_map.mu_corrected[i],
+                 q = b.friction_map.mu_corrected[i];
+    EXPECT_TRUE(p == q || (std::isnan(p) && std::isnan(q))) << i;
+  }
+  ASSERT_TRUE(a.lugre.has_value());
+  ASSERT_TRUE(b.lugre.has_value());
+  EXPECT_EQ(a.lugre->cost, b.lugre->cost);
+  EXPECT_EQ(a.verdict.Summary(), b.verdict.Summary());
+  EXPECT_EQ(a.track_history.waviness_sd_mm, b.track_history.waviness_sd_mm);
+  // The scan's error surfaces where the threads' would: the same warning.
+  t.scan.dx_mm /= 10;
+  t.scan.dy_mm /= 10;
+  const TestResult c = AnalyzeTest(t.record, t.scan, threads);
+  const TestResult d = AnalyzeTest(t.record, t.scan, alone);
+  EXPECT_FALSE(d.scan.has_value());
+  EXPECT_FALSE(d.scan_skipped.empty());
+  EXPECT_EQ(c.scan_skipped, d.scan_skipped);
+  EXPECT_EQ(c.warnings, d.warnings);
+}
+
 TEST(ScanThatCannotServe, LeavesTheForceSideStandingAndSaysWhy) {
   // A scan whose pixel is read 10x too small (a wrong calibration row)
   // cannot cover the stroke: the test goes on with k from P, and the

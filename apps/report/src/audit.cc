@@ -192,11 +192,17 @@ AuditResult Audit(const std::vector<fusion::Specimen>& specimens,
                o.batch.jobs > 0 ? static_cast<size_t>(o.batch.jobs) : cores);
   std::optional<GnuplotPool> pool;
   if (workers > 1) pool.emplace();
+  // As many workers as cores also analyse each specimen on their own
+  // thread: more threads than cores were only switched between (the audit
+  // of 12 full-size tests on 2 cores: 0.96x the time, peak memory 233 ->
+  // 190 MiB).
+  AuditOptions worker_options = o;
+  if (workers >= cores) worker_options.fuse.parallel = false;
   fusion::ForEachSpecimen(
       specimens.size(),
       o.batch.jobs,
       [&](size_t i) {
-        AuditSpecimen(o,
+        AuditSpecimen(worker_options,
                       out,
                       specimens[i],
                       &result.specimens[i],

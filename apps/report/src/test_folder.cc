@@ -26,9 +26,9 @@ nlohmann::json WriteTestResults(const std::string& dir,
   // MakeTestProducts would have put them, under "provenance".
   std::future<fusion::Provenance> provenance;
   if (w.provenance) {
-    provenance = std::async(std::launch::async, [&record, &r] {
-      return fusion::TestProvenance(record, r);
-    });
+    provenance =
+        std::async(o.parallel ? std::launch::async : std::launch::deferred,
+                   [&record, &r] { return fusion::TestProvenance(record, r); });
   }
   fusion::ProductOptions without_provenance = w;
   without_provenance.provenance = false;

@@ -69,6 +69,12 @@ struct FuseOptions {
   bool fit_lugre = true;
   LugreOptions lugre;
   int detail_cycle = -1;  // cycle for LuGre and the detail outputs; -1 = last
+  // The scan's preparation and the products that need only the force side
+  // run on threads of their own beside the force analysis (and a test's
+  // folder checksums its inputs beside its tables). False runs all of it
+  // on the caller's thread, for callers whose own threads keep every core
+  // busy already (an audit's workers). The results are the same.
+  bool parallel = true;
 
   bool IsValid(std::string* why) const;
 };

@@ -16,6 +16,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "common_options.h"
@@ -240,10 +241,17 @@ std::string Audit(const std::string& input,
       fusion::FindSpecimens(input, batch);
   std::vector<nlohmann::json> rows(specimens.size());
   if (out.empty()) {
+    // As wearscar audit: as many workers as cores analyse each specimen on
+    // their own thread.
+    const size_t cores = std::max(1u, std::thread::hardware_concurrency());
+    const size_t workers = std::min(
+        specimens.size(), jobs > 0 ? static_cast<size_t>(jobs) : cores);
+    app::CommonArgs worker_args = a;
+    if (workers >= cores) worker_args.fuse.parallel = false;
     fusion::ForEachSpecimen(
         specimens.size(),
         batch.jobs,
-        [&](size_t i) { rows[i] = AuditOne(specimens[i], a, batch); },
+        [&](size_t i) { rows[i] = AuditOne(specimens[i], worker_args, batch); },
         [](long) {});
     return nlohmann::json(rows).dump();
   }

@@ -410,14 +410,22 @@ nlohmann::json SpecimenIdentity(const std::string& name,
   return j;
 }
 
+namespace {
+size_t Cores() { return std::max(1u, std::thread::hardware_concurrency()); }
+}  // namespace
+
+size_t SpecimenWorkers(size_t n, int jobs) {
+  return std::min(n, jobs > 0 ? static_cast<size_t>(jobs) : Cores());
+}
+
+bool WorkersFillCores(size_t n, int jobs) {
+  return SpecimenWorkers(n, jobs) >= Cores();
+}
+
 void ForEachSpecimen(size_t n,
                      int jobs,
                      const std::function<void(size_t)>& work,
                      const std::function<void(long)>& progress) {
-  const int threads_wanted =
-      jobs > 0
-          ? jobs
-          : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::atomic<size_t> next{0};
   std::atomic<long> done{0};
   std::mutex progress_mutex;
@@ -429,9 +437,8 @@ void ForEachSpecimen(size_t n,
     }
   };
   std::vector<std::thread> threads;
-  for (int t = 0; t < std::min<int>(threads_wanted, static_cast<int>(n)); ++t) {
+  for (size_t t = 0; t < SpecimenWorkers(n, jobs); ++t)
     threads.emplace_back(worker);
-  }
   for (auto& t : threads) t.join();
 }
 

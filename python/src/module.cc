@@ -16,7 +16,6 @@
 #include <mutex>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "common_options.h"
@@ -243,11 +242,9 @@ std::string Audit(const std::string& input,
   if (out.empty()) {
     // As wearscar audit: as many workers as cores analyse each specimen on
     // their own thread.
-    const size_t cores = std::max(1u, std::thread::hardware_concurrency());
-    const size_t workers = std::min(
-        specimens.size(), jobs > 0 ? static_cast<size_t>(jobs) : cores);
     app::CommonArgs worker_args = a;
-    if (workers >= cores) worker_args.fuse.parallel = false;
+    if (fusion::WorkersFillCores(specimens.size(), batch.jobs))
+      worker_args.fuse.parallel = false;
     fusion::ForEachSpecimen(
         specimens.size(),
         batch.jobs,

@@ -6,7 +6,6 @@
 #include <memory>
 #include <mutex>
 #include <optional>
-#include <thread>
 #include <vector>
 
 #include "wearscar/fusion/error.h"
@@ -186,10 +185,8 @@ AuditResult Audit(const std::vector<fusion::Specimen>& specimens,
   // Workers side by side keep the cores busy: each draws its specimens
   // with one gnuplot that stays (a start costs about 35 ms of CPU); a lone
   // worker draws each specimen's figures with two side by side.
-  const size_t cores = std::max(1u, std::thread::hardware_concurrency());
   const size_t workers =
-      std::min(specimens.size(),
-               o.batch.jobs > 0 ? static_cast<size_t>(o.batch.jobs) : cores);
+      fusion::SpecimenWorkers(specimens.size(), o.batch.jobs);
   std::optional<GnuplotPool> pool;
   if (workers > 1) pool.emplace();
   // As many workers as cores also analyse each specimen on their own
@@ -197,7 +194,8 @@ AuditResult Audit(const std::vector<fusion::Specimen>& specimens,
   // of 12 full-size tests on 2 cores: 0.96x the time, peak memory 233 ->
   // 190 MiB).
   AuditOptions worker_options = o;
-  if (workers >= cores) worker_options.fuse.parallel = false;
+  if (fusion::WorkersFillCores(specimens.size(), o.batch.jobs))
+    worker_options.fuse.parallel = false;
   fusion::ForEachSpecimen(
       specimens.size(),
       o.batch.jobs,

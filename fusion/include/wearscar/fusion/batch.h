@@ -93,6 +93,13 @@ SpecimenAnalysis AnalyzeSpecimen(const Specimen& specimen,
 nlohmann::json SpecimenIdentity(const std::string& name,
                                 const SpecimenNaming& naming);
 
+// The threads ForEachSpecimen runs for n specimens: `jobs` (0 = one per
+// core), at most n.
+size_t SpecimenWorkers(size_t n, int jobs);
+// Whether those workers keep every core busy: each specimen is then best
+// analysed on its worker's thread alone (FuseOptions::parallel false).
+bool WorkersFillCores(size_t n, int jobs);
+
 // Runs work(i) for every i in [0, n) on `jobs` threads (0 = one per core);
 // progress(done) is called after each, one call at a time.
 void ForEachSpecimen(size_t n,

@@ -1,7 +1,6 @@
 #include "wearscar/scan/preview.h"
 
 #include <fmt/format.h>
-#include <png.h>
 
 #include <algorithm>
 #include <cmath>
@@ -13,6 +12,7 @@
 #include "file_io.h"
 #include "wearscar/scan/level.h"
 #include "wearscar/support/check.h"
+#include "wearscar/support/png.h"
 #include "wearscar/support/robust_stats.h"
 
 namespace wearscar::scan {
@@ -24,34 +24,21 @@ using support::kPi;
 
 namespace {
 
-// PNG by libpng's simplified API (OpenCV's imgcodecs would pull in a
-// hundred libraries, GDAL among them, for this one call).
 std::string EncodePng(const cv::Mat& image, const std::string& source) {
-  png_image png;
-  std::memset(&png, 0, sizeof(png));
-  png.version = PNG_IMAGE_VERSION;
-  png.width = static_cast<png_uint_32>(image.cols);
-  png.height = static_cast<png_uint_32>(image.rows);
-  png.format = PNG_FORMAT_BGR;
-  const png_int_32 row_stride = static_cast<png_int_32>(image.step);
-  png_alloc_size_t size = 0;
-  std::string out;
-  if (png_image_write_to_memory(
-          &png, nullptr, &size, 0, image.data, row_stride, nullptr)) {
-    out.resize(size);
-    if (!png_image_write_to_memory(
-            &png, out.data(), &size, 0, image.data, row_stride, nullptr)) {
-      out.clear();
-    }
-    out.resize(size);
-  }
-  if (out.empty()) {
-    const std::string why = png.message;
-    png_image_free(&png);
+  std::string why;
+  std::string png = support::EncodePng(image.cols,
+                                       image.rows,
+                                       3,
+                                       /*bgr=*/true,
+                                       image.data,
+                                       static_cast<long>(image.step),
+                                       {},
+                                       &why);
+  if (png.empty()) {
     throw ScanError(
         fmt::format("{}: preview: PNG encoding failed: {}", source, why));
   }
-  return out;
+  return png;
 }
 
 }  // namespace

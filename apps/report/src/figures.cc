@@ -14,25 +14,222 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <map>
 #include <numeric>
 #include <string_view>
 
 #include "wearscar/fusion/products.h"
+#include "wearscar/report/html_report.h"
 #include "wearscar/report/output_folder.h"
 #include "wearscar/support/check.h"
+#include "wearscar/support/png.h"
 
 namespace wearscar::report {
 namespace {
 
 namespace fs = std::filesystem;
 
-// A figure: its file stem, title and gnuplot body (after terminal/output).
+// An image plot of a float32 grid in figure-data. In a PNG figure gnuplot
+// draws the grid (`plot`). In an SVG figure it draws a 2 x 2 stand-in of
+// the same extent and colour range (`stand_in`) and this program then puts
+// the grid, painted in the palette gnuplot would have used, in place of the
+// stand-in's embedded bitmap (`png`): gnuplot spent 20-35 ms of CPU on
+// each 7 k-50 k pixel image, most of the test's figure time, where the
+// painting and its PNG take 1-2 ms. The same pixels, to one level of 255
+// (tests/report/figures_test.cc).
+struct Raster {
+  std::string plot, stand_in, png;
+};
+
+// A figure: its file stem, title and gnuplot body (after terminal/output),
+// where RasterMarker(i) stands for the plot clause of rasters[i].
 struct Figure {
   std::string stem, title, body;
-  // gnuplot's time for it relative to a line plot's (about 5 ms in SVG
-  // beside a 30 ms start): images weigh more. Balances the two scripts.
-  int weight = 1;
+  // gnuplot's time for it in SVG, ms (DrawingMs): balances the two
+  // scripts.
+  int weight = 5;
+  std::vector<Raster> rasters = {};
 };
+
+// Where a figure's body has a raster's plot clause: ASCII record
+// separators, which no gnuplot command holds.
+std::string RasterMarker(size_t i) { return fmt::format("\x1e{}\x1e", i); }
+
+// A colour scale: gnuplot's `set palette defined` with evenly spaced
+// stops, 0xRRGGBB each.
+using Palette = std::vector<unsigned>;
+
+// The scan map's heights: violet, blue, teal, green, yellow, white.
+const Palette& HeightPalette() {
+  static const Palette p{
+      0x2c0e5a, 0x3b5ba5, 0x2fa39a, 0xa6d96a, 0xfee08b, 0xf9f9f9};
+  return p;
+}
+
+// Values over cycles and x (the friction map, the track's history): the
+// same without the white.
+const Palette& GridPalette() {
+  static const Palette p{0x2c0e5a, 0x3b5ba5, 0x2fa39a, 0xa6d96a, 0xfee08b};
+  return p;
+}
+
+std::string PaletteCommand(const Palette& p) {
+  std::string s = "set palette defined (";
+  for (size_t i = 0; i < p.size(); ++i)
+    s += fmt::format("{}{} '#{:06x}'", i ? ", " : "", i, p[i]);
+  return s + ")\n";
+}
+
+// The colour gnuplot gives `gray` (0 to 1) on `p`: linear in RGB between
+// the two stops about it, each channel rounded to 1/255.
+void PaletteColour(const Palette& p, double gray, unsigned char* rgb) {
+  const size_t n = p.size() - 1;
+  const size_t k =
+      std::min(static_cast<size_t>(std::clamp(gray, 0.0, 1.0) * n), n - 1);
+  const double from = static_cast<double>(k) / n,
+               to = static_cast<double>(k + 1) / n;
+  const double f = (gray - from) / (to - from);
+  for (int j = 0; j < 3; ++j) {
+    const int shift = 16 - 8 * j;
+    const double a = ((p[k] >> shift) & 255) / 255.0,
+                 b = ((p[k + 1] >> shift) & 255) / 255.0;
+    rgb[j] = static_cast<unsigned char>(255 * (a + f * (b - a)) + 0.5);
+  }
+}
+
+// The grid `values` (width x height, row by row from y0 upwards, NaN for
+// no value) as float32 <file> in figure-data, its pixels dx x dy centred
+// from (x0, y0): returns gnuplot's commands drawing it in `palette` over
+// its range of values, and adds its raster to `fig`. A grid without two
+// distinct values is left to gnuplot's own scaling.
+std::string ImagePlot(const std::string& dir,
+                      const std::string& file,
+                      int width,
+                      int height,
+                      double dx,
+                      double dy,
+                      double x0,
+                      double y0,
+                      const std::vector<float>& values,
+                      const Palette& palette,
+                      Figure* fig) {
+  WEARSCAR_CHECK(values.size() == static_cast<size_t>(width) * height,
+                 "an image plot has width x height values");
+  WriteTextAtomically(FigureDataPath(dir, file),
+                      std::string(reinterpret_cast<const char*>(values.data()),
+                                  values.size() * sizeof(float)));
+  const std::string plot = fmt::format(
+      "'{}/{}' binary array=({},{}) dx={} dy={} origin=({},{}) "
+      "format='%float32' with image",
+      kFigureData,
+      file,
+      width,
+      height,
+      dx,
+      dy,
+      x0,
+      y0);
+  double lo = INFINITY, hi = -INFINITY;
+  for (float v : values) {
+    if (!std::isfinite(v)) continue;
+    lo = std::min<double>(lo, v);
+    hi = std::max<double>(hi, v);
+  }
+  if (!(hi > lo)) return "plot " + plot;
+  // Rows of RGBA from the top (the grid's last row); transparent where the
+  // grid has no value, as gnuplot leaves it.
+  std::vector<unsigned char> rgba(values.size() * 4, 0);
+  for (int r = 0; r < height; ++r) {
+    const float* row =
+        values.data() + static_cast<size_t>(height - 1 - r) * width;
+    unsigned char* out = rgba.data() + static_cast<size_t>(r) * width * 4;
+    for (int c = 0; c < width; ++c, out += 4) {
+      if (!std::isfinite(row[c])) continue;
+      PaletteColour(palette, (row[c] - lo) / (hi - lo), out);
+      out[3] = 255;
+    }
+  }
+  std::string why;
+  // zlib's fastest level, no row filters: 1.6-1.9 ms for a 256 x 192
+  // map, against 16 ms for libpng's default, the PNG no larger.
+  std::string png = support::EncodePng(width,
+                                       height,
+                                       4,
+                                       /*bgr=*/false,
+                                       rgba.data(),
+                                       4L * width,
+                                       {1, PNG_FILTER_NONE},
+                                       &why);
+  if (png.empty()) return "plot " + plot;  // gnuplot draws it then
+  WriteTextAtomically(FigureDataPath(dir, "stand_in.f32"),
+                      std::string(4 * sizeof(float), '\0'));
+  // Two pixels each way over the grid's extent.
+  const double sx = 0.5 * width * dx, sy = 0.5 * height * dy;
+  const std::string stand_in = fmt::format(
+      "'{}/stand_in.f32' binary array=(2,2) dx={} dy={} origin=({},{}) "
+      "format='%float32' with image",
+      kFigureData,
+      sx,
+      sy,
+      x0 - 0.5 * dx + 0.5 * sx,
+      y0 - 0.5 * dy + 0.5 * sy);
+  fig->rasters.push_back({plot, stand_in, std::move(png)});
+  return fmt::format("set cbrange [{}:{}]\nplot {}",
+                     lo,
+                     hi,
+                     RasterMarker(fig->rasters.size() - 1));
+}
+
+// A figure's body for `term`: each raster's clause in place of its marker;
+// in SVG the stand-ins, with the clause that draws the grid itself in a
+// comment (for whoever runs the script on its own).
+std::string BodyFor(const Figure& f, const std::string& term) {
+  std::string body = f.body, note;
+  for (size_t i = 0; i < f.rasters.size(); ++i) {
+    const std::string marker = RasterMarker(i);
+    const size_t at = body.find(marker);
+    WEARSCAR_CHECK(at != std::string::npos, "a raster's marker is in its body");
+    const bool svg = term == "svg";
+    body.replace(
+        at, marker.size(), svg ? f.rasters[i].stand_in : f.rasters[i].plot);
+    if (svg) {
+      note += fmt::format(
+          "# wearscar puts image {} into the SVG over its 2 x 2 stand-in; "
+          "gnuplot draws it with: plot {}\n",
+          i + 1,
+          f.rasters[i].plot);
+    }
+  }
+  return note + body;
+}
+
+// Puts the rasters' PNGs, in order, in place of the bitmaps gnuplot
+// embedded in the SVG at `path` for their stand-ins. False (the file
+// left as it is) when the SVG does not hold one bitmap per raster.
+bool PaintRasters(const std::string& path, const std::vector<Raster>& rasters) {
+  if (rasters.empty()) return true;
+  std::ifstream in(path, std::ios::binary);
+  if (!in.is_open()) return false;
+  const std::string svg((std::istreambuf_iterator<char>(in)),
+                        std::istreambuf_iterator<char>());
+  static constexpr std::string_view kData = "data:image/png;base64,";
+  std::string out;
+  size_t from = 0, k = 0;
+  for (size_t at = svg.find(kData); at != std::string::npos;
+       at = svg.find(kData, from)) {
+    const size_t payload = at + kData.size();
+    const size_t end = svg.find_first_of("'\"", payload);
+    if (k == rasters.size() || end == std::string::npos) return false;
+    out.append(svg, from, payload - from);
+    out += Base64(rasters[k++].png);
+    from = end;
+  }
+  if (k != rasters.size()) return false;
+  out.append(svg, from, std::string::npos);
+  WriteTextAtomically(path, out);
+  return true;
+}
 
 std::string Quote(const std::string& s) {
   std::string out = "'";
@@ -104,10 +301,13 @@ std::vector<const char*> Terms(const FigureFormats& formats) {
   return terms;
 }
 
-// Runs gnuplot on two scripts side by side (two processes), each drawing
-// every other figure in each format asked for, so that both cores are
-// busy. Each figure is drawn under a temporary name and renamed into place
-// only when it is there, not empty and of its format: a killed or failed
+// Runs gnuplot on the figures in each format asked for: with PNG on two
+// scripts side by side (two processes, the figures split by weight), so
+// that both cores are busy (0.67x the wall time of one on the full-size
+// test); in SVG alone one gnuplot draws them all as fast as two (0.123
+// against 0.124 s) for half the CPU, the second's start costing what the
+// split saves. Each figure is drawn under a temporary name and renamed into
+// place only when it is there, not empty and of its format: a killed or failed
 // gnuplot leaves no half figure. What was asked for and not drawn is in
 // the set's `missing`, with a message.
 FigureSet Draw(const std::string& dir,
@@ -116,14 +316,21 @@ FigureSet Draw(const std::string& dir,
                int processes = 2,
                GnuplotSession* session = nullptr) {
   const std::vector<const char*> terms = Terms(formats);
-  const size_t scripts = std::min<size_t>(
-      session != nullptr ? 1 : static_cast<size_t>(std::clamp(processes, 1, 2)),
-      figures.size());
+  const size_t scripts =
+      std::min<size_t>(session != nullptr || !formats.png
+                           ? 1
+                           : static_cast<size_t>(std::clamp(processes, 1, 2)),
+                       figures.size());
   // Heaviest first, each to the script with the least weight so far.
   std::vector<size_t> order(figures.size());
   std::iota(order.begin(), order.end(), size_t{0});
+  // In PNG gnuplot draws each image itself, 15-35 ms.
+  const auto weight = [&](const Figure& f) {
+    return f.weight +
+           (formats.png ? 25 * static_cast<int>(f.rasters.size()) : 0);
+  };
   std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
-    return figures[a].weight > figures[b].weight;
+    return weight(figures[a]) > weight(figures[b]);
   });
   std::vector<std::vector<size_t>> parts(scripts);
   std::vector<int> load(scripts, 0);
@@ -131,7 +338,7 @@ FigureSet Draw(const std::string& dir,
     const size_t k = static_cast<size_t>(
         std::min_element(load.begin(), load.end()) - load.begin());
     parts[k].push_back(i);
-    load[k] += figures[i].weight;
+    load[k] += weight(figures[i]);
   }
   const std::string preamble =
       "set datafile separator ','\nset datafile missing ''\nset grid\nset "
@@ -151,7 +358,8 @@ FigureSet Draw(const std::string& dir,
         script += fmt::format("set output {}\nset title {} noenhanced\n",
                               Quote(f.stem + "." + term + ".part"),
                               Quote(f.title));
-        script += f.body + "\nunset output\nreset session\n" + preamble;
+        script +=
+            BodyFor(f, term) + "\nunset output\nreset session\n" + preamble;
       }
     }
     const std::string name = fmt::format("figures_{}.gp", k + 1);
@@ -172,6 +380,7 @@ FigureSet Draw(const std::string& dir,
           (fs::path(dir) / (f.stem + "." + term)).string();
       const std::string part = final_path + ".part";
       if (LooksDrawn(part, term) &&
+          (std::string(term) != "svg" || PaintRasters(part, f.rasters)) &&
           std::rename(part.c_str(), final_path.c_str()) == 0) {
         set.files.push_back(final_path);
         if (shown.empty()) shown = final_path;
@@ -242,7 +451,7 @@ void WriteScanMap(const std::string& dir,
   const int f = std::max<int>(1, static_cast<int>(std::ceil(m.cols() / 320.0)));
   const int w = static_cast<int>(m.cols() / f),
             h = static_cast<int>(m.rows() / f);
-  std::string bytes(static_cast<size_t>(w) * h * 4, '\0');
+  std::vector<float> values(static_cast<size_t>(w) * h);
   for (int r = 0; r < h; ++r) {
     for (int c = 0; c < w; ++c) {
       double sum = 0;
@@ -255,35 +464,44 @@ void WriteScanMap(const std::string& dir,
           }
         }
       }
-      const float v = n > 0 ? static_cast<float>(1e3 * sum / n) : NAN;  // um
-      std::memcpy(bytes.data() + 4 * (static_cast<size_t>(r) * w + c), &v, 4);
+      values[static_cast<size_t>(r) * w + c] =
+          n > 0 ? static_cast<float>(1e3 * sum / n) : NAN;  // um
     }
   }
-  WriteTextAtomically(FigureDataPath(dir, "scan_map.f32"), bytes);
   const double dx = f * m.dx_mm, dy = f * m.dy_mm;
   const double bar = ScaleBarMm(w * dx), x0 = 0.05 * w * dx, y0 = 0.06 * h * dy;
+  // The axes span the map (gnuplot's autoscale would round them out to
+  // tic marks, and differently for the SVG's stand-in, see Raster).
   fig->body = fmt::format(
       "set size ratio -1\nset xlabel 'x (mm)'\nset ylabel 'y (mm)'\nset "
-      "cblabel 'height (um)'\n"
-      "set palette defined (0 '#2c0e5a', 1 '#3b5ba5', 2 '#2fa39a', 3 "
-      "'#a6d96a', 4 '#fee08b', 5 '#f9f9f9')\nset key bottom right inside "
-      "opaque\n"
-      "set arrow 1 from first {5}, first {6} to first {7}, first {6} nohead "
+      "cblabel 'height (um)'\n{0}set key bottom right inside opaque\n"
+      "set xrange [{8}:{9}]\nset yrange [{10}:{11}]\n"
+      "set arrow 1 from first {1}, first {2} to first {3}, first {2} nohead "
       "lw 4 lc rgb 'black' front\n"
-      "set label 1 '{8:g} mm' at first {9}, first {10} center front\n"
-      "plot '{4}/scan_map.f32' binary array=({0},{1}) dx={2} dy={3} "
-      "origin=(0,0) format='%float32' with image notitle",
-      w,
-      h,
-      dx,
-      dy,
-      kFigureData,
+      "set label 1 '{4:g} mm' at first {5}, first {6} center front\n"
+      "{7} notitle",
+      PaletteCommand(HeightPalette()),
       x0,
       y0,
       x0 + bar,
       bar,
       x0 + bar / 2,
-      y0 + 0.05 * h * dy);
+      y0 + 0.05 * h * dy,
+      ImagePlot(dir,
+                "scan_map.f32",
+                w,
+                h,
+                dx,
+                dy,
+                0,
+                0,
+                values,
+                HeightPalette(),
+                fig),
+      -0.5 * dx,
+      (w - 0.5) * dx,
+      -0.5 * dy,
+      (h - 0.5) * dy);
   if (!t) return;
   WriteTrackOutline(dir, *t);
   fig->body += fmt::format(
@@ -552,8 +770,7 @@ void AddScanFigures(const std::string& dir,
   if (r.scan) {
     Figure map{"fig08ab_scan_map",
                name + ": levelled scan, detected track (Fig. 8a-b)",
-               "",
-               6};
+               ""};
     WriteScanMap(dir, r.scan->levelled, &r.scan->track, &map);
     figs->push_back(map);
     figs->push_back(
@@ -636,34 +853,35 @@ void AddDetailFigures(const std::string& name,
 
 // One direction of a (cycle, direction, bin) table as float32 rows of
 // bins, one row per cycle, for gnuplot's binary array reader (NaN = empty
-// bin); returns the `plot` clause drawing it as an image, bins centred on
-// x and cycles from 1. An image is one bitmap: drawing ten thousand boxes
-// instead took gnuplot about half a second per figure and format.
+// bin); returns the commands drawing it as an image (ImagePlot), bins
+// centred on x and cycles from 1. An image is one bitmap: drawing ten
+// thousand boxes instead took gnuplot about half a second per figure and
+// format.
 template <typename Value>
 std::string WriteCycleGrid(const std::string& dir,
                            const std::string& file,
                            const std::vector<double>& x_mm,
                            int cycles,
-                           Value value) {
+                           Value value,
+                           Figure* fig) {
   const size_t bins = x_mm.size();
-  std::string bytes(4 * bins * static_cast<size_t>(cycles), '\0');
+  std::vector<float> values(bins * static_cast<size_t>(cycles));
   for (int c = 0; c < cycles; ++c) {
-    for (size_t b = 0; b < bins; ++b) {
-      const float v = static_cast<float>(value(c, b));
-      std::memcpy(
-          bytes.data() + 4 * (static_cast<size_t>(c) * bins + b), &v, 4);
-    }
+    for (size_t b = 0; b < bins; ++b)
+      values[static_cast<size_t>(c) * bins + b] =
+          static_cast<float>(value(c, b));
   }
-  WriteTextAtomically(FigureDataPath(dir, file), bytes);
-  return fmt::format(
-      "plot '{}/{}' binary array=({},{}) dx={} dy=1 origin=({},1) "
-      "format='%float32' with image",
-      kFigureData,
-      file,
-      bins,
-      cycles,
-      x_mm[1] - x_mm[0],
-      x_mm[0]);
+  return ImagePlot(dir,
+                   file,
+                   static_cast<int>(bins),
+                   cycles,
+                   x_mm[1] - x_mm[0],
+                   1,
+                   x_mm[0],
+                   1,
+                   values,
+                   GridPalette(),
+                   fig);
 }
 
 // The friction map: mu along the stroke (x) and over the cycles, raw
@@ -680,12 +898,22 @@ void AddFrictionMapFigure(const std::string& dir,
     return [&m, &mu](int c, size_t b) { return mu[m.Index(c, 0, b)]; };
   };
   const double half = 0.5 * (m.x_mm[1] - m.x_mm[0]);
-  std::string body = fmt::format(
+  Figure fig{"fig_friction_map",
+             name + ": friction map mu(x, cycle), raw and corrected",
+             ""};
+  const std::string raw = WriteCycleGrid(
+      dir, "friction_map_raw.f32", m.x_mm, m.cycles, forward(m.mu_raw), &fig);
+  const std::string corrected = WriteCycleGrid(dir,
+                                               "friction_map_corrected.f32",
+                                               m.x_mm,
+                                               m.cycles,
+                                               forward(m.mu_corrected),
+                                               &fig);
+  fig.body = fmt::format(
       "set multiplot layout {0},1 title 'spatial variation of mu after "
       "running-in: corrected {1:.4f} (noise floor {2:.4f}), raw {3:.4f}'\n"
-      "unset key\nset ylabel 'cycle'\nset cblabel 'mu'\nset palette "
-      "defined (0 '#2c0e5a', 1 '#3b5ba5', 2 '#2fa39a', 3 '#a6d96a', 4 "
-      "'#fee08b')\nset xrange [{4}:{5}]\nset yrange [0.5:{6}]\n"
+      "unset key\nset ylabel 'cycle'\nset cblabel 'mu'\n{9}"
+      "set xrange [{4}:{5}]\nset yrange [0.5:{6}]\n"
       "set lmargin 10\nset rmargin 16\n"
       "set title 'raw: s Q / P (forward)'\n{7}\n"
       "set title 'corrected for the slope: s (Q - P k) / (P + k Q) "
@@ -697,26 +925,19 @@ void AddFrictionMapFigure(const std::string& dir,
       m.x_mm.front() - half,
       m.x_mm.back() + half,
       m.cycles + 0.5,
-      WriteCycleGrid(
-          dir, "friction_map_raw.f32", m.x_mm, m.cycles, forward(m.mu_raw)),
-      WriteCycleGrid(dir,
-                     "friction_map_corrected.f32",
-                     m.x_mm,
-                     m.cycles,
-                     forward(m.mu_corrected)));
+      raw,
+      corrected,
+      PaletteCommand(GridPalette()));
   if (r.scan) {
-    body +=
+    fig.body +=
         "set title 'the track along x'\nset key inside top right\nset xlabel "
         "'x (mm)'\nset "
         "ylabel 'height (mm)'\nplot 'profiles.csv' skip 1 using 1:(-$4) with "
         "lines title '-P/S (mean of both directions)', '' skip 1 using 1:(-$6) "
         "with lines lw 2 title 'scan (aligned, scaled)'\n";
   }
-  body += "unset multiplot";
-  figs->push_back({"fig_friction_map",
-                   name + ": friction map mu(x, cycle), raw and corrected",
-                   body,
-                   2});
+  fig.body += "unset multiplot";
+  figs->push_back(std::move(fig));
 }
 
 // The track's history from the spring: h(x, cycle) = P/S about its mean
@@ -728,36 +949,37 @@ void AddTrackHistoryFigure(const std::string& dir,
   const auto& h = r.track_history;
   if (h.x_mm.size() < 2 || h.cycles < 2) return;
   const double half = 0.5 * (h.x_mm[1] - h.x_mm[0]);
-  figs->push_back(
-      {"fig_track_history",
-       name + ": the track's history from the spring, h(x, cycle) = P/S",
-       fmt::format(
-           "set multiplot layout 2,1 title 'waviness {0:.4f} mm in cycle 1, "
-           "{1:.4f} mm at the end; steady from cycle {2}'\nset lmargin 10\n"
-           "set rmargin 16\nset palette "
-           "defined (0 '#2c0e5a', 1 '#3b5ba5', 2 '#2fa39a', 3 '#a6d96a', 4 "
-           "'#fee08b')\nset xlabel 'x (mm)'\nset ylabel 'cycle'\nset "
-           "cblabel 'h (mm)'\nunset key\nset title 'h(x, cycle): P/S about its "
-           "mean, forward sliding'\nset xrange [{5}:{6}]\nset yrange "
-           "[0.5:{7}]\n{3}\nset autoscale\nset xlabel 'cycle'\nset ylabel "
-           "'waviness (mm)'\nunset colorbox\nset title 'waviness: the sd of "
-           "h along the stroke'\n"
-           "plot 'cycles.csv' skip 1 using 1:{4} with lines lw 2\n"
-           "unset multiplot",
-           h.waviness_sd_mm.front(),
-           h.final_waviness_sd_mm,
-           h.steady_cycle + 1,
-           WriteCycleGrid(
-               dir,
-               "track_history.f32",
-               h.x_mm,
-               h.cycles,
-               [&h](int c, size_t b) { return h.height_mm[h.Index(c, 0, b)]; }),
-           Col("waviness_sd_mm"),
-           h.x_mm.front() - half,
-           h.x_mm.back() + half,
-           h.cycles + 0.5),
-       5});
+  Figure fig{"fig_track_history",
+             name + ": the track's history from the spring, h(x, cycle) = P/S",
+             ""};
+  const std::string grid = WriteCycleGrid(
+      dir,
+      "track_history.f32",
+      h.x_mm,
+      h.cycles,
+      [&h](int c, size_t b) { return h.height_mm[h.Index(c, 0, b)]; },
+      &fig);
+  fig.body = fmt::format(
+      "set multiplot layout 2,1 title 'waviness {0:.4f} mm in cycle 1, "
+      "{1:.4f} mm at the end; steady from cycle {2}'\nset lmargin 10\n"
+      "set rmargin 16\n{8}set xlabel 'x (mm)'\nset ylabel 'cycle'\nset "
+      "cblabel 'h (mm)'\nunset key\nset title 'h(x, cycle): P/S about its "
+      "mean, forward sliding'\nset xrange [{5}:{6}]\nset yrange "
+      "[0.5:{7}]\n{3}\nset autoscale\nset xlabel 'cycle'\nset ylabel "
+      "'waviness (mm)'\nunset colorbox\nset title 'waviness: the sd of "
+      "h along the stroke'\n"
+      "plot 'cycles.csv' skip 1 using 1:{4} with lines lw 2\n"
+      "unset multiplot",
+      h.waviness_sd_mm.front(),
+      h.final_waviness_sd_mm,
+      h.steady_cycle + 1,
+      grid,
+      Col("waviness_sd_mm"),
+      h.x_mm.front() - half,
+      h.x_mm.back() + half,
+      h.cycles + 0.5,
+      PaletteCommand(GridPalette()));
+  figs->push_back(std::move(fig));
 }
 
 // Figs. 13-15 per cycle.
@@ -829,6 +1051,28 @@ void AddCycleFigures(const std::string& name,
 
 namespace {
 
+// gnuplot's time for each figure of a test in SVG, ms (the least of five
+// runs on the full-size test, beside a start of 31 ms; an image is drawn
+// as a stand-in, see Raster).
+int DrawingMs(const std::string& stem) {
+  static const std::map<std::string, int> kMs{{"fig05_q_envelope", 5},
+                                              {"fig06_p_envelope", 3},
+                                              {"fig07_loops", 10},
+                                              {"fig08ab_scan_map", 2},
+                                              {"fig08cd_profiles", 11},
+                                              {"fig10_slope", 5},
+                                              {"fig11_cost", 4},
+                                              {"fig12_reconstruction", 7},
+                                              {"fig13_mu_hat", 9},
+                                              {"fig14_cost", 6},
+                                              {"fig15_energy_cof", 3},
+                                              {"fig17_lugre", 8},
+                                              {"fig_friction_map", 8},
+                                              {"fig_track_history", 4}};
+  const auto it = kMs.find(stem);
+  return it == kMs.end() ? 5 : it->second;
+}
+
 std::vector<Figure> TestFigures(const std::string& dir,
                                 const std::string& name,
                                 const fusion::TestResult& r,
@@ -840,6 +1084,7 @@ std::vector<Figure> TestFigures(const std::string& dir,
   AddCycleFigures(name, r, opt, &figs);
   AddFrictionMapFigure(dir, name, r, &figs);
   AddTrackHistoryFigure(dir, name, r, &figs);
+  for (Figure& f : figs) f.weight = DrawingMs(f.stem);
   return figs;
 }
 

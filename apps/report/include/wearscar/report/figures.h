@@ -81,9 +81,11 @@ bool PlotterAvailable(std::string* why);
 // The figures of one test (the paper's Figs. 5-8, 10-15, 17, the friction
 // map and the track's history), drawn by gnuplot from the CSV files
 // WriteTestResults wrote into `dir`. Writes the scan map data first when
-// the result has a scan. `processes` gnuplots share the figures side by
-// side: 2 keep both cores of a single test busy; 1 where the caller's
-// workers already do. Workers drawing test after test (an audit) use the
+// the result has a scan. With PNG, `processes` gnuplots share the figures
+// side by side: 2 keep both cores of a single test busy; 1 where the
+// caller's workers already do (SVG alone is drawn by one gnuplot, as fast
+// as by two). Images are painted by this program into the SVG (gnuplot
+// draws them in PNG). Workers drawing test after test (an audit) use the
 // overload below with a GnuplotSession each, sparing a gnuplot start per
 // test.
 FigureSet DrawTestFigures(const std::string& dir,

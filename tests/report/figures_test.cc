@@ -1,0 +1,202 @@
+// wearscar::report's image figures: in SVG gnuplot draws a 2 x 2 stand-in
+// and wearscar paints the grid into its place. Judged against gnuplot's own
+// rendering of the same grid from the same script.
+#include "wearscar/report/figures.h"
+
+#include <gtest/gtest.h>
+#include <png.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <string>
+#include <vector>
+
+#include "report_helpers.h"
+#include "wearscar/report/html_report.h"
+
+namespace wearscar::report {
+namespace {
+
+namespace fs = std::filesystem;
+using test_support::Slurp;
+
+struct Bitmap {
+  int width = 0, height = 0;
+  std::vector<unsigned char> rgba;
+  int At(int row, int col, int channel) const {
+    return rgba[(static_cast<size_t>(row) * width + col) * 4 + channel];
+  }
+};
+
+std::string FromBase64(const std::string& text) {
+  static const std::string kAlphabet =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  unsigned value = 0;
+  int bits = 0;
+  for (char c : text) {
+    const size_t v = kAlphabet.find(c);
+    if (v == std::string::npos) continue;  // '=' padding
+    value = (value << 6) | static_cast<unsigned>(v);
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      out += static_cast<char>((value >> bits) & 255);
+    }
+  }
+  return out;
+}
+
+// Every bitmap embedded in an SVG, decoded to RGBA, and the <image>
+// elements' placement (their attributes before the data). std::regex
+// recurses per character: no use on 80 KB of base64.
+void Images(const std::string& svg,
+            std::vector<Bitmap>* bitmaps,
+            std::vector<std::string>* places) {
+  static const std::string kData = "data:image/png;base64,";
+  for (size_t at = svg.find("<image "); at != std::string::npos;
+       at = svg.find("<image ", at + 1)) {
+    const size_t data = svg.find(kData, at);
+    ASSERT_NE(data, std::string::npos);
+    const size_t end = svg.find_first_of("'\"", data);
+    ASSERT_NE(end, std::string::npos);
+    places->push_back(svg.substr(at, svg.find(" xlink:href", at) - at));
+    const std::string png =
+        FromBase64(svg.substr(data + kData.size(), end - data - kData.size()));
+    png_image img;
+    std::memset(&img, 0, sizeof(img));
+    img.version = PNG_IMAGE_VERSION;
+    ASSERT_TRUE(png_image_begin_read_from_memory(&img, png.data(), png.size()))
+        << img.message;
+    img.format = PNG_FORMAT_RGBA;
+    Bitmap b;
+    b.width = static_cast<int>(img.width);
+    b.height = static_cast<int>(img.height);
+    b.rgba.resize(PNG_IMAGE_SIZE(img));
+    ASSERT_TRUE(png_image_finish_read(&img, nullptr, b.rgba.data(), 0, nullptr))
+        << img.message;
+    bitmaps->push_back(std::move(b));
+  }
+}
+
+// A levelled map of 300 x 200 pixels, 10 um pitch: a groove along x with
+// a tilt, and a block of unmeasured pixels near the origin (bottom left
+// of the figure).
+fusion::MapAnalysis GroovedMap() {
+  fusion::MapAnalysis a;
+  scan::HeightMap& m = a.levelled;
+  m.Resize(200, 300);
+  m.dx_mm = m.dy_mm = 0.01;
+  m.metadata.source = "figures_test";
+  for (int r = 0; r < 200; ++r) {
+    for (int c = 0; c < 300; ++c) {
+      const double y = r * 0.01, x = c * 0.01;
+      const bool hole = r >= 10 && r < 30 && c >= 20 && c < 60;
+      m.height_mm(r, c) =
+          hole ? NAN
+               : static_cast<float>(
+                     -0.02 * std::exp(-std::pow((y - 1.0) / 0.3, 2)) +
+                     0.004 * x + 0.001 * std::sin(7 * x));
+      m.valid(r, c) = hole ? 0 : 1;
+    }
+  }
+  return a;
+}
+
+TEST(ImageFigures, TheSvgHoldsThePixelsGnuplotDrawsFromTheGrid) {
+  std::string why;
+  if (!PlotterAvailable(&why)) GTEST_SKIP() << why;
+  const fs::path dir = test_support::FreshFolder("raster");
+  const fusion::MapAnalysis map = GroovedMap();
+  const FigureSet set = DrawMapFigure(dir.string(), "grooved", map);
+  ASSERT_TRUE(set.missing.empty()) << set.message;
+  std::vector<Bitmap> ours;
+  std::vector<std::string> our_places;
+  Images(Slurp(dir / "scan_map.svg"), &ours, &our_places);
+  ASSERT_EQ(ours.size(), 1u);
+
+  // The script draws a stand-in and names the clause drawing the grid
+  // itself; that clause, run in the same script, is gnuplot's own figure.
+  std::string script = Slurp(dir / kFigureData / "figures_1.gp");
+  std::smatch own;
+  ASSERT_TRUE(std::regex_search(
+      script, own, std::regex("gnuplot draws it with: plot ([^\n]*)")));
+  EXPECT_NE(own[1].str().find("scan_map.f32' binary array=(300,200)"),
+            std::string::npos);
+  const std::regex stand_in("'figure-data/stand_in\\.f32'[^\n]*?with image");
+  ASSERT_TRUE(std::regex_search(script, stand_in));
+  script = std::regex_replace(script, stand_in, own[1].str());
+  script = std::regex_replace(
+      script, std::regex("scan_map\\.svg\\.part"), "reference.svg");
+  // The colour range is the grid's, in um.
+  float lo = INFINITY, hi = -INFINITY;
+  for (int r = 0; r < 200; ++r) {
+    for (int c = 0; c < 300; ++c) {
+      const float v = 1e3f * map.levelled.height_mm(r, c);
+      if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+    }
+  }
+  std::smatch range;
+  ASSERT_TRUE(std::regex_search(
+      script, range, std::regex("set cbrange \\[([^:]*):([^\\]]*)\\]")));
+  EXPECT_DOUBLE_EQ(std::stod(range[1]), static_cast<double>(lo));
+  EXPECT_DOUBLE_EQ(std::stod(range[2]), static_cast<double>(hi));
+  std::ofstream(dir / kFigureData / "reference.gp") << script;
+  ASSERT_TRUE(RunGnuplotScript(dir.string(), "reference.gp"));
+  std::vector<Bitmap> theirs;
+  std::vector<std::string> their_places;
+  Images(Slurp(dir / "reference.svg"), &theirs, &their_places);
+  ASSERT_EQ(theirs.size(), 1u);
+
+  // Placed where gnuplot places the grid, pixel for pixel its colours.
+  EXPECT_EQ(our_places[0], their_places[0]);
+  const Bitmap &a = ours[0], &b = theirs[0];
+  ASSERT_EQ(a.width, 300);
+  ASSERT_EQ(a.height, 200);
+  ASSERT_EQ(b.width, a.width);
+  ASSERT_EQ(b.height, a.height);
+  int worst = 0, transparent = 0;
+  for (size_t i = 0; i < a.rgba.size(); ++i) {
+    worst = std::max(worst, std::abs(a.rgba[i] - b.rgba[i]));
+  }
+  for (int r = 0; r < a.height; ++r) {
+    for (int c = 0; c < a.width; ++c) transparent += a.At(r, c, 3) == 0;
+  }
+  EXPECT_LE(worst, 1);
+  // The unmeasured block: transparent, at the bottom left (the map's first
+  // rows are the figure's lowest).
+  EXPECT_EQ(transparent, 20 * 40);
+  EXPECT_EQ(a.At(199 - 15, 30, 3), 0);
+  EXPECT_EQ(a.At(15, 30, 3), 255);
+  // The groove (y = 1 mm, row 100) is the deepest: the palette's first
+  // colour, dark violet #2c0e5a, within rounding.
+  EXPECT_NEAR(a.At(199 - 100, 0, 0), 0x2c, 12);
+  EXPECT_NEAR(a.At(199 - 100, 0, 2), 0x5a, 12);
+}
+
+TEST(ImageFigures, AFlatGridIsLeftToGnuplot) {
+  std::string why;
+  if (!PlotterAvailable(&why)) GTEST_SKIP() << why;
+  const fs::path dir = test_support::FreshFolder("flat-raster");
+  fusion::MapAnalysis map = GroovedMap();
+  map.levelled.height_mm.setZero();
+  map.levelled.valid.setOnes();
+  const FigureSet set = DrawMapFigure(dir.string(), "flat", map);
+  ASSERT_TRUE(set.missing.empty()) << set.message;
+  const std::string script = Slurp(dir / kFigureData / "figures_1.gp");
+  EXPECT_EQ(script.find("stand_in"), std::string::npos);
+  EXPECT_NE(script.find("plot 'figure-data/scan_map.f32' binary"),
+            std::string::npos);
+  std::vector<Bitmap> images;
+  std::vector<std::string> places;
+  Images(Slurp(dir / "scan_map.svg"), &images, &places);
+  ASSERT_EQ(images.size(), 1u);
+  EXPECT_EQ(images[0].width, 300);
+}
+
+}  // namespace
+}  // namespace wearscar::report

@@ -9,6 +9,8 @@
 #include <iterator>
 
 #include "wearscar/fusion/provenance.h"
+#include "wearscar/report/output_folder.h"
+#include "wearscar/support/atomic_file.h"
 #include "wearscar/support/huge_pages.h"
 
 namespace wearscar::report {
@@ -380,24 +382,38 @@ void AppendSpecimenSection(const ReportSection& s, std::string* out) {
 
 }  // namespace
 
-std::string RenderReport(const std::string& title,
-                         const std::vector<ReportSection>& sections,
-                         const FigureSet& batch) {
-  // The page is mostly its figures: reserved once (and as huge pages)
-  // rather than grown by doubling, each doubling a fresh block whose first
-  // write faults in every page (a 12-specimen report is about 20 MB).
+std::string RenderSpecimenSections(const std::vector<ReportSection>& sections) {
+  // Reserved once (and as huge pages) rather than grown by doubling, each
+  // doubling a fresh block whose first write faults in every page (a
+  // 12-specimen report is about 20 MB, mostly its figures).
   std::uintmax_t figures_bytes = 0;
   std::error_code ec;
-  for (const std::string& f : batch.shown)
-    figures_bytes += std::filesystem::file_size(f, ec) * !ec;
   for (const auto& s : sections) {
     for (const std::string& f : s.figures.shown)
       figures_bytes += std::filesystem::file_size(f, ec) * !ec;
   }
   std::string h;
   h.reserve(static_cast<size_t>(figures_bytes + figures_bytes / 4) +
-            (sections.size() + 1) * 16384);
+            sections.size() * 16384);
   support::AdviseHugePages(h.data(), h.capacity());
+  for (const auto& s : sections) AppendSpecimenSection(s, &h);
+  return h;
+}
+
+namespace {
+
+// The page before the specimens' sections: the summary table and the
+// batch figures.
+std::string PageStart(const std::string& title,
+                      const std::vector<ReportSection>& sections,
+                      const FigureSet& batch) {
+  std::uintmax_t figures_bytes = 0;
+  std::error_code ec;
+  for (const std::string& f : batch.shown)
+    figures_bytes += std::filesystem::file_size(f, ec) * !ec;
+  std::string h;
+  h.reserve(static_cast<size_t>(figures_bytes + figures_bytes / 4) +
+            (sections.size() + 1) * 1024 + 16384);
   h += ReportHead(title, sections);
   for (const auto& s : sections) h += SummaryRow(s);
   h += "</tbody></table>\n";
@@ -407,10 +423,12 @@ std::string RenderReport(const std::string& title,
     for (size_t i = 0; i < batch.shown.size(); ++i)
       AppendImage(batch.shown[i], batch.titles[i], &h);
   }
-  for (const auto& s : sections) AppendSpecimenSection(s, &h);
-  // Marks the page once every image has decoded (read by the browser test
-  // and handy for anyone scripting the report).
-  h += R"(<script>
+  return h;
+}
+
+// Marks the page once every image has decoded (read by the browser test
+// and handy for anyone scripting the report).
+constexpr const char* kPageEnd = R"(<script>
 window.addEventListener('load', function () {
   var imgs = document.images, ok = 0;
   for (var i = 0; i < imgs.length; ++i) if (imgs[i].complete && imgs[i].naturalWidth > 0) ++ok;
@@ -420,7 +438,26 @@ window.addEventListener('load', function () {
 </script>
 </body></html>
 )";
-  return h;
+
+}  // namespace
+
+std::string RenderReport(const std::string& title,
+                         const std::vector<ReportSection>& sections,
+                         const FigureSet& batch) {
+  return PageStart(title, sections, batch) + RenderSpecimenSections(sections) +
+         kPageEnd;
+}
+
+void WriteReport(const std::string& path,
+                 const std::string& title,
+                 const std::vector<ReportSection>& sections,
+                 const FigureSet& batch,
+                 const std::string& specimen_sections) {
+  support::AtomicFile<OutputError> file(path);
+  file.Write(PageStart(title, sections, batch));
+  file.Write(specimen_sections);
+  file.Write(kPageEnd);
+  file.Commit();
 }
 
 }  // namespace wearscar::report

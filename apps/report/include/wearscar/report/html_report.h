@@ -24,6 +24,19 @@ std::string RenderReport(const std::string& title,
                          const std::vector<ReportSection>& sections,
                          const FigureSet& batch_figures);
 
+// The page's part after the batch figures: a section per specimen, its
+// figures embedded (most of the page's bytes and of its time to render).
+std::string RenderSpecimenSections(const std::vector<ReportSection>& sections);
+
+// RenderReport's page written to `path` (temporary name, then rename),
+// its specimens' part already rendered (an audit renders it while gnuplot
+// draws the batch figures). OutputError when it cannot be written.
+void WriteReport(const std::string& path,
+                 const std::string& title,
+                 const std::vector<ReportSection>& sections,
+                 const FigureSet& batch_figures,
+                 const std::string& specimen_sections);
+
 // Base64 of bytes (RFC 4648).
 std::string Base64(const std::string& bytes);
 

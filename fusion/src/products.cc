@@ -593,14 +593,23 @@ std::string Table::ToCsv() const {
   }
   buf.push_back('\n');
   // printf's %.8g, by std::to_chars (Ryu): about three times as fast as
-  // fmt's precision formatting, the same characters.
+  // fmt's precision formatting, the same characters. Whole numbers below
+  // 10^8 (cycles, directions, counts: half the cells of the friction map
+  // and the track's history) are the same digits as an integer's, written
+  // as one in a third of the time.
   char cell[32];
   for (const auto& row : rows) {
     for (size_t c = 0; c < row.size(); ++c) {
       if (c) buf.push_back(',');
-      if (!std::isfinite(row[c])) continue;
-      const auto r = std::to_chars(
-          cell, cell + sizeof cell, row[c], std::chars_format::general, 8);
+      const double v = row[c];
+      if (!std::isfinite(v)) continue;
+      const bool whole = std::abs(v) < 1e8 && v == std::trunc(v) &&
+                         !(v == 0 && std::signbit(v));
+      const auto r =
+          whole
+              ? std::to_chars(cell, cell + sizeof cell, static_cast<long>(v))
+              : std::to_chars(
+                    cell, cell + sizeof cell, v, std::chars_format::general, 8);
       buf.append(cell, r.ptr);
     }
     buf.push_back('\n');

@@ -1,0 +1,52 @@
+// wearscar::fusion::Table: the CSV every table of a test is written as.
+#include "wearscar/fusion/products.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace wearscar::fusion {
+namespace {
+
+// printf's %.8g, the format the tables promise; empty for NaN and
+// infinities.
+std::string PrintfCell(double v) {
+  if (!std::isfinite(v)) return "";
+  char cell[64];
+  std::snprintf(cell, sizeof cell, "%.8g", v);
+  return cell;
+}
+
+TEST(Table, EveryCellIsPrintfsEightSignificantDigits) {
+  std::vector<double> values = {
+      0.0,       -0.0,         1.0,
+      -1.0,      7.0,          600.0,
+      -2.0,      99999999.0,   -99999999.0,
+      1e8,       -1e8,         123456789.0,
+      1e15,      0.5,          -2.85,
+      1e-7,      3.0000000001, 2.9999999999,
+      0.1 + 0.2, std::nan(""), std::numeric_limits<double>::infinity()};
+  std::mt19937_64 random(16);
+  std::uniform_real_distribution<double> exponent(-12, 12);
+  for (int i = 0; i < 2000; ++i) {
+    const double v = std::pow(10.0, exponent(random)) * (i % 2 ? 1 : -1);
+    values.push_back(v);
+    values.push_back(std::round(v));
+  }
+  Table t;
+  t.columns = {"a_mm", "b_N"};
+  std::string expected = "a_mm,b_N\n";
+  for (size_t i = 0; i + 1 < values.size(); i += 2) {
+    t.rows.push_back({values[i], values[i + 1]});
+    expected += PrintfCell(values[i]) + "," + PrintfCell(values[i + 1]) + "\n";
+  }
+  EXPECT_EQ(t.ToCsv(), expected);
+}
+
+}  // namespace
+}  // namespace wearscar::fusion

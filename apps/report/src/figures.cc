@@ -162,9 +162,7 @@ std::string ImagePlot(const std::string& dir,
                                        {1, PNG_FILTER_NONE},
                                        &why);
   if (png.empty()) return "plot " + plot;  // gnuplot draws it then
-  WriteTextAtomically(FigureDataPath(dir, "stand_in.f32"),
-                      std::string(4 * sizeof(float), '\0'));
-  // Two pixels each way over the grid's extent.
+  // Two pixels each way over the grid's extent (Draw writes the file).
   const double sx = 0.5 * width * dx, sy = 0.5 * height * dy;
   const std::string stand_in = fmt::format(
       "'{}/stand_in.f32' binary array=(2,2) dx={} dy={} origin=({},{}) "
@@ -343,6 +341,14 @@ FigureSet Draw(const std::string& dir,
   const std::string preamble =
       "set datafile separator ','\nset datafile missing ''\nset grid\nset "
       "key outside right top\nset style data lines\n";
+  const bool stand_ins =
+      formats.svg && std::any_of(figures.begin(), figures.end(), [](auto& f) {
+        return !f.rasters.empty();
+      });
+  if (stand_ins) {
+    WriteTextAtomically(FigureDataPath(dir, "stand_in.f32"),
+                        std::string(4 * sizeof(float), '\0'));
+  }
   std::vector<pid_t> pids;
   bool session_failed = false;
   for (size_t k = 0; k < scripts; ++k) {

@@ -1405,10 +1405,13 @@ ForceRecord Read(LineSource& source,
   return record;
 }
 
-size_t CountLines(std::FILE* file) {
+size_t CountLines(
+    std::FILE* file,
+    const std::function<void(const char*, std::size_t)>& on_bytes) {
   std::vector<char> block(size_t{1} << 20);
   size_t lines = 1, got;
   while ((got = std::fread(block.data(), 1, block.size(), file)) > 0) {
+    if (on_bytes) on_bytes(block.data(), got);
     const char* p = block.data();
     const char* end = p + got;
     while ((p = static_cast<const char*>(std::memchr(p, '\n', end - p))) !=
@@ -1470,7 +1473,7 @@ ForceRecord ReadForceFile(const std::string& path,
     throw ForceError(
         fmt::format("{}: cannot open: {}", path, std::strerror(errno)));
   }
-  const size_t lines = CountLines(file.get());
+  const size_t lines = CountLines(file.get(), options.on_bytes);
   FileLines source(file.get(), path, options.max_line_bytes);
   return Read(source, path, lines, options);
 }

@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "wearscar/fusion/error.h"
+#include "wearscar/fusion/provenance.h"
 #include "wearscar/scan/formats.h"
 #include "wearscar/support/text.h"
 
@@ -354,7 +355,20 @@ SpecimenAnalysis AnalyzeSpecimen(const Specimen& s,
                                  const scan::ReadScanOptions& read_scan,
                                  const FuseOptions& fuse) {
   if (!s.error.empty()) throw FusionError(s.error);
-  SpecimenAnalysis a{force::ReadForceFile(s.force, read_force), {}};
+  // On the caller's thread alone (a batch whose workers fill the cores),
+  // the force file's checksum for the provenance is taken as the reader
+  // reads it, not by a third read of the file; otherwise it is taken on a
+  // thread of its own beside the tables' writing.
+  std::optional<Sha256> hash;
+  force::ReadForceOptions read = read_force;
+  if (!fuse.parallel) {
+    hash.emplace();
+    read.on_bytes = [&hash](const char* bytes, std::size_t size) {
+      hash->Update(bytes, size);
+    };
+  }
+  SpecimenAnalysis a{force::ReadForceFile(s.force, read), {}};
+  if (hash) a.record.metadata.sha256 = hash->Hex();
   std::optional<scan::HeightMap> map;
   if (!s.scan.empty()) map = scan::ReadScan(s.scan, read_scan);
   a.result = AnalyzeTest(a.record, std::move(map), fuse);

@@ -758,8 +758,14 @@ Provenance TestProvenance(const force::ForceRecord& record,
   for (auto [role, path] : {std::pair<const char*, const std::string*>{
                                 "force", &record.metadata.source},
                             {"scan", &result.scan_file}}) {
-    if (!path->empty() && fs::is_regular_file(*path, ec))
+    if (path->empty() || !fs::is_regular_file(*path, ec)) continue;
+    // The force file's checksum taken as it was read, when it was.
+    const std::string& read_sum = record.metadata.sha256;
+    if (std::string(role) == "force" && !read_sum.empty()) {
+      inputs.push_back({role, *path, fs::file_size(*path, ec), read_sum});
+    } else {
       inputs.push_back(DescribeInputFile(role, *path));
+    }
   }
   return CurrentProvenance(std::move(inputs));
 }

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <ctime>
 #include <memory>
+#include <vector>
 
 #include "wearscar/fusion/error.h"
 
@@ -35,30 +36,48 @@ std::time_t Now() {
 
 }  // namespace
 
+struct Sha256::Context {
+  std::unique_ptr<EVP_MD_CTX, DigestFree> digest{EVP_MD_CTX_new()};
+};
+
+Sha256::Sha256() : context_(std::make_unique<Context>()) {
+  if (!context_->digest ||
+      EVP_DigestInit_ex(context_->digest.get(), EVP_sha256(), nullptr) != 1)
+    throw FusionError("SHA-256 is not available");
+}
+
+Sha256::~Sha256() = default;
+
+void Sha256::Update(const char* bytes, std::size_t size) {
+  EVP_DigestUpdate(context_->digest.get(), bytes, size);
+}
+
+std::string Sha256::Hex() {
+  unsigned char digest[EVP_MAX_MD_SIZE];
+  unsigned int length = 0;
+  EVP_DigestFinal_ex(context_->digest.get(), digest, &length);
+  std::string hex;
+  for (unsigned int i = 0; i < length; ++i)
+    hex += fmt::format("{:02x}", digest[i]);
+  return hex;
+}
+
 std::string Sha256OfFile(const std::string& path) {
   std::unique_ptr<std::FILE, FileCloser> f(std::fopen(path.c_str(), "rb"));
   if (!f) {
     throw FusionError(fmt::format(
         "{}: cannot read for its checksum: {}", path, std::strerror(errno)));
   }
-  std::unique_ptr<EVP_MD_CTX, DigestFree> ctx(EVP_MD_CTX_new());
-  if (!ctx || EVP_DigestInit_ex(ctx.get(), EVP_sha256(), nullptr) != 1)
-    throw FusionError(path + ": SHA-256 is not available");
-  std::vector<unsigned char> buffer(1 << 20);
+  Sha256 hash;
+  std::vector<char> buffer(1 << 20);
   size_t got = 0;
   while ((got = std::fread(buffer.data(), 1, buffer.size(), f.get())) > 0)
-    EVP_DigestUpdate(ctx.get(), buffer.data(), got);
+    hash.Update(buffer.data(), got);
   if (std::ferror(f.get())) {
     throw FusionError(
         fmt::format("{}: read error while computing its checksum", path));
   }
-  unsigned char digest[EVP_MAX_MD_SIZE];
-  unsigned int length = 0;
-  EVP_DigestFinal_ex(ctx.get(), digest, &length);
-  std::string hex;
-  for (unsigned int i = 0; i < length; ++i)
-    hex += fmt::format("{:02x}", digest[i]);
-  return hex;
+  return hash.Hex();
 }
 
 InputFile DescribeInputFile(const std::string& role, const std::string& path) {

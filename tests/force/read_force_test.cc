@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <fstream>
 #include <string>
 
 #include "wearscar/force/cycles.h"
@@ -36,6 +38,36 @@ TEST(ReadForce, GenericOwnLayout) {
   ExpectReferenceSeries(r, 1e-9);
   EXPECT_EQ(r.metadata.channel_units[1], "mm");
   EXPECT_NEAR(r.metadata.sampling_rate_hz, 200.0, 1e-6);
+}
+
+// A caller's checksum of the file rides on the reader's first pass: it is
+// handed every byte, in order, across the pass's 1 MiB blocks.
+TEST(ReadForce, EveryByteOfTheFileIsHandedOnInOrder) {
+  std::string text = "time_s,x_mm,Q_N,P_N\n";
+  for (int i = 0; i < 80000; ++i) {  // 40 s at 2 kHz: about 2.6 MB
+    const double t = i / 2000.0, x = 2.85 * std::sin(2 * M_PI * t);
+    const double p = 30 + 0.3 * std::sin(2 * M_PI * x / 1.7);
+    text += fmt::format("{:.4f},{:.6f},{:.5f},{:.4f}\n",
+                        t,
+                        x,
+                        0.12 * p * (std::cos(2 * M_PI * t) > 0 ? 1 : -1),
+                        p);
+  }
+  const std::string path = ::testing::TempDir() + "/wearscar-on-bytes.csv";
+  std::ofstream(path, std::ios::binary) << text;
+  std::string seen;
+  int calls = 0;
+  ReadForceOptions o;
+  o.on_bytes = [&](const char* bytes, std::size_t size) {
+    seen.append(bytes, size);
+    ++calls;
+  };
+  const ForceRecord r = ReadForceFile(path, o);
+  EXPECT_EQ(seen, text);
+  EXPECT_EQ(calls, 3);
+  ASSERT_EQ(r.size(), 80000);
+  EXPECT_NEAR(r.x_mm[500], 2.85, 1e-6);
+  std::remove(path.c_str());
 }
 
 TEST(ReadForce, RtecJoinsRecipeStepClockAndIgnoresFooter) {

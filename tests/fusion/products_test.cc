@@ -3,12 +3,15 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <random>
 #include <string>
 #include <vector>
+
+#include "wearscar/fusion/provenance.h"
 
 namespace wearscar::fusion {
 namespace {
@@ -46,6 +49,24 @@ TEST(Table, EveryCellIsPrintfsEightSignificantDigits) {
     expected += PrintfCell(values[i]) + "," + PrintfCell(values[i + 1]) + "\n";
   }
   EXPECT_EQ(t.ToCsv(), expected);
+}
+
+// FIPS 180-2's "abc", and 3 MB given in uneven pieces against the whole
+// at once (the reader hands its blocks as it reads them).
+TEST(Sha256, PiecesGiveTheDigestOfTheWhole) {
+  Sha256 abc;
+  abc.Update("abc", 3);
+  EXPECT_EQ(abc.Hex(),
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  std::string bytes(3 << 20, '\0');
+  std::mt19937 random(3);
+  for (char& c : bytes) c = static_cast<char>(random());
+  Sha256 whole, pieces;
+  whole.Update(bytes.data(), bytes.size());
+  for (size_t at = 0, step = 1; at < bytes.size();
+       at += step, step = step * 3 + 1)
+    pieces.Update(bytes.data() + at, std::min(step, bytes.size() - at));
+  EXPECT_EQ(pieces.Hex(), whole.Hex());
 }
 
 }  // namespace

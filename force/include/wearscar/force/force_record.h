@@ -29,6 +29,9 @@ struct ForceMetadata {
   int blocks_joined = 0;             // repeated header blocks (CETR test steps)
   int rows_dropped = 0;              // lenient mode only
   std::vector<std::string> warnings;
+  // The file's SHA-256 (64 hex digits) when its reader's caller computed
+  // it from the bytes read (ReadForceOptions::on_bytes); empty otherwise.
+  std::string sha256;
 };
 
 // A reciprocating test in the library's units: seconds, mm, N. Q is the

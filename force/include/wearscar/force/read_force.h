@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <string>
 
 #include "wearscar/force/force_record.h"
@@ -42,6 +43,10 @@ struct ReadForceOptions {
   // the delimiter.
   int head_lines = 400;
   int delimiter_vote_lines = 20;
+  // ReadForceFile hands every byte of the file, in order, to this as its
+  // first pass reads them (a checksum of the file then costs no read of
+  // its own); ReadForceText does not call it.
+  std::function<void(const char* bytes, std::size_t size)> on_bytes;
 
   bool IsValid(std::string* why) const;
 };

@@ -1,6 +1,8 @@
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -20,6 +22,22 @@ struct InputFile {
   std::string path;
   std::uintmax_t bytes = 0;
   std::string sha256;
+};
+
+// SHA-256 of bytes given piece by piece.
+class Sha256 {
+ public:
+  Sha256();  // throws FusionError when SHA-256 is not available
+  ~Sha256();
+  Sha256(const Sha256&) = delete;
+  Sha256& operator=(const Sha256&) = delete;
+  void Update(const char* bytes, std::size_t size);
+  // 64 hex digits; ends the digest.
+  std::string Hex();
+
+ private:
+  struct Context;
+  std::unique_ptr<Context> context_;
 };
 
 // The SHA-256 of a file's bytes, streamed (constant memory). Throws

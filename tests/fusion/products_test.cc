@@ -6,12 +6,16 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <limits>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "wearscar/force/read_force.h"
+#include "wearscar/fusion/batch.h"
 #include "wearscar/fusion/provenance.h"
+#include "wearscar/samples/virtual_tribometer.h"
 
 namespace wearscar::fusion {
 namespace {
@@ -67,6 +71,35 @@ TEST(Sha256, PiecesGiveTheDigestOfTheWhole) {
        at += step, step = step * 3 + 1)
     pieces.Update(bytes.data() + at, std::min(step, bytes.size() - at));
   EXPECT_EQ(pieces.Hex(), whole.Hex());
+}
+
+// A specimen analysed on the caller's thread alone (a batch whose workers
+// fill the cores) takes its force file's checksum from the reader's first
+// pass; with threads it is taken by TestProvenance. Either way the
+// provenance holds the file's SHA-256.
+TEST(Provenance, TheChecksumTakenWhileReadingIsTheFilesOwn) {
+  samples::SimulationOptions o = samples::PaperCase("B-RT-R", false);
+  o.cycles = 20;
+  const samples::SimulatedTest t = samples::Simulate(o);
+  const std::string path =
+      ::testing::TempDir() + "/wearscar-provenance.force.csv";
+  force::WriteForceCsv(t.record, path);
+  const std::string sum = Sha256OfFile(path);
+  FuseOptions threads, alone;
+  alone.parallel = false;
+  const Specimen s{"B-RT-R", path, "", ""};
+  const SpecimenAnalysis a = AnalyzeSpecimen(s, {}, {}, alone);
+  const SpecimenAnalysis b = AnalyzeSpecimen(s, {}, {}, threads);
+  EXPECT_EQ(a.record.metadata.sha256, sum);
+  EXPECT_EQ(b.record.metadata.sha256, "");
+  for (const SpecimenAnalysis* x : {&a, &b}) {
+    const Provenance p = TestProvenance(x->record, x->result);
+    ASSERT_EQ(p.inputs.size(), 1u);
+    EXPECT_EQ(p.inputs[0].sha256, sum);
+    EXPECT_EQ(p.inputs[0].bytes, std::filesystem::file_size(path));
+  }
+  EXPECT_EQ(a.result.force.mu_hat.mean, b.result.force.mu_hat.mean);
+  std::remove(path.c_str());
 }
 
 }  // namespace

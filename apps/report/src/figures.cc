@@ -152,7 +152,8 @@ std::string ImagePlot(const std::string& dir,
   }
   std::string why;
   // zlib's fastest level, no row filters: 1.6-1.9 ms for a 256 x 192
-  // map, against 16 ms for libpng's default, the PNG no larger.
+  // map, against 16 ms for libpng's default; about as large as gnuplot's
+  // own PNG (71 against 60 KB; the track's history 59 against 82 KB).
   std::string png = support::EncodePng(width,
                                        height,
                                        4,

@@ -16,7 +16,10 @@
 #include <vector>
 
 #include "report_helpers.h"
+#include "wearscar/fusion/fuse.h"
 #include "wearscar/report/html_report.h"
+#include "wearscar/report/test_folder.h"
+#include "wearscar/samples/virtual_tribometer.h"
 
 namespace wearscar::report {
 namespace {
@@ -196,6 +199,104 @@ TEST(ImageFigures, AFlatGridIsLeftToGnuplot) {
   Images(Slurp(dir / "scan_map.svg"), &images, &places);
   ASSERT_EQ(images.size(), 1u);
   EXPECT_EQ(images[0].width, 300);
+}
+
+// The figures of a simulated test (60 cycles with its scan).
+struct DrawnTest {
+  fs::path dir;
+  FigureSet set;
+};
+
+DrawnTest DrawSimulatedTest(const std::string& what) {
+  samples::SimulationOptions o = samples::PaperCase("S-RT-R");
+  o.cycles = 60;
+  const samples::SimulatedTest t = samples::Simulate(o);
+  const fusion::FuseOptions options;
+  const fusion::TestResult r = fusion::AnalyzeTest(t.record, t.scan, options);
+  DrawnTest d{test_support::FreshFolder(what), {}};
+  WriteTestResults(d.dir.string(), "S-RT-R", t.record, r, options);
+  d.set = DrawTestFigures(d.dir.string(), "S-RT-R", r, options);
+  return d;
+}
+
+// The script with every figure written to <folder>/<figure>.svg.
+std::string OutputsInto(std::string script, const std::string& folder) {
+  return std::regex_replace(script,
+                            std::regex("set output '([^']*)\\.svg\\.part'"),
+                            "set output '" + folder + "/$1.svg'");
+}
+
+TEST(SlimTables, TheFiguresAreThoseDrawnOverTheWholeTables) {
+  std::string why;
+  if (!PlotterAvailable(&why)) GTEST_SKIP() << why;
+  const DrawnTest d = DrawSimulatedTest("slim");
+  ASSERT_TRUE(d.set.missing.empty()) << d.set.message;
+  const std::string script = Slurp(d.dir / kFigureData / "figures_1.gp");
+  // Each plot over the tables is kept in a comment above its copy's.
+  const std::regex kept("# over the result tables: (plot [^\n]*)\n[^\n]*");
+  const auto n =
+      std::distance(std::sregex_iterator(script.begin(), script.end(), kept),
+                    std::sregex_iterator());
+  EXPECT_GE(n, 11);  // 13 of the 14 figures read a result table
+  fs::create_directories(d.dir / "slim");
+  fs::create_directories(d.dir / "whole");
+  std::ofstream(d.dir / kFigureData / "slim.gp") << OutputsInto(script, "slim");
+  std::ofstream(d.dir / kFigureData / "whole.gp")
+      << OutputsInto(std::regex_replace(script, kept, "$1"), "whole");
+  ASSERT_TRUE(RunGnuplotScript(d.dir.string(), "slim.gp"));
+  ASSERT_TRUE(RunGnuplotScript(d.dir.string(), "whole.gp"));
+  int compared = 0;
+  for (const auto& e : fs::directory_iterator(d.dir / "whole")) {
+    const std::string name = e.path().filename().string();
+    EXPECT_EQ(Slurp(d.dir / "slim" / name), Slurp(e.path())) << name;
+    ++compared;
+  }
+  EXPECT_EQ(compared, 14);
+
+  // Fig. 13's copy of cycles.csv: its rows, the columns it plots.
+  const std::string table = Slurp(d.dir / "cycles.csv");
+  const std::string copy =
+      Slurp(d.dir / kFigureData / "fig13_mu_hat.cycles.csv");
+  EXPECT_EQ(std::count(copy.begin(), copy.end(), '\n'),
+            std::count(table.begin(), table.end(), '\n'));
+  const std::string header = copy.substr(0, copy.find('\n'));
+  EXPECT_EQ(header.rfind("cycle,mu_hat_force,mu_hat_scan,mu_mean,", 0), 0u)
+      << header;
+  EXPECT_EQ(std::count(header.begin(), header.end(), ','), 7);
+}
+
+// The rewriting itself, on a table of our own: a title with a comma, a
+// file named again with '', $N in an expression, an empty field, a blank
+// line between two blocks, and a clause whose column is an expression,
+// which keeps its table.
+TEST(SlimTables, EachClauseReadsItsColumnsFromTheCopy) {
+  const fs::path dir = test_support::FreshFolder("slim-rewrite");
+  std::ofstream(dir / "t.csv")
+      << "a,b,c,d,e\n1,2,,4,5\n2,3,4,5,6\n\n3,4,5,6,7\n";
+  std::ofstream(dir / "u.csv") << "p,q,r\n1,5,9\n2,6,8\n";
+  const std::string body =
+      "set xlabel 'x'\n"
+      "plot 't.csv' skip 1 using 1:4 title 'd, the fourth', '' skip 1 "
+      "using 1:($3*2) with points, 'u.csv' skip 1 using 1:(column(1+1)) "
+      "title 'q', 't.csv' skip 1 index 1 using 5:1";
+  const std::string slim = SlimPlotTables(dir.string(), "f", body);
+  EXPECT_EQ(slim,
+            "set xlabel 'x'\n"
+            "# over the result tables: " +
+                body.substr(body.find("plot ")) +
+                "\n"
+                "plot 'figure-data/f.t.csv' skip 1 using 1:3 title 'd, the "
+                "fourth', '' skip 1 using 1:($2*2) with points, 'u.csv' skip "
+                "1 using 1:(column(1+1)) title 'q', 'figure-data/f.t.csv' "
+                "skip 1 index 1 using 4:1");
+  EXPECT_EQ(Slurp(dir / kFigureData / "f.t.csv"),
+            "a,c,d,e\n1,,4,5\n2,4,5,6\n\n3,5,6,7\n");
+  EXPECT_FALSE(fs::exists(dir / kFigureData / "f.u.csv"));
+  // Nothing over a table: the body as it is.
+  EXPECT_EQ(SlimPlotTables(dir.string(), "g", "plot sin(x)"), "plot sin(x)");
+  // A clause without `using` (gnuplot's default columns) keeps the table.
+  EXPECT_EQ(SlimPlotTables(dir.string(), "h", "plot 't.csv' skip 1"),
+            "plot 't.csv' skip 1");
 }
 
 }  // namespace

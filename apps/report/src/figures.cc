@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -16,7 +17,9 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <memory>
 #include <numeric>
+#include <set>
 #include <string_view>
 
 #include "wearscar/fusion/products.h"
@@ -236,6 +239,358 @@ std::string Quote(const std::string& s) {
   return out + "'";
 }
 
+// gnuplot splits and converts every field of a data file's rows, the
+// columns a plot does not use too: about 50 ns a field, so a clause over
+// cycles.csv (30 columns, 600 rows) costs about 1 ms, and reading the
+// result tables was about 30 of the 58 ms of CPU gnuplot spent on a
+// test's 14 SVG figures. Each figure's clauses over a result table read a
+// copy in figure-data holding only the columns the figure uses
+// (<figure>.<table>), with the header, rows and blank lines as they are
+// (`skip`, `every` and `index` select the same rows) and the columns of
+// `using` renumbered. The script keeps each plot command as written over
+// the tables in a comment above it. The figures are the same to the byte
+// (tests/report/figures_test.cc).
+class SlimTables {
+ public:
+  explicit SlimTables(std::string dir) : dir_(std::move(dir)) {}
+
+  // `body` with its plot commands over the tables in `dir` reading their
+  // copies for the figure `stem`; a clause this cannot follow (no `using`,
+  // a column named by a variable, a quoted field in the table) keeps the
+  // table it names.
+  std::string Rewrite(const std::string& stem, const std::string& body);
+
+ private:
+  // A result table split into fields once; nullptr when it is not one
+  // this can copy (absent, a quote in it, a path leaving `dir`).
+  struct Table {
+    std::vector<std::vector<std::string_view>> rows;  // blank line: none
+    std::string text;
+  };
+  const Table* Read(const std::string& file);
+
+  std::string dir_;
+  std::map<std::string, std::unique_ptr<Table>> tables_;
+  std::set<std::string> written_;  // the copies, by name
+};
+
+// Splits `s` at `separator` outside quotes (gnuplot's '...' and "...")
+// and parentheses.
+std::vector<std::string> SplitOutside(const std::string& s, char separator) {
+  std::vector<std::string> parts(1);
+  int depth = 0;
+  char quote = 0;
+  for (size_t i = 0; i < s.size(); ++i) {
+    const char c = s[i];
+    if (quote != 0) {
+      if (c == '\\' && quote == '"' && i + 1 < s.size()) {
+        parts.back() += c;
+        parts.back() += s[++i];
+        continue;
+      }
+      if (c == quote) quote = 0;
+    } else if (c == '\'' || c == '"') {
+      quote = c;
+    } else if (c == '(') {
+      ++depth;
+    } else if (c == ')') {
+      --depth;
+    } else if (c == separator && depth == 0) {
+      parts.emplace_back();
+      continue;
+    }
+    parts.back() += c;
+  }
+  return parts;
+}
+
+// The data file a clause names first ('...', with '' inside for a quote),
+// and where its text after the name starts; false when the clause does
+// not start with a quoted name.
+bool ClauseFile(const std::string& clause, std::string* file, size_t* rest) {
+  size_t i = clause.find_first_not_of(' ');
+  if (i == std::string::npos || clause[i] != '\'') return false;
+  file->clear();
+  for (++i; i < clause.size(); ++i) {
+    if (clause[i] != '\'') {
+      *file += clause[i];
+    } else if (i + 1 < clause.size() && clause[i + 1] == '\'') {
+      *file += '\'';
+      ++i;
+    } else {
+      *rest = i + 1;
+      return true;
+    }
+  }
+  return false;
+}
+
+// Where a clause's `using` specification is: [*begin, *end) (it ends at
+// a blank outside parentheses and quotes); false without one.
+bool UsingSpec(const std::string& clause,
+               size_t from,
+               size_t* begin,
+               size_t* end) {
+  char quote = 0;
+  for (size_t i = from; i < clause.size(); ++i) {
+    const char c = clause[i];
+    if (quote != 0) {
+      if (c == quote) quote = 0;
+      continue;
+    }
+    if (c == '\'' || c == '"') {
+      quote = c;
+      continue;
+    }
+    if (clause.compare(i, 7, " using ") != 0) continue;
+    size_t j = i + 7;
+    while (j < clause.size() && clause[j] == ' ') ++j;
+    *begin = j;
+    int depth = 0;
+    for (; j < clause.size(); ++j) {
+      if (clause[j] == '(') ++depth;
+      if (clause[j] == ')') --depth;
+      if (clause[j] == ' ' && depth == 0) break;
+    }
+    *end = j;
+    return *end > *begin;
+  }
+  return false;
+}
+
+// The columns a `using` specification reads: a part that is a number, $N,
+// and column(N) and its kin (N >= 1: 0 and below are gnuplot's
+// pseudo-columns, the same in any file). With `map`, the specification
+// with each such N replaced by map(N). False when it reads a column this
+// cannot see ($ or column( not followed by a number).
+template <typename Map>
+bool SpecColumns(const std::string& spec,
+                 std::vector<int>* columns,
+                 const Map& map,
+                 std::string* rewritten) {
+  static const char* const kByColumn[] = {"$",
+                                          "column(",
+                                          "stringcolumn(",
+                                          "strcol(",
+                                          "valid(",
+                                          "xtic(",
+                                          "xticlabels(",
+                                          "ytic(",
+                                          "yticlabels(",
+                                          "x2tic(",
+                                          "y2tic(",
+                                          "ztic(",
+                                          "cbtic("};
+  const auto digits = [](const std::string& s, size_t at) {
+    size_t e = at;
+    while (e < s.size() && std::isdigit(static_cast<unsigned char>(s[e]))) ++e;
+    return e;
+  };
+  if (rewritten) rewritten->clear();
+  const std::vector<std::string> parts = SplitOutside(spec, ':');
+  for (size_t p = 0; p < parts.size(); ++p) {
+    const std::string& part = parts[p];
+    std::string out;
+    if (!part.empty() && digits(part, 0) == part.size()) {
+      const int n = std::stoi(part);
+      if (n >= 1) columns->push_back(n);
+      out = n >= 1 ? std::to_string(map(n)) : part;
+    } else {
+      for (size_t i = 0; i < part.size();) {
+        const char* found = nullptr;
+        for (const char* name : kByColumn) {
+          const size_t len = std::strlen(name);
+          // A function's name starts a word (not the end of another's).
+          const bool starts =
+              i == 0 ||
+              !(std::isalnum(static_cast<unsigned char>(part[i - 1])) ||
+                part[i - 1] == '_');
+          if (part.compare(i, len, name) == 0 && (name[0] == '$' || starts)) {
+            found = name;
+            break;
+          }
+        }
+        if (found == nullptr) {
+          out += part[i++];
+          continue;
+        }
+        const size_t at = i + std::strlen(found), e = digits(part, at);
+        // $name, column(expression): not a column this can follow.
+        if (e == at ||
+            (found[0] != '$' && (e == part.size() || part[e] != ')')))
+          return false;
+        const int n = std::stoi(part.substr(at, e - at));
+        if (n >= 1) columns->push_back(n);
+        out += part.substr(i, at - i) +
+               (n >= 1 ? std::to_string(map(n)) : part.substr(at, e - at));
+        i = e;
+      }
+    }
+    if (rewritten) *rewritten += (p > 0 ? ":" : "") + out;
+  }
+  return true;
+}
+
+const SlimTables::Table* SlimTables::Read(const std::string& file) {
+  auto it = tables_.find(file);
+  if (it != tables_.end()) return it->second.get();
+  std::unique_ptr<Table>& t = tables_[file];
+  const fs::path path(file);
+  // The tables in the folder; not figure-data's own files.
+  const bool inside = path.is_relative() && path.extension() == ".csv" &&
+                      *path.begin() != kFigureData &&
+                      std::none_of(path.begin(),
+                                   path.end(),
+                                   [](const fs::path& p) { return p == ".."; });
+  if (!inside) return nullptr;
+  std::ifstream in(fs::path(dir_) / path, std::ios::binary);
+  if (!in) return nullptr;
+  auto table = std::make_unique<Table>();
+  table->text.assign(std::istreambuf_iterator<char>(in),
+                     std::istreambuf_iterator<char>());
+  if (table->text.find('"') != std::string::npos) return nullptr;
+  std::string_view text = table->text;
+  while (!text.empty()) {
+    const size_t eol = std::min(text.find('\n'), text.size());
+    std::string_view line = text.substr(0, eol);
+    text.remove_prefix(std::min(eol + 1, text.size()));
+    std::vector<std::string_view>& row = table->rows.emplace_back();
+    if (line.empty()) continue;
+    for (;;) {
+      const size_t comma = line.find(',');
+      row.push_back(line.substr(0, comma));
+      if (comma == std::string_view::npos) break;
+      line.remove_prefix(comma + 1);
+    }
+  }
+  t = std::move(table);
+  return t.get();
+}
+
+std::string SlimTables::Rewrite(const std::string& stem,
+                                const std::string& body) {
+  // The body's lines; the plot commands' clauses.
+  std::vector<std::string> lines;
+  for (size_t at = 0; at <= body.size();) {
+    const size_t eol = std::min(body.find('\n', at), body.size());
+    lines.push_back(body.substr(at, eol - at));
+    at = eol + 1;
+  }
+  struct Clause {
+    std::string file, text;
+  };
+  std::map<size_t, std::vector<Clause>> plots;  // by line
+  // Per table: the columns the figure reads, or not copied (false).
+  std::map<std::string, std::pair<bool, std::vector<int>>> used;
+  const auto identity = [](int n) { return n; };
+  for (size_t l = 0; l < lines.size(); ++l) {
+    if (lines[l].rfind("plot ", 0) != 0) continue;
+    std::vector<Clause>& clauses = plots[l];
+    std::string previous;
+    for (std::string& text : SplitOutside(lines[l].substr(5), ',')) {
+      Clause c{"", std::move(text)};
+      size_t rest = 0;
+      if (ClauseFile(c.text, &c.file, &rest)) {
+        if (c.file.empty()) c.file = previous;
+        previous = c.file;
+        if (Read(c.file) != nullptr) {
+          auto& [ok, columns] =
+              used.try_emplace(c.file, true, std::vector<int>()).first->second;
+          size_t b = 0, e = 0;
+          ok =
+              ok && UsingSpec(c.text, rest, &b, &e) &&
+              SpecColumns(c.text.substr(b, e - b), &columns, identity, nullptr);
+        }
+      } else {
+        c.file.clear();
+      }
+      clauses.push_back(std::move(c));
+    }
+  }
+  // The copies: the columns in the table's order.
+  std::map<std::string, std::vector<int>> renumber;  // old -> new, by table
+  for (auto& [file, entry] : used) {
+    auto& [ok, columns] = entry;
+    if (!ok || columns.empty()) continue;
+    std::sort(columns.begin(), columns.end());
+    columns.erase(std::unique(columns.begin(), columns.end()), columns.end());
+    const Table& t = *Read(file);
+    std::string copy;
+    copy.reserve(t.text.size() / 4);
+    bool fits = true;
+    for (const auto& row : t.rows) {
+      if (!row.empty()) {
+        if (static_cast<int>(row.size()) < columns.back()) fits = false;
+        if (!fits) break;
+        size_t length = 0;
+        for (size_t k = 0; k < columns.size(); ++k) {
+          if (k > 0) copy += ',';
+          const std::string_view v = row[columns[k] - 1];
+          copy.append(v.data(), v.size());
+          length += v.size();
+        }
+        // One empty field would read as a blank line (a new block).
+        if (length == 0 && columns.size() == 1) fits = false;
+      }
+      copy += '\n';
+    }
+    if (!fits) continue;
+    std::vector<int>& to = renumber[file];
+    to.assign(columns.back() + 1, 0);
+    for (size_t k = 0; k < columns.size(); ++k)
+      to[columns[k]] = static_cast<int>(k + 1);
+    std::string name = stem + "." + file;
+    std::replace(name.begin(), name.end(), '/', '_');
+    if (written_.insert(name).second)
+      WriteTextAtomically(FigureDataPath(dir_, name), copy);
+  }
+  if (renumber.empty()) return body;
+  std::string out;
+  for (size_t l = 0; l < lines.size(); ++l) {
+    if (l > 0) out += '\n';
+    auto p = plots.find(l);
+    bool changed = false;
+    std::string plot = "plot ";
+    if (p != plots.end()) {
+      for (size_t k = 0; k < p->second.size(); ++k) {
+        Clause& c = p->second[k];
+        auto r = renumber.find(c.file);
+        std::string text = c.text;
+        if (!c.file.empty() && r != renumber.end()) {
+          std::string given;
+          size_t rest = 0, b = 0, e = 0;
+          ClauseFile(text, &given, &rest);
+          UsingSpec(text, rest, &b, &e);
+          std::vector<int> columns;
+          std::string spec;
+          const std::vector<int>& to = r->second;
+          SpecColumns(
+              text.substr(b, e - b),
+              &columns,
+              [&](int n) { return to[n]; },
+              &spec);
+          text.replace(b, e - b, spec);
+          if (!given.empty()) {
+            std::string name = stem + "." + c.file;
+            std::replace(name.begin(), name.end(), '/', '_');
+            const size_t q = text.find('\'');
+            text.replace(
+                q, rest - q, Quote(std::string(kFigureData) + "/" + name));
+          }
+          changed = true;
+        }
+        plot += (k > 0 ? "," : "") + text;
+      }
+    }
+    if (changed) {
+      out += "# over the result tables: " + lines[l] + "\n" + plot;
+    } else {
+      out += lines[l];
+    }
+  }
+  return out;
+}
+
 // gnuplot with one script, in `dir`, output to `log`, without a shell (a
 // folder name with quotes or spaces is only ever a path). Returns the pid,
 // or -1 with errno.
@@ -350,6 +705,7 @@ FigureSet Draw(const std::string& dir,
     WriteTextAtomically(FigureDataPath(dir, "stand_in.f32"),
                         std::string(4 * sizeof(float), '\0'));
   }
+  SlimTables slim(dir);
   std::vector<pid_t> pids;
   bool session_failed = false;
   for (size_t k = 0; k < scripts; ++k) {
@@ -365,8 +721,8 @@ FigureSet Draw(const std::string& dir,
         script += fmt::format("set output {}\nset title {} noenhanced\n",
                               Quote(f.stem + "." + term + ".part"),
                               Quote(f.title));
-        script +=
-            BodyFor(f, term) + "\nunset output\nreset session\n" + preamble;
+        script += slim.Rewrite(f.stem, BodyFor(f, term)) +
+                  "\nunset output\nreset session\n" + preamble;
       }
     }
     const std::string name = fmt::format("figures_{}.gp", k + 1);
@@ -519,6 +875,12 @@ void WriteScanMap(const std::string& dir,
 }
 
 }  // namespace
+
+std::string SlimPlotTables(const std::string& dir,
+                           const std::string& figure,
+                           const std::string& body) {
+  return SlimTables(dir).Rewrite(figure, body);
+}
 
 std::string FigureDataPath(const std::string& dir, const std::string& file) {
   const fs::path sub = fs::path(dir) / kFigureData;
@@ -975,7 +1337,7 @@ void AddTrackHistoryFigure(const std::string& dir,
       "[0.5:{7}]\n{3}\nset autoscale\nset xlabel 'cycle'\nset ylabel "
       "'waviness (mm)'\nunset colorbox\nset title 'waviness: the sd of "
       "h along the stroke'\n"
-      "plot 'cycles.csv' skip 1 using 1:{4} with lines lw 2\n"
+      "plot 'cycles.csv' skip 1 using 1:{4} with lines lw 2 notitle\n"
       "unset multiplot",
       h.waviness_sd_mm.front(),
       h.final_waviness_sd_mm,

@@ -45,6 +45,18 @@ inline constexpr const char* kFigureData = "figure-data";
 // <dir>/figure-data/<file>, creating the sub-folder.
 std::string FigureDataPath(const std::string& dir, const std::string& file);
 
+// A figure's gnuplot body with each plot command over the CSV tables in
+// `dir` reading copies in figure-data (<figure>.<table>) that hold only
+// the columns the figure uses, the rows as they are: gnuplot converts
+// every field of every row it reads, so this spares it most of them. Each
+// rewritten command stays above its copy's as a comment ("# over the
+// result tables: plot ..."); a clause it cannot follow (no `using`, a
+// column given by an expression) keeps its table. What the figures of
+// this module do with every body they draw.
+std::string SlimPlotTables(const std::string& dir,
+                           const std::string& figure,
+                           const std::string& body);
+
 // Runs gnuplot on the script <dir>/figure-data/<script> in `dir` and waits;
 // its output goes to figure-data/<stem>.log. False when it failed.
 bool RunGnuplotScript(const std::string& dir, const std::string& script);

@@ -1,6 +1,5 @@
 #include "wearscar/fusion/ensemble.h"
 
-#include <Eigen/LU>  // the 4 x 4 determinant
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -191,44 +190,203 @@ bool EnsembleSlopeOptions::IsValid(std::string* why) const {
 
 namespace {
 
-// The slope c1 of the weighted least-squares cubic in u = (x - xb) / scale
-// through the bins [lo, hi] (mean x, count as weight, value = weight times
-// the mean), by Cramer's rule on the 4 x 4 normal equations; NaN when they
-// are singular.
-double CubicSlope(const double* mean_x,
+// The weighted moments of a local quadratic about a centre xb, u = (x -
+// xb) / scale: m_p = sum w u^p (p = 0..4) and t_p = sum y u^p (p = 0..2),
+// y = w times the bin's mean.
+struct QuadraticMoments {
+  double m0 = 0, m1 = 0, m2 = 0, m3 = 0, m4 = 0;
+  double t0 = 0, t1 = 0, t2 = 0;
+
+  void Add(double w, double y, double u) {
+    const double w1 = w * u, w2 = w1 * u, w3 = w2 * u, w4 = w3 * u;
+    const double y1 = y * u, y2 = y1 * u;
+    m0 += w, m1 += w1, m2 += w2, m3 += w3, m4 += w4;
+    t0 += y, t1 += y1, t2 += y2;
+  }
+
+  // The same sums about a centre `d` further along: u -> u + a, a = -d.
+  void Shift(double d) {
+    const double a = -d, a2 = a * a, a3 = a2 * a, a4 = a2 * a2;
+    m4 += 4 * a * m3 + 6 * a2 * m2 + 4 * a3 * m1 + a4 * m0;
+    m3 += 3 * a * m2 + 3 * a2 * m1 + a3 * m0;
+    m2 += 2 * a * m1 + a2 * m0;
+    m1 += a * m0;
+    t2 += 2 * a * t1 + a2 * t0;
+    t1 += a * t0;
+  }
+
+  // c1 times `factor` by Cramer's rule on the symmetric 3 x 3 normal
+  // equations; NaN when they are singular.
+  double Slope(double factor) const {
+    const double det = m0 * (m2 * m4 - m3 * m3) - m1 * (m1 * m4 - m3 * m2) +
+                       m2 * (m1 * m3 - m2 * m2);
+    const double det1 = m0 * (t1 * m4 - m3 * t2) - t0 * (m1 * m4 - m3 * m2) +
+                        m2 * (m1 * t2 - t1 * m2);
+    if (!(std::abs(det) > 1e-12 * m0 * m0 * m0)) return std::nan("");
+    return det1 * factor / det;
+  }
+};
+
+// The weighted moments of a local cubic about a centre xb, u = (x - xb) /
+// scale: m_p = sum w u^p (p = 0..6) and t_p = sum y u^p (p = 0..3), y = w
+// times the bin's mean.
+struct CubicMoments {
+  double m0 = 0, m1 = 0, m2 = 0, m3 = 0, m4 = 0, m5 = 0, m6 = 0;
+  double t0 = 0, t1 = 0, t2 = 0, t3 = 0;
+
+  void Add(double w, double y, double u) {
+    const double w1 = w * u, w2 = w1 * u, w3 = w2 * u, w4 = w3 * u, w5 = w4 * u,
+                 w6 = w5 * u;
+    const double y1 = y * u, y2 = y1 * u, y3 = y2 * u;
+    m0 += w, m1 += w1, m2 += w2, m3 += w3, m4 += w4, m5 += w5, m6 += w6;
+    t0 += y, t1 += y1, t2 += y2, t3 += y3;
+  }
+
+  // The same sums about a centre `d` further along: u -> u + a, a = -d,
+  // sum w (u + a)^p by the binomial theorem.
+  void Shift(double d) {
+    const double a = -d, a2 = a * a, a3 = a2 * a, a4 = a2 * a2, a5 = a4 * a,
+                 a6 = a3 * a3;
+    m6 += 6 * a * m5 + 15 * a2 * m4 + 20 * a3 * m3 + 15 * a4 * m2 +
+          6 * a5 * m1 + a6 * m0;
+    m5 += 5 * a * m4 + 10 * a2 * m3 + 10 * a3 * m2 + 5 * a4 * m1 + a5 * m0;
+    m4 += 4 * a * m3 + 6 * a2 * m2 + 4 * a3 * m1 + a4 * m0;
+    m3 += 3 * a * m2 + 3 * a2 * m1 + a3 * m0;
+    m2 += 2 * a * m1 + a2 * m0;
+    m1 += a * m0;
+    t3 += 3 * a * t2 + 3 * a2 * t1 + a3 * t0;
+    t2 += 2 * a * t1 + a2 * t0;
+    t1 += a * t0;
+  }
+
+  // c1 times `factor` by Cramer's rule on the 4 x 4 normal equations (by
+  // the cofactors of column 1: the normal matrix's (m_{r + c})
+  // determinant is sum_r m_{r + 1} C_r, that with column 1 replaced by t
+  // sum_r t_r C_r; C_r from the 2 x 2 minors of columns 2 and 3); NaN
+  // when they are singular.
+  double Slope(double factor) const {
+    const double c0[4] = {m0, m1, m2, m3};
+    const double c2[4] = {m2, m3, m4, m5};
+    const double c3[4] = {m3, m4, m5, m6};
+    const auto minor = [&](int i, int j) {
+      return c2[i] * c3[j] - c2[j] * c3[i];
+    };
+    const double d01 = minor(0, 1), d02 = minor(0, 2), d03 = minor(0, 3),
+                 d12 = minor(1, 2), d13 = minor(1, 3), d23 = minor(2, 3);
+    // Signed cofactors of column 1 (row r removed; (-1)^(r + 1)).
+    const double k0 = -(c0[1] * d23 - c0[2] * d13 + c0[3] * d12);
+    const double k1 = c0[0] * d23 - c0[2] * d03 + c0[3] * d02;
+    const double k2 = -(c0[0] * d13 - c0[1] * d03 + c0[3] * d01);
+    const double k3 = c0[0] * d12 - c0[1] * d02 + c0[2] * d01;
+    const double det = m1 * k0 + m2 * k1 + m3 * k2 + m4 * k3;
+    if (!(std::abs(det) > 1e-12 * m0 * m0 * m0 * m0)) return std::nan("");
+    return (t0 * k0 + t1 * k1 + t2 * k2 + t3 * k3) * factor / det;
+  }
+};
+
+// The moments of the bins [lo, hi] about xb.
+template <typename Moments>
+Moments MomentsOf(const double* mean_x,
                   const double* weight,
                   const double* value,
                   std::size_t lo,
                   std::size_t hi,
                   double xb,
-                  double scale) {
-  const double inverse_scale = 1.0 / scale;
-  double m[7] = {}, t[4] = {};
-  for (std::size_t j = lo; j <= hi; ++j) {
-    const double w = weight[j], y = value[j];
-    const double u = (mean_x[j] - xb) * inverse_scale;
-    const double u2 = u * u, u3 = u2 * u;
-    m[0] += w;
-    m[1] += w * u;
-    m[2] += w * u2;
-    m[3] += w * u3;
-    m[4] += w * u2 * u2;
-    m[5] += w * u2 * u3;
-    m[6] += w * u3 * u3;
-    t[0] += y;
-    t[1] += y * u;
-    t[2] += y * u2;
-    t[3] += y * u3;
+                  double inverse_scale) {
+  Moments c;
+  for (std::size_t j = lo; j <= hi; ++j)
+    c.Add(weight[j], value[j], (mean_x[j] - xb) * inverse_scale);
+  return c;
+}
+
+// A window's moments slid along the bins are summed afresh after this many
+// slides, so that the rounding the shifts carry along stays that of a few.
+constexpr int kSlidesBeforeRefresh = 8;
+
+// The slope k at each non-empty bin (`used`, their mean x, weight and
+// value) by the local polynomial of `Moments` over the bins within
+// +-half0 bins, widened to 2 and 4 half0 where fewer than `needed` are
+// non-empty; into p, returning how many. The window of +-half0 bins
+// slides along: its moments shifted to the next centre, less the bins
+// that left, plus those that came (about a third of the arithmetic of
+// summing every window afresh).
+template <typename Moments>
+Eigen::Index SlopesOf(const std::vector<int>& used,
+                      const std::vector<double>& mean_x,
+                      const std::vector<double>& weight,
+                      const std::vector<double>& value,
+                      double bin_mm,
+                      int half0,
+                      int needed,
+                      double spring,
+                      PlateProfile* p) {
+  // Per width (+-half0, 2 half0, 4 half0 bins): 1 / its half width, and
+  // what turns the slope in those units into k (one division per bin).
+  double inverse_scales[3], factors[3];
+  for (int level = 0; level < 3; ++level) {
+    const double scale = (half0 << level) * bin_mm;
+    inverse_scales[level] = 1.0 / scale;
+    factors[level] = 1.0 / (scale * spring);
   }
-  Eigen::Matrix4d normal;
-  for (int r = 0; r < 4; ++r) {
-    for (int c = 0; c < 4; ++c) normal(r, c) = m[r + c];
+  // The sliding window: its bins [slid_lo, slid_hi], their moments about
+  // slid_centre.
+  Moments slid;
+  std::size_t slid_lo = 0, slid_hi = 0;
+  double slid_centre = 0;
+  int slides = kSlidesBeforeRefresh;  // none held yet
+  Eigen::Index m = 0;
+  for (std::size_t u = 0; u < used.size(); ++u) {
+    const int b = used[u];
+    const double xb = mean_x[u];
+    double k = std::nan("");
+    for (int level = 0, half = half0; level < 3; ++level, half *= 2) {
+      // Neighbouring non-empty bins within +-half bins.
+      std::size_t lo = u, hi = u;
+      while (lo > 0 && used[lo - 1] >= b - half) --lo;
+      while (hi + 1 < used.size() && used[hi + 1] <= b + half) ++hi;
+      if (static_cast<int>(hi - lo + 1) < needed) continue;
+      const double inverse_scale = inverse_scales[level];
+      if (level > 0) {
+        k = MomentsOf<Moments>(mean_x.data(),
+                               weight.data(),
+                               value.data(),
+                               lo,
+                               hi,
+                               xb,
+                               inverse_scale)
+                .Slope(factors[level]);
+        break;
+      }
+      if (slides >= kSlidesBeforeRefresh || lo > slid_hi) {
+        slid = MomentsOf<Moments>(mean_x.data(),
+                                  weight.data(),
+                                  value.data(),
+                                  lo,
+                                  hi,
+                                  xb,
+                                  inverse_scale);
+        slides = 0;
+      } else {
+        slid.Shift((xb - slid_centre) * inverse_scale);
+        for (std::size_t j = slid_lo; j < lo; ++j)
+          slid.Add(-weight[j], -value[j], (mean_x[j] - xb) * inverse_scale);
+        for (std::size_t j = slid_hi + 1; j <= hi; ++j)
+          slid.Add(weight[j], value[j], (mean_x[j] - xb) * inverse_scale);
+        ++slides;
+      }
+      slid_lo = lo;
+      slid_hi = hi;
+      slid_centre = xb;
+      k = slid.Slope(factors[level]);
+      break;
+    }
+    if (!std::isfinite(k)) continue;
+    // Mean x of successive bins increases (bins are ordered and disjoint).
+    p->x_mm[m] = xb;
+    p->k[m] = k;
+    ++m;
   }
-  const double det = normal.determinant();
-  const double m0 = m[0];
-  if (!(std::abs(det) > 1e-12 * m0 * m0 * m0 * m0)) return std::nan("");
-  normal.col(1) << t[0], t[1], t[2], t[3];
-  return normal.determinant() / det;
+  return m;
 }
 
 // Slope at each non-empty bin of a binned profile (mean x, mean value,
@@ -262,56 +420,12 @@ PlateProfile SlopeOfBinnedProfile(const CycleBins& bins,
   const int needed = o.polynomial_order == 2
                          ? o.min_bins
                          : std::max(o.min_bins, o.polynomial_order + 2);
-  Eigen::Index m = 0;
-  for (std::size_t u = 0; u < used.size(); ++u) {
-    const int b = used[u];
-    const double xb = mean_x[u];
-    double k = std::nan("");
-    for (int half = half0; half <= 4 * half0; half *= 2) {
-      // Neighbouring non-empty bins within +-half bins.
-      std::size_t lo = u, hi = u;
-      while (lo > 0 && used[lo - 1] >= b - half) --lo;
-      while (hi + 1 < used.size() && used[hi + 1] <= b + half) ++hi;
-      if (static_cast<int>(hi - lo + 1) < needed) continue;
-      if (o.polynomial_order != 2) {
-        const double scale = half * bin_mm;
-        k = CubicSlope(
-                mean_x.data(), weight.data(), value.data(), lo, hi, xb, scale) /
-            scale / spring;
-        break;
-      }
-      // Weighted normal equations of a + c1 u + c2 u^2, u = (x - xb) /
-      // (half bins), solved for c1 by Cramer's rule (the 3x3 system is
-      // symmetric: moments m0..m4 of u, and t0..t2 of y u^p).
-      const double scale = half * bin_mm, inverse_scale = 1.0 / scale;
-      double m0 = 0, m1 = 0, m2 = 0, m3 = 0, m4 = 0, t0 = 0, t1 = 0, t2 = 0;
-      for (std::size_t j = lo; j <= hi; ++j) {
-        const double w = weight[j];
-        const double uu = (mean_x[j] - xb) * inverse_scale;
-        const double y = value[j];  // = w * mean
-        const double u2 = uu * uu;
-        m0 += w;
-        m1 += w * uu;
-        m2 += w * u2;
-        m3 += w * u2 * uu;
-        m4 += w * u2 * u2;
-        t0 += y;
-        t1 += y * uu;
-        t2 += y * u2;
-      }
-      const double det = m0 * (m2 * m4 - m3 * m3) - m1 * (m1 * m4 - m3 * m2) +
-                         m2 * (m1 * m3 - m2 * m2);
-      const double det1 = m0 * (t1 * m4 - m3 * t2) - t0 * (m1 * m4 - m3 * m2) +
-                          m2 * (m1 * t2 - t1 * m2);
-      if (std::abs(det) > 1e-12 * m0 * m0 * m0) k = det1 / det / scale / spring;
-      break;
-    }
-    if (!std::isfinite(k)) continue;
-    // Mean x of successive bins increases (bins are ordered and disjoint).
-    p.x_mm[m] = xb;
-    p.k[m] = k;
-    ++m;
-  }
+  const Eigen::Index m =
+      o.polynomial_order == 2
+          ? SlopesOf<QuadraticMoments>(
+                used, mean_x, weight, value, bin_mm, half0, needed, spring, &p)
+          : SlopesOf<CubicMoments>(
+                used, mean_x, weight, value, bin_mm, half0, needed, spring, &p);
   p.x_mm.conservativeResize(m);
   p.k.conservativeResize(m);
   return p;

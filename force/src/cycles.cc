@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 #include <vector>
 
 namespace wearscar::force {
@@ -276,7 +277,26 @@ CycleSet SegmentCycles(const Eigen::Ref<const Eigen::VectorXd>& x_mm,
         set.stroke_mm,
         options.min_cycles));
   }
+  std::tie(set.x_min_mm, set.x_max_mm) = CyclesXRange(x_mm, set);
+  set.x_range_of = x_mm.data();
   return set;
+}
+
+std::pair<double, double> CyclesXRange(
+    const Eigen::Ref<const Eigen::VectorXd>& x_mm, const CycleSet& cycles) {
+  if (cycles.x_range_of != nullptr && cycles.x_range_of == x_mm.data())
+    return {cycles.x_min_mm, cycles.x_max_mm};
+  double lo = INFINITY, hi = -INFINITY;
+  for (const Cycle& c : cycles.cycles) {
+    const Eigen::Index e = std::min(c.reverse.end, x_mm.size());
+    for (Eigen::Index i = c.forward.begin; i < e; ++i) {
+      const double v = x_mm[i];
+      if (!std::isfinite(v)) continue;
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+  }
+  return {lo, hi};
 }
 
 void FindGrossSlip(const ForceRecord& record,

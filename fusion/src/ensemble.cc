@@ -22,15 +22,7 @@ PlateGrid PlateGrid::Covering(const force::ForceRecord& record,
   PlateGrid g;
   g.bin_mm = bin_mm;
   if (cycles.cycles.empty() || !(bin_mm > 0)) return g;
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  const Eigen::Index b = cycles.cycles.front().forward.begin;
-  const Eigen::Index e = cycles.cycles.back().reverse.end;
-  for (Eigen::Index i = b; i < e; ++i) {
-    const double x = record.x_mm[i];
-    if (!std::isfinite(x)) continue;
-    lo = std::min(lo, x);
-    hi = std::max(hi, x);
-  }
+  const auto [lo, hi] = force::CyclesXRange(record.x_mm, cycles);
   if (!(hi >= lo)) return g;
   const double span = hi - lo;
   // Wider bins rather than an unbounded grid (a stroke of metres in

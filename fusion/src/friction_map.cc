@@ -157,14 +157,7 @@ FrictionMap ComputeFrictionMap(const force::ForceRecord& record,
   FrictionMap m;
   m.cycles = static_cast<int>(cycles.cycles.size());
   if (m.cycles == 0) return m;
-  double lo = INFINITY, hi = -INFINITY;
-  for (const force::Cycle& c : cycles.cycles) {
-    for (Eigen::Index i = c.forward.begin; i < c.reverse.end; ++i) {
-      if (!std::isfinite(record.x_mm[i])) continue;
-      lo = std::min(lo, record.x_mm[i]);
-      hi = std::max(hi, record.x_mm[i]);
-    }
-  }
+  const auto [lo, hi] = force::CyclesXRange(record.x_mm, cycles);
   if (!(hi > lo)) return m;
   Bins b;
   b.width = options.bin_mm;

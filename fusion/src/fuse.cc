@@ -6,6 +6,7 @@
 #include <cmath>
 #include <future>
 #include <limits>
+#include <tuple>
 
 #include "wearscar/fusion/forward_model.h"
 #include "wearscar/support/check.h"
@@ -228,16 +229,9 @@ ScanAnalysis AnalyzeScan(const force::ForceRecord& record,
   double stroke_min = -std::numeric_limits<double>::infinity();
   double stroke_max = std::numeric_limits<double>::infinity();
   if (nc > 0) {
-    const Eigen::Index b = force.cycles.cycles.front().forward.begin;
-    const Eigen::Index e = force.cycles.cycles.back().reverse.end;
-    stroke_min = std::numeric_limits<double>::infinity();
-    stroke_max = -stroke_min;
-    for (Eigen::Index i = b; i < e; ++i) {
-      const double x = record.x_mm[i];
-      if (!std::isfinite(x)) continue;  // isolated gaps are allowed
-      stroke_min = std::min(stroke_min, x);
-      stroke_max = std::max(stroke_max, x);
-    }
+    // Isolated gaps in x are allowed: finite samples only.
+    std::tie(stroke_min, stroke_max) =
+        force::CyclesXRange(record.x_mm, force.cycles);
   }
   s.slope = ScanSlopeInPlate(
       s.profile, s.alignment, options.scan_slope, stroke_min, stroke_max);

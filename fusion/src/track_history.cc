@@ -86,14 +86,7 @@ TrackHistory ComputeTrackHistory(const force::ForceRecord& record,
     throw FusionError("track history: the spring stiffness must be > 0");
   TrackHistory h;
   h.cycles = static_cast<int>(cycles.cycles.size());
-  double lo = INFINITY, hi = -INFINITY;
-  for (const force::Cycle& c : cycles.cycles) {
-    for (Eigen::Index i = c.forward.begin; i < c.reverse.end; ++i) {
-      if (!std::isfinite(record.x_mm[i])) continue;
-      lo = std::min(lo, record.x_mm[i]);
-      hi = std::max(hi, record.x_mm[i]);
-    }
-  }
+  const auto [lo, hi] = force::CyclesXRange(record.x_mm, cycles);
   if (h.cycles == 0 || !(hi > lo)) return h;
   const auto bins = static_cast<size_t>(std::ceil((hi - lo) / options.bin_mm));
   const double start = 0.5 * (lo + hi) - 0.5 * bins * options.bin_mm;

@@ -70,6 +70,35 @@ TEST(SegmentCycles, SineWithNoiseGivesCompleteCyclesOnly) {
   }
 }
 
+// The x range of the complete cycles, found once by SegmentCycles: the
+// finite samples between the first cycle's start and the last's end (not
+// the dropped ends, not a NaN gap); another x with the same cycles is
+// passed over afresh.
+TEST(SegmentCycles, KeepsTheCyclesXRangeForTheXItSegmented) {
+  ForceRecord r = JenkinsRecord(Sine, 2000, 10.5, 0.12, 0.01);
+  const Eigen::Index b = 1500, e = 19500;  // about the complete cycles
+  r.x_mm[3000] = std::nan("");
+  const CycleSet set = SegmentCycles(r.x_mm);
+  double lo = INFINITY, hi = -INFINITY;
+  for (Eigen::Index i = set.cycles.front().forward.begin;
+       i < set.cycles.back().reverse.end;
+       ++i) {
+    if (std::isfinite(r.x_mm[i]))
+      lo = std::min(lo, r.x_mm[i]), hi = std::max(hi, r.x_mm[i]);
+  }
+  EXPECT_NEAR(set.cycles.front().forward.begin, b, 60);
+  EXPECT_NEAR(set.cycles.back().reverse.end, e, 60);
+  EXPECT_EQ(set.x_range_of, r.x_mm.data());
+  EXPECT_EQ(CyclesXRange(r.x_mm, set), std::make_pair(lo, hi));
+  EXPECT_NEAR(hi, 2.85, 0.05);
+  // A copy of x with one value moved beyond the others: not the x the
+  // set was segmented from, so its own range.
+  Eigen::VectorXd other = r.x_mm;
+  other[10000] = 7.5;
+  other[0] = -9.0;  // before the first complete cycle: not counted
+  EXPECT_EQ(CyclesXRange(other, set), std::make_pair(lo, 7.5));
+}
+
 TEST(SegmentCycles, TriangularDriveWithoutSpuriousReversals) {
   const ForceRecord r = JenkinsRecord(Triangle, 1000, 6.2, 0.1, 0.02);
   const CycleSet set = SegmentCycles(r.x_mm);

@@ -2,6 +2,7 @@
 
 #include <Eigen/Core>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "wearscar/force/force_record.h"
@@ -35,7 +36,20 @@ struct CycleSet {
   Eigen::Index trailing_samples_dropped = 0;
   double stroke_mm = 0.0;  // robust peak-to-peak of x
   std::vector<std::string> notes;
+  // The least and greatest finite x of the complete cycles' samples,
+  // [cycles.front().forward.begin, cycles.back().reverse.end), mm, as
+  // SegmentCycles found them in the x whose values start at x_range_of
+  // (CyclesXRange: the grids and stroke bounds of the analysis each took
+  // a pass over x for them, nine per test).
+  double x_min_mm = 0.0, x_max_mm = 0.0;
+  const double* x_range_of = nullptr;
 };
+
+// The least and greatest finite x of the complete cycles' samples of
+// `x_mm` (+inf and -inf when there are none): CycleSet's own when it was
+// segmented from this x, else by a pass over it.
+std::pair<double, double> CyclesXRange(
+    const Eigen::Ref<const Eigen::VectorXd>& x_mm, const CycleSet& cycles);
 
 struct SegmentOptions {
   // Reversal hysteresis as a fraction of the robust stroke (p99 - p1): x must

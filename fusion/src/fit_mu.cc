@@ -159,28 +159,40 @@ bool CostWithDerivatives(const CycleSamples& samples,
                          CostDerivatives* out) {
   *out = {};
   for (const SlipSamples* d : {&samples.forward, &samples.reverse}) {
-    const double s = d->direction;
+    const double s = d->direction, sm = s * mu;
     const Eigen::Index n = d->q_n.size();
-    double sum = 0, sum1 = 0, sum2 = 0;
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const double k = d->k[i], p = d->p_n[i];
-      const double denom = 1.0 - s * mu * k;
-      if (!(denom > 0.0)) return false;
+    const double *k = d->k.data(), *p = d->p_n.data(), *q = d->q_n.data();
+    // Two samples at a time into two sets of sums: the adds of one sample
+    // wait on the last's no more (the loop ran at the adds' latency).
+    double sum[2] = {0, 0}, sum1[2] = {0, 0}, sum2[2] = {0, 0};
+    bool finite = true;
+    const auto add = [&](Eigen::Index i, int lane) {
+      const double denom = 1.0 - sm * k[i];
+      finite &= denom > 0.0;
       const double inv = 1.0 / denom;
-      const double r = d->q_n[i] - p * (k + s * mu) * inv;
-      const double r1 = -s * p * (1.0 + k * k) * inv * inv;
-      const double r2 = 2.0 * s * k * r1 * inv;
-      sum += r * r;
-      sum1 += r * r1;
-      sum2 += r1 * r1 + r * r2;
+      const double r = q[i] - p[i] * (k[i] + sm) * inv;
+      const double r1 = -s * p[i] * (1.0 + k[i] * k[i]) * inv * inv;
+      const double r2 = 2.0 * s * k[i] * r1 * inv;
+      sum[lane] += r * r;
+      sum1[lane] += r * r1;
+      sum2[lane] += r1 * r1 + r * r2;
+    };
+    Eigen::Index i = 0;
+    for (; i + 1 < n; i += 2) {
+      add(i, 0);
+      add(i + 1, 1);
     }
+    if (i < n) add(i, 0);
+    if (!finite) return false;
+    const double s0 = sum[0] + sum[1], s1 = sum1[0] + sum1[1],
+                 s2 = sum2[0] + sum2[1];
     const double den = d->q_n.squaredNorm();
-    if (n == 0 || !(den > 0) || !(sum > 0)) return false;
-    // S' = 2 sum1, S'' = 2 sum2.
-    const double root = std::sqrt(sum * den);
-    out->j += std::sqrt(sum / den);
-    out->dj += sum1 / root;
-    out->d2j += sum2 / root - sum1 * sum1 / (sum * root);
+    if (n == 0 || !(den > 0) || !(s0 > 0)) return false;
+    // S' = 2 s1, S'' = 2 s2.
+    const double root = std::sqrt(s0 * den);
+    out->j += std::sqrt(s0 / den);
+    out->dj += s1 / root;
+    out->d2j += s2 / root - s1 * s1 / (s0 * root);
   }
   return std::isfinite(out->j) && std::isfinite(out->dj) &&
          std::isfinite(out->d2j);

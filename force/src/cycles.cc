@@ -10,34 +10,83 @@
 namespace wearscar::force {
 namespace {
 
-// Two quantiles of the finite values (0 <= lo <= hi <= 1) from one copy:
-// after the first selection everything above it is at least as large, so
-// the second selects within that part only. A series longer than
+// Two quantiles of the finite values (0 <= lo <= hi <= 1): the order
+// statistics of ranks lo (n - 1) and hi (n - 1). A series longer than
 // `max_values` is read with a stride (every 2nd, 3rd, ... sample; hundreds
-// of cycles of a periodic x still cover every phase), so the copy stays
-// at most 16 MB at any test length (the paper's 1.2 M samples are read
-// whole). NaN when nothing is finite.
+// of cycles of a periodic x still cover every phase; the paper's 1.2 M
+// samples are read whole). NaN when nothing is finite.
 std::pair<double, double> Quantiles(const Eigen::Ref<const Eigen::VectorXd>& v,
                                     double lo,
                                     double hi,
                                     Eigen::Index max_values = 1 << 21) {
-  const Eigen::Index stride = (v.size() + max_values - 1) / max_values;
-  std::vector<double> finite;
-  finite.reserve(
-      static_cast<size_t>(v.size() / std::max<Eigen::Index>(1, stride) + 1));
-  for (Eigen::Index i = 0; i < v.size();
-       i += std::max<Eigen::Index>(1, stride)) {
-    if (std::isfinite(v[i])) finite.push_back(v[i]);
+  // The values taken: every stride-th finite one (all up to max_values).
+  const Eigen::Index stride =
+      std::max<Eigen::Index>(1, (v.size() + max_values - 1) / max_values);
+  // Their order statistics of ranks q (n - 1), found without copying them
+  // all: a sample of every 64th brackets each rank, a pass counts the
+  // values below the bracket and keeps those in it, and the rank is
+  // selected among those (the same value as a selection over all; a
+  // bracket that misses falls back to that).
+  std::vector<double> sample;
+  sample.reserve(static_cast<size_t>(v.size() / (64 * stride) + 1));
+  for (Eigen::Index i = 0; i < v.size(); i += 64 * stride) {
+    if (std::isfinite(v[i])) sample.push_back(v[i]);
   }
-  if (finite.empty()) return {std::nan(""), std::nan("")};
+  std::sort(sample.begin(), sample.end());
+  const auto bracket = [&](double q) -> std::pair<double, double> {
+    if (sample.size() < 64) return {-INFINITY, INFINITY};
+    // Six standard errors of the sample's quantile, and ten values.
+    const double m = static_cast<double>(sample.size());
+    const double margin = 6 * std::sqrt(q * (1 - q) / m) + 10 / m;
+    const auto at = [&](double f) {
+      const double r = std::clamp(f, 0.0, 1.0) * (m - 1);
+      return sample[static_cast<size_t>(r)];
+    };
+    return {q - margin <= 0 ? -INFINITY : at(q - margin),
+            q + margin >= 1 ? INFINITY : at(q + margin)};
+  };
+  const auto [lo_a, lo_b] = bracket(lo);
+  const auto [hi_a, hi_b] = bracket(hi);
+  long n = 0, below_lo = 0, below_hi = 0;
+  std::vector<double> in_lo, in_hi;
+  for (Eigen::Index i = 0; i < v.size(); i += stride) {
+    const double x = v[i];
+    if (!std::isfinite(x)) continue;
+    ++n;
+    if (x < lo_a) {
+      ++below_lo;
+    } else if (x <= lo_b) {
+      in_lo.push_back(x);
+    }
+    if (x < hi_a) {
+      ++below_hi;
+    } else if (x <= hi_b) {
+      in_hi.push_back(x);
+    }
+  }
+  if (n == 0) return {std::nan(""), std::nan("")};
   const auto rank = [&](double q) {
-    return static_cast<long>(q * static_cast<double>(finite.size() - 1));
+    return static_cast<long>(q * static_cast<double>(n - 1));
+  };
+  const auto select = [](std::vector<double>* values, long k) {
+    std::nth_element(values->begin(), values->begin() + k, values->end());
+    return (*values)[static_cast<size_t>(k)];
   };
   const long a = rank(lo), b = rank(hi);
-  std::nth_element(finite.begin(), finite.begin() + a, finite.end());
-  const double low = finite[a];
+  const bool lo_held =
+      a >= below_lo && a < below_lo + static_cast<long>(in_lo.size());
+  const bool hi_held =
+      b >= below_hi && b < below_hi + static_cast<long>(in_hi.size());
+  if (lo_held && hi_held)
+    return {select(&in_lo, a - below_lo), select(&in_hi, b - below_hi)};
+  std::vector<double> finite;
+  finite.reserve(static_cast<size_t>(n));
+  for (Eigen::Index i = 0; i < v.size(); i += stride) {
+    if (std::isfinite(v[i])) finite.push_back(v[i]);
+  }
+  const double low = select(&finite, a);
   std::nth_element(finite.begin() + a, finite.begin() + b, finite.end());
-  return {low, finite[b]};
+  return {low, finite[static_cast<size_t>(b)]};
 }
 
 // Least-squares slope of q over x on [b, e); NaN when x does not spread.
@@ -286,17 +335,40 @@ std::pair<double, double> CyclesXRange(
     const Eigen::Ref<const Eigen::VectorXd>& x_mm, const CycleSet& cycles) {
   if (cycles.x_range_of != nullptr && cycles.x_range_of == x_mm.data())
     return {cycles.x_min_mm, cycles.x_max_mm};
-  double lo = INFINITY, hi = -INFINITY;
+  // Four running minima and maxima (the comparisons leave NaN out), so
+  // that each waits on the one four samples back; an infinite x, rare,
+  // is left out by a second pass.
+  double lo[4] = {INFINITY, INFINITY, INFINITY, INFINITY};
+  double hi[4] = {-INFINITY, -INFINITY, -INFINITY, -INFINITY};
+  const double* x = x_mm.data();
   for (const Cycle& c : cycles.cycles) {
     const Eigen::Index e = std::min(c.reverse.end, x_mm.size());
-    for (Eigen::Index i = c.forward.begin; i < e; ++i) {
-      const double v = x_mm[i];
-      if (!std::isfinite(v)) continue;
-      lo = std::min(lo, v);
-      hi = std::max(hi, v);
+    Eigen::Index i = c.forward.begin;
+    for (; i + 3 < e; i += 4) {
+      for (int j = 0; j < 4; ++j) {
+        lo[j] = x[i + j] < lo[j] ? x[i + j] : lo[j];
+        hi[j] = x[i + j] > hi[j] ? x[i + j] : hi[j];
+      }
+    }
+    for (; i < e; ++i) {
+      lo[0] = x[i] < lo[0] ? x[i] : lo[0];
+      hi[0] = x[i] > hi[0] ? x[i] : hi[0];
     }
   }
-  return {lo, hi};
+  double low = std::min({lo[0], lo[1], lo[2], lo[3]});
+  double high = std::max({hi[0], hi[1], hi[2], hi[3]});
+  if (low == -INFINITY || high == INFINITY) {
+    low = INFINITY, high = -INFINITY;
+    for (const Cycle& c : cycles.cycles) {
+      const Eigen::Index e = std::min(c.reverse.end, x_mm.size());
+      for (Eigen::Index i = c.forward.begin; i < e; ++i) {
+        if (!std::isfinite(x[i])) continue;
+        low = std::min(low, x[i]);
+        high = std::max(high, x[i]);
+      }
+    }
+  }
+  return {low, high};
 }
 
 void FindGrossSlip(const ForceRecord& record,

@@ -97,6 +97,43 @@ TEST(SegmentCycles, KeepsTheCyclesXRangeForTheXItSegmented) {
   other[10000] = 7.5;
   other[0] = -9.0;  // before the first complete cycle: not counted
   EXPECT_EQ(CyclesXRange(other, set), std::make_pair(lo, 7.5));
+  // An infinite x is no extent either.
+  other[12001] = -INFINITY;
+  other[12002] = INFINITY;
+  EXPECT_EQ(CyclesXRange(other, set), std::make_pair(lo, 7.5));
+}
+
+// The robust stroke is the 1% and 99% order statistics of the finite x
+// (ranks q (n - 1)), exactly: found from a sample's bracket, they are the
+// values a sort of every finite x gives, with NaN gaps, x quantised to
+// the LVDT's 1 um (ties at the ranks) and past 2 M samples (read every
+// 2nd).
+TEST(SegmentCycles, TheRobustStrokeIsTheOrderStatisticsOfX) {
+  std::mt19937 gen(3);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  for (const auto& [n, quantum] : {std::pair<long, double>{6000, 0.0},
+                                   {200000, 0.001},
+                                   {1200000, 0.0},
+                                   {2500000, 0.001}}) {
+    Eigen::VectorXd x(n);
+    for (long i = 0; i < n; ++i) {
+      double v = 2.85 * std::sin(2 * M_PI * i / 2000.0) + 0.05 * noise(gen);
+      if (i % 5000 == 17) v = 40.0 * noise(gen);  // wild samples
+      if (quantum > 0) v = quantum * std::round(v / quantum);
+      x[i] = i % 997 == 3 ? std::nan("") : v;
+    }
+    const long stride = n > (1 << 21) ? 2 : 1;
+    std::vector<double> finite;
+    for (long i = 0; i < n; i += stride) {
+      if (std::isfinite(x[i])) finite.push_back(x[i]);
+    }
+    std::sort(finite.begin(), finite.end());
+    const auto at = [&](double q) {
+      return finite[static_cast<size_t>(q * (finite.size() - 1))];
+    };
+    const CycleSet set = SegmentCycles(x);
+    EXPECT_EQ(set.stroke_mm, at(0.99) - at(0.01)) << n;
+  }
 }
 
 TEST(SegmentCycles, TriangularDriveWithoutSpuriousReversals) {

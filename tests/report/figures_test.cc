@@ -292,6 +292,19 @@ TEST(SlimTables, EachClauseReadsItsColumnsFromTheCopy) {
   EXPECT_EQ(Slurp(dir / kFigureData / "f.t.csv"),
             "a,c,d,e\n1,,4,5\n2,4,5,6\n\n3,5,6,7\n");
   EXPECT_FALSE(fs::exists(dir / kFigureData / "f.u.csv"));
+  // Two tables whose copies would share a name: the first has its copy,
+  // the second keeps its table.
+  fs::create_directories(dir / "s");
+  std::ofstream(dir / "s" / "t.csv") << "a,b,c\n1,2,3\n";
+  std::ofstream(dir / "s_t.csv") << "a,b,c\n4,5,6\n";
+  EXPECT_EQ(SlimPlotTables(dir.string(),
+                           "k",
+                           "plot 's/t.csv' skip 1 using 1:3, 's_t.csv' skip 1 "
+                           "using 1:3"),
+            "# over the result tables: plot 's/t.csv' skip 1 using 1:3, "
+            "'s_t.csv' skip 1 using 1:3\nplot 'figure-data/k.s_t.csv' skip 1 "
+            "using 1:2, 's_t.csv' skip 1 using 1:3");
+  EXPECT_EQ(Slurp(dir / kFigureData / "k.s_t.csv"), "a,c\n1,3\n");
   // Nothing over a table: the body as it is.
   EXPECT_EQ(SlimPlotTables(dir.string(), "g", "plot sin(x)"), "plot sin(x)");
   // A clause without `using` (gnuplot's default columns) keeps the table.

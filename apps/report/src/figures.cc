@@ -19,7 +19,6 @@
 #include <map>
 #include <memory>
 #include <numeric>
-#include <set>
 #include <string_view>
 
 #include "wearscar/fusion/products.h"
@@ -271,8 +270,19 @@ class SlimTables {
 
   std::string dir_;
   std::map<std::string, std::unique_ptr<Table>> tables_;
-  std::set<std::string> written_;  // the copies, by name
+  // The copies written: their names in figure-data and the tables they
+  // copy (two tables whose names differ only by '/' and '_' are never
+  // given one copy).
+  std::map<std::string, std::string> written_;
 };
+
+// The name in figure-data of a figure's copy of a table: <figure>.<table>,
+// a table in a sub-folder with '_' for '/'.
+std::string CopyName(const std::string& figure, const std::string& table) {
+  std::string name = figure + "." + table;
+  std::replace(name.begin(), name.end(), '/', '_');
+  return name;
+}
 
 // Splits `s` at `separator` outside quotes (gnuplot's '...' and "...")
 // and parentheses.
@@ -534,15 +544,14 @@ std::string SlimTables::Rewrite(const std::string& stem,
       }
       copy += '\n';
     }
-    if (!fits) continue;
+    const std::string name = CopyName(stem, file);
+    const auto [at, added] = written_.try_emplace(name, file);
+    if (!fits || at->second != file) continue;
+    if (added) WriteTextAtomically(FigureDataPath(dir_, name), copy);
     std::vector<int>& to = renumber[file];
     to.assign(columns.back() + 1, 0);
     for (size_t k = 0; k < columns.size(); ++k)
       to[columns[k]] = static_cast<int>(k + 1);
-    std::string name = stem + "." + file;
-    std::replace(name.begin(), name.end(), '/', '_');
-    if (written_.insert(name).second)
-      WriteTextAtomically(FigureDataPath(dir_, name), copy);
   }
   if (renumber.empty()) return body;
   std::string out;
@@ -571,11 +580,11 @@ std::string SlimTables::Rewrite(const std::string& stem,
               &spec);
           text.replace(b, e - b, spec);
           if (!given.empty()) {
-            std::string name = stem + "." + c.file;
-            std::replace(name.begin(), name.end(), '/', '_');
             const size_t q = text.find('\'');
             text.replace(
-                q, rest - q, Quote(std::string(kFigureData) + "/" + name));
+                q,
+                rest - q,
+                Quote(std::string(kFigureData) + "/" + CopyName(stem, c.file)));
           }
           changed = true;
         }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <limits>
 #include <vector>
 
@@ -260,6 +261,10 @@ bool FitMuOptions::IsValid(std::string* why) const {
 }
 
 bool FrictionFitOptions::IsValid(std::string* why) const {
+  if (threads < 1 || threads > 256) {
+    if (why) *why = "threads must be in [1, 256]";
+    return false;
+  }
   return slope.IsValid(why) && ensemble.IsValid(why) && fit.IsValid(why) &&
          repeatability.IsValid(why);
 }
@@ -655,46 +660,68 @@ FrictionFits FitFriction(const force::ForceRecord& record,
       slope(grid, 0, n - 1, /*with_x=*/false);
   std::vector<std::array<double, 2>> misfit_total(n), q_total(n), k_total(n);
   std::vector<double> bias_per_variance(n, 0.0);
-  Eigen::VectorXd residual;
-  for (int c = 0; c < n; ++c) {
-    CycleSamples s = force_slopes ? force_slopes->Gather(c)
-                                  : GatherCycle(record,
-                                                cycles.cycles[c],
-                                                SlopeSource::kScan,
-                                                resolved,
-                                                scan_slope);
-    if (!force_slopes && slope_scale != nullptr) {
-      s.forward.k *= (*slope_scale)[c];
-      s.reverse.k *= (*slope_scale)[c];
-    }
-    MuFit fit = FitMu(s, options.fit);
-    if (fit.converged)
-      bias_per_variance[c] = KNoiseBiasPerVariance(s, fit.mu_hat);
-    int d = 0;
-    for (const SlipSamples* h : {&s.forward, &s.reverse}) {
-      double rr = 0, qq = 0, kk = 0;
-      const Eigen::Index m = h->q_n.size();
-      residual.resize(m);
-      for (Eigen::Index i = 0; i < m; ++i) {
-        const double r =
-            fit.converged
-                ? h->q_n[i] - WearScarTangentialForce(
-                                  h->p_n[i], h->k[i], fit.mu_hat, h->direction)
-                : std::nan("");
-        residual[i] = r;
-        if (std::isfinite(r)) rr += r * r;
-        qq += h->q_n[i] * h->q_n[i];
-        kk += h->k[i] * h->k[i];
+  out.cycles.resize(static_cast<std::size_t>(n));
+  // The cycles [first, last) with `slopes` (the force side's ensemble,
+  // slid along them) or the scan's: each cycle writes only its own
+  // places (its fit, its sums, its cycle's bins).
+  const auto fit_cycles = [&](int first, int last, const ForceSlopes* slopes) {
+    Eigen::VectorXd residual;
+    for (int c = first; c < last; ++c) {
+      CycleSamples s = slopes ? slopes->Gather(c)
+                              : GatherCycle(record,
+                                            cycles.cycles[c],
+                                            SlopeSource::kScan,
+                                            resolved,
+                                            scan_slope);
+      if (!slopes && slope_scale != nullptr) {
+        s.forward.k *= (*slope_scale)[c];
+        s.reverse.k *= (*slope_scale)[c];
       }
-      // Binned in one pass each (AddRange skips what is not finite).
-      misfit.AddRange(c, h->direction, h->x_mm.data(), residual.data(), 0, m);
-      slope.AddRange(c, h->direction, h->x_mm.data(), h->k.data(), 0, m);
-      misfit_total[c][d] = rr;
-      q_total[c][d] = qq;
-      k_total[c][d] = kk;
-      ++d;
+      MuFit fit = FitMu(s, options.fit);
+      if (fit.converged)
+        bias_per_variance[c] = KNoiseBiasPerVariance(s, fit.mu_hat);
+      int d = 0;
+      for (const SlipSamples* h : {&s.forward, &s.reverse}) {
+        double rr = 0, qq = 0, kk = 0;
+        const Eigen::Index m = h->q_n.size();
+        residual.resize(m);
+        for (Eigen::Index i = 0; i < m; ++i) {
+          const double r =
+              fit.converged
+                  ? h->q_n[i] -
+                        WearScarTangentialForce(
+                            h->p_n[i], h->k[i], fit.mu_hat, h->direction)
+                  : std::nan("");
+          residual[i] = r;
+          if (std::isfinite(r)) rr += r * r;
+          qq += h->q_n[i] * h->q_n[i];
+          kk += h->k[i] * h->k[i];
+        }
+        // Binned in one pass each (AddRange skips what is not finite).
+        misfit.AddRange(c, h->direction, h->x_mm.data(), residual.data(), 0, m);
+        slope.AddRange(c, h->direction, h->x_mm.data(), h->k.data(), 0, m);
+        misfit_total[c][d] = rr;
+        q_total[c][d] = qq;
+        k_total[c][d] = kk;
+        ++d;
+      }
+      out.cycles[static_cast<std::size_t>(c)] = std::move(fit);
     }
-    out.cycles.push_back(std::move(fit));
+  };
+  // With threads, the force side's second half of the cycles on a thread
+  // of its own, with its own ensemble (its first window summed afresh: the
+  // same sums to the bit as slid, float sums of a few cycles being exact in
+  // double), so the fits are the same with and without.
+  const int half = n / 2;
+  if (force_slopes && options.threads > 1 && half >= 2 * shared) {
+    std::optional<ForceSlopes> second;
+    second.emplace(record, cycles, options);
+    std::future<void> done =
+        std::async(std::launch::async, [&] { fit_cycles(half, n, &*second); });
+    fit_cycles(0, half, &*force_slopes);
+    done.get();
+  } else {
+    fit_cycles(0, n, force_slopes ? &*force_slopes : nullptr);
   }
   // The split: other cycles at the same x whose k shares no P sample with
   // this cycle's form the template.

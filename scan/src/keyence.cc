@@ -21,7 +21,8 @@ constexpr char kZonMask[] = "9e7ca6dd-0e6a-4d7b-8986-f0a7b773c916";
 constexpr char kZonCalibration[] = "686613b8-27b5-4a29-8ffc-438c2780873e";
 constexpr char kZonDevice[] = "cbc1d39b-215f-4d56-a20e-cf8e5f570755";
 constexpr char kZonScan[] = "1d35862b-3b48-4df2-9235-833ef590b043";
-constexpr char kZagInventory[] = "f1724dc6-686c-4502-9227-2a594bc8ed33";
+// A ZAG's measurements are the members */<kZagPayload>; its inventory
+// member (f1724dc6-686c-4502-9227-2a594bc8ed33) is not needed to find them.
 constexpr char kZagPayload[] = "84b648d7-e44f-4909-ac11-0476720a67ff";
 
 // VK4 offset table entries (absolute offsets; 0 = absent).

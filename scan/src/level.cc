@@ -81,7 +81,6 @@ bool LevelOptions::IsValid(std::string* why) const {
     return fail("ransac_threshold_mm must be > 0");
   if (ransac_iterations < 1) return fail("ransac_iterations must be >= 1");
   if (max_points < 10) return fail("max_points must be >= 10");
-  if (ransac_points < 10) return fail("ransac_points must be >= 10");
   return true;
 }
 
@@ -121,38 +120,15 @@ LevelSummary LevelHeightMap(HeightMap* map, const LevelOptions& options) {
     }
   }
   summary.points_used = static_cast<int>(cloud->size());
-  // RANSAC plane (PCL's model draws with a fixed seed: deterministic),
-  // drawn and scored on an even subset of at most ransac_points of the
-  // points (each of its 30-80 draws counts the points near its plane: on
-  // all 86 k of a 1024 x 768 map 15-35 ms); the inliers are then the
-  // points of the whole cloud near the plane it found.
-  const std::size_t every = std::max<std::size_t>(
-      1,
-      (cloud->size() + static_cast<std::size_t>(options.ransac_points) - 1) /
-          static_cast<std::size_t>(options.ransac_points));
-  pcl::Indices subset;
-  subset.reserve(cloud->size() / every + 1);
-  for (std::size_t i = 0; i < cloud->size(); i += every)
-    subset.push_back(static_cast<pcl::index_t>(i));
+  // RANSAC plane (PCL's model draws with a fixed seed: deterministic).
   pcl::SampleConsensusModelPlane<pcl::PointXYZ>::Ptr model(
-      new pcl::SampleConsensusModelPlane<pcl::PointXYZ>(cloud, subset));
+      new pcl::SampleConsensusModelPlane<pcl::PointXYZ>(cloud));
   pcl::RandomSampleConsensus<pcl::PointXYZ> ransac(model);
   ransac.setDistanceThreshold(options.ransac_threshold_mm);
   ransac.setMaxIterations(options.ransac_iterations);
   std::vector<int> inliers;
-  Eigen::VectorXf plane;
-  if (ransac.computeModel()) {
-    ransac.getModelCoefficients(plane);
-    // PCL's plane: a unit normal (a, b, c) and d; a point's distance is
-    // |a x + b y + c z + d|, as its own inlier test takes it.
-    for (std::size_t i = 0; plane.size() == 4 && i < cloud->size(); ++i) {
-      const auto& p = (*cloud)[i];
-      if (std::abs(plane[0] * p.x + plane[1] * p.y + plane[2] * p.z +
-                   plane[3]) < options.ransac_threshold_mm)
-        inliers.push_back(static_cast<int>(i));
-    }
-  }
-  if (inliers.size() < 3) {
+  if (!ransac.computeModel() ||
+      (ransac.getInliers(inliers), inliers.size() < 3)) {
     throw ScanError(fmt::format(
         "{}: no plane found on the unworn area (RANSAC, threshold {} mm)",
         map->metadata.source,

@@ -34,33 +34,6 @@ TEST(Level, RecoversKnownPlaneUnderTheTrack) {
   EXPECT_LT(s.rms_mm, 1.2 * std::hypot(o.roughness_mm, o.scan_noise_mm));
 }
 
-// RANSAC draws and scores its planes on an even subset of the points
-// (ransac_points); the trimmed fit that follows starts from the inliers of
-// the whole cloud. The plane is the one RANSAC on every point leads to,
-// within a small part of the tolerance above, and both the known plane.
-TEST(Level, RansacOnASubsetFindsThePlaneOfEveryPoint) {
-  samples::SimulatedTest t = Simulated("S-RT-R", 2.5, false);
-  HeightMap all_points = t.scan;
-  LevelOptions every;
-  every.ransac_points = 1000000;
-  LevelOptions subset;  // the default
-  ASSERT_LT(subset.ransac_points, 60000);
-  const LevelSummary a = LevelHeightMap(&all_points, every);
-  const LevelSummary b = LevelHeightMap(&t.scan, subset);
-  EXPECT_GT(b.points_used, 2 * subset.ransac_points);
-  EXPECT_NEAR(b.dzdx(), a.dzdx(), 2e-6) << b.message;
-  EXPECT_NEAR(b.dzdy(), a.dzdy(), 2e-6) << b.message;
-  EXPECT_NEAR(b.z0_mm(), a.z0_mm(), 2e-5) << b.message;
-  EXPECT_NEAR(b.inliers, a.inliers, 0.01 * a.inliers);
-  EXPECT_NEAR(b.dzdx(), t.truth.plane_dzdx, 2e-5) << b.message;
-  EXPECT_NEAR(b.dzdy(), t.truth.plane_dzdy, 2e-5) << b.message;
-  // Too few points for a subset is a usage error.
-  subset.ransac_points = 5;
-  std::string why;
-  EXPECT_FALSE(subset.IsValid(&why));
-  EXPECT_NE(why.find("ransac_points"), std::string::npos) << why;
-}
-
 TEST(Level, SecondOrderSurfaceIsRemoved) {
   HeightMap m;
   m.dx_mm = m.dy_mm = 0.01;

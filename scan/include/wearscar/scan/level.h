@@ -13,10 +13,8 @@ struct LevelOptions {
   // RANSAC plane: inlier distance, mm (the worn track lies far below).
   double ransac_threshold_mm = 0.005;
   int ransac_iterations = 500;
-  // Points given to the least-squares fit (subsampled evenly), and the
-  // even subset of them RANSAC draws and scores its planes on.
+  // Points given to RANSAC and the least-squares fit (subsampled evenly).
   int max_points = 60000;
-  int ransac_points = 20000;
   std::uint64_t seed = 42;
 
   bool IsValid(std::string* why) const;

@@ -1013,12 +1013,17 @@ class RowReader {
         columns_(layout.names.size()),
         needed_(*std::max_element(column.begin(), column.end())),
         slot_of_field_(columns_, -1) {
+    std::vector<std::pair<void*, std::size_t>> buffers;
     for (int ch = 0; ch < 4; ++ch) {
       if (column_[ch] < 0) continue;
       data_[ch].resize(capacity);
       support::AdviseHugePages(data_[ch].data(),
                                sizeof(double) * data_[ch].size());
+      buffers.emplace_back(data_[ch].data(), sizeof(double) * data_[ch].size());
     }
+    // The columns' pages mapped beside the parsing (joined before they grow
+    // and in Finish).
+    prefault_.Start(std::move(buffers));
     // Fast path slots: the four channels, the RecipeStep column, and the
     // first field (a text first field means a footer or a bad row).
     slot_of_field_[0] = kFirstSlot;
@@ -1057,6 +1062,7 @@ class RowReader {
   // After the last row: the bad rows left are a footer, an error or
   // dropped; the counts are checked. Returns the columns, trimmed.
   std::array<Eigen::VectorXd, 4> Finish() {
+    prefault_.Stop();
     if (pending_bad_rows_ > 0) {
       if (footer_rows_ == pending_bad_rows_) {
         meta_->warnings.push_back(
@@ -1258,7 +1264,10 @@ class RowReader {
         nan_run_[ch] = 0;
       }
       Eigen::VectorXd& v = data_[ch];
-      if (rows_stored_ >= v.size()) v.conservativeResize(2 * v.size() + 16);
+      if (rows_stored_ >= v.size()) {
+        prefault_.Stop();
+        v.conservativeResize(2 * v.size() + 16);
+      }
       v[rows_stored_] = x;
     }
     ++total_rows_;
@@ -1279,6 +1288,8 @@ class RowReader {
   bool fast_possible_ = false;
 
   std::array<Eigen::VectorXd, 4> data_;
+  // After data_: stopped before the columns are freed.
+  support::BackgroundPrefault prefault_;
   Eigen::Index rows_stored_ = 0;
   std::vector<std::string_view> cells_;
   std::string pending_error_;

@@ -17,6 +17,7 @@
 #include <opencv2/photo.hpp>
 
 #include "wearscar/support/check.h"
+#include "wearscar/support/plane_count.h"
 
 namespace wearscar::scan {
 namespace {
@@ -67,6 +68,47 @@ void SubtractSurface(const Eigen::VectorXd& coef, int order, HeightMap* map) {
     }
   }
 }
+
+// PCL's plane model with its inlier count, nearly all of RANSAC's time,
+// over the cloud's coordinates held column by column
+// (support::CountWithinPlane: PCL's arithmetic to the bit, several points
+// a step). The planes drawn, their counts and the plane kept are PCL's
+// own; a 1024 x 768 map's RANSAC about 5x faster.
+class ColumnPlaneModel final
+    : public pcl::SampleConsensusModelPlane<pcl::PointXYZ> {
+ public:
+  explicit ColumnPlaneModel(
+      const pcl::PointCloud<pcl::PointXYZ>::ConstPtr& cloud)
+      : SampleConsensusModelPlane(cloud) {
+    x_.reserve(cloud->size());
+    y_.reserve(cloud->size());
+    z_.reserve(cloud->size());
+    for (const auto& p : *cloud) {
+      x_.push_back(p.x);
+      y_.push_back(p.y);
+      z_.push_back(p.z);
+    }
+  }
+
+  std::size_t countWithinDistance(const Eigen::VectorXf& model_coefficients,
+                                  double threshold) const override {
+    // The columns hold the whole cloud in order: PCL's own count for any
+    // other index list.
+    if (!isModelValid(model_coefficients) || indices_->size() != x_.size()) {
+      return SampleConsensusModelPlane::countWithinDistance(model_coefficients,
+                                                            threshold);
+    }
+    const float plane[4] = {model_coefficients[0],
+                            model_coefficients[1],
+                            model_coefficients[2],
+                            model_coefficients[3]};
+    return support::CountWithinPlane(
+        x_.data(), y_.data(), z_.data(), x_.size(), plane, threshold);
+  }
+
+ private:
+  std::vector<float> x_, y_, z_;
+};
 
 }  // namespace
 
@@ -122,7 +164,7 @@ LevelSummary LevelHeightMap(HeightMap* map, const LevelOptions& options) {
   summary.points_used = static_cast<int>(cloud->size());
   // RANSAC plane (PCL's model draws with a fixed seed: deterministic).
   pcl::SampleConsensusModelPlane<pcl::PointXYZ>::Ptr model(
-      new pcl::SampleConsensusModelPlane<pcl::PointXYZ>(cloud));
+      new ColumnPlaneModel(cloud));
   pcl::RandomSampleConsensus<pcl::PointXYZ> ransac(model);
   ransac.setDistanceThreshold(options.ransac_threshold_mm);
   ransac.setMaxIterations(options.ransac_iterations);

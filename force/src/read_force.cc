@@ -17,6 +17,7 @@
 #include <memory>
 #include <optional>
 #include <string_view>
+#include <thread>
 #include <vector>
 
 #include "layouts.h"
@@ -95,11 +96,27 @@ class FileLines : public LineSource {
         if (pos_ >= filled_) return false;
         *line = std::string_view(begin, filled_ - pos_);
         pos_ = filled_;
+        ++lines_;
         if (!line->empty() && line->back() == '\r') line->remove_suffix(1);
         return true;
       }
       Refill();
     }
+  }
+
+  // The file offset of the next line.
+  long Offset() const { return base_ + static_cast<long>(pos_); }
+
+  // Continues at `offset`, the start of line `lines` + 1.
+  void SeekTo(long offset, long lines) {
+    if (std::fseek(file_, offset, SEEK_SET) != 0) {
+      throw ForceError(
+          fmt::format("{}: seek error: {}", name_, std::strerror(errno)));
+    }
+    base_ = offset;
+    pos_ = filled_ = 0;
+    eof_ = false;
+    lines_ = lines;
   }
 
  private:
@@ -109,6 +126,7 @@ class FileLines : public LineSource {
     // kMaxLineBytes (a text export's lines are short; one without breaks
     // is not a text export).
     std::memmove(buffer_.data(), buffer_.data() + pos_, filled_ - pos_);
+    base_ += static_cast<long>(pos_);
     filled_ -= pos_;
     pos_ = 0;
     if (filled_ == buffer_.size()) {
@@ -137,6 +155,7 @@ class FileLines : public LineSource {
   std::string name_;
   size_t max_line_;
   std::vector<char> buffer_;
+  long base_ = 0;  // the file offset of buffer_[0]
   size_t pos_ = 0, filled_ = 0;
   long lines_ = 0;
   bool eof_ = false;
@@ -145,6 +164,16 @@ class FileLines : public LineSource {
 struct FileCloser {
   void operator()(std::FILE* f) const { std::fclose(f); }
 };
+
+// Where a second thread parses the rows of a file from (CountLines).
+struct SplitPoint {
+  std::string path;
+  long offset = -1;
+  long lines_before = 0;
+};
+
+// Files smaller than this are parsed on one thread.
+constexpr long kSplitMinBytes = long{2} << 20;
 
 // ---------------------------------------------------------------------------
 // Cells.
@@ -1059,6 +1088,124 @@ class RowReader {
     Store(value, line_no);
   }
 
+  // The ordinary rows of a stretch of the file parsed on their own
+  // (ParseFastRows), and what joining them needs of them.
+  struct FastRows {
+    Eigen::Index rows = 0;  // stored from the row they were parsed to
+    long next_offset = -1;  // the file offset of the first line not taken
+    double first_time = kNaN, last_time = kNaN;
+    double last_dt = kNaN;  // between their last two finite times
+    double last_step = kNaN;
+    int leading_nan[4] = {0, 0, 0, 0}, trailing_nan[4] = {0, 0, 0, 0};
+  };
+
+  // Parses the lines of `source` into the columns from row `at` on, as
+  // TryFast and Store would take them one after another, up to the first
+  // line they would not take on their own (a row of the careful path, a
+  // step back in time, a run of missing values longer than allowed) or the
+  // end. For a second thread while Handle reads the lines before: it reads
+  // only what no row changes and writes only the columns' rows from `at`
+  // (more than Handle can reach).
+  FastRows ParseFastRows(FileLines& source, Eigen::Index at) {
+    FastRows f;
+    const bool timed = column_[kTime] >= 0;
+    double previous = -std::numeric_limits<double>::infinity();
+    int run[4] = {0, 0, 0, 0};
+    bool finite[4] = {false, false, false, false};
+    Eigen::Index capacity = std::numeric_limits<Eigen::Index>::max();
+    for (int ch = 0; ch < 4; ++ch) {
+      if (column_[ch] >= 0) capacity = std::min(capacity, data_[ch].size());
+    }
+    std::string_view row;
+    for (;;) {
+      f.next_offset = source.Offset();
+      if (!fast_possible_ || at + f.rows >= capacity || !source.Next(&row))
+        break;
+      double v[6] = {kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
+      if (!FastRow(row, layout_.delimiter, layout_.decimal, slot_of_field_, v))
+        break;
+      // TryFast's time with no clock joined (AdoptFastRows checks that).
+      const double t = timed ? v[kTime] * scale_[kTime].factor + 0.0 : 0;
+      if (timed && std::isfinite(t) && t <= previous) break;
+      double x[4] = {kNaN, kNaN, kNaN, kNaN};
+      bool too_long = false;
+      for (int ch = 0; ch < 4; ++ch) {
+        if (column_[ch] < 0) continue;
+        x[ch] = ch == kTime ? t : v[ch] * scale_[ch].factor;
+        too_long |= std::isnan(x[ch]) && run[ch] + 1 > options_.max_nan_run;
+      }
+      if (too_long) break;
+      for (int ch = 0; ch < 4; ++ch) {
+        if (column_[ch] < 0) continue;
+        if (std::isnan(x[ch])) {
+          ++run[ch];
+          if (!finite[ch]) ++f.leading_nan[ch];
+        } else {
+          run[ch] = 0;
+          finite[ch] = true;
+        }
+        data_[ch][at + f.rows] = x[ch];
+      }
+      if (timed && std::isfinite(t)) {
+        if (std::isfinite(previous)) {
+          f.last_dt = t - previous;
+        } else {
+          f.first_time = t;
+        }
+        previous = t;
+        f.last_time = t;
+      }
+      if (step_column_ >= 0) f.last_step = v[kStepSlot];
+      ++f.rows;
+    }
+    for (int ch = 0; ch < 4; ++ch) f.trailing_nan[ch] = run[ch];
+    return f;
+  }
+
+  // Takes the rows ParseFastRows put from row `at` as the rows after those
+  // Handle has read, when one pass would have read them the same: nothing
+  // pending, no clock joined, the first of their times after the last
+  // read, the runs of missing values across the join within bounds. Moves
+  // them to follow the rows read (fewer where lines were blank or
+  // dropped). Returns false, changing nothing, otherwise.
+  bool AdoptFastRows(const FastRows& f, Eigen::Index at) {
+    if (f.rows == 0 || pending_bad_rows_ > 0 || time_offset_ != 0.0 ||
+        rows_stored_ > at)
+      return false;
+    const bool timed = column_[kTime] >= 0;
+    if (timed && std::isfinite(f.first_time) && f.first_time <= previous_time_)
+      return false;
+    for (int ch = 0; ch < 4; ++ch) {
+      if (column_[ch] >= 0 &&
+          nan_run_[ch] + f.leading_nan[ch] > options_.max_nan_run)
+        return false;
+    }
+    for (int ch = 0; ch < 4; ++ch) {
+      if (column_[ch] < 0) continue;
+      double* v = data_[ch].data();
+      if (at != rows_stored_) {
+        std::memmove(v + rows_stored_,
+                     v + at,
+                     sizeof(double) * static_cast<std::size_t>(f.rows));
+      }
+      nan_run_[ch] = f.leading_nan[ch] == f.rows
+                         ? nan_run_[ch] + static_cast<int>(f.rows)
+                         : f.trailing_nan[ch];
+    }
+    if (timed && std::isfinite(f.first_time)) {
+      if (std::isfinite(f.last_dt)) {
+        last_dt_ = f.last_dt;
+      } else if (std::isfinite(previous_time_)) {
+        last_dt_ = f.first_time - previous_time_;
+      }
+      previous_time_ = f.last_time;
+    }
+    if (step_column_ >= 0) previous_step_ = f.last_step;
+    rows_stored_ += f.rows;
+    total_rows_ += static_cast<int>(f.rows);
+    return true;
+  }
+
   // After the last row: the bad rows left are a footer, an error or
   // dropped; the counts are checked. Returns the columns, trimmed.
   std::array<Eigen::VectorXd, 4> Finish() {
@@ -1354,7 +1501,8 @@ void MakeCompressionPositive(ForceRecord* record) {
 ForceRecord Read(LineSource& source,
                  const std::string& name,
                  size_t row_capacity_hint,
-                 const ReadForceOptions& options) {
+                 const ReadForceOptions& options,
+                 const SplitPoint* split = nullptr) {
   std::string why;
   if (!options.IsValid(&why)) {
     throw ForceError(fmt::format("{}: invalid read options: {}", name, why));
@@ -1397,6 +1545,45 @@ ForceRecord Read(LineSource& source,
     if (line_no - 1 >= layout.first_data_line) rows.Handle(h, line_no);
   }
   std::string_view line;
+  // A second thread parses the ordinary rows from the split point on
+  // while this one reads the lines before it (split after the head only).
+  const long split_line =
+      split != nullptr && more && split->lines_before > line_no
+          ? split->lines_before
+          : -1;
+  if (split_line >= 0) {
+    // Only ReadForceFile splits, with its FileLines.
+    auto* file_source = static_cast<FileLines*>(&source);
+    const Eigen::Index at = split_line - layout.first_data_line;
+    RowReader::FastRows second;
+    bool second_ok = false;
+    std::thread thread([&] {
+      try {
+        std::unique_ptr<std::FILE, FileCloser> file(
+            std::fopen(split->path.c_str(), "rb"));
+        if (!file) return;
+        FileLines lines(file.get(), split->path, options.max_line_bytes);
+        lines.SeekTo(split->offset, split_line);
+        second = rows.ParseFastRows(lines, at);
+        second_ok = true;
+      } catch (const std::exception&) {
+        // The careful pass meets whatever stopped it, and says so.
+      }
+    });
+    struct Joiner {
+      std::thread& t;
+      ~Joiner() {
+        if (t.joinable()) t.join();
+      }
+    } joiner{thread};
+    while (line_no < split_line && source.Next(&line))
+      rows.Handle(line, ++line_no);
+    thread.join();
+    if (second_ok && line_no == split_line && rows.AdoptFastRows(second, at)) {
+      line_no += second.rows;
+      file_source->SeekTo(second.next_offset, line_no);
+    }
+  }
   if (more) {
     while (source.Next(&line)) rows.Handle(line, ++line_no);
   }
@@ -1416,23 +1603,40 @@ ForceRecord Read(LineSource& source,
   return record;
 }
 
-size_t CountLines(
+// The lines of a file (line breaks + 1) and, when asked for, the first line
+// that starts at or after a byte offset: where a second thread may begin.
+struct LineCount {
+  size_t lines = 1;
+  long split_offset = -1;  // that line's offset (-1: none asked or found)
+  long lines_before_split = 0;
+};
+
+LineCount CountLines(
     std::FILE* file,
-    const std::function<void(const char*, std::size_t)>& on_bytes) {
+    const std::function<void(const char*, std::size_t)>& on_bytes,
+    long split_at) {
   std::vector<char> block(size_t{1} << 20);
-  size_t lines = 1, got;
+  LineCount count;
+  long block_offset = 0;
+  size_t got;
   while ((got = std::fread(block.data(), 1, block.size(), file)) > 0) {
     if (on_bytes) on_bytes(block.data(), got);
     const char* p = block.data();
     const char* end = p + got;
     while ((p = static_cast<const char*>(std::memchr(p, '\n', end - p))) !=
            nullptr) {
-      ++lines;
+      ++count.lines;
       ++p;
+      const long next = block_offset + (p - block.data());
+      if (split_at >= 0 && count.split_offset < 0 && next > split_at) {
+        count.split_offset = next;
+        count.lines_before_split = static_cast<long>(count.lines) - 1;
+      }
     }
+    block_offset += static_cast<long>(got);
   }
   std::rewind(file);
-  return lines;
+  return count;
 }
 
 }  // namespace
@@ -1448,6 +1652,7 @@ bool ReadForceOptions::IsValid(std::string* why) const {
   }
   if (max_nan_run < 0) return fail("max_nan_run must be >= 0");
   if (max_line_bytes < 64) return fail("max_line_bytes must be >= 64");
+  if (threads < 1) return fail("threads must be >= 1");
   if (head_lines < 2 || head_lines > 100000)
     return fail("head_lines must be 2 to 100000");
   if (delimiter_vote_lines < 1)
@@ -1484,9 +1689,20 @@ ForceRecord ReadForceFile(const std::string& path,
     throw ForceError(
         fmt::format("{}: cannot open: {}", path, std::strerror(errno)));
   }
-  const size_t lines = CountLines(file.get(), options.on_bytes);
+  // Split the rows between two threads only where a large file's halves
+  // each take a while.
+  long split_at = -1;
+  if (options.threads >= 2) {
+    std::error_code size_error;
+    const auto size = std::filesystem::file_size(path, size_error);
+    if (!size_error && size >= static_cast<std::uintmax_t>(kSplitMinBytes))
+      split_at = static_cast<long>(size / 2);
+  }
+  const LineCount count = CountLines(file.get(), options.on_bytes, split_at);
   FileLines source(file.get(), path, options.max_line_bytes);
-  return Read(source, path, lines, options);
+  if (count.split_offset < 0) return Read(source, path, count.lines, options);
+  const SplitPoint split{path, count.split_offset, count.lines_before_split};
+  return Read(source, path, count.lines, options, &split);
 }
 
 ForceRecord ReadForceText(const std::string& text,

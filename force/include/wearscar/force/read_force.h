@@ -47,6 +47,12 @@ struct ReadForceOptions {
   // first pass reads them (a checksum of the file then costs no read of
   // its own); ReadForceText does not call it.
   std::function<void(const char* bytes, std::size_t size)> on_bytes;
+  // Threads parsing a large file's rows (ReadForceFile, files of 2 MiB and
+  // more): 2 parses the second half's ordinary rows beside the first half,
+  // handing back to the one careful reader at anything else (a text row,
+  // a step back in time, a long gap, the footer) or where the halves do
+  // not join as one pass would have read them. The record is the same.
+  int threads = 1;
 
   bool IsValid(std::string* why) const;
 };

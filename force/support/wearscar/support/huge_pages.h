@@ -102,6 +102,11 @@ class BackgroundPrefault {
     if (thread_.joinable()) thread_.join();
   }
 
+  // Waits until every page is mapped (or the kernel declined).
+  void Wait() {
+    if (thread_.joinable()) thread_.join();
+  }
+
  private:
   std::atomic<bool> stop_{false};
   std::thread thread_;

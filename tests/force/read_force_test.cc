@@ -58,18 +58,24 @@ TEST(ReadForce, EveryByteOfTheFileIsHandedOnInOrder) {
   }
   const std::string path = ::testing::TempDir() + "/wearscar-on-bytes.csv";
   std::ofstream(path, std::ios::binary) << text;
-  std::string seen;
-  int calls = 0;
-  ReadForceOptions o;
-  o.on_bytes = [&](const char* bytes, std::size_t size) {
-    seen.append(bytes, size);
-    ++calls;
-  };
-  const ForceRecord r = ReadForceFile(path, o);
-  EXPECT_EQ(seen, text);
-  EXPECT_EQ(calls, 3);
-  ASSERT_EQ(r.size(), 80000);
-  EXPECT_NEAR(r.x_mm[500], 2.85, 1e-6);
+  // One thread hands them on as it parses; two, from the pass that
+  // counts the lines (the second thread reads its half again).
+  for (int threads : {1, 2}) {
+    SCOPED_TRACE(threads);
+    std::string seen;
+    int calls = 0;
+    ReadForceOptions o;
+    o.threads = threads;
+    o.on_bytes = [&](const char* bytes, std::size_t size) {
+      seen.append(bytes, size);
+      ++calls;
+    };
+    const ForceRecord r = ReadForceFile(path, o);
+    EXPECT_EQ(seen, text);
+    EXPECT_GE(calls, 3);  // 1 MiB at a time
+    ASSERT_EQ(r.size(), 80000);
+    EXPECT_NEAR(r.x_mm[500], 2.85, 1e-6);
+  }
   std::remove(path.c_str());
 }
 
@@ -482,6 +488,15 @@ TEST(ReadForce, TwoThreadsReadWhatOneReadsWhateverLiesAtTheSplit) {
       };
   const ReadForceOptions plain;
   ExpectOneThreadsReading("plain", base, "\n", plain, "read");
+  // One thread sizes the columns from the file's size and its first lines:
+  // here every line after them is shorter, and the columns must grow.
+  ExpectOneThreadsReading("lines shorter after the head",
+                          with([&](auto& l) {
+                            for (size_t i = 1; i < 500; ++i) l[i] += "000000";
+                          }),
+                          "\n",
+                          plain,
+                          "read");
   ExpectOneThreadsReading("CRLF", base, "\r\n", plain, "read");
   // Blank lines before the split: the second half's rows move up.
   ExpectOneThreadsReading("blank lines",

@@ -178,6 +178,7 @@ struct SplitPoint {
   std::string path;
   long offset = -1;
   long lines_before = 0;
+  FileLines* lines = nullptr;  // the first thread's, which then seeks past
 };
 
 // Files smaller than this are parsed on one thread.
@@ -1590,8 +1591,6 @@ ForceRecord Read(LineSource& source,
           ? split->lines_before
           : -1;
   if (split_line >= 0) {
-    // Only ReadForceFile splits, with its FileLines.
-    auto* file_source = static_cast<FileLines*>(&source);
     const Eigen::Index at = split_line - layout.first_data_line;
     RowReader::FastRows second;
     bool second_ok = false;
@@ -1619,7 +1618,7 @@ ForceRecord Read(LineSource& source,
     thread.join();
     if (second_ok && line_no == split_line && rows.AdoptFastRows(second, at)) {
       line_no += second.rows;
-      file_source->SeekTo(second.next_offset, line_no);
+      split->lines->SeekTo(second.next_offset, line_no);
     }
   }
   if (more) {
@@ -1750,7 +1749,8 @@ ForceRecord ReadForceFile(const std::string& path,
   const LineCount count = CountLines(file.get(), options.on_bytes, split_at);
   FileLines source(file.get(), path, options.max_line_bytes);
   if (count.split_offset < 0) return Read(source, path, count.lines, options);
-  const SplitPoint split{path, count.split_offset, count.lines_before_split};
+  const SplitPoint split{
+      path, count.split_offset, count.lines_before_split, &source};
   return Read(source, path, count.lines, options, &split);
 }
 

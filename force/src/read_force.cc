@@ -1552,21 +1552,22 @@ ForceRecord Read(LineSource& source,
   // fill.
   size_t capacity = row_capacity_hint, expected = row_capacity_hint;
   if (capacity == 0 && file_bytes > 0) {
+    // (Blank lines are no measure of a row; none is shorter than "1,2".)
+    constexpr size_t kShortestRow = 4;
     size_t head_bytes = 0, shortest = 0, longest = 0, data_lines = 0;
     for (size_t i = 0; i < head.size(); ++i) {
       const size_t bytes = head[i].size() + 1;  // its line break at least
       head_bytes += bytes;
       if (static_cast<int>(i) < layout.first_data_line) continue;
       ++data_lines;
+      if (TrimView(head[i]).empty()) continue;
       shortest = shortest == 0 ? bytes : std::min(shortest, bytes);
       longest = std::max(longest, bytes);
     }
     const size_t rest = file_bytes > head_bytes ? file_bytes - head_bytes : 0;
-    if (data_lines > 0) {
-      capacity = data_lines + rest / shortest + 16;
-      // (CRLF lines are a byte longer than counted: fewer still.)
-      expected = data_lines + rest / (longest + 1);
-    }
+    capacity = data_lines + rest / std::max(shortest, kShortestRow) + 16;
+    // (CRLF lines are a byte longer than counted: fewer still.)
+    expected = longest > 0 ? data_lines + rest / (longest + 1) : 0;
   }
   RowReader rows(layout,
                  layout.header_line >= 0 ? &head[layout.header_line] : nullptr,

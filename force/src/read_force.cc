@@ -173,9 +173,12 @@ struct FileCloser {
   void operator()(std::FILE* f) const { std::fclose(f); }
 };
 
-// Where a second thread parses the rows of a file from (CountLines).
+// Where a second thread parses the rows of a file from: the first line
+// that starts after byte `middle`, at `offset` after `lines_before` lines
+// (CountLines), or, with offset -1, found by the second thread itself.
 struct SplitPoint {
   std::string path;
+  long middle = 0;
   long offset = -1;
   long lines_before = 0;
   FileLines* lines = nullptr;  // the first thread's, which then seeks past
@@ -183,8 +186,8 @@ struct SplitPoint {
 
 // Files smaller than this are parsed on one thread.
 constexpr long kSplitMinBytes = long{2} << 20;
-// Files up to this size are read by one thread in one pass, not counted
-// first (ReadForceFile).
+// Files up to this size are read in one pass, not counted first
+// (ReadForceFile).
 constexpr long kEstimateMaxBytes = long{256} << 20;
 
 // ---------------------------------------------------------------------------
@@ -1121,16 +1124,31 @@ class RowReader {
   // end. For a second thread while Handle reads the lines before: it reads
   // only what no row changes and writes only the columns' rows from `at`
   // (more than Handle can reach).
-  FastRows ParseFastRows(FileLines& source, Eigen::Index at) {
+  //
+  // `room` is the columns as they were before the first thread read a row:
+  // that thread's rows stay below `at`, so it cannot grow the columns while
+  // this one writes at `at` and beyond, short of their capacity.
+  struct Room {
+    double* column[4] = {nullptr, nullptr, nullptr, nullptr};
+    Eigen::Index capacity = 0;
+  };
+  Room Reserved() {
+    Room r;
+    r.capacity = std::numeric_limits<Eigen::Index>::max();
+    for (int ch = 0; ch < 4; ++ch) {
+      if (column_[ch] < 0) continue;
+      r.column[ch] = data_[ch].data();
+      r.capacity = std::min(r.capacity, data_[ch].size());
+    }
+    return r;
+  }
+  FastRows ParseFastRows(FileLines& source, Eigen::Index at, const Room& room) {
     FastRows f;
     const bool timed = column_[kTime] >= 0;
     double previous = -std::numeric_limits<double>::infinity();
     int run[4] = {0, 0, 0, 0};
     bool finite[4] = {false, false, false, false};
-    Eigen::Index capacity = std::numeric_limits<Eigen::Index>::max();
-    for (int ch = 0; ch < 4; ++ch) {
-      if (column_[ch] >= 0) capacity = std::min(capacity, data_[ch].size());
-    }
+    const Eigen::Index capacity = room.capacity;
     std::string_view row;
     for (;;) {
       f.next_offset = source.Offset();
@@ -1159,7 +1177,7 @@ class RowReader {
           run[ch] = 0;
           finite[ch] = true;
         }
-        data_[ch][at + f.rows] = x[ch];
+        room.column[ch][at + f.rows] = x[ch];
       }
       if (timed && std::isfinite(t)) {
         if (std::isfinite(previous)) {
@@ -1513,6 +1531,45 @@ void MakeCompressionPositive(ForceRecord* record) {
   }
 }
 
+// The lines of a file (line breaks + 1) and, when asked for, the first line
+// that starts after a byte offset: where a second thread may begin (with
+// `to_split`, counted only that far, the file left where it stopped).
+struct LineCount {
+  size_t lines = 1;
+  long split_offset = -1;  // that line's offset (-1: none asked or found)
+  long lines_before_split = 0;
+};
+
+LineCount CountLines(
+    std::FILE* file,
+    const std::function<void(const char*, std::size_t)>& on_bytes,
+    long split_at,
+    bool to_split = false) {
+  std::vector<char> block(size_t{1} << 20);
+  LineCount count;
+  long block_offset = 0;
+  size_t got;
+  while ((got = std::fread(block.data(), 1, block.size(), file)) > 0) {
+    if (on_bytes) on_bytes(block.data(), got);
+    const char* p = block.data();
+    const char* end = p + got;
+    while ((p = static_cast<const char*>(std::memchr(p, '\n', end - p))) !=
+           nullptr) {
+      ++count.lines;
+      ++p;
+      const long next = block_offset + (p - block.data());
+      if (split_at >= 0 && count.split_offset < 0 && next > split_at) {
+        count.split_offset = next;
+        count.lines_before_split = static_cast<long>(count.lines) - 1;
+        if (to_split) return count;
+      }
+    }
+    block_offset += static_cast<long>(got);
+  }
+  std::rewind(file);
+  return count;
+}
+
 ForceRecord Read(LineSource& source,
                  const std::string& name,
                  size_t row_capacity_hint,
@@ -1586,23 +1643,30 @@ ForceRecord Read(LineSource& source,
   }
   std::string_view line;
   // A second thread parses the ordinary rows from the split point on
-  // while this one reads the lines before it (split after the head only).
-  const long split_line =
-      split != nullptr && more && split->lines_before > line_no
-          ? split->lines_before
-          : -1;
-  if (split_line >= 0) {
-    const Eigen::Index at = split_line - layout.first_data_line;
+  // (finding it first, if need be, by counting the lines before it) while
+  // this one reads the lines before it; only after the head.
+  if (split != nullptr && more) {
+    const long head_lines = line_no;
+    const RowReader::Room room = rows.Reserved();
     RowReader::FastRows second;
+    long offset = split->offset, before = split->lines_before;
     bool second_ok = false;
     std::thread thread([&] {
       try {
         std::unique_ptr<std::FILE, FileCloser> file(
             std::fopen(split->path.c_str(), "rb"));
         if (!file) return;
+        if (offset < 0) {
+          const LineCount count =
+              CountLines(file.get(), {}, split->middle, /*to_split=*/true);
+          offset = count.split_offset;
+          before = count.lines_before_split;
+        }
+        if (offset < 0 || before <= head_lines) return;
         FileLines lines(file.get(), split->path, options.max_line_bytes);
-        lines.SeekTo(split->offset, split_line);
-        second = rows.ParseFastRows(lines, at);
+        lines.SeekTo(offset, before);
+        second =
+            rows.ParseFastRows(lines, before - layout.first_data_line, room);
         second_ok = true;
       } catch (const std::exception&) {
         // The careful pass meets whatever stopped it, and says so.
@@ -1614,10 +1678,11 @@ ForceRecord Read(LineSource& source,
         if (t.joinable()) t.join();
       }
     } joiner{thread};
-    while (line_no < split_line && source.Next(&line))
+    while (split->lines->Offset() <= split->middle && source.Next(&line))
       rows.Handle(line, ++line_no);
     thread.join();
-    if (second_ok && line_no == split_line && rows.AdoptFastRows(second, at)) {
+    if (second_ok && line_no == before && split->lines->Offset() == offset &&
+        rows.AdoptFastRows(second, before - layout.first_data_line)) {
       line_no += second.rows;
       split->lines->SeekTo(second.next_offset, line_no);
     }
@@ -1639,42 +1704,6 @@ ForceRecord Read(LineSource& source,
   CheckPlausible(record, name);
   MakeCompressionPositive(&record);
   return record;
-}
-
-// The lines of a file (line breaks + 1) and, when asked for, the first line
-// that starts at or after a byte offset: where a second thread may begin.
-struct LineCount {
-  size_t lines = 1;
-  long split_offset = -1;  // that line's offset (-1: none asked or found)
-  long lines_before_split = 0;
-};
-
-LineCount CountLines(
-    std::FILE* file,
-    const std::function<void(const char*, std::size_t)>& on_bytes,
-    long split_at) {
-  std::vector<char> block(size_t{1} << 20);
-  LineCount count;
-  long block_offset = 0;
-  size_t got;
-  while ((got = std::fread(block.data(), 1, block.size(), file)) > 0) {
-    if (on_bytes) on_bytes(block.data(), got);
-    const char* p = block.data();
-    const char* end = p + got;
-    while ((p = static_cast<const char*>(std::memchr(p, '\n', end - p))) !=
-           nullptr) {
-      ++count.lines;
-      ++p;
-      const long next = block_offset + (p - block.data());
-      if (split_at >= 0 && count.split_offset < 0 && next > split_at) {
-        count.split_offset = next;
-        count.lines_before_split = static_cast<long>(count.lines) - 1;
-      }
-    }
-    block_offset += static_cast<long>(got);
-  }
-  std::rewind(file);
-  return count;
 }
 
 }  // namespace
@@ -1729,30 +1758,38 @@ ForceRecord ReadForceFile(const std::string& path,
   }
   std::error_code size_error;
   const std::uintmax_t size = std::filesystem::file_size(path, size_error);
-  // One thread: one pass, the columns sized from the file's size (the
-  // checksum, if asked for, taken from the bytes as they are parsed). Up
-  // to kEstimateMaxBytes: their room to spare, never written, ends as a
-  // few MiB of memory (a 466 MB file's 12 M rows: 10 MiB more than
-  // counted, and the analysis's peak 31 MiB more); larger files are
-  // counted first.
-  if (options.threads < 2 && !size_error && size > 0 &&
-      size <= static_cast<std::uintmax_t>(kEstimateMaxBytes)) {
+  // Up to kEstimateMaxBytes, one pass, the columns sized from the file's
+  // size (their room to spare, never written, ends as a few MiB of memory;
+  // a 466 MB file's 12 M rows: 10 MiB more than counted, and the
+  // analysis's peak 31 MiB more): on one thread, the checksum (if asked
+  // for) taken from the bytes as they are parsed; on two, a large file's
+  // rows after its first 54% parsed by the second thread, which first
+  // counts the lines before them (54%: the first thread's rows take as
+  // long as the second's count and rows). Larger files are counted first,
+  // then split at the middle.
+  const bool fits = !size_error && size > 0 &&
+                    size <= static_cast<std::uintmax_t>(kEstimateMaxBytes);
+  const bool split = options.threads >= 2 && !size_error &&
+                     size >= static_cast<std::uintmax_t>(kSplitMinBytes);
+  if (fits && (!split || !options.on_bytes)) {
     FileLines source(
         file.get(), path, options.max_line_bytes, options.on_bytes);
-    return Read(source, path, 0, options, nullptr, size);
+    if (!split) return Read(source, path, 0, options, nullptr, size);
+    const SplitPoint at{
+        path,
+        static_cast<long>(static_cast<double>(size) * internal::kSplitShare),
+        -1,
+        0,
+        &source};
+    return Read(source, path, 0, options, &at, size);
   }
-  // Two: the lines counted first, and the rows split between the threads
-  // where a large file's halves each take a while.
-  long split_at = -1;
-  if (options.threads >= 2 && !size_error &&
-      size >= static_cast<std::uintmax_t>(kSplitMinBytes))
-    split_at = static_cast<long>(size / 2);
-  const LineCount count = CountLines(file.get(), options.on_bytes, split_at);
+  const long middle = split ? static_cast<long>(size / 2) : -1;
+  const LineCount count = CountLines(file.get(), options.on_bytes, middle);
   FileLines source(file.get(), path, options.max_line_bytes);
   if (count.split_offset < 0) return Read(source, path, count.lines, options);
-  const SplitPoint split{
-      path, count.split_offset, count.lines_before_split, &source};
-  return Read(source, path, count.lines, options, &split);
+  const SplitPoint at{
+      path, middle, count.split_offset, count.lines_before_split, &source};
+  return Read(source, path, count.lines, options, &at);
 }
 
 ForceRecord ReadForceText(const std::string& text,

@@ -407,8 +407,10 @@ std::string JoinLines(const std::vector<std::string>& lines,
 }
 
 // The line the second thread begins at: the first after the middle byte.
-long SplitLineOf(const std::string& text) {
-  const size_t nl = text.find('\n', text.size() / 2);
+// The line a second thread starts at: the first after `share` of the bytes.
+long SplitLineOf(const std::string& text, double share) {
+  const size_t nl = text.find(
+      '\n', static_cast<size_t>(static_cast<double>(text.size()) * share));
   return static_cast<long>(
       std::count(text.begin(), text.begin() + static_cast<long>(nl) + 1, '\n'));
 }
@@ -466,9 +468,12 @@ void ExpectOneThreadsReading(const std::string& name,
   EXPECT_EQ(m.normal_sign_flipped, n.normal_sign_flipped);
 }
 
-TEST(ReadForce, TwoThreadsReadWhatOneReadsWhateverLiesAtTheSplit) {
+// The cases below at the split after `share` of the file, read with
+// `plain` options as the base.
+void ExpectTwoThreadsReadWhatOneReads(double share,
+                                      const ReadForceOptions& plain) {
   const std::vector<std::string> base = GenericRows(120000);
-  const long s = SplitLineOf(JoinLines(base, "\n"));
+  const long s = SplitLineOf(JoinLines(base, "\n"), share);
   ASSERT_GT(s, 50000);
   const auto with = [&](auto change) {
     std::vector<std::string> lines = base;
@@ -486,7 +491,6 @@ TEST(ReadForce, TwoThreadsReadWhatOneReadsWhateverLiesAtTheSplit) {
           l.erase(begin, end == std::string::npos ? end : end - begin);
         }
       };
-  const ReadForceOptions plain;
   ExpectOneThreadsReading("plain", base, "\n", plain, "read");
   // One thread sizes the columns from the file's size and its first lines:
   // here every line after them is shorter, and the columns must grow.
@@ -538,7 +542,7 @@ TEST(ReadForce, TwoThreadsReadWhatOneReadsWhateverLiesAtTheSplit) {
   // A bad row in the second half, dropped when lenient; a footer.
   const auto bad_row = with([&](auto& l) { l[s + 500] = "30.0,abc,1,2"; });
   ExpectOneThreadsReading("bad row", bad_row, "\n", plain, "found 'abc'");
-  ReadForceOptions lenient;
+  ReadForceOptions lenient = plain;
   lenient.lenient = true;
   ExpectOneThreadsReading("bad row, lenient", bad_row, "\n", lenient, "read");
   ExpectOneThreadsReading("footer",
@@ -547,7 +551,7 @@ TEST(ReadForce, TwoThreadsReadWhatOneReadsWhateverLiesAtTheSplit) {
                           plain,
                           "read");
   // No time column: the rate given.
-  ReadForceOptions rate;
+  ReadForceOptions rate = plain;
   rate.sampling_rate_hz = 2000;
   ExpectOneThreadsReading("no time",
                           with([&](auto& l) {
@@ -583,7 +587,7 @@ TEST(ReadForce, TwoThreadsReadWhatOneReadsWhateverLiesAtTheSplit) {
     lines.push_back("End of data,,,,,,");
     return lines;
   };
-  const long r = SplitLineOf(JoinLines(rtec({}), "\n"));
+  const long r = SplitLineOf(JoinLines(rtec({}), "\n"), share);
   ExpectOneThreadsReading("rtec", rtec({}), "\n", plain, "read");
   ExpectOneThreadsReading(
       "rtec, restart before", rtec({r / 2}), "\n", plain, "read");
@@ -597,6 +601,22 @@ TEST(ReadForce, TwoThreadsReadWhatOneReadsWhateverLiesAtTheSplit) {
                           "\n",
                           plain,
                           "read");
+}
+
+TEST(ReadForce, TwoThreadsReadWhatOneReadsWhateverLiesAtTheSplit) {
+  // The split the second thread finds by counting the lines before it.
+  {
+    SCOPED_TRACE("split found by the second thread");
+    ExpectTwoThreadsReadWhatOneReads(internal::kSplitShare, {});
+  }
+  // The split at the middle of a file counted first (as when the bytes
+  // are handed on for a checksum, or the file is over 256 MiB).
+  {
+    SCOPED_TRACE("split counted first");
+    ReadForceOptions counted;
+    counted.on_bytes = [](const char*, std::size_t) {};
+    ExpectTwoThreadsReadWhatOneReads(0.5, counted);
+  }
 }
 
 // The columns' pages mapped on a second thread while the first fills them:

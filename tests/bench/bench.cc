@@ -79,7 +79,8 @@ double ProcStatusBytes(const char* key) {
   return std::nan("");
 }
 
-double IngestMemoryRatio(const std::string& path) {
+double IngestMemoryRatio(const std::string& path,
+                         const force::ReadForceOptions& options) {
   int fd[2];
   if (pipe(fd) != 0) return std::nan("");
   const pid_t pid = fork();
@@ -87,7 +88,7 @@ double IngestMemoryRatio(const std::string& path) {
     malloc_trim(0);  // freed memory of the parent no longer counts
     std::ofstream("/proc/self/clear_refs") << "5";  // reset the peak RSS
     const double before = ProcStatusBytes("VmRSS:");
-    const force::ForceRecord r = force::ReadForceFile(path);
+    const force::ForceRecord r = force::ReadForceFile(path, options);
     const double grown = ProcStatusBytes("VmHWM:") - before;
     const double ratio = grown / (4.0 * 8.0 * static_cast<double>(r.size()));
     if (write(fd[1], &ratio, sizeof ratio) != sizeof ratio) _exit(1);
@@ -101,18 +102,26 @@ double IngestMemoryRatio(const std::string& path) {
   return ratio;
 }
 
+// The argument: the reader's threads (1: the audit's workers, `force`; 2:
+// `fuse`).
 void BM_CsvIngest(benchmark::State& state) {
   const std::string& path = Csv600();
   const auto bytes = static_cast<int64_t>(fs::file_size(path));
+  force::ReadForceOptions options;
+  options.threads = static_cast<int>(state.range(0));
   for (auto _ : state) {
-    const force::ForceRecord r = force::ReadForceFile(path);
+    const force::ForceRecord r = force::ReadForceFile(path, options);
     benchmark::DoNotOptimize(r.normal_n.data());
   }
   state.SetBytesProcessed(state.iterations() * bytes);
   state.counters["rows"] = static_cast<double>(Test600().record.size());
-  state.counters["peak_memory_ratio"] = IngestMemoryRatio(path);
+  state.counters["peak_memory_ratio"] = IngestMemoryRatio(path, options);
 }
-BENCHMARK(BM_CsvIngest)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(BM_CsvIngest)
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(2.0);
 
 // The machine's floor for the same ingest: the CSV, already in the page
 // cache, read into memory that is already mapped, and its four columns

@@ -63,7 +63,8 @@ namespace internal {
 // Where ReadForceFile splits a file of 2-256 MiB between two threads: the
 // first line after this share of its bytes. The first thread parses the
 // rows before it while the second counts their lines, then parses the
-// rest; 0.54 evens the two.
+// rest (a little more than half for the first, for the count; on a 45 MB
+// file shares of 0.50 to 0.62 read in the same time within the noise).
 constexpr double kSplitShare = 0.54;
 }  // namespace internal
 

@@ -270,14 +270,42 @@ bool ParseCell(std::string_view cell, char decimal, double* value) {
 }
 
 // Plain fixed-point decimals ("-12.3456"), the bulk of every tribometer
-// export: with at most 15 digits the mantissa is exact, and so is 10^k, so a
-// single division rounds correctly (Clinger's fast path) and gives the same
-// double as fast_float. Anything else (exponents, long mantissas, nan, inf)
-// returns false and goes to fast_float.
-inline bool ParsePlainDecimal(const char* a,
-                              const char* b,
-                              char decimal,
-                              double* out) {
+// export, parsed in the one pass that finds the field's end: a field of at
+// most 15 digits, an optional '-' (after an optional '+') and one decimal
+// mark, between optional blanks, ending at the delimiter or the end of the
+// row. With at most 15 digits the mantissa is exact, and so is 10^k, so a
+// single division rounds correctly (Clinger's fast path) and gives the
+// double fast_float gives. Returns the delimiter's place (or the end), the
+// value in *out; null for anything else (an empty field, an exponent, a
+// long mantissa, nan, inf, text), which FastRow then takes the careful way.
+inline const char* PlainField(
+    const char* p, const char* end, char delim, char decimal, double* out) {
+  const char* a = p;
+  while (a < end && (*a == ' ' || *a == '\t')) ++a;
+  if (a < end && *a == '+') ++a;
+  bool negative = false;
+  if (a < end && *a == '-') {
+    negative = true;
+    ++a;
+  }
+  std::uint64_t mantissa = 0;
+  int digits = 0, fraction = 0;
+  bool dot = false;
+  for (; a < end; ++a) {
+    const unsigned d = static_cast<unsigned char>(*a) - '0';
+    if (d < 10) {
+      if (++digits > 15) return nullptr;
+      mantissa = mantissa * 10 + d;
+      fraction += dot;
+    } else if (*a == decimal && !dot) {
+      dot = true;
+    } else {
+      break;
+    }
+  }
+  if (digits == 0) return nullptr;
+  while (a < end && (*a == ' ' || *a == '\t')) ++a;
+  if (a < end && *a != delim) return nullptr;
   static constexpr double kPow10[] = {1e0,
                                       1e1,
                                       1e2,
@@ -294,36 +322,11 @@ inline bool ParsePlainDecimal(const char* a,
                                       1e13,
                                       1e14,
                                       1e15};
-  bool negative = false;
-  if (a < b && *a == '-') {
-    negative = true;
-    ++a;
-  }
-  std::uint64_t mantissa = 0;
-  int digits = 0, fraction = 0;
-  bool dot = false;
-  for (; a < b; ++a) {
-    const unsigned d = static_cast<unsigned char>(*a) - '0';
-    if (d < 10) {
-      if (++digits > 15) return false;
-      mantissa = mantissa * 10 + d;
-      fraction += dot;
-    } else if (*a == decimal && !dot) {
-      dot = true;
-    } else {
-      return false;
-    }
-  }
-  if (digits == 0) return false;
   const double v = static_cast<double>(mantissa) / kPow10[fraction];
   *out = negative ? -v : v;
-  return true;
+  return a;
 }
 
-// One pass over a data row parsing only the fields that `slot_of_field`
-// maps to a slot (-1: skip), trimming blanks. Returns false on anything the
-// careful path must look at: quotes, text, or a field count other than
-// `columns` (plus one empty field after a trailing delimiter).
 bool FastRow(std::string_view row,
              char delim,
              char decimal,
@@ -334,10 +337,23 @@ bool FastRow(std::string_view row,
   const size_t columns = slot_of_field.size();
   const fast_float::parse_options options{fast_float::chars_format::general,
                                           decimal};
+  // (A decimal mark that is also the delimiter cannot end a field.)
+  const bool plain = decimal != delim;
   size_t field = 0;
   for (;;) {
-    const char* q = static_cast<const char*>(
-        std::memchr(p, delim, static_cast<size_t>(end - p)));
+    if (plain && field < columns && slot_of_field[field] >= 0) {
+      const char* q =
+          PlainField(p, end, delim, decimal, &out[slot_of_field[field]]);
+      if (q != nullptr) {
+        ++field;
+        if (q == end) break;
+        p = q + 1;
+        continue;
+      }
+    }
+    const char* q = p < end ? static_cast<const char*>(std::memchr(
+                                  p, delim, static_cast<size_t>(end - p)))
+                            : nullptr;
     if (q == nullptr) q = end;
     if (field < columns && slot_of_field[field] >= 0) {
       const char* a = p;
@@ -349,10 +365,8 @@ bool FastRow(std::string_view row,
         v = kNaN;
       } else {
         if (*a == '+') ++a;
-        if (!ParsePlainDecimal(a, b, decimal, &v)) {
-          const auto r = fast_float::from_chars_advanced(a, b, v, options);
-          if (r.ec != std::errc() || r.ptr != b) return false;
-        }
+        const auto r = fast_float::from_chars_advanced(a, b, v, options);
+        if (r.ec != std::errc() || r.ptr != b) return false;
       }
     }
     ++field;

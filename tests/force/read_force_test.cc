@@ -358,6 +358,61 @@ INSTANTIATE_TEST_SUITE_P(
       return name;
     });
 
+// Every form a number takes in the exports, read to the bit as strtod
+// reads it: blanks about it, a sign, no digit before or after the decimal
+// mark, 15 digits and more (the general parser's), an exponent, and the
+// decimal comma of a semicolon export.
+TEST(ReadForce, EveryFormOfANumberReadsAsStrtodReadsIt) {
+  const std::vector<std::string> forms = {"1.5",
+                                          "  1.5",
+                                          "+2.25 ",
+                                          "\t-3.125\t",
+                                          "4",
+                                          "-0.0000001",
+                                          "12345.6789012345",
+                                          "-1234.56789012345",
+                                          "12345.67890123456",
+                                          "0.12345678901234567",
+                                          "1.5e-3",
+                                          "-2E+2",
+                                          ".5",
+                                          "5.",
+                                          "-.25",
+                                          "0",
+                                          "-0",
+                                          "007.50"};
+  for (const char* separators : {",.", ";,"}) {
+    SCOPED_TRACE(separators);
+    const char delimiter = separators[0], decimal = separators[1];
+    std::string text = fmt::format("time_s{0}x_mm{0}Q_N{0}P_N\n", delimiter);
+    std::vector<double> expected;
+    for (int i = 0; i < 400; ++i) {
+      std::string q = forms[static_cast<size_t>(i) % forms.size()];
+      std::string plain = q;
+      std::replace(q.begin(), q.end(), '.', decimal);
+      plain.erase(std::remove_if(plain.begin(),
+                                 plain.end(),
+                                 [](char c) { return c == ' ' || c == '\t'; }),
+                  plain.end());
+      expected.push_back(std::strtod(plain.c_str(), nullptr));
+      std::string t = fmt::format("{:.4f}", i / 200.0);
+      std::string x = fmt::format("{:.5f}", 2.85 * std::sin(i / 31.8));
+      std::replace(t.begin(), t.end(), '.', decimal);
+      std::replace(x.begin(), x.end(), '.', decimal);
+      text += fmt::format("{1}{0}{2}{0}{3}{0}30\n", delimiter, t, x, q);
+    }
+    const ForceRecord r = ReadForceText(text, "forms.csv");
+    ASSERT_EQ(r.size(), 400);
+    for (int i = 0; i < 400; ++i) {
+      const double got = r.tangential_n[i];
+      EXPECT_EQ(std::memcmp(&got, &expected[static_cast<size_t>(i)], 8), 0)
+          << "row " << i << ": '"
+          << forms[static_cast<size_t>(i) % forms.size()] << "' read as " << got
+          << ", strtod " << expected[static_cast<size_t>(i)];
+    }
+  }
+}
+
 TEST(ReadForce, LenientModeDropsIsolatedBadRowsAndCountsThem) {
   ReadForceOptions o;
   o.lenient = true;

@@ -327,6 +327,10 @@ inline const char* PlainField(
   return a;
 }
 
+// One pass over a data row parsing only the fields that `slot_of_field`
+// maps to a slot (-1: skip), trimming blanks. Returns false on anything the
+// careful path must look at: quotes, text, or a field count other than
+// `columns` (plus one empty field after a trailing delimiter).
 bool FastRow(std::string_view row,
              char delim,
              char decimal,

@@ -594,6 +594,29 @@ void ExpectTwoThreadsReadWhatOneReads(double share,
                           "\n",
                           plain,
                           "expected strictly increasing time");
+  // Bruker/CETR: a step's block (its text line and the names row again)
+  // about the split, the clock going on or restarting after it.
+  for (const bool restart : {false, true}) {
+    for (const long at : {s - 2, s, s + 2}) {
+      ExpectOneThreadsReading(
+          fmt::format("repeated block at line {}{}",
+                      at - s,
+                      restart ? ", clock restarting" : ""),
+          with([&](auto& l) {
+            if (restart) {
+              for (long i = at; i < static_cast<long>(l.size()); ++i) {
+                std::string& row = l[static_cast<size_t>(i)];
+                row = fmt::format("{:.4f}", (i - at) / 2000.0) +
+                      row.substr(row.find(','));
+              }
+            }
+            l.insert(l.begin() + at, {"Step 2 of 2", l[0]});
+          }),
+          "\n",
+          plain,
+          "read");
+    }
+  }
   // A bad row in the second half, dropped when lenient; a footer.
   const auto bad_row = with([&](auto& l) { l[s + 500] = "30.0,abc,1,2"; });
   ExpectOneThreadsReading("bad row", bad_row, "\n", plain, "found 'abc'");

@@ -28,7 +28,10 @@ namespace {
 // The force export: columns, units, rate, leniency.
 void AddForceFileOptions(CLI::App* cmd, CommonArgs* a) {
   auto& r = a->read_force;
-  cmd->add_option("--time-column", r.time_column, "Time column name or #N")
+  cmd->add_option("--time-column",
+                  r.time_column,
+                  "Time column name or #N; none: the clock from the file's "
+                  "sampling rate or --rate")
       ->group("Force file");
   cmd->add_option("--x-column", r.x_column, "Displacement column name or #N")
       ->group("Force file");

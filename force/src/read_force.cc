@@ -2,6 +2,7 @@
 
 #include <fast_float/fast_float.h>
 #include <fmt/format.h>
+#include <iconv.h>
 
 #include <algorithm>
 #include <array>
@@ -13,6 +14,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -253,10 +255,20 @@ size_t CountWithoutTrailing(const std::vector<std::string_view>& cells) {
                                                   : cells.size();
 }
 
-// Parses a whole cell as a number. Empty cell -> NaN (a gap); "nan" -> NaN.
-// Returns false for text.
+// The markers spreadsheets and scripts write for a missing value: Excel's
+// "#N/A" ("#NV" in German), R's "NA", "N/A", "null" (any case).
+bool IsMissingMarker(std::string_view cell) {
+  if (cell.size() < 2 || cell.size() > 4) return false;
+  std::string lower(cell);
+  for (char& c : lower) c = static_cast<char>(std::tolower(c));
+  return lower == "#n/a" || lower == "#nv" || lower == "#na" ||
+         lower == "n/a" || lower == "na" || lower == "null";
+}
+
+// Parses a whole cell as a number. Empty cell -> NaN (a gap); "nan" and the
+// missing-value markers -> NaN. Returns false for text.
 bool ParseCell(std::string_view cell, char decimal, double* value) {
-  if (cell.empty()) {
+  if (cell.empty() || IsMissingMarker(cell)) {
     *value = kNaN;
     return true;
   }
@@ -327,6 +339,120 @@ inline const char* PlainField(
   return a;
 }
 
+// A time column written as a date and time of day: the seconds since the
+// first data row's (the origin's) date and time.
+struct Clock {
+  int field = -1;      // the column, -1 = the time column holds numbers
+  bool dated = false;  // a date with the time of day (else it may wrap)
+  long origin_days = 0;
+  double origin_seconds = 0;
+};
+
+// Days from 1970-01-01 of a proleptic Gregorian date (H. Hinnant's
+// days_from_civil).
+long DaysFromCivil(long y, unsigned m, unsigned d) {
+  y -= m <= 2;
+  const long era = (y >= 0 ? y : y - 399) / 400;
+  const unsigned yoe = static_cast<unsigned>(y - era * 400);
+  const unsigned doy = (153 * (m > 2 ? m - 3 : m + 9) + 2) / 5 + d - 1;
+  const unsigned doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
+  return era * 146097 + static_cast<long>(doe) - 719468;
+}
+
+// A date and time of day as instruments and LabVIEW rigs log them:
+// "2024-05-01 12:00:00.125" (or with 'T'), "01.05.2024 12:00:00,125", or a
+// time of day alone, "12:00:00.125" (seconds and their fraction optional
+// after the minutes; a trailing 'Z' allowed). Days since 1970-01-01 (0
+// without a date), seconds of the day, and whether a date was given. False
+// for anything else (a '/' date, whose day and month order is unknowable).
+bool ParseClock(std::string_view cell,
+                long* days,
+                double* seconds,
+                bool* dated) {
+  cell = TrimView(cell);
+  const char* p = cell.data();
+  const char* const end = p + cell.size();
+  const auto number = [&](int min_digits, int max_digits, long* v) {
+    int n = 0;
+    *v = 0;
+    while (p < end && n < max_digits && *p >= '0' && *p <= '9') {
+      *v = *v * 10 + (*p++ - '0');
+      ++n;
+    }
+    return n >= min_digits;
+  };
+  const auto take = [&](char c) {
+    if (p < end && *p == c) {
+      ++p;
+      return true;
+    }
+    return false;
+  };
+  *days = 0;
+  *dated = false;
+  const char* start = p;
+  long a = 0, b = 0, c = 0;
+  if (number(4, 4, &a) && take('-') && number(2, 2, &b) && take('-') &&
+      number(2, 2, &c) && (take(' ') || take('T'))) {
+    if (b < 1 || b > 12 || c < 1 || c > 31) return false;
+    *days =
+        DaysFromCivil(a, static_cast<unsigned>(b), static_cast<unsigned>(c));
+    *dated = true;
+  } else {
+    p = start;
+    if (number(1, 2, &a) && take('.') && number(1, 2, &b) && take('.') &&
+        number(4, 4, &c) && take(' ')) {
+      if (b < 1 || b > 12 || a < 1 || a > 31) return false;
+      *days =
+          DaysFromCivil(c, static_cast<unsigned>(b), static_cast<unsigned>(a));
+      *dated = true;
+    } else {
+      p = start;
+    }
+  }
+  while (p < end && *p == ' ') ++p;
+  long h = 0, m = 0, sec = 0;
+  if (!(number(1, 2, &h) && take(':') && number(2, 2, &m))) return false;
+  double fraction = 0;
+  if (take(':')) {
+    if (!number(2, 2, &sec)) return false;
+    if (p < end && (*p == '.' || *p == ',')) {
+      ++p;
+      long digits = 0, scale = 1;
+      int n = 0;
+      while (p < end && *p >= '0' && *p <= '9' && n < 9) {
+        digits = digits * 10 + (*p++ - '0');
+        scale *= 10;
+        ++n;
+      }
+      if (n == 0) return false;
+      while (p < end && *p >= '0' && *p <= '9') ++p;  // beyond nanoseconds
+      fraction = static_cast<double>(digits) / static_cast<double>(scale);
+    }
+  }
+  take('Z');
+  if (p != end || h > 23 || m > 59 || sec > 60) return false;
+  *seconds = static_cast<double>(h * 3600 + m * 60 + sec) + fraction;
+  return true;
+}
+
+// The clock's value of a cell: seconds since the origin; false if the
+// cell is not a clock reading.
+bool ClockSeconds(const Clock& clock, std::string_view cell, double* value) {
+  long days;
+  double seconds;
+  bool dated;
+  if (cell.empty() || IsMissingMarker(cell)) {
+    *value = kNaN;
+    return true;
+  }
+  if (!ParseClock(cell, &days, &seconds, &dated) || dated != clock.dated)
+    return false;
+  *value = static_cast<double>(days - clock.origin_days) * 86400.0 +
+           (seconds - clock.origin_seconds);
+  return true;
+}
+
 // One pass over a data row parsing only the fields that `slot_of_field`
 // maps to a slot (-1: skip), trimming blanks. Returns false on anything the
 // careful path must look at: quotes, text, or a field count other than
@@ -335,6 +461,7 @@ bool FastRow(std::string_view row,
              char delim,
              char decimal,
              const std::vector<int>& slot_of_field,
+             const Clock& clock,
              double* out) {
   const char* p = row.data();
   const char* const end = p + row.size();
@@ -345,6 +472,20 @@ bool FastRow(std::string_view row,
   const bool plain = decimal != delim;
   size_t field = 0;
   for (;;) {
+    if (static_cast<int>(field) == clock.field) {
+      const char* q = p < end ? static_cast<const char*>(std::memchr(
+                                    p, delim, static_cast<size_t>(end - p)))
+                              : nullptr;
+      if (q == nullptr) q = end;
+      if (!ClockSeconds(clock,
+                        std::string_view(p, static_cast<size_t>(q - p)),
+                        &out[slot_of_field[field]]))
+        return false;
+      ++field;
+      if (q == end) break;
+      p = q + 1;
+      continue;
+    }
     if (plain && field < columns && slot_of_field[field] >= 0) {
       const char* q =
           PlainField(p, end, delim, decimal, &out[slot_of_field[field]]);
@@ -394,8 +535,15 @@ struct Layout {
   std::vector<std::string> units;  // per column ("" unknown)
   double metadata_rate_hz = 0.0;
   std::string kind = "delimited";
+  // The first column holding a number in the first data row (0 but where
+  // a text column, a status or a time of day, comes first): a row whose
+  // cell there is text is a text line (a footer, a block's header).
+  int first_number_column = 0;
 };
 
+// A data row: at least two numbers, and more numbers than text cells (a
+// status or comment column the method does not use may hold text; a
+// metadata line such as "Stroke,5.7,mm,Frequency,10,Hz" is not data).
 bool IsNumericRow(std::string_view line,
                   char delim,
                   char decimal,
@@ -404,14 +552,14 @@ bool IsNumericRow(std::string_view line,
   int numeric = 0, text = 0;
   for (auto c : *cells) {
     double v;
-    if (c.empty()) continue;
+    if (c.empty() || IsMissingMarker(c)) continue;
     if (ParseCell(c, decimal, &v)) {
       ++numeric;
     } else {
       ++text;
     }
   }
-  return numeric >= 2 && text == 0;
+  return numeric >= 2 && text < numeric;
 }
 
 char DetectDelimiter(const std::vector<std::string>& head, int vote_lines) {
@@ -594,6 +742,14 @@ Layout DetectLayout(const std::vector<std::string>& head,
   layout.delimiter = DetectDelimiter(head, options.delimiter_vote_lines);
   layout.decimal = DetectDecimal(head, layout.delimiter);
   layout.first_data_line = FindFirstDataLine(head, layout, name);
+  {
+    std::vector<std::string_view> cells;
+    Split(head[layout.first_data_line], layout.delimiter, &cells);
+    double v;
+    while (layout.first_number_column + 1 < static_cast<int>(cells.size()) &&
+           !ParseCell(cells[layout.first_number_column], layout.decimal, &v))
+      ++layout.first_number_column;
+  }
   FindHeaderAndUnits(head, &layout);
   ReadNamesAndUnits(head, &layout);
   layout.metadata_rate_hz = FindMetadataRate(
@@ -696,8 +852,8 @@ Scale ResolveUnit(Channel channel,
         fmt::format("{}: column '{}' has unit '{}'; expected a {} "
                     "unit ({})",
                     file,
-                    column,
-                    unit,
+                    internal::Printable(column),
+                    internal::Printable(unit),
                     channel == kTime ? "time"
                     : channel == kX  ? "length"
                                      : "force",
@@ -985,13 +1141,15 @@ Columns ChooseColumns(const Layout& layout,
                                      &options.x_column,
                                      &options.tangential_column,
                                      &options.normal_column};
+  // "none" for the time: no time column, the clock from the sampling rate.
+  const bool no_time = Lower(options.time_column) == "none";
   for (int ch = 0; ch < 4; ++ch) {
-    if (!overrides[ch]->empty()) {
+    if (!overrides[ch]->empty() && !(ch == kTime && no_time)) {
       column[ch] = FindOverride(*overrides[ch], layout, name, Channel(ch));
     }
   }
   for (int ch = 0; ch < 4; ++ch) {
-    if (column[ch] >= 0) continue;
+    if (column[ch] >= 0 || (ch == kTime && no_time)) continue;
     int best = -1, best_score = 0;
     for (int c = 0; c < static_cast<int>(layout.names.size()); ++c) {
       if (std::find(column.begin(), column.end(), c) != column.end()) continue;
@@ -1029,15 +1187,76 @@ void RequireChannels(const Columns& column,
   throw ForceError(fmt::format(
       "{}: line {}: no column for {}; the method needs a reciprocating "
       "displacement and the tangential and normal forces, and the file "
-      "has: {}{} (give a column explicitly if it is there under another "
-      "name, e.g. --columns x=NAME)",
+      "has: {}{} ({})",
       name,
       (layout.header_line >= 0 ? layout.header_line : 0) + 1,
       list,
       known,
       has_cof && column[kQ] < 0
           ? "; a friction coefficient alone cannot carry the method"
-          : ""));
+          : "",
+      layout.header_line < 0
+          ? "name the columns by number, e.g. --columns "
+            "time=#1,x=#2,q=#3,p=#4"
+          : "give a column explicitly if it is there under another name, "
+            "e.g. --columns x=NAME"));
+}
+
+// The channels' columns hold numbers in the first data rows: a column the
+// method would read that holds text there (a time of day, a status) is
+// refused here, naming it, rather than as every row's error.
+void RequireNumbers(const std::vector<std::string>& head,
+                    const Columns& column,
+                    const Layout& layout,
+                    const Clock& clock,
+                    const std::string& name) {
+  std::vector<std::string_view> cells;
+  const int n = static_cast<int>(head.size());
+  for (int i = layout.first_data_line;
+       i < std::min(n, layout.first_data_line + 3);
+       ++i) {
+    Split(head[i], layout.delimiter, &cells);
+    for (int ch = 0; ch < 4; ++ch) {
+      if (column[ch] < 0 || column[ch] >= static_cast<int>(cells.size()))
+        continue;
+      const std::string_view cell = cells[column[ch]];
+      double value;
+      if (column[ch] == clock.field ? ClockSeconds(clock, cell, &value)
+                                    : ParseCell(cell, layout.decimal, &value))
+        continue;
+      throw ForceError(fmt::format(
+          "{}: line {}, column {} ('{}', taken as {}): found text '{}'; "
+          "expected a number{} (give the {} column explicitly if another "
+          "holds it{})",
+          name,
+          i + 1,
+          column[ch] + 1,
+          internal::Printable(layout.names[column[ch]]),
+          kChannelLabel[ch],
+          internal::Printable(cell),
+          layout.decimal == ',' ? " with a decimal comma" : "",
+          kChannelLabel[ch],
+          ch == kTime ? ", or --time-column none and the sampling rate" : ""));
+    }
+  }
+}
+
+// The time column as a clock when its first data cell is a date and time
+// of day or a time of day (not a number): its origin that cell's.
+Clock FindClock(const std::vector<std::string>& head,
+                const Columns& column,
+                const Layout& layout) {
+  Clock clock;
+  if (column[kTime] < 0) return clock;
+  std::vector<std::string_view> cells;
+  Split(head[layout.first_data_line], layout.delimiter, &cells);
+  if (column[kTime] >= static_cast<int>(cells.size())) return clock;
+  const std::string_view cell = cells[column[kTime]];
+  double number;
+  if (ParseCell(cell, layout.decimal, &number)) return clock;
+  if (ParseClock(cell, &clock.origin_days, &clock.origin_seconds, &clock.dated))
+    clock.field = column[kTime];
+  return clock;
 }
 
 // A RecipeStep column lets the Rtec clock restart; -1 when none.
@@ -1059,6 +1278,7 @@ class RowReader {
             const std::string* header_text,
             const Columns& column,
             int step_column,
+            const Clock& clock,
             const Scale* scale,
             const ReadForceOptions& options,
             const std::string& name,
@@ -1069,6 +1289,7 @@ class RowReader {
         header_text_(header_text),
         column_(column),
         step_column_(step_column),
+        clock_(clock),
         scale_(scale),
         options_(options),
         name_(name),
@@ -1090,8 +1311,10 @@ class RowReader {
     // and in Finish).
     prefault_.Start(std::move(buffers));
     // Fast path slots: the four channels, the RecipeStep column, and the
-    // first field (a text first field means a footer or a bad row).
-    slot_of_field_[0] = kFirstSlot;
+    // first field that holds a number (text there means a footer or a bad
+    // row).
+    if (layout.first_number_column < static_cast<int>(columns_))
+      slot_of_field_[layout.first_number_column] = kFirstSlot;
     for (int ch = 0; ch < 4; ++ch) {
       if (column_[ch] >= 0 && column_[ch] < static_cast<int>(columns_))
         slot_of_field_[column_[ch]] = ch;
@@ -1173,7 +1396,12 @@ class RowReader {
       if (!fast_possible_ || at + f.rows >= capacity || !source.Next(&row))
         break;
       double v[6] = {kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
-      if (!FastRow(row, layout_.delimiter, layout_.decimal, slot_of_field_, v))
+      if (!FastRow(row,
+                   layout_.delimiter,
+                   layout_.decimal,
+                   slot_of_field_,
+                   clock_,
+                   v))
         break;
       // TryFast's time with no clock joined (AdoptFastRows checks that).
       const double t = timed ? v[kTime] * scale_[kTime].factor + 0.0 : 0;
@@ -1301,7 +1529,12 @@ class RowReader {
   // The ordinary row: all fields numbers, time after the previous one.
   bool TryFast(std::string_view row, long line_no) {
     double v[6] = {kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
-    if (!FastRow(row, layout_.delimiter, layout_.decimal, slot_of_field_, v)) {
+    if (!FastRow(row,
+                 layout_.delimiter,
+                 layout_.decimal,
+                 slot_of_field_,
+                 clock_,
+                 v)) {
       return false;
     }
     const bool timed = column_[kTime] >= 0;
@@ -1351,9 +1584,14 @@ class RowReader {
   // The channels' numbers from cells_, or the error that says why not.
   std::string ParseCells(double* value, bool* text_row, long line_no) {
     double first_value;
+    const size_t probe =
+        cells_.empty()
+            ? 0
+            : std::min(static_cast<size_t>(layout_.first_number_column),
+                       cells_.size() - 1);
     const bool text_first =
-        !cells_.empty() && !cells_[0].empty() &&
-        !ParseCell(cells_[0], layout_.decimal, &first_value);
+        !cells_.empty() && !cells_[probe].empty() &&
+        !ParseCell(cells_[probe], layout_.decimal, &first_value);
     const bool trailing_ok =
         cells_.size() == columns_ + 1 && cells_.back().empty();
     if (text_first) {
@@ -1376,7 +1614,10 @@ class RowReader {
     for (int ch = 0; ch < 4; ++ch) {
       if (column_[ch] < 0) continue;
       const std::string_view cell = cells_[column_[ch]];
-      if (!ParseCell(cell, layout_.decimal, &value[ch])) {
+      const bool ok = column_[ch] == clock_.field
+                          ? ClockSeconds(clock_, cell, &value[ch])
+                          : ParseCell(cell, layout_.decimal, &value[ch]);
+      if (!ok) {
         return fmt::format(
             "{}: line {}, column {} ('{}'): found '{}', expected a number{}",
             name_,
@@ -1397,6 +1638,12 @@ class RowReader {
     double step = kNaN;
     if (step_column_ >= 0 && step_column_ < static_cast<int>(cells_.size())) {
       ParseCell(cells_[step_column_], layout_.decimal, &step);
+    }
+    // A time of day without its date passing midnight: the next day.
+    if (std::isfinite(t) && t <= previous_time_ && clock_.field >= 0 &&
+        !clock_.dated && previous_time_ - t > 43200.0) {
+      time_offset_ += 86400.0;
+      t += 86400.0;
     }
     if (std::isfinite(t) && t <= previous_time_) {
       const bool step_changed = (step_column_ >= 0 && step != previous_step_ &&
@@ -1476,6 +1723,7 @@ class RowReader {
   const std::string* header_text_;
   const Columns column_;
   const int step_column_;
+  const Clock clock_;
   const Scale* scale_;
   const ReadForceOptions& options_;
   const std::string& name_;
@@ -1604,6 +1852,8 @@ ForceRecord Read(LineSource& source,
   const Layout layout = DetectLayout(head, name, options);
   const Columns column = ChooseColumns(layout, options, name);
   RequireChannels(column, layout, name);
+  const Clock clock = FindClock(head, column, layout);
+  RequireNumbers(head, column, layout, clock, name);
 
   ForceRecord record;
   ForceMetadata& meta = record.metadata;
@@ -1612,12 +1862,14 @@ ForceRecord Read(LineSource& source,
   Scale scale[4];
   for (int ch = 0; ch < 4; ++ch) {
     if (column[ch] < 0) continue;
-    scale[ch] = ResolveUnit(Channel(ch),
-                            layout.units[column[ch]],
-                            options,
-                            name,
-                            layout.names[column[ch]],
-                            &meta.warnings);
+    scale[ch] = ch == kTime && clock.field >= 0
+                    ? Scale{1.0, "s", false}  // a clock's seconds
+                    : ResolveUnit(Channel(ch),
+                                  layout.units[column[ch]],
+                                  options,
+                                  name,
+                                  layout.names[column[ch]],
+                                  &meta.warnings);
   }
   // Storage: exact capacity when the caller counted rows; else, for a file
   // of known size, room for as many rows as its shortest data line in the
@@ -1648,6 +1900,7 @@ ForceRecord Read(LineSource& source,
                  layout.header_line >= 0 ? &head[layout.header_line] : nullptr,
                  column,
                  FindStepColumn(layout),
+                 clock,
                  scale,
                  options,
                  name,
@@ -1751,6 +2004,115 @@ bool ReadForceOptions::IsValid(std::string* why) const {
   return true;
 }
 
+namespace {
+
+// UTF-16 text (a byte order mark, or a NUL beside each of the first two
+// ASCII bytes) from its first bytes, as iconv names its encoding; null for
+// anything else.
+const char* Utf16Encoding(std::string_view first) {
+  const auto b = [&](size_t i) {
+    return i < first.size() ? static_cast<unsigned char>(first[i]) : 0u;
+  };
+  if (first.size() >= 2 && b(0) == 0xFF && b(1) == 0xFE) return "UTF-16LE";
+  if (first.size() >= 2 && b(0) == 0xFE && b(1) == 0xFF) return "UTF-16BE";
+  const auto ascii = [](unsigned c) { return c >= 0x09 && c < 0x7F; };
+  if (first.size() < 4) return nullptr;
+  if (ascii(b(0)) && b(1) == 0 && ascii(b(2)) && b(3) == 0) return "UTF-16LE";
+  if (b(0) == 0 && ascii(b(1)) && b(2) == 0 && ascii(b(3))) return "UTF-16BE";
+  return nullptr;
+}
+
+// UTF-16 text as UTF-8 (what Excel's "Unicode Text" and some instruments'
+// Windows software write), read block by block from `read` (bytes into a
+// buffer, 0 at the end), each block to `on_bytes` as it is. At most
+// kEstimateMaxBytes; an ill-formed or cut sequence is refused at its byte
+// offset.
+std::string Utf16ToUtf8(const std::function<size_t(char*, size_t)>& read,
+                        const char* encoding,
+                        const std::string& name,
+                        std::uintmax_t size_hint,
+                        const ReadForceOptions& options) {
+  const auto too_large = [&](std::uintmax_t bytes) {
+    return ForceError(fmt::format(
+        "{}: more than {} bytes of {} text; expected at most {} MiB of "
+        "UTF-16 (convert it to UTF-8 first, e.g. iconv -f UTF-16 -t UTF-8)",
+        name,
+        bytes,
+        encoding,
+        kEstimateMaxBytes >> 20));
+  };
+  if (size_hint > static_cast<std::uintmax_t>(kEstimateMaxBytes))
+    throw too_large(size_hint);
+  const iconv_t cd = iconv_open("UTF-8", encoding);
+  if (cd == reinterpret_cast<iconv_t>(-1)) {
+    throw ForceError(
+        fmt::format("{}: {} text, which this system cannot convert: {}",
+                    name,
+                    encoding,
+                    std::strerror(errno)));
+  }
+  struct Closer {
+    iconv_t cd;
+    ~Closer() { iconv_close(cd); }
+  } closer{cd};
+  std::string out;
+  out.reserve(static_cast<size_t>(size_hint / 2 + 16));
+  // Blocks of 1 MiB (less for a small text; 16 bytes at least, room for a
+  // cut sequence and one whole), converted into twice as much.
+  const size_t block = static_cast<size_t>(
+      std::clamp<std::uintmax_t>(size_hint + 16, 16, std::uintmax_t{1} << 20));
+  std::vector<char> in(block), converted(2 * block);
+  size_t carry = 0;         // bytes of a sequence cut by the block's end
+  std::uintmax_t done = 0;  // bytes converted before `in`
+  for (;;) {
+    const size_t got = read(in.data() + carry, in.size() - carry);
+    if (got > 0 && options.on_bytes) options.on_bytes(in.data() + carry, got);
+    if (done + carry + got > static_cast<std::uintmax_t>(kEstimateMaxBytes))
+      throw too_large(done + carry + got);
+    if (got == 0) {
+      if (carry > 0) {
+        throw ForceError(fmt::format(
+            "{}: byte {}: the {} text ends inside a character; expected "
+            "whole 2-byte units",
+            name,
+            done,
+            encoding));
+      }
+      return out;
+    }
+    char* ip = in.data();
+    size_t left = carry + got;
+    while (left > 0) {
+      char* op = converted.data();
+      size_t room = converted.size();
+      const size_t r = iconv(cd, &ip, &left, &op, &room);
+      out.append(converted.data(), converted.size() - room);
+      if (r != static_cast<size_t>(-1)) continue;
+      if (errno == E2BIG) continue;
+      if (errno == EINVAL) break;  // cut by the block: the next read ends it
+      throw ForceError(fmt::format(
+          "{}: byte {}: not valid {} text (an unpaired surrogate or an "
+          "ill-formed unit); expected UTF-16, or save the file as UTF-8",
+          name,
+          done + static_cast<std::uintmax_t>(ip - in.data()),
+          encoding));
+    }
+    done += static_cast<std::uintmax_t>(ip - in.data());
+    carry = left;
+    std::memmove(in.data(), ip, carry);
+  }
+}
+
+// Lines ended by CR alone (Excel's "CSV (Macintosh)", classic Mac OS):
+// a CR and no LF in the first 64 KiB.
+bool EndsLinesWithCrAlone(std::string_view first) {
+  first = first.substr(0, size_t{64} << 10);
+  return first.find('\r') != std::string_view::npos &&
+         first.find('\n') == std::string_view::npos;
+}
+
+}  // namespace
+
 ForceRecord ReadForceFile(const std::string& path,
                           const ReadForceOptions& options) {
   // A FIFO would block on open, /dev/zero never end: regular files only.
@@ -1776,6 +2138,56 @@ ForceRecord ReadForceFile(const std::string& path,
   }
   std::error_code size_error;
   const std::uintmax_t size = std::filesystem::file_size(path, size_error);
+  {
+    char first[4];
+    const size_t got = std::fread(first, 1, sizeof first, file.get());
+    std::rewind(file.get());
+    if (const char* encoding = Utf16Encoding(std::string_view(first, got))) {
+      std::FILE* f = file.get();
+      const std::string utf8 = Utf16ToUtf8(
+          [&](char* into, size_t room) {
+            const size_t n = std::fread(into, 1, room, f);
+            if (n == 0 && std::ferror(f)) {
+              throw ForceError(fmt::format(
+                  "{}: read error: {}", path, std::strerror(errno)));
+            }
+            return n;
+          },
+          encoding,
+          path,
+          size_error ? std::uintmax_t{1} << 20 : size,
+          options);
+      ReadForceOptions text_options = options;
+      text_options.on_bytes = nullptr;  // handed on as they were read
+      return ReadForceText(utf8, path, text_options);
+    }
+  }
+  {
+    std::string first(size_t{64} << 10, '\0');
+    first.resize(std::fread(first.data(), 1, first.size(), file.get()));
+    std::rewind(file.get());
+    if (EndsLinesWithCrAlone(first)) {
+      // Whole (at most kEstimateMaxBytes), its bytes handed on as read.
+      std::string text;
+      std::vector<char> block(size_t{1} << 20);
+      size_t got;
+      while ((got = std::fread(block.data(), 1, block.size(), file.get())) >
+             0) {
+        if (options.on_bytes) options.on_bytes(block.data(), got);
+        text.append(block.data(), got);
+        if (text.size() > static_cast<size_t>(kEstimateMaxBytes)) {
+          throw ForceError(fmt::format(
+              "{}: more than {} MiB of text with lines ended by CR alone; "
+              "expected at most that (convert the line ends to LF first)",
+              path,
+              kEstimateMaxBytes >> 20));
+        }
+      }
+      ReadForceOptions text_options = options;
+      text_options.on_bytes = nullptr;  // handed on as they were read
+      return ReadForceText(text, path, text_options);
+    }
+  }
   // Up to kEstimateMaxBytes, one pass, the columns sized from the file's
   // size (their room to spare, never written, ends as a few MiB of memory;
   // a 466 MB file's 12 M rows: 10 MiB more than counted, and the
@@ -1813,6 +2225,30 @@ ForceRecord ReadForceFile(const std::string& path,
 ForceRecord ReadForceText(const std::string& text,
                           const std::string& name,
                           const ReadForceOptions& options) {
+  if (const char* encoding = Utf16Encoding(text)) {
+    size_t at = 0;
+    ReadForceOptions quiet = options;
+    quiet.on_bytes = nullptr;  // ReadForceText hands on no bytes
+    return ReadForceText(Utf16ToUtf8(
+                             [&](char* into, size_t room) {
+                               const size_t n =
+                                   std::min(room, text.size() - at);
+                               std::memcpy(into, text.data() + at, n);
+                               at += n;
+                               return n;
+                             },
+                             encoding,
+                             name,
+                             text.size(),
+                             quiet),
+                         name,
+                         options);
+  }
+  if (EndsLinesWithCrAlone(text)) {
+    std::string lf = text;
+    std::replace(lf.begin(), lf.end(), '\r', '\n');
+    return ReadForceText(lf, name, options);
+  }
   MemoryLines source(text, name, options.max_line_bytes);
   const size_t lines =
       static_cast<size_t>(std::count(text.begin(), text.end(), '\n')) + 1;

@@ -16,10 +16,16 @@ std::string Normalise(std::string_view unit) {
   if (u.size() >= 2 && (u.front() == '(' || u.front() == '[')) {
     u = Trim(std::string_view(u).substr(1, u.size() - 2));
   }
-  // Micro sign (U+00B5) and Greek mu (U+03BC) in UTF-8 -> 'u'.
-  for (const char* micro : {"\xC2\xB5", "\xCE\xBC"}) {
+  // Micro sign (U+00B5) and Greek mu (U+03BC) in UTF-8, and Greek mu in
+  // Shift-JIS (a Japanese Windows export) -> 'u'.
+  for (const char* micro : {"\xC2\xB5", "\xCE\xBC", "\x83\xCA"}) {
     size_t pos;
     while ((pos = u.find(micro)) != std::string::npos) u.replace(pos, 2, "u");
+  }
+  // The micro sign alone in Latin-1 / Windows-1252 (0xB5), what a Windows
+  // program writes for "µm" in an ANSI file.
+  for (char& c : u) {
+    if (static_cast<unsigned char>(c) == 0xB5) c = 'u';
   }
   return u;
 }

@@ -13,7 +13,9 @@ namespace wearscar::force {
 // rows and the columns.
 struct ReadForceOptions {
   // Column overrides: a header name (case-insensitive, exact) or a 1-based
-  // column number written as "#3". Empty = find by pattern.
+  // column number written as "#3". Empty = find by pattern. A time column
+  // of "none": the file's time column (if any) is not read, the clock is
+  // rebuilt from the metadata's rate or sampling_rate_hz.
   std::string time_column;
   std::string x_column;
   std::string tangential_column;

@@ -27,22 +27,52 @@ inline std::string_view Trim(std::string_view s) {
   return s.substr(first, last - first + 1);
 }
 
-// Up to `max` bytes of a header or cell for an error message, anything not
-// printable ASCII written as \xNN and "..." after a cut.
+// The length of the well-formed UTF-8 sequence of a printable character
+// (not a C1 control) at text[i], or 0.
+inline std::size_t PrintableUtf8Length(std::string_view text, std::size_t i) {
+  const auto byte = [&](std::size_t k) {
+    return k < text.size() ? static_cast<unsigned char>(text[k]) : 0u;
+  };
+  const unsigned c = byte(i);
+  const auto tail = [&](std::size_t k) { return (byte(k) & 0xC0u) == 0x80u; };
+  if (c >= 0xC2 && c <= 0xDF)
+    return tail(i + 1) && !(c == 0xC2 && byte(i + 1) < 0xA0) ? 2 : 0;
+  if (c >= 0xE0 && c <= 0xEF) {
+    const unsigned c1 = byte(i + 1);
+    if ((c == 0xE0 && c1 < 0xA0) || (c == 0xED && c1 > 0x9F)) return 0;
+    return tail(i + 1) && tail(i + 2) ? 3 : 0;
+  }
+  if (c >= 0xF0 && c <= 0xF4) {
+    const unsigned c1 = byte(i + 1);
+    if ((c == 0xF0 && c1 < 0x90) || (c == 0xF4 && c1 > 0x8F)) return 0;
+    return tail(i + 1) && tail(i + 2) && tail(i + 3) ? 4 : 0;
+  }
+  return 0;
+}
+
+// Up to `max` characters of a header or cell for an error message: printable
+// ASCII and well-formed UTF-8 as they are ("Weg [µm]"), any other byte (a
+// control, Latin-1's 0xB5, binary) as \xNN, and "..." after a cut.
 inline std::string Printable(std::string_view text, std::size_t max = 40) {
   static const char kHex[] = "0123456789abcdef";
   std::string out;
-  for (std::size_t i = 0; i < text.size() && i < max; ++i) {
+  std::size_t i = 0;
+  for (std::size_t shown = 0; i < text.size() && shown < max; ++shown) {
     const unsigned char c = static_cast<unsigned char>(text[i]);
     if (c >= 0x20 && c < 0x7f) {
       out += static_cast<char>(c);
+      ++i;
+    } else if (const std::size_t n = PrintableUtf8Length(text, i); n > 0) {
+      out.append(text.substr(i, n));
+      i += n;
     } else {
       out += "\\x";
       out += kHex[c >> 4];
       out += kHex[c & 15];
+      ++i;
     }
   }
-  if (text.size() > max) out += "...";
+  if (i < text.size()) out += "...";
   return out;
 }
 

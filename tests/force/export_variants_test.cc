@@ -1,0 +1,409 @@
+// The same test written the ways real exports write it: text columns the
+// method does not use, spreadsheets' missing-value markers, a micro sign in
+// Latin-1 or Shift-JIS, UTF-16 text, German and French column names, and a
+// time column of dates and times of day. Each is read to the numbers of the
+// plain UTF-8 file (or refused with the place and what was expected).
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <fstream>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "wearscar/force/read_force.h"
+#include "wearscar/support/text.h"
+
+namespace wearscar::force {
+namespace {
+
+// 2 s of a 1 Hz, +-2.85 mm stroke at 2 kHz (4000 rows), mu = 0.12 on a
+// wavy P: the cells of each row (time, x, Q, P) as plain decimals.
+struct Row {
+  double t, x, q, p;
+};
+std::vector<Row> Rows(int n = 4000, double rate = 2000) {
+  std::vector<Row> rows;
+  for (int i = 0; i < n; ++i) {
+    const double t = i / rate, x = 2.85 * std::sin(2 * M_PI * t);
+    const double p = 30 + 0.3 * std::sin(2 * M_PI * x / 1.7);
+    rows.push_back({t, x, 0.12 * p * (std::cos(2 * M_PI * t) > 0 ? 1 : -1), p});
+  }
+  return rows;
+}
+
+// A file of the rows: `header`, then per row `format(row)`.
+std::string Text(const std::string& header,
+                 const std::function<std::string(const Row&, int)>& format,
+                 int n = 4000) {
+  std::string text = header + "\n";
+  const std::vector<Row> rows = Rows(n);
+  for (int i = 0; i < n; ++i) text += format(rows[i], i) + "\n";
+  return text;
+}
+
+std::string Plain(const Row& r) {
+  return fmt::format("{:.4f},{:.6f},{:.5f},{:.4f}", r.t, r.x, r.q, r.p);
+}
+
+std::string WriteFile(const std::string& name, const std::string& bytes) {
+  const std::string path = ::testing::TempDir() + "/wearscar-variant-" + name;
+  std::ofstream(path, std::ios::binary) << bytes;
+  return path;
+}
+
+// The channels equal to the bit (x within `x_tolerance`: a unit's factor
+// rounds), row by row; NaN where the reference is NaN.
+void ExpectSameChannels(const ForceRecord& a,
+                        const ForceRecord& b,
+                        double x_tolerance = 0.0,
+                        double time_tolerance = 0.0) {
+  ASSERT_EQ(a.size(), b.size());
+  for (Eigen::Index i = 0; i < a.size(); ++i) {
+    ASSERT_NEAR(a.time_s[i], b.time_s[i], time_tolerance) << "row " << i;
+    if (x_tolerance > 0) {
+      ASSERT_NEAR(a.x_mm[i], b.x_mm[i], x_tolerance) << "row " << i;
+    } else {
+      ASSERT_EQ(a.x_mm[i], b.x_mm[i]) << "row " << i;
+    }
+    for (const auto c : {&ForceRecord::tangential_n, &ForceRecord::normal_n}) {
+      const double u = (a.*c)[i], v = (b.*c)[i];
+      if (std::isnan(u)) {
+        ASSERT_TRUE(std::isnan(v)) << "row " << i;
+      } else {
+        ASSERT_EQ(u, v) << "row " << i;
+      }
+    }
+  }
+}
+
+ForceRecord Reference() {
+  return ReadForceText(
+      Text("time_s,x_mm,Q_N,P_N", [](const Row& r, int) { return Plain(r); }),
+      "plain.csv");
+}
+
+std::string ErrorOf(const std::function<void()>& read) {
+  try {
+    read();
+  } catch (const ForceError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(ExportVariants, TextColumnsTheMethodDoesNotUseAreSkipped) {
+  const ForceRecord reference = Reference();
+  // A status column last, a comment with the delimiter inside quotes, and
+  // a step name first with a footer after the data.
+  const ForceRecord last =
+      ReadForceText(Text("time_s,x_mm,Q_N,P_N,Status",
+                         [](const Row& r, int) { return Plain(r) + ",OK"; }),
+                    "status-last.csv");
+  ExpectSameChannels(reference, last);
+  const ForceRecord quoted = ReadForceText(
+      Text("time_s,x_mm,Q_N,P_N,Comment",
+           [](const Row& r, int) { return Plain(r) + ",\"run 1, dry\""; }),
+      "comment.csv");
+  ExpectSameChannels(reference, quoted);
+  const ForceRecord first = ReadForceText(
+      Text("Step name,time_s,x_mm,Q_N,P_N",
+           [](const Row& r, int) { return "Sliding," + Plain(r); }) +
+          "End of data\n",
+      "status-first.csv");
+  ExpectSameChannels(reference, first);
+  ASSERT_EQ(first.metadata.warnings.size(), 1u);
+  EXPECT_EQ(first.metadata.warnings[0], "ignored a footer of 1 text lines");
+  // A metadata line with numbers among more text is not a data row: the
+  // header under it still names the columns.
+  const ForceRecord meta =
+      ReadForceText(Text("Stroke,5.7,mm,Frequency,1,Hz\ntime_s,x_mm,Q_N,P_N",
+                         [](const Row& r, int) { return Plain(r); }),
+                    "metadata.csv");
+  ExpectSameChannels(reference, meta);
+  // A text cell in a column the method reads is still an error, naming it.
+  const std::string bad =
+      Text("time_s,x_mm,Q_N,P_N,Status", [](const Row& r, int i) {
+        return i == 2500
+                   ? fmt::format("{:.4f},{:.6f},high,{:.4f},OK", r.t, r.x, r.p)
+                   : Plain(r) + ",OK";
+      });
+  EXPECT_NE(ErrorOf([&] { ReadForceText(bad, "bad.csv"); })
+                .find("bad.csv: line 2502, column 3 ('Q'): found 'high', "
+                      "expected a number"),
+            std::string::npos)
+      << ErrorOf([&] { ReadForceText(bad, "bad.csv"); });
+}
+
+TEST(ExportVariants, SpreadsheetMissingValueMarkersAreGaps) {
+  const std::vector<std::string> markers = {
+      "#N/A", "#NV", "NA", "n/a", "null", "", "nan"};
+  const auto with = [&](bool blank) {
+    return Text("time_s,x_mm,Q_N,P_N", [&](const Row& r, int i) {
+      if (i % 500 != 250) return Plain(r);
+      const std::string& m = blank ? std::string() : markers[(i / 500) % 7];
+      return fmt::format("{:.4f},{:.6f},{},{:.4f}", r.t, r.x, m, r.p);
+    });
+  };
+  const ForceRecord blanks = ReadForceText(with(true), "blanks.csv");
+  ASSERT_TRUE(std::isnan(blanks.tangential_n[250]));
+  const ForceRecord marked = ReadForceText(with(false), "markers.csv");
+  ExpectSameChannels(blanks, marked);
+  for (int i = 250; i < 4000; i += 500)
+    EXPECT_TRUE(std::isnan(marked.tangential_n[i])) << i;
+}
+
+TEST(ExportVariants, MicroSignInAnyEncodingIsMicrometres) {
+  const ForceRecord reference = Reference();
+  const auto micrometres = [](const std::string& unit) {
+    return Text("Time [s];Position [" + unit + "];Friction [N];Normal [N]",
+                [](const Row& r, int) {
+                  std::string s = fmt::format(
+                      "{:.4f};{:.3f};{:.5f};{:.4f}", r.t, 1e3 * r.x, r.q, r.p);
+                  for (char& c : s) c = c == '.' ? ',' : c;
+                  return s;
+                });
+  };
+  // UTF-8 micro sign, Greek mu, Latin-1 / Windows-1252, Shift-JIS mu, "um".
+  for (const char* unit :
+       {"\xC2\xB5m", "\xCE\xBCm", "\xB5m", "\x83\xCAm", "um"}) {
+    SCOPED_TRACE(support::Printable(unit));
+    const ForceRecord r = ReadForceText(micrometres(unit), "um.csv");
+    ExpectSameChannels(reference, r, 1e-12);
+    EXPECT_TRUE(r.metadata.warnings.empty());
+  }
+  // A unit it does not know is refused, its bytes shown as they are where
+  // they are UTF-8 and escaped where not.
+  EXPECT_NE(ErrorOf([&] { ReadForceText(micrometres("\xE4m"), "a.csv"); })
+                .find("a.csv: column 'Position' has unit '\\xe4m'; expected a "
+                      "length unit"),
+            std::string::npos)
+      << ErrorOf([&] { ReadForceText(micrometres("\xE4m"), "a.csv"); });
+  EXPECT_NE(ErrorOf([&] {
+              ReadForceText(micrometres("\xC3\xA4m"), "a.csv");
+            }).find("has unit '\xC3\xA4m'"),
+            std::string::npos);
+}
+
+std::string Utf16(const std::string& ascii, bool big_endian, bool bom) {
+  std::string out;
+  const auto unit = [&](unsigned v) {
+    const char hi = static_cast<char>(v >> 8), lo = static_cast<char>(v & 255);
+    out += big_endian ? hi : lo;
+    out += big_endian ? lo : hi;
+  };
+  if (bom) unit(0xFEFF);
+  for (unsigned char c : ascii) unit(c);
+  return out;
+}
+
+TEST(ExportVariants, Utf16TextReadsAsItsUtf8AndIsChecksummedAsWritten) {
+  const std::string text = Text(
+      "Time [s]\tPosition [mm]\tFriction force "
+      "[N]\tNormal force [N]",
+      [](const Row& r, int) {
+        return fmt::format(
+            "{:.4f}\t{:.6f}\t{:.5f}\t{:.4f}", r.t, r.x, r.q, r.p);
+      });
+  const ForceRecord reference = ReadForceText(text, "utf8.txt");
+  ASSERT_EQ(reference.size(), 4000);
+  struct Form {
+    const char* name;
+    bool big_endian, bom;
+  };
+  for (const Form f : {Form{"le-bom", false, true},
+                       Form{"be-bom", true, true},
+                       Form{"le", false, false},
+                       Form{"be", true, false}}) {
+    SCOPED_TRACE(f.name);
+    const std::string bytes = Utf16(text, f.big_endian, f.bom);
+    const std::string path = WriteFile(std::string(f.name) + ".txt", bytes);
+    ReadForceOptions o;
+    std::string seen;
+    o.on_bytes = [&](const char* b, std::size_t n) { seen.append(b, n); };
+    const ForceRecord r = ReadForceFile(path, o);
+    ExpectSameChannels(reference, r);
+    EXPECT_EQ(r.metadata.layout, reference.metadata.layout);
+    EXPECT_EQ(seen, bytes);  // the checksum is of the file as it is
+    ExpectSameChannels(reference, ReadForceText(bytes, "in-memory.txt"));
+    std::remove(path.c_str());
+  }
+  // Cut inside a unit, and an unpaired surrogate: refused at their byte.
+  std::string cut = Utf16(text, false, true);
+  cut.pop_back();
+  const std::string cut_path = WriteFile("cut.txt", cut);
+  EXPECT_NE(ErrorOf([&] { ReadForceFile(cut_path); })
+                .find(fmt::format("{}: byte {}: the UTF-16LE text ends inside "
+                                  "a character",
+                                  cut_path,
+                                  cut.size() - 1)),
+            std::string::npos)
+      << ErrorOf([&] { ReadForceFile(cut_path); });
+  std::string lone = Utf16(text, false, true);
+  const std::size_t at = 2 * 3000;  // an even offset inside the data
+  lone[at] = '\x00';
+  lone[at + 1] = '\xD8';  // U+D800 with no low surrogate after it
+  const std::string lone_path = WriteFile("lone.txt", lone);
+  EXPECT_NE(ErrorOf([&] { ReadForceFile(lone_path); })
+                .find(fmt::format(
+                    "{}: byte {}: not valid UTF-16LE text", lone_path, at)),
+            std::string::npos)
+      << ErrorOf([&] { ReadForceFile(lone_path); });
+  std::remove(cut_path.c_str());
+  std::remove(lone_path.c_str());
+}
+
+TEST(ExportVariants, GermanAndFrenchColumnNames) {
+  const ForceRecord reference = Reference();
+  for (const char* header :
+       {"Zeit [s];Weg [mm];Reibkraft [N];Normalkraft [N]",
+        "Zeit [s];Verschiebung [mm];Reibungskraft [N];Auflast [N]",
+        "Temps [s];D\xC3\xA9placement [mm];Force de frottement [N];Force "
+        "normale [N]"}) {
+    SCOPED_TRACE(header);
+    const ForceRecord r = ReadForceText(Text(header,
+                                             [](const Row& row, int) {
+                                               std::string s = Plain(row);
+                                               for (char& c : s)
+                                                 c = c == ',' ? ';' : c;
+                                               return s;
+                                             }),
+                                        "de.csv");
+    ExpectSameChannels(reference, r);
+  }
+}
+
+// "2024-05-01T23:59:58.0005"-style cells: the row's time from `start`.
+std::string Clock(double start_s, double t, const char* format, int digits) {
+  const double at = start_s + t;
+  const std::time_t whole = static_cast<std::time_t>(std::floor(at));
+  std::tm tm{};
+  gmtime_r(&whole, &tm);
+  char buffer[64];
+  std::strftime(buffer, sizeof buffer, format, &tm);
+  const long fraction =
+      std::lround((at - std::floor(at)) * std::pow(10, digits));
+  return fmt::format("{}{:0{}d}", buffer, fraction, digits);
+}
+
+TEST(ExportVariants, ClockTimesReadAsSecondsFromTheFirstRow) {
+  const ForceRecord reference = Reference();
+  // 1 s before midnight on 2024-02-29 (a leap day), so every form crosses
+  // into the next day.
+  const double start = 1709251199.0;
+  struct Form {
+    const char* header;
+    const char* format;
+    char delimiter, decimal;
+  };
+  for (const Form f : {Form{"Timestamp", "%Y-%m-%dT%H:%M:%S.", ',', '.'},
+                       Form{"Timestamp", "%Y-%m-%d %H:%M:%S.", ',', '.'},
+                       Form{"Zeit", "%d.%m.%Y %H:%M:%S,", ';', ','},
+                       Form{"Time", "%H:%M:%S.", '\t', '.'}}) {
+    SCOPED_TRACE(f.format);
+    const std::string d(1, f.delimiter);
+    const std::string text =
+        Text(fmt::format("{}{}x_mm{}Q_N{}P_N", f.header, d, d, d),
+             [&](const Row& r, int) {
+               std::string cells =
+                   fmt::format("{:.6f}{}{:.5f}{}{:.4f}", r.x, d, r.q, d, r.p);
+               if (f.decimal == ',') {
+                 for (char& c : cells) c = c == '.' ? ',' : c;
+               }
+               return Clock(start, r.t, f.format, 4) + d + cells;
+             });
+    const ForceRecord r = ReadForceText(text, "clock.csv");
+    ExpectSameChannels(reference, r, 0.0, 1e-9);
+    EXPECT_NEAR(r.metadata.sampling_rate_hz, 2000.0, 1e-6);
+  }
+  // A date with '/' (day and month in either order) is refused, naming the
+  // column; without the time column, the rate rebuilds the clock.
+  const std::string slashed =
+      Text("Timestamp,x_mm,Q_N,P_N", [&](const Row& r, int) {
+        return Clock(start, r.t, "%m/%d/%Y %H:%M:%S.", 4) +
+               Plain(r).substr(Plain(r).find(','));
+      });
+  EXPECT_NE(
+      ErrorOf([&] { ReadForceText(slashed, "us.csv"); })
+          .find("us.csv: line 2, column 1 ('Timestamp', taken as time): found "
+                "text '02/29/2024 23:59:59.0000'; expected a number"),
+      std::string::npos)
+      << ErrorOf([&] { ReadForceText(slashed, "us.csv"); });
+  ReadForceOptions o;
+  o.time_column = "none";
+  o.sampling_rate_hz = 2000;
+  ExpectSameChannels(reference, ReadForceText(slashed, "us.csv", o), 0, 1e-12);
+}
+
+// A large clock-timed file (two threads split it) reads as one thread
+// reads it, with the midnight in either part.
+TEST(ExportVariants, TwoThreadsReadAClockAsOneDoes) {
+  // Midnight 20 s and 45 s in: in the first thread's part, and in the
+  // second's.
+  for (double start : {1709251200.0 - 20, 1709251200.0 - 45}) {
+    SCOPED_TRACE(start);
+    const std::string text = Text(
+        "Time,x_mm,Q_N,P_N",
+        [&](const Row& r, int) {
+          return Clock(start, r.t, "%H:%M:%S.", 4) +
+                 Plain(r).substr(Plain(r).find(','));
+        },
+        120000);  // 60 s, 4.5 MB
+    const std::string path = WriteFile("clock-split.csv", text);
+    ReadForceOptions one, two;
+    two.threads = 2;
+    const ForceRecord a = ReadForceFile(path, one),
+                      b = ReadForceFile(path, two);
+    ExpectSameChannels(a, b);
+    EXPECT_NEAR(a.time_s[119999] - a.time_s[0], 119999 / 2000.0, 1e-9);
+    std::remove(path.c_str());
+  }
+}
+
+TEST(ExportVariants, LinesEndedByCrAloneAndNoHeaderRow) {
+  const ForceRecord reference = Reference();
+  std::string text =
+      Text("time_s,x_mm,Q_N,P_N", [](const Row& r, int) { return Plain(r); });
+  std::replace(text.begin(), text.end(), '\n', '\r');
+  ExpectSameChannels(reference, ReadForceText(text, "mac.csv"));
+  const std::string path = WriteFile("mac.csv", text);
+  ReadForceOptions o;
+  std::string seen;
+  o.on_bytes = [&](const char* b, std::size_t n) { seen.append(b, n); };
+  ExpectSameChannels(reference, ReadForceFile(path, o));
+  EXPECT_EQ(seen, text);
+  std::remove(path.c_str());
+  // No header row: the columns are named by number.
+  const std::string bare =
+      Text("", [](const Row& r, int) { return Plain(r); }).substr(1);
+  EXPECT_NE(ErrorOf([&] { ReadForceText(bare, "bare.csv"); })
+                .find("(no header row) (name the columns by number, e.g. "
+                      "--columns time=#1,x=#2,q=#3,p=#4)"),
+            std::string::npos)
+      << ErrorOf([&] { ReadForceText(bare, "bare.csv"); });
+  ReadForceOptions named;
+  named.time_column = "#1";
+  named.x_column = "#2";
+  named.tangential_column = "#3";
+  named.normal_column = "#4";
+  ExpectSameChannels(reference, ReadForceText(bare, "bare.csv", named));
+}
+
+TEST(Printable, KeepsUtf8AndEscapesOtherBytes) {
+  EXPECT_EQ(support::Printable("Weg [\xC2\xB5m]"), "Weg [\xC2\xB5m]");
+  EXPECT_EQ(support::Printable("\xB5m"), "\\xb5m");
+  EXPECT_EQ(support::Printable("a\x01\xC2\x85z"), "a\\x01\\xc2\\x85z");
+  EXPECT_EQ(support::Printable("\xED\xA0\x80"),
+            "\\xed\\xa0\\x80");  // surrogate
+  EXPECT_EQ(support::Printable("\xF0\x9F\x98\x80!"), "\xF0\x9F\x98\x80!");
+  EXPECT_EQ(support::Printable("\xC2\xB5\xC2\xB5\xC2\xB5", 2),
+            "\xC2\xB5\xC2\xB5...");
+}
+
+}  // namespace
+}  // namespace wearscar::force

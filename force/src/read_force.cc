@@ -255,14 +255,19 @@ size_t CountWithoutTrailing(const std::vector<std::string_view>& cells) {
                                                   : cells.size();
 }
 
-// The markers spreadsheets and scripts write for a missing value: Excel's
-// "#N/A" ("#NV" in German), R's "NA", "N/A", "null" (any case).
+// The markers spreadsheets and programs write for a missing value: Excel's
+// "#N/A" ("#NV" in German), R's "NA", "N/A", "null", and the NaN of
+// Microsoft's C library ("-nan(ind)", and "1.#QNAN", "-1.#IND" of older
+// ones) in a home-built rig's log (any case).
 bool IsMissingMarker(std::string_view cell) {
-  if (cell.size() < 2 || cell.size() > 4) return false;
+  if (cell.size() < 2 || cell.size() > 9) return false;
   std::string lower(cell);
-  for (char& c : lower) c = static_cast<char>(std::tolower(c));
+  for (char& c : lower)
+    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (lower[0] == '-' || lower[0] == '+') lower.erase(0, 1);
   return lower == "#n/a" || lower == "#nv" || lower == "#na" ||
-         lower == "n/a" || lower == "na" || lower == "null";
+         lower == "n/a" || lower == "na" || lower == "null" ||
+         lower == "nan(ind)" || lower == "1.#qnan" || lower == "1.#ind";
 }
 
 // Parses a whole cell as a number. Empty cell -> NaN (a gap); "nan" and the

@@ -142,19 +142,20 @@ TEST(ExportVariants, TextColumnsTheMethodDoesNotUseAreSkipped) {
 
 TEST(ExportVariants, SpreadsheetMissingValueMarkersAreGaps) {
   const std::vector<std::string> markers = {
-      "#N/A", "#NV", "NA", "n/a", "null", "", "nan"};
+      "#N/A", "#NV", "NA", "n/a", "null", "", "nan", "-nan(ind)", "1.#QNAN"};
   const auto with = [&](bool blank) {
     return Text("time_s,x_mm,Q_N,P_N", [&](const Row& r, int i) {
-      if (i % 500 != 250) return Plain(r);
-      const std::string& m = blank ? std::string() : markers[(i / 500) % 7];
+      if (i % 400 != 200) return Plain(r);  // rows 200, 600, ..., 3800
+      const std::string& m =
+          blank ? std::string() : markers[(i / 400) % markers.size()];
       return fmt::format("{:.4f},{:.6f},{},{:.4f}", r.t, r.x, m, r.p);
     });
   };
   const ForceRecord blanks = ReadForceText(with(true), "blanks.csv");
-  ASSERT_TRUE(std::isnan(blanks.tangential_n[250]));
+  ASSERT_TRUE(std::isnan(blanks.tangential_n[200]));
   const ForceRecord marked = ReadForceText(with(false), "markers.csv");
   ExpectSameChannels(blanks, marked);
-  for (int i = 250; i < 4000; i += 500)
+  for (int i = 200; i < 4000; i += 400)
     EXPECT_TRUE(std::isnan(marked.tangential_n[i])) << i;
 }
 

@@ -2108,6 +2108,27 @@ std::string Utf16ToUtf8(const std::function<size_t(char*, size_t)>& read,
   }
 }
 
+// A workbook or document instead of text, by its magic bytes: refused with
+// what it is and what to do (a spreadsheet saved as such rather than as
+// CSV is a common first attempt).
+void RefuseWorkbook(std::string_view first, const std::string& name) {
+  const char* what = nullptr;
+  if (first.substr(0, 4) == std::string_view("PK\x03\x04", 4)) {
+    what = "a ZIP container (an Excel .xlsx or OpenDocument .ods workbook?)";
+  } else if (first.substr(0, 8) ==
+             std::string_view("\xD0\xCF\x11\xE0\xA1\xB1\x1A\xE1", 8)) {
+    what = "an OLE2 compound file (an Excel .xls workbook?)";
+  } else if (first.substr(0, 5) == "%PDF-") {
+    what = "a PDF document";
+  }
+  if (what == nullptr) return;
+  throw ForceError(fmt::format(
+      "{}: byte 0: found {}; expected a delimited text export (save the "
+      "sheet as CSV, or export text from the instrument's software)",
+      name,
+      what));
+}
+
 // Lines ended by CR alone (Excel's "CSV (Macintosh)", classic Mac OS):
 // a CR and no LF in the first 64 KiB.
 bool EndsLinesWithCrAlone(std::string_view first) {
@@ -2144,9 +2165,10 @@ ForceRecord ReadForceFile(const std::string& path,
   std::error_code size_error;
   const std::uintmax_t size = std::filesystem::file_size(path, size_error);
   {
-    char first[4];
+    char first[8];
     const size_t got = std::fread(first, 1, sizeof first, file.get());
     std::rewind(file.get());
+    RefuseWorkbook(std::string_view(first, got), path);
     if (const char* encoding = Utf16Encoding(std::string_view(first, got))) {
       std::FILE* f = file.get();
       const std::string utf8 = Utf16ToUtf8(
@@ -2230,6 +2252,7 @@ ForceRecord ReadForceFile(const std::string& path,
 ForceRecord ReadForceText(const std::string& text,
                           const std::string& name,
                           const ReadForceOptions& options) {
+  RefuseWorkbook(text, name);
   if (const char* encoding = Utf16Encoding(text)) {
     size_t at = 0;
     ReadForceOptions quiet = options;

@@ -395,6 +395,30 @@ TEST(ExportVariants, LinesEndedByCrAloneAndNoHeaderRow) {
   ExpectSameChannels(reference, ReadForceText(bare, "bare.csv", named));
 }
 
+TEST(ExportVariants, AWorkbookIsRefusedSayingWhatItIs) {
+  const ForceRecord reference = Reference();
+  struct Case {
+    std::string bytes;
+    const char* what;
+  };
+  for (const Case& c :
+       {Case{std::string("PK\x03\x04\x14\x00\x06\x00", 8) + "[Content_Types]",
+             "a ZIP container (an Excel .xlsx"},
+        Case{std::string("\xD0\xCF\x11\xE0\xA1\xB1\x1A\xE1\0\0", 10),
+             "an OLE2 compound file (an Excel .xls"},
+        Case{"%PDF-1.7\n1,2,3\n", "a PDF document"}}) {
+    const std::string path = WriteFile("workbook", c.bytes);
+    for (const std::string& m :
+         {ErrorOf([&] { ReadForceFile(path); }),
+          ErrorOf([&] { ReadForceText(c.bytes, path); })}) {
+      EXPECT_NE(m.find(path + ": byte 0: found " + c.what), std::string::npos)
+          << m;
+      EXPECT_NE(m.find("save the sheet as CSV"), std::string::npos) << m;
+    }
+    std::remove(path.c_str());
+  }
+}
+
 TEST(Printable, KeepsUtf8AndEscapesOtherBytes) {
   EXPECT_EQ(support::Printable("Weg [\xC2\xB5m]"), "Weg [\xC2\xB5m]");
   EXPECT_EQ(support::Printable("\xB5m"), "\\xb5m");

@@ -261,10 +261,13 @@ size_t CountWithoutTrailing(const std::vector<std::string_view>& cells) {
 // ones) in a home-built rig's log (any case).
 bool IsMissingMarker(std::string_view cell) {
   if (cell.size() < 2 || cell.size() > 9) return false;
-  std::string lower(cell);
-  for (char& c : lower)
-    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (lower[0] == '-' || lower[0] == '+') lower.erase(0, 1);
+  if (cell[0] == '-' || cell[0] == '+') cell.remove_prefix(1);
+  char buffer[9];
+  for (size_t i = 0; i < cell.size(); ++i) {
+    buffer[i] =
+        static_cast<char>(std::tolower(static_cast<unsigned char>(cell[i])));
+  }
+  const std::string_view lower(buffer, cell.size());
   return lower == "#n/a" || lower == "#nv" || lower == "#na" ||
          lower == "n/a" || lower == "na" || lower == "null" ||
          lower == "nan(ind)" || lower == "1.#qnan" || lower == "1.#ind";

@@ -653,7 +653,21 @@ char DetectDecimal(const std::vector<std::string>& head, char delimiter) {
   return comma_rows > dot_rows ? ',' : '.';
 }
 
-// The first data row: numeric and followed by numeric rows (or the end).
+// Which cells of a row hold text (not a number, a gap or a missing-value
+// marker), and how many cells it has (without a trailing delimiter's empty
+// one): the data rows of a file share one shape, a metadata line above
+// them ("Load (N),30,10", "Created,2024,05,01") does not.
+std::vector<bool> ShapeOf(const std::vector<std::string_view>& cells,
+                          char decimal) {
+  std::vector<bool> text(CountWithoutTrailing(cells));
+  double v;
+  for (size_t c = 0; c < text.size(); ++c)
+    text[c] = !cells[c].empty() && !ParseCell(cells[c], decimal, &v);
+  return text;
+}
+
+// The first data row: numeric and followed by numeric rows of its shape
+// (or the end).
 int FindFirstDataLine(const std::vector<std::string>& head,
                       const Layout& layout,
                       const std::string& name) {
@@ -662,9 +676,12 @@ int FindFirstDataLine(const std::vector<std::string>& head,
   for (int i = 0; i < n; ++i) {
     if (!IsNumericRow(head[i], layout.delimiter, layout.decimal, &cells))
       continue;
+    const std::vector<bool> shape = ShapeOf(cells, layout.decimal);
     int ok = 1;
     for (int j = i + 1; j < std::min(n, i + 4); ++j) {
-      if (IsNumericRow(head[j], layout.delimiter, layout.decimal, &cells)) ++ok;
+      if (IsNumericRow(head[j], layout.delimiter, layout.decimal, &cells) &&
+          ShapeOf(cells, layout.decimal) == shape)
+        ++ok;
     }
     if (ok >= std::min(3, n - i)) return i;
   }

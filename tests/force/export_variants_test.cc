@@ -119,13 +119,20 @@ TEST(ExportVariants, TextColumnsTheMethodDoesNotUseAreSkipped) {
   ExpectSameChannels(reference, first);
   ASSERT_EQ(first.metadata.warnings.size(), 1u);
   EXPECT_EQ(first.metadata.warnings[0], "ignored a footer of 1 text lines");
-  // A metadata line with numbers among more text is not a data row: the
-  // header under it still names the columns.
-  const ForceRecord meta =
-      ReadForceText(Text("Stroke,5.7,mm,Frequency,1,Hz\ntime_s,x_mm,Q_N,P_N",
-                         [](const Row& r, int) { return Plain(r); }),
-                    "metadata.csv");
-  ExpectSameChannels(reference, meta);
+  // Metadata lines with numbers are not data rows, whether text or numbers
+  // are the more of their cells: the header under them still names the
+  // columns.
+  for (const char* metadata : {"Stroke,5.7,mm,Frequency,1,Hz",
+                               "Load (N),30,10",
+                               "Created,2024,05,01",
+                               "30,1"}) {
+    SCOPED_TRACE(metadata);
+    const ForceRecord meta =
+        ReadForceText(Text(std::string(metadata) + "\ntime_s,x_mm,Q_N,P_N",
+                           [](const Row& r, int) { return Plain(r); }),
+                      "metadata.csv");
+    ExpectSameChannels(reference, meta);
+  }
   // A text cell in a column the method reads is still an error, naming it.
   const std::string bad =
       Text("time_s,x_mm,Q_N,P_N,Status", [](const Row& r, int i) {

@@ -2184,42 +2184,34 @@ ForceRecord ReadForceFile(const std::string& path,
   }
   std::error_code size_error;
   const std::uintmax_t size = std::filesystem::file_size(path, size_error);
-  {
-    char first[8];
-    const size_t got = std::fread(first, 1, sizeof first, file.get());
-    std::rewind(file.get());
-    RefuseWorkbook(std::string_view(first, got), path);
-    if (const char* encoding = Utf16Encoding(std::string_view(first, got))) {
-      std::FILE* f = file.get();
-      const std::string utf8 = Utf16ToUtf8(
-          [&](char* into, size_t room) {
-            const size_t n = std::fread(into, 1, room, f);
-            if (n == 0 && std::ferror(f)) {
-              throw ForceError(fmt::format(
-                  "{}: read error: {}", path, std::strerror(errno)));
-            }
-            return n;
-          },
-          encoding,
-          path,
-          size_error ? std::uintmax_t{1} << 20 : size,
-          options);
-      ReadForceOptions text_options = options;
-      text_options.on_bytes = nullptr;  // handed on as they were read
-      return ReadForceText(utf8, path, text_options);
-    }
-  }
-  {
-    std::string first(size_t{64} << 10, '\0');
-    first.resize(std::fread(first.data(), 1, first.size(), file.get()));
-    std::rewind(file.get());
-    if (EndsLinesWithCrAlone(first)) {
-      // Whole (at most kEstimateMaxBytes), its bytes handed on as read.
-      std::string text;
+  // What the first 64 KiB tell: a workbook (refused), UTF-16 text or lines
+  // ended by CR alone (read whole, their bytes handed on as read, then
+  // read as text); else the streaming reader below.
+  std::string first(size_t{64} << 10, '\0');
+  first.resize(std::fread(first.data(), 1, first.size(), file.get()));
+  std::rewind(file.get());
+  RefuseWorkbook(first, path);
+  const char* encoding = Utf16Encoding(first);
+  if (encoding != nullptr || EndsLinesWithCrAlone(first)) {
+    std::FILE* f = file.get();
+    const auto read = [&](char* into, size_t room) {
+      const size_t n = std::fread(into, 1, room, f);
+      if (n == 0 && std::ferror(f)) {
+        throw ForceError(
+            fmt::format("{}: read error: {}", path, std::strerror(errno)));
+      }
+      return n;
+    };
+    std::string text;
+    if (encoding != nullptr) {
+      text = Utf16ToUtf8(read,
+                         encoding,
+                         path,
+                         size_error ? std::uintmax_t{1} << 20 : size,
+                         options);
+    } else {
       std::vector<char> block(size_t{1} << 20);
-      size_t got;
-      while ((got = std::fread(block.data(), 1, block.size(), file.get())) >
-             0) {
+      while (const size_t got = read(block.data(), block.size())) {
         if (options.on_bytes) options.on_bytes(block.data(), got);
         text.append(block.data(), got);
         if (text.size() > static_cast<size_t>(kEstimateMaxBytes)) {
@@ -2230,10 +2222,10 @@ ForceRecord ReadForceFile(const std::string& path,
               kEstimateMaxBytes >> 20));
         }
       }
-      ReadForceOptions text_options = options;
-      text_options.on_bytes = nullptr;  // handed on as they were read
-      return ReadForceText(text, path, text_options);
     }
+    ReadForceOptions text_options = options;
+    text_options.on_bytes = nullptr;  // handed on as they were read
+    return ReadForceText(text, path, text_options);
   }
   // Up to kEstimateMaxBytes, one pass, the columns sized from the file's
   // size (their room to spare, never written, ends as a few MiB of memory;

@@ -9,7 +9,7 @@ set(WEARSCAR_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/wearscar)
 # which the static libraries link privately; it has to be exported with them.
 set_target_properties(wearscar_pcl PROPERTIES EXPORT_NAME pcl_deps)
 
-install(TARGETS wearscar_scan wearscar_force wearscar_fusion wearscar_report wearscar_samples
+install(TARGETS wearscar_support wearscar_scan wearscar_force wearscar_fusion wearscar_report wearscar_samples
                 wearscar_pcl
         EXPORT wearscarTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "commands.h"
+#include "wearscar/force/layouts.h"
 #include "common_options.h"
 #include "output.h"
 #include "summaries.h"
@@ -111,8 +112,12 @@ void AddForceCommand(CLI::App& app) {
   AddFigureOptions(cmd, &args->no_figures, &args->figure_formats);
   AddPrintModeOptions(cmd);
   AddCommonOptions(cmd, &args->common, kForceCommandOptions);
+  std::string layouts = "Layouts read (told apart by the file itself):\n";
+  for (const force::ForceLayout& l : force::ForceLayouts())
+    layouts += fmt::format("  {:<11} {}\n", l.name, l.instruments);
   cmd->footer(
-      "Examples:\n"
+      layouts +
+      "\nExamples:\n"
       "  wearscar force B-RT-R.force.csv\n"
       "  wearscar force rtec_export.csv --spring 8.5 -o out/force\n"
       "  wearscar force rig.txt --columns x=Pos:um,q=Ff,p=Fn --rate 2000 "

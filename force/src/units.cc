@@ -5,6 +5,8 @@
 #include <cctype>
 #include <utility>
 
+#include "wearscar/support/text.h"
+
 namespace wearscar::force::internal {
 namespace {
 

@@ -4,7 +4,6 @@
 #include <string>
 #include <string_view>
 
-#include "wearscar/support/text.h"
 
 namespace wearscar::force::internal {
 
@@ -19,14 +18,5 @@ std::optional<double> TimeToS(std::string_view unit);
 void SplitNameAndUnit(std::string_view header,
                       std::string* name,
                       std::string* unit);
-
-}  // namespace wearscar::force::internal
-
-namespace wearscar::force::internal {
-
-// Up to `max` bytes of a cell for an error message, with anything that is
-// not printable ASCII (control bytes, the bytes of a binary file) written
-// as \xNN and "..." after a cut.
-using support::Printable;
 
 }  // namespace wearscar::force::internal

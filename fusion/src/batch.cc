@@ -1,18 +1,22 @@
 #include "wearscar/fusion/batch.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
+#include <future>
 #include <fstream>
 #include <mutex>
 #include <optional>
 #include <regex>
 #include <thread>
 
+#include "wearscar/force/layouts.h"
 #include "wearscar/fusion/error.h"
 #include "wearscar/fusion/provenance.h"
 #include "wearscar/scan/formats.h"
@@ -23,10 +27,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-bool HasExtension(const fs::path& p, std::initializer_list<const char*> exts) {
+// A force export's extension, by the layouts of the registry.
+bool HasForceExtension(const fs::path& p) {
+  static const std::vector<std::string> extensions = force::ForceExtensions();
   const std::string e = support::Lower(p.extension().string());
-  return std::any_of(
-      exts.begin(), exts.end(), [&](const char* x) { return e == x; });
+  return std::find(extensions.begin(), extensions.end(), e) !=
+         extensions.end();
 }
 
 // A file found in a folder, with the role it plays for its specimen and how
@@ -45,7 +51,7 @@ std::optional<Candidate> Classify(const fs::path& p, const std::regex& re) {
   // export, told apart by the magic.
   const bool binary_scan = scan::BinaryScanFormatOf(p.string()) != nullptr;
   const bool text =
-      !binary_scan && HasExtension(p, {".csv", ".txt", ".tsv", ".dat"});
+      !binary_scan && HasForceExtension(p);
   if (!binary_scan && !text) return std::nullopt;
   const bool text_scan = text && (lower.find("scan") != std::string::npos ||
                                   lower.find("height") != std::string::npos ||
@@ -361,19 +367,36 @@ SpecimenAnalysis AnalyzeSpecimen(const Specimen& s,
   // thread of its own beside the tables' writing.
   std::optional<Sha256> hash;
   force::ReadForceOptions read = read_force;
-  // A test with the cores to itself parses its rows on two of them.
-  if (fuse.parallel) read.threads = std::max(read.threads, 2);
   if (!fuse.parallel) {
     hash.emplace();
     read.on_bytes = [&hash](const char* bytes, std::size_t size) {
       hash->Update(bytes, size);
     };
   }
+  // The scan is read and prepared on a second core while the force file is
+  // read (deferred without: where AnalyzeTest asks for it). A scan that
+  // cannot be read fails the specimen, as a force file does; one without a
+  // usable track is left out by AnalyzeTest with a warning.
+  std::exception_ptr scan_unreadable;
+  std::future<ScanAnalysis> prepared;
+  if (!s.scan.empty()) {
+    prepared = std::async(
+        fuse.parallel ? std::launch::async : std::launch::deferred, [&] {
+          scan::HeightMap map;
+          try {
+            map = scan::ReadScan(s.scan, read_scan);
+          } catch (...) {
+            scan_unreadable = std::current_exception();
+            throw;
+          }
+          return PrepareScan(std::move(map), fuse);
+        });
+  }
   SpecimenAnalysis a{force::ReadForceFile(s.force, read), {}};
   if (hash) a.record.metadata.sha256 = hash->Hex();
-  std::optional<scan::HeightMap> map;
-  if (!s.scan.empty()) map = scan::ReadScan(s.scan, read_scan);
-  a.result = AnalyzeTest(a.record, std::move(map), fuse);
+  a.result = AnalyzeTest(a.record, std::move(prepared), s.scan, fuse);
+  // (AnalyzeTest has waited for the scan.)
+  if (scan_unreadable) std::rethrow_exception(scan_unreadable);
   return a;
 }
 
@@ -396,12 +419,13 @@ std::vector<Specimen> FindSpecimens(const std::string& input,
   }
   if (mine.empty() && all.empty() && fs::is_directory(input)) {
     throw FusionError(fmt::format(
-        "{}: no specimens found: looked{} for force exports (text: .csv, "
-        ".txt, .dat, ...) and scans ({}), paired by the name pattern '{}' or "
-        "by the stem before .force/.scan; expected at least one force file "
-        "(or give a manifest.csv)",
+        "{}: no specimens found: looked{} for force exports ({}) and scans "
+        "({}), paired by the name pattern '{}' or by the stem before "
+        ".force/.scan; expected at least one force file (or give a "
+        "manifest.csv)",
         input,
         options.recursive ? " in it and its sub-folders" : "",
+        fmt::join(force::ForceExtensions(), ", "),
         scan::ScanExtensionList(),
         options.name_pattern));
   }

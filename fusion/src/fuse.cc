@@ -151,10 +151,7 @@ bool ParseSlopeChoice(const std::string& name, SlopeChoice* choice) {
 
 namespace {
 
-// The scan side of one test (levelling, track, centreline, alignment, scan
-// slope, mu-hat with it). Throws scan::NoTrackError when the map holds no
-// track, FusionError when its profile cannot be aligned with the force's.
-// Per cycle, its waviness from the spring over the final one, within
+// Per cycle, the track's waviness from the spring over the final one, within
 // [0, max_scan_slope_scale]; 1 where the history has no value.
 std::vector<double> ScanSlopeScale(const TrackHistory& history,
                                    const FuseOptions& options) {
@@ -169,22 +166,11 @@ std::vector<double> ScanSlopeScale(const TrackHistory& history,
   return scale;
 }
 
+// The rest of the scan side on a prepared scan: the force profile, the
+// alignment, the slope in plate coordinates and mu-hat with it. Throws
+// FusionError when the scan's profile cannot be aligned with the force's.
 // `history` (null unless options.scan_slope_history) scales the scan's
 // slope per cycle.
-// The scan's own stages, which need nothing of the force record: level,
-// spikes, track, centreline (s.levelled holds the map).
-ScanAnalysis PrepareScan(scan::HeightMap map, const FuseOptions& options) {
-  ScanAnalysis s;
-  s.level = scan::LevelHeightMap(&map, options.level);
-  s.spikes_removed = scan::RemoveSpikes(&map, options.spikes);
-  s.track = scan::FindTrack(map, options.track);
-  s.profile = scan::ExtractCentreline(map, s.track, options.profile);
-  s.levelled = std::move(map);
-  return s;
-}
-
-// The rest of the scan side on a prepared scan: the force profile, the
-// alignment, the slope in plate coordinates and mu-hat with it.
 ScanAnalysis AnalyzeScan(const force::ForceRecord& record,
                          const ForceAnalysis& force,
                          ScanAnalysis s,
@@ -292,37 +278,109 @@ ForceOnlyProducts ComputeForceOnlyProducts(const force::ForceRecord& record,
   return p;
 }
 
+// The scan side on the prepared scan, or why it was not used: a scan that
+// cannot serve (no track, no overlap with the stroke) does not lose the
+// test; the force side stands, with a warning that says why (unless the
+// scan's slope alone was asked for).
+void AddScanSide(const force::ForceRecord& record,
+                 std::future<ScanAnalysis> prepared,
+                 const FuseOptions& options,
+                 TestResult* result) {
+  try {
+    result->scan = AnalyzeScan(
+        record,
+        result->force,
+        prepared.get(),
+        options,
+        options.scan_slope_history ? &result->track_history : nullptr);
+  } catch (const std::exception& e) {
+    if (options.slopes == SlopeChoice::kScan) throw;
+    result->scan_skipped = fmt::format(
+        "the scan was not used ({}); mu-hat and the verdict rest on k "
+        "from P alone",
+        e.what());
+  }
+}
+
+// The comparison of the slopes, the verdict, the warnings and the wear,
+// once both sides are analysed.
+void CompareAndJudge(const force::ForceRecord& record,
+           const FuseOptions& options,
+           TestResult* result) {
+  // Compare over the cycles the scan describes best: the force profile's
+  // range with a scan, else everything after running-in.
+  const int n = static_cast<int>(result->force.cycles.cycles.size());
+  int first = result->force.running_in.cycles, last = n - 1;
+  if (result->scan) {
+    first = result->scan->force_profile.first_cycle;
+    last = result->scan->force_profile.last_cycle;
+  }
+  const ScanAnalysis* scan = result->scan ? &*result->scan : nullptr;
+  result->mismatch =
+      CompareSlopes(record, result->force, scan, first, last, options);
+  result->verdict = Judge(result->mismatch, options.verdict);
+  result->warnings =
+      DataWarnings(result->force, result->mismatch, options.warnings);
+  if (!result->scan_skipped.empty())
+    result->warnings.insert(result->warnings.begin(), result->scan_skipped);
+  if (scan != nullptr && scan->track.low_confidence)
+    result->warnings.push_back("the scan's track: " + scan->track.message);
+  result->wear = MeasureWear(
+      record,
+      result->force.cycles,
+      scan ? std::optional<scan::Track>(scan->track) : std::nullopt);
+}
+
 }  // namespace
+
+ScanAnalysis PrepareScan(scan::HeightMap map, const FuseOptions& options) {
+  ScanAnalysis s;
+  s.level = scan::LevelHeightMap(&map, options.level);
+  s.spikes_removed = scan::RemoveSpikes(&map, options.spikes);
+  s.track = scan::FindTrack(map, options.track);
+  s.profile = scan::ExtractCentreline(map, s.track, options.profile);
+  s.levelled = std::move(map);
+  return s;
+}
 
 TestResult AnalyzeTest(const force::ForceRecord& record,
                        std::optional<scan::HeightMap> height_map,
                        const FuseOptions& options) {
-  WEARSCAR_CHECK(record.IsConsistent(),
-                 "AnalyzeTest needs channels of one length");
   WEARSCAR_CHECK(!height_map || height_map->IsConsistent(),
                  "AnalyzeTest needs a consistent map");
   std::string why;
   if (!options.IsValid(&why)) throw FusionError("fuse options: " + why);
-  TestResult result;
-  if (options.slopes == SlopeChoice::kScan && !height_map) {
-    throw FusionError("mu-hat with the scan slope only, but no scan given");
-  }
-  // The scan's levelling, spikes, track and centreline need nothing of the
-  // force record: on a second core while the force side is analysed (a
-  // full-size test's fuse 0.64 -> 0.55 s wall on two cores).
-  // Deferred: each task runs where its result is asked for.
-  const std::launch policy =
-      options.parallel ? std::launch::async : std::launch::deferred;
   std::future<ScanAnalysis> prepared;
+  std::string scan_file;
   if (height_map) {
-    result.scan_file = height_map->metadata.source;
+    // The scan's preparation needs nothing of the force record: on a
+    // second core while the force side is analysed (deferred: run where
+    // its result is asked for).
+    scan_file = height_map->metadata.source;
     prepared = std::async(
-        policy,
+        options.parallel ? std::launch::async : std::launch::deferred,
         [&options](scan::HeightMap m) {
           return PrepareScan(std::move(m), options);
         },
         std::move(*height_map));
   }
+  return AnalyzeTest(record, std::move(prepared), scan_file, options);
+}
+
+TestResult AnalyzeTest(const force::ForceRecord& record,
+                       std::future<ScanAnalysis> prepared_scan,
+                       const std::string& scan_file,
+                       const FuseOptions& options) {
+  WEARSCAR_CHECK(record.IsConsistent(),
+                 "AnalyzeTest needs channels of one length");
+  std::string why;
+  if (!options.IsValid(&why)) throw FusionError("fuse options: " + why);
+  if (options.slopes == SlopeChoice::kScan && !prepared_scan.valid())
+    throw FusionError("mu-hat with the scan slope only, but no scan given");
+  const std::launch policy =
+      options.parallel ? std::launch::async : std::launch::deferred;
+  TestResult result;
+  result.scan_file = scan_file;
   AnalysisOptions ao = options.analysis;
   ao.fit_force_slope = options.slopes != SlopeChoice::kScan;
   // The force side's fit on both cores where this test has them (its
@@ -347,53 +405,9 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
                           result.force.cycles,
                           options.analysis.friction.slope.spring_n_per_mm,
                           options.track_history);
-  if (prepared.valid()) {
-    // A scan that cannot serve (no track, no overlap with the stroke) does
-    // not lose the test: the force side stands, with a warning that says
-    // why (unless the scan's slope alone was asked for).
-    try {
-      result.scan = AnalyzeScan(
-          record,
-          result.force,
-          prepared.get(),
-          options,
-          options.scan_slope_history ? &result.track_history : nullptr);
-    } catch (const std::exception& e) {
-      if (options.slopes == SlopeChoice::kScan) throw;
-      result.scan_skipped = fmt::format(
-          "the scan was not used ({}); mu-hat and the verdict rest on k "
-          "from P alone",
-          e.what());
-    }
-  }
-  // Compare over the cycles the scan describes best: the force profile's
-  // range with a scan, else everything after running-in.
-  int first = result.force.running_in.cycles, last = n - 1;
-  if (result.scan) {
-    first = result.scan->force_profile.first_cycle;
-    last = result.scan->force_profile.last_cycle;
-  }
-  result.mismatch = CompareSlopes(record,
-                                  result.force,
-                                  result.scan ? &*result.scan : nullptr,
-                                  first,
-                                  last,
-                                  options);
-  result.verdict = Judge(result.mismatch, options.verdict);
-  result.warnings =
-      DataWarnings(result.force, result.mismatch, options.warnings);
-  if (!result.scan_skipped.empty()) {
-    result.warnings.insert(result.warnings.begin(), result.scan_skipped);
-  }
-  if (result.scan && result.scan->track.low_confidence) {
-    result.warnings.push_back("the scan's track: " +
-                              result.scan->track.message);
-  }
-  result.wear =
-      MeasureWear(record,
-                  result.force.cycles,
-                  result.scan ? std::optional<scan::Track>(result.scan->track)
-                              : std::nullopt);
+  if (prepared_scan.valid())
+    AddScanSide(record, std::move(prepared_scan), options, &result);
+  CompareAndJudge(record, options, &result);
   ForceOnlyProducts p = force_only.get();
   result.friction_map = std::move(p.friction_map);
   result.lugre = std::move(p.lugre);

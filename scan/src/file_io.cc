@@ -11,7 +11,6 @@
 
 #include "wearscar/scan/height_map.h"
 #include "wearscar/support/atomic_file.h"
-#include "wearscar/support/huge_pages.h"
 
 namespace wearscar::scan::internal {
 
@@ -60,10 +59,7 @@ std::string ReadFileBytes(const std::string& path, size_t max_bytes) {
   if (!in)
     throw ScanError(
         fmt::format("{}: cannot open: {}", path, std::strerror(errno)));
-  std::string bytes;
-  bytes.reserve(size);
-  support::AdviseHugePages(bytes.data(), size);
-  bytes.resize(size);
+  std::string bytes(size, '\0');
   in.read(bytes.data(), static_cast<std::streamsize>(size));
   if (static_cast<size_t>(in.gcount()) != size) {
     throw ScanError(

@@ -17,7 +17,7 @@
 #include <opencv2/photo.hpp>
 
 #include "wearscar/support/check.h"
-#include "wearscar/support/plane_count.h"
+#include "plane_count.h"
 
 namespace wearscar::scan {
 namespace {
@@ -71,7 +71,7 @@ void SubtractSurface(const Eigen::VectorXd& coef, int order, HeightMap* map) {
 
 // PCL's plane model with its inlier count, nearly all of RANSAC's time,
 // over the cloud's coordinates held column by column
-// (support::CountWithinPlane: PCL's arithmetic to the bit, several points
+// (CountWithinPlane: PCL's arithmetic to the bit, several points
 // a step). The planes drawn, their counts and the plane kept are PCL's
 // own; a 1024 x 768 map's RANSAC about 5x faster.
 class ColumnPlaneModel final
@@ -102,7 +102,7 @@ class ColumnPlaneModel final
                             model_coefficients[1],
                             model_coefficients[2],
                             model_coefficients[3]};
-    return support::CountWithinPlane(
+    return CountWithinPlane(
         x_.data(), y_.data(), z_.data(), x_.size(), plane, threshold);
   }
 

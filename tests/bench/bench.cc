@@ -102,13 +102,10 @@ double IngestMemoryRatio(const std::string& path,
   return ratio;
 }
 
-// The argument: the reader's threads (1: the audit's workers, `force`; 2:
-// `fuse`).
 void BM_CsvIngest(benchmark::State& state) {
   const std::string& path = Csv600();
   const auto bytes = static_cast<int64_t>(fs::file_size(path));
   force::ReadForceOptions options;
-  options.threads = static_cast<int>(state.range(0));
   for (auto _ : state) {
     const force::ForceRecord r = force::ReadForceFile(path, options);
     benchmark::DoNotOptimize(r.normal_n.data());
@@ -118,8 +115,6 @@ void BM_CsvIngest(benchmark::State& state) {
   state.counters["peak_memory_ratio"] = IngestMemoryRatio(path, options);
 }
 BENCHMARK(BM_CsvIngest)
-    ->Arg(1)
-    ->Arg(2)
     ->Unit(benchmark::kMillisecond)
     ->MinTime(2.0);
 

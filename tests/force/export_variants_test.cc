@@ -348,11 +348,9 @@ TEST(ExportVariants, ClockTimesReadAsSecondsFromTheFirstRow) {
   ExpectSameChannels(reference, ReadForceText(slashed, "us.csv", o), 0, 1e-12);
 }
 
-// A large clock-timed file (two threads split it) reads as one thread
-// reads it, with the midnight in either part.
-TEST(ExportVariants, TwoThreadsReadAClockAsOneDoes) {
-  // Midnight 20 s and 45 s in: in the first thread's part, and in the
-  // second's.
+// A clock-timed file passing midnight (20 s and 45 s in) reads from a file,
+// block by block, as from memory, on one clock without a step back.
+TEST(ExportVariants, AClockPassingMidnightReadsFromAFileAsFromMemory) {
   for (double start : {1709251200.0 - 20, 1709251200.0 - 45}) {
     SCOPED_TRACE(start);
     const std::string text = Text(
@@ -362,11 +360,9 @@ TEST(ExportVariants, TwoThreadsReadAClockAsOneDoes) {
                  Plain(r).substr(Plain(r).find(','));
         },
         120000);  // 60 s, 4.5 MB
-    const std::string path = WriteFile("clock-split.csv", text);
-    ReadForceOptions one, two;
-    two.threads = 2;
-    const ForceRecord a = ReadForceFile(path, one),
-                      b = ReadForceFile(path, two);
+    const std::string path = WriteFile("clock-midnight.csv", text);
+    const ForceRecord a = ReadForceFile(path),
+                      b = ReadForceText(text, "clock-midnight.csv");
     ExpectSameChannels(a, b);
     EXPECT_NEAR(a.time_s[119999] - a.time_s[0], 119999 / 2000.0, 1e-9);
     std::remove(path.c_str());
@@ -424,17 +420,6 @@ TEST(ExportVariants, AWorkbookIsRefusedSayingWhatItIs) {
     }
     std::remove(path.c_str());
   }
-}
-
-TEST(Printable, KeepsUtf8AndEscapesOtherBytes) {
-  EXPECT_EQ(support::Printable("Weg [\xC2\xB5m]"), "Weg [\xC2\xB5m]");
-  EXPECT_EQ(support::Printable("\xB5m"), "\\xb5m");
-  EXPECT_EQ(support::Printable("a\x01\xC2\x85z"), "a\\x01\\xc2\\x85z");
-  EXPECT_EQ(support::Printable("\xED\xA0\x80"),
-            "\\xed\\xa0\\x80");  // surrogate
-  EXPECT_EQ(support::Printable("\xF0\x9F\x98\x80!"), "\xF0\x9F\x98\x80!");
-  EXPECT_EQ(support::Printable("\xC2\xB5\xC2\xB5\xC2\xB5", 2),
-            "\xC2\xB5\xC2\xB5...");
 }
 
 }  // namespace

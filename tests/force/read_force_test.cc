@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
-#include <sys/mman.h>
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +11,6 @@
 #include <string>
 
 #include "wearscar/force/cycles.h"
-#include "wearscar/support/huge_pages.h"
 
 namespace wearscar::force {
 namespace {
@@ -58,24 +56,18 @@ TEST(ReadForce, EveryByteOfTheFileIsHandedOnInOrder) {
   }
   const std::string path = ::testing::TempDir() + "/wearscar-on-bytes.csv";
   std::ofstream(path, std::ios::binary) << text;
-  // One thread hands them on as it parses; two, from the pass that
-  // counts the lines (the second thread reads its half again).
-  for (int threads : {1, 2}) {
-    SCOPED_TRACE(threads);
-    std::string seen;
-    int calls = 0;
-    ReadForceOptions o;
-    o.threads = threads;
-    o.on_bytes = [&](const char* bytes, std::size_t size) {
-      seen.append(bytes, size);
-      ++calls;
-    };
-    const ForceRecord r = ReadForceFile(path, o);
-    EXPECT_EQ(seen, text);
-    EXPECT_GE(calls, 3);  // 1 MiB at a time
-    ASSERT_EQ(r.size(), 80000);
-    EXPECT_NEAR(r.x_mm[500], 2.85, 1e-6);
-  }
+  std::string seen;
+  int calls = 0;
+  ReadForceOptions o;
+  o.on_bytes = [&](const char* bytes, std::size_t size) {
+    seen.append(bytes, size);
+    ++calls;
+  };
+  const ForceRecord r = ReadForceFile(path, o);
+  EXPECT_EQ(seen, text);
+  EXPECT_GE(calls, 3);  // 1 MiB at a time
+  ASSERT_EQ(r.size(), 80000);
+  EXPECT_NEAR(r.x_mm[500], 2.85, 1e-6);
   std::remove(path.c_str());
 }
 
@@ -434,311 +426,6 @@ TEST(ReadForce, WriteThenReadRoundTrip) {
   EXPECT_LT((a.x_mm - b.x_mm).cwiseAbs().maxCoeff(), 1e-6);
   EXPECT_LT((a.tangential_n - b.tangential_n).cwiseAbs().maxCoeff(), 1e-5);
   EXPECT_LT((a.normal_n - b.normal_n).cwiseAbs().maxCoeff(), 1e-5);
-}
-
-// A large file's rows parsed on two threads (ReadForceOptions::threads) are
-// those of one pass, whatever lies where the second thread begins: the
-// record to the bit, its metadata and warnings, or the same error.
-std::vector<std::string> GenericRows(int n) {
-  std::vector<std::string> lines = {"time_s,x_mm,Q_N,P_N"};
-  for (int i = 0; i < n; ++i) {
-    const double t = i / 2000.0, x = 2.85 * std::sin(2 * M_PI * t);
-    const double p = 30 + 0.3 * std::sin(2 * M_PI * x / 1.7);
-    lines.push_back(
-        fmt::format("{:.4f},{:.6f},{:.5f},{:.4f}",
-                    t,
-                    x,
-                    0.12 * p * (std::cos(2 * M_PI * t) > 0 ? 1 : -1),
-                    p));
-  }
-  return lines;
-}
-
-std::string JoinLines(const std::vector<std::string>& lines,
-                      const std::string& eol) {
-  std::string text;
-  for (const auto& l : lines) text += l + eol;
-  return text;
-}
-
-// The line the second thread begins at: the first after the middle byte.
-// The line a second thread starts at: the first after `share` of the bytes.
-long SplitLineOf(const std::string& text, double share) {
-  const size_t nl = text.find(
-      '\n', static_cast<size_t>(static_cast<double>(text.size()) * share));
-  return static_cast<long>(
-      std::count(text.begin(), text.begin() + static_cast<long>(nl) + 1, '\n'));
-}
-
-std::string Outcome(const std::string& path,
-                    const ReadForceOptions& o,
-                    ForceRecord* r) {
-  try {
-    *r = ReadForceFile(path, o);
-    return "read";
-  } catch (const ForceError& e) {
-    return e.what();
-  }
-}
-
-void ExpectBitwiseEqual(const Eigen::VectorXd& a,
-                        const Eigen::VectorXd& b,
-                        const char* what) {
-  ASSERT_EQ(a.size(), b.size()) << what;
-  EXPECT_EQ(std::memcmp(a.data(), b.data(), sizeof(double) * a.size()), 0)
-      << what;
-}
-
-void ExpectOneThreadsReading(const std::string& name,
-                             const std::vector<std::string>& lines,
-                             const std::string& eol,
-                             ReadForceOptions o,
-                             const std::string& expected) {
-  SCOPED_TRACE(name);
-  const std::string text = JoinLines(lines, eol);
-  ASSERT_GT(text.size(), size_t{2} << 20);  // large enough to be split
-  const std::string path = ::testing::TempDir() + "/wearscar-split.csv";
-  std::ofstream(path, std::ios::binary) << text;
-  ForceRecord one, two;
-  o.threads = 1;
-  const std::string a = Outcome(path, o, &one);
-  o.threads = 2;
-  const std::string b = Outcome(path, o, &two);
-  std::remove(path.c_str());
-  EXPECT_EQ(a, b);
-  EXPECT_NE(a.find(expected), std::string::npos) << a;
-  if (a != "read" || b != "read") return;
-  ExpectBitwiseEqual(one.time_s, two.time_s, "time");
-  ExpectBitwiseEqual(one.x_mm, two.x_mm, "x");
-  ExpectBitwiseEqual(one.tangential_n, two.tangential_n, "Q");
-  ExpectBitwiseEqual(one.normal_n, two.normal_n, "P");
-  const ForceMetadata &m = one.metadata, &n = two.metadata;
-  EXPECT_EQ(m.layout, n.layout);
-  EXPECT_EQ(m.sampling_rate_hz, n.sampling_rate_hz);
-  EXPECT_EQ(m.warnings, n.warnings);
-  EXPECT_EQ(m.clock_restarts_joined, n.clock_restarts_joined);
-  EXPECT_EQ(m.blocks_joined, n.blocks_joined);
-  EXPECT_EQ(m.rows_dropped, n.rows_dropped);
-  EXPECT_EQ(m.time_rebuilt, n.time_rebuilt);
-  EXPECT_EQ(m.normal_sign_flipped, n.normal_sign_flipped);
-}
-
-// The cases below at the split after `share` of the file, read with
-// `plain` options as the base.
-void ExpectTwoThreadsReadWhatOneReads(double share,
-                                      const ReadForceOptions& plain) {
-  const std::vector<std::string> base = GenericRows(120000);
-  const long s = SplitLineOf(JoinLines(base, "\n"), share);
-  ASSERT_GT(s, 50000);
-  const auto with = [&](auto change) {
-    std::vector<std::string> lines = base;
-    change(lines);
-    return lines;
-  };
-  // Empties field `field` of lines [first, last].
-  const auto gap =
-      [](std::vector<std::string>& lines, long first, long last, int field) {
-        for (long i = first; i <= last; ++i) {
-          std::string& l = lines[static_cast<size_t>(i)];
-          size_t begin = 0;
-          for (int f = 0; f < field; ++f) begin = l.find(',', begin) + 1;
-          const size_t end = l.find(',', begin);
-          l.erase(begin, end == std::string::npos ? end : end - begin);
-        }
-      };
-  ExpectOneThreadsReading("plain", base, "\n", plain, "read");
-  // One thread sizes the columns from the file's size and its first lines:
-  // here every line after them is shorter, and the columns must grow.
-  ExpectOneThreadsReading("lines shorter after the head",
-                          with([&](auto& l) {
-                            for (size_t i = 1; i < 500; ++i) l[i] += "000000";
-                          }),
-                          "\n",
-                          plain,
-                          "read");
-  ExpectOneThreadsReading("CRLF", base, "\r\n", plain, "read");
-  // Blank lines before the split: the second half's rows move up.
-  ExpectOneThreadsReading("blank lines",
-                          with([&](auto& l) {
-                            l[100] = "";
-                            l[static_cast<size_t>(s - 10)] = " ";
-                          }),
-                          "\n",
-                          plain,
-                          "read");
-  // Missing values across the split: 40 in a row (allowed), 60 (refused
-  // at the 51st), 60 after it.
-  ExpectOneThreadsReading("gap of 40 across",
-                          with([&](auto& l) { gap(l, s - 20, s + 19, 3); }),
-                          "\n",
-                          plain,
-                          "read");
-  ExpectOneThreadsReading("gap of 60 across",
-                          with([&](auto& l) { gap(l, s - 30, s + 29, 3); }),
-                          "\n",
-                          plain,
-                          "more than 50 consecutive missing values in 'P'");
-  ExpectOneThreadsReading("gap of 60 after",
-                          with([&](auto& l) { gap(l, s + 100, s + 159, 1); }),
-                          "\n",
-                          plain,
-                          "more than 50 consecutive missing values in 'x'");
-  // Time that does not advance where the second half begins.
-  ExpectOneThreadsReading("time repeated at the split",
-                          with([&](auto& l) {
-                            const std::string prev = l[s - 1];
-                            std::string& row = l[static_cast<size_t>(s)];
-                            row = prev.substr(0, prev.find(',')) +
-                                  row.substr(row.find(','));
-                          }),
-                          "\n",
-                          plain,
-                          "expected strictly increasing time");
-  // Bruker/CETR: a step's block (its text line and the names row again)
-  // about the split, the clock going on or restarting after it.
-  for (const bool restart : {false, true}) {
-    for (const long at : {s - 2, s, s + 2}) {
-      ExpectOneThreadsReading(
-          fmt::format("repeated block at line {}{}",
-                      at - s,
-                      restart ? ", clock restarting" : ""),
-          with([&](auto& l) {
-            if (restart) {
-              for (long i = at; i < static_cast<long>(l.size()); ++i) {
-                std::string& row = l[static_cast<size_t>(i)];
-                row = fmt::format("{:.4f}", (i - at) / 2000.0) +
-                      row.substr(row.find(','));
-              }
-            }
-            l.insert(l.begin() + at, {"Step 2 of 2", l[0]});
-          }),
-          "\n",
-          plain,
-          "read");
-    }
-  }
-  // A bad row in the second half, dropped when lenient; a footer.
-  const auto bad_row = with([&](auto& l) { l[s + 500] = "30.0,abc,1,2"; });
-  ExpectOneThreadsReading("bad row", bad_row, "\n", plain, "found 'abc'");
-  ReadForceOptions lenient = plain;
-  lenient.lenient = true;
-  ExpectOneThreadsReading("bad row, lenient", bad_row, "\n", lenient, "read");
-  ExpectOneThreadsReading("footer",
-                          with([&](auto& l) { l.push_back("End of data,,,"); }),
-                          "\n",
-                          plain,
-                          "read");
-  // No time column: the rate given.
-  ReadForceOptions rate = plain;
-  rate.sampling_rate_hz = 2000;
-  ExpectOneThreadsReading("no time",
-                          with([&](auto& l) {
-                            for (auto& row : l) row.erase(0, row.find(',') + 1);
-                          }),
-                          "\n",
-                          rate,
-                          "read");
-  // Rtec: the RecipeStep clock restarting before the split, after it, and
-  // at it; negative Fz, a trailing comma, a footer.
-  const auto rtec = [&](std::vector<long> restarts) {
-    std::vector<std::string> lines = {
-        "Recipe: wood-steel reciprocating,Operator: lab",
-        "RecipeStep,Timestamp,DAQ.Fx (N),DAQ.Fz (N),DAQ.COF (),Piezo X (mm),"};
-    int step = 1;
-    long start = 0;
-    for (long i = 1; i < static_cast<long>(base.size()); ++i) {
-      if (std::find(restarts.begin(), restarts.end(), i) != restarts.end()) {
-        ++step;
-        start = i;
-      }
-      const double t = (i - start) / 2000.0, x = 2.85 * std::sin(i / 318.3);
-      const double p = 30 + 0.3 * std::sin(2 * M_PI * x / 1.7);
-      // Time zero-padded: a restart leaves every line as long, and the
-      // split where it was.
-      lines.push_back(fmt::format("{},{:010.4f},{:.4f},{:.4f},0.1200,{:.5f},",
-                                  step,
-                                  t,
-                                  0.12 * p,
-                                  -p,
-                                  x));
-    }
-    lines.push_back("End of data,,,,,,");
-    return lines;
-  };
-  const long r = SplitLineOf(JoinLines(rtec({}), "\n"), share);
-  ExpectOneThreadsReading("rtec", rtec({}), "\n", plain, "read");
-  ExpectOneThreadsReading(
-      "rtec, restart before", rtec({r / 2}), "\n", plain, "read");
-  ExpectOneThreadsReading(
-      "rtec, restart after", rtec({r + 300}), "\n", plain, "read");
-  // (Line r of the file is row r - 1: the recipe line comes first.)
-  ExpectOneThreadsReading(
-      "rtec, restart at the split", rtec({r - 1}), "\n", plain, "read");
-  ExpectOneThreadsReading("rtec, restarts about the split",
-                          rtec({r - 3, r - 2, r, r + 1}),
-                          "\n",
-                          plain,
-                          "read");
-}
-
-TEST(ReadForce, TwoThreadsReadWhatOneReadsWhateverLiesAtTheSplit) {
-  // The split the second thread finds by counting the lines before it.
-  {
-    SCOPED_TRACE("split found by the second thread");
-    ExpectTwoThreadsReadWhatOneReads(internal::kSplitShare, {});
-  }
-  // The split at the middle of a file counted first (as when the bytes
-  // are handed on for a checksum, or the file is over 256 MiB).
-  {
-    SCOPED_TRACE("split counted first");
-    ReadForceOptions counted;
-    counted.on_bytes = [](const char*, std::size_t) {};
-    ExpectTwoThreadsReadWhatOneReads(0.5, counted);
-  }
-}
-
-// The columns' pages mapped on a second thread while the first fills them:
-// every page mapped, no value changed.
-TEST(BackgroundPrefault, MapsEveryPageAndChangesNoValue) {
-  constexpr std::size_t kBytes = std::size_t{24} << 20, kPage = 4096;
-  void* block = mmap(nullptr,
-                     kBytes,
-                     PROT_READ | PROT_WRITE,
-                     MAP_PRIVATE | MAP_ANONYMOUS,
-                     -1,
-                     0);
-  ASSERT_NE(block, MAP_FAILED);
-  if (madvise(block, kPage, MADV_POPULATE_WRITE) != 0) {
-    munmap(block, kBytes);
-    GTEST_SKIP() << "this kernel has no MADV_POPULATE_WRITE (Linux 5.14+)";
-  }
-  // An odd start and length: the partial pages at both ends are the
-  // filler's.
-  auto* values = reinterpret_cast<double*>(static_cast<char*>(block) + 24);
-  const std::size_t n = (kBytes - 64) / sizeof(double);
-  support::BackgroundPrefault prefault;
-  prefault.Start({{values, n * sizeof(double)}});
-  for (std::size_t i = 0; i < n; ++i) values[i] = 0.5 * static_cast<double>(i);
-  prefault.Wait();
-  std::size_t changed = 0;
-  for (std::size_t i = 0; i < n; ++i)
-    changed += values[i] != 0.5 * static_cast<double>(i);
-  EXPECT_EQ(changed, 0u);
-  // Mapped before any write: the pages hold zeros.
-  void* fresh = mmap(nullptr,
-                     kBytes,
-                     PROT_READ | PROT_WRITE,
-                     MAP_PRIVATE | MAP_ANONYMOUS,
-                     -1,
-                     0);
-  ASSERT_NE(fresh, MAP_FAILED);
-  prefault.Start({{fresh, kBytes}});
-  prefault.Wait();
-  std::vector<unsigned char> resident(kBytes / kPage);
-  ASSERT_EQ(mincore(fresh, kBytes, resident.data()), 0);
-  EXPECT_EQ(std::count(resident.begin(), resident.end(), 0), 0);
-  munmap(fresh, kBytes);
-  munmap(block, kBytes);
 }
 
 }  // namespace

@@ -1,10 +1,10 @@
-// RANSAC's inlier count by columns (support::CountWithinPlane, which the
+// RANSAC's inlier count by columns (CountWithinPlane, which the
 // levelling's plane model uses) against PCL's own portable count, point
 // for point: on points placed a few float steps either side of the
 // threshold, where any other order of the sum would count differently,
 // and on the clouds of real scans with planes drawn from their points.
 #define PCL_NO_PRECOMPILE
-#include "wearscar/support/plane_count.h"
+#include "plane_count.h"
 
 #include <gtest/gtest.h>
 #include <pcl/console/print.h>
@@ -50,7 +50,7 @@ struct Columns {
   }
   std::size_t Count(const Eigen::VectorXf& plane, double threshold) const {
     const float m[4] = {plane[0], plane[1], plane[2], plane[3]};
-    return support::CountWithinPlane(
+    return CountWithinPlane(
         x.data(), y.data(), z.data(), x.size(), m, threshold);
   }
 };

@@ -8,7 +8,6 @@
 #include "wearscar/scan/level.h"
 #include "wearscar/scan/preview.h"
 #include "wearscar/scan/track.h"
-#include "wearscar/support/robust_stats.h"
 
 namespace wearscar::scan {
 namespace {
@@ -209,25 +208,6 @@ TEST(Track, CrossSectionShowsTheSphereShape) {
   const double h0 = c.height_mm[mid];
   const Eigen::Index q = mid + static_cast<Eigen::Index>(0.4 / c.step_mm);
   EXPECT_NEAR(c.height_mm[q] - h0, 0.4 * 0.4 / (2 * 3.25), 0.004);
-}
-
-// The track's length and width take both quantiles from one copy of the
-// pixels' positions: the order statistics at floor(q (n - 1)), as two
-// separate selections give them. 0..999 shuffled: ranks 1 and 997 for
-// q = 0.002, 0.998; equal quantiles give one value twice.
-TEST(Percentiles, BothQuantilesFromOneCopyAreTheOrderStatistics) {
-  std::vector<double> v(1000);
-  for (int i = 0; i < 1000; ++i) v[i] = i;
-  std::shuffle(v.begin(), v.end(), std::mt19937(7));
-  const auto [lo, hi] = support::Percentiles(v, 0.002, 0.998);
-  EXPECT_EQ(lo, 1.0);
-  EXPECT_EQ(hi, 997.0);
-  EXPECT_EQ(lo, support::Percentile(v, 0.002));
-  EXPECT_EQ(hi, support::Percentile(v, 0.998));
-  const auto [a, b] = support::Percentiles(v, 0.5, 0.5);
-  EXPECT_EQ(a, 499.0);
-  EXPECT_EQ(b, 499.0);
-  EXPECT_EQ(support::Percentiles({}, 0.1, 0.9), std::make_pair(0.0, 0.0));
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "wearscar/scan/read_scan.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 #include <zip.h>
 #include <zstd.h>
 
@@ -255,7 +256,7 @@ void ExpectZonValues(const HeightMap& h) {
 }
 
 TEST(Zon, Kpk0WithPaddedRowsMaskAndCalibration) {
-  const std::string path = ::testing::TempDir() + "/a.zon";
+  const std::string path = ::testing::TempDir() + "/kpk0-" + std::to_string(getpid()) + ".zon";
   Spit(path, Zon(false));
   const HeightMap h = ReadScan(path);
   ExpectZonValues(h);
@@ -263,7 +264,7 @@ TEST(Zon, Kpk0WithPaddedRowsMaskAndCalibration) {
 }
 
 TEST(Zon, Kpk1ZstdMembers) {
-  const std::string path = ::testing::TempDir() + "/b.zon";
+  const std::string path = ::testing::TempDir() + "/kpk1-" + std::to_string(getpid()) + ".zon";
   Spit(path, Zon(true));
   ExpectZonValues(ReadScan(path));
 }

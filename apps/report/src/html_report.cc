@@ -11,7 +11,6 @@
 #include "wearscar/fusion/provenance.h"
 #include "wearscar/report/output_folder.h"
 #include "wearscar/support/atomic_file.h"
-#include "wearscar/support/huge_pages.h"
 
 namespace wearscar::report {
 namespace {
@@ -395,7 +394,6 @@ std::string RenderSpecimenSections(const std::vector<ReportSection>& sections) {
   std::string h;
   h.reserve(static_cast<size_t>(figures_bytes + figures_bytes / 4) +
             sections.size() * 16384);
-  support::AdviseHugePages(h.data(), h.capacity());
   for (const auto& s : sections) AppendSpecimenSection(s, &h);
   return h;
 }

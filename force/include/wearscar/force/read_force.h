@@ -49,30 +49,12 @@ struct ReadForceOptions {
   // first pass reads them (a checksum of the file then costs no read of
   // its own); ReadForceText does not call it.
   std::function<void(const char* bytes, std::size_t size)> on_bytes;
-  // Threads parsing a large file's rows (ReadForceFile, files of 2 MiB and
-  // more): 2 parses the ordinary rows after the split
-  // (internal::kSplitShare of the file; the middle of one over 256 MiB)
-  // beside those before it, handing back to the one careful reader at
-  // anything else (a text row, a step back in time, a long gap, the
-  // footer) or where the parts do not join as one pass would have read
-  // them. The record is the same.
-  int threads = 1;
-
   bool IsValid(std::string* why) const;
 };
 
-namespace internal {
-// Where ReadForceFile splits a file of 2-256 MiB between two threads: the
-// first line after this share of its bytes. The first thread parses the
-// rows before it while the second counts their lines, then parses the
-// rest (a little more than half for the first, for the count; on a 45 MB
-// file shares of 0.50 to 0.62 read in the same time within the noise).
-constexpr double kSplitShare = 0.54;
-}  // namespace internal
-
 // Reads a delimited (CSV, semicolon, tab) tribometer export: generic files
-// and the Rtec MFT, Bruker/CETR UMT, Anton Paar TRB and home-built-rig
-// layouts of FORMATS.md. Converts to s, mm, N and makes P positive in
+// and the layouts of the registry (wearscar/force/layouts.h;
+// docs/formats.md). Converts to s, mm, N and makes P positive in
 // compression. Throws ForceError.
 ForceRecord ReadForceFile(const std::string& path,
                           const ReadForceOptions& options = {});

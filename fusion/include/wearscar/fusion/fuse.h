@@ -1,5 +1,6 @@
 #pragma once
 
+#include <future>
 #include <optional>
 #include <string>
 #include <vector>
@@ -127,6 +128,20 @@ struct TestResult {
 // and sanitizer builds; the readers return only such data).
 TestResult AnalyzeTest(const force::ForceRecord& record,
                        std::optional<scan::HeightMap> height_map,
+                       const FuseOptions& options = {});
+
+// The scan's own stages, which need nothing of the force record: levelling,
+// spikes, track, centreline (`levelled` holds the map; the rest of
+// ScanAnalysis is filled by AnalyzeTest). Throws scan::NoTrackError when
+// the map holds no track.
+ScanAnalysis PrepareScan(scan::HeightMap map, const FuseOptions& options);
+
+// AnalyzeTest with the scan prepared elsewhere (PrepareScan), possibly
+// still under way (a caller reading the force file meanwhile), and the
+// scan's source; an invalid future: no scan.
+TestResult AnalyzeTest(const force::ForceRecord& record,
+                       std::future<ScanAnalysis> prepared_scan,
+                       const std::string& scan_file,
                        const FuseOptions& options = {});
 
 // The mismatch over cycles [first, last] (after running-in by default).

@@ -39,9 +39,7 @@ struct HeightMap {
   double dy_mm = 0.0;
   HeightMapMetadata metadata;
 
-  // Sizes both arrays (their contents undefined until written); a large
-  // map's memory is asked for in transparent huge pages first (a 4096 x
-  // 3072 map: about 4,600 fewer page faults).
+  // Sizes both arrays (their contents undefined until written).
   void Resize(Eigen::Index rows, Eigen::Index cols);
 
   Eigen::Index rows() const { return height_mm.rows(); }

@@ -8,7 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 
-namespace wearscar::support {
+namespace wearscar::scan {
 
 // The smallest float t with t >= threshold (as doubles): for any float a,
 // a < threshold exactly when a < t.
@@ -47,4 +47,4 @@ inline std::size_t CountWithinPlane(const float* x,
   return total;
 }
 
-}  // namespace wearscar::support
+}  // namespace wearscar::scan

@@ -1,17 +1,11 @@
-#pragma once
-
-// Small text helpers shared by the readers and the command line. Private
-// to wearscar's libraries (header-only, never installed).
+#include "wearscar/support/text.h"
 
 #include <algorithm>
 #include <cctype>
-#include <string>
-#include <string_view>
 
 namespace wearscar::support {
 
-// ASCII lower case.
-inline std::string Lower(std::string_view s) {
+std::string Lower(std::string_view s) {
   std::string out(s);
   std::transform(out.begin(), out.end(), out.begin(), [](char c) {
     return static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -19,17 +13,14 @@ inline std::string Lower(std::string_view s) {
   return out;
 }
 
-// Without leading and trailing white space.
-inline std::string_view Trim(std::string_view s) {
+std::string_view Trim(std::string_view s) {
   const auto first = s.find_first_not_of(" \t\n\v\f\r");
   if (first == std::string_view::npos) return {};
   const auto last = s.find_last_not_of(" \t\n\v\f\r");
   return s.substr(first, last - first + 1);
 }
 
-// The length of the well-formed UTF-8 sequence of a printable character
-// (not a C1 control) at text[i], or 0.
-inline std::size_t PrintableUtf8Length(std::string_view text, std::size_t i) {
+std::size_t PrintableUtf8Length(std::string_view text, std::size_t i) {
   const auto byte = [&](std::size_t k) {
     return k < text.size() ? static_cast<unsigned char>(text[k]) : 0u;
   };
@@ -50,10 +41,7 @@ inline std::size_t PrintableUtf8Length(std::string_view text, std::size_t i) {
   return 0;
 }
 
-// Up to `max` characters of a header or cell for an error message: printable
-// ASCII and well-formed UTF-8 as they are ("Weg [µm]"), any other byte (a
-// control, Latin-1's 0xB5, binary) as \xNN, and "..." after a cut.
-inline std::string Printable(std::string_view text, std::size_t max = 40) {
+std::string Printable(std::string_view text, std::size_t max) {
   static const char kHex[] = "0123456789abcdef";
   std::string out;
   std::size_t i = 0;

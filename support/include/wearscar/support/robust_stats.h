@@ -1,7 +1,7 @@
 #pragma once
 
 // Order statistics shared by the libraries. Private to wearscar's
-// libraries (header-only, never installed).
+// libraries (not installed).
 
 #include <algorithm>
 #include <cmath>

@@ -17,6 +17,7 @@ inline double InterpolateAtIndex(const Eigen::VectorXd& v, double position) {
       static_cast<Eigen::Index>(position), 0, v.size() - 2);
   const double w = position - static_cast<double>(i);
   if (w == 0) return v[i];
+  if (w == 1) return v[i + 1];  // the last sample
   return (1 - w) * v[i] + w * v[i + 1];
 }
 

@@ -1,0 +1,203 @@
+#include "fields.h"
+
+#include <fast_float/fast_float.h>
+
+#include <cctype>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+
+namespace wearscar::force::internal {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+bool IsBlank(char c) { return c == ' ' || c == '\t'; }
+
+// Plain fixed-point decimals ("-12.3456"), the bulk of every tribometer
+// export, parsed in the one pass that finds the field's end: a field of at
+// most 15 digits, an optional '-' (after an optional '+') and one decimal
+// mark, between optional blanks, ending at the delimiter or the end of the
+// row. With at most 15 digits the mantissa is exact, and so is 10^k, so a
+// single division rounds correctly (Clinger's fast path) and gives the
+// double fast_float gives. Returns the delimiter's place (or the end), the
+// value in *out; null for anything else (an empty field, an exponent, a
+// long mantissa, nan, inf, text), which FastRow then takes the general way.
+const char* PlainField(
+    const char* p, const char* end, char delim, char decimal, double* out) {
+  static constexpr double kPow10[] = {
+      1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13,
+      1e14, 1e15};
+  const char* a = p;
+  while (a < end && IsBlank(*a)) ++a;
+  if (a < end && *a == '+') ++a;
+  const bool negative = a < end && *a == '-';
+  if (negative) ++a;
+  std::uint64_t mantissa = 0;
+  int digits = 0, fraction = 0;
+  bool dot = false;
+  for (; a < end; ++a) {
+    const unsigned d = static_cast<unsigned char>(*a) - '0';
+    if (d < 10) {
+      if (++digits > 15) return nullptr;
+      mantissa = mantissa * 10 + d;
+      fraction += dot;
+    } else if (*a == decimal && !dot) {
+      dot = true;
+    } else {
+      break;
+    }
+  }
+  if (digits == 0) return nullptr;
+  while (a < end && IsBlank(*a)) ++a;
+  if (a < end && *a != delim) return nullptr;
+  const double v = static_cast<double>(mantissa) / kPow10[fraction];
+  *out = negative ? -v : v;
+  return a;
+}
+
+// The end of the field starting at p: its delimiter, or the row's end.
+const char* FieldEnd(const char* p, const char* end, char delim) {
+  const char* q =
+      p < end ? static_cast<const char*>(
+                    std::memchr(p, delim, static_cast<std::size_t>(end - p)))
+              : nullptr;
+  return q == nullptr ? end : q;
+}
+
+// A field between p and q by fast_float, blanks trimmed; an empty field is
+// a gap (NaN). False for anything but a number.
+bool GeneralField(const char* a,
+                  const char* b,
+                  const fast_float::parse_options& options,
+                  double* v) {
+  while (a < b && IsBlank(*a)) ++a;
+  while (b > a && IsBlank(b[-1])) --b;
+  if (a == b) {
+    *v = kNaN;
+    return true;
+  }
+  if (*a == '+') ++a;
+  const auto r = fast_float::from_chars_advanced(a, b, *v, options);
+  return r.ec == std::errc() && r.ptr == b;
+}
+
+}  // namespace
+
+std::string_view TrimView(std::string_view s) {
+  while (!s.empty() && IsBlank(s.front())) s.remove_prefix(1);
+  while (!s.empty() && IsBlank(s.back())) s.remove_suffix(1);
+  if (s.size() >= 2 && s.front() == '"' && s.back() == '"') {
+    s = s.substr(1, s.size() - 2);
+  }
+  return s;
+}
+
+void Split(std::string_view line,
+           char delim,
+           std::vector<std::string_view>* cells) {
+  cells->clear();
+  std::size_t start = 0;
+  for (;;) {
+    std::size_t scan = start;
+    while (scan < line.size() && IsBlank(line[scan]) && line[scan] != delim)
+      ++scan;
+    if (scan < line.size() && line[scan] == '"') {
+      // Quoted: up to the closing quote (a doubled quote is an escape).
+      std::size_t q = scan + 1;
+      while (q < line.size()) {
+        if (line[q] == '"') {
+          if (q + 1 < line.size() && line[q + 1] == '"') {
+            q += 2;
+            continue;
+          }
+          break;
+        }
+        ++q;
+      }
+      scan = q < line.size() ? q + 1 : q;
+    }
+    const std::size_t end = line.find(delim, scan);
+    if (end == std::string_view::npos) {
+      cells->push_back(TrimView(line.substr(start)));
+      break;
+    }
+    cells->push_back(TrimView(line.substr(start, end - start)));
+    start = end + 1;
+  }
+}
+
+std::size_t CountWithoutTrailing(const std::vector<std::string_view>& cells) {
+  return cells.size() > 1 && cells.back().empty() ? cells.size() - 1
+                                                  : cells.size();
+}
+
+bool IsMissingMarker(std::string_view cell) {
+  if (cell.size() < 2 || cell.size() > 9) return false;
+  if (cell[0] == '-' || cell[0] == '+') cell.remove_prefix(1);
+  char buffer[9];
+  for (std::size_t i = 0; i < cell.size(); ++i) {
+    buffer[i] =
+        static_cast<char>(std::tolower(static_cast<unsigned char>(cell[i])));
+  }
+  const std::string_view lower(buffer, cell.size());
+  return lower == "#n/a" || lower == "#nv" || lower == "#na" ||
+         lower == "n/a" || lower == "na" || lower == "null" ||
+         lower == "nan(ind)" || lower == "1.#qnan" || lower == "1.#ind";
+}
+
+bool ParseCell(std::string_view cell, char decimal, double* value) {
+  if (cell.empty() || IsMissingMarker(cell)) {
+    *value = kNaN;
+    return true;
+  }
+  if (cell.front() == '+') cell.remove_prefix(1);
+  const auto result = fast_float::from_chars_advanced(
+      cell.data(),
+      cell.data() + cell.size(),
+      *value,
+      fast_float::parse_options{fast_float::chars_format::general, decimal});
+  return result.ec == std::errc() && result.ptr == cell.data() + cell.size();
+}
+
+bool FastRow(std::string_view row,
+             char delim,
+             char decimal,
+             const std::vector<int>& slot_of_field,
+             const Clock& clock,
+             double* out) {
+  const char* p = row.data();
+  const char* const end = p + row.size();
+  const std::size_t columns = slot_of_field.size();
+  const fast_float::parse_options options{fast_float::chars_format::general,
+                                          decimal};
+  // (A decimal mark that is also the delimiter cannot end a field.)
+  const bool plain = decimal != delim;
+  std::size_t field = 0;
+  for (;; ++field) {
+    const int slot = field < columns ? slot_of_field[field] : -1;
+    const char* q = nullptr;
+    if (static_cast<int>(field) == clock.field) {
+      q = FieldEnd(p, end, delim);
+      if (!ClockSeconds(clock,
+                        std::string_view(p, static_cast<std::size_t>(q - p)),
+                        &out[slot]))
+        return false;
+    } else if (slot >= 0) {
+      q = plain ? PlainField(p, end, delim, decimal, &out[slot]) : nullptr;
+      if (q == nullptr) {
+        q = FieldEnd(p, end, delim);
+        if (!GeneralField(p, q, options, &out[slot])) return false;
+      }
+    } else {
+      q = FieldEnd(p, end, delim);
+    }
+    if (q == end) break;
+    p = q + 1;
+  }
+  ++field;
+  return field == columns ||
+         (field == columns + 1 && !row.empty() && row.back() == delim);
+}
+
+}  // namespace wearscar::force::internal

@@ -1,0 +1,71 @@
+#pragma once
+// Line sources: the reader streams a file in blocks so that its text is
+// never held whole beside the numbers (memory stays near the numeric
+// data's).
+
+#include <cstddef>
+#include <cstdio>
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace wearscar::force::internal {
+
+class LineSource {
+ public:
+  virtual ~LineSource() = default;
+  // Next line without its terminator ("\n" or "\r\n"); false at the end.
+  // Throws ForceError for a line longer than the source's bound.
+  virtual bool Next(std::string_view* line) = 0;
+};
+
+// Lines of text in memory.
+class MemoryLines : public LineSource {
+ public:
+  MemoryLines(std::string_view text, std::string name, std::size_t max_line)
+      : text_(text), name_(std::move(name)), max_line_(max_line) {}
+  bool Next(std::string_view* line) override;
+
+ private:
+  std::string_view text_;
+  std::string name_;
+  std::size_t max_line_;
+  std::size_t pos_ = 0;
+  long lines_ = 0;
+};
+
+// Lines of an open file, read in blocks of 1 MiB.
+class FileLines : public LineSource {
+ public:
+  // `on_bytes`, when given, is handed every byte read, in order (the whole
+  // file: the reader never seeks).
+  FileLines(std::FILE* file,
+            std::string name,
+            std::size_t max_line,
+            std::function<void(const char*, std::size_t)> on_bytes = {});
+  bool Next(std::string_view* line) override;
+
+ private:
+  void Refill();
+  std::FILE* file_;
+  std::string name_;
+  std::size_t max_line_;
+  std::function<void(const char*, std::size_t)> on_bytes_;
+  std::vector<char> buffer_;
+  std::size_t pos_ = 0, filled_ = 0;
+  long lines_ = 0;
+  bool eof_ = false;
+};
+
+struct FileCloser {
+  void operator()(std::FILE* f) const { std::fclose(f); }
+};
+
+// The lines of an open file (line breaks + 1), each byte handed to
+// `on_bytes` when given; the file is rewound after.
+std::size_t CountLines(
+    std::FILE* file,
+    const std::function<void(const char*, std::size_t)>& on_bytes);
+
+}  // namespace wearscar::force::internal

@@ -1,0 +1,54 @@
+#pragma once
+// Units and plausibility: each channel's unit from the options, the file
+// or its layout, else inferred from what a reciprocating tribometer can
+// have measured; values no tribometer measured are refused.
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "columns.h"
+#include "layout_detection.h"
+#include "wearscar/force/force_record.h"
+#include "wearscar/force/read_force.h"
+
+namespace wearscar::force::internal {
+
+// A channel's unit and its factor to s, mm or N.
+struct Scale {
+  double factor = 1.0;
+  std::string unit;
+  // No unit in the file or the options: inferred after the rows are read
+  // (InferUnits), the layout's unit (`preferred`, if any) first.
+  bool inferred = false;
+  std::string preferred;
+};
+
+// The unit of `channel`'s column: the options', else the file's (`found`);
+// a warning when both are given and differ. Throws ForceError for a unit
+// that is not one of the channel's quantity.
+Scale ResolveUnit(Channel channel,
+                  const std::string& found,
+                  const ReadForceOptions& options,
+                  const std::string& file,
+                  const std::string& column,
+                  const ForceLayout& layout,
+                  std::vector<std::string>* warnings);
+
+// Units of the channels that state none, from plausibility: the layout's
+// unit when it brings the channel's figure (stroke, median load, sampling
+// rate) into the plausible range, else the first unit of the channel's
+// list that does. The values are scaled in place; a warning names each
+// assumption, and a channel no unit makes plausible is refused.
+void InferUnits(Eigen::VectorXd* data,
+                Scale* scale,
+                const Columns& column,
+                const Layout& layout,
+                const std::string& file,
+                ForceMetadata* meta);
+
+// What a reciprocating tribometer can have measured: refused outside the
+// hard limits (a unit or file error), warned of outside the usual ranges.
+void CheckPlausible(ForceRecord& r, const std::string& file);
+
+}  // namespace wearscar::force::internal

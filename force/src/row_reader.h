@@ -1,0 +1,81 @@
+#pragma once
+// The data rows into columns, in N, mm and s on one clock. Ordinary rows
+// go a fast path; anything unusual the careful way, which also joins
+// restarted clocks (Rtec RecipeSteps, Bruker/CETR repeated blocks) and
+// tells bad rows inside the data (an error, or dropped when lenient) from
+// a text footer.
+
+#include <Eigen/Core>
+#include <array>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "clock.h"
+#include "columns.h"
+#include "layout_detection.h"
+#include "plausibility.h"
+#include "wearscar/force/force_record.h"
+#include "wearscar/force/read_force.h"
+
+namespace wearscar::force::internal {
+
+class RowReader {
+ public:
+  // Everything is borrowed and must outlive the reader; `header_text` is
+  // the header row (null: none), `capacity` the rows the columns have room
+  // for before they grow.
+  RowReader(const Layout& layout,
+            const std::string* header_text,
+            const Columns& column,
+            int step_column,
+            const Clock& clock,
+            const Scale* scale,
+            const ReadForceOptions& options,
+            const std::string& name,
+            Eigen::Index capacity,
+            ForceMetadata* meta);
+
+  // One line of the data (1-based `line_no` for messages).
+  void Handle(std::string_view row, long line_no);
+
+  // After the last row: the bad rows left are a footer, an error or
+  // dropped; the counts are checked. Returns the columns, trimmed.
+  std::array<Eigen::VectorXd, 4> Finish();
+
+ private:
+  static constexpr int kStepSlot = 4, kFirstSlot = 5;
+
+  bool TryFast(std::string_view row, long line_no);
+  bool SkipRepeatedBlock(std::string_view row);
+  std::string ParseCells(double* value, bool* text_row, long line_no);
+  std::string JoinClock(double* value, long line_no);
+  void DropPending();
+  void Store(const double* values, long line_no);
+
+  const Layout& layout_;
+  const std::string* header_text_;
+  const Columns column_;
+  const int step_column_;
+  const Clock clock_;
+  const Scale* scale_;
+  const ReadForceOptions& options_;
+  const std::string& name_;
+  ForceMetadata* meta_;
+  const std::size_t columns_;
+  const int needed_;
+  std::vector<int> slot_of_field_;
+  bool fast_possible_ = false;
+
+  std::array<Eigen::VectorXd, 4> data_;
+  Eigen::Index rows_stored_ = 0;
+  std::vector<std::string_view> cells_;
+  std::string pending_error_;
+  int pending_bad_rows_ = 0, dropped_ = 0, footer_rows_ = 0, total_rows_ = 0;
+  double previous_time_;
+  double time_offset_ = 0.0, last_dt_ = 0.0, previous_step_;
+  bool in_repeated_header_ = false, block_restart_ = false;
+  int nan_run_[4] = {0, 0, 0, 0};
+};
+
+}  // namespace wearscar::force::internal

@@ -70,14 +70,16 @@ void RunForce(ForceArgs a) {
   }
   const OutputLock lock(a.out);
   StagedOutput stage(a.out, "force");
-  nlohmann::json summary =
+  const fusion::TestProducts products =
       report::WriteTestResults(stage.dir(), a.file, record, r, a.common.fuse);
+  nlohmann::json summary = products.result;
   report::FigureSet figs;
   if (!a.no_figures) {
     figs = report::DrawTestFigures(stage.dir(),
                                    fusion::SpecimenName(a.file),
                                    r,
                                    a.common.fuse,
+                                   products,
                                    a.figure_formats);
     if (!figs.missing.empty()) {
       report::AddWarningToResult(stage.dir(), figs.message);

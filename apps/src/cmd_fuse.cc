@@ -55,12 +55,13 @@ void RunFuse(FuseArgs a) {
   // when the whole set is there.
   const OutputLock lock(a.out);
   StagedOutput stage(a.out, "fuse");
-  nlohmann::json summary = report::WriteTestResults(
+  const fusion::TestProducts products = report::WriteTestResults(
       stage.dir(), name, record, r, a.common.fuse, a.write);
+  nlohmann::json summary = products.result;
   report::FigureSet figs;
   if (!a.no_figures) {
     figs = report::DrawTestFigures(
-        stage.dir(), name, r, a.common.fuse, a.figure_formats);
+        stage.dir(), name, r, a.common.fuse, products, a.figure_formats);
     if (!figs.missing.empty()) {
       report::AddWarningToResult(stage.dir(), figs.message);
       summary["warnings"].push_back(figs.message);

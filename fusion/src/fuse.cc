@@ -23,6 +23,10 @@ bool CheckScanSlopeScale(double max_scale, std::string* why) {
 }  // namespace
 
 bool FuseOptions::IsValid(std::string* why) const {
+  if (cost_curve_points < 2 || cost_curve_points > 1000000) {
+    if (why) *why = "cost_curve_points must be 2 to 10^6";
+    return false;
+  }
   return analysis.IsValid(why) && level.IsValid(why) && track.IsValid(why) &&
          profile.IsValid(why) && force_profile.IsValid(why) &&
          align.IsValid(why) && scan_slope.IsValid(why) &&
@@ -411,6 +415,17 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
   ForceOnlyProducts p = force_only.get();
   result.friction_map = std::move(p.friction_map);
   result.lugre = std::move(p.lugre);
+  const ScanAnalysis* scan = result.scan ? &*result.scan : nullptr;
+  const int dc = result.detail_cycle;
+  result.detail = ComputeDetailCycle(
+      record,
+      result.force,
+      options.analysis.friction,
+      dc,
+      options.cost_curve_points,
+      scan && dc >= 0 && dc < n ? &scan->fit_scan[dc] : nullptr,
+      scan ? &scan->slope : nullptr,
+      result.lugre ? &*result.lugre : nullptr);
   return result;
 }
 

@@ -132,7 +132,7 @@ struct TestOutput {
           figures + "'");
     }
     const report::FigureSet f =
-        report::DrawTestFigures(dir, name, *result, options, formats);
+        report::DrawTestFigures(dir, name, *result, options, products, formats);
     if (!f.missing.empty()) report::AddWarningToResult(dir, f.message);
     written.insert(written.end(), f.files.begin(), f.files.end());
     return {written, f.message};

@@ -42,10 +42,7 @@ inline std::string Slurp(const std::string& path) {
 // Every gnuplot script a command wrote in <out>/figure-data (each draws
 // some of the figures, in both formats), one after the other.
 inline std::string FigureScripts(const std::string& out) {
-  std::string all;
-  for (int k = 1; k <= 2; ++k)
-    all += Slurp(out + "/figure-data/figures_" + std::to_string(k) + ".gp");
-  return all;
+  return Slurp(out + "/figure-data/figures.gp");
 }
 
 inline int CountLines(const std::string& text) {

@@ -291,12 +291,13 @@ TEST(Outputs, ARerunRemovesWhatTheEarlierRunWroteAndNothingElse) {
   EXPECT_TRUE(fs::exists(out + "/fig08ab_scan_map.png"));
   EXPECT_EQ(Slurp(out + "/fig08ab_scan_map.png").substr(1, 3), "PNG");
   EXPECT_FALSE(fs::exists(out + "/fig08ab_scan_map.svg"));
-  // The figures' sources are in a sub-folder; the track outline has a
-  // header.
-  EXPECT_TRUE(fs::exists(out + "/figure-data/figures_1.gp"));
-  EXPECT_EQ(
-      Slurp(out + "/figure-data/track_outline.csv").rfind("x_mm,y_mm\n", 0),
-      0u);
+  // The figures' sources are in a sub-folder; the map's data names the
+  // track outline's columns.
+  EXPECT_TRUE(fs::exists(out + "/figure-data/figures.gp"));
+  EXPECT_EQ(Slurp(out + "/figure-data/fig08ab_scan_map.csv")
+                .rfind("# track_outline: x_mm,y_mm where line = 0\nx_mm,y_mm\n",
+                       0),
+            0u);
   EXPECT_FALSE(fs::exists(out + "/figures_png.gp"));
   // A file of the user's, and a manifest line pointing outside the folder.
   std::ofstream(out + "/notes.txt") << "mine\n";

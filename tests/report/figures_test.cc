@@ -3,6 +3,7 @@
 // rendering of the same grid from the same script.
 #include "wearscar/report/figures.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <png.h>
 
@@ -12,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -124,7 +126,7 @@ TEST(ImageFigures, TheSvgHoldsThePixelsGnuplotDrawsFromTheGrid) {
 
   // The script draws a stand-in and names the clause drawing the grid
   // itself; that clause, run in the same script, is gnuplot's own figure.
-  std::string script = Slurp(dir / kFigureData / "figures_1.gp");
+  std::string script = Slurp(dir / kFigureData / "figures.gp");
   std::smatch own;
   ASSERT_TRUE(std::regex_search(
       script, own, std::regex("gnuplot draws it with: plot ([^\n]*)")));
@@ -190,7 +192,7 @@ TEST(ImageFigures, AFlatGridIsLeftToGnuplot) {
   map.levelled.valid.setOnes();
   const FigureSet set = DrawMapFigure(dir.string(), "flat", map);
   ASSERT_TRUE(set.missing.empty()) << set.message;
-  const std::string script = Slurp(dir / kFigureData / "figures_1.gp");
+  const std::string script = Slurp(dir / kFigureData / "figures.gp");
   EXPECT_EQ(script.find("stand_in"), std::string::npos);
   EXPECT_NE(script.find("plot 'figure-data/scan_map.f32' binary"),
             std::string::npos);
@@ -205,6 +207,7 @@ TEST(ImageFigures, AFlatGridIsLeftToGnuplot) {
 struct DrawnTest {
   fs::path dir;
   FigureSet set;
+  fusion::TestProducts products;
 };
 
 DrawnTest DrawSimulatedTest(const std::string& what) {
@@ -213,103 +216,119 @@ DrawnTest DrawSimulatedTest(const std::string& what) {
   const samples::SimulatedTest t = samples::Simulate(o);
   const fusion::FuseOptions options;
   const fusion::TestResult r = fusion::AnalyzeTest(t.record, t.scan, options);
-  DrawnTest d{test_support::FreshFolder(what), {}};
-  WriteTestResults(d.dir.string(), "S-RT-R", t.record, r, options);
-  d.set = DrawTestFigures(d.dir.string(), "S-RT-R", r, options);
+  DrawnTest d{test_support::FreshFolder(what), {}, {}};
+  d.products = WriteTestResults(d.dir.string(), "S-RT-R", t.record, r, options);
+  d.set = DrawTestFigures(d.dir.string(), "S-RT-R", r, options, d.products);
   return d;
 }
 
-// The script with every figure written to <folder>/<figure>.svg.
-std::string OutputsInto(std::string script, const std::string& folder) {
-  return std::regex_replace(script,
-                            std::regex("set output '([^']*)\\.svg\\.part'"),
-                            "set output '" + folder + "/$1.svg'");
+// A figure's data file: per block, the table and columns its comment
+// names and the rows after its header.
+struct Block {
+  std::string table;
+  std::vector<std::string> columns;
+  std::vector<std::vector<std::string>> rows;
+};
+
+std::vector<std::string> SplitAt(const std::string& s, char c) {
+  std::vector<std::string> parts(1);
+  for (char ch : s) {
+    if (ch == c) {
+      parts.emplace_back();
+    } else {
+      parts.back() += ch;
+    }
+  }
+  return parts;
 }
 
-TEST(SlimTables, TheFiguresAreThoseDrawnOverTheWholeTables) {
+std::vector<Block> Blocks(const std::string& text) {
+  std::vector<Block> blocks;
+  std::istringstream in(text);
+  std::string line;
+  bool header = false;
+  while (std::getline(in, line)) {
+    if (line.rfind("# ", 0) == 0) {
+      const size_t colon = line.find(": ");
+      Block b;
+      b.table = line.substr(2, colon - 2);
+      std::string names = line.substr(colon + 2);
+      names = names.substr(0, names.find(" where"));
+      b.columns = SplitAt(names, ',');
+      blocks.push_back(b);
+      header = true;
+    } else if (header) {
+      EXPECT_EQ(SplitAt(line, ','), blocks.back().columns);
+      header = false;
+    } else if (!line.empty()) {
+      blocks.back().rows.push_back(SplitAt(line, ','));
+    }
+  }
+  return blocks;
+}
+
+// Every figure names the columns it plots; each block of its data holds
+// those columns of a table the test's products hold, with the table's
+// values (as %.8g), or of a table of the figure's own (the track's
+// outline, the minima of J).
+TEST(FigureData, EachFigurePlotsNamedColumnsOfTheTestsTables) {
   std::string why;
   if (!PlotterAvailable(&why)) GTEST_SKIP() << why;
-  const DrawnTest d = DrawSimulatedTest("slim");
+  const DrawnTest d = DrawSimulatedTest("figure-data");
   ASSERT_TRUE(d.set.missing.empty()) << d.set.message;
-  const std::string script = Slurp(d.dir / kFigureData / "figures_1.gp");
-  // Each plot over the tables is kept in a comment above its copy's.
-  const std::regex kept("# over the result tables: (plot [^\n]*)\n[^\n]*");
-  const auto n =
-      std::distance(std::sregex_iterator(script.begin(), script.end(), kept),
-                    std::sregex_iterator());
-  EXPECT_GE(n, 11);  // 13 of the 14 figures read a result table
-  fs::create_directories(d.dir / "slim");
-  fs::create_directories(d.dir / "whole");
-  std::ofstream(d.dir / kFigureData / "slim.gp") << OutputsInto(script, "slim");
-  std::ofstream(d.dir / kFigureData / "whole.gp")
-      << OutputsInto(std::regex_replace(script, kept, "$1"), "whole");
-  ASSERT_TRUE(RunGnuplotScript(d.dir.string(), "slim.gp"));
-  ASSERT_TRUE(RunGnuplotScript(d.dir.string(), "whole.gp"));
-  int compared = 0;
-  for (const auto& e : fs::directory_iterator(d.dir / "whole")) {
-    const std::string name = e.path().filename().string();
-    EXPECT_EQ(Slurp(d.dir / "slim" / name), Slurp(e.path())) << name;
-    ++compared;
+  EXPECT_EQ(d.set.shown.size(), 14u);
+  int checked = 0;
+  for (const auto& e : fs::directory_iterator(d.dir / kFigureData)) {
+    if (e.path().extension() != ".csv") continue;
+    for (const Block& b : Blocks(Slurp(e.path()))) {
+      SCOPED_TRACE(e.path().filename().string() + " " + b.table);
+      const fusion::Table* t = d.products.Find(b.table);
+      if (t == nullptr) {
+        EXPECT_TRUE(b.table == "track_outline" || b.table == "minima");
+        continue;
+      }
+      const std::vector<std::string>& known = fusion::TableColumns(b.table);
+      for (const std::string& c : b.columns)
+        EXPECT_NE(std::find(known.begin(), known.end(), c), known.end()) << c;
+      // The first row of the block is a row of the table.
+      if (b.rows.empty() || b.table == "loops.csv") continue;
+      const int x = t->ColumnIndex(b.columns[0]),
+                y = t->ColumnIndex(b.columns[1]);
+      const auto& row0 = t->rows[0];
+      EXPECT_EQ(b.rows[0][0], fmt::format("{:.8g}", row0[x]));
+      if (std::isfinite(row0[y]))
+        EXPECT_EQ(b.rows[0][1], fmt::format("{:.8g}", row0[y]));
+      ++checked;
+    }
   }
-  EXPECT_EQ(compared, 14);
-
-  // Fig. 13's copy of cycles.csv: its rows, the columns it plots.
-  const std::string table = Slurp(d.dir / "cycles.csv");
-  const std::string copy =
-      Slurp(d.dir / kFigureData / "fig13_mu_hat.cycles.csv");
-  EXPECT_EQ(std::count(copy.begin(), copy.end(), '\n'),
-            std::count(table.begin(), table.end(), '\n'));
-  const std::string header = copy.substr(0, copy.find('\n'));
-  EXPECT_EQ(header.rfind("cycle,mu_hat_force,mu_hat_scan,mu_mean,", 0), 0u)
-      << header;
-  EXPECT_EQ(std::count(header.begin(), header.end(), ','), 7);
+  EXPECT_GE(checked, 25);
 }
 
-// The rewriting itself, on a table of our own: a title with a comma, a
-// file named again with '', $N in an expression, an empty field, a blank
-// line between two blocks, and a clause whose column is an expression,
-// which keeps its table.
-TEST(SlimTables, EachClauseReadsItsColumnsFromTheCopy) {
-  const fs::path dir = test_support::FreshFolder("slim-rewrite");
-  std::ofstream(dir / "t.csv")
-      << "a,b,c,d,e\n1,2,,4,5\n2,3,4,5,6\n\n3,4,5,6,7\n";
-  std::ofstream(dir / "u.csv") << "p,q,r\n1,5,9\n2,6,8\n";
-  const std::string body =
-      "set xlabel 'x'\n"
-      "plot 't.csv' skip 1 using 1:4 title 'd, the fourth', '' skip 1 "
-      "using 1:($3*2) with points, 'u.csv' skip 1 using 1:(column(1+1)) "
-      "title 'q', 't.csv' skip 1 index 1 using 5:1";
-  const std::string slim = SlimPlotTables(dir.string(), "f", body);
-  EXPECT_EQ(slim,
-            "set xlabel 'x'\n"
-            "# over the result tables: " +
-                body.substr(body.find("plot ")) +
-                "\n"
-                "plot 'figure-data/f.t.csv' skip 1 using 1:3 title 'd, the "
-                "fourth', '' skip 1 using 1:($2*2) with points, 'u.csv' skip "
-                "1 using 1:(column(1+1)) title 'q', 'figure-data/f.t.csv' "
-                "skip 1 index 1 using 4:1");
-  EXPECT_EQ(Slurp(dir / kFigureData / "f.t.csv"),
-            "a,c,d,e\n1,,4,5\n2,4,5,6\n\n3,5,6,7\n");
-  EXPECT_FALSE(fs::exists(dir / kFigureData / "f.u.csv"));
-  // Two tables whose copies would share a name: the first has its copy,
-  // the second keeps its table.
-  fs::create_directories(dir / "s");
-  std::ofstream(dir / "s" / "t.csv") << "a,b,c\n1,2,3\n";
-  std::ofstream(dir / "s_t.csv") << "a,b,c\n4,5,6\n";
-  EXPECT_EQ(SlimPlotTables(dir.string(),
-                           "k",
-                           "plot 's/t.csv' skip 1 using 1:3, 's_t.csv' skip 1 "
-                           "using 1:3"),
-            "# over the result tables: plot 's/t.csv' skip 1 using 1:3, "
-            "'s_t.csv' skip 1 using 1:3\nplot 'figure-data/k.s_t.csv' skip 1 "
-            "using 1:2, 's_t.csv' skip 1 using 1:3");
-  EXPECT_EQ(Slurp(dir / kFigureData / "k.s_t.csv"), "a,c\n1,3\n");
-  // Nothing over a table: the body as it is.
-  EXPECT_EQ(SlimPlotTables(dir.string(), "g", "plot sin(x)"), "plot sin(x)");
-  // A clause without `using` (gnuplot's default columns) keeps the table.
-  EXPECT_EQ(SlimPlotTables(dir.string(), "h", "plot 't.csv' skip 1"),
-            "plot 't.csv' skip 1");
+// Lines of the detail cycle are broken where the sliding direction
+// changes: in Fig. 12's data the forward samples end in a blank line and
+// the reverse samples follow (no line joins them across the reversal).
+TEST(FigureData, TheDetailCyclesLinesBreakAtTheReversal) {
+  std::string why;
+  if (!PlotterAvailable(&why)) GTEST_SKIP() << why;
+  const DrawnTest d = DrawSimulatedTest("breaks");
+  const std::string data =
+      Slurp(d.dir / kFigureData / "fig12_reconstruction.csv");
+  const std::string first = data.substr(0, data.find("\n\n\n"));
+  // One break inside the first block: forward, then reverse.
+  size_t breaks = 0;
+  for (size_t at = first.find("\n\n"); at != std::string::npos;
+       at = first.find("\n\n", at + 2))
+    ++breaks;
+  EXPECT_EQ(breaks, 1u);
+  const fusion::Table* detail = d.products.Find("detail.csv");
+  ASSERT_NE(detail, nullptr);
+  const int dir = detail->ColumnIndex("direction");
+  size_t forward = 0;
+  for (const auto& row : detail->rows) forward += row[dir] > 0;
+  // Comment, header and the forward rows before the break.
+  const std::string head = first.substr(0, first.find("\n\n"));
+  EXPECT_EQ(static_cast<size_t>(std::count(head.begin(), head.end(), '\n')),
+            forward + 1);
 }
 
 }  // namespace

@@ -4,9 +4,6 @@
 #include <atomic>
 #include <filesystem>
 #include <future>
-#include <memory>
-#include <mutex>
-#include <optional>
 #include <vector>
 
 #include "wearscar/fusion/error.h"
@@ -45,27 +42,6 @@ void AuditDiagnosis(const AuditOptions& o,
   }
 }
 
-// gnuplot sessions for workers side by side: a specimen takes a free one
-// (or a new one) and gives it back; they end with the pool.
-class GnuplotPool {
- public:
-  std::unique_ptr<GnuplotSession> Take() {
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (free_.empty()) return std::make_unique<GnuplotSession>();
-    std::unique_ptr<GnuplotSession> s = std::move(free_.back());
-    free_.pop_back();
-    return s;
-  }
-  void Give(std::unique_ptr<GnuplotSession> s) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    free_.push_back(std::move(s));
-  }
-
- private:
-  std::mutex mutex_;
-  std::vector<std::unique_ptr<GnuplotSession>> free_;
-};
-
 // One specimen: read, analyse, write its folder (staged: its files appear
 // together or not at all), draw its figures and, when asked, diagnose it.
 // Failures are the section's error; the batch goes on.
@@ -74,8 +50,7 @@ void AuditSpecimen(const AuditOptions& o,
                    const fusion::Specimen& s,
                    ReportSection* sec,
                    SpecimenSeries* series,
-                   std::atomic<bool>* figures_missing,
-                   GnuplotPool* gnuplots) {
+                   std::atomic<bool>* figures_missing) {
   sec->name = s.name;
   sec->row = fusion::SpecimenIdentity(s.name, o.batch.naming);
   const std::string final_dir = (fs::path(out) / s.name).string();
@@ -86,24 +61,22 @@ void AuditSpecimen(const AuditOptions& o,
         fusion::AnalyzeSpecimen(s, o.read_force, o.read_scan, o.fuse);
     const force::ForceRecord& record = a.record;
     const fusion::TestResult& r = a.result;
-    nlohmann::json row = WriteTestResults(dir, s.name, record, r, o.fuse);
+    const fusion::TestProducts products =
+        WriteTestResults(dir, s.name, record, r, o.fuse);
+    nlohmann::json row = products.result;
     row.update(sec->row);
     row["scan_file"] = s.scan;
     sec->row = row;
     sec->flagged = !r.verdict.explained;
     *series = {s.name,
-               final_dir,
+               *products.Find("cycles.csv"),
                r.mismatch.mu_force_minus_mean,
                r.mismatch.mu_force_minus_energy,
                r.mismatch.mu_force,
                r.wear.specific_rate_mm3_per_n_m};
-    if (o.figures && gnuplots != nullptr) {
-      std::unique_ptr<GnuplotSession> session = gnuplots->Take();
-      sec->figures = DrawTestFigures(
-          session.get(), dir, s.name, r, o.fuse, o.figure_formats);
-      gnuplots->Give(std::move(session));
-    } else if (o.figures) {
-      sec->figures = DrawTestFigures(dir, s.name, r, o.fuse, o.figure_formats);
+    if (o.figures) {
+      sec->figures =
+          DrawTestFigures(dir, s.name, r, o.fuse, products, o.figure_formats);
     }
     if (o.diagnose) AuditDiagnosis(o, s.name, dir, record, r, sec);
     if (!sec->figures.missing.empty()) {
@@ -184,17 +157,8 @@ AuditResult Audit(const std::vector<fusion::Specimen>& specimens,
   result.specimens.resize(specimens.size());
   std::vector<SpecimenSeries> series(specimens.size());
   std::atomic<bool> figures_missing{false};
-  // Workers side by side keep the cores busy: each draws its specimens
-  // with one gnuplot that stays (a start costs about 35 ms of CPU); a lone
-  // worker draws each specimen's figures with two side by side.
-  const size_t workers =
-      fusion::SpecimenWorkers(specimens.size(), o.batch.jobs);
-  std::optional<GnuplotPool> pool;
-  if (workers > 1) pool.emplace();
   // As many workers as cores also analyse each specimen on their own
-  // thread: more threads than cores were only switched between (the audit
-  // of 12 full-size tests on 2 cores: 0.96x the time, peak memory 233 ->
-  // 190 MiB).
+  // thread: more threads than cores were only switched between.
   AuditOptions worker_options = o;
   if (fusion::WorkersFillCores(specimens.size(), o.batch.jobs))
     worker_options.fuse.parallel = false;
@@ -207,13 +171,11 @@ AuditResult Audit(const std::vector<fusion::Specimen>& specimens,
                       specimens[i],
                       &result.specimens[i],
                       &series[i],
-                      &figures_missing,
-                      pool ? &*pool : nullptr);
+                      &figures_missing);
       },
       [&](long done) {
         if (progress) progress(done);
       });
-  pool.reset();  // every gnuplot ended before the batch's figures
   std::vector<SpecimenSeries> analysed;
   for (size_t i = 0; i < specimens.size(); ++i) {
     result.failed += result.specimens[i].failed;
@@ -223,8 +185,7 @@ AuditResult Audit(const std::vector<fusion::Specimen>& specimens,
   result.figures_missing = figures_missing;
   WriteSummaries(out, o.batch.shard_index == 1, result.specimens);
   // The specimens' part of the report is rendered while gnuplot draws the
-  // batch figures (each about 0.1 s, one core each, on the 12 full-size
-  // tests).
+  // batch figures.
   std::future<FigureSet> batch_figures;
   if (o.figures) {
     batch_figures = std::async(std::launch::async, [&] {

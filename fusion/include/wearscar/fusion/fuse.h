@@ -7,6 +7,7 @@
 
 #include "wearscar/fusion/align.h"
 #include "wearscar/fusion/analysis.h"
+#include "wearscar/fusion/detail_cycle.h"
 #include "wearscar/fusion/friction_map.h"
 #include "wearscar/fusion/lugre.h"
 #include "wearscar/fusion/track_history.h"
@@ -70,6 +71,9 @@ struct FuseOptions {
   bool fit_lugre = true;
   LugreOptions lugre;
   int detail_cycle = -1;  // cycle for LuGre and the detail outputs; -1 = last
+  // Points of J(mu) over the fit's mu interval on the detail cycle (paper
+  // Fig. 11).
+  int cost_curve_points = 201;
   // The scan's preparation and the products that need only the force side
   // run on threads of their own beside the force analysis (and a test's
   // folder checksums its inputs beside its tables). False runs all of it
@@ -116,6 +120,9 @@ struct TestResult {
   TrackHistory track_history;
   int detail_cycle = 0;
   std::optional<LugreFit> lugre;
+  // The detail cycle's slopes, reconstructions, J(mu) and the wear-scar
+  // model beside LuGre (paper Figs. 10-12, 17).
+  DetailCycle detail;
 };
 
 // Force analysis, then (when a scan is given) levelling, spikes, track,

@@ -1,6 +1,5 @@
 #pragma once
 
-#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -11,8 +10,7 @@ namespace wearscar::report {
 
 // The files each figure is drawn as. SVG (vector: any browser, office
 // suite or journal takes it) is the default: gnuplot draws it in a quarter
-// of the time of its PNG, three quarters of which go into the PNG's zlib
-// compression and filters (measured, README "Speed").
+// of the time of its PNG.
 struct FigureFormats {
   bool svg = true;
   bool png = false;
@@ -45,73 +43,23 @@ inline constexpr const char* kFigureData = "figure-data";
 // <dir>/figure-data/<file>, creating the sub-folder.
 std::string FigureDataPath(const std::string& dir, const std::string& file);
 
-// A figure's gnuplot body with each plot command over the CSV tables in
-// `dir` reading copies in figure-data (<figure>.<table>) that hold only
-// the columns the figure uses, the rows as they are: gnuplot converts
-// every field of every row it reads, so this spares it most of them. Each
-// rewritten command stays above its copy's as a comment ("# over the
-// result tables: plot ..."); a clause it cannot follow (no `using`, a
-// column given by an expression) keeps its table. What the figures of
-// this module do with every body they draw.
-std::string SlimPlotTables(const std::string& dir,
-                           const std::string& figure,
-                           const std::string& body);
-
 // Runs gnuplot on the script <dir>/figure-data/<script> in `dir` and waits;
 // its output goes to figure-data/<stem>.log. False when it failed.
 bool RunGnuplotScript(const std::string& dir, const std::string& script);
-
-// One gnuplot kept running for one script after another (an audit's
-// worker draws specimen after specimen with it): each script then costs no
-// gnuplot start (about 35 ms of CPU and 900 page faults; 82 shared
-// libraries). One per thread; the destructor ends gnuplot and waits.
-class GnuplotSession {
- public:
-  GnuplotSession() = default;
-  ~GnuplotSession();
-  GnuplotSession(const GnuplotSession&) = delete;
-  GnuplotSession& operator=(const GnuplotSession&) = delete;
-
-  // As RunGnuplotScript: the script <dir>/figure-data/<script> with `dir`
-  // as the working folder, its messages in figure-data/<stem>.log. False
-  // when the script had an error or gnuplot ended (started again on the
-  // next call).
-  bool Run(const std::string& dir, const std::string& script);
-
- private:
-  bool Start();
-  void Stop();
-  int pid_ = -1;
-  int input_ = -1;               // gnuplot's standard input
-  std::FILE* output_ = nullptr;  // its standard output and error
-  long serial_ = 0;
-};
 
 // True when gnuplot runs; `why` says what is missing otherwise.
 bool PlotterAvailable(std::string* why);
 
 // The figures of one test (the paper's Figs. 5-8, 10-15, 17, the friction
-// map and the track's history), drawn by gnuplot from the CSV files
-// WriteTestResults wrote into `dir`. Writes the scan map data first when
-// the result has a scan. With PNG, `processes` gnuplots share the figures
-// side by side: 2 keep both cores of a single test busy; 1 where the
-// caller's workers already do (SVG alone is drawn by one gnuplot, as fast
-// as by two). Images are painted by this program into the SVG (gnuplot
-// draws them in PNG). Workers drawing test after test (an audit) use the
-// overload below with a GnuplotSession each, sparing a gnuplot start per
-// test.
+// map and the track's history), drawn by gnuplot from the test's tables in
+// `products` (MakeTestProducts) into `dir`; each figure's columns go to
+// figure-data/<figure>.csv, the script to figure-data/figures.gp. Images
+// are painted by this program into the SVG (gnuplot draws them in PNG).
 FigureSet DrawTestFigures(const std::string& dir,
                           const std::string& name,
                           const fusion::TestResult& result,
                           const fusion::FuseOptions& options,
-                          const FigureFormats& formats = {},
-                          int processes = 2);
-// The same figures drawn by one script in `session`.
-FigureSet DrawTestFigures(GnuplotSession* session,
-                          const std::string& dir,
-                          const std::string& name,
-                          const fusion::TestResult& result,
-                          const fusion::FuseOptions& options,
+                          const fusion::TestProducts& products,
                           const FigureFormats& formats = {});
 
 // The levelled map of `wearscar scan` with axes in mm, a colour bar in um,
@@ -124,7 +72,8 @@ FigureSet DrawMapFigure(const std::string& dir,
 // Figures across specimens (Figs. 13-16 for a batch) into `dir`.
 struct SpecimenSeries {
   std::string name;
-  std::string dir;  // holding cycles.csv
+  // Its cycles.csv (at least cycle, mu_hat_force, J_force, mu_energy_g).
+  fusion::Table cycles;
   // Over the compared cycles, with their 95% intervals: mu-hat minus the
   // mean and the energy COF (Fig. 16), and mu-hat (k from P).
   fusion::Statistic diff_mean, diff_energy, mu_hat;

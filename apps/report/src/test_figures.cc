@@ -1,0 +1,459 @@
+// The figures of one test (the paper's Figs. 5-8, 10-15, 17, the friction
+// map and the track's history) and of a map alone, as rows of figure
+// specs over the test's tables (fusion::TestTableSchemas).
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "draw.h"
+#include "images.h"
+#include "wearscar/report/figures.h"
+
+namespace wearscar::report {
+namespace {
+
+using internal::FigureSpec;
+using internal::kClassicColour;
+using internal::kForceColour;
+using internal::kLimitColour;
+using internal::kMeasuredColour;
+using internal::kScanColour;
+using internal::Image;
+using internal::Panel;
+using internal::Series;
+using internal::TableSet;
+
+Series Line(const char* table,
+            const char* x,
+            const char* y,
+            std::string title,
+            const char* colour,
+            double width = 1.5,
+            int dash = 1) {
+  Series s{table, x, y, {}, std::move(title)};
+  s.style = fmt::format("lines lw {} dt {} lc rgb '{}'", width, dash, colour);
+  return s;
+}
+
+Series Dots(const char* table,
+            const char* x,
+            const char* y,
+            std::string title,
+            const char* colour,
+            double size = 0.6,
+            int type = 7) {
+  Series s{table, x, y, {}, std::move(title)};
+  s.style = fmt::format("points pt {} ps {} lc rgb '{}'", type, size, colour);
+  return s;
+}
+
+// A band between two columns (a 95% interval).
+Series Band(const char* table,
+            const char* x,
+            const char* low,
+            const char* high,
+            std::string title,
+            const char* colour) {
+  Series s{table, x, low, {high}, std::move(title)};
+  s.style = fmt::format("filledcurves lc rgb '{}' fs transparent solid 0.25 "
+                        "noborder",
+                        colour);
+  return s;
+}
+
+// The running-in cycles shaded and labelled on a plot over cycles;
+// nothing when there is none.
+std::string RunningInMark(const fusion::TestResult& r) {
+  const int n = r.force.running_in.cycles;
+  if (n <= 0) return "";
+  return fmt::format(
+      "set object 1 rect from first 0.5, graph 0 to first {0}.5, graph 1 "
+      "behind fc rgb '#e6e6e6' fs solid 1.0 noborder\n"
+      "set label 1 'running-in ({0} cycles)' at first 1, graph 0.96 front\n",
+      n);
+}
+
+// Figs. 5-7 and 13-15: over the cycles, and the loops.
+std::vector<FigureSpec> CycleFigures(const std::string& name,
+                                     const fusion::TestResult& r,
+                                     const fusion::FuseOptions& o,
+                                     const fusion::Table& loops) {
+  const std::string mark = RunningInMark(r);
+  FigureSpec fig7{"fig07_loops", name + ": hysteresis loops (Fig. 7)",
+                  {{"", "x (mm)", "Q (N)", "", {}, "", {}}}};
+  std::set<double> loop_cycles;
+  for (const auto& row : loops.rows) loop_cycles.insert(row[0]);
+  for (double c : loop_cycles) {
+    Series s{"loops.csv", "x_mm", "Q_N", {}, fmt::format("cycle {:g}", c)};
+    s.select = "cycle";
+    s.select_value = c;
+    s.style = "lines lw 1.5";
+    fig7.panels[0].series.push_back(s);
+  }
+  const bool paper = o.verdict.cost_criterion == fusion::CostCriterion::kPaperJ;
+  Series threshold;
+  threshold.function = fmt::format("{}", o.verdict.max_cost);
+  threshold.title = "threshold (paper)";
+  threshold.style = fmt::format("lines dt 3 lw 2 lc rgb '{}'", kLimitColour);
+  std::vector<FigureSpec> f = {
+      fig7,
+      {"fig05_q_envelope", name + ": envelope of Q (Fig. 5)",
+       {{"", "cycle", "Q (N)", mark, {}, "",
+         {Line("cycles.csv", "cycle", "Q_max_N", "Q max", kForceColour),
+          Line("cycles.csv", "cycle", "Q_min_N", "Q min", kScanColour)}}}},
+      {"fig06_p_envelope", name + ": envelope of P (Fig. 6)",
+       {{"", "cycle", "P (N)", mark, {}, "",
+         {Line("cycles.csv", "cycle", "P_max_N", "P max", kForceColour),
+          Line("cycles.csv", "cycle", "P_min_N", "P min", kScanColour)}}}},
+      {"fig13_mu_hat", name + ": mu-hat per cycle (Fig. 13)",
+       {{"", "cycle", "mu (-)", mark, {}, "",
+         {Band("cycles.csv", "cycle", "mu_hat_force_low", "mu_hat_force_high",
+               "95% interval, k from P", kForceColour),
+          Band("cycles.csv", "cycle", "mu_hat_scan_low", "mu_hat_scan_high",
+               "95% interval, k from scan", kScanColour),
+          Dots("cycles.csv", "cycle", "mu_hat_force", "mu-hat, k from P",
+               kForceColour),
+          Dots("cycles.csv", "cycle", "mu_hat_scan", "mu-hat, k from scan",
+               kScanColour),
+          Line("cycles.csv", "cycle", "mu_mean", "mean method",
+               kClassicColour)}}}},
+      {"fig14_cost", name + ": J per cycle and its noise floor (Fig. 14)",
+       {{"", "cycle", "J (-)", mark + "set yrange [0:*]\n", {}, "",
+         {Dots("cycles.csv", "cycle", "J_force", "J, k from P", kForceColour),
+          Line("cycles.csv", "cycle", "J_force_floor", "its noise floor",
+               kMeasuredColour, 2, 2),
+          Dots("cycles.csv", "cycle", "J_scan", "J, k from scan", kScanColour),
+          Line("cycles.csv", "cycle", "J_scan_floor", "its noise floor",
+               kLimitColour, 2, 3)}}}},
+      {"fig15_energy_cof", name + ": energy-based COF (Fig. 15)",
+       {{"", "cycle", "mu (-)", mark, {}, "",
+         {Line("cycles.csv", "cycle", "mu_energy_g", "E_d / (4 P delta_g)",
+               kClassicColour),
+          Line("cycles.csv", "cycle", "mu_energy_max",
+               "E_d / (4 P delta_max)", kForceColour)}}}},
+  };
+  if (paper) f[4].panels[0].series.push_back(threshold);
+  return f;
+}
+
+// Figs. 10-12 and 17 on the detail cycle; the lines broken where the
+// sliding direction changes.
+std::vector<FigureSpec> DetailFigures(const std::string& name,
+                                      const fusion::TestResult& r,
+                                      fusion::Table* minima) {
+  const std::string cycle = std::to_string(r.detail_cycle + 1);
+  auto detail = [](Series s) {
+    s.break_at = "direction";
+    return s;
+  };
+  std::vector<FigureSpec> f = {
+      {"fig10_slope",
+       name + ": slope k of the sliding path, cycle " + cycle + " (Fig. 10)",
+       {{"", "x (mm)", "k (-)", "", {}, "",
+         {detail(Line("detail.csv", "x_mm", "k_force", "k from P",
+                      kForceColour, 1)),
+          detail(Line("detail.csv", "x_mm", "k_scan", "k from scan",
+                      kScanColour, 2.5))}}}},
+      {"fig11_cost", name + ": J(mu), cycle " + cycle + " (Fig. 11)",
+       {{"", "mu (-)", "J (-)", "set logscale y\n", {}, "",
+         {Line("cost_curve.csv", "mu", "J_force", "k from P", kForceColour),
+          Line("cost_curve.csv", "mu", "J_scan", "k from scan",
+               kScanColour)}}}},
+      {"fig12_reconstruction",
+       name + ": measured and reconstructed Q, cycle " + cycle + " (Fig. 12)",
+       {{"", "x (mm)", "Q (N)", "", {}, "",
+         {detail(Line("detail.csv", "x_mm", "Q_model_force_N",
+                      "wear-scar, k from P", kForceColour)),
+          detail(Line("detail.csv", "x_mm", "Q_model_scan_N",
+                      "wear-scar, k from scan", kScanColour, 2.5)),
+          Dots("detail.csv", "x_mm", "Q_N", "measured", kMeasuredColour,
+               0.3)}}}},
+  };
+  // The minima of J(mu): mu-hat and its J with each slope.
+  auto point = [&](const fusion::MuFit& fit, double slope, const char* what,
+                   int type) {
+    if (!fit.converged) return;
+    minima->rows.push_back({slope, fit.mu_hat, fit.cost});
+    Series s = Dots("minima", "mu", "J",
+                    fmt::format("minimum, k from {}: mu-hat {:.4f}, J {:.4f}",
+                                what, fit.mu_hat, fit.cost),
+                    kMeasuredColour, 1.6, type);
+    s.select = "slope";
+    s.select_value = slope;
+    f[1].panels[0].series.push_back(s);
+  };
+  const int dc = r.detail_cycle;
+  if (dc >= 0 && dc < static_cast<int>(r.force.fit_force.size()))
+    point(r.force.fit_force[dc], 0, "P", 7);
+  if (r.scan && dc >= 0 && dc < static_cast<int>(r.scan->fit_scan.size()))
+    point(r.scan->fit_scan[dc], 1, "scan", 5);
+  if (r.lugre) {
+    f.push_back(
+        {"fig17_lugre",
+         name + ": LuGre and wear-scar, cycle " + cycle + " (Fig. 17)",
+         {{"", "x (mm)", "Q (N)", "", {}, "",
+           {Line("lugre.csv", "x_mm", "Q_N", "measured", kMeasuredColour),
+            Line("lugre.csv", "x_mm", "Q_lugre_N", "LuGre", kClassicColour, 2,
+                 2),
+            Line("lugre.csv", "x_mm", "Q_wearscar_N", "wear-scar",
+                 kForceColour, 2, 4)}}}});
+  }
+  return f;
+}
+
+// The levelled map downsampled to at most 320 columns, in um.
+Image MapImage(const scan::HeightMap& m) {
+  const int f = std::max<int>(1, static_cast<int>(std::ceil(m.cols() / 320.0)));
+  Image im;
+  im.file = "scan_map.f32";
+  im.width = static_cast<int>(m.cols() / f);
+  im.height = static_cast<int>(m.rows() / f);
+  im.dx = f * m.dx_mm;
+  im.dy = f * m.dy_mm;
+  im.palette = &internal::HeightPalette();
+  im.values.resize(static_cast<size_t>(im.width) * im.height);
+  for (int r = 0; r < im.height; ++r) {
+    for (int c = 0; c < im.width; ++c) {
+      double sum = 0;
+      int n = 0;
+      for (int dr = 0; dr < f; ++dr) {
+        for (int dc = 0; dc < f; ++dc) {
+          if (!m.valid(r * f + dr, c * f + dc)) continue;
+          sum += m.height_mm(r * f + dr, c * f + dc);
+          ++n;
+        }
+      }
+      im.values[static_cast<size_t>(r) * im.width + c] =
+          n > 0 ? static_cast<float>(1e3 * sum / n) : NAN;
+    }
+  }
+  return im;
+}
+
+// The track's axis (line 0) and its two edges (lines 1, 2).
+fusion::Table TrackOutline(const scan::Track& t) {
+  const double th = t.angle_deg * M_PI / 180, ax = std::cos(th),
+               ay = std::sin(th), half = 0.5 * t.length_mm;
+  fusion::Table o({"line", "x_mm", "y_mm"});
+  for (int line = 0; line < 3; ++line) {
+    const double side = line == 0 ? 0 : line == 1 ? -1 : 1;
+    const double ox = -ay * side * 0.5 * t.width_mm,
+                 oy = ax * side * 0.5 * t.width_mm;
+    o.rows.push_back({double(line), t.centre_x_mm - half * ax + ox,
+                      t.centre_y_mm - half * ay + oy});
+    o.rows.push_back({double(line), t.centre_x_mm + half * ax + ox,
+                      t.centre_y_mm + half * ay + oy});
+  }
+  return o;
+}
+
+// The scan map with axes in mm spanning the map, a colour bar in um, a
+// scale bar and, with a track, its axis and edges.
+Panel MapPanel(const scan::HeightMap& m, const scan::Track* t) {
+  Panel p{"", "x (mm)", "y (mm)", "", MapImage(m), "height (um)", {}};
+  const Image& im = *p.image;
+  const double w = im.width * im.dx, h = im.height * im.dy;
+  const double bar = internal::ScaleBarMm(w), x0 = 0.05 * w, y0 = 0.06 * h;
+  p.setup = fmt::format(
+      "set size ratio -1\nset key bottom right inside opaque\n"
+      "set xrange [{6}:{7}]\nset yrange [{8}:{9}]\n"
+      "set arrow 1 from first {0}, first {1} to first {2}, first {1} nohead "
+      "lw 4 lc rgb 'black' front\n"
+      "set label 1 '{3:g} mm' at first {4}, first {5} center front\n",
+      x0, y0, x0 + bar, bar, x0 + bar / 2, y0 + 0.05 * h,
+      -0.5 * im.dx, w - 0.5 * im.dx, -0.5 * im.dy, h - 0.5 * im.dy);
+  if (t == nullptr) return p;
+  for (int line = 0; line < 3; ++line) {
+    Series s{"track_outline", "x_mm", "y_mm", {},
+             line == 0   ? "track axis (centreline)"
+             : line == 1 ? "track width"
+                         : ""};
+    s.select = "line";
+    s.select_value = line;
+    s.style = line == 0 ? "lines lw 3 lc rgb 'red'"
+                        : "lines lw 1.5 dt 2 lc rgb 'black'";
+    p.series.push_back(s);
+  }
+  return p;
+}
+
+// One direction of a (cycle, direction, bin) grid as an image: bins
+// centred on x, cycles from 1, forward sliding.
+template <typename Value>
+Image CycleGrid(const char* file,
+                const std::vector<double>& x_mm,
+                int cycles,
+                Value value) {
+  Image im;
+  im.file = file;
+  im.width = static_cast<int>(x_mm.size());
+  im.height = cycles;
+  im.dx = x_mm[1] - x_mm[0];
+  im.dy = 1;
+  im.x0 = x_mm[0];
+  im.y0 = 1;
+  im.palette = &internal::GridPalette();
+  im.values.resize(x_mm.size() * static_cast<size_t>(cycles));
+  for (int c = 0; c < cycles; ++c) {
+    for (size_t b = 0; b < x_mm.size(); ++b)
+      im.values[static_cast<size_t>(c) * x_mm.size() + b] =
+          static_cast<float>(value(c, b));
+  }
+  return im;
+}
+
+std::string GridRanges(const std::vector<double>& x_mm, int cycles) {
+  const double half = 0.5 * (x_mm[1] - x_mm[0]);
+  return fmt::format("set xrange [{}:{}]\nset yrange [0.5:{}]\n",
+                     x_mm.front() - half,
+                     x_mm.back() + half,
+                     cycles + 0.5);
+}
+
+// The friction map: mu along the stroke and over the cycles, raw (s Q / P)
+// above corrected for the slope; below them the track along the same x.
+void AddFrictionMap(const std::string& name,
+                    const fusion::TestResult& r,
+                    std::vector<FigureSpec>* figs) {
+  const auto& m = r.friction_map;
+  if (m.x_mm.size() < 2 || m.cycles < 1) return;
+  auto forward = [&m](const std::vector<double>& mu) {
+    return [&m, &mu](int c, size_t b) { return mu[m.Index(c, 0, b)]; };
+  };
+  const std::string ranges = GridRanges(m.x_mm, m.cycles) + "unset key\n";
+  FigureSpec fig{
+      "fig_friction_map",
+      name + ": friction map mu(x, cycle)",
+      {{fmt::format("raw: s Q / P (forward); its sd along x after running-in "
+                    "{:.4f}, corrected {:.4f} (noise floor {:.4f})",
+                    m.spatial_sd_raw, m.spatial_sd_corrected,
+                    m.spatial_sd_noise),
+        "", "cycle", ranges,
+        CycleGrid("friction_map_raw.f32", m.x_mm, m.cycles, forward(m.mu_raw)),
+        "mu (-)", {}},
+       {"corrected for the slope: s (Q - P k) / (P + k Q) (forward)", "x (mm)",
+        "cycle", ranges,
+        CycleGrid("friction_map_corrected.f32", m.x_mm, m.cycles,
+                  forward(m.mu_corrected)),
+        "mu (-)", {}}}};
+  if (r.scan) {
+    fig.panels[1].xlabel.clear();
+    Series spring = Line("profiles.csv", "x_mm", "f_mean_mm",
+                                   "-P/S (mean of both directions)",
+                                   kForceColour);
+    Series scan = Line("profiles.csv", "x_mm", "h_scan_scaled_mm",
+                                 "scan (aligned, scaled)",
+                                 kScanColour, 2.5);
+    spring.y_scale = scan.y_scale = -1;
+    fig.panels.push_back({"the track along x", "x (mm)", "height (mm)",
+                          "set autoscale y\nset key inside top right\n", {},
+                          "",
+                          {spring, scan}});
+  }
+  figs->push_back(std::move(fig));
+}
+
+// The track's history from the spring: h(x, cycle) = P/S about its mean
+// (forward sliding) above, its waviness per cycle below.
+void AddTrackHistory(const std::string& name,
+                     const fusion::TestResult& r,
+                     std::vector<FigureSpec>* figs) {
+  const auto& h = r.track_history;
+  if (h.x_mm.size() < 2 || h.cycles < 2) return;
+  figs->push_back(
+      {"fig_track_history",
+       fmt::format("{}: the track's history from the spring, h = P/S; "
+                   "waviness {:.4f} mm in cycle 1, {:.4f} mm at the end, "
+                   "steady from cycle {}",
+                   name, h.waviness_sd_mm.front(), h.final_waviness_sd_mm,
+                   h.steady_cycle + 1),
+       {{"h(x, cycle): P/S about its mean, forward sliding", "x (mm)",
+         "cycle", GridRanges(h.x_mm, h.cycles) + "unset key\n",
+         CycleGrid("track_history.f32", h.x_mm, h.cycles,
+                   [&h](int c, size_t b) {
+                     return h.height_mm[h.Index(c, 0, b)];
+                   }),
+         "h (mm)", {}},
+        {"waviness: the sd of h along the stroke", "cycle", "waviness (mm)",
+         "set autoscale\nunset colorbox\nunset key\n", {}, "",
+         {Line("cycles.csv", "cycle", "waviness_sd_mm", "",
+                         kForceColour, 2)}}}});
+}
+
+}  // namespace
+
+FigureSet DrawTestFigures(const std::string& dir,
+                          const std::string& name,
+                          const fusion::TestResult& r,
+                          const fusion::FuseOptions& options,
+                          const fusion::TestProducts& products,
+                          const FigureFormats& formats) {
+  std::string why;
+  if (!PlotterAvailable(&why)) return FigureSet{{}, {}, {}, why, {}};
+  TableSet tables;
+  for (const auto& [file, table] : products.tables) tables[file] = &table;
+  static const fusion::Table kNoLoops;
+  const fusion::Table* loops = products.Find("loops.csv");
+  std::vector<FigureSpec> figs =
+      CycleFigures(name, r, options, loops ? *loops : kNoLoops);
+  fusion::Table minima({"slope", "mu", "J"});
+  fusion::Table outline;
+  if (r.scan) {
+    outline = TrackOutline(r.scan->track);
+    tables["track_outline"] = &outline;
+    FigureSpec map{"fig08ab_scan_map",
+                   name + ": levelled scan, detected track (Fig. 8a-b)",
+                   {MapPanel(r.scan->levelled, &r.scan->track)}};
+    Series fwd = Line("profiles.csv", "x_mm", "f_forward_mm",
+                                fmt::format("P/S forward - {:.4f} mm",
+                                            r.scan->alignment.offset_mm),
+                                kForceColour);
+    Series rev = Line("profiles.csv", "x_mm", "f_reverse_mm",
+                                fmt::format("P/S reverse - {:.4f} mm",
+                                            r.scan->alignment.offset_mm),
+                                "#17becf");
+    fwd.y_offset = rev.y_offset = -r.scan->alignment.offset_mm;
+    Series h = Line("profiles.csv", "x_mm", "h_scan_mm",
+                              fmt::format("scan centreline x {:.2f}",
+                                          r.scan->alignment.scale),
+                              kScanColour, 2.5);
+    h.y_scale = r.scan->alignment.scale;
+    figs.push_back(map);
+    figs.push_back(
+        {"fig08cd_profiles",
+         name + ": spring displacement P/S and aligned scan profile "
+                "(Fig. 8c-d)",
+         {{"", "x (mm)", "height (mm)", "", {}, "", {fwd, rev, h}}}});
+  }
+  for (FigureSpec& f : DetailFigures(name, r, &minima))
+    figs.push_back(std::move(f));
+  tables["minima"] = &minima;
+  AddFrictionMap(name, r, &figs);
+  AddTrackHistory(name, r, &figs);
+  return internal::Draw(dir, figs, tables, formats);
+}
+
+FigureSet DrawMapFigure(const std::string& dir,
+                        const std::string& name,
+                        const fusion::MapAnalysis& map,
+                        const FigureFormats& formats) {
+  std::string why;
+  if (!PlotterAvailable(&why)) return FigureSet{{}, {}, {}, why, {}};
+  TableSet tables;
+  fusion::Table outline;
+  if (map.track) {
+    outline = TrackOutline(*map.track);
+    tables["track_outline"] = &outline;
+  }
+  const std::vector<FigureSpec> figs = {
+      {"scan_map",
+       name + (map.track ? ": levelled map and the worn track"
+                         : ": levelled map (no track found)"),
+       {MapPanel(map.levelled, map.track ? &*map.track : nullptr)}}};
+  return internal::Draw(dir, figs, tables, formats);
+}
+
+}  // namespace wearscar::report

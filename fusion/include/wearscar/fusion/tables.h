@@ -1,0 +1,43 @@
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace wearscar::fusion {
+
+// A table of numbers whose column names carry their units ("x_mm", "Q_N",
+// "mu_hat_force"); non-finite values are empty cells in CSV.
+struct Table {
+  Table() = default;
+  explicit Table(std::vector<std::string> column_names)
+      : columns(std::move(column_names)) {}
+  std::vector<std::string> columns;
+  std::vector<std::vector<double>> rows;
+
+  std::string ToCsv() const;
+  // The index of `name` among the columns, -1 when it is not one.
+  int ColumnIndex(std::string_view name) const;
+};
+
+// A table a test's products may hold: its file name, its columns and what
+// it is. Figures and other readers name columns from these lists.
+struct TableSchema {
+  std::string file;  // "detail.csv"
+  std::vector<std::string> columns;
+  std::string what;
+};
+
+// Every table of one test's products (MakeTestProducts), in the order
+// they are written; those that need a scan or LuGre are left out of a
+// test without.
+const std::vector<TableSchema>& TestTableSchemas();
+
+// The columns of the table `file` of TestTableSchemas() (the residual
+// maps of a diagnosis too); empty for a file that is not one.
+const std::vector<std::string>& TableColumns(std::string_view file);
+
+// The columns of cycles.csv.
+const std::vector<std::string>& CycleColumns();
+
+}  // namespace wearscar::fusion

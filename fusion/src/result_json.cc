@@ -1,0 +1,397 @@
+// result.json and diagnosis.json: every number of a test's summary, the
+// options that shaped it, and the diagnosis's steps.
+
+#include "result_json.h"
+
+#include <cmath>
+
+#include "wearscar/fusion/effects.h"
+
+namespace wearscar::fusion {
+namespace {
+
+double Nan() { return std::nan(""); }
+
+// Cycles are numbered from 1 in every output, as in the paper (0-based
+// inside the library); a cycle not set (-1) is null.
+std::vector<int> OneBased(std::vector<int> cycles) {
+  for (int& c : cycles) ++c;
+  return cycles;
+}
+nlohmann::json CycleNumber(int zero_based) {
+  return zero_based >= 0 ? nlohmann::json(zero_based + 1) : nlohmann::json();
+}
+
+// mean, sd, count; with the mean's 95% interval and the effective number
+// of independent cycles where they were estimated.
+nlohmann::json Stat(const Statistic& s) {
+  nlohmann::json j = {{"mean", s.mean}, {"sd", s.sd}, {"count", s.count}};
+  if (std::isfinite(s.low)) {
+    j["interval95"] = {s.low, s.high};
+    j["effective_cycles"] = s.effective_count;
+  }
+  return j;
+}
+
+nlohmann::json Split(const CostSplit& s) {
+  return {{"J", s.cost},
+          {"noise_floor", s.floor},
+          {"excess", s.excess},
+          {"excess_interval", {s.excess_low, s.excess_high}},
+          {"cycles", s.cycles},
+          {"note",
+           "J^2 = floor^2 + excess^2 per direction; the floor is what "
+           "this test's measurement noise explains, the excess what "
+           "repeats at the same x from cycle to cycle"}};
+}
+
+nlohmann::json Range(const Interval& i) {
+  return {{"mean", i.mean},
+          {"interval", {i.low, i.high}},
+          {"count", i.count},
+          {"batches", i.batches}};
+}
+
+nlohmann::json ScanOptionsJson(const FuseOptions& o);
+
+// Every option that shaped the analysis.
+nlohmann::json OptionsJson(const force::ForceRecord& record,
+                           const FuseOptions& o) {
+  const auto& f = o.analysis.friction;
+  return {{"spring_n_per_mm", f.slope.spring_n_per_mm},
+          {"k_estimate", KEstimateName(f.k_estimate)},
+          {"ensemble_cycles", f.ensemble.cycles},
+          {"ensemble_bin_mm", f.ensemble.bin_mm},
+          {"ensemble_span_mm", f.ensemble.span_mm},
+          {"correct_k_noise_bias", f.correct_k_noise_bias},
+          {"derivative", force::DerivativeMethodName(f.slope.method)},
+          {"window_samples",
+           f.slope.ForSamplingRate(SamplingRateOf(record)).window},
+          {"window_ms", f.slope.window_ms},
+          {"difference_half_span_ms", f.slope.half_span_ms},
+          {"min_span_mm", f.slope.min_span_mm},
+          {"noise_template_cycles", f.repeatability.template_cycles},
+          {"running_in_cycles",
+           o.analysis.running_in_cycles < 0
+               ? nlohmann::json("auto")
+               : nlohmann::json(o.analysis.running_in_cycles)},
+          {"running_in_tolerance", o.analysis.running_in_tolerance},
+          {"mu_interval", {f.fit.mu_min, f.fit.mu_max}},
+          {"verdict_cost", CostCriterionName(o.verdict.cost_criterion)},
+          {"max_excess", o.verdict.max_cost_excess},
+          {"max_cost", o.verdict.max_cost},
+          {"max_amplitude_ratio", o.verdict.max_amplitude_ratio},
+          {"min_correlation", o.verdict.min_correlation},
+          {"max_method_difference", o.verdict.max_method_difference},
+          {"slope", SlopeChoiceName(o.slopes)},
+          {"lugre", o.fit_lugre},
+          {"scan", ScanOptionsJson(o)}};
+}
+
+// The options of the scan side (used when a scan was given).
+nlohmann::json ScanOptionsJson(const FuseOptions& o) {
+  const auto& t = o.track;
+  nlohmann::json track = {{"min_depth_mm", t.min_depth_mm},
+                          {"depth_fraction", t.depth_fraction},
+                          {"min_elongation", t.min_elongation},
+                          {"smoothing_sigma_px", t.smoothing_sigma_px},
+                          {"manual", t.manual}};
+  if (t.manual) {
+    track["centre_x_mm"] = t.centre_x_mm;
+    track["centre_y_mm"] = t.centre_y_mm;
+    track["angle_deg"] = t.angle_deg;
+    track["length_mm"] = t.manual_length_mm;
+  }
+  return {{"level_order", o.level.polynomial_order},
+          {"level_ransac_threshold_mm", o.level.ransac_threshold_mm},
+          {"spike_threshold_mm", o.spikes.threshold_mm},
+          {"spike_kernel_px", o.spikes.kernel},
+          {"track", track},
+          {"band_mm", o.profile.band_width_mm},
+          {"centreline_extend_mm", o.profile.extend_mm},
+          {"scan_derivative", force::DerivativeMethodName(o.scan_slope.method)},
+          {"scan_window_samples", o.scan_slope.window},
+          {"compare_cycles", o.force_profile.cycles},
+          {"compare_first", CycleNumber(o.force_profile.first_cycle)},
+          {"compare_last", CycleNumber(o.force_profile.last_cycle)},
+          {"profile_step_mm", o.force_profile.step_mm},
+          {"scan_slope_history", o.scan_slope_history}};
+}
+
+// The track's size, the load and distance, and the specific wear rate
+// (null where there was no usable scan).
+nlohmann::json WearJson(const Wear& w) {
+  return {{"volume_mm3", w.volume_mm3},
+          {"mean_depth_mm", w.mean_depth_mm},
+          {"max_depth_mm", w.max_depth_mm},
+          {"width_mm", w.width_mm},
+          {"length_mm", w.length_mm},
+          {"normal_load_n", w.normal_load_n},
+          {"sliding_distance_m", w.sliding_distance_m},
+          {"specific_wear_rate_mm3_per_n_m", w.specific_rate_mm3_per_n_m}};
+}
+
+// The force file as read: layout, channels and their units.
+nlohmann::json ForceFileJson(const force::ForceMetadata& m) {
+  return {{"layout", m.layout},
+          {"channels", m.channel_names},
+          {"units", m.channel_units},
+          {"time_rebuilt", m.time_rebuilt},
+          {"normal_sign_flipped", m.normal_sign_flipped}};
+}
+
+// The comparison of the slopes over the compared cycles.
+nlohmann::json ComparisonJson(const TestResult& r) {
+  const auto& m = r.mismatch;
+  nlohmann::json j = {{"first_cycle", CycleNumber(m.first_cycle)},
+                      {"last_cycle", CycleNumber(m.last_cycle)},
+                      {"mu_hat_force", Stat(m.mu_force)},
+                      {"J_force", Stat(m.cost_force)},
+                      {"mu_mean", Stat(m.mu_mean)},
+                      {"mu_energy", Stat(m.mu_energy)},
+                      {"mu_hat_minus_mu_mean", Stat(m.mu_force_minus_mean)},
+                      {"mu_hat_minus_mu_energy", Stat(m.mu_force_minus_energy)},
+                      {"J_force_split", Split(m.split_force)},
+                      {"method_difference", Range(m.method_difference)}};
+  if (!r.scan) return j;
+  j["mu_hat_scan"] = Stat(m.mu_scan);
+  j["J_scan"] = Stat(m.cost_scan);
+  j["J_scan_split"] = Split(m.split_scan);
+  j["amplitude_ratio_interval"] = {m.amplitude_ratio_low,
+                                   m.amplitude_ratio_high};
+  j["mu_hat_force_minus_scan"] = m.mu_force_minus_scan;
+  j["k_rms_difference"] = m.k_rms_difference;
+  j["profile_correlation"] = m.correlation;
+  j["profile_correlation_noise_corrected"] = m.correlation_noise_corrected;
+  j["amplitude_ratio"] = m.amplitude_ratio;
+  return j;
+}
+
+// The scan side: levelling, spikes, track, alignment.
+nlohmann::json ScanJson(const ScanAnalysis& s) {
+  const auto& t = s.track;
+  const auto& a = s.alignment;
+  nlohmann::json j = {{"level", LevelJson(s.level)},
+                      {"spikes_removed", s.spikes_removed},
+                      {"track", TrackJson(t)},
+                      {"alignment",
+                       {{"shift_mm", a.shift_mm},
+                        {"flipped", a.flipped},
+                        {"correlation", a.correlation},
+                        {"correlation_forward", a.correlation_forward},
+                        {"correlation_reverse", a.correlation_reverse},
+                        {"scale", a.scale},
+                        {"amplitude_ratio", a.amplitude_ratio},
+                        {"overlap_samples", a.overlap_samples}}}};
+  // --scan-slope-history: the factor on the scan's slope per cycle.
+  if (!s.slope_scale.empty()) j["slope_scale"] = s.slope_scale;
+  return j;
+}
+
+nlohmann::json LugreJson(const TestResult& r) {
+  const auto& p = r.lugre->parameters;
+  return {{"cycle", CycleNumber(r.detail_cycle)},
+          {"sigma0_n_per_mm", p.sigma0_n_per_mm},
+          {"sigma1_n_s_per_mm", p.sigma1_n_s_per_mm},
+          {"sigma2_n_s_per_mm", p.sigma2_n_s_per_mm},
+          {"sigma2_negative", p.sigma2_n_s_per_mm < 0},
+          {"stribeck_speed_mm_s", p.stribeck_speed_mm_s},
+          {"F_c_N", p.coulomb_n},
+          {"F_s_N", p.static_n},
+          {"J", r.lugre->cost},
+          {"J_wearscar_same_cycle", r.force.fit_force[r.detail_cycle].cost},
+          {"converged", r.lugre->converged},
+          {"physically_plausible", r.lugre->physically_plausible},
+          {"message", r.lugre->message}};
+}
+
+// The friction map's settings and its spatial variation after running-in.
+nlohmann::json FrictionMapJson(const TestResult& r, const FuseOptions& o) {
+  return {
+      {"bin_mm", o.friction_map.bin_mm},
+      {"slope_polynomial_order",
+       o.friction_map.slope_polynomial_order != 0
+           ? o.friction_map.slope_polynomial_order
+           : o.analysis.friction.ensemble.polynomial_order},
+      {"slope_span_mm",
+       o.friction_map.slope_span_mm > 0 ? o.friction_map.slope_span_mm
+                                        : o.analysis.friction.ensemble.span_mm},
+      {"bins", r.friction_map.x_mm.size()},
+      {"first_steady_cycle", r.friction_map.first_steady_cycle + 1},
+      {"spatial_sd_raw", r.friction_map.spatial_sd_raw},
+      {"spatial_sd_corrected", r.friction_map.spatial_sd_corrected},
+      {"spatial_sd_noise_floor", r.friction_map.spatial_sd_noise},
+      {"spatial_sd_excess", r.friction_map.spatial_sd_excess}};
+}
+
+// The track's history from the spring: its waviness from the first cycle
+// to the end.
+nlohmann::json TrackHistoryJson(const TestResult& r, const FuseOptions& o) {
+  const TrackHistory& h = r.track_history;
+  nlohmann::json j = {
+      {"bin_mm", o.track_history.bin_mm},
+      {"steady_from_cycle", h.cycles > 0 ? h.steady_cycle + 1 : 0},
+      {"final_waviness_sd_mm", h.final_waviness_sd_mm},
+      {"growth_per_cycle_mm", h.growth_per_cycle_mm},
+      {"first_waviness_sd_mm",
+       h.waviness_sd_mm.empty() ? Nan() : h.waviness_sd_mm.front()}};
+  if (r.scan) {
+    // The final state against the scan: the alignment's amplitude ratio
+    // (P/S over the compared cycles against the scanned profile).
+    j["final_vs_scan_amplitude_ratio"] =
+        r.scan->alignment.amplitude_ratio;
+  }
+  return j;
+}
+
+nlohmann::json MapJson(const ResidualMap& m) {
+  auto vec = [](const Eigen::VectorXd& v) {
+    return std::vector<double>(v.data(), v.data() + v.size());
+  };
+  auto row = [](const Eigen::MatrixXd& a, int r) {
+    std::vector<double> v;
+    for (Eigen::Index c = 0; c < a.cols(); ++c) v.push_back(a(r, c));
+    return v;
+  };
+  return {{"where", m.where},
+          {"mean_abs_r_N", m.mean_abs_n_all},
+          {"x_mm", vec(m.x_mm)},
+          {"forward_mean_abs_r_N", row(m.mean_abs_n, 0)},
+          {"reverse_mean_abs_r_N", row(m.mean_abs_n, 1)},
+          {"forward_mean_r_N", row(m.mean_n, 0)},
+          {"reverse_mean_r_N", row(m.mean_n, 1)},
+          {"from_reversal_mm", vec(m.from_reversal_mm)},
+          {"forward_by_reversal_mean_abs_r_N", row(m.reversal_mean_abs_n, 0)},
+          {"reverse_by_reversal_mean_abs_r_N", row(m.reversal_mean_abs_n, 1)},
+          {"block_first_cycle", OneBased(m.block_first_cycle)},
+          {"block_mean_abs_r_N", vec(m.block_mean_abs_n)}};
+}
+
+nlohmann::json CandidateJson(const CandidateResult& c) {
+  const Effect* e = FindEffect(c.effect);
+  return {{"effect", c.effect},
+          {"key", e ? e->Key() : std::string()},
+          {"parameter_names", c.parameter_names},
+          {"parameters", c.parameters},
+          {"uncertainties", c.uncertainties},
+          {"heldout_J_before", c.heldout_before},
+          {"heldout_J_after", c.heldout_after},
+          {"relative_gain", c.relative_gain},
+          {"improved_fraction", c.improved_fraction},
+          {"delta_bic", c.delta_bic},
+          {"accepted", c.accepted}};
+}
+
+}  // namespace
+
+nlohmann::json TrackJson(const scan::Track& t) {
+  return {{"center_x_mm", t.centre_x_mm},
+          {"center_y_mm", t.centre_y_mm},
+          {"angle_deg", t.angle_deg},
+          {"length_mm", t.length_mm},
+          {"width_mm", t.width_mm},
+          {"mean_depth_mm", t.mean_depth_mm},
+          {"max_depth_mm", t.max_depth_mm},
+          {"volume_mm3", t.volume_mm3},
+          {"elongation", t.elongation},
+          {"roughness_mm", t.roughness_mm},
+          {"depth_to_roughness", t.depth_to_roughness},
+          {"low_confidence", t.low_confidence},
+          {"message", t.message},
+          {"manual", t.manual}};
+}
+
+nlohmann::json LevelJson(const scan::LevelSummary& l) {
+  return {{"order", l.order},
+          {"coefficients",
+           std::vector<double>(l.coefficients.data(),
+                               l.coefficients.data() + l.coefficients.size())},
+          {"inliers", l.inliers},
+          {"rms_mm", l.rms_mm}};
+}
+
+nlohmann::json ResultJson(const std::string& name,
+                          const force::ForceRecord& record,
+                          const TestResult& r,
+                          const FuseOptions& o,
+                          const Provenance* provenance) {
+  nlohmann::json j;
+  j["specimen"] = name;
+  j["force_file"] = record.metadata.source;
+  j["force_layout"] = record.metadata.layout;
+  j["samples"] = record.size();
+  j["sampling_rate_hz"] = record.metadata.sampling_rate_hz;
+  j["cycles"] = r.force.cycles.cycles.size();
+  j["stroke_mm"] = r.force.cycles.stroke_mm;
+  j["slip_fallback_half_cycles"] = r.force.slip_fallbacks;
+  j["force_file_read"] = ForceFileJson(record.metadata);
+  if (!r.scan_file.empty()) j["scan_file"] = r.scan_file;
+  j["options"] = OptionsJson(record, o);
+  j["running_in"] = {
+      {"cycles", r.force.running_in.cycles},
+      {"detected", r.force.running_in.detected},
+      {"tolerance", r.force.running_in.tolerance},
+      {"steady_slope_per_cycle", r.force.running_in.steady_slope},
+      {"rule", r.force.running_in.rule}};
+  j["slope_estimate"] = r.force.slope_estimate;
+  j["k_rms"] = {{"repeatable", r.force.k_signal_rms},
+                {"noise", r.force.k_noise_rms},
+                {"noise_from_ensemble_halves", r.force.k_ensemble_noise_rms},
+                {"mu_hat_bias_removed", r.force.k_noise_correction}};
+  j["after_running_in"] = {{"mu_hat", Stat(r.force.mu_hat)},
+                           {"J", Stat(r.force.cost)},
+                           {"mu_mean", Stat(r.force.mu_mean)},
+                           {"mu_energy", Stat(r.force.mu_energy)}};
+  j["comparison"] = ComparisonJson(r);
+  j["wear"] = WearJson(r.wear);
+  j["friction_map"] = FrictionMapJson(r, o);
+  j["track_history"] = TrackHistoryJson(r, o);
+  if (r.scan) j["scan"] = ScanJson(*r.scan);
+  if (r.lugre) j["lugre"] = LugreJson(r);
+  j["verdict"] = {{"explained", r.verdict.explained},
+                  {"summary", r.verdict.Summary()},
+                  {"reasons", r.verdict.reasons}};
+  std::vector<std::string> warnings = record.metadata.warnings;
+  warnings.insert(warnings.end(), r.warnings.begin(), r.warnings.end());
+  j["warnings"] = warnings;
+  if (provenance) j["provenance"] = provenance->ToJson();
+  return j;
+}
+
+namespace internal {
+
+nlohmann::json DiagnosisJson(const std::string& name, const Diagnosis& d) {
+  nlohmann::json j;
+  j["specimen"] = name;
+  std::vector<int> numbers;
+  for (int c : d.cycles) numbers.push_back(c + 1);
+  j["cycles"] = numbers;
+  j["named"] = d.named;
+  j["heldout_J_initial"] = d.heldout_initial;
+  j["heldout_J_final"] = d.heldout_final;
+  j["message"] = d.message;
+  j["joint_fits"] = {{"solves", d.solves},
+                     {"not_converged", d.solves_not_converged}};
+  j["model"] = nlohmann::json::array();
+  for (const auto& c : d.model) j["model"].push_back(CandidateJson(c));
+  j["steps"] = nlohmann::json::array();
+  for (const auto& s : d.steps) {
+    nlohmann::json step = {{"chosen", CandidateJson(s.chosen)},
+                           {"tried", nlohmann::json::array()}};
+    for (const auto& c : s.tried) step["tried"].push_back(CandidateJson(c));
+    j["steps"].push_back(step);
+  }
+  j["residual_map_before"] = MapJson(d.before);
+  j["residual_map_after"] = MapJson(d.after);
+  j["library"] = nlohmann::json::array();
+  for (const auto& e : EffectLibrary()) {
+    j["library"].push_back({{"name", e->Name()},
+                            {"key", e->Key()},
+                            {"formula", e->Formula()},
+                            {"parameters", e->ParameterNames()}});
+  }
+  return j;
+}
+
+}  // namespace internal
+}  // namespace wearscar::fusion

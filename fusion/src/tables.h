@@ -1,0 +1,32 @@
+#pragma once
+// The tables of one test's products, each from the analysis's result (no
+// analysis here: formatting only).
+
+#include <vector>
+
+#include "wearscar/force/force_record.h"
+#include "wearscar/fusion/diagnose.h"
+#include "wearscar/fusion/fuse.h"
+#include "wearscar/fusion/tables.h"
+
+namespace wearscar::fusion::internal {
+
+Table CycleTable(const TestResult& r);
+Table FrictionMapTable(const FrictionMap& m);
+Table TrackHistoryTable(const TrackHistory& h);
+// The samples of the cycles `loops` (0-based; empty: the first, third,
+// eleventh and last that exist).
+Table LoopTable(const force::ForceRecord& record,
+                const TestResult& r,
+                std::vector<int> loops);
+Table DetailTable(const DetailCycle& d);
+Table CostCurveTable(const DetailCycle& d);
+// profiles.csv: the force side's profiles and the aligned scan profile
+// along the plate.
+Table ProfileTable(const ScanAnalysis& scan);
+// centreline.csv: the scan's centreline.
+Table CentrelineTable(const scan::WearProfile& profile);
+Table LugreTable(const LugreFit& lugre, const DetailCycle& d);
+Table ResidualMapTable(const ResidualMap& m);
+
+}  // namespace wearscar::fusion::internal

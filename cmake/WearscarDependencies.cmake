@@ -41,12 +41,11 @@ if(WEARSCAR_BUILD_BENCHMARKS)
   find_package(benchmark REQUIRED)
 endif()
 
-# The command's allocator: mimalloc with 2 MiB pages (transparent huge
-# pages where the kernel allows them, MADV_HUGEPAGE). A full-size test maps
-# a few hundred MB of fresh temporaries, and a virtual machine pays about
-# 10 us per fresh 4 KiB page; glibc's malloc maps and unmaps each large
-# block anew. Only the command links it (a library must not choose its
-# users' allocator), and never under sanitizers, which bring their own.
+# The command's allocator: mimalloc, which keeps the large blocks a test's
+# analysis allocates and frees again and again (glibc's malloc maps and
+# unmaps each anew; docs/performance.md). Only the command links it (a
+# library must not choose its users' allocator), and never under
+# sanitizers, which bring their own.
 option(WEARSCAR_MIMALLOC "Link the wearscar command with mimalloc" ${wearscar_uninstrumented})
 if(WEARSCAR_MIMALLOC)
   find_package(mimalloc 2 REQUIRED)

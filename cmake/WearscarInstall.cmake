@@ -16,7 +16,7 @@ install(TARGETS wearscar_support wearscar_scan wearscar_force wearscar_fusion we
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(TARGETS wearscar RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-foreach(module scan force fusion apps/report samples)
+foreach(module support scan force fusion apps/report samples)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/${module}/include/
           DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 endforeach()

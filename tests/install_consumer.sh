@@ -14,8 +14,9 @@ test -x "$scratch/prefix/bin/wearscar"
 test -f "$scratch/prefix/include/wearscar/fusion/fit_mu.h"
 test -f "$scratch/prefix/include/wearscar/fusion/products.h"
 test -f "$scratch/prefix/include/wearscar/report/audit.h"
-# The private support headers are not installed.
-test ! -e "$scratch/prefix/include/wearscar/support"
+# The support library's headers travel with it (the settings of
+# wearscar/fusion/settings.h are its).
+test -f "$scratch/prefix/include/wearscar/support/settings.h"
 cmake -S "$source/tests/consumer" -B "$scratch/consumer" \
   -DCMAKE_PREFIX_PATH="$scratch/prefix" -DCMAKE_BUILD_TYPE=Release > /dev/null
 cmake --build "$scratch/consumer" > /dev/null

@@ -9,7 +9,8 @@
 #endif
 
 #include "commands.h"
-#include "common_options.h"
+#include "setting_flags.h"
+#include "wearscar/fusion/settings.h"
 #include "output.h"
 #include "wearscar/fusion/batch.h"
 #include "wearscar/report/audit.h"
@@ -26,7 +27,7 @@ struct AuditArgs {
   std::string shard;
   bool no_figures = false;
   report::AuditOptions audit;
-  CommonArgs common;
+  GivenSettings given;  // the settings as written
 };
 
 nlohmann::json Dig(const nlohmann::json& j,
@@ -59,7 +60,8 @@ void PrintSections(const std::vector<report::ReportSection>& sections) {
 }
 
 void RunAudit(AuditArgs a) {
-  FinaliseCommonOptions(&a.common);
+  fusion::TestSettings settings = WithFlagNames(
+      [&] { return fusion::MakeTestSettings(a.given); });
   fusion::BatchOptions& batch = a.audit.batch;
   if (!a.shard.empty() &&
       (std::sscanf(
@@ -70,9 +72,9 @@ void RunAudit(AuditArgs a) {
     throw UsageError(
         fmt::format("--shard '{}': expected i/n with 1 <= i <= n", a.shard));
   }
-  a.audit.read_force = a.common.read_force;
-  a.audit.read_scan = a.common.read_scan;
-  a.audit.fuse = a.common.fuse;
+  a.audit.read_force = settings.read_force;
+  a.audit.read_scan = settings.read_scan;
+  a.audit.fuse = settings.fuse;
   a.audit.figures = !a.no_figures;
 #if WEARSCAR_MIMALLOC
   // Each specimen maps about 90 MB of temporaries, freed when it is done;
@@ -162,7 +164,11 @@ void AddAuditCommand(CLI::App& app) {
       args->audit.diagnose,
       "Also diagnose each specimen (named missing effects, residual maps)");
   AddPrintModeOptions(cmd);
-  AddCommonOptions(cmd, &args->common, kFuseOptions);
+  AddSettingFlags(cmd,
+                  fusion::TestSettingList(),
+                  fusion::kFuseSettings,
+                  fusion::TestSettings{},
+                  &args->given);
   cmd->footer(
       "Examples:\n"
       "  wearscar audit lab/ -o audit\n"

@@ -1,7 +1,8 @@
 #include <fmt/format.h>
 
 #include "commands.h"
-#include "common_options.h"
+#include "setting_flags.h"
+#include "wearscar/fusion/settings.h"
 #include "output.h"
 #include "summaries.h"
 #include "wearscar/fusion/batch.h"
@@ -17,19 +18,20 @@ struct DiagnoseArgs {
   fusion::DiagnoseOptions diagnose;
   bool no_figures = false;
   report::FigureFormats figure_formats;
-  CommonArgs common;
+  GivenSettings given;  // the settings as written
 };
 
 void RunDiagnose(DiagnoseArgs a) {
-  FinaliseCommonOptions(&a.common);
+  fusion::TestSettings settings = WithFlagNames(
+      [&] { return fusion::MakeTestSettings(a.given); });
   std::string why;
   if (!a.diagnose.IsValid(&why)) throw UsageError("diagnose: " + why);
   const force::ForceRecord record =
-      force::ReadForceFile(a.force_file, a.common.read_force);
+      force::ReadForceFile(a.force_file, settings.read_force);
   std::optional<scan::HeightMap> map;
   if (!a.scan_file.empty())
-    map = scan::ReadScan(a.scan_file, a.common.read_scan);
-  fusion::FuseOptions fo = a.common.fuse;
+    map = scan::ReadScan(a.scan_file, settings.read_scan);
+  fusion::FuseOptions fo = settings.fuse;
   fo.fit_lugre = false;
   const fusion::TestResult r = fusion::AnalyzeTest(record, std::move(map), fo);
   fusion::DiagnoseOptions dopt = a.diagnose;
@@ -90,7 +92,11 @@ void AddDiagnoseCommand(CLI::App& app) {
       ->capture_default_str();
   AddFigureOptions(cmd, &args->no_figures, &args->figure_formats);
   AddPrintModeOptions(cmd);
-  AddCommonOptions(cmd, &args->common, kDiagnoseOptions);
+  AddSettingFlags(cmd,
+                  fusion::TestSettingList(),
+                  fusion::kDiagnoseSettings,
+                  fusion::TestSettings{},
+                  &args->given);
   cmd->footer(
       "Examples:\n"
       "  wearscar diagnose S-RL-R.force.csv --scan S-RL-R.scan.gsf -o diag\n"

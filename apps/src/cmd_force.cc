@@ -5,7 +5,8 @@
 
 #include "commands.h"
 #include "wearscar/force/layouts.h"
-#include "common_options.h"
+#include "setting_flags.h"
+#include "wearscar/fusion/settings.h"
 #include "output.h"
 #include "summaries.h"
 #include "wearscar/fusion/batch.h"
@@ -20,15 +21,16 @@ struct ForceArgs {
   std::string out;
   bool no_figures = false;
   report::FigureFormats figure_formats;
-  CommonArgs common;
+  GivenSettings given;  // the settings as written
 };
 
 void RunForce(ForceArgs a) {
-  FinaliseCommonOptions(&a.common);
+  fusion::TestSettings settings = WithFlagNames(
+      [&] { return fusion::MakeTestSettings(a.given); });
   const force::ForceRecord record =
-      force::ReadForceFile(a.file, a.common.read_force);
+      force::ReadForceFile(a.file, settings.read_force);
   const fusion::TestResult r =
-      fusion::AnalyzeTest(record, std::nullopt, a.common.fuse);
+      fusion::AnalyzeTest(record, std::nullopt, settings.fuse);
   Say("{}: {} samples at {:.0f} Hz ({} layout), stroke {:.3f} mm\n",
       a.file,
       record.size(),
@@ -65,20 +67,20 @@ void RunForce(ForceArgs a) {
     }
     Say("  (all cycles and more columns: --out DIR)\n");
     PrintJsonSummary(
-        fusion::MakeTestProducts(a.file, record, r, a.common.fuse).result);
+        fusion::MakeTestProducts(a.file, record, r, settings.fuse).result);
     return;
   }
   const OutputLock lock(a.out);
   StagedOutput stage(a.out, "force");
   const fusion::TestProducts products =
-      report::WriteTestResults(stage.dir(), a.file, record, r, a.common.fuse);
+      report::WriteTestResults(stage.dir(), a.file, record, r, settings.fuse);
   nlohmann::json summary = products.result;
   report::FigureSet figs;
   if (!a.no_figures) {
     figs = report::DrawTestFigures(stage.dir(),
                                    fusion::SpecimenName(a.file),
                                    r,
-                                   a.common.fuse,
+                                   settings.fuse,
                                    products,
                                    a.figure_formats);
     if (!figs.missing.empty()) {
@@ -113,7 +115,11 @@ void AddForceCommand(CLI::App& app) {
   cmd->add_option("-o,--out", args->out, "Directory for the results");
   AddFigureOptions(cmd, &args->no_figures, &args->figure_formats);
   AddPrintModeOptions(cmd);
-  AddCommonOptions(cmd, &args->common, kForceCommandOptions);
+  AddSettingFlags(cmd,
+                  fusion::TestSettingList(),
+                  fusion::kForceCommandSettings,
+                  fusion::TestSettings{},
+                  &args->given);
   std::string layouts = "Layouts read (told apart by the file itself):\n";
   for (const force::ForceLayout& l : force::ForceLayouts())
     layouts += fmt::format("  {:<11} {}\n", l.name, l.instruments);

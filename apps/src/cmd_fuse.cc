@@ -1,7 +1,8 @@
 #include <fmt/format.h>
 
 #include "commands.h"
-#include "common_options.h"
+#include "setting_flags.h"
+#include "wearscar/fusion/settings.h"
 #include "output.h"
 #include "summaries.h"
 #include "wearscar/fusion/batch.h"
@@ -22,31 +23,32 @@ struct FuseArgs {
   std::vector<int> loops;  // from 1
   bool no_figures = false;
   report::FigureFormats figure_formats;
-  CommonArgs common;
+  GivenSettings given;  // the settings as written
 };
 
 void RunFuse(FuseArgs a) {
-  FinaliseCommonOptions(&a.common);
+  fusion::TestSettings settings = WithFlagNames(
+      [&] { return fusion::MakeTestSettings(a.given); });
   // Cycles are numbered from 1 on the command line, from 0 in the library.
-  a.common.fuse.detail_cycle = a.detail_cycle - 1;
+  settings.fuse.detail_cycle = a.detail_cycle - 1;
   for (int c : a.loops) a.write.loop_cycles.push_back(c - 1);
   if (a.scan_file.empty() &&
-      a.common.fuse.slopes == fusion::SlopeChoice::kScan) {
+      settings.fuse.slopes == fusion::SlopeChoice::kScan) {
     throw UsageError("fuse: --slope scan needs --scan");
   }
   const std::string name =
       a.name.empty() ? fusion::SpecimenName(a.force_file) : a.name;
   const fusion::SpecimenAnalysis analysis =
       fusion::AnalyzeSpecimen({name, a.force_file, a.scan_file, ""},
-                              a.common.read_force,
-                              a.common.read_scan,
-                              a.common.fuse);
+                              settings.read_force,
+                              settings.read_scan,
+                              settings.fuse);
   const force::ForceRecord& record = analysis.record;
   const fusion::TestResult& r = analysis.result;
   PrintSummary(name, r);
   if (a.out.empty()) {
     PrintJsonSummary(
-        fusion::MakeTestProducts(name, record, r, a.common.fuse, a.write)
+        fusion::MakeTestProducts(name, record, r, settings.fuse, a.write)
             .result);
     Say("nothing written (give -o DIR for the tables and figures)\n");
     return;
@@ -56,12 +58,12 @@ void RunFuse(FuseArgs a) {
   const OutputLock lock(a.out);
   StagedOutput stage(a.out, "fuse");
   const fusion::TestProducts products = report::WriteTestResults(
-      stage.dir(), name, record, r, a.common.fuse, a.write);
+      stage.dir(), name, record, r, settings.fuse, a.write);
   nlohmann::json summary = products.result;
   report::FigureSet figs;
   if (!a.no_figures) {
     figs = report::DrawTestFigures(
-        stage.dir(), name, r, a.common.fuse, products, a.figure_formats);
+        stage.dir(), name, r, settings.fuse, products, a.figure_formats);
     if (!figs.missing.empty()) {
       report::AddWarningToResult(stage.dir(), figs.message);
       summary["warnings"].push_back(figs.message);
@@ -110,7 +112,11 @@ void AddFuseCommand(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   AddFigureOptions(cmd, &args->no_figures, &args->figure_formats);
   AddPrintModeOptions(cmd);
-  AddCommonOptions(cmd, &args->common, kFuseOptions);
+  AddSettingFlags(cmd,
+                  fusion::TestSettingList(),
+                  fusion::kFuseSettings,
+                  fusion::TestSettings{},
+                  &args->given);
   cmd->footer(
       "Examples:\n"
       "  wearscar fuse B-RT-R.force.csv --scan B-RT-R.zon -o out/B-RT-R\n"

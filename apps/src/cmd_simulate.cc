@@ -8,7 +8,8 @@
 
 #include "commands.h"
 #include "output.h"
-#include "simulate_options.h"
+#include "setting_flags.h"
+#include "wearscar/samples/simulation_settings.h"
 #include "wearscar/force/read_force.h"
 #include "wearscar/samples/virtual_tribometer.h"
 #include "wearscar/scan/gsf.h"
@@ -17,14 +18,17 @@ namespace wearscar::app {
 namespace {
 
 struct SimulateCommandArgs {
-  SimulateArgs cases;
+  GivenSettings given;  // the simulation's settings as written
   std::string out = "simulated";
   std::vector<std::string> formats = {"csv", "rtec", "gsf", "keyence-csv"};
 };
 
 void RunSimulate(const SimulateCommandArgs& a) {
-  const std::vector<samples::SimulationOptions> cases =
-      SimulationCases(a.cases);
+  const std::vector<samples::SimulationOptions> cases = WithFlagNames([&] {
+    samples::SimulationRequest request;
+    support::ApplySettings(samples::SimulationSettingList(), a.given, &request);
+    return samples::SimulationCases(request);
+  });
   auto wants = [&](const char* f) {
     return std::find(a.formats.begin(), a.formats.end(), f) != a.formats.end();
   };
@@ -77,7 +81,11 @@ void AddSimulateCommand(CLI::App& app) {
                                  "the paper's 12 cases (B|S x RT-R, "
                                  "RT-T, RL-R, RL-L, TL-T, TL-L) with ground "
                                  "truth and optional hidden effects");
-  AddSimulationOptions(cmd, &args->cases);
+  AddSettingFlags(cmd,
+                  samples::SimulationSettingList(),
+                  ~0u,
+                  samples::SimulationRequest{},
+                  &args->given);
   cmd->add_option("-o,--out", args->out, "Output directory")
       ->capture_default_str();
   cmd->add_option("--formats",

@@ -5,10 +5,6 @@
 #include <CLI/CLI.hpp>
 #include <exception>
 
-#if WEARSCAR_MIMALLOC
-#include <mimalloc.h>
-#endif
-
 #include "commands.h"
 #include "wearscar/fusion/logging.h"
 #include "wearscar/fusion/provenance.h"
@@ -42,12 +38,6 @@ bool IsCommand(CLI::App& app, const std::string& name) {
 }  // namespace
 
 int main(int argc, char** argv) {
-#if WEARSCAR_MIMALLOC
-  // 2 MiB pages for the large arrays of a full-size test (see
-  // cmake/WearscarDependencies.cmake): a quarter of a fuse's time was
-  // first-touch page faults.
-  mi_option_set_enabled(mi_option_large_os_pages, true);
-#endif
   CLI::App app{
       "wearscar: identify the sliding friction coefficient (mu-hat) of "
       "reciprocating friction tests whose loops look non-Coulomb, from the "

@@ -1,84 +1,111 @@
 // wearscar._wearscar: the library for Python. The keyword arguments of the
-// functions in wearscar/__init__.py are the command line's options (same
-// names with '_' for '-', same defaults, same checks and messages): they
-// arrive here as an argument list and are parsed by the command line's own
-// option code (apps/options/common_options.h, simulate_options.h). Files,
-// figures and the audit's report are written by wearscar::report, as the
-// command writes them.
+// functions in wearscar/__init__.py are the libraries' settings
+// (fusion::TestSettingList, samples::SimulationSettingList: the command
+// line's options, with '_' for '-', the same defaults, checks and
+// messages); they arrive here as (name, text) pairs. Files, figures and the
+// audit's report are written by wearscar::report, as the command writes
+// them.
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <filesystem>
-#include <mutex>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
-#include "common_options.h"
-#include "simulate_options.h"
-#include "usage_error.h"
 #include "wearscar/force/read_force.h"
 #include "wearscar/fusion/batch.h"
 #include "wearscar/fusion/error.h"
 #include "wearscar/fusion/logging.h"
 #include "wearscar/fusion/products.h"
 #include "wearscar/fusion/provenance.h"
+#include "wearscar/fusion/settings.h"
 #include "wearscar/report/audit.h"
 #include "wearscar/report/figures.h"
 #include "wearscar/report/output_folder.h"
 #include "wearscar/report/test_folder.h"
+#include "wearscar/samples/simulation_settings.h"
 #include "wearscar/samples/virtual_tribometer.h"
 #include "wearscar/scan/read_scan.h"
 
 namespace py = pybind11;
 
 namespace wearscar::python {
-namespace {
 
-namespace fs = std::filesystem;
+// A bad value of a keyword argument (Python's ValueError OptionError).
+class OptionError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
-// Keyword arguments that are not options of this function.
+// A keyword argument a function does not take (Python's TypeError).
 class UnknownOption : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
 
-// Every "--name" of `args` is an option of `parser`; else the TypeError
-// Python gives for a keyword a function does not take.
-void CheckKeywords(CLI::App& parser,
-                   const std::vector<std::string>& args,
+namespace {
+
+namespace fs = std::filesystem;
+
+using Given = std::vector<std::pair<std::string, std::string>>;
+
+// A setting's name as a Python keyword: '_' for '-'.
+std::string Keyword(std::string name) {
+  std::replace(name.begin(), name.end(), '-', '_');
+  return name;
+}
+
+// Every keyword of `given` is a setting of `list` in `sections`; else the
+// TypeError Python gives for a keyword a function does not take, with the
+// closest keywords it does take.
+template <class Target>
+void CheckKeywords(const std::vector<support::Setting<Target>>& list,
+                   unsigned sections,
+                   const Given& given,
                    const std::string& function) {
-  for (const std::string& arg : args) {
-    if (arg.rfind("--", 0) != 0 || parser.get_option_no_throw(arg)) continue;
-    std::string keyword = arg.substr(2);
-    std::replace(keyword.begin(), keyword.end(), '-', '_');
+  std::vector<std::string> keywords;
+  for (const auto& s : list) {
+    if (s.sections & sections) keywords.push_back(Keyword(s.name));
+  }
+  for (const auto& [name, text] : given) {
+    const std::string keyword = Keyword(name);
+    if (std::find(keywords.begin(), keywords.end(), keyword) != keywords.end())
+      continue;
+    const std::vector<std::string> close =
+        support::ClosestNames(keywords, keyword);
     throw UnknownOption(function + "() got an unexpected keyword argument '" +
-                        keyword + "'");
+                        keyword + "'" +
+                        (close.empty() ? std::string()
+                                       : "; did you mean '" + close[0] + "'?"));
   }
 }
 
-// Parses `args` (["--spring", "8.5", ...]) with the options of `groups`.
-app::CommonArgs ParseOptions(const std::vector<std::string>& args,
-                             unsigned groups,
-                             const std::string& function) {
-  CLI::App parser{"", "wearscar." + function};
-  app::CommonArgs a;
-  app::AddCommonOptions(&parser, &a, groups);
-  CheckKeywords(parser, args, function);
-  std::vector<std::string> reversed(args.rbegin(), args.rend());
+// `make()`, a support::SettingFailed from it an OptionError naming the
+// keyword as Python writes it: "fuse(spring=...): found 0; expected ...".
+template <class Make>
+auto WithKeywordNames(const std::string& function, Make make)
+    -> decltype(make()) {
   try {
-    parser.parse(reversed);
-  } catch (const CLI::ExtrasError& e) {
-    throw UnknownOption(function + ": " + e.what());
-  } catch (const CLI::ParseError& e) {
-    throw app::UsageError(function + ": " + e.what());
+    return make();
+  } catch (const support::SettingFailed& e) {
+    throw OptionError(e.name.empty() ? function + "(): " + e.what()
+                                     : function + "(" + Keyword(e.name) +
+                                           "=...): " + e.what());
   }
-  app::FinaliseCommonOptions(&a);
-  return a;
+}
+
+// The test's settings from keyword arguments of `function`.
+fusion::TestSettings Settings(const Given& given,
+                              unsigned sections,
+                              const std::string& function) {
+  CheckKeywords(fusion::TestSettingList(), sections, given, function);
+  return WithKeywordNames(function,
+                          [&] { return fusion::MakeTestSettings(given); });
 }
 
 // One analysed test: its products (result.json and the tables) and what
@@ -126,7 +153,7 @@ struct TestOutput {
     if (figures.empty()) return {written, ""};
     report::FigureFormats formats;
     if (!report::FigureFormats::Parse(figures, &formats)) {
-      throw app::UsageError(
+      throw OptionError(
           "write: figures: expected svg, png or svg,png; "
           "found '" +
           figures + "'");
@@ -141,7 +168,7 @@ struct TestOutput {
 
 // A force record from a path (read with the options) or given.
 force::ForceRecord ForceOf(const py::object& force,
-                           const app::CommonArgs& a,
+                           const fusion::TestSettings& a,
                            std::string* path) {
   if (py::isinstance<py::str>(force)) {
     *path = force.cast<std::string>();
@@ -152,7 +179,7 @@ force::ForceRecord ForceOf(const py::object& force,
 }
 
 std::optional<scan::HeightMap> ScanOf(const py::object& scan,
-                                      const app::CommonArgs& a) {
+                                      const fusion::TestSettings& a) {
   if (scan.is_none()) return std::nullopt;
   if (py::isinstance<py::str>(scan)) {
     const std::string path = scan.cast<std::string>();
@@ -164,26 +191,18 @@ std::optional<scan::HeightMap> ScanOf(const py::object& scan,
 
 TestOutput Fuse(const py::object& force,
                 const py::object& scan,
-                const std::vector<std::string>& args,
+                const Given& given,
                 const std::string& name,
-                const std::vector<std::string>& product_args) {
-  app::CommonArgs a = ParseOptions(args, app::kFuseOptions, "fuse");
+                int detail_cycle,
+                const std::vector<int>& loops) {
+  fusion::TestSettings a = Settings(given, fusion::kFuseSettings, "fuse");
   fusion::ProductOptions products;
-  {
-    CLI::App parser{"", "wearscar.fuse"};
-    int detail = 0;
-    std::vector<int> loops;
-    parser.add_option("--detail-cycle", detail)->check(CLI::PositiveNumber);
-    parser.add_option("--loops", loops)->check(CLI::PositiveNumber);
-    std::vector<std::string> reversed(product_args.rbegin(),
-                                      product_args.rend());
-    try {
-      parser.parse(reversed);
-    } catch (const CLI::ParseError& e) {
-      throw app::UsageError(std::string("fuse: ") + e.what());
-    }
-    a.fuse.detail_cycle = detail - 1;  // from 1 outside, from 0 inside
-    for (int c : loops) products.loop_cycles.push_back(c - 1);
+  if (detail_cycle < 0)
+    throw OptionError("fuse(detail_cycle=...): cycles are counted from 1");
+  a.fuse.detail_cycle = detail_cycle - 1;  // from 1 outside, from 0 inside
+  for (int c : loops) {
+    if (c < 1) throw OptionError("fuse(loops=...): cycles are counted from 1");
+    products.loop_cycles.push_back(c - 1);
   }
   std::string path;
   const force::ForceRecord record = ForceOf(force, a, &path);
@@ -204,7 +223,7 @@ TestOutput Fuse(const py::object& force,
 // One row of the batch table: the specimen's result.json with its
 // identity, or its error (nothing written).
 nlohmann::json AuditOne(const fusion::Specimen& s,
-                        const app::CommonArgs& a,
+                        const fusion::TestSettings& a,
                         const fusion::BatchOptions& batch) {
   nlohmann::json row = fusion::SpecimenIdentity(s.name, batch.naming);
   try {
@@ -223,13 +242,13 @@ nlohmann::json AuditOne(const fusion::Specimen& s,
 // With `out`, what `wearscar audit` writes there (report::Audit); without,
 // the rows alone.
 std::string Audit(const std::string& input,
-                  const std::vector<std::string>& args,
+                  const Given& given,
                   const std::string& name_pattern,
                   bool recursive,
                   int jobs,
                   const std::string& out,
                   const std::string& figures) {
-  const app::CommonArgs a = ParseOptions(args, app::kFuseOptions, "audit");
+  const fusion::TestSettings a = Settings(given, fusion::kFuseSettings, "audit");
   report::AuditOptions o;
   fusion::BatchOptions& batch = o.batch;
   if (!name_pattern.empty()) batch.name_pattern = name_pattern;
@@ -242,7 +261,7 @@ std::string Audit(const std::string& input,
   if (out.empty()) {
     // As wearscar audit: as many workers as cores analyse each specimen on
     // their own thread.
-    app::CommonArgs worker_args = a;
+    fusion::TestSettings worker_args = a;
     if (fusion::WorkersFillCores(specimens.size(), batch.jobs))
       worker_args.fuse.parallel = false;
     fusion::ForEachSpecimen(
@@ -257,7 +276,7 @@ std::string Audit(const std::string& input,
   o.fuse = a.fuse;
   o.figures = !figures.empty();
   if (o.figures && !report::FigureFormats::Parse(figures, &o.figure_formats)) {
-    throw app::UsageError(
+    throw OptionError(
         "audit: figures: expected svg, png or svg,png; "
         "found '" +
         figures + "'");
@@ -274,20 +293,15 @@ struct Simulated {
   std::string truth_json;
 };
 
-std::vector<Simulated> Simulate(const std::vector<std::string>& args) {
-  CLI::App parser{"", "wearscar.simulate"};
-  app::SimulateArgs s;
-  app::AddSimulationOptions(&parser, &s);
-  CheckKeywords(parser, args, "simulate");
-  std::vector<std::string> reversed(args.rbegin(), args.rend());
-  try {
-    parser.parse(reversed);
-  } catch (const CLI::ExtrasError& e) {
-    throw UnknownOption(std::string("simulate: ") + e.what());
-  } catch (const CLI::ParseError& e) {
-    throw app::UsageError(std::string("simulate: ") + e.what());
-  }
-  const std::vector<samples::SimulationOptions> cases = app::SimulationCases(s);
+std::vector<Simulated> Simulate(const Given& given) {
+  const auto& list = samples::SimulationSettingList();
+  CheckKeywords(list, ~0u, given, "simulate");
+  const std::vector<samples::SimulationOptions> cases =
+      WithKeywordNames("simulate", [&] {
+        samples::SimulationRequest request;
+        support::ApplySettings(list, given, &request);
+        return samples::SimulationCases(request);
+      });
   py::gil_scoped_release release;
   std::vector<Simulated> out;
   for (const samples::SimulationOptions& o : cases) {
@@ -334,7 +348,7 @@ void DefineRecords(py::module_& m) {
                        const std::string& source) {
              if (x.size() != t.size() || q.size() != t.size() ||
                  p.size() != t.size()) {
-               throw app::UsageError(
+               throw OptionError(
                    "ForceRecord: time_s, x_mm, q_n and p_n must have one "
                    "length");
              }
@@ -374,7 +388,7 @@ void DefineRecords(py::module_& m) {
                        double dy,
                        const std::string& source) {
              if (!(dx > 0) || !(dy > 0))
-               throw app::UsageError("HeightMap: dx_mm and dy_mm must be > 0");
+               throw OptionError("HeightMap: dx_mm and dy_mm must be > 0");
              scan::HeightMap map;
              map.height_mm = h;
              map.dx_mm = dx;
@@ -418,17 +432,15 @@ void DefineFunctions(py::module_& m) {
       .def_readonly("force", &Simulated::force)
       .def_readonly("scan", &Simulated::scan)
       .def_readonly("truth_json", &Simulated::truth_json);
-  m.def("_read_force",
-        [](const std::string& path, const std::vector<std::string>& args) {
-          const app::CommonArgs a =
-              ParseOptions(args, app::kForceFileOptions, "read_force");
+  m.def("_read_force", [](const std::string& path, const Given& given) {
+          const fusion::TestSettings a =
+              Settings(given, fusion::kForceFileSettings, "read_force");
           py::gil_scoped_release release;
           return force::ReadForceFile(path, a.read_force);
         });
-  m.def("_read_scan",
-        [](const std::string& path, const std::vector<std::string>& args) {
-          const app::CommonArgs a =
-              ParseOptions(args, app::kScanFileOptions, "read_scan");
+  m.def("_read_scan", [](const std::string& path, const Given& given) {
+          const fusion::TestSettings a =
+              Settings(given, fusion::kScanFileSettings, "read_scan");
           py::gil_scoped_release release;
           return scan::ReadScan(path, a.read_scan);
         });
@@ -453,7 +465,7 @@ PYBIND11_MODULE(_wearscar, m) {
       m, "ScanError", PyExc_ValueError);
   static py::exception<fusion::FusionError> fusion_error(
       m, "FusionError", PyExc_ValueError);
-  static py::exception<app::UsageError> option_error(
+  static py::exception<python::OptionError> option_error(
       m, "OptionError", PyExc_ValueError);
   static py::exception<report::OutputError> output_error(
       m, "OutputError", PyExc_OSError);
@@ -466,7 +478,7 @@ PYBIND11_MODULE(_wearscar, m) {
       scan_error(e.what());
     } catch (const fusion::FusionError& e) {
       fusion_error(e.what());
-    } catch (const app::UsageError& e) {
+    } catch (const python::OptionError& e) {
       option_error(e.what());
     } catch (const report::OutputError& e) {
       output_error(e.what());

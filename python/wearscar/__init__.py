@@ -11,8 +11,9 @@ Keyword arguments are the command line's options with '_' for '-' and the
 same defaults (``wearscar fuse --help`` lists them): ``spring=10.19``,
 ``k_estimate="cycle"``, ``running_in=20``, ``slope="scan"``,
 ``no_lugre=True``, ``columns="x=Pos:um,q=Ff,p=Fn"``. Bad values raise
-``OptionError`` (a ValueError) with the command line's message; a keyword
-that is not an option raises TypeError; bad files raise ``ForceError`` or
+``OptionError`` (a ValueError) naming the keyword; a keyword that is not
+an option raises TypeError (with the closest one it may have meant); bad
+files raise ``ForceError`` or
 ``ScanError`` naming the file, the line or byte, what was found and what
 was expected; a folder that cannot be written raises ``OutputError`` (an
 OSError). Long calls release the GIL.
@@ -56,25 +57,23 @@ HeightMap.to_dict = _map_to_dict
 
 
 def _args(options):
-    """Keyword arguments as command-line options: spring=10.19 ->
-    ["--spring", "10.19"]; True -> the flag; False and None -> left out;
-    a list or tuple -> the option repeated over its items."""
+    """Keyword arguments as the library's settings, (name, text) pairs:
+    spring=10.19 -> ("spring", "10.19"); True and False -> "true" and
+    "false"; None -> left out; a list or tuple -> the setting repeated over
+    its items."""
     out = []
     for key, value in options.items():
-        flag = "--" + key.replace("_", "-")
-        if value is None or value is False:
+        name = key.replace("_", "-")
+        if value is None:
             continue
-        if value is True:
-            out.append(flag)
-        elif isinstance(value, (list, tuple)):
-            for item in value:
-                out += [flag, _text(item)]
-        else:
-            out += [flag, _text(value)]
+        for item in value if isinstance(value, (list, tuple)) else [value]:
+            out.append((name, _text(item)))
     return out
 
 
 def _text(value):
+    if isinstance(value, bool):
+        return "true" if value else "false"
     if isinstance(value, float):
         return repr(value)
     if isinstance(value, os.PathLike):
@@ -177,9 +176,9 @@ def fuse(force, scan=None, name=None, detail_cycle=None, loops=None,
     a HeightMap or None (the force slope only). Options are those of
     `wearscar fuse` (reading, method, verdict, scan); cycles are numbered
     from 1 (detail_cycle, loops). Returns a Result."""
-    product_args = _args({"detail_cycle": detail_cycle, "loops": loops})
     return Result(_wearscar._fuse(_path_or(force), _path_or(scan),
-                                  _args(options), name or "", product_args))
+                                  _args(options), name or "",
+                                  detail_cycle or 0, list(loops or [])))
 
 
 def audit(folder, out=None, jobs=0, name_pattern=None, recursive=True,

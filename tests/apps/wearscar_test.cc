@@ -317,8 +317,8 @@ TEST(Cli, UnitsGivenPerColumnAndAManifestWithQuotedCommas) {
   const CommandResult bad =
       Wearscar("force " + data + "home_built_um.csv --x-unit furlong");
   EXPECT_EQ(bad.status, 2);
-  EXPECT_NE(bad.output.find("--x-unit 'furlong': the x unit is not a length "
-                            "unit"),
+  EXPECT_NE(bad.output.find("--x-unit: found 'furlong': the x unit is not a "
+                            "length unit"),
             std::string::npos)
       << bad.output;
   // A manifest whose quoted path holds a comma (RFC 4180).
@@ -595,12 +595,12 @@ TEST(Cli, OptionsOutOfRangeAreRefusedByTheirOwnName) {
     std::string args, message;
   } cases[] = {
       {"force " + kData + "generic.csv --spring 0",
-       "--spring: Value 0 not in range"},
+       "--spring: found 0; expected a number from 1e-06 to 1e+06"},
       {"force " + kData + "generic.csv --mu-max -1",
-       "--mu-max: Value -1 not in range"},
+       "--mu-max: found -1; expected a number from 0.001 to 10"},
       {"fuse --force " + kData +
            "generic.csv --compare-first 15 --compare-last 3",
-       "--compare-first 15 is after --compare-last 3"},
+       "--compare-first: cycle 15 is after the last compared cycle 3"},
       {"force " + kData + "generic.csv --running-in 1000000",
        "a running-in of 1000000 cycles was given (--running-in); the test "
        "has 2 complete cycles"},

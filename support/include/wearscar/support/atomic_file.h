@@ -2,7 +2,6 @@
 
 // Writing a file so that no reader ever sees it half-written: the bytes go
 // to a temporary name beside it, which is renamed into place once complete.
-// Private to wearscar's libraries (not installed).
 
 #include <fcntl.h>
 #include <fmt/format.h>

@@ -5,7 +5,6 @@
 // debug and sanitizer builds (WEARSCAR_CHECKS defined), and costs nothing
 // in release builds, where bad input is caught earlier and reported as an
 // error. A failed check is a bug in the calling code, never bad input.
-// Private to wearscar's libraries (not installed).
 
 #include <cstdio>
 #include <cstdlib>

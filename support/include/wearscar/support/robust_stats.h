@@ -1,7 +1,6 @@
 #pragma once
 
-// Order statistics shared by the libraries. Private to wearscar's
-// libraries (not installed).
+// Order statistics shared by the libraries.
 
 #include <algorithm>
 #include <cmath>

@@ -1,0 +1,55 @@
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "wearscar/force/read_force.h"
+#include "wearscar/fusion/fuse.h"
+#include "wearscar/scan/read_scan.h"
+#include "wearscar/support/settings.h"
+
+namespace wearscar::fusion {
+
+// Everything the reading and the analysis of one test take.
+struct TestSettings {
+  force::ReadForceOptions read_force;
+  scan::ReadScanOptions read_scan;
+  FuseOptions fuse;
+};
+
+// Which commands take a setting (Setting::sections): a command lists only
+// what it uses.
+enum SettingSection : unsigned {
+  kForceFileSettings = 1u << 0,  // columns, units, rate
+  kSlopeSettings = 1u << 1,      // spring, k estimate, stencil, running-in
+  kVerdictSettings = 1u << 2,    // the verdict's limits
+  kLugreSettings = 1u << 3,
+  kCompareSettings = 1u << 4,    // the slope choice, cycles compared
+  kScanFileSettings = 1u << 5,   // reading a scan
+  kLevelTrackSettings = 1u << 6  // levelling and the track of a scan
+};
+inline constexpr unsigned kForceCommandSettings =
+    kForceFileSettings | kSlopeSettings | kVerdictSettings | kLugreSettings;
+inline constexpr unsigned kFuseSettings = kForceCommandSettings |
+                                          kCompareSettings | kScanFileSettings |
+                                          kLevelTrackSettings;
+inline constexpr unsigned kDiagnoseSettings =
+    kForceFileSettings | kSlopeSettings | kScanFileSettings |
+    kLevelTrackSettings;
+
+// Every setting of a test as text: "spring" (--spring 8.5 on the command
+// line, spring=8.5 in Python), "running-in" (auto or a number of cycles),
+// "columns" (time=NAME,x=NAME:UNIT,q=...,p=...), the units, the slope
+// choice, the verdict's limits, the scan's levelling and track. Cycles are
+// counted from 1 in the text, from 0 in the structs.
+const std::vector<support::Setting<TestSettings>>& TestSettingList();
+
+// The settings from the defaults with `given` (name, text) applied, then
+// checked across settings (the first compared cycle before the last, every
+// option struct valid). Throws support::SettingFailed naming the setting
+// (its name empty for a check across settings).
+TestSettings MakeTestSettings(
+    const std::vector<std::pair<std::string, std::string>>& given);
+
+}  // namespace wearscar::fusion

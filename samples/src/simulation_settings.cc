@@ -1,0 +1,157 @@
+#include "wearscar/samples/simulation_settings.h"
+
+#include <fmt/format.h>
+
+#include <stdexcept>
+
+namespace wearscar::samples {
+namespace {
+
+using support::FlagSetting;
+using support::NumberSetting;
+using support::SettingFailed;
+using R = SimulationRequest;
+using S = support::Setting<R>;
+
+// A setting given more than once adds to a list.
+S Repeated(std::string name,
+           std::string help,
+           std::vector<std::string> R::*list) {
+  return {std::move(name), "Simulation", std::move(help), "TEXT", ~0u,
+          [list](R* r, const std::string& text) { (r->*list).push_back(text); },
+          [](const R&) { return std::string(); }};
+}
+
+// An override: a positive number, or nothing (each case's own value).
+S Override(std::string name, std::string help, double lo, double hi,
+           double R::*field) {
+  S s = NumberSetting<R>(std::move(name), "Simulation", std::move(help), lo, hi,
+                         [field](R& r) -> double& { return r.*field; });
+  s.show = [](const R&) { return std::string(); };
+  return s;
+}
+
+S IntOverride(std::string name, std::string help, long lo, long hi,
+              int R::*field) {
+  return {std::move(name), "Simulation", std::move(help), "INTEGER", ~0u,
+          [field, lo, hi](R* r, const std::string& text) {
+            r->*field = static_cast<int>(support::ParseInteger(text, lo, hi));
+          },
+          [](const R&) { return std::string(); }};
+}
+
+std::vector<S> AllSettings() {
+  const SimulationOptions d;  // the help shows its values
+  return {
+      Repeated("case", "Case name, e.g. B-RT-R (repeatable)", &R::cases),
+      FlagSetting<R>("all", "Simulation", "All 12 cases",
+                     [](R& r) -> bool& { return r.all; }),
+      IntOverride("cycles", fmt::format("Cycles (default {})", d.cycles), 1,
+                  10000000, &R::cycles),
+      Override("rate",
+               fmt::format("Sampling rate in Hz (default {})",
+                           d.sampling_rate_hz),
+               1e-3, 1e8, &R::rate_hz),
+      Override("amplitude",
+               fmt::format("Stroke amplitude A, mm: x = +-A (default {})",
+                           d.amplitude_mm),
+               1e-6, 1e3, &R::amplitude_mm),
+      Override("frequency",
+               fmt::format("Drive frequency, Hz (default {})", d.frequency_hz),
+               1e-6, 1e5, &R::frequency_hz),
+      IntOverride("scan-cols",
+                  fmt::format("Scan width in pixels (default {})", d.scan_cols),
+                  2, 100000, &R::scan_cols),
+      IntOverride("scan-rows",
+                  fmt::format("Scan height in pixels (default {})", d.scan_rows),
+                  2, 100000, &R::scan_rows),
+      Override("scan-pitch",
+               fmt::format("Scan pixel size, mm (default {})", d.scan_pitch_mm),
+               1e-7, 100, &R::scan_pitch_mm),
+      FlagSetting<R>("triangle", "Simulation",
+                     "Triangular drive instead of sine",
+                     [](R& r) -> bool& { return r.triangle; }),
+      FlagSetting<R>("no-elastic", "Simulation",
+                     "No elastic part in S-RL-R (every case explained by "
+                     "wear-scar)",
+                     [](R& r) -> bool& { return r.no_elastic; }),
+      Override("noise",
+               fmt::format("Scale of the sensor noise; 1 = calibrated to the "
+                           "paper's J (P {} N, Q {} N sd on beech, more on "
+                           "spruce)",
+                           d.p_noise_n, d.q_noise_n),
+               0, 1000, &R::noise),
+      Override("elastic",
+               "Elastic part of the normal displacement as a fraction of the "
+               "worn profile's sd (0.25 = 25%), in every case",
+               0, 10, &R::elastic_fraction),
+      {"seed", "Simulation",
+       "Random seed for every case (default: each case's own)", "INTEGER",
+       ~0u,
+       [](R* r, const std::string& text) {
+         r->seed = support::ParseInteger(text, 0, 2147483647L);
+       },
+       [](const R&) { return std::string(); }},
+      Repeated("effect",
+               "Hidden effect as name=value (repeatable): " +
+                   HiddenEffectNames(),
+               &R::effects),
+  };
+}
+
+// The request's overrides on one case.
+void Override(const SimulationRequest& r, const HiddenEffects& effects,
+              SimulationOptions* o) {
+  if (r.cycles > 0) o->cycles = r.cycles;
+  if (r.rate_hz > 0) o->sampling_rate_hz = r.rate_hz;
+  if (r.amplitude_mm > 0) o->amplitude_mm = r.amplitude_mm;
+  if (r.frequency_hz > 0) o->frequency_hz = r.frequency_hz;
+  if (r.scan_cols > 0) o->scan_cols = r.scan_cols;
+  if (r.scan_rows > 0) o->scan_rows = r.scan_rows;
+  if (r.scan_pitch_mm > 0) o->scan_pitch_mm = r.scan_pitch_mm;
+  if (r.triangle) o->drive = Drive::kTriangle;
+  if (r.noise >= 0) o->noise_scale = r.noise;
+  if (r.elastic_fraction >= 0) o->elastic_fraction = r.elastic_fraction;
+  o->effects = effects;
+  if (r.seed >= 0) o->seed = static_cast<std::uint64_t>(r.seed);
+}
+
+}  // namespace
+
+const std::vector<support::Setting<SimulationRequest>>& SimulationSettingList() {
+  static const std::vector<S> list = AllSettings();
+  return list;
+}
+
+std::vector<SimulationOptions> SimulationCases(const SimulationRequest& r) {
+  std::vector<SimulationOptions> cases;
+  if (r.all) {
+    cases = PaperCases(!r.no_elastic);
+  } else {
+    if (r.cases.empty())
+      throw SettingFailed("case", "no case asked for; expected a case name (repeatable) or all");
+    for (const auto& name : r.cases) {
+      try {
+        cases.push_back(PaperCase(name, !r.no_elastic));
+      } catch (const std::invalid_argument& e) {
+        throw SettingFailed("case", e.what());
+      }
+    }
+  }
+  HiddenEffects effects;
+  for (const auto& setting : r.effects) {
+    try {
+      ApplyEffectSetting(setting, &effects);
+    } catch (const std::invalid_argument& e) {
+      throw SettingFailed("effect", e.what());
+    }
+  }
+  for (auto& o : cases) {
+    Override(r, effects, &o);
+    std::string why;
+    if (!o.IsValid(&why)) throw SettingFailed("", why);
+  }
+  return cases;
+}
+
+}  // namespace wearscar::samples

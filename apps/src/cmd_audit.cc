@@ -9,10 +9,10 @@
 #endif
 
 #include "commands.h"
-#include "setting_flags.h"
-#include "wearscar/fusion/settings.h"
 #include "output.h"
+#include "setting_flags.h"
 #include "wearscar/fusion/batch.h"
+#include "wearscar/fusion/settings.h"
 #include "wearscar/report/audit.h"
 #include "wearscar/scan/formats.h"
 
@@ -60,8 +60,8 @@ void PrintSections(const std::vector<report::ReportSection>& sections) {
 }
 
 void RunAudit(AuditArgs a) {
-  fusion::TestSettings settings = WithFlagNames(
-      [&] { return fusion::MakeTestSettings(a.given); });
+  fusion::TestSettings settings =
+      WithFlagNames([&] { return fusion::MakeTestSettings(a.given); });
   fusion::BatchOptions& batch = a.audit.batch;
   if (!a.shard.empty() &&
       (std::sscanf(

@@ -1,11 +1,11 @@
 #include <fmt/format.h>
 
 #include "commands.h"
-#include "setting_flags.h"
-#include "wearscar/fusion/settings.h"
 #include "output.h"
+#include "setting_flags.h"
 #include "summaries.h"
 #include "wearscar/fusion/batch.h"
+#include "wearscar/fusion/settings.h"
 #include "wearscar/report/test_folder.h"
 
 namespace wearscar::app {
@@ -22,8 +22,8 @@ struct DiagnoseArgs {
 };
 
 void RunDiagnose(DiagnoseArgs a) {
-  fusion::TestSettings settings = WithFlagNames(
-      [&] { return fusion::MakeTestSettings(a.given); });
+  fusion::TestSettings settings =
+      WithFlagNames([&] { return fusion::MakeTestSettings(a.given); });
   std::string why;
   if (!a.diagnose.IsValid(&why)) throw UsageError("diagnose: " + why);
   const force::ForceRecord record =

@@ -4,12 +4,12 @@
 #include <cmath>
 
 #include "commands.h"
-#include "wearscar/force/layouts.h"
-#include "setting_flags.h"
-#include "wearscar/fusion/settings.h"
 #include "output.h"
+#include "setting_flags.h"
 #include "summaries.h"
+#include "wearscar/force/layouts.h"
 #include "wearscar/fusion/batch.h"
+#include "wearscar/fusion/settings.h"
 #include "wearscar/report/figures.h"
 #include "wearscar/report/test_folder.h"
 
@@ -25,8 +25,8 @@ struct ForceArgs {
 };
 
 void RunForce(ForceArgs a) {
-  fusion::TestSettings settings = WithFlagNames(
-      [&] { return fusion::MakeTestSettings(a.given); });
+  fusion::TestSettings settings =
+      WithFlagNames([&] { return fusion::MakeTestSettings(a.given); });
   const force::ForceRecord record =
       force::ReadForceFile(a.file, settings.read_force);
   const fusion::TestResult r =

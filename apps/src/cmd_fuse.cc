@@ -1,11 +1,11 @@
 #include <fmt/format.h>
 
 #include "commands.h"
-#include "setting_flags.h"
-#include "wearscar/fusion/settings.h"
 #include "output.h"
+#include "setting_flags.h"
 #include "summaries.h"
 #include "wearscar/fusion/batch.h"
+#include "wearscar/fusion/settings.h"
 #include "wearscar/report/figures.h"
 #include "wearscar/report/test_folder.h"
 #include "wearscar/scan/formats.h"
@@ -27,8 +27,8 @@ struct FuseArgs {
 };
 
 void RunFuse(FuseArgs a) {
-  fusion::TestSettings settings = WithFlagNames(
-      [&] { return fusion::MakeTestSettings(a.given); });
+  fusion::TestSettings settings =
+      WithFlagNames([&] { return fusion::MakeTestSettings(a.given); });
   // Cycles are numbered from 1 on the command line, from 0 in the library.
   settings.fuse.detail_cycle = a.detail_cycle - 1;
   for (int c : a.loops) a.write.loop_cycles.push_back(c - 1);

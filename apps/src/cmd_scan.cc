@@ -7,7 +7,9 @@
 
 #include "commands.h"
 #include "output.h"
+#include "setting_flags.h"
 #include "wearscar/fusion/products.h"
+#include "wearscar/fusion/settings.h"
 #include "wearscar/report/figures.h"
 #include "wearscar/scan/formats.h"
 #include "wearscar/scan/gsf.h"
@@ -24,8 +26,7 @@ namespace fs = std::filesystem;
 struct ScanArgs {
   std::string file;
   std::string out;
-  scan::ReadScanOptions read;
-  fusion::MapAnalysisOptions analysis;
+  GivenSettings given;  // the map's settings as written
   bool no_figures = false;
   report::FigureFormats figure_formats;
 };
@@ -47,12 +48,10 @@ void PrintTrack(const std::string& file, const scan::Track& t) {
     fmt::print(stderr, "wearscar: warning: {}: {}\n", file, t.message);
 }
 
-void RunScan(ScanArgs a) {
-  std::string why;
-  if (!a.read.IsValid(&why) || !a.analysis.IsValid(&why)) {
-    throw UsageError("scan: " + why);
-  }
-  scan::HeightMap map = scan::ReadScan(a.file, a.read);
+void RunScan(const ScanArgs& a) {
+  const fusion::MapSettings settings =
+      WithFlagNames([&] { return fusion::MakeMapSettings(a.given); });
+  scan::HeightMap map = scan::ReadScan(a.file, settings.read_scan);
   Say("{}: {} x {} pixels, pitch {:.4g} x {:.4g} um ({}{}{}), {} valid\n",
       a.file,
       map.cols(),
@@ -65,7 +64,8 @@ void RunScan(ScanArgs a) {
       map.ValidCount());
   // No track: everything that does not need one is still written, with
   // "track": null and the reason, and the command exits 0 with a warning.
-  const fusion::MapAnalysis r = fusion::AnalyzeMap(std::move(map), a.analysis);
+  const fusion::MapAnalysis r =
+      fusion::AnalyzeMap(std::move(map), settings.analysis);
   Say("  levelled: {}; {} spikes removed\n", r.level.message, r.spikes_removed);
   if (r.track) {
     PrintTrack(a.file, *r.track);
@@ -119,68 +119,8 @@ void AddScanCommand(CLI::App& app) {
          "file", args->file, "Height map (" + scan::ScanExtensionList() + ")")
       ->required();
   cmd->add_option("-o,--out", args->out, "Directory for the results");
-  cmd->add_option(
-      "--measurement", args->read.measurement_index, ".zag measurement index");
-  cmd->add_flag_callback(
-      "--large-maps",
-      [args] { scan::AllowLargeMaps(&args->read); },
-      "Raise the decompression limits for genuinely large maps (a member up "
-      "to 8 GiB, a file 16 GiB, any ratio)");
-  cmd->add_option("--max-pixel-aspect",
-                  args->read.max_pixel_aspect,
-                  "Refuse pixels longer one way than this times the other "
-                  "(raise it for genuinely unequal pitches)")
-      ->capture_default_str();
-  cmd->add_option("--ascii-pitch",
-                  args->read.ascii_pitch_mm,
-                  "ASCII matrix pixel size, mm");
-  cmd->add_option(
-      "--ascii-unit", args->read.ascii_z_unit, "ASCII matrix height unit");
-  cmd->add_option("--level-order",
-                  args->analysis.level.polynomial_order,
-                  "Reference surface order (1-3)")
-      ->capture_default_str();
-  cmd->add_option("--ransac-threshold",
-                  args->analysis.level.ransac_threshold_mm,
-                  "RANSAC inlier band, mm")
-      ->capture_default_str();
-  cmd->add_option("--spike-threshold",
-                  args->analysis.spikes.threshold_mm,
-                  "Spike height, mm")
-      ->capture_default_str();
-  cmd->add_option("--min-depth",
-                  args->analysis.track.min_depth_mm,
-                  "Track: least depth, mm")
-      ->capture_default_str();
-  cmd->add_option("--min-elongation",
-                  args->analysis.track.min_elongation,
-                  "Track: least length/width of the depression")
-      ->capture_default_str();
-  cmd->add_flag(
-      "--manual-track", args->analysis.track.manual, "Place the track by hand");
-  cmd->add_option(
-      "--track-x", args->analysis.track.centre_x_mm, "Track centre x, mm");
-  cmd->add_option(
-      "--track-y", args->analysis.track.centre_y_mm, "Track centre y, mm");
-  cmd->add_option(
-      "--track-angle", args->analysis.track.angle_deg, "Track angle, degrees");
-  cmd->add_option("--track-length",
-                  args->analysis.track.manual_length_mm,
-                  "Track length, mm (manual)");
-  cmd->add_option("--band",
-                  args->analysis.profile.band_width_mm,
-                  "Centreline band width, mm")
-      ->capture_default_str();
-  cmd->add_option("--step",
-                  args->analysis.profile.step_mm,
-                  "Centreline step, mm (0 = pitch)");
-  cmd->add_option("--sections",
-                  args->analysis.sections_mm,
-                  "Cross-sections at these s positions, mm");
-  cmd->add_option("--section-half-width",
-                  args->analysis.section_half_width_mm,
-                  "Cross-section half width, mm")
-      ->capture_default_str();
+  AddSettingFlags(
+      cmd, fusion::MapSettingList(), ~0u, fusion::MapSettings{}, &args->given);
   AddFigureOptions(
       cmd, &args->no_figures, &args->figure_formats, "Skip the map figure");
   AddPrintModeOptions(cmd);

@@ -9,8 +9,8 @@
 #include "commands.h"
 #include "output.h"
 #include "setting_flags.h"
-#include "wearscar/samples/simulation_settings.h"
 #include "wearscar/force/read_force.h"
+#include "wearscar/samples/simulation_settings.h"
 #include "wearscar/samples/virtual_tribometer.h"
 #include "wearscar/scan/gsf.h"
 

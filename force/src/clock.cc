@@ -68,14 +68,16 @@ bool ParseDate(Cursor* c, long* days) {
   if (c->Number(4, 4, &a) && c->Take('-') && c->Number(2, 2, &b) &&
       c->Take('-') && c->Number(2, 2, &d) && (c->Take(' ') || c->Take('T'))) {
     if (b < 1 || b > 12 || d < 1 || d > 31) return false;
-    *days = DaysFromCivil(a, static_cast<unsigned>(b), static_cast<unsigned>(d));
+    *days =
+        DaysFromCivil(a, static_cast<unsigned>(b), static_cast<unsigned>(d));
     return true;
   }
   c->p = start;
   if (c->Number(1, 2, &a) && c->Take('.') && c->Number(1, 2, &b) &&
       c->Take('.') && c->Number(4, 4, &d) && c->Take(' ')) {
     if (b < 1 || b > 12 || a < 1 || a > 31) return false;
-    *days = DaysFromCivil(d, static_cast<unsigned>(b), static_cast<unsigned>(a));
+    *days =
+        DaysFromCivil(d, static_cast<unsigned>(b), static_cast<unsigned>(a));
     return true;
   }
   c->p = start;

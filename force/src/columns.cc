@@ -141,10 +141,7 @@ int FindOverride(const std::string& spec,
 std::string ListOf(const std::vector<std::string>& items) {
   std::string list;
   for (std::size_t i = 0; i < items.size(); ++i) {
-    list += (i == 0                  ? ""
-             : i + 1 == items.size() ? " or "
-                                     : ", ") +
-            items[i];
+    list += (i == 0 ? "" : i + 1 == items.size() ? " or " : ", ") + items[i];
   }
   return list;
 }

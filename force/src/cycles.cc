@@ -241,36 +241,24 @@ bool GrossSlipOptions::IsValid(std::string* why) const {
   return true;
 }
 
-CycleSet SegmentCycles(const Eigen::Ref<const Eigen::VectorXd>& x_mm,
-                       const SegmentOptions& options,
-                       const std::string& source) {
-  std::string why;
-  if (!options.IsValid(&why))
-    throw ForceError("invalid segment options: " + why);
-  CycleSet set;
-  const Eigen::Index n = x_mm.size();
-  const auto [p01, p99] = Quantiles(x_mm, 0.01, 0.99);
-  set.stroke_mm = p99 - p01;
-  if (!(set.stroke_mm > 0)) {
-    throw ForceError(fmt::format(
-        "{}: the displacement does not move (robust stroke {} mm); expected a "
-        "reciprocating x",
-        source,
-        set.stroke_mm));
-  }
-  const double h = options.hysteresis_fraction * set.stroke_mm;
-  // Reversals: index and kind (+1 maximum, -1 minimum). An extreme counts
-  // only once x has come back from it by h; the first extreme seen before
-  // any direction is known is the start of the data, not a reversal.
-  struct Reversal {
-    Eigen::Index index;
-    int kind;
-  };
+namespace {
+
+// A reversal: its index and kind (+1 maximum, -1 minimum).
+struct Reversal {
+  Eigen::Index index;
+  int kind;
+};
+
+// The reversals of x: an extreme counts only once x has come back from it
+// by h; the first extreme seen before any direction is known is the start
+// of the data, not a reversal.
+std::vector<Reversal> FindReversals(
+    const Eigen::Ref<const Eigen::VectorXd>& x_mm, double h) {
   std::vector<Reversal> reversals;
   int state = 0;  // +1 rising, -1 falling, 0 unknown
   double hi = -INFINITY, lo = INFINITY;
   Eigen::Index hi_i = -1, lo_i = -1;
-  for (Eigen::Index i = 0; i < n; ++i) {
+  for (Eigen::Index i = 0; i < x_mm.size(); ++i) {
     const double v = x_mm[i];
     if (!std::isfinite(v)) continue;
     if (v > hi) {
@@ -293,29 +281,60 @@ CycleSet SegmentCycles(const Eigen::Ref<const Eigen::VectorXd>& x_mm,
       hi_i = i;
     }
   }
+  return reversals;
+}
+
+// Complete cycles, minimum to minimum, and what was dropped about them.
+void CyclesFromReversals(const std::vector<Reversal>& reversals,
+                         Eigen::Index n,
+                         CycleSet* set) {
   size_t first = 0;
   while (first < reversals.size() && reversals[first].kind != -1) ++first;
   for (size_t j = first; j + 2 < reversals.size(); j += 2) {
     Cycle c;
-    c.index = static_cast<int>(set.cycles.size());
+    c.index = static_cast<int>(set->cycles.size());
     c.forward = {reversals[j].index, reversals[j + 1].index, +1};
     c.reverse = {reversals[j + 1].index, reversals[j + 2].index, -1};
-    set.cycles.push_back(c);
+    set->cycles.push_back(c);
   }
-  if (!set.cycles.empty()) {
-    set.leading_samples_dropped = set.cycles.front().forward.begin;
-    set.trailing_samples_dropped = n - set.cycles.back().reverse.end;
-    if (set.leading_samples_dropped > 0) {
-      set.notes.push_back(
-          fmt::format("dropped {} samples before the first complete cycle",
-                      set.leading_samples_dropped));
-    }
-    if (set.trailing_samples_dropped > 0) {
-      set.notes.push_back(
-          fmt::format("dropped {} samples after the last complete cycle",
-                      set.trailing_samples_dropped));
-    }
+  if (set->cycles.empty()) return;
+  set->leading_samples_dropped = set->cycles.front().forward.begin;
+  set->trailing_samples_dropped = n - set->cycles.back().reverse.end;
+  if (set->leading_samples_dropped > 0) {
+    set->notes.push_back(
+        fmt::format("dropped {} samples before the first complete cycle",
+                    set->leading_samples_dropped));
   }
+  if (set->trailing_samples_dropped > 0) {
+    set->notes.push_back(
+        fmt::format("dropped {} samples after the last complete cycle",
+                    set->trailing_samples_dropped));
+  }
+}
+
+}  // namespace
+
+CycleSet SegmentCycles(const Eigen::Ref<const Eigen::VectorXd>& x_mm,
+                       const SegmentOptions& options,
+                       const std::string& source) {
+  std::string why;
+  if (!options.IsValid(&why))
+    throw ForceError("invalid segment options: " + why);
+  CycleSet set;
+  const Eigen::Index n = x_mm.size();
+  const auto [p01, p99] = Quantiles(x_mm, 0.01, 0.99);
+  set.stroke_mm = p99 - p01;
+  if (!(set.stroke_mm > 0)) {
+    throw ForceError(fmt::format(
+        "{}: the displacement does not move (robust stroke {} mm); expected a "
+        "reciprocating x",
+        source,
+        set.stroke_mm));
+  }
+  CyclesFromReversals(
+      FindReversals(x_mm, options.hysteresis_fraction * set.stroke_mm),
+      n,
+      &set);
   if (static_cast<int>(set.cycles.size()) < options.min_cycles) {
     throw ForceError(fmt::format(
         "{}: found {} complete cycle(s) in {} samples (stroke {:.3g} mm); "

@@ -25,9 +25,22 @@ bool IsBlank(char c) { return c == ' ' || c == '\t'; }
 // long mantissa, nan, inf, text), which FastRow then takes the general way.
 const char* PlainField(
     const char* p, const char* end, char delim, char decimal, double* out) {
-  static constexpr double kPow10[] = {
-      1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13,
-      1e14, 1e15};
+  static constexpr double kPow10[] = {1e0,
+                                      1e1,
+                                      1e2,
+                                      1e3,
+                                      1e4,
+                                      1e5,
+                                      1e6,
+                                      1e7,
+                                      1e8,
+                                      1e9,
+                                      1e10,
+                                      1e11,
+                                      1e12,
+                                      1e13,
+                                      1e14,
+                                      1e15};
   const char* a = p;
   while (a < end && IsBlank(*a)) ++a;
   if (a < end && *a == '+') ++a;
@@ -58,10 +71,9 @@ const char* PlainField(
 
 // The end of the field starting at p: its delimiter, or the row's end.
 const char* FieldEnd(const char* p, const char* end, char delim) {
-  const char* q =
-      p < end ? static_cast<const char*>(
-                    std::memchr(p, delim, static_cast<std::size_t>(end - p)))
-              : nullptr;
+  const char* q = p < end ? static_cast<const char*>(std::memchr(
+                                p, delim, static_cast<std::size_t>(end - p)))
+                          : nullptr;
   return q == nullptr ? end : q;
 }
 

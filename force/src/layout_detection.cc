@@ -212,9 +212,13 @@ bool LooksLikeUnit(std::string_view cell) {
   auto simple = [](std::string_view u) {
     const std::string l = Lower(u);
     return LengthToMm(u) || ForceToN(u) || TimeToS(u) || l == "hz" ||
-           l == "c" || l == "\xb0" "c" || l == "\xc2\xb0" "c" || l == "%" ||
-           l == "-" || l == "()" || l == "deg" || l == "rpm" || l == "v" ||
-           l == "mv" || l == "um" || l == "n/a" || l == "cycles" ||
+           l == "c" ||
+           l == "\xb0"
+                "c" ||
+           l == "\xc2\xb0"
+                "c" ||
+           l == "%" || l == "-" || l == "()" || l == "deg" || l == "rpm" ||
+           l == "v" || l == "mv" || l == "um" || l == "n/a" || l == "cycles" ||
            l == "cycle";
   };
   if (simple(cell)) return true;

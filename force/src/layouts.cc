@@ -57,8 +57,7 @@ ForceLayout Bruker() {
           "",
           ClockRule::kRestartsWithBlock,
           [](const LayoutFacts& f) {
-            return f.units_row && (HasUnit(f, "gf") || HasUnit(f, "g")) ? 2
-                                                                        : 0;
+            return f.units_row && (HasUnit(f, "gf") || HasUnit(f, "g")) ? 2 : 0;
           },
           "Created by CETR UMT Data Viewer ver. 1.138.266\n"
           "Step No. 1\n\n"

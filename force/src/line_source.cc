@@ -82,7 +82,8 @@ void FileLines::Refill() {
   filled_ -= pos_;
   pos_ = 0;
   if (filled_ == buffer_.size()) {
-    if (buffer_.size() >= max_line_) throw TooLong(name_, lines_ + 1, max_line_);
+    if (buffer_.size() >= max_line_)
+      throw TooLong(name_, lines_ + 1, max_line_);
     buffer_.resize(buffer_.size() * 2);
   }
   const std::size_t got =
@@ -105,7 +106,8 @@ std::size_t CountLines(
   std::size_t lines = 1, got;
   while ((got = std::fread(block.data(), 1, block.size(), file)) > 0) {
     if (on_bytes) on_bytes(block.data(), got);
-    lines += static_cast<std::size_t>(std::count(block.data(), block.data() + got, '\n'));
+    lines += static_cast<std::size_t>(
+        std::count(block.data(), block.data() + got, '\n'));
   }
   std::rewind(file);
   return lines;

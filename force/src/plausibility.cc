@@ -157,17 +157,17 @@ Scale ResolveUnit(Channel channel,
   }
   const std::optional<double> f = UnitFactor(channel, unit);
   if (!f) {
-    throw ForceError(fmt::format(
-        "{}: column '{}' has unit '{}'; expected a {} unit ({})",
-        file,
-        support::Printable(column),
-        support::Printable(unit),
-        channel == kTime ? "time"
-        : channel == kX  ? "length"
-                         : "force",
-        channel == kTime ? "s, ms, min"
-        : channel == kX  ? "mm, um, m"
-                         : "N, mN, kN, gf"));
+    throw ForceError(
+        fmt::format("{}: column '{}' has unit '{}'; expected a {} unit ({})",
+                    file,
+                    support::Printable(column),
+                    support::Printable(unit),
+                    channel == kTime ? "time"
+                    : channel == kX  ? "length"
+                                     : "force",
+                    channel == kTime ? "s, ms, min"
+                    : channel == kX  ? "mm, um, m"
+                                     : "N, mN, kN, gf"));
   }
   if (!given.empty() && !found.empty()) {
     const std::optional<double> ff = UnitFactor(channel, found);
@@ -189,18 +189,16 @@ void InferUnits(Eigen::VectorXd* data,
                 const std::string& file,
                 ForceMetadata* meta) {
   // (`unit` by value: it may be the scale's own `preferred`.)
-  auto apply = [&](int ch,
-                   std::string unit,
-                   double factor,
-                   const std::string& because) {
-    data[ch] *= factor;
-    meta->warnings.push_back(
-        fmt::format("column '{}' states no unit: taken as {} ({})",
-                    layout.names[column[ch]],
-                    unit,
-                    because));
-    scale[ch] = {factor, std::move(unit), false, {}};
-  };
+  auto apply =
+      [&](int ch, std::string unit, double factor, const std::string& because) {
+        data[ch] *= factor;
+        meta->warnings.push_back(
+            fmt::format("column '{}' states no unit: taken as {} ({})",
+                        layout.names[column[ch]],
+                        unit,
+                        because));
+        scale[ch] = {factor, std::move(unit), false, {}};
+      };
   // x, then the forces (P first: Q without a unit takes P's when P's was
   // stated), then time.
   for (Channel ch : {kX, kP, kQ, kTime}) {
@@ -228,8 +226,8 @@ void InferUnits(Eigen::VectorXd* data,
       apply(ch,
             preferred,
             *pf,
-            fmt::format("the {} layout's unit; {}", layout.kind->name,
-                        scaled(*pf)));
+            fmt::format(
+                "the {} layout's unit; {}", layout.kind->name, scaled(*pf)));
       continue;
     }
     const auto g = std::find_if(p.units.begin(), p.units.end(), [&](auto& u) {

@@ -153,7 +153,8 @@ void MakeCompressionPositive(ForceRecord* record) {
   std::vector<double> finite;
   const Eigen::Index n = record->size();
   for (Eigen::Index i = 0; i < n; i += std::max<Eigen::Index>(1, n / 4096)) {
-    if (std::isfinite(record->normal_n[i])) finite.push_back(record->normal_n[i]);
+    if (std::isfinite(record->normal_n[i]))
+      finite.push_back(record->normal_n[i]);
   }
   if (finite.empty()) return;
   std::nth_element(
@@ -216,16 +217,17 @@ ForceRecord Read(LineSource& source,
   ForceMetadata& meta = record.metadata;
   const Plan p = PlanRead(source, name, options, &meta);
   const Layout& layout = p.layout;
-  RowReader rows(layout,
-                 layout.header_line >= 0 ? &p.head[layout.header_line] : nullptr,
-                 p.column,
-                 FindStepColumn(layout),
-                 p.clock,
-                 p.scale,
-                 options,
-                 name,
-                 RowCapacity(p.head, layout, lines, file_bytes),
-                 &meta);
+  RowReader rows(
+      layout,
+      layout.header_line >= 0 ? &p.head[layout.header_line] : nullptr,
+      p.column,
+      FindStepColumn(layout),
+      p.clock,
+      p.scale,
+      options,
+      name,
+      RowCapacity(p.head, layout, lines, file_bytes),
+      &meta);
   long line_no = 0;
   for (const auto& h : p.head) {
     ++line_no;
@@ -259,16 +261,16 @@ void RequireRegularFile(const std::string& path) {
   if (ec || std::filesystem::is_regular_file(status)) return;
   using std::filesystem::file_type;
   const file_type type = status.type();
-  throw ForceError(fmt::format(
-      "{}: not a regular file ({}); expected a force export",
-      path,
-      type == file_type::directory   ? "a directory"
-      : type == file_type::fifo      ? "a FIFO"
-      : type == file_type::character ? "a character device"
-      : type == file_type::block     ? "a block device"
-      : type == file_type::socket    ? "a socket"
-      : type == file_type::not_found ? "not found"
-                                     : "not a file"));
+  throw ForceError(
+      fmt::format("{}: not a regular file ({}); expected a force export",
+                  path,
+                  type == file_type::directory   ? "a directory"
+                  : type == file_type::fifo      ? "a FIFO"
+                  : type == file_type::character ? "a character device"
+                  : type == file_type::block     ? "a block device"
+                  : type == file_type::socket    ? "a socket"
+                  : type == file_type::not_found ? "not found"
+                                                 : "not a file"));
 }
 
 // A file read whole as text (UTF-16 converted; CR line ends), its bytes

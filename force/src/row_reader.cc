@@ -58,8 +58,7 @@ RowReader::RowReader(const Layout& layout,
 }
 
 void RowReader::Handle(std::string_view row, long line_no) {
-  if (fast_possible_ && pending_bad_rows_ == 0 && TryFast(row, line_no))
-    return;
+  if (fast_possible_ && pending_bad_rows_ == 0 && TryFast(row, line_no)) return;
   if (TrimView(row).empty() || SkipRepeatedBlock(row)) return;
   double value[4] = {kNaN, kNaN, kNaN, kNaN};
   bool text_row = false;

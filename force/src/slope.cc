@@ -138,62 +138,60 @@ Eigen::VectorXd MovingAverage(const Eigen::Ref<const Eigen::VectorXd>& v,
   return out;
 }
 
-Eigen::VectorXd DerivativeAlongX(
-    const Eigen::Ref<const Eigen::VectorXd>& x_mm,
-    const Eigen::Ref<const Eigen::VectorXd>& signal,
-    Eigen::Index begin,
-    Eigen::Index end,
-    const DerivativeOptions& options) {
-  const Eigen::Index n = end - begin;
-  Eigen::VectorXd d =
-      Eigen::VectorXd::Constant(std::max<Eigen::Index>(n, 0), std::nan(""));
-  if (n <= 0) return d;
+namespace {
+
+// The paper's derivative: a moving average of the signal, then the central
+// difference over +-half_width samples, widened (up to max_half_width)
+// until it spans min_span_mm of x when that is set.
+void CentralDifference(const Eigen::Ref<const Eigen::VectorXd>& x_mm,
+                       const Eigen::Ref<const Eigen::VectorXd>& signal,
+                       Eigen::Index begin,
+                       Eigen::Index end,
+                       const DerivativeOptions& options,
+                       Eigen::VectorXd* d) {
   const Eigen::Index h0 = std::max(1, options.half_width);
   const int window = options.window > 0 ? options.window : 10;
-  if (options.method == DerivativeMethod::kMovingAverageCentral) {
-    // Smooth a padded stretch so the ends see the same filter as the middle.
-    const Eigen::Index pad = window + h0;
-    const Eigen::Index lo = std::max<Eigen::Index>(0, begin - pad - 1);
-    const Eigen::Index hi =
-        std::min<Eigen::Index>(signal.size(), end + pad + 1);
-    const Eigen::VectorXd smooth =
-        MovingAverage(signal.segment(lo, hi - lo), window);
-    const Eigen::Index wide =
-        std::max<Eigen::Index>(options.max_half_width, h0);
-    const Eigen::Index lo2 = std::max<Eigen::Index>(0, begin - wide - 1);
-    const Eigen::Index hi2 =
-        std::min<Eigen::Index>(signal.size(), end + wide + 1);
-    const bool widen = options.min_span_mm > 0;
-    const Eigen::VectorXd smooth_wide =
-        widen ? MovingAverage(signal.segment(lo2, hi2 - lo2), window) : smooth;
-    const Eigen::Index base = widen ? lo2 : lo;
-    const Eigen::VectorXd& sm = widen ? smooth_wide : smooth;
-    for (Eigen::Index i = begin; i < end; ++i) {
-      Eigen::Index m = h0;
-      if (widen) {
-        while (i - m >= lo2 && i + m < hi2 &&
-               !(std::abs(x_mm[i + m] - x_mm[i - m]) >= options.min_span_mm) &&
-               m < wide) {
-          ++m;
-        }
+  // Smooth a padded stretch so the ends see the same filter as the middle.
+  const bool widen = options.min_span_mm > 0;
+  const Eigen::Index wide = std::max<Eigen::Index>(options.max_half_width, h0);
+  const Eigen::Index pad = widen ? wide : window + h0;
+  const Eigen::Index base = std::max<Eigen::Index>(0, begin - pad - 1);
+  const Eigen::Index top = std::min<Eigen::Index>(signal.size(), end + pad + 1);
+  const Eigen::VectorXd sm =
+      MovingAverage(signal.segment(base, top - base), window);
+  for (Eigen::Index i = begin; i < end; ++i) {
+    Eigen::Index m = h0;
+    if (widen) {
+      while (i - m >= base && i + m < top &&
+             !(std::abs(x_mm[i + m] - x_mm[i - m]) >= options.min_span_mm) &&
+             m < wide) {
+        ++m;
       }
-      if (i - m < base || i + m >= base + sm.size()) continue;
-      const double dx = x_mm[i + m] - x_mm[i - m];
-      if (dx == 0 || !std::isfinite(dx) ||
-          (widen && std::abs(dx) < options.min_span_mm)) {
-        continue;
-      }
-      d[i - begin] = (sm[i + m - base] - sm[i - m - base]) / dx;
     }
-    return d;
+    if (i - m < base || i + m >= base + sm.size()) continue;
+    const double dx = x_mm[i + m] - x_mm[i - m];
+    if (dx == 0 || !std::isfinite(dx) ||
+        (widen && std::abs(dx) < options.min_span_mm)) {
+      continue;
+    }
+    (*d)[i - begin] = (sm[i + m - base] - sm[i - m - base]) / dx;
   }
-  // Savitzky-Golay on the actual x: fit a polynomial of the given order in
-  // (x - x_i) over the window and take its linear coefficient.
+}
+
+// Savitzky-Golay on the actual x: a polynomial of the given order in
+// (x - x_i) fitted over the window, its linear coefficient.
+void SavitzkyGolay(const Eigen::Ref<const Eigen::VectorXd>& x_mm,
+                   const Eigen::Ref<const Eigen::VectorXd>& signal,
+                   Eigen::Index begin,
+                   Eigen::Index end,
+                   const DerivativeOptions& options,
+                   Eigen::VectorXd* d) {
+  const int window = options.window > 0 ? options.window : 10;
   const Eigen::Index h = std::max(window, options.polynomial_order + 1) / 2;
   const int p = options.polynomial_order;
   Eigen::MatrixXd a(2 * h + 1, p + 1);
   Eigen::VectorXd b(2 * h + 1);
-  if (signal.size() < 2 * h + 1) return d;
+  if (signal.size() < 2 * h + 1) return;
   for (Eigen::Index i = begin; i < end; ++i) {
     // The window is centred on i; where the signal ends it is NaN, or shifted
     // inward on request (the polynomial's slope is still taken at x_i).
@@ -221,7 +219,26 @@ Eigen::VectorXd DerivativeAlongX(
     if (rows <= p || rows < h + 1) continue;
     const Eigen::VectorXd coef =
         a.topRows(rows).colPivHouseholderQr().solve(b.head(rows));
-    d[i - begin] = coef[1] / scale;
+    (*d)[i - begin] = coef[1] / scale;
+  }
+}
+
+}  // namespace
+
+Eigen::VectorXd DerivativeAlongX(
+    const Eigen::Ref<const Eigen::VectorXd>& x_mm,
+    const Eigen::Ref<const Eigen::VectorXd>& signal,
+    Eigen::Index begin,
+    Eigen::Index end,
+    const DerivativeOptions& options) {
+  const Eigen::Index n = end - begin;
+  Eigen::VectorXd d =
+      Eigen::VectorXd::Constant(std::max<Eigen::Index>(n, 0), std::nan(""));
+  if (n <= 0) return d;
+  if (options.method == DerivativeMethod::kMovingAverageCentral) {
+    CentralDifference(x_mm, signal, begin, end, options, &d);
+  } else {
+    SavitzkyGolay(x_mm, signal, begin, end, options, &d);
   }
   return d;
 }

@@ -4,7 +4,6 @@
 #include <string>
 #include <string_view>
 
-
 namespace wearscar::force::internal {
 
 // Multiplier from a unit as written in an export to the library unit, or

@@ -85,24 +85,102 @@ bool AlignOptions::IsValid(std::string* why) const {
   return true;
 }
 
+namespace {
+
+// The cycles compared: an explicit range, else the last N.
+void ChooseCycles(int n, const ForceProfileOptions& options, ForceProfile* p) {
+  if (options.first_cycle >= 0) {
+    p->first_cycle = std::clamp(options.first_cycle, 0, n - 1);
+    p->last_cycle =
+        std::clamp(options.last_cycle >= 0 ? options.last_cycle : n - 1,
+                   p->first_cycle,
+                   n - 1);
+  } else {
+    p->last_cycle = n - 1;
+    p->first_cycle = std::max(0, n - options.cycles);
+  }
+}
+
+// P/S binned along x per direction over the compared cycles' gross slip:
+// sums, sums of squares and counts.
+struct DirectionBins {
+  Eigen::VectorXd sum[2], sum2[2], count[2];
+};
+
+DirectionBins BinSpring(const force::ForceRecord& record,
+                        const force::CycleSet& cycles,
+                        const ForceProfile& p,
+                        double lo,
+                        double step,
+                        double spring_n_per_mm) {
+  const Eigen::Index bins = p.x_mm.size();
+  DirectionBins b;
+  for (int d = 0; d < 2; ++d) {
+    b.sum[d] = b.sum2[d] = b.count[d] = Eigen::VectorXd::Zero(bins);
+  }
+  for (int c = p.first_cycle; c <= p.last_cycle; ++c) {
+    for (const force::HalfCycle* h :
+         {&cycles.cycles[c].forward, &cycles.cycles[c].reverse}) {
+      const int d = h->direction > 0 ? 0 : 1;
+      for (Eigen::Index i = h->slip_begin; i < h->slip_end; ++i) {
+        const double x = record.x_mm[i], pn = record.normal_n[i];
+        if (!std::isfinite(x) || !std::isfinite(pn)) continue;
+        const Eigen::Index k = std::min<Eigen::Index>(
+            bins - 1, static_cast<Eigen::Index>(std::floor((x - lo) / step)));
+        const double f = pn / spring_n_per_mm;
+        b.sum[d][k] += f;
+        b.sum2[d][k] += f * f;
+        b.count[d][k] += 1;
+      }
+    }
+  }
+  return b;
+}
+
+// The profiles per direction and their mean from the bins, and the noise
+// variance of the mean profile (the bins seen in both directions).
+void ProfilesFromBins(const DirectionBins& b, ForceProfile* p) {
+  const Eigen::Index bins = p->x_mm.size();
+  p->forward_mm.resize(bins);
+  p->reverse_mm.resize(bins);
+  p->mean_mm.resize(bins);
+  double noise = 0;
+  int noise_bins = 0;
+  for (Eigen::Index k = 0; k < bins; ++k) {
+    if (b.count[0][k] > 1 && b.count[1][k] > 1) {
+      double v = 0;
+      for (int d = 0; d < 2; ++d) {
+        const double count = b.count[d][k], mean = b.sum[d][k] / count;
+        v += 0.25 * std::max(0.0, b.sum2[d][k] - count * mean * mean) /
+             (count - 1) / count;
+      }
+      noise += v;
+      ++noise_bins;
+    }
+    p->forward_mm[k] =
+        b.count[0][k] > 0 ? b.sum[0][k] / b.count[0][k] : std::nan("");
+    p->reverse_mm[k] =
+        b.count[1][k] > 0 ? b.sum[1][k] / b.count[1][k] : std::nan("");
+    const bool f = std::isfinite(p->forward_mm[k]),
+               r = std::isfinite(p->reverse_mm[k]);
+    p->mean_mm[k] = f && r ? 0.5 * (p->forward_mm[k] + p->reverse_mm[k])
+                    : f    ? p->forward_mm[k]
+                    : r    ? p->reverse_mm[k]
+                           : std::nan("");
+  }
+  p->noise_variance_mm2 = noise_bins > 0 ? noise / noise_bins : 0.0;
+}
+
+}  // namespace
+
 ForceProfile ComputeForceProfile(const force::ForceRecord& record,
                                  const force::CycleSet& cycles,
                                  double spring_n_per_mm,
                                  const ForceProfileOptions& options) {
   std::string why;
   if (!options.IsValid(&why)) throw FusionError(why);
-  const int n = static_cast<int>(cycles.cycles.size());
   ForceProfile p;
-  if (options.first_cycle >= 0) {
-    p.first_cycle = std::clamp(options.first_cycle, 0, n - 1);
-    p.last_cycle =
-        std::clamp(options.last_cycle >= 0 ? options.last_cycle : n - 1,
-                   p.first_cycle,
-                   n - 1);
-  } else {
-    p.last_cycle = n - 1;
-    p.first_cycle = std::max(0, n - options.cycles);
-  }
+  ChooseCycles(static_cast<int>(cycles.cycles.size()), options, &p);
   double lo = INFINITY, hi = -INFINITY;
   for (int c = p.first_cycle; c <= p.last_cycle; ++c) {
     for (const force::HalfCycle* h :
@@ -121,54 +199,7 @@ ForceProfile ComputeForceProfile(const force::ForceRecord& record,
       static_cast<Eigen::Index>(std::floor((hi - lo) / step)) + 1;
   p.x_mm = Eigen::VectorXd::LinSpaced(
       bins, lo + 0.5 * step, lo + (bins - 0.5) * step);
-  Eigen::VectorXd sum[2] = {Eigen::VectorXd::Zero(bins),
-                            Eigen::VectorXd::Zero(bins)};
-  Eigen::VectorXd cnt[2] = {Eigen::VectorXd::Zero(bins),
-                            Eigen::VectorXd::Zero(bins)};
-  Eigen::VectorXd sum2[2] = {Eigen::VectorXd::Zero(bins),
-                             Eigen::VectorXd::Zero(bins)};
-  for (int c = p.first_cycle; c <= p.last_cycle; ++c) {
-    for (const force::HalfCycle* h :
-         {&cycles.cycles[c].forward, &cycles.cycles[c].reverse}) {
-      const int d = h->direction > 0 ? 0 : 1;
-      for (Eigen::Index i = h->slip_begin; i < h->slip_end; ++i) {
-        const double x = record.x_mm[i], pn = record.normal_n[i];
-        if (!std::isfinite(x) || !std::isfinite(pn)) continue;
-        const Eigen::Index b = std::min<Eigen::Index>(
-            bins - 1, static_cast<Eigen::Index>(std::floor((x - lo) / step)));
-        const double f = pn / spring_n_per_mm;
-        sum[d][b] += f;
-        sum2[d][b] += f * f;
-        cnt[d][b] += 1;
-      }
-    }
-  }
-  p.forward_mm.resize(bins);
-  p.reverse_mm.resize(bins);
-  p.mean_mm.resize(bins);
-  double noise = 0;
-  int noise_bins = 0;
-  for (Eigen::Index b = 0; b < bins; ++b) {
-    if (cnt[0][b] > 1 && cnt[1][b] > 1) {
-      double v = 0;
-      for (int d = 0; d < 2; ++d) {
-        const double count = cnt[d][b], mean = sum[d][b] / count;
-        v += 0.25 * std::max(0.0, sum2[d][b] - count * mean * mean) /
-             (count - 1) / count;
-      }
-      noise += v;
-      ++noise_bins;
-    }
-    p.forward_mm[b] = cnt[0][b] > 0 ? sum[0][b] / cnt[0][b] : std::nan("");
-    p.reverse_mm[b] = cnt[1][b] > 0 ? sum[1][b] / cnt[1][b] : std::nan("");
-    const bool f = std::isfinite(p.forward_mm[b]),
-               r = std::isfinite(p.reverse_mm[b]);
-    p.mean_mm[b] = f && r ? 0.5 * (p.forward_mm[b] + p.reverse_mm[b])
-                   : f    ? p.forward_mm[b]
-                   : r    ? p.reverse_mm[b]
-                          : std::nan("");
-  }
-  p.noise_variance_mm2 = noise_bins > 0 ? noise / noise_bins : 0.0;
+  ProfilesFromBins(BinSpring(record, cycles, p, lo, step, spring_n_per_mm), &p);
   return p;
 }
 

@@ -9,8 +9,8 @@
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
-#include <future>
 #include <fstream>
+#include <future>
 #include <mutex>
 #include <optional>
 #include <regex>
@@ -31,8 +31,7 @@ namespace fs = std::filesystem;
 bool HasForceExtension(const fs::path& p) {
   static const std::vector<std::string> extensions = force::ForceExtensions();
   const std::string e = support::Lower(p.extension().string());
-  return std::find(extensions.begin(), extensions.end(), e) !=
-         extensions.end();
+  return std::find(extensions.begin(), extensions.end(), e) != extensions.end();
 }
 
 // A file found in a folder, with the role it plays for its specimen and how
@@ -50,8 +49,7 @@ std::optional<Candidate> Classify(const fs::path& p, const std::regex& re) {
   // A binary height map by its content; ".dat" is a Zygo map or a force
   // export, told apart by the magic.
   const bool binary_scan = scan::BinaryScanFormatOf(p.string()) != nullptr;
-  const bool text =
-      !binary_scan && HasForceExtension(p);
+  const bool text = !binary_scan && HasForceExtension(p);
   if (!binary_scan && !text) return std::nullopt;
   const bool text_scan = text && (lower.find("scan") != std::string::npos ||
                                   lower.find("height") != std::string::npos ||

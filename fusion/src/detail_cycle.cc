@@ -71,7 +71,8 @@ Eigen::VectorXd ModelAlongTrace(const force::ForceRecord& record,
     return kNaN;  // a sample the fit did not use (no finite k)
   };
   Eigen::VectorXd q(lugre.time_s.size());
-  for (Eigen::Index i = 0; i < q.size(); ++i) q[i] = model_at(c.forward.begin + i);
+  for (Eigen::Index i = 0; i < q.size(); ++i)
+    q[i] = model_at(c.forward.begin + i);
   return q;
 }
 

@@ -8,11 +8,15 @@
 #include <limits>
 #include <vector>
 
+#include "fit_mu_internal.h"
 #include "minimize.h"
 #include "wearscar/fusion/forward_model.h"
 #include "wearscar/support/check.h"
 
 namespace wearscar::fusion {
+
+using internal::Resolved;
+
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -109,44 +113,6 @@ double StandardError(const CycleSamples& samples, double mu, double block_mm) {
   return denominator > 0 ? std::sqrt(numerator) / denominator : std::nan("");
 }
 
-// The second-order bias of mu-hat per unit variance of the noise e in k,
-// d mu / var(e). With f(mu, k) = P (k + m) / (1 - m k), m = s mu,
-// D = 1 - m k, the stationarity of J (weights a_d as in StandardError)
-// averaged over e gives
-//   mu-hat - mu = var(e) sum_d a_d sum_i T_i / sum_d a_d sum_i f_mu^2,
-//   T = -f_k f_mu,k - f_kk f_mu / 2 = -s P^2 (1 + m^2) (2 (k + m) +
-//       m (1 + k^2)) / D^5,
-// about -3 mu for small k.
-double KNoiseBiasPerVariance(const CycleSamples& samples, double mu) {
-  double numerator = 0, denominator = 0;
-  for (const SlipSamples* s : {&samples.forward, &samples.reverse}) {
-    const double m = s->direction * mu;
-    double rr = 0, tt = 0, gg = 0;
-    for (Eigen::Index i = 0; i < s->q_n.size(); ++i) {
-      const double p = s->p_n[i], k = s->k[i], d = 1.0 - m * k;
-      const double d2 = d * d;
-      const double r = s->q_n[i] - p * (k + m) / d;
-      const double g = s->direction * p * (1.0 + k * k) / d2;
-      tt += -s->direction * p * p * (1.0 + m * m) *
-            (2.0 * (k + m) + m * (1.0 + k * k)) / (d2 * d2 * d);
-      gg += g * g;
-      rr += r * r;
-    }
-    const double qq = s->q_n.squaredNorm();
-    if (!(rr > 0 && qq > 0)) return 0.0;
-    const double a = 1.0 / std::sqrt(rr * qq);
-    numerator += a * tt;
-    denominator += a * gg;
-  }
-  return denominator > 0 ? numerator / denominator : 0.0;
-}
-
-FrictionFitOptions Resolved(const FrictionFitOptions& o, double rate_hz) {
-  FrictionFitOptions r = o;
-  r.slope = o.slope.ForSamplingRate(rate_hz);
-  return r;
-}
-
 // J = J_forward + J_reverse and its first two derivatives in mu, in one
 // pass over the samples. Per direction, with r = Qm - P (k + s mu) /
 // (1 - s mu k) and S = sum r^2: r' = -s P (1 + k^2) / (1 - s mu k)^2,
@@ -240,6 +206,48 @@ bool NewtonMinimum(const CycleSamples& samples,
 }
 
 }  // namespace
+
+namespace internal {
+
+// The second-order bias of mu-hat per unit variance of the noise e in k,
+// d mu / var(e). With f(mu, k) = P (k + m) / (1 - m k), m = s mu,
+// D = 1 - m k, the stationarity of J (weights a_d as in StandardError)
+// averaged over e gives
+//   mu-hat - mu = var(e) sum_d a_d sum_i T_i / sum_d a_d sum_i f_mu^2,
+//   T = -f_k f_mu,k - f_kk f_mu / 2 = -s P^2 (1 + m^2) (2 (k + m) +
+//       m (1 + k^2)) / D^5,
+// about -3 mu for small k.
+double KNoiseBiasPerVariance(const CycleSamples& samples, double mu) {
+  double numerator = 0, denominator = 0;
+  for (const SlipSamples* s : {&samples.forward, &samples.reverse}) {
+    const double m = s->direction * mu;
+    double rr = 0, tt = 0, gg = 0;
+    for (Eigen::Index i = 0; i < s->q_n.size(); ++i) {
+      const double p = s->p_n[i], k = s->k[i], d = 1.0 - m * k;
+      const double d2 = d * d;
+      const double r = s->q_n[i] - p * (k + m) / d;
+      const double g = s->direction * p * (1.0 + k * k) / d2;
+      tt += -s->direction * p * p * (1.0 + m * m) *
+            (2.0 * (k + m) + m * (1.0 + k * k)) / (d2 * d2 * d);
+      gg += g * g;
+      rr += r * r;
+    }
+    const double qq = s->q_n.squaredNorm();
+    if (!(rr > 0 && qq > 0)) return 0.0;
+    const double a = 1.0 / std::sqrt(rr * qq);
+    numerator += a * tt;
+    denominator += a * gg;
+  }
+  return denominator > 0 ? numerator / denominator : 0.0;
+}
+
+FrictionFitOptions Resolved(const FrictionFitOptions& o, double rate_hz) {
+  FrictionFitOptions r = o;
+  r.slope = o.slope.ForSamplingRate(rate_hz);
+  return r;
+}
+
+}  // namespace internal
 
 double WearScarCost(const CycleSamples& samples, double mu) {
   return DirectionCost(samples.forward, mu) +
@@ -561,201 +569,6 @@ std::string ForceSlopes::Describe() const {
 
 int ForceSlopes::SharedCycles() const {
   return normal_bins_ ? options_.ensemble.cycles : 1;
-}
-
-namespace {
-
-// Each converged fit's J split into the noise floor and the excess that
-// repeats at the same x (J^2 = floor^2 + excess^2 per direction).
-void SplitCosts(const std::vector<std::array<RepeatSplit, 2>>& split,
-                const std::vector<std::array<double, 2>>& q_total,
-                std::vector<MuFit>* fits) {
-  for (size_t c = 0; c < fits->size(); ++c) {
-    MuFit& f = (*fits)[c];
-    if (!f.converged) continue;
-    double floor = 0, excess = 0;
-    for (int d = 0; d < 2; ++d) {
-      const double qq = q_total[c][d];
-      const RepeatSplit& r = split[c][d];
-      f.misfit_sq[d] = qq > 0 ? r.total / qq : std::nan("");
-      f.repeat_sq[d] = qq > 0 ? r.repeat / qq : std::nan("");
-      floor += std::sqrt(std::max(0.0, f.misfit_sq[d] - f.repeat_sq[d]));
-      excess += std::sqrt(std::max(0.0, f.repeat_sq[d]));
-    }
-    f.cost_floor = floor;
-    f.cost_excess = excess;
-  }
-}
-
-// The rms of k's repeatable part and of its noise over all cycles.
-void SplitSlopeNoise(const std::vector<std::array<RepeatSplit, 2>>& split_k,
-                     FrictionFits* out) {
-  double total = 0, repeat = 0;
-  long samples = 0;
-  for (const auto& cycle : split_k) {
-    for (const RepeatSplit& r : cycle) {
-      if (!std::isfinite(r.repeat)) continue;
-      total += r.total;
-      repeat += r.repeat;
-      samples += r.samples;
-    }
-  }
-  if (samples > 0) {
-    out->k_signal_rms = std::sqrt(std::max(0.0, repeat) / samples);
-    out->k_noise_rms = std::sqrt(std::max(0.0, total - repeat) / samples);
-  }
-}
-
-// Each converged cycle's mu-hat less its second-order bias from the k noise
-// the split estimated.
-void RemoveKNoiseBias(const std::vector<double>& bias_per_variance,
-                      FrictionFits* out) {
-  const double variance = out->k_ensemble_noise_rms * out->k_ensemble_noise_rms;
-  double sum = 0;
-  int n = 0;
-  for (size_t c = 0; c < out->cycles.size(); ++c) {
-    MuFit& f = out->cycles[c];
-    if (!f.converged) continue;
-    const double correction = -variance * bias_per_variance[c];
-    f.mu_hat += correction;
-    sum += correction;
-    ++n;
-  }
-  out->k_noise_correction = n > 0 ? sum / n : 0.0;
-}
-
-}  // namespace
-
-FrictionFits FitFriction(const force::ForceRecord& record,
-                         const force::CycleSet& cycles,
-                         SlopeSource source,
-                         const FrictionFitOptions& options,
-                         const PlateProfile* scan_slope,
-                         const std::vector<double>* slope_scale) {
-  WEARSCAR_CHECK(record.IsConsistent(),
-                 "FitFriction needs channels of one length");
-  WEARSCAR_CHECK(
-      slope_scale == nullptr || slope_scale->size() == cycles.cycles.size(),
-      "FitFriction needs one slope scale per cycle");
-  std::string why;
-  if (!options.IsValid(&why)) throw FusionError("friction fit options: " + why);
-  if (source == SlopeSource::kScan && scan_slope == nullptr) {
-    throw FusionError(
-        "slope from the scan requested but no scan slope profile given");
-  }
-  const int n = static_cast<int>(cycles.cycles.size());
-  FrictionFits out;
-  out.cycles.reserve(static_cast<std::size_t>(n));
-  std::optional<ForceSlopes> force_slopes;
-  int shared = 1;
-  if (source == SlopeSource::kForce) {
-    force_slopes.emplace(record, cycles, options);
-    out.slope = force_slopes->Describe();
-    shared = force_slopes->SharedCycles();
-    out.correlated_cycles = shared;
-  } else {
-    out.slope = "k = dh/dx of the scan's centreline in plate coordinates";
-    out.correlated_cycles = std::max(1, n);
-  }
-  const FrictionFitOptions resolved = Resolved(options, SamplingRateOf(record));
-  // The misfit Qm - Qw and k of every cycle, binned along x for the noise
-  // split (sums of squares per cycle and direction beside).
-  const PlateGrid grid =
-      PlateGrid::Covering(record, cycles, options.repeatability.bin_mm);
-  CycleBins misfit(grid, 0, n - 1, /*with_x=*/false),
-      slope(grid, 0, n - 1, /*with_x=*/false);
-  std::vector<std::array<double, 2>> misfit_total(n), q_total(n), k_total(n);
-  std::vector<double> bias_per_variance(n, 0.0);
-  out.cycles.resize(static_cast<std::size_t>(n));
-  // The cycles [first, last) with `slopes` (the force side's ensemble,
-  // slid along them) or the scan's: each cycle writes only its own
-  // places (its fit, its sums, its cycle's bins).
-  const auto fit_cycles = [&](int first, int last, const ForceSlopes* slopes) {
-    Eigen::VectorXd residual;
-    for (int c = first; c < last; ++c) {
-      CycleSamples s = slopes ? slopes->Gather(c)
-                              : GatherCycle(record,
-                                            cycles.cycles[c],
-                                            SlopeSource::kScan,
-                                            resolved,
-                                            scan_slope);
-      if (!slopes && slope_scale != nullptr) {
-        s.forward.k *= (*slope_scale)[c];
-        s.reverse.k *= (*slope_scale)[c];
-      }
-      MuFit fit = FitMu(s, options.fit);
-      if (fit.converged)
-        bias_per_variance[c] = KNoiseBiasPerVariance(s, fit.mu_hat);
-      int d = 0;
-      for (const SlipSamples* h : {&s.forward, &s.reverse}) {
-        double rr = 0, qq = 0, kk = 0;
-        const Eigen::Index m = h->q_n.size();
-        residual.resize(m);
-        for (Eigen::Index i = 0; i < m; ++i) {
-          const double r =
-              fit.converged
-                  ? h->q_n[i] -
-                        WearScarTangentialForce(
-                            h->p_n[i], h->k[i], fit.mu_hat, h->direction)
-                  : std::nan("");
-          residual[i] = r;
-          if (std::isfinite(r)) rr += r * r;
-          qq += h->q_n[i] * h->q_n[i];
-          kk += h->k[i] * h->k[i];
-        }
-        // Binned in one pass each (AddRange skips what is not finite).
-        misfit.AddRange(c, h->direction, h->x_mm.data(), residual.data(), 0, m);
-        slope.AddRange(c, h->direction, h->x_mm.data(), h->k.data(), 0, m);
-        misfit_total[c][d] = rr;
-        q_total[c][d] = qq;
-        k_total[c][d] = kk;
-        ++d;
-      }
-      out.cycles[static_cast<std::size_t>(c)] = std::move(fit);
-    }
-  };
-  // With threads, the force side's second half of the cycles on a thread
-  // of its own, with its own ensemble (its first window summed afresh: the
-  // same sums to the bit as slid, float sums of a few cycles being exact in
-  // double), so the fits are the same with and without.
-  const int half = n / 2;
-  if (force_slopes && options.threads > 1 && half >= 2 * shared) {
-    std::optional<ForceSlopes> second;
-    second.emplace(record, cycles, options);
-    std::future<void> done =
-        std::async(std::launch::async, [&] { fit_cycles(half, n, &*second); });
-    fit_cycles(0, half, &*force_slopes);
-    done.get();
-  } else {
-    fit_cycles(0, n, force_slopes ? &*force_slopes : nullptr);
-  }
-  // The split: other cycles at the same x whose k shares no P sample with
-  // this cycle's form the template.
-  SplitCosts(
-      SplitRepeatable(misfit, misfit_total, shared, options.repeatability),
-      q_total,
-      &out.cycles);
-  if (source == SlopeSource::kForce) {
-    SplitSlopeNoise(
-        SplitRepeatable(slope, k_total, shared, options.repeatability), &out);
-    out.k_ensemble_noise_rms =
-        std::sqrt(force_slopes->EnsembleNoiseVariance(0, n - 1));
-    if (options.correct_k_noise_bias &&
-        std::isfinite(out.k_ensemble_noise_rms)) {
-      RemoveKNoiseBias(bias_per_variance, &out);
-    }
-  }
-  return out;
-}
-
-std::vector<MuFit> FitFrictionPerCycle(const force::ForceRecord& record,
-                                       const force::CycleSet& cycles,
-                                       SlopeSource source,
-                                       const FrictionFitOptions& options,
-                                       const PlateProfile* scan_slope,
-                                       const std::vector<double>* slope_scale) {
-  return FitFriction(record, cycles, source, options, scan_slope, slope_scale)
-      .cycles;
 }
 
 }  // namespace wearscar::fusion

@@ -20,6 +20,32 @@ bool CheckScanSlopeScale(double max_scale, std::string* why) {
   return false;
 }
 
+// RMS of k_force - k_scan over the gross-slip samples of cycles [first,
+// last].
+double KRmsDifference(const force::ForceRecord& record,
+                      const ForceAnalysis& force,
+                      const ScanAnalysis& scan,
+                      int first,
+                      int last,
+                      const FuseOptions& options) {
+  double sum2 = 0;
+  long n = 0;
+  const ForceSlopes force_slopes(
+      record, force.cycles, options.analysis.friction, first, last);
+  for (int c = first; c <= last; ++c) {
+    const CycleSamples kf = force_slopes.Gather(c);
+    for (const SlipSamples* s : {&kf.forward, &kf.reverse}) {
+      for (Eigen::Index i = 0; i < s->k.size(); ++i) {
+        const double ks = scan.slope.At(s->x_mm[i]);
+        if (!std::isfinite(ks)) continue;
+        sum2 += (s->k[i] - ks) * (s->k[i] - ks);
+        ++n;
+      }
+    }
+  }
+  return n > 0 ? std::sqrt(sum2 / n) : std::nan("");
+}
+
 }  // namespace
 
 bool FuseOptions::IsValid(std::string* why) const {
@@ -108,23 +134,8 @@ MismatchReport CompareSlopes(const force::ForceRecord& record,
   r.cost_scan =
       stat([&](int c) { return fs[c].converged ? fs[c].cost : std::nan(""); });
   r.mu_force_minus_scan = r.mu_force.mean - r.mu_scan.mean;
-  // RMS of k_force - k_scan over the gross-slip samples of the range.
-  double sum2 = 0;
-  long n = 0;
-  const ForceSlopes force_slopes(
-      record, force.cycles, options.analysis.friction, first, last);
-  for (int c = first; c <= last; ++c) {
-    const CycleSamples kf = force_slopes.Gather(c);
-    for (const SlipSamples* s : {&kf.forward, &kf.reverse}) {
-      for (Eigen::Index i = 0; i < s->k.size(); ++i) {
-        const double ks = scan->slope.At(s->x_mm[i]);
-        if (!std::isfinite(ks)) continue;
-        sum2 += (s->k[i] - ks) * (s->k[i] - ks);
-        ++n;
-      }
-    }
-  }
-  r.k_rms_difference = n > 0 ? std::sqrt(sum2 / n) : std::nan("");
+  r.k_rms_difference =
+      KRmsDifference(record, force, *scan, first, last, options);
   return r;
 }
 
@@ -309,8 +320,8 @@ void AddScanSide(const force::ForceRecord& record,
 // The comparison of the slopes, the verdict, the warnings and the wear,
 // once both sides are analysed.
 void CompareAndJudge(const force::ForceRecord& record,
-           const FuseOptions& options,
-           TestResult* result) {
+                     const FuseOptions& options,
+                     TestResult* result) {
   // Compare over the cycles the scan describes best: the force profile's
   // range with a scan, else everything after running-in.
   const int n = static_cast<int>(result->force.cycles.cycles.size());

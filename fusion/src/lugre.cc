@@ -155,6 +155,92 @@ void CoulombAndStatic(const force::ForceRecord& r,
   if (*fs == 0) *fs = std::max(*fc, Percentile(all, 0.99));
 }
 
+// The samples the fit runs over: time steps, velocities and Q from the
+// warm-up half cycle before the cycle to its end; `warmup` of them before
+// the cycle.
+struct LugreSamples {
+  std::vector<double> dt, v, q;
+  size_t warmup = 0;
+  Eigen::Index begin = 0;  // the cycle's first sample in the record
+};
+
+LugreSamples GatherLugre(const force::ForceRecord& r,
+                         const force::CycleSet& cycles,
+                         int cycle) {
+  LugreSamples s;
+  const force::Cycle& c = cycles.cycles[cycle];
+  s.begin = c.forward.begin;
+  // Warm up the bristle over the previous half cycle (or what exists).
+  const Eigen::Index warm_begin = cycle > 0
+                                      ? cycles.cycles[cycle - 1].reverse.begin
+                                      : std::max<Eigen::Index>(1, s.begin);
+  for (Eigen::Index i = std::max<Eigen::Index>(1, warm_begin);
+       i < c.reverse.end;
+       ++i) {
+    const double h = r.time_s[i] - r.time_s[i - 1];
+    const Eigen::Index a = std::max<Eigen::Index>(0, i - 2),
+                       b = std::min(r.size() - 1, i + 2);
+    // Velocity over a 5-sample centred difference (LVDT noise).
+    const double vel = (r.x_mm[b] - r.x_mm[a]) / (r.time_s[b] - r.time_s[a]);
+    s.dt.push_back(h);
+    s.v.push_back(std::isfinite(vel) ? vel : 0.0);
+    s.q.push_back(std::isfinite(r.tangential_n[i]) ? r.tangential_n[i] : 0.0);
+  }
+  s.warmup =
+      static_cast<size_t>(s.begin - std::max<Eigen::Index>(1, warm_begin));
+  return s;
+}
+
+// How the fit ended: converged, or fitted with a negative damping (it fits
+// the loop but no bristle dissipates energy that way: reported as fitted,
+// not as a physical model), or the solver's message.
+void JudgeFit(const ceres::Solver::Summary& summary,
+              const double* params,
+              LugreFit* fit) {
+  fit->iterations = static_cast<int>(summary.iterations.size());
+  fit->converged = summary.termination_type == ceres::CONVERGENCE;
+  std::string implausible;
+  if (params[1] < 0) implausible = "sigma1 < 0";
+  if (params[2] < 0)
+    implausible +=
+        (implausible.empty() ? "" : ", ") + std::string("sigma2 < 0");
+  fit->physically_plausible = implausible.empty();
+  fit->message = summary.termination_type != ceres::CONVERGENCE
+                     ? summary.message
+                 : implausible.empty()
+                     ? "converged"
+                     : "fitted (physically implausible: " + implausible + ")";
+}
+
+// The fitted model along the cycle and its cost (paper Eq. 11).
+void TraceCycle(const force::ForceRecord& r,
+                const LugreSamples& s,
+                const double* params,
+                double fc,
+                double fs,
+                LugreFit* fit) {
+  const size_t n = s.v.size() - s.warmup;
+  fit->samples = static_cast<int>(n);
+  fit->time_s.resize(n);
+  fit->x_mm.resize(n);
+  fit->q_measured_n.resize(n);
+  fit->q_lugre_n.resize(n);
+  double z = 0, num = 0, den = 0;
+  for (size_t i = 0; i < s.v.size(); ++i) {
+    const double f = LugreStep(params, fc, fs, s.v[i], s.dt[i], &z);
+    if (i < s.warmup) continue;
+    const size_t k = i - s.warmup;
+    const Eigen::Index src = s.begin + static_cast<Eigen::Index>(k);
+    fit->time_s[k] = r.time_s[src];
+    fit->x_mm[k] = r.x_mm[src];
+    fit->q_measured_n[k] = s.q[i];
+    fit->q_lugre_n[k] = f;
+    num += (s.q[i] - f) * (s.q[i] - f);
+    den += s.q[i] * s.q[i];
+  }
+  fit->cost = den > 0 ? std::sqrt(num / den) : std::nan("");
+}
+
 }  // namespace
 
 LugreFit FitLugre(const force::ForceRecord& r,
@@ -168,28 +254,9 @@ LugreFit FitLugre(const force::ForceRecord& r,
                                   cycle,
                                   cycles.cycles.size()));
   }
-  LugreFit fit;
-  const force::Cycle& c = cycles.cycles[cycle];
-  const Eigen::Index begin = c.forward.begin, end = c.reverse.end;
-  // Warm up the bristle over the previous half cycle (or what exists).
-  const Eigen::Index warm_begin = cycle > 0
-                                      ? cycles.cycles[cycle - 1].reverse.begin
-                                      : std::max<Eigen::Index>(1, begin);
-  std::vector<double> dt, v, q;
-  for (Eigen::Index i = std::max<Eigen::Index>(1, warm_begin); i < end; ++i) {
-    const double h = r.time_s[i] - r.time_s[i - 1];
-    const Eigen::Index a = std::max<Eigen::Index>(0, i - 2),
-                       b = std::min(r.size() - 1, i + 2);
-    // Velocity over a 5-sample centred difference (LVDT noise).
-    const double vel = (r.x_mm[b] - r.x_mm[a]) / (r.time_s[b] - r.time_s[a]);
-    dt.push_back(h);
-    v.push_back(std::isfinite(vel) ? vel : 0.0);
-    q.push_back(std::isfinite(r.tangential_n[i]) ? r.tangential_n[i] : 0.0);
-  }
-  const size_t warmup =
-      static_cast<size_t>(begin - std::max<Eigen::Index>(1, warm_begin));
+  const LugreSamples s = GatherLugre(r, cycles, cycle);
   double fc = options.coulomb_n, fs = options.static_n;
-  CoulombAndStatic(r, c, &fc, &fs);
+  CoulombAndStatic(r, cycles.cycles[cycle], &fc, &fs);
   const LugreParameters& p0 = options.initial;
   double params[4] = {p0.sigma0_n_per_mm,
                       p0.sigma1_n_s_per_mm,
@@ -197,7 +264,7 @@ LugreFit FitLugre(const force::ForceRecord& r,
                       p0.stribeck_speed_mm_s};
   ceres::Problem problem;
   problem.AddResidualBlock(
-      LugreCost::Create(&dt, &v, &q, warmup, fc, fs), nullptr, params);
+      LugreCost::Create(&s.dt, &s.v, &s.q, s.warmup, fc, fs), nullptr, params);
   problem.SetParameterLowerBound(params, 0, 1e-3);
   problem.SetParameterLowerBound(params, 3, 1e-3);
   ceres::Solver::Options so;
@@ -206,42 +273,10 @@ LugreFit FitLugre(const force::ForceRecord& r,
   so.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
   ceres::Solve(so, &problem, &summary);
+  LugreFit fit;
   fit.parameters = {params[0], params[1], params[2], params[3], fc, fs};
-  fit.iterations = static_cast<int>(summary.iterations.size());
-  fit.converged = summary.termination_type == ceres::CONVERGENCE;
-  // A negative damping fits the loop but no bristle dissipates energy
-  // that way: such a fit is reported as fitted, not as a physical model.
-  std::string implausible;
-  if (params[1] < 0) implausible = "sigma1 < 0";
-  if (params[2] < 0)
-    implausible +=
-        (implausible.empty() ? "" : ", ") + std::string("sigma2 < 0");
-  fit.physically_plausible = implausible.empty();
-  fit.message = summary.termination_type != ceres::CONVERGENCE ? summary.message
-                : implausible.empty()
-                    ? "converged"
-                    : "fitted (physically implausible: " + implausible + ")";
-  // Eq. 11 on the fitted cycle.
-  const size_t n = v.size() - warmup;
-  fit.samples = static_cast<int>(n);
-  fit.time_s.resize(n);
-  fit.x_mm.resize(n);
-  fit.q_measured_n.resize(n);
-  fit.q_lugre_n.resize(n);
-  double z = 0, num = 0, den = 0;
-  for (size_t i = 0; i < v.size(); ++i) {
-    const double f = LugreStep(params, fc, fs, v[i], dt[i], &z);
-    if (i < warmup) continue;
-    const size_t k = i - warmup;
-    const Eigen::Index src = begin + static_cast<Eigen::Index>(k);
-    fit.time_s[k] = r.time_s[src];
-    fit.x_mm[k] = r.x_mm[src];
-    fit.q_measured_n[k] = q[i];
-    fit.q_lugre_n[k] = f;
-    num += (q[i] - f) * (q[i] - f);
-    den += q[i] * q[i];
-  }
-  fit.cost = den > 0 ? std::sqrt(num / den) : std::nan("");
+  JudgeFit(summary, params, &fit);
+  TraceCycle(r, s, params, fc, fs, &fit);
   return fit;
 }
 

@@ -15,11 +15,10 @@ namespace wearscar::fusion {
 
 std::vector<std::pair<std::string, std::string>> DiagnosisFiles(
     const std::string& name, const Diagnosis& d) {
-  return {{"diagnosis.json", internal::DiagnosisJson(name, d).dump(2) + "\n"},
-          {"residual_map_before.csv",
-           internal::ResidualMapTable(d.before).ToCsv()},
-          {"residual_map_after.csv",
-           internal::ResidualMapTable(d.after).ToCsv()}};
+  return {
+      {"diagnosis.json", internal::DiagnosisJson(name, d).dump(2) + "\n"},
+      {"residual_map_before.csv", internal::ResidualMapTable(d.before).ToCsv()},
+      {"residual_map_after.csv", internal::ResidualMapTable(d.after).ToCsv()}};
 }
 
 bool ProductOptions::IsValid(std::string* why) const {

@@ -238,8 +238,7 @@ nlohmann::json TrackHistoryJson(const TestResult& r, const FuseOptions& o) {
   if (r.scan) {
     // The final state against the scan: the alignment's amplitude ratio
     // (P/S over the compared cycles against the scanned profile).
-    j["final_vs_scan_amplitude_ratio"] =
-        r.scan->alignment.amplitude_ratio;
+    j["final_vs_scan_amplitude_ratio"] = r.scan->alignment.amplitude_ratio;
   }
   return j;
 }

@@ -71,7 +71,8 @@ void ApplyColumns(const std::string& columns, force::ReadForceOptions* r) {
     rest = comma == std::string::npos ? "" : rest.substr(comma + 1);
     const size_t eq = item.find('=');
     const std::string key = item.substr(0, eq);
-    const std::string value = eq == std::string::npos ? "" : item.substr(eq + 1);
+    const std::string value =
+        eq == std::string::npos ? "" : item.substr(eq + 1);
     std::string* slot = key == "time" ? &r->time_column
                         : key == "x"  ? &r->x_column
                         : key == "q"  ? &r->tangential_column
@@ -121,7 +122,8 @@ std::vector<S> ForceFileSettings() {
              "sampling rate or --rate",
              &R::time_column),
       column("x-column", "Displacement column name or #N", &R::x_column),
-      column("q-column", "Friction force column name or #N",
+      column("q-column",
+             "Friction force column name or #N",
              &R::tangential_column),
       column("p-column", "Normal force column name or #N", &R::normal_column),
       UnitSetting("x-unit",
@@ -137,16 +139,27 @@ std::vector<S> ForceFileSettings() {
                   "Unit of the time column (s, ms, min); default: the "
                   "file's, else inferred",
                   &R::time_unit),
-      {"columns", g,
+      {"columns",
+       g,
        "Column overrides in one go: time=NAME,x=NAME,q=NAME,p=NAME (names "
        "or #N; any subset), each optionally with its unit: x=Pos:um",
-       "TEXT", ~0u,
-       [](T* t, const std::string& text) { ApplyColumns(text, &t->read_force); },
+       "TEXT",
+       ~0u,
+       [](T* t, const std::string& text) {
+         ApplyColumns(text, &t->read_force);
+       },
        [](const T&) { return std::string(); }},
-      NumberSetting<T>("rate", g, "Sampling rate (Hz) when there is no time "
-                       "column", 0, 1e8,
-                       [](T& t) -> double& { return t.read_force.sampling_rate_hz; }),
-      FlagSetting<T>("lenient", g, "Drop isolated bad rows with a warning",
+      NumberSetting<T>(
+          "rate",
+          g,
+          "Sampling rate (Hz) when there is no time "
+          "column",
+          0,
+          1e8,
+          [](T& t) -> double& { return t.read_force.sampling_rate_hz; }),
+      FlagSetting<T>("lenient",
+                     g,
+                     "Drop isolated bad rows with a warning",
                      [](T& t) -> bool& { return t.read_force.lenient; }),
   };
 }
@@ -157,81 +170,119 @@ std::vector<S> SlopeSettings() {
     return t.fuse.analysis.friction.slope;
   };
   return {
-      NumberSetting<T>("spring", g, "Loading spring stiffness S, N/mm", 1e-6,
-                       1e6, [slope](T& t) -> double& {
-                         return slope(t).spring_n_per_mm;
-                       }),
-      ChoiceSetting("k-estimate", g,
-                    "Slope of P: ensemble (P(x) averaged over neighbouring "
-                    "cycles) | cycle (each cycle's own P, the paper)",
-                    {"ensemble", "cycle"},
-                    [](T* t, const std::string& v) {
-                      ParseKEstimate(v, &t->fuse.analysis.friction.k_estimate);
-                    },
-                    [](const T& t) {
-                      return std::string(
-                          KEstimateName(t.fuse.analysis.friction.k_estimate));
-                    }),
-      IntegerSetting<T>("ensemble-cycles", g,
-                        "Cycles averaged for the ensemble slope (odd)", 1,
-                        10001, [](T& t) -> int& {
+      NumberSetting<T>(
+          "spring",
+          g,
+          "Loading spring stiffness S, N/mm",
+          1e-6,
+          1e6,
+          [slope](T& t) -> double& { return slope(t).spring_n_per_mm; }),
+      ChoiceSetting(
+          "k-estimate",
+          g,
+          "Slope of P: ensemble (P(x) averaged over neighbouring "
+          "cycles) | cycle (each cycle's own P, the paper)",
+          {"ensemble", "cycle"},
+          [](T* t, const std::string& v) {
+            ParseKEstimate(v, &t->fuse.analysis.friction.k_estimate);
+          },
+          [](const T& t) {
+            return std::string(
+                KEstimateName(t.fuse.analysis.friction.k_estimate));
+          }),
+      IntegerSetting<T>("ensemble-cycles",
+                        g,
+                        "Cycles averaged for the ensemble slope (odd)",
+                        1,
+                        10001,
+                        [](T& t) -> int& {
                           return t.fuse.analysis.friction.ensemble.cycles;
                         }),
-      NumberSetting<T>("ensemble-span", g,
-                       "Span of x of the ensemble slope's local fit, mm", 1e-3,
-                       10, [](T& t) -> double& {
+      NumberSetting<T>("ensemble-span",
+                       g,
+                       "Span of x of the ensemble slope's local fit, mm",
+                       1e-3,
+                       10,
+                       [](T& t) -> double& {
                          return t.fuse.analysis.friction.ensemble.span_mm;
                        }),
-      FlagSetting<T>("no-k-noise-correction", g,
-                     "Keep mu-hat's second-order bias from the noise in the "
-                     "ensemble's k (about -3 mu var(k noise); removed by "
-                     "default)",
-                     [](T& t) -> bool& {
-                       return t.fuse.analysis.friction.correct_k_noise_bias;
-                     },
-                     false),
-      NumberSetting<T>("window-ms", g,
+      FlagSetting<T>(
+          "no-k-noise-correction",
+          g,
+          "Keep mu-hat's second-order bias from the noise in the "
+          "ensemble's k (about -3 mu var(k noise); removed by "
+          "default)",
+          [](T& t) -> bool& {
+            return t.fuse.analysis.friction.correct_k_noise_bias;
+          },
+          false),
+  };
+}
+
+// The stencil of the derivative of P.
+std::vector<S> StencilSettings() {
+  const char* g = "Method";
+  auto slope = [](T& t) -> force::SlopeOptions& {
+    return t.fuse.analysis.friction.slope;
+  };
+  return {
+      NumberSetting<T>("window-ms",
+                       g,
                        "Smoothing window of P in time, ms (cycle estimate; "
                        "5 ms = the paper's 10 samples at 2 kHz)",
-                       1e-3, 1e4,
+                       1e-3,
+                       1e4,
                        [slope](T& t) -> double& { return slope(t).window_ms; }),
-      {"window", g,
+      {"window",
+       g,
        "Smoothing window of P in samples instead of --window-ms (the "
        "paper: 10)",
-       "INTEGER", ~0u,
+       "INTEGER",
+       ~0u,
        [slope](T* t, const std::string& text) {
-         slope(*t).window = static_cast<int>(support::ParseInteger(text, 0, 100000));
+         slope(*t).window =
+             static_cast<int>(support::ParseInteger(text, 0, 100000));
        },
        [](const T&) { return std::string(); }},
-      NumberSetting<T>("difference-ms", g,
-                       "Half span of the central difference, ms (0.5 ms = "
-                       "the paper's Eq. 5 at 2 kHz)",
-                       1e-3, 1e4,
-                       [slope](T& t) -> double& { return slope(t).half_span_ms; }),
-      ChoiceSetting("derivative", g, "Slope of P: central (paper Eq. 5) | savgol",
-                    {"central", "savgol"},
-                    [slope](T* t, const std::string& v) {
-                      force::ParseDerivativeMethod(v, &slope(*t).method);
-                    },
-                    [](const T& t) {
-                      return DerivativeWord(
-                          t.fuse.analysis.friction.slope.method);
-                    }),
-      NumberSetting<T>("min-span", g,
-                       "Widen the difference stencil to span at least this "
-                       "x, mm (0 = paper)",
-                       0, 10,
-                       [slope](T& t) -> double& { return slope(t).min_span_mm; }),
+      NumberSetting<T>(
+          "difference-ms",
+          g,
+          "Half span of the central difference, ms (0.5 ms = "
+          "the paper's Eq. 5 at 2 kHz)",
+          1e-3,
+          1e4,
+          [slope](T& t) -> double& { return slope(t).half_span_ms; }),
+      ChoiceSetting(
+          "derivative",
+          g,
+          "Slope of P: central (paper Eq. 5) | savgol",
+          {"central", "savgol"},
+          [slope](T* t, const std::string& v) {
+            force::ParseDerivativeMethod(v, &slope(*t).method);
+          },
+          [](const T& t) {
+            return DerivativeWord(t.fuse.analysis.friction.slope.method);
+          }),
+      NumberSetting<T>(
+          "min-span",
+          g,
+          "Widen the difference stencil to span at least this "
+          "x, mm (0 = paper)",
+          0,
+          10,
+          [slope](T& t) -> double& { return slope(t).min_span_mm; }),
   };
 }
 
 std::vector<S> RunningInSettings() {
   const char* g = "Method";
   return {
-      {"running-in", g,
+      {"running-in",
+       g,
        "Running-in cycles excluded from statistics: a number, or auto (the "
        "friction settles within --running-in-tolerance of the steady trend)",
-       "TEXT", ~0u,
+       "TEXT",
+       ~0u,
        [](T* t, const std::string& text) {
          if (text == "auto") {
            t->fuse.analysis.running_in_cycles = -1;
@@ -249,16 +300,21 @@ std::vector<S> RunningInSettings() {
          const int n = t.fuse.analysis.running_in_cycles;
          return n < 0 ? std::string("auto") : std::to_string(n);
        }},
-      NumberSetting<T>("running-in-tolerance", g,
-                       "Band around the steady friction trend that ends "
-                       "running-in (auto)",
-                       1e-9, 1, [](T& t) -> double& {
-                         return t.fuse.analysis.running_in_tolerance;
-                       }),
-      NumberSetting<T>("mu-max", g, "Upper end of the mu search", 1e-3, 10,
-                       [](T& t) -> double& {
-                         return t.fuse.analysis.friction.fit.mu_max;
-                       }),
+      NumberSetting<T>(
+          "running-in-tolerance",
+          g,
+          "Band around the steady friction trend that ends "
+          "running-in (auto)",
+          1e-9,
+          1,
+          [](T& t) -> double& { return t.fuse.analysis.running_in_tolerance; }),
+      NumberSetting<T>(
+          "mu-max",
+          g,
+          "Upper end of the mu search",
+          1e-3,
+          10,
+          [](T& t) -> double& { return t.fuse.analysis.friction.fit.mu_max; }),
   };
 }
 
@@ -266,33 +322,43 @@ std::vector<S> VerdictSettings() {
   const char* g = "Verdict";
   auto verdict = [](T& t) -> VerdictOptions& { return t.fuse.verdict; };
   return {
-      ChoiceSetting("verdict-cost", g,
-                    "Verdict on J: excess (the part of J this test's noise "
-                    "does not explain, --max-excess) | paper (J itself, "
-                    "--max-cost)",
-                    {"excess", "paper"},
-                    [](T* t, const std::string& v) {
-                      ParseCostCriterion(v, &t->fuse.verdict.cost_criterion);
-                    },
-                    [](const T& t) {
-                      return std::string(
-                          CostCriterionName(t.fuse.verdict.cost_criterion));
-                    }),
-      NumberSetting<T>("max-excess", g,
-                       "Verdict: largest J above its noise floor (lower end "
-                       "of its 95% interval)",
-                       1e-9, 100, [verdict](T& t) -> double& {
-                         return verdict(t).max_cost_excess;
-                       }),
-      NumberSetting<T>("max-cost", g,
-                       "Verdict with --verdict-cost paper: largest J after "
-                       "running-in",
-                       1e-9, 100,
-                       [verdict](T& t) -> double& { return verdict(t).max_cost; }),
-      NumberSetting<T>("max-method-difference", g,
+      ChoiceSetting(
+          "verdict-cost",
+          g,
+          "Verdict on J: excess (the part of J this test's noise "
+          "does not explain, --max-excess) | paper (J itself, "
+          "--max-cost)",
+          {"excess", "paper"},
+          [](T* t, const std::string& v) {
+            ParseCostCriterion(v, &t->fuse.verdict.cost_criterion);
+          },
+          [](const T& t) {
+            return std::string(
+                CostCriterionName(t.fuse.verdict.cost_criterion));
+          }),
+      NumberSetting<T>(
+          "max-excess",
+          g,
+          "Verdict: largest J above its noise floor (lower end "
+          "of its 95% interval)",
+          1e-9,
+          100,
+          [verdict](T& t) -> double& { return verdict(t).max_cost_excess; }),
+      NumberSetting<T>(
+          "max-cost",
+          g,
+          "Verdict with --verdict-cost paper: largest J after "
+          "running-in",
+          1e-9,
+          100,
+          [verdict](T& t) -> double& { return verdict(t).max_cost; }),
+      NumberSetting<T>("max-method-difference",
+                       g,
                        "Verdict: largest |mu-hat - mu_energy| (its whole 95% "
                        "interval beyond it)",
-                       1e-9, 10, [verdict](T& t) -> double& {
+                       1e-9,
+                       10,
+                       [verdict](T& t) -> double& {
                          return verdict(t).max_method_difference;
                        }),
   };
@@ -301,20 +367,36 @@ std::vector<S> VerdictSettings() {
 std::vector<S> LugreSettings() {
   const char* g = "Method";
   return {
-      FlagSetting<T>("no-lugre", g, "Skip the LuGre comparison",
-                     [](T& t) -> bool& { return t.fuse.fit_lugre; }, false),
-      NumberSetting<T>("lugre-fc", g, "LuGre F_c, N (0 = from the cycle)", 0,
+      FlagSetting<T>(
+          "no-lugre",
+          g,
+          "Skip the LuGre comparison",
+          [](T& t) -> bool& { return t.fuse.fit_lugre; },
+          false),
+      NumberSetting<T>("lugre-fc",
+                       g,
+                       "LuGre F_c, N (0 = from the cycle)",
+                       0,
                        1e5,
                        [](T& t) -> double& { return t.fuse.lugre.coulomb_n; }),
-      NumberSetting<T>("lugre-fs", g, "LuGre F_s, N (0 = from the cycle)", 0,
+      NumberSetting<T>("lugre-fs",
+                       g,
+                       "LuGre F_s, N (0 = from the cycle)",
+                       0,
                        1e5,
                        [](T& t) -> double& { return t.fuse.lugre.static_n; }),
   };
 }
 
 // A cycle counted from 1 in the text, from 0 in the struct (-1: not set).
-S CycleSetting(std::string name, std::string help, int ForceProfileOptions::*f) {
-  return {std::move(name), "Scan", std::move(help), "INTEGER", ~0u,
+S CycleSetting(std::string name,
+               std::string help,
+               int ForceProfileOptions::*f) {
+  return {std::move(name),
+          "Scan",
+          std::move(help),
+          "INTEGER",
+          ~0u,
           [f](T* t, const std::string& text) {
             t->fuse.force_profile.*f =
                 static_cast<int>(support::ParseInteger(text, 1, 10000000)) - 1;
@@ -328,37 +410,50 @@ S CycleSetting(std::string name, std::string help, int ForceProfileOptions::*f) 
 std::vector<S> CompareSettings() {
   auto verdict = [](T& t) -> VerdictOptions& { return t.fuse.verdict; };
   return {
-      ChoiceSetting("slope", "Method",
-                    "Slope of the sliding path for mu-hat: force (k = dP/dx "
-                    "/ S), scan (the aligned centreline) or both",
-                    {"force", "scan", "both"},
-                    [](T* t, const std::string& v) {
-                      ParseSlopeChoice(v, &t->fuse.slopes);
-                    },
-                    [](const T& t) {
-                      return std::string(SlopeChoiceName(t.fuse.slopes));
-                    }),
+      ChoiceSetting(
+          "slope",
+          "Method",
+          "Slope of the sliding path for mu-hat: force (k = dP/dx "
+          "/ S), scan (the aligned centreline) or both",
+          {"force", "scan", "both"},
+          [](T* t, const std::string& v) {
+            ParseSlopeChoice(v, &t->fuse.slopes);
+          },
+          [](const T& t) {
+            return std::string(SlopeChoiceName(t.fuse.slopes));
+          }),
       CycleSetting("compare-first",
                    "Compare from this cycle (from 1; with --compare-last) "
                    "instead of the last N",
                    &ForceProfileOptions::first_cycle),
-      CycleSetting("compare-last", "Last cycle compared",
+      CycleSetting("compare-last",
+                   "Last cycle compared",
                    &ForceProfileOptions::last_cycle),
-      NumberSetting<T>("max-amplitude-ratio", "Verdict",
+      NumberSetting<T>("max-amplitude-ratio",
+                       "Verdict",
                        "Verdict: largest std(P/S) / std(scan profile) (lower "
                        "end of its 95% interval)",
-                       1e-9, 1e3, [verdict](T& t) -> double& {
+                       1e-9,
+                       1e3,
+                       [verdict](T& t) -> double& {
                          return verdict(t).max_amplitude_ratio;
                        }),
-      NumberSetting<T>("min-correlation", "Verdict",
-                       "Verdict: smallest correlation of the aligned profiles",
-                       -1, 1, [verdict](T& t) -> double& {
-                         return verdict(t).min_correlation;
-                       }),
-      IntegerSetting<T>("compare-cycles", "Scan",
-                        "Compare the scan with the last N cycles", 1, 10000000,
-                        [](T& t) -> int& { return t.fuse.force_profile.cycles; }),
-      FlagSetting<T>("scan-slope-history", "Scan",
+      NumberSetting<T>(
+          "min-correlation",
+          "Verdict",
+          "Verdict: smallest correlation of the aligned profiles",
+          -1,
+          1,
+          [verdict](T& t) -> double& { return verdict(t).min_correlation; }),
+      IntegerSetting<T>(
+          "compare-cycles",
+          "Scan",
+          "Compare the scan with the last N cycles",
+          1,
+          10000000,
+          [](T& t) -> int& { return t.fuse.force_profile.cycles; }),
+      FlagSetting<T>("scan-slope-history",
+                     "Scan",
                      "Scale the scan's slope of each cycle by that cycle's "
                      "waviness from the spring over the final one, so the "
                      "scan-side mu-hat does not carry the track's growth "
@@ -371,85 +466,128 @@ std::vector<S> CompareSettings() {
 std::vector<S> LevelSettings() {
   const char* g = "Scan";
   return {
-      IntegerSetting<T>("level-order", g, "Reference surface order (1-3)", 1,
+      IntegerSetting<T>(
+          "level-order",
+          g,
+          "Reference surface order (1-3)",
+          1,
+          3,
+          [](T& t) -> int& { return t.fuse.level.polynomial_order; }),
+      NumberSetting<T>(
+          "band",
+          g,
+          "Centreline band width, mm",
+          0,
+          100,
+          [](T& t) -> double& { return t.fuse.profile.band_width_mm; }),
+      ChoiceSetting(
+          "scan-derivative",
+          g,
+          "Slope of the scan: savgol | central",
+          {"savgol", "central"},
+          [](T* t, const std::string& v) {
+            force::ParseDerivativeMethod(v, &t->fuse.scan_slope.method);
+          },
+          [](const T& t) { return DerivativeWord(t.fuse.scan_slope.method); }),
+      IntegerSetting<T>("scan-window",
+                        g,
+                        "Scan slope window, scan samples",
                         3,
-                        [](T& t) -> int& { return t.fuse.level.polynomial_order; }),
-      NumberSetting<T>("band", g, "Centreline band width, mm", 0, 100,
-                       [](T& t) -> double& {
-                         return t.fuse.profile.band_width_mm;
-                       }),
-      ChoiceSetting("scan-derivative", g, "Slope of the scan: savgol | central",
-                    {"savgol", "central"},
-                    [](T* t, const std::string& v) {
-                      force::ParseDerivativeMethod(v, &t->fuse.scan_slope.method);
-                    },
-                    [](const T& t) {
-                      return DerivativeWord(t.fuse.scan_slope.method);
-                    }),
-      IntegerSetting<T>("scan-window", g, "Scan slope window, scan samples", 3,
                         100000,
                         [](T& t) -> int& { return t.fuse.scan_slope.window; }),
   };
 }
 
-std::vector<S> TrackSettings() {
+// Finding or placing the worn track, in any settings struct.
+template <class Target>
+std::vector<support::Setting<Target>> TrackSettings(
+    std::function<scan::TrackOptions&(Target&)> track) {
   const char* g = "Scan";
-  auto track = [](T& t) -> scan::TrackOptions& { return t.fuse.track; };
   auto manual = [g, track](const char* name, const char* help, auto member) {
-    S s = NumberSetting<T>(name, g, help, -1e6, 1e6,
-                           [track, member](T& t) -> double& {
-                             return track(t).*member;
-                           });
-    s.show = [](const T&) { return std::string(); };
+    auto s = NumberSetting<Target>(
+        name, g, help, -1e6, 1e6, [track, member](Target& t) -> double& {
+          return track(t).*member;
+        });
+    s.show = [](const Target&) { return std::string(); };
     return s;
   };
   using O = scan::TrackOptions;
   return {
-      NumberSetting<T>("min-depth", g, "Track: least depth, mm", 1e-9, 100,
-                       [track](T& t) -> double& { return track(t).min_depth_mm; }),
-      NumberSetting<T>("min-elongation", g,
-                       "Track: least length/width of the depression", 1, 1e3,
-                       [track](T& t) -> double& {
-                         return track(t).min_elongation;
-                       }),
+      NumberSetting<Target>(
+          "min-depth",
+          g,
+          "Track: least depth, mm",
+          1e-9,
+          100,
+          [track](Target& t) -> double& { return track(t).min_depth_mm; }),
+      NumberSetting<Target>(
+          "min-elongation",
+          g,
+          "Track: least length/width of the depression",
+          1,
+          1e3,
+          [track](Target& t) -> double& { return track(t).min_elongation; }),
       manual("track-length",
              "Track length, mm (manual placement; 0 = across the field)",
              &O::manual_length_mm),
-      FlagSetting<T>("manual-track", g,
-                     "Place the track by hand (--track-x, --track-y, "
-                     "--track-angle)",
-                     [track](T& t) -> bool& { return track(t).manual; }),
-      manual("track-angle", "Track angle, degrees (manual placement)",
+      FlagSetting<Target>(
+          "manual-track",
+          g,
+          "Place the track by hand (--track-x, --track-y, --track-angle)",
+          [track](Target& t) -> bool& { return track(t).manual; }),
+      manual("track-angle",
+             "Track angle, degrees (manual placement)",
              &O::angle_deg),
-      manual("track-x", "Track centre x, mm (manual placement)",
-             &O::centre_x_mm),
-      manual("track-y", "Track centre y, mm (manual placement)",
-             &O::centre_y_mm),
+      manual(
+          "track-x", "Track centre x, mm (manual placement)", &O::centre_x_mm),
+      manual(
+          "track-y", "Track centre y, mm (manual placement)", &O::centre_y_mm),
   };
 }
 
-std::vector<S> ScanFileSettings() {
+// Reading the height map, in any settings struct.
+template <class Target>
+std::vector<support::Setting<Target>> ScanFileSettings(
+    std::function<scan::ReadScanOptions&(Target&)> read) {
   const char* g = "Scan";
   return {
-      {"large-maps", g,
+      {"large-maps",
+       g,
        "Raise the decompression limits for genuinely large maps (a member "
        "up to 8 GiB, a file 16 GiB, any ratio)",
-       "", ~0u,
-       [](T* t, const std::string& text) {
-         if (support::ParseFlag(text)) scan::AllowLargeMaps(&t->read_scan);
+       "",
+       ~0u,
+       [read](Target* t, const std::string& text) {
+         if (support::ParseFlag(text)) scan::AllowLargeMaps(&read(*t));
        },
-       [](const T&) { return std::string(); }},
-      NumberSetting<T>("max-pixel-aspect", g,
-                       "Refuse scan pixels longer one way than this times "
-                       "the other",
-                       1, 1e6,
-                       [](T& t) -> double& { return t.read_scan.max_pixel_aspect; }),
-      IntegerSetting<T>("measurement", g, ".zag measurement index", 0, 100000,
-                        [](T& t) -> int& { return t.read_scan.measurement_index; }),
-      NumberSetting<T>("ascii-pitch", g, "ASCII matrix pixel size, mm", 0, 1e3,
-                       [](T& t) -> double& { return t.read_scan.ascii_pitch_mm; }),
-      TextSetting<T>("ascii-unit", g, "ASCII matrix height unit",
-                     [](T& t) -> std::string& { return t.read_scan.ascii_z_unit; }),
+       [](const Target&) { return std::string(); }},
+      NumberSetting<Target>(
+          "max-pixel-aspect",
+          g,
+          "Refuse scan pixels longer one way than this times the other "
+          "(raise it for genuinely unequal pitches)",
+          1,
+          1e6,
+          [read](Target& t) -> double& { return read(t).max_pixel_aspect; }),
+      IntegerSetting<Target>(
+          "measurement",
+          g,
+          ".zag measurement index",
+          0,
+          100000,
+          [read](Target& t) -> int& { return read(t).measurement_index; }),
+      NumberSetting<Target>(
+          "ascii-pitch",
+          g,
+          "ASCII matrix pixel size, mm",
+          0,
+          1e3,
+          [read](Target& t) -> double& { return read(t).ascii_pitch_mm; }),
+      TextSetting<Target>(
+          "ascii-unit",
+          g,
+          "ASCII matrix height unit",
+          [read](Target& t) -> std::string& { return read(t).ascii_z_unit; }),
   };
 }
 
@@ -460,17 +598,112 @@ std::vector<S> AllSettings() {
   };
   add(kForceFileSettings, ForceFileSettings());
   add(kSlopeSettings, SlopeSettings());
+  add(kSlopeSettings, StencilSettings());
   add(kSlopeSettings, RunningInSettings());
   add(kVerdictSettings, VerdictSettings());
   add(kLugreSettings, LugreSettings());
   add(kCompareSettings, CompareSettings());
   add(kLevelTrackSettings, LevelSettings());
-  add(kLevelTrackSettings, TrackSettings());
-  add(kScanFileSettings, ScanFileSettings());
+  add(kLevelTrackSettings, TrackSettings<T>([](T& t) -> scan::TrackOptions& {
+        return t.fuse.track;
+      }));
+  add(kScanFileSettings,
+      ScanFileSettings<T>(
+          [](T& t) -> scan::ReadScanOptions& { return t.read_scan; }));
   return all;
 }
 
+using M = MapSettings;
+
+// The map alone: levelling, spikes, centreline and cross-sections.
+std::vector<support::Setting<M>> MapAnalysisSettings() {
+  const char* g = "Scan";
+  auto a = [](M& m) -> MapAnalysisOptions& { return m.analysis; };
+  return {
+      IntegerSetting<M>(
+          "level-order",
+          g,
+          "Reference surface order (1-3)",
+          1,
+          3,
+          [a](M& m) -> int& { return a(m).level.polynomial_order; }),
+      NumberSetting<M>(
+          "ransac-threshold",
+          g,
+          "RANSAC inlier band, mm",
+          1e-9,
+          10,
+          [a](M& m) -> double& { return a(m).level.ransac_threshold_mm; }),
+      NumberSetting<M>(
+          "spike-threshold",
+          g,
+          "Spike height, mm",
+          1e-9,
+          100,
+          [a](M& m) -> double& { return a(m).spikes.threshold_mm; }),
+      NumberSetting<M>(
+          "band",
+          g,
+          "Centreline band width, mm",
+          0,
+          100,
+          [a](M& m) -> double& { return a(m).profile.band_width_mm; }),
+      NumberSetting<M>("step",
+                       g,
+                       "Centreline step, mm (0 = the pitch)",
+                       0,
+                       100,
+                       [a](M& m) -> double& { return a(m).profile.step_mm; }),
+      {"sections",
+       g,
+       "Cross-sections at these positions along the track from its centre, "
+       "mm (comma-separated; default -1/4, 0, +1/4 of its length)",
+       "NUMBERS",
+       ~0u,
+       [](M* m, const std::string& text) {
+         size_t start = 0;
+         while (start <= text.size()) {
+           const size_t comma = std::min(text.find(',', start), text.size());
+           m->analysis.sections_mm.push_back(support::ParseNumber(
+               text.substr(start, comma - start), -1e4, 1e4));
+           start = comma + 1;
+         }
+       },
+       [](const M&) { return std::string(); }},
+      NumberSetting<M>(
+          "section-half-width",
+          g,
+          "Cross-section half width, mm",
+          1e-6,
+          1e3,
+          [a](M& m) -> double& { return a(m).section_half_width_mm; }),
+  };
+}
+
 }  // namespace
+
+const std::vector<support::Setting<MapSettings>>& MapSettingList() {
+  static const std::vector<support::Setting<M>> list = [] {
+    std::vector<support::Setting<M>> all = ScanFileSettings<M>(
+        [](M& m) -> scan::ReadScanOptions& { return m.read_scan; });
+    for (auto& s : MapAnalysisSettings()) all.push_back(std::move(s));
+    for (auto& s : TrackSettings<M>(
+             [](M& m) -> scan::TrackOptions& { return m.analysis.track; }))
+      all.push_back(std::move(s));
+    return all;
+  }();
+  return list;
+}
+
+MapSettings MakeMapSettings(
+    const std::vector<std::pair<std::string, std::string>>& given) {
+  MapSettings m;
+  support::ApplySettings(MapSettingList(), given, &m);
+  std::string why;
+  if (!m.analysis.IsValid(&why) || !m.read_scan.IsValid(&why))
+    throw support::SettingFailed("", why);
+  return m;
+}
 
 const std::vector<support::Setting<TestSettings>>& TestSettingList() {
   static const std::vector<S> list = AllSettings();

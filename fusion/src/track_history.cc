@@ -75,6 +75,85 @@ bool TrackHistoryOptions::IsValid(std::string* why) const {
   return true;
 }
 
+namespace {
+
+// P binned along x over one half cycle: sums, sums of squares, counts.
+struct HalfBins {
+  std::vector<double> sum, sum2, count;
+};
+
+void BinHalf(const force::ForceRecord& record,
+             const force::HalfCycle& half,
+             double start,
+             double bin_mm,
+             HalfBins* b) {
+  const size_t bins = b->sum.size();
+  std::fill(b->sum.begin(), b->sum.end(), 0.0);
+  std::fill(b->sum2.begin(), b->sum2.end(), 0.0);
+  std::fill(b->count.begin(), b->count.end(), 0.0);
+  for (Eigen::Index i = half.begin; i < half.end; ++i) {
+    const double x = record.x_mm[i], p = record.normal_n[i];
+    if (!std::isfinite(x) || !std::isfinite(p)) continue;
+    const auto k = static_cast<long>(std::floor((x - start) / bin_mm));
+    if (k < 0 || k >= static_cast<long>(bins)) continue;
+    b->sum[k] += p;
+    b->sum2[k] += p * p;
+    b->count[k] += 1;
+  }
+}
+
+// The bin means of P/S about their mean over the bins (uniform in x) into
+// h's row (c, d); returns the sensor noise left in the bin means (their
+// variance, from the scatter within each bin), or NaN for fewer than two
+// bins.
+double HeightRow(
+    const HalfBins& b, double spring_n_per_mm, int c, int d, TrackHistory* h) {
+  const size_t bins = b.sum.size();
+  double mean = 0;
+  int k = 0;
+  for (size_t i = 0; i < bins; ++i) {
+    if (b.count[i] > 0) mean += b.sum[i] / b.count[i], ++k;
+  }
+  if (k < 2) return kNan;
+  mean /= k;
+  for (size_t i = 0; i < bins; ++i) {
+    if (b.count[i] > 0)
+      h->height_mm[h->Index(c, d, i)] =
+          (b.sum[i] / b.count[i] - mean) / spring_n_per_mm;
+  }
+  double noise = 0;
+  int noisy = 0;
+  for (size_t i = 0; i < bins; ++i) {
+    if (b.count[i] < 2) continue;
+    const double m = b.sum[i] / b.count[i];
+    noise += std::max(0.0, (b.sum2[i] / b.count[i] - m * m)) /
+             (b.count[i] - 1) / (spring_n_per_mm * spring_n_per_mm);
+    ++noisy;
+  }
+  return noisy > 0 ? noise / noisy : 0;
+}
+
+// The waviness per cycle: the noise-corrected variances pooled over the
+// cycles about each, centred, shifted inwards at the ends of the test so
+// that every cycle pools as many.
+void PoolWaviness(const std::vector<double>& variance,
+                  const std::vector<int>& variances,
+                  int pool_cycles,
+                  TrackHistory* h) {
+  const int pool = std::min(pool_cycles, h->cycles);
+  for (int c = 0; c < h->cycles; ++c) {
+    const int from = std::clamp(c - pool / 2, 0, h->cycles - pool);
+    double v = 0;
+    int n = 0;
+    for (int j = from; j < from + pool; ++j)
+      v += variance[j], n += variances[j];
+    if (variances[c] > 0 && n > 0)
+      h->waviness_sd_mm[c] = std::sqrt(std::max(0.0, v / n));
+  }
+}
+
+}  // namespace
+
 TrackHistory ComputeTrackHistory(const force::ForceRecord& record,
                                  const force::CycleSet& cycles,
                                  double spring_n_per_mm,
@@ -94,7 +173,9 @@ TrackHistory ComputeTrackHistory(const force::ForceRecord& record,
     h.x_mm.push_back(start + (b + 0.5) * options.bin_mm);
   h.height_mm.assign(static_cast<size_t>(h.cycles) * 2 * bins, kNan);
   h.waviness_sd_mm.assign(h.cycles, kNan);
-  std::vector<double> sum(bins), sum2(bins), count(bins);
+  HalfBins b{std::vector<double>(bins),
+             std::vector<double>(bins),
+             std::vector<double>(bins)};
   // Per cycle, the noise-corrected variance of h summed over directions.
   std::vector<double> variance(static_cast<size_t>(h.cycles), 0.0);
   std::vector<int> variances(static_cast<size_t>(h.cycles), 0);
@@ -102,61 +183,16 @@ TrackHistory ComputeTrackHistory(const force::ForceRecord& record,
     for (const force::HalfCycle* half :
          {&cycles.cycles[c].forward, &cycles.cycles[c].reverse}) {
       const int d = half->direction > 0 ? 0 : 1;
-      std::fill(sum.begin(), sum.end(), 0.0);
-      std::fill(sum2.begin(), sum2.end(), 0.0);
-      std::fill(count.begin(), count.end(), 0.0);
-      for (Eigen::Index i = half->begin; i < half->end; ++i) {
-        const double x = record.x_mm[i], p = record.normal_n[i];
-        if (!std::isfinite(x) || !std::isfinite(p)) continue;
-        const auto b =
-            static_cast<long>(std::floor((x - start) / options.bin_mm));
-        if (b < 0 || b >= static_cast<long>(bins)) continue;
-        sum[b] += p;
-        sum2[b] += p * p;
-        count[b] += 1;
-      }
-      // Bin means of P/S about their mean over the bins (uniform in x).
-      double mean = 0;
-      int k = 0;
-      for (size_t b = 0; b < bins; ++b) {
-        if (count[b] > 0) mean += sum[b] / count[b], ++k;
-      }
-      if (k < 2) continue;
-      mean /= k;
-      for (size_t b = 0; b < bins; ++b) {
-        if (count[b] > 0)
-          h.height_mm[h.Index(c, d, b)] =
-              (sum[b] / count[b] - mean) / spring_n_per_mm;
-      }
-      // The sensor noise left in the bin means (their variance, from the
-      // scatter within each bin) is taken out of the waviness.
-      double noise = 0;
-      int noisy = 0;
-      for (size_t b = 0; b < bins; ++b) {
-        if (count[b] < 2) continue;
-        const double m = sum[b] / count[b];
-        noise += std::max(0.0, (sum2[b] / count[b] - m * m)) / (count[b] - 1) /
-                 (spring_n_per_mm * spring_n_per_mm);
-        ++noisy;
-      }
+      BinHalf(record, *half, start, options.bin_mm, &b);
+      const double noise = HeightRow(b, spring_n_per_mm, c, d, &h);
+      if (std::isnan(noise)) continue;
       const double s = SdOf(h.height_mm, h.Index(c, d, 0), bins);
       if (!std::isfinite(s)) continue;
-      variance[c] += s * s - (noisy > 0 ? noise / noisy : 0);
+      variance[c] += s * s - noise;
       ++variances[c];
     }
   }
-  // Pooled over the cycles about each: centred, shifted inwards at the
-  // ends of the test so that every cycle pools as many.
-  const int pool = std::min(options.pool_cycles, h.cycles);
-  for (int c = 0; c < h.cycles; ++c) {
-    const int from = std::clamp(c - pool / 2, 0, h.cycles - pool);
-    double v = 0;
-    int n = 0;
-    for (int j = from; j < from + pool; ++j)
-      v += variance[j], n += variances[j];
-    if (variances[c] > 0 && n > 0)
-      h.waviness_sd_mm[c] = std::sqrt(std::max(0.0, v / n));
-  }
+  PoolWaviness(variance, variances, options.pool_cycles, &h);
   FindSteady(&h, options.steady_tolerance);
   return h;
 }

@@ -78,10 +78,9 @@ void CheckKeywords(const std::vector<support::Setting<Target>>& list,
       continue;
     const std::vector<std::string> close =
         support::ClosestNames(keywords, keyword);
-    throw UnknownOption(function + "() got an unexpected keyword argument '" +
-                        keyword + "'" +
-                        (close.empty() ? std::string()
-                                       : "; did you mean '" + close[0] + "'?"));
+    throw UnknownOption(
+        function + "() got an unexpected keyword argument '" + keyword + "'" +
+        (close.empty() ? std::string() : "; did you mean '" + close[0] + "'?"));
   }
 }
 
@@ -248,7 +247,8 @@ std::string Audit(const std::string& input,
                   int jobs,
                   const std::string& out,
                   const std::string& figures) {
-  const fusion::TestSettings a = Settings(given, fusion::kFuseSettings, "audit");
+  const fusion::TestSettings a =
+      Settings(given, fusion::kFuseSettings, "audit");
   report::AuditOptions o;
   fusion::BatchOptions& batch = o.batch;
   if (!name_pattern.empty()) batch.name_pattern = name_pattern;
@@ -335,7 +335,7 @@ py::dict MapMetadata(const scan::HeightMap& h) {
   return d;
 }
 
-void DefineRecords(py::module_& m) {
+void DefineForceRecord(py::module_& m) {
   py::class_<force::ForceRecord>(m,
                                  "ForceRecord",
                                  "A force record in mm, N and s: time_s, "
@@ -376,6 +376,9 @@ void DefineRecords(py::module_& m) {
           "p_n", [](const force::ForceRecord& r) { return r.normal_n; })
       .def_property_readonly("metadata", &ForceMetadata)
       .def("__len__", [](const force::ForceRecord& r) { return r.size(); });
+}
+
+void DefineHeightMap(py::module_& m) {
   py::class_<scan::HeightMap>(m,
                               "HeightMap",
                               "A height map in mm: height_mm (rows x cols, "
@@ -433,17 +436,17 @@ void DefineFunctions(py::module_& m) {
       .def_readonly("scan", &Simulated::scan)
       .def_readonly("truth_json", &Simulated::truth_json);
   m.def("_read_force", [](const std::string& path, const Given& given) {
-          const fusion::TestSettings a =
-              Settings(given, fusion::kForceFileSettings, "read_force");
-          py::gil_scoped_release release;
-          return force::ReadForceFile(path, a.read_force);
-        });
+    const fusion::TestSettings a =
+        Settings(given, fusion::kForceFileSettings, "read_force");
+    py::gil_scoped_release release;
+    return force::ReadForceFile(path, a.read_force);
+  });
   m.def("_read_scan", [](const std::string& path, const Given& given) {
-          const fusion::TestSettings a =
-              Settings(given, fusion::kScanFileSettings, "read_scan");
-          py::gil_scoped_release release;
-          return scan::ReadScan(path, a.read_scan);
-        });
+    const fusion::TestSettings a =
+        Settings(given, fusion::kScanFileSettings, "read_scan");
+    py::gil_scoped_release release;
+    return scan::ReadScan(path, a.read_scan);
+  });
   m.def("_fuse", &Fuse);
   m.def("_audit", &Audit);
   m.def("_simulate", &Simulate);
@@ -486,6 +489,7 @@ PYBIND11_MODULE(_wearscar, m) {
       PyErr_SetString(PyExc_TypeError, e.what());
     }
   });
-  python::DefineRecords(m);
+  python::DefineForceRecord(m);
+  python::DefineHeightMap(m);
   python::DefineFunctions(m);
 }

@@ -17,61 +17,105 @@ using S = support::Setting<R>;
 S Repeated(std::string name,
            std::string help,
            std::vector<std::string> R::*list) {
-  return {std::move(name), "Simulation", std::move(help), "TEXT", ~0u,
+  return {std::move(name),
+          "Simulation",
+          std::move(help),
+          "TEXT",
+          ~0u,
           [list](R* r, const std::string& text) { (r->*list).push_back(text); },
           [](const R&) { return std::string(); }};
 }
 
 // An override: a positive number, or nothing (each case's own value).
-S Override(std::string name, std::string help, double lo, double hi,
+S Override(std::string name,
+           std::string help,
+           double lo,
+           double hi,
            double R::*field) {
-  S s = NumberSetting<R>(std::move(name), "Simulation", std::move(help), lo, hi,
+  S s = NumberSetting<R>(std::move(name),
+                         "Simulation",
+                         std::move(help),
+                         lo,
+                         hi,
                          [field](R& r) -> double& { return r.*field; });
   s.show = [](const R&) { return std::string(); };
   return s;
 }
 
-S IntOverride(std::string name, std::string help, long lo, long hi,
-              int R::*field) {
-  return {std::move(name), "Simulation", std::move(help), "INTEGER", ~0u,
+S IntOverride(
+    std::string name, std::string help, long lo, long hi, int R::*field) {
+  return {std::move(name),
+          "Simulation",
+          std::move(help),
+          "INTEGER",
+          ~0u,
           [field, lo, hi](R* r, const std::string& text) {
             r->*field = static_cast<int>(support::ParseInteger(text, lo, hi));
           },
           [](const R&) { return std::string(); }};
 }
 
-std::vector<S> AllSettings() {
-  const SimulationOptions d;  // the help shows its values
+// The cases and their drive, sampling and scan (the help shows each
+// default).
+std::vector<S> CaseSettings() {
+  const SimulationOptions d;
   return {
       Repeated("case", "Case name, e.g. B-RT-R (repeatable)", &R::cases),
-      FlagSetting<R>("all", "Simulation", "All 12 cases",
+      FlagSetting<R>("all",
+                     "Simulation",
+                     "All 12 cases",
                      [](R& r) -> bool& { return r.all; }),
-      IntOverride("cycles", fmt::format("Cycles (default {})", d.cycles), 1,
-                  10000000, &R::cycles),
-      Override("rate",
-               fmt::format("Sampling rate in Hz (default {})",
-                           d.sampling_rate_hz),
-               1e-3, 1e8, &R::rate_hz),
+      IntOverride("cycles",
+                  fmt::format("Cycles (default {})", d.cycles),
+                  1,
+                  10000000,
+                  &R::cycles),
+      Override(
+          "rate",
+          fmt::format("Sampling rate in Hz (default {})", d.sampling_rate_hz),
+          1e-3,
+          1e8,
+          &R::rate_hz),
       Override("amplitude",
                fmt::format("Stroke amplitude A, mm: x = +-A (default {})",
                            d.amplitude_mm),
-               1e-6, 1e3, &R::amplitude_mm),
+               1e-6,
+               1e3,
+               &R::amplitude_mm),
       Override("frequency",
                fmt::format("Drive frequency, Hz (default {})", d.frequency_hz),
-               1e-6, 1e5, &R::frequency_hz),
+               1e-6,
+               1e5,
+               &R::frequency_hz),
       IntOverride("scan-cols",
                   fmt::format("Scan width in pixels (default {})", d.scan_cols),
-                  2, 100000, &R::scan_cols),
-      IntOverride("scan-rows",
-                  fmt::format("Scan height in pixels (default {})", d.scan_rows),
-                  2, 100000, &R::scan_rows),
+                  2,
+                  100000,
+                  &R::scan_cols),
+      IntOverride(
+          "scan-rows",
+          fmt::format("Scan height in pixels (default {})", d.scan_rows),
+          2,
+          100000,
+          &R::scan_rows),
       Override("scan-pitch",
                fmt::format("Scan pixel size, mm (default {})", d.scan_pitch_mm),
-               1e-7, 100, &R::scan_pitch_mm),
-      FlagSetting<R>("triangle", "Simulation",
+               1e-7,
+               100,
+               &R::scan_pitch_mm),
+      FlagSetting<R>("triangle",
+                     "Simulation",
                      "Triangular drive instead of sine",
                      [](R& r) -> bool& { return r.triangle; }),
-      FlagSetting<R>("no-elastic", "Simulation",
+  };
+}
+
+// The noise, the elastic part, the seed and the hidden effects.
+std::vector<S> NoiseSettings() {
+  const SimulationOptions d;
+  return {
+      FlagSetting<R>("no-elastic",
+                     "Simulation",
                      "No elastic part in S-RL-R (every case explained by "
                      "wear-scar)",
                      [](R& r) -> bool& { return r.no_elastic; }),
@@ -79,28 +123,36 @@ std::vector<S> AllSettings() {
                fmt::format("Scale of the sensor noise; 1 = calibrated to the "
                            "paper's J (P {} N, Q {} N sd on beech, more on "
                            "spruce)",
-                           d.p_noise_n, d.q_noise_n),
-               0, 1000, &R::noise),
+                           d.p_noise_n,
+                           d.q_noise_n),
+               0,
+               1000,
+               &R::noise),
       Override("elastic",
                "Elastic part of the normal displacement as a fraction of the "
                "worn profile's sd (0.25 = 25%), in every case",
-               0, 10, &R::elastic_fraction),
-      {"seed", "Simulation",
-       "Random seed for every case (default: each case's own)", "INTEGER",
+               0,
+               10,
+               &R::elastic_fraction),
+      {"seed",
+       "Simulation",
+       "Random seed for every case (default: each case's own)",
+       "INTEGER",
        ~0u,
        [](R* r, const std::string& text) {
          r->seed = support::ParseInteger(text, 0, 2147483647L);
        },
        [](const R&) { return std::string(); }},
-      Repeated("effect",
-               "Hidden effect as name=value (repeatable): " +
-                   HiddenEffectNames(),
-               &R::effects),
+      Repeated(
+          "effect",
+          "Hidden effect as name=value (repeatable): " + HiddenEffectNames(),
+          &R::effects),
   };
 }
 
 // The request's overrides on one case.
-void Override(const SimulationRequest& r, const HiddenEffects& effects,
+void Override(const SimulationRequest& r,
+              const HiddenEffects& effects,
               SimulationOptions* o) {
   if (r.cycles > 0) o->cycles = r.cycles;
   if (r.rate_hz > 0) o->sampling_rate_hz = r.rate_hz;
@@ -118,8 +170,13 @@ void Override(const SimulationRequest& r, const HiddenEffects& effects,
 
 }  // namespace
 
-const std::vector<support::Setting<SimulationRequest>>& SimulationSettingList() {
-  static const std::vector<S> list = AllSettings();
+const std::vector<support::Setting<SimulationRequest>>&
+SimulationSettingList() {
+  static const std::vector<S> list = [] {
+    std::vector<S> all = CaseSettings(), noise = NoiseSettings();
+    all.insert(all.end(), noise.begin(), noise.end());
+    return all;
+  }();
   return list;
 }
 
@@ -129,7 +186,9 @@ std::vector<SimulationOptions> SimulationCases(const SimulationRequest& r) {
     cases = PaperCases(!r.no_elastic);
   } else {
     if (r.cases.empty())
-      throw SettingFailed("case", "no case asked for; expected a case name (repeatable) or all");
+      throw SettingFailed(
+          "case",
+          "no case asked for; expected a case name (repeatable) or all");
     for (const auto& name : r.cases) {
       try {
         cases.push_back(PaperCase(name, !r.no_elastic));

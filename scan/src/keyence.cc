@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <pugixml.hpp>
 
@@ -35,6 +36,80 @@ constexpr std::uint64_t kConditionsXPitch = 168;
 constexpr std::uint64_t kConditionsYPitch = 172;
 constexpr std::uint64_t kConditionsZStep = 176;
 
+namespace {
+
+// The VK4 height image's header: size and bit depth, checked against its
+// byte size.
+struct Vk4Image {
+  std::uint32_t width = 0, height = 0, bits = 0;
+  std::uint64_t bytes = 0;
+};
+
+Vk4Image CheckVk4Image(const ByteReader& in,
+                       std::uint64_t at,
+                       const std::string& name) {
+  Vk4Image im;
+  im.width = in.At<std::uint32_t>(at, "height image width");
+  im.height = in.At<std::uint32_t>(at + 4, "height image height");
+  im.bits = in.At<std::uint32_t>(at + 8, "bit depth");
+  const auto size = in.At<std::uint32_t>(at + 16, "byte size");
+  if (im.width == 0 || im.height == 0 ||
+      static_cast<std::int64_t>(im.width) * im.height > kMaxPixels) {
+    throw ScanError(fmt::format(
+        "{}: byte {}: height image {} x {}; expected 1 to {} pixels",
+        name,
+        at,
+        im.width,
+        im.height,
+        kMaxPixels));
+  }
+  if (im.bits != 8 && im.bits != 16 && im.bits != 32) {
+    throw ScanError(
+        fmt::format("{}: byte {}: bit depth {}; expected 8, 16 or 32",
+                    name,
+                    at + 8,
+                    im.bits));
+  }
+  im.bytes = std::uint64_t{im.width} * im.height * (im.bits / 8);
+  if (size != im.bytes) {
+    throw ScanError(fmt::format(
+        "{}: byte {}: byte size {} disagrees with {} x {} x {} bits = {}",
+        name,
+        at + 16,
+        size,
+        im.width,
+        im.height,
+        im.bits,
+        im.bytes));
+  }
+  return im;
+}
+
+// Pitches and z step in picometres within the conditions block.
+std::array<double, 3> Vk4Calibration(const ByteReader& in,
+                                     std::uint64_t conditions,
+                                     const std::string& name) {
+  const double x_pm = in.At<std::uint32_t>(conditions + kConditionsXPitch,
+                                           "x length per pixel");
+  const double y_pm = in.At<std::uint32_t>(conditions + kConditionsYPitch,
+                                           "y length per pixel");
+  const double z_pm =
+      in.At<std::uint32_t>(conditions + kConditionsZStep, "z length per digit");
+  if (!(x_pm > 0) || !(y_pm > 0) || !(z_pm > 0)) {
+    throw ScanError(fmt::format(
+        "{}: byte {}: calibration x {} pm, y {} pm, z {} pm per digit; "
+        "expected positive values",
+        name,
+        conditions + kConditionsXPitch,
+        x_pm,
+        y_pm,
+        z_pm));
+  }
+  return {x_pm, y_pm, z_pm};
+}
+
+}  // namespace
+
 HeightMap ParseVk4(const std::string& bytes, const std::string& name) {
   ByteReader in(bytes, name);
   in.Need(0, 12 + 18 * 4, "the VK4 header and offset table");
@@ -55,65 +130,17 @@ HeightMap ParseVk4(const std::string& bytes, const std::string& name) {
                     name,
                     conditions == 0 ? "measurement-conditions" : "height"));
   }
-  // Pitches and z step in picometres within the conditions block.
-  const double x_pm = in.At<std::uint32_t>(conditions + kConditionsXPitch,
-                                           "x length per pixel");
-  const double y_pm = in.At<std::uint32_t>(conditions + kConditionsYPitch,
-                                           "y length per pixel");
-  const double z_pm =
-      in.At<std::uint32_t>(conditions + kConditionsZStep, "z length per digit");
-  if (!(x_pm > 0) || !(y_pm > 0) || !(z_pm > 0)) {
-    throw ScanError(fmt::format(
-        "{}: byte {}: calibration x {} pm, y {} pm, z {} pm per digit; "
-        "expected positive values",
-        name,
-        conditions + kConditionsXPitch,
-        x_pm,
-        y_pm,
-        z_pm));
-  }
-  const auto w = in.At<std::uint32_t>(height, "height image width");
-  const auto h = in.At<std::uint32_t>(height + 4, "height image height");
-  const auto bits = in.At<std::uint32_t>(height + 8, "bit depth");
-  const auto size = in.At<std::uint32_t>(height + 16, "byte size");
-  if (w == 0 || h == 0 || static_cast<std::int64_t>(w) * h > kMaxPixels) {
-    throw ScanError(fmt::format(
-        "{}: byte {}: height image {} x {}; expected 1 to {} pixels",
-        name,
-        height,
-        w,
-        h,
-        kMaxPixels));
-  }
-  if (bits != 8 && bits != 16 && bits != 32) {
-    throw ScanError(
-        fmt::format("{}: byte {}: bit depth {}; expected 8, 16 or 32",
-                    name,
-                    height + 8,
-                    bits));
-  }
-  const std::uint64_t need = std::uint64_t{w} * h * (bits / 8);
-  if (size != need) {
-    throw ScanError(fmt::format(
-        "{}: byte {}: byte size {} disagrees with {} x {} x {} bits = "
-        "{}",
-        name,
-        height + 16,
-        size,
-        w,
-        h,
-        bits,
-        need));
-  }
+  const auto [x_pm, y_pm, z_pm] = Vk4Calibration(in, conditions, name);
+  const Vk4Image im = CheckVk4Image(in, height, name);
   constexpr std::uint64_t kImageHeader = 796;
-  in.Need(height + kImageHeader, need, "the height pixels");
+  in.Need(height + kImageHeader, im.bytes, "the height pixels");
   HeightMap map;
-  map.Resize(h, w);
+  map.Resize(im.height, im.width);
   const char* p = in.Data(height + kImageHeader);
   const double to_mm = z_pm * 1e-9;
-  for (std::uint64_t i = 0; i < std::uint64_t{w} * h; ++i) {
+  for (std::uint64_t i = 0; i < std::uint64_t{im.width} * im.height; ++i) {
     std::uint32_t raw = 0;
-    std::memcpy(&raw, p + i * (bits / 8), bits / 8);
+    std::memcpy(&raw, p + i * (im.bits / 8), im.bits / 8);
     map.height_mm.data()[i] = static_cast<float>(raw * to_mm);
   }
   map.dx_mm = x_pm * 1e-9;
@@ -213,6 +240,71 @@ double XmlNumber(const pugi::xml_document& doc, const char* path) {
   return std::strtod(n.node().child_value(), nullptr);
 }
 
+// The calibration member's pixel size and height unit, in metres.
+std::pair<double, double> ZonCalibration(const internal::ZipArchive& zip,
+                                         bool zstd,
+                                         const std::string& name,
+                                         const std::string& prefix) {
+  const std::string member = prefix + kZonCalibration;
+  if (!zip.Has(member)) {
+    throw ScanError(
+        fmt::format("{}: member '{}' (calibration XML) is missing; the pixel "
+                    "size and height scale cannot be known",
+                    name,
+                    member));
+  }
+  pugi::xml_document calib;
+  const std::string xml = ReadZonMember(zip, member, zstd, kXmlCap);
+  if (!calib.load_buffer(xml.data(), xml.size()))
+    throw ScanError(fmt::format("{}: member '{}' is not XML", name, member));
+  const double m_per_px = XmlNumber(calib, "//XYCalibration/MeterPerPixel");
+  const double m_per_unit = XmlNumber(calib, "//ZCalibration/MeterPerUnit");
+  if (!(m_per_px > 0) || !(m_per_unit > 0)) {
+    throw ScanError(
+        fmt::format("{}: member '{}': XYCalibration/MeterPerPixel = {} and "
+                    "ZCalibration/MeterPerUnit = {}; expected positive numbers",
+                    name,
+                    member,
+                    m_per_px,
+                    m_per_unit));
+  }
+  return {m_per_px, m_per_unit};
+}
+
+// The mask member's invalid pixels (bits 0-1 set) as NaN; a warning when
+// the archive has none.
+void ApplyZonMask(const internal::ZipArchive& zip,
+                  bool zstd,
+                  const std::string& name,
+                  const std::string& prefix,
+                  const GridHeader& g,
+                  HeightMap* map) {
+  const std::string member = prefix + kZonMask;
+  if (!zip.Has(member)) {
+    map->metadata.warnings.push_back(
+        "no validity mask member; every pixel taken as valid");
+    return;
+  }
+  const std::string mask = ReadZonMember(zip, member, zstd);
+  const GridHeader mg =
+      ReadGridHeader(mask, fmt::format("{}: member '{}'", name, member), 1);
+  if (mg.width != g.width || mg.height != g.height) {
+    throw ScanError(fmt::format("{}: mask is {} x {} but heights are {} x {}",
+                                name,
+                                mg.width,
+                                mg.height,
+                                g.width,
+                                g.height));
+  }
+  for (int r = 0; r < g.height; ++r) {
+    const char* row =
+        mask.data() + 16 + static_cast<std::uint64_t>(r) * mg.stride;
+    for (int c = 0; c < g.width; ++c) {
+      if (static_cast<unsigned char>(row[c]) & 0x03) map->height_mm(r, c) = NAN;
+    }
+  }
+}
+
 HeightMap ZonFromArchive(const internal::ZipArchive& zip,
                          bool zstd,
                          const std::string& name,
@@ -222,35 +314,10 @@ HeightMap ZonFromArchive(const internal::ZipArchive& zip,
     throw ScanError(fmt::format(
         "{}: member '{}' (heights) is missing", name, heights_member));
   }
-  const std::string calib_member = prefix + kZonCalibration;
-  if (!zip.Has(calib_member)) {
-    throw ScanError(
-        fmt::format("{}: member '{}' (calibration XML) is missing; the pixel "
-                    "size and height scale cannot be known",
-                    name,
-                    calib_member));
-  }
-  pugi::xml_document calib;
-  const std::string calib_xml = ReadZonMember(zip, calib_member, zstd, kXmlCap);
-  if (!calib.load_buffer(calib_xml.data(), calib_xml.size())) {
-    throw ScanError(
-        fmt::format("{}: member '{}' is not XML", name, calib_member));
-  }
-  const double m_per_px = XmlNumber(calib, "//XYCalibration/MeterPerPixel");
-  const double m_per_unit = XmlNumber(calib, "//ZCalibration/MeterPerUnit");
-  if (!(m_per_px > 0) || !(m_per_unit > 0)) {
-    throw ScanError(
-        fmt::format("{}: member '{}': XYCalibration/MeterPerPixel = {} and "
-                    "ZCalibration/MeterPerUnit = {}; expected positive numbers",
-                    name,
-                    calib_member,
-                    m_per_px,
-                    m_per_unit));
-  }
+  const auto [m_per_px, m_per_unit] = ZonCalibration(zip, zstd, name, prefix);
   const std::string data = ReadZonMember(zip, heights_member, zstd);
-  const std::string where =
-      fmt::format("{}: member '{}'", name, heights_member);
-  const GridHeader g = ReadGridHeader(data, where, 4);
+  const GridHeader g = ReadGridHeader(
+      data, fmt::format("{}: member '{}'", name, heights_member), 4);
   HeightMap map;
   map.Resize(g.height, g.width);
   const float scale = static_cast<float>(m_per_unit * 1e3);
@@ -263,31 +330,7 @@ HeightMap ZonFromArchive(const internal::ZipArchive& zip,
       map.height_mm(r, c) = static_cast<float>(v) * scale;
     }
   }
-  const std::string mask_member = prefix + kZonMask;
-  if (zip.Has(mask_member)) {
-    const std::string mask = ReadZonMember(zip, mask_member, zstd);
-    const GridHeader mg = ReadGridHeader(
-        mask, fmt::format("{}: member '{}'", name, mask_member), 1);
-    if (mg.width != g.width || mg.height != g.height) {
-      throw ScanError(fmt::format("{}: mask is {} x {} but heights are {} x {}",
-                                  name,
-                                  mg.width,
-                                  mg.height,
-                                  g.width,
-                                  g.height));
-    }
-    for (int r = 0; r < g.height; ++r) {
-      const char* row =
-          mask.data() + 16 + static_cast<std::uint64_t>(r) * mg.stride;
-      for (int c = 0; c < g.width; ++c) {
-        if (static_cast<unsigned char>(row[c]) & 0x03)
-          map.height_mm(r, c) = NAN;
-      }
-    }
-  } else {
-    map.metadata.warnings.push_back(
-        "no validity mask member; every pixel taken as valid");
-  }
+  ApplyZonMask(zip, zstd, name, prefix, g, &map);
   map.dx_mm = map.dy_mm = m_per_px * 1e3;
   SyncValidity(&map);
   map.metadata.source = name;

@@ -16,8 +16,8 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/photo.hpp>
 
-#include "wearscar/support/check.h"
 #include "plane_count.h"
+#include "wearscar/support/check.h"
 
 namespace wearscar::scan {
 namespace {
@@ -126,6 +126,104 @@ bool LevelOptions::IsValid(std::string* why) const {
   return true;
 }
 
+namespace {
+
+using Cloud = pcl::PointCloud<pcl::PointXYZ>;
+
+// Every stride-th valid pixel each way (at most about max_points), as
+// points in mm.
+Cloud::Ptr SampleCloud(const HeightMap& map, int max_points) {
+  const Eigen::Index stride = std::max<Eigen::Index>(
+      1,
+      static_cast<Eigen::Index>(
+          std::sqrt(static_cast<double>(map.ValidCount()) / max_points)));
+  Cloud::Ptr cloud(new Cloud);
+  // Sized once: growing by doubling wrote every point again.
+  cloud->reserve(
+      static_cast<std::size_t>(((map.rows() + stride - 1) / stride) *
+                               ((map.cols() + stride - 1) / stride)));
+  for (Eigen::Index r = 0; r < map.rows(); r += stride) {
+    for (Eigen::Index c = 0; c < map.cols(); c += stride) {
+      if (!map.valid(r, c)) continue;
+      cloud->push_back(pcl::PointXYZ(static_cast<float>(c * map.dx_mm),
+                                     static_cast<float>(r * map.dy_mm),
+                                     map.height_mm(r, c)));
+    }
+  }
+  return cloud;
+}
+
+// The RANSAC plane's inliers (PCL's model draws with a fixed seed:
+// deterministic).
+std::vector<int> PlaneInliers(const Cloud::Ptr& cloud,
+                              const LevelOptions& options,
+                              const std::string& source) {
+  // PCL prints to stderr ("Sample points too similar or collinear!", once
+  // per failed draw): wearscar reports through LevelSummary instead.
+  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
+  pcl::SampleConsensusModelPlane<pcl::PointXYZ>::Ptr model(
+      new ColumnPlaneModel(cloud));
+  pcl::RandomSampleConsensus<pcl::PointXYZ> ransac(model);
+  ransac.setDistanceThreshold(options.ransac_threshold_mm);
+  ransac.setMaxIterations(options.ransac_iterations);
+  std::vector<int> inliers;
+  if (!ransac.computeModel() ||
+      (ransac.getInliers(inliers), inliers.size() < 3)) {
+    throw ScanError(fmt::format(
+        "{}: no plane found on the unworn area (RANSAC, threshold {} mm)",
+        source,
+        options.ransac_threshold_mm));
+  }
+  return inliers;
+}
+
+// Least squares of the chosen order, trimmed: start on the RANSAC inliers,
+// then keep the points within 2.5 RMS of the current surface (this drops
+// the shallow groove edges that a fixed band lets in, and follows curved
+// specimens for orders 2-3). The coefficients; the RMS and the inliers in
+// `summary`.
+Eigen::VectorXd TrimmedSurface(const Cloud& cloud,
+                               std::vector<int> inliers,
+                               int order,
+                               LevelSummary* summary) {
+  const int terms = (order + 1) * (order + 2) / 2;
+  Eigen::VectorXd coef;
+  // The passes' systems in the top rows of one matrix (inliers are points
+  // of the cloud: never more rows than it has).
+  Eigen::MatrixXd design(static_cast<Eigen::Index>(cloud.size()), terms);
+  Eigen::VectorXd heights(static_cast<Eigen::Index>(cloud.size()));
+  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr;
+  std::vector<int> next;
+  next.reserve(cloud.size());
+  for (int pass = 0; pass < 4; ++pass) {
+    const auto rows = static_cast<Eigen::Index>(inliers.size());
+    auto a = design.topRows(rows);
+    auto b = heights.head(rows);
+    for (size_t i = 0; i < inliers.size(); ++i) {
+      const auto& p = cloud[inliers[i]];
+      a.row(static_cast<Eigen::Index>(i)) =
+          Monomials(p.x, p.y, order).transpose();
+      b[static_cast<Eigen::Index>(i)] = p.z;
+    }
+    coef = qr.compute(a).solve(b);
+    summary->rms_mm =
+        std::sqrt((a * coef - b).squaredNorm() / static_cast<double>(b.size()));
+    const double band = std::max(2.5 * summary->rms_mm, 1e-9);
+    next.clear();
+    for (int i = 0; i < static_cast<int>(cloud.size()); ++i) {
+      const auto& p = cloud[i];
+      if (std::abs(Monomials(p.x, p.y, order).dot(coef) - p.z) < band)
+        next.push_back(i);
+    }
+    if (next.size() < static_cast<size_t>(terms) || next == inliers) break;
+    inliers.swap(next);
+  }
+  summary->inliers = static_cast<int>(inliers.size());
+  return coef;
+}
+
+}  // namespace
+
 LevelSummary LevelHeightMap(HeightMap* map, const LevelOptions& options) {
   WEARSCAR_CHECK(map != nullptr && map->IsConsistent(),
                  "LevelHeightMap needs a consistent map");
@@ -140,82 +238,15 @@ LevelSummary LevelHeightMap(HeightMap* map, const LevelOptions& options) {
                     map->metadata.source,
                     valid));
   }
-  const Eigen::Index stride = std::max<Eigen::Index>(
-      1,
-      static_cast<Eigen::Index>(
-          std::sqrt(static_cast<double>(valid) / options.max_points)));
-  // PCL prints to stderr ("Sample points too similar or collinear!", once
-  // per failed draw): wearscar reports through LevelSummary instead.
-  pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
-  pcl::PointCloud<pcl::PointXYZ>::Ptr cloud(new pcl::PointCloud<pcl::PointXYZ>);
-  // Sized once: growing by doubling wrote every point again into fresh
-  // memory (page faults on this scale of map cost more than the copies).
-  cloud->reserve(
-      static_cast<std::size_t>(((map->rows() + stride - 1) / stride) *
-                               ((map->cols() + stride - 1) / stride)));
-  for (Eigen::Index r = 0; r < map->rows(); r += stride) {
-    for (Eigen::Index c = 0; c < map->cols(); c += stride) {
-      if (!map->valid(r, c)) continue;
-      cloud->push_back(pcl::PointXYZ(static_cast<float>(c * map->dx_mm),
-                                     static_cast<float>(r * map->dy_mm),
-                                     map->height_mm(r, c)));
-    }
-  }
+  const Cloud::Ptr cloud = SampleCloud(*map, options.max_points);
   summary.points_used = static_cast<int>(cloud->size());
-  // RANSAC plane (PCL's model draws with a fixed seed: deterministic).
-  pcl::SampleConsensusModelPlane<pcl::PointXYZ>::Ptr model(
-      new ColumnPlaneModel(cloud));
-  pcl::RandomSampleConsensus<pcl::PointXYZ> ransac(model);
-  ransac.setDistanceThreshold(options.ransac_threshold_mm);
-  ransac.setMaxIterations(options.ransac_iterations);
-  std::vector<int> inliers;
-  if (!ransac.computeModel() ||
-      (ransac.getInliers(inliers), inliers.size() < 3)) {
-    throw ScanError(fmt::format(
-        "{}: no plane found on the unworn area (RANSAC, threshold {} mm)",
-        map->metadata.source,
-        options.ransac_threshold_mm));
-  }
-  // Least squares of the chosen order, trimmed: start on the RANSAC inliers,
-  // then keep the points within 2.5 RMS of the current surface (this drops
-  // the shallow groove edges that a fixed band lets in, and follows curved
-  // specimens for orders 2-3).
   const int order = options.polynomial_order;
-  const int terms = (order + 1) * (order + 2) / 2;
-  Eigen::VectorXd coef;
-  // The passes' systems in the top rows of one matrix (inliers are points
-  // of the cloud: never more rows than it has).
-  Eigen::MatrixXd design(static_cast<Eigen::Index>(cloud->size()), terms);
-  Eigen::VectorXd heights(static_cast<Eigen::Index>(cloud->size()));
-  Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr;
-  std::vector<int> next;
-  next.reserve(cloud->size());
-  for (int pass = 0; pass < 4; ++pass) {
-    const auto rows = static_cast<Eigen::Index>(inliers.size());
-    auto a = design.topRows(rows);
-    auto b = heights.head(rows);
-    for (size_t i = 0; i < inliers.size(); ++i) {
-      const auto& p = (*cloud)[inliers[i]];
-      a.row(static_cast<Eigen::Index>(i)) =
-          Monomials(p.x, p.y, order).transpose();
-      b[static_cast<Eigen::Index>(i)] = p.z;
-    }
-    coef = qr.compute(a).solve(b);
-    summary.rms_mm =
-        std::sqrt((a * coef - b).squaredNorm() / static_cast<double>(b.size()));
-    const double band = std::max(2.5 * summary.rms_mm, 1e-9);
-    next.clear();
-    for (int i = 0; i < static_cast<int>(cloud->size()); ++i) {
-      const auto& p = (*cloud)[i];
-      if (std::abs(Monomials(p.x, p.y, order).dot(coef) - p.z) < band)
-        next.push_back(i);
-    }
-    if (next.size() < static_cast<size_t>(terms) || next == inliers) break;
-    inliers.swap(next);
-  }
-  summary.inliers = static_cast<int>(inliers.size());
-  summary.coefficients = coef;
-  SubtractSurface(coef, order, map);
+  summary.coefficients =
+      TrimmedSurface(*cloud,
+                     PlaneInliers(cloud, options, map->metadata.source),
+                     order,
+                     &summary);
+  SubtractSurface(summary.coefficients, order, map);
   summary.message =
       fmt::format("order {} fitted on {} of {} points, RMS {:.2g} mm",
                   order,

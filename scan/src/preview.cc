@@ -53,23 +53,12 @@ bool PreviewOptions::IsValid(std::string* why) const {
   return true;
 }
 
-std::string EncodeTrackPreviewPng(const HeightMap& map,
-                                  const Track& track,
-                                  const PreviewOptions& o) {
-  WEARSCAR_CHECK(map.IsConsistent(), "a preview needs a consistent map");
-  std::string why;
-  if (!o.IsValid(&why)) throw ScanError("preview options: " + why);
-  const int rows = static_cast<int>(map.rows()),
-            cols = static_cast<int>(map.cols());
-  if (rows < 2 || cols < 2 || o.max_width_px < 16) {
-    throw ScanError(fmt::format(
-        "{}: preview: map of {} x {} pixels (or width limit {}) too small",
-        map.metadata.source,
-        cols,
-        rows,
-        o.max_width_px));
-  }
-  // Colour scale from percentiles of a subsample of the valid heights.
+namespace {
+
+// The colour scale's ends: percentiles of a subsample of the valid
+// heights.
+std::pair<float, float> HeightRange(const HeightMap& map,
+                                    const PreviewOptions& o) {
   std::vector<float> values;
   const Eigen::Index stride =
       std::max<Eigen::Index>(1, map.height_mm.size() / 200000);
@@ -88,6 +77,13 @@ std::string EncodeTrackPreviewPng(const HeightMap& map,
     hi = at(o.high_percentile);
     if (!(hi > lo)) hi = lo + 1e-6f;
   }
+  return {lo, hi};
+}
+
+// The map in viridis between lo and hi, grey where not measured.
+cv::Mat Colour(const HeightMap& map, float lo, float hi) {
+  const int rows = static_cast<int>(map.rows()),
+            cols = static_cast<int>(map.cols());
   cv::Mat grey(rows, cols, CV_8U);
   for (int r = 0; r < rows; ++r) {
     for (int c = 0; c < cols; ++c) {
@@ -105,13 +101,15 @@ std::string EncodeTrackPreviewPng(const HeightMap& map,
         image.at<cv::Vec3b>(r, c) = cv::Vec3b(128, 128, 128);
     }
   }
-  double scale = 1.0;
-  if (cols > o.max_width_px) {
-    scale = static_cast<double>(o.max_width_px) / cols;
-    cv::resize(image, image, cv::Size(), scale, scale, cv::INTER_AREA);
-  }
-  if (!(track.length_mm > 0)) return EncodePng(image, map.metadata.source);
-  // Track geometry in output pixels.
+  return image;
+}
+
+// The track's outline (white), axis and centre (red) on an image of the
+// map scaled by `scale`.
+void DrawTrack(const HeightMap& map,
+               const Track& track,
+               double scale,
+               cv::Mat* image) {
   const double px = scale / map.dx_mm, py = scale / map.dy_mm;
   const double th = track.angle_deg * kPi / 180.0;
   const double ax = std::cos(th), ay = std::sin(th);
@@ -120,30 +118,58 @@ std::string EncodeTrackPreviewPng(const HeightMap& map,
     const double y = track.centre_y_mm + s * ay + w * ax;
     return cv::Point2d(x * px, y * py);
   };
-  const int thick = std::max(1, image.cols / 500);
+  const int thick = std::max(1, image->cols / 500);
   const double hl = 0.5 * track.length_mm, hw = 0.5 * track.width_mm;
   const cv::Point2d corners[4] = {
       to_px(-hl, -hw), to_px(hl, -hw), to_px(hl, hw), to_px(-hl, hw)};
   for (int i = 0; i < 4; ++i) {
-    cv::line(image,
+    cv::line(*image,
              corners[i],
              corners[(i + 1) % 4],
              cv::Scalar(255, 255, 255),
              thick,
              cv::LINE_AA);
   }
-  cv::line(image,
+  cv::line(*image,
            to_px(-hl, 0),
            to_px(hl, 0),
            cv::Scalar(0, 0, 255),
            thick,
            cv::LINE_AA);
-  cv::drawMarker(image,
+  cv::drawMarker(*image,
                  to_px(0, 0),
                  cv::Scalar(0, 0, 255),
                  cv::MARKER_CROSS,
                  12 * thick,
                  thick);
+}
+
+}  // namespace
+
+std::string EncodeTrackPreviewPng(const HeightMap& map,
+                                  const Track& track,
+                                  const PreviewOptions& o) {
+  WEARSCAR_CHECK(map.IsConsistent(), "a preview needs a consistent map");
+  std::string why;
+  if (!o.IsValid(&why)) throw ScanError("preview options: " + why);
+  const int rows = static_cast<int>(map.rows()),
+            cols = static_cast<int>(map.cols());
+  if (rows < 2 || cols < 2 || o.max_width_px < 16) {
+    throw ScanError(fmt::format(
+        "{}: preview: map of {} x {} pixels (or width limit {}) too small",
+        map.metadata.source,
+        cols,
+        rows,
+        o.max_width_px));
+  }
+  const auto [lo, hi] = HeightRange(map, o);
+  cv::Mat image = Colour(map, lo, hi);
+  double scale = 1.0;
+  if (cols > o.max_width_px) {
+    scale = static_cast<double>(o.max_width_px) / cols;
+    cv::resize(image, image, cv::Size(), scale, scale, cv::INTER_AREA);
+  }
+  if (track.length_mm > 0) DrawTrack(map, track, scale, &image);
   return EncodePng(image, map.metadata.source);
 }
 

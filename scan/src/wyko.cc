@@ -115,6 +115,96 @@ const Block* HeightBlock(const ByteReader& in,
   return nullptr;
 }
 
+// The height array's size and element width, checked against its block.
+struct OpdArray {
+  std::int64_t nx = 0, ny = 0;
+  int element_size = 0;
+};
+
+OpdArray CheckArray(const ByteReader& in,
+                    const Block& data,
+                    const std::string& name) {
+  OpdArray a;
+  a.nx = in.At<std::uint16_t>(data.offset, "array width");
+  a.ny = in.At<std::uint16_t>(data.offset + 2, "array height");
+  a.element_size = in.At<std::uint16_t>(data.offset + 4, "element size");
+  internal::CheckMapSize(in, data.offset, a.nx, a.ny);
+  if (a.element_size != 1 && a.element_size != 2 && a.element_size != 4) {
+    throw ScanError(
+        fmt::format("{}: byte {}: elements of {} bytes; expected 1, 2 or 4",
+                    name,
+                    data.offset + 4,
+                    a.element_size));
+  }
+  const std::uint64_t n = static_cast<std::uint64_t>(a.nx * a.ny);
+  if (6 + n * a.element_size != data.length) {
+    throw ScanError(fmt::format(
+        "{}: byte {}: an array of {} x {} x {} bytes in a block of {} "
+        "bytes; expected 6 more than the array",
+        name,
+        data.offset,
+        a.nx,
+        a.ny,
+        a.element_size,
+        data.length));
+  }
+  in.Need(data.offset + 6, n * a.element_size, "the height array");
+  return a;
+}
+
+// The heights' scale (mm per stored unit) and the pixel size.
+struct OpdScale {
+  double height_mm = 0, dx_mm = 0, dy_mm = 0;
+};
+
+OpdScale ReadScale(const ByteReader& in,
+                   const std::map<std::string, Block>& blocks,
+                   const std::string& name) {
+  const double wavelength_nm = Scalar(in, blocks, "Wavelength", 0.0);
+  const double mult = Scalar(in, blocks, "Mult", 1.0);
+  const double aspect = Scalar(in, blocks, "Aspect", 1.0);
+  const double pixel_mm = Scalar(in, blocks, "Pixel_size", 0.0);
+  if (!(wavelength_nm > 0 && mult > 0 && aspect > 0 && pixel_mm > 0 &&
+        std::isfinite(wavelength_nm * aspect * pixel_mm))) {
+    throw ScanError(
+        fmt::format("{}: Wavelength {:.6g} nm, Mult {:.6g}, Aspect {:.6g}, "
+                    "Pixel_size {:.6g} mm; expected positive values in the "
+                    "blocks of those names",
+                    name,
+                    wavelength_nm,
+                    mult,
+                    aspect,
+                    pixel_mm));
+  }
+  return {1e-6 * wavelength_nm / mult, pixel_mm, pixel_mm * aspect};
+}
+
+// Column by column (x slow); the first stored row is the bottom of the
+// image as the instrument shows it. Invalid values are NaN.
+void FillHeights(const char* p,
+                 const OpdArray& a,
+                 double scale_mm,
+                 HeightMap* map) {
+  for (std::int64_t x = 0; x < a.nx; ++x) {
+    for (std::int64_t y = 0; y < a.ny; ++y) {
+      const std::int64_t i = x * a.ny + y;
+      double v = std::numeric_limits<double>::quiet_NaN();
+      if (a.element_size == 1) {
+        v = static_cast<unsigned char>(p[i]);
+      } else if (a.element_size == 2) {
+        std::int16_t s;
+        std::memcpy(&s, p + 2 * i, 2);
+        if (s < 32766) v = s;
+      } else {
+        float f;
+        std::memcpy(&f, p + 4 * i, 4);
+        if (std::isfinite(f) && f < 1e38f) v = f;
+      }
+      map->height_mm(a.ny - 1 - y, x) = static_cast<float>(scale_mm * v);
+    }
+  }
+}
+
 HeightMap ParseOpd(const std::string& bytes,
                    const std::string& name,
                    const ReadScanOptions&) {
@@ -127,76 +217,14 @@ HeightMap ParseOpd(const std::string& bytes,
         "Raw); expected one",
         name));
   }
-  const std::int64_t nx = in.At<std::uint16_t>(data->offset, "array width");
-  const std::int64_t ny =
-      in.At<std::uint16_t>(data->offset + 2, "array height");
-  const auto elsize = in.At<std::uint16_t>(data->offset + 4, "element size");
-  internal::CheckMapSize(in, data->offset, nx, ny);
-  if (elsize != 1 && elsize != 2 && elsize != 4) {
-    throw ScanError(
-        fmt::format("{}: byte {}: elements of {} bytes; expected 1, 2 or 4",
-                    name,
-                    data->offset + 4,
-                    elsize));
-  }
-  const std::uint64_t n = static_cast<std::uint64_t>(nx * ny);
-  if (6 + n * elsize != data->length) {
-    throw ScanError(fmt::format(
-        "{}: byte {}: an array of {} x {} x {} bytes in a block of {} "
-        "bytes; expected 6 more than the array",
-        name,
-        data->offset,
-        nx,
-        ny,
-        elsize,
-        data->length));
-  }
-  in.Need(data->offset + 6, n * elsize, "the height array");
-  const double wavelength_nm = Scalar(in, blocks, "Wavelength", 0.0);
-  const double mult = Scalar(in, blocks, "Mult", 1.0);
-  const double aspect = Scalar(in, blocks, "Aspect", 1.0);
-  const double pixel_mm = Scalar(in, blocks, "Pixel_size", 0.0);
-  if (!(wavelength_nm > 0 && mult > 0 && aspect > 0 && pixel_mm > 0 &&
-        std::isfinite(wavelength_nm * aspect * pixel_mm))) {
-    throw ScanError(
-        fmt::format("{}: Wavelength {:.6g} nm, Mult {:.6g}, Aspect {:.6g}, "
-                    "Pixel_size {:.6g} "
-                    "mm; "
-                    "expected positive values in the blocks of those names",
-                    name,
-                    wavelength_nm,
-                    mult,
-                    aspect,
-                    pixel_mm));
-  }
-  const double scale_mm = 1e-6 * wavelength_nm / mult;
-
+  const OpdArray array = CheckArray(in, *data, name);
+  const OpdScale scale = ReadScale(in, blocks, name);
   HeightMap map;
-  map.Resize(ny, nx);
-  const char* p = in.Data(data->offset + 6);
-  // Column by column (x slow); the first stored row is the bottom of the
-  // image as the instrument shows it.
-  for (std::int64_t x = 0; x < nx; ++x) {
-    for (std::int64_t y = 0; y < ny; ++y) {
-      const std::int64_t i = x * ny + y;
-      double v = std::numeric_limits<double>::quiet_NaN();
-      if (elsize == 1) {
-        v = static_cast<unsigned char>(p[i]);
-      } else if (elsize == 2) {
-        std::int16_t s;
-        std::memcpy(&s, p + 2 * i, 2);
-        if (s < 32766) v = s;
-      } else {
-        float f;
-        std::memcpy(&f, p + 4 * i, 4);
-        if (std::isfinite(f) && f < 1e38f) v = f;
-      }
-      map.height_mm(ny - 1 - y, x) = static_cast<float>(scale_mm * v);
-    }
-  }
+  map.Resize(array.ny, array.nx);
+  FillHeights(in.Data(data->offset + 6), array, scale.height_mm, &map);
   SyncValidity(&map);
-  map.dx_mm = pixel_mm;
-  map.dy_mm = pixel_mm * aspect;
+  map.dx_mm = scale.dx_mm;
+  map.dy_mm = scale.dy_mm;
   map.metadata.format = "opd";
   map.metadata.instrument = "Bruker/Veeco Vision (Wyko)";
   auto text = [&](const char* key) {

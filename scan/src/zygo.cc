@@ -82,6 +82,56 @@ std::string Date(const ByteReader& in) {
   return date;
 }
 
+// Where the phase data are and how many: the header's sizes, checked.
+struct PhaseBlock {
+  std::uint64_t offset = 0, bytes = 0;
+  std::int64_t cols = 0, rows = 0;
+};
+
+PhaseBlock CheckPhaseBlock(const ByteReader& in) {
+  const std::string& name = in.name();
+  const std::uint64_t header =
+      in.AtBigEndian<std::uint32_t>(kHeaderSize, "size");
+  const std::uint64_t intensity =
+      in.AtBigEndian<std::uint32_t>(kIntensityBytes, "intensity size");
+  PhaseBlock b;
+  b.cols = in.AtBigEndian<std::uint16_t>(kPhaseWidth, "width");
+  b.rows = in.AtBigEndian<std::uint16_t>(kPhaseWidth + 2, "height");
+  b.bytes = in.AtBigEndian<std::uint32_t>(kPhaseBytes, "size");
+  if (header < kMinHeaderSize) {
+    throw ScanError(
+        fmt::format("{}: byte {}: header of {} bytes; expected 834 or more",
+                    name,
+                    kHeaderSize,
+                    header));
+  }
+  if (b.cols == 0 || b.rows == 0 || b.bytes == 0) {
+    throw ScanError(fmt::format(
+        "{}: byte {}: the phase block is {} x {} ({} bytes): the file holds "
+        "no height data",
+        name,
+        kPhaseWidth,
+        b.cols,
+        b.rows,
+        b.bytes));
+  }
+  internal::CheckMapSize(in, kPhaseWidth, b.cols, b.rows);
+  if (b.bytes != static_cast<std::uint64_t>(b.cols * b.rows) * 4) {
+    throw ScanError(fmt::format(
+        "{}: byte {}: a phase block of {} bytes for {} x {} points; expected "
+        "{}",
+        name,
+        kPhaseBytes,
+        b.bytes,
+        b.cols,
+        b.rows,
+        b.cols * b.rows * 4));
+  }
+  b.offset = header + intensity;
+  in.Need(b.offset, b.bytes, "the phase data");
+  return b;
+}
+
 HeightMap ParseMetroPro(const std::string& bytes,
                         const std::string& name,
                         const ReadScanOptions&) {
@@ -94,46 +144,7 @@ HeightMap ParseMetroPro(const std::string& bytes,
                     name,
                     internal::Printable(bytes.substr(0, 4))));
   }
-  const std::uint64_t header =
-      in.AtBigEndian<std::uint32_t>(kHeaderSize, "size");
-  const std::uint64_t intensity =
-      in.AtBigEndian<std::uint32_t>(kIntensityBytes, "intensity size");
-  const std::int64_t cols = in.AtBigEndian<std::uint16_t>(kPhaseWidth, "width");
-  const std::int64_t rows =
-      in.AtBigEndian<std::uint16_t>(kPhaseWidth + 2, "height");
-  const std::uint64_t phase =
-      in.AtBigEndian<std::uint32_t>(kPhaseBytes, "size");
-  if (header < kMinHeaderSize) {
-    throw ScanError(
-        fmt::format("{}: byte {}: header of {} bytes; expected 834 or more",
-                    name,
-                    kHeaderSize,
-                    header));
-  }
-  if (cols == 0 || rows == 0 || phase == 0) {
-    throw ScanError(fmt::format(
-        "{}: byte {}: the phase block is {} x {} ({} bytes): the file holds "
-        "no height data",
-        name,
-        kPhaseWidth,
-        cols,
-        rows,
-        phase));
-  }
-  internal::CheckMapSize(in, kPhaseWidth, cols, rows);
-  if (phase != static_cast<std::uint64_t>(cols * rows) * 4) {
-    throw ScanError(fmt::format(
-        "{}: byte {}: a phase block of {} bytes for {} x {} points; expected "
-        "{}",
-        name,
-        kPhaseBytes,
-        phase,
-        cols,
-        rows,
-        cols * rows * 4));
-  }
-  const std::uint64_t data = header + intensity;
-  in.Need(data, phase, "the phase data");
+  const PhaseBlock block = CheckPhaseBlock(in);
   const double scale_m = HeightStepM(in);
   const double pixel_m = in.AtBigEndian<float>(kLateralRes, "lateral_res");
   if (!(pixel_m > 0 && std::isfinite(pixel_m))) {
@@ -144,11 +155,10 @@ HeightMap ParseMetroPro(const std::string& bytes,
         kLateralRes,
         pixel_m));
   }
-
   HeightMap map;
-  map.Resize(rows, cols);
-  const char* p = in.Data(data);
-  for (std::int64_t i = 0; i < rows * cols; ++i) {
+  map.Resize(block.rows, block.cols);
+  const char* p = in.Data(block.offset);
+  for (std::int64_t i = 0; i < block.rows * block.cols; ++i) {
     unsigned char b[4];
     std::memcpy(b, p + 4 * i, 4);
     const std::int32_t v = static_cast<std::int32_t>(

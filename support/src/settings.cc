@@ -38,13 +38,16 @@ double ParseNumber(std::string_view text, double lo, double hi) {
   errno = 0;
   const double v = s.empty() ? NAN : std::strtod(s.c_str(), &end);
   if (s.empty() || end != s.c_str() + s.size() || !std::isfinite(v)) {
-    throw SettingError(fmt::format(
-        "found '{}'; expected a number from {} to {}", Printable(text),
-        ShowNumber(lo), ShowNumber(hi)));
+    throw SettingError(
+        fmt::format("found '{}'; expected a number from {} to {}",
+                    Printable(text),
+                    ShowNumber(lo),
+                    ShowNumber(hi)));
   }
   if (v < lo || v > hi) {
     throw SettingError(fmt::format("found {}; expected a number from {} to {}",
-                                   ShowNumber(v), ShowNumber(lo),
+                                   ShowNumber(v),
+                                   ShowNumber(lo),
                                    ShowNumber(hi)));
   }
   return v;
@@ -56,9 +59,11 @@ long ParseInteger(std::string_view text, long lo, long hi) {
   errno = 0;
   const long v = s.empty() ? 0 : std::strtol(s.c_str(), &end, 10);
   if (s.empty() || end != s.c_str() + s.size() || errno == ERANGE) {
-    throw SettingError(fmt::format(
-        "found '{}'; expected a whole number from {} to {}", Printable(text),
-        lo, hi));
+    throw SettingError(
+        fmt::format("found '{}'; expected a whole number from {} to {}",
+                    Printable(text),
+                    lo,
+                    hi));
   }
   if (v < lo || v > hi) {
     throw SettingError(fmt::format(
@@ -81,7 +86,7 @@ std::string ParseChoice(std::string_view text,
   if (std::find(choices.begin(), choices.end(), s) != choices.end()) return s;
   std::string list;
   for (size_t i = 0; i < choices.size(); ++i) {
-    list += (i == 0                  ? ""
+    list += (i == 0                    ? ""
              : i + 1 == choices.size() ? " or "
                                        : ", ") +
             choices[i];

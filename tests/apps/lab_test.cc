@@ -294,10 +294,10 @@ TEST(Outputs, ARerunRemovesWhatTheEarlierRunWroteAndNothingElse) {
   // The figures' sources are in a sub-folder; the map's data names the
   // track outline's columns.
   EXPECT_TRUE(fs::exists(out + "/figure-data/figures.gp"));
-  EXPECT_EQ(Slurp(out + "/figure-data/fig08ab_scan_map.csv")
-                .rfind("# track_outline: x_mm,y_mm where line = 0\nx_mm,y_mm\n",
-                       0),
-            0u);
+  EXPECT_EQ(
+      Slurp(out + "/figure-data/fig08ab_scan_map.csv")
+          .rfind("# track_outline: x_mm,y_mm where line = 0\nx_mm,y_mm\n", 0),
+      0u);
   EXPECT_FALSE(fs::exists(out + "/figures_png.gp"));
   // A file of the user's, and a manifest line pointing outside the folder.
   std::ofstream(out + "/notes.txt") << "mine\n";

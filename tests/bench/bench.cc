@@ -114,9 +114,7 @@ void BM_CsvIngest(benchmark::State& state) {
   state.counters["rows"] = static_cast<double>(Test600().record.size());
   state.counters["peak_memory_ratio"] = IngestMemoryRatio(path, options);
 }
-BENCHMARK(BM_CsvIngest)
-    ->Unit(benchmark::kMillisecond)
-    ->MinTime(2.0);
+BENCHMARK(BM_CsvIngest)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 
 // The machine's floor for the same ingest: the CSV, already in the page
 // cache, read into memory that is already mapped, and its four columns

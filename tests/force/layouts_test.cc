@@ -79,8 +79,9 @@ TEST(ForceLayouts, AColumnWithoutAUnitTakesItsLayoutsUnit) {
   EXPECT_EQ(r.metadata.channel_units[1], "mm");
   bool said = false;
   for (const std::string& w : r.metadata.warnings)
-    said |= w.find("'Piezo X' states no unit: taken as mm (the rtec "
-                   "layout's unit") != std::string::npos;
+    said |= w.find(
+                "'Piezo X' states no unit: taken as mm (the rtec "
+                "layout's unit") != std::string::npos;
   EXPECT_TRUE(said) << ::testing::PrintToString(r.metadata.warnings);
 }
 

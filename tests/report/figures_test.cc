@@ -296,8 +296,9 @@ TEST(FigureData, EachFigurePlotsNamedColumnsOfTheTestsTables) {
                 y = t->ColumnIndex(b.columns[1]);
       const auto& row0 = t->rows[0];
       EXPECT_EQ(b.rows[0][0], fmt::format("{:.8g}", row0[x]));
-      if (std::isfinite(row0[y]))
+      if (std::isfinite(row0[y])) {
         EXPECT_EQ(b.rows[0][1], fmt::format("{:.8g}", row0[y]));
+      }
       ++checked;
     }
   }

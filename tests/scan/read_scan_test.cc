@@ -256,7 +256,8 @@ void ExpectZonValues(const HeightMap& h) {
 }
 
 TEST(Zon, Kpk0WithPaddedRowsMaskAndCalibration) {
-  const std::string path = ::testing::TempDir() + "/kpk0-" + std::to_string(getpid()) + ".zon";
+  const std::string path =
+      ::testing::TempDir() + "/kpk0-" + std::to_string(getpid()) + ".zon";
   Spit(path, Zon(false));
   const HeightMap h = ReadScan(path);
   ExpectZonValues(h);
@@ -264,7 +265,8 @@ TEST(Zon, Kpk0WithPaddedRowsMaskAndCalibration) {
 }
 
 TEST(Zon, Kpk1ZstdMembers) {
-  const std::string path = ::testing::TempDir() + "/kpk1-" + std::to_string(getpid()) + ".zon";
+  const std::string path =
+      ::testing::TempDir() + "/kpk1-" + std::to_string(getpid()) + ".zon";
   Spit(path, Zon(true));
   ExpectZonValues(ReadScan(path));
 }

@@ -50,15 +50,15 @@ TEST(EncodePng, RgbaRoundTripsWithAndWithoutRowFilters) {
 TEST(EncodePng, BgrRowsWithAStrideBecomeRgb) {
   const int w = 2, h = 2;
   const long stride = 8;  // 6 bytes of pixels, 2 of padding
-  const unsigned char bgr[16] = {10, 20, 30, 40, 50, 60, 99, 99,
-                                 70, 80, 90, 1,  2,  3,  99, 99};
+  const unsigned char bgr[16] = {
+      10, 20, 30, 40, 50, 60, 99, 99, 70, 80, 90, 1, 2, 3, 99, 99};
   std::string why;
   const std::string png = EncodePng(w, h, 3, true, bgr, stride, {}, &why);
   ASSERT_FALSE(png.empty()) << why;
   int dw = 0, dh = 0;
   const std::vector<unsigned char> rgba = DecodeRgba(png, &dw, &dh);
-  const std::vector<unsigned char> expected = {30, 20, 10, 255, 60, 50, 40, 255,
-                                               90, 80, 70, 255, 3,  2,  1,  255};
+  const std::vector<unsigned char> expected = {
+      30, 20, 10, 255, 60, 50, 40, 255, 90, 80, 70, 255, 3, 2, 1, 255};
   EXPECT_EQ(rgba, expected);
 }
 

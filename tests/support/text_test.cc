@@ -18,8 +18,8 @@ TEST(Trim, EveryKindOfBlankAtBothEndsOnly) {
 }
 
 TEST(PrintableUtf8Length, WellFormedSequencesOnly) {
-  EXPECT_EQ(PrintableUtf8Length("\xC2\xB5", 0), 2u);   // micro sign
-  EXPECT_EQ(PrintableUtf8Length("\xC2\x85", 0), 0u);   // C1 control
+  EXPECT_EQ(PrintableUtf8Length("\xC2\xB5", 0), 2u);  // micro sign
+  EXPECT_EQ(PrintableUtf8Length("\xC2\x85", 0), 0u);  // C1 control
   EXPECT_EQ(PrintableUtf8Length("\xE2\x82\xAC", 0), 3u);
   EXPECT_EQ(PrintableUtf8Length("\xED\xA0\x80", 0), 0u);  // surrogate
   EXPECT_EQ(PrintableUtf8Length("\xF0\x9F\x98\x80", 0), 4u);

@@ -28,12 +28,13 @@ double High(const fusion::Statistic& s) {
 
 // The specimens' cycles in one table, `specimen` their index.
 fusion::Table CyclesBySpecimen(const std::vector<SpecimenSeries>& specimens) {
-  fusion::Table t({"specimen", "cycle", "mu_hat_force", "J_force",
-                   "mu_energy_g"});
+  fusion::Table t(
+      {"specimen", "cycle", "mu_hat_force", "J_force", "mu_energy_g"});
   for (size_t i = 0; i < specimens.size(); ++i) {
     const fusion::Table& c = specimens[i].cycles;
-    const int cycle = c.ColumnIndex("cycle"), mu = c.ColumnIndex("mu_hat_force"),
-              j = c.ColumnIndex("J_force"), e = c.ColumnIndex("mu_energy_g");
+    const int cycle = c.ColumnIndex("cycle"),
+              mu = c.ColumnIndex("mu_hat_force"), j = c.ColumnIndex("J_force"),
+              e = c.ColumnIndex("mu_energy_g");
     if (cycle < 0 || mu < 0 || j < 0 || e < 0) continue;
     for (const auto& row : c.rows) {
       t.rows.push_back(
@@ -51,12 +52,14 @@ FigureSpec Across(const char* stem,
                   const char* ylabel,
                   const std::vector<SpecimenSeries>& specimens) {
   FigureSpec f{stem, title, {{"", "cycle", ylabel, "", {}, "", {}}}};
-  if (specimens.size() > 20) f.panels[0].setup = "set key font ',10' maxrows 40\n";
+  if (specimens.size() > 20)
+    f.panels[0].setup = "set key font ',10' maxrows 40\n";
   for (size_t i = 0; i < specimens.size(); ++i) {
-    Series s{"cycles_by_specimen", "cycle", column, {}, specimens[i].name};
+    Series s("cycles_by_specimen", "cycle", column, specimens[i].name);
     s.select = "specimen";
     s.select_value = static_cast<double>(i);
-    s.style = fmt::format("lines lw 1.5 lc {} dt {}", i % 8 + 1, (i / 8) % 5 + 1);
+    s.style =
+        fmt::format("lines lw 1.5 lc {} dt {}", i % 8 + 1, (i / 8) % 5 + 1);
     f.panels[0].series.push_back(s);
   }
   return f;
@@ -65,29 +68,46 @@ FigureSpec Across(const char* stem,
 // method_differences.csv (Fig. 16) and wear_and_mu.csv, written into the
 // batch's folder; `index` numbers the specimens for the x axis.
 fusion::Table MethodDifferences(const std::vector<SpecimenSeries>& specimens) {
-  fusion::Table t({"index", "mu_hat_minus_mu_mean", "mu_hat_minus_mu_mean_sd",
-                   "mu_hat_minus_mu_energy", "mu_hat_minus_mu_energy_sd",
-                   "mu_hat_minus_mu_mean_low", "mu_hat_minus_mu_mean_high",
+  fusion::Table t({"index",
+                   "mu_hat_minus_mu_mean",
+                   "mu_hat_minus_mu_mean_sd",
+                   "mu_hat_minus_mu_energy",
+                   "mu_hat_minus_mu_energy_sd",
+                   "mu_hat_minus_mu_mean_low",
+                   "mu_hat_minus_mu_mean_high",
                    "mu_hat_minus_mu_energy_low",
                    "mu_hat_minus_mu_energy_high"});
   for (size_t i = 0; i < specimens.size(); ++i) {
     const auto& s = specimens[i];
-    t.rows.push_back({static_cast<double>(i), s.diff_mean.mean,
-                      s.diff_mean.sd, s.diff_energy.mean, s.diff_energy.sd,
-                      Low(s.diff_mean), High(s.diff_mean),
-                      Low(s.diff_energy), High(s.diff_energy)});
+    t.rows.push_back({static_cast<double>(i),
+                      s.diff_mean.mean,
+                      s.diff_mean.sd,
+                      s.diff_energy.mean,
+                      s.diff_energy.sd,
+                      Low(s.diff_mean),
+                      High(s.diff_mean),
+                      Low(s.diff_energy),
+                      High(s.diff_energy)});
   }
   return t;
 }
 
 fusion::Table WearAndMu(const std::vector<SpecimenSeries>& specimens) {
-  fusion::Table t({"index", "mu_hat", "mu_hat_sd", "wear_rate_mm3_per_N_m",
-                   "mu_hat_low", "mu_hat_high"});
+  fusion::Table t({"index",
+                   "mu_hat",
+                   "mu_hat_sd",
+                   "wear_rate_mm3_per_N_m",
+                   "mu_hat_low",
+                   "mu_hat_high"});
   for (size_t i = 0; i < specimens.size(); ++i) {
     const auto& s = specimens[i];
     if (!std::isfinite(s.wear_rate) || !std::isfinite(s.mu_hat.mean)) continue;
-    t.rows.push_back({static_cast<double>(i), s.mu_hat.mean, s.mu_hat.sd,
-                      s.wear_rate, Low(s.mu_hat), High(s.mu_hat)});
+    t.rows.push_back({static_cast<double>(i),
+                      s.mu_hat.mean,
+                      s.mu_hat.sd,
+                      s.wear_rate,
+                      Low(s.mu_hat),
+                      High(s.mu_hat)});
   }
   return t;
 }
@@ -97,8 +117,8 @@ fusion::Table WearAndMu(const std::vector<SpecimenSeries>& specimens) {
 std::string NameTics(const std::vector<SpecimenSeries>& specimens) {
   std::string tics = "set xtics rotate by -45 (";
   for (size_t i = 0; i < specimens.size(); ++i)
-    tics += fmt::format("{}{} {}", i ? ", " : "",
-                        internal::Quote(specimens[i].name), i);
+    tics += fmt::format(
+        "{}{} {}", i ? ", " : "", internal::Quote(specimens[i].name), i);
   return tics + ")\n";
 }
 
@@ -110,7 +130,8 @@ std::string PointLabels(const std::vector<SpecimenSeries>& specimens,
         "set label {} {} at first {}, first {} offset 1,0.6 left font ',12'\n",
         static_cast<int>(row[0]) + 1,
         internal::Quote(specimens[static_cast<size_t>(row[0])].name),
-        row[1], row[3]);
+        row[1],
+        row[3]);
   }
   return labels;
 }
@@ -146,20 +167,32 @@ FigureSet DrawAuditFigures(const std::string& dir,
   WriteTextAtomically((fs::path(dir) / "method_differences.csv").string(),
                       WithNames(differences, specimens));
   std::vector<FigureSpec> figs = {
-      Across("audit_fig13_mu_hat", "mu-hat per cycle, all specimens (Fig. 13)",
-             "mu_hat_force", "mu-hat (-)", specimens),
-      Across("audit_fig14_cost", "J per cycle, all specimens (Fig. 14)",
-             "J_force", "J (-)", specimens),
+      Across("audit_fig13_mu_hat",
+             "mu-hat per cycle, all specimens (Fig. 13)",
+             "mu_hat_force",
+             "mu-hat (-)",
+             specimens),
+      Across("audit_fig14_cost",
+             "J per cycle, all specimens (Fig. 14)",
+             "J_force",
+             "J (-)",
+             specimens),
       Across("audit_fig15_energy",
-             "energy-based COF, all specimens (Fig. 15)", "mu_energy_g",
-             "mu_Ed (-)", specimens)};
-  Series dm{"method_differences.csv", "index", "mu_hat_minus_mu_mean",
-            {"mu_hat_minus_mu_mean_low", "mu_hat_minus_mu_mean_high"},
-            "mu-hat - mu mean"};
+             "energy-based COF, all specimens (Fig. 15)",
+             "mu_energy_g",
+             "mu_Ed (-)",
+             specimens)};
+  Series dm("method_differences.csv",
+            "index",
+            "mu_hat_minus_mu_mean",
+            "mu-hat - mu mean",
+            {"mu_hat_minus_mu_mean_low", "mu_hat_minus_mu_mean_high"});
   dm.style = "yerrorbars pt 7";
-  Series de{"method_differences.csv", "index", "mu_hat_minus_mu_energy",
-            {"mu_hat_minus_mu_energy_low", "mu_hat_minus_mu_energy_high"},
-            "mu-hat - mu energy"};
+  Series de("method_differences.csv",
+            "index",
+            "mu_hat_minus_mu_energy",
+            "mu-hat - mu energy",
+            {"mu_hat_minus_mu_energy_low", "mu_hat_minus_mu_energy_high"});
   de.style = "yerrorbars pt 5";
   Series zero;
   zero.function = "0";
@@ -168,26 +201,35 @@ FigureSet DrawAuditFigures(const std::string& dir,
       {"audit_fig16_differences",
        "mu-hat minus mean and energy COF, means over the cycles with their "
        "95% intervals (Fig. 16)",
-       {{"", "", "difference (-)",
+       {{"",
+         "",
+         "difference (-)",
          NameTics(specimens) + "set xrange [-0.5:*]\nset offsets 0,0.5,0,0\n",
-         {}, "", {dm, de, zero}}}});
+         {},
+         "",
+         {dm, de, zero}}}});
   if (!wear.rows.empty()) {
     WriteTextAtomically((fs::path(dir) / "wear_and_mu.csv").string(),
                         WithNames(wear, specimens));
-    Series w{"wear_and_mu.csv", "mu_hat", "wear_rate_mm3_per_N_m",
-             {"mu_hat_low", "mu_hat_high"}, ""};
+    Series w("wear_and_mu.csv",
+             "mu_hat",
+             "wear_rate_mm3_per_N_m",
+             "",
+             {"mu_hat_low", "mu_hat_high"});
     w.style = "xerrorbars pt 7 lc rgb '#1f77b4'";
     figs.push_back({"audit_wear_vs_mu",
                     "specific wear rate against mu-hat, all specimens",
-                    {{"", "mu-hat, k from P (-)",
+                    {{"",
+                      "mu-hat, k from P (-)",
                       "specific wear rate (mm^3/(N m))",
-                      "unset key\n" + PointLabels(specimens, wear), {}, "",
+                      "unset key\n" + PointLabels(specimens, wear),
+                      {},
+                      "",
                       {w}}}});
   }
-  const internal::TableSet tables = {
-      {"cycles_by_specimen", &cycles},
-      {"method_differences.csv", &differences},
-      {"wear_and_mu.csv", &wear}};
+  const internal::TableSet tables = {{"cycles_by_specimen", &cycles},
+                                     {"method_differences.csv", &differences},
+                                     {"wear_and_mu.csv", &wear}};
   return internal::Draw(dir, figs, tables, formats);
 }
 

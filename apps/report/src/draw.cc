@@ -46,15 +46,15 @@ std::string Block(const Series& s, const fusion::Table& t) {
   }
   const int select = s.select.empty() ? -1 : t.ColumnIndex(s.select);
   const int brk = s.break_at.empty() ? -1 : t.ColumnIndex(s.break_at);
-  WEARSCAR_CHECK(s.select.empty() || select >= 0, "a figure selects by a column");
+  WEARSCAR_CHECK(s.select.empty() || select >= 0,
+                 "a figure selects by a column");
   WEARSCAR_CHECK(s.break_at.empty() || brk >= 0, "a figure breaks at a column");
-  std::string out = fmt::format("# {}: {}{}\n",
-                                s.table,
-                                fmt::join(names, ","),
-                                select >= 0 ? fmt::format(" where {} = {}",
-                                                          s.select,
-                                                          s.select_value)
-                                            : "");
+  std::string out = fmt::format(
+      "# {}: {}{}\n",
+      s.table,
+      fmt::join(names, ","),
+      select >= 0 ? fmt::format(" where {} = {}", s.select, s.select_value)
+                  : "");
   out += fmt::format("{}\n", fmt::join(names, ","));
   double previous = NAN;
   bool first = true;
@@ -95,19 +95,20 @@ std::string Clause(const Series& s, const std::string& data, int index) {
 // A figure's data file and its panels' commands for `term`; the rasters
 // it paints in SVG are added to `pngs`.
 struct FigureScript {
-  std::string data;                          // figure-data/<stem>.csv
+  std::string data;                             // figure-data/<stem>.csv
   std::vector<std::vector<std::string>> plots;  // per panel: clauses
-  std::vector<std::string> svg_plots;        // per panel: with stand-ins
+  std::vector<std::string> svg_plots;           // per panel: with stand-ins
   std::vector<std::string> pngs;
-  std::vector<std::string> image_setup;      // per panel
-  std::vector<std::string> svg_notes;        // per panel: comment lines
+  std::vector<std::string> image_setup;  // per panel
+  std::vector<std::string> svg_notes;    // per panel: comment lines
 };
 
 FigureScript Prepare(const std::string& dir,
                      const FigureSpec& f,
                      const TableSet& tables) {
   FigureScript out;
-  const std::string data_name = std::string(kFigureData) + "/" + f.stem + ".csv";
+  const std::string data_name =
+      std::string(kFigureData) + "/" + f.stem + ".csv";
   int index = 0;
   for (const Panel& p : f.panels) {
     std::vector<std::string> clauses, svg_clauses;
@@ -119,8 +120,10 @@ FigureScript Prepare(const std::string& dir,
       if (!r.png.empty()) {
         setup += fmt::format("set cbrange [{}:{}]\n", r.lo, r.hi);
         svg_clauses.push_back(r.stand_in + " notitle");
-        note = "# wearscar paints the image over this 2 x 2 stand-in; "
-               "gnuplot draws it with: plot " + r.plot + "\n";
+        note =
+            "# wearscar paints the image over this 2 x 2 stand-in; "
+            "gnuplot draws it with: plot " +
+            r.plot + "\n";
         out.pngs.push_back(r.png);
       } else {
         svg_clauses.push_back(r.plot + " notitle");
@@ -142,7 +145,8 @@ FigureScript Prepare(const std::string& dir,
       svg_clauses.push_back(clause);
     }
     out.plots.push_back(clauses);
-    out.svg_plots.push_back(fmt::format("{}", fmt::join(svg_clauses, ", \\\n  ")));
+    out.svg_plots.push_back(
+        fmt::format("{}", fmt::join(svg_clauses, ", \\\n  ")));
     out.image_setup.push_back(setup);
     out.svg_notes.push_back(note);
   }
@@ -305,7 +309,8 @@ FigureSet Draw(const std::string& dir,
       terms.size() * figures.size(),
       set.missing[0],
       set.missing.size() > 1 ? ", ..." : "",
-      ran ? "" : fmt::format("; gnuplot failed: see {}/figures.log", kFigureData));
+      ran ? ""
+          : fmt::format("; gnuplot failed: see {}/figures.log", kFigureData));
   return set;
 }
 

@@ -28,8 +28,20 @@ inline constexpr const char* kLimitColour = "#d62728";
 
 // One line, set of points or band of a plot: columns of a table by name.
 struct Series {
-  std::string table;             // a table's file name ("detail.csv")
-  std::string x, y;              // its columns
+  Series() = default;
+  Series(std::string table_name,
+         std::string x_column,
+         std::string y_column,
+         std::string key_title = "",
+         std::vector<std::string> more_columns = {})
+      : table(std::move(table_name)),
+        x(std::move(x_column)),
+        y(std::move(y_column)),
+        more(std::move(more_columns)),
+        title(std::move(key_title)) {}
+
+  std::string table;              // a table's file name ("detail.csv")
+  std::string x, y;               // its columns
   std::vector<std::string> more;  // columns after y (a band's upper edge)
   std::string title;              // the key's entry; "" none
   std::string style = "lines";    // what follows gnuplot's `with`

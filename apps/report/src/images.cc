@@ -83,9 +83,9 @@ std::string PaletteCommand(const Palette& p) {
 }
 
 Raster MakeRaster(const std::string& dir, const Image& image) {
-  WEARSCAR_CHECK(image.values.size() ==
-                     static_cast<size_t>(image.width) * image.height,
-                 "an image has width x height values");
+  WEARSCAR_CHECK(
+      image.values.size() == static_cast<size_t>(image.width) * image.height,
+      "an image has width x height values");
   WEARSCAR_CHECK(image.palette != nullptr, "an image has a palette");
   WriteTextAtomically(
       FigureDataPath(dir, image.file),

@@ -47,7 +47,8 @@ Raster MakeRaster(const std::string& dir, const Image& image);
 // Puts `pngs`, in order, in place of the bitmaps gnuplot embedded in the
 // SVG at `path` for the stand-ins. False (the file left as it is) when the
 // SVG does not hold one bitmap per PNG.
-bool PaintRasters(const std::string& path, const std::vector<std::string>& pngs);
+bool PaintRasters(const std::string& path,
+                  const std::vector<std::string>& pngs);
 
 // A scale bar's length: 1, 2 or 5 x 10^n mm, at most a fifth of `width`.
 double ScaleBarMm(double width_mm);

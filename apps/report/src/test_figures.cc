@@ -16,12 +16,12 @@ namespace wearscar::report {
 namespace {
 
 using internal::FigureSpec;
+using internal::Image;
 using internal::kClassicColour;
 using internal::kForceColour;
 using internal::kLimitColour;
 using internal::kMeasuredColour;
 using internal::kScanColour;
-using internal::Image;
 using internal::Panel;
 using internal::Series;
 using internal::TableSet;
@@ -33,7 +33,7 @@ Series Line(const char* table,
             const char* colour,
             double width = 1.5,
             int dash = 1) {
-  Series s{table, x, y, {}, std::move(title)};
+  Series s(table, x, y, std::move(title));
   s.style = fmt::format("lines lw {} dt {} lc rgb '{}'", width, dash, colour);
   return s;
 }
@@ -45,7 +45,7 @@ Series Dots(const char* table,
             const char* colour,
             double size = 0.6,
             int type = 7) {
-  Series s{table, x, y, {}, std::move(title)};
+  Series s(table, x, y, std::move(title));
   s.style = fmt::format("points pt {} ps {} lc rgb '{}'", type, size, colour);
   return s;
 }
@@ -57,10 +57,11 @@ Series Band(const char* table,
             const char* high,
             std::string title,
             const char* colour) {
-  Series s{table, x, low, {high}, std::move(title)};
-  s.style = fmt::format("filledcurves lc rgb '{}' fs transparent solid 0.25 "
-                        "noborder",
-                        colour);
+  Series s(table, x, low, std::move(title), {high});
+  s.style = fmt::format(
+      "filledcurves lc rgb '{}' fs transparent solid 0.25 "
+      "noborder",
+      colour);
   return s;
 }
 
@@ -76,130 +77,221 @@ std::string RunningInMark(const fusion::TestResult& r) {
       n);
 }
 
-// Figs. 5-7 and 13-15: over the cycles, and the loops.
-std::vector<FigureSpec> CycleFigures(const std::string& name,
-                                     const fusion::TestResult& r,
-                                     const fusion::FuseOptions& o,
-                                     const fusion::Table& loops) {
-  const std::string mark = RunningInMark(r);
-  FigureSpec fig7{"fig07_loops", name + ": hysteresis loops (Fig. 7)",
-                  {{"", "x (mm)", "Q (N)", "", {}, "", {}}}};
-  std::set<double> loop_cycles;
-  for (const auto& row : loops.rows) loop_cycles.insert(row[0]);
-  for (double c : loop_cycles) {
-    Series s{"loops.csv", "x_mm", "Q_N", {}, fmt::format("cycle {:g}", c)};
+// A figure of one panel.
+FigureSpec Plot(std::string stem,
+                std::string title,
+                std::string xlabel,
+                std::string ylabel,
+                std::string setup,
+                std::vector<Series> series) {
+  return {std::move(stem),
+          std::move(title),
+          {{"",
+            std::move(xlabel),
+            std::move(ylabel),
+            std::move(setup),
+            {},
+            "",
+            std::move(series)}}};
+}
+
+// A column of cycles.csv over the cycles, as a line or as points.
+Series OverCycles(const char* column,
+                  std::string title,
+                  const char* colour,
+                  double width = 1.5,
+                  int dash = 1) {
+  return Line(
+      "cycles.csv", "cycle", column, std::move(title), colour, width, dash);
+}
+Series DotsOverCycles(const char* column,
+                      std::string title,
+                      const char* colour) {
+  return Dots("cycles.csv", "cycle", column, std::move(title), colour);
+}
+
+// Fig. 7: the loops of the cycles loops.csv holds.
+FigureSpec LoopFigure(const std::string& name, const fusion::Table& loops) {
+  FigureSpec f = Plot("fig07_loops",
+                      name + ": hysteresis loops (Fig. 7)",
+                      "x (mm)",
+                      "Q (N)",
+                      "",
+                      {});
+  std::set<double> cycles;
+  for (const auto& row : loops.rows) cycles.insert(row[0]);
+  for (double c : cycles) {
+    Series s("loops.csv", "x_mm", "Q_N", fmt::format("cycle {:g}", c));
     s.select = "cycle";
     s.select_value = c;
     s.style = "lines lw 1.5";
-    fig7.panels[0].series.push_back(s);
+    f.panels[0].series.push_back(s);
   }
-  const bool paper = o.verdict.cost_criterion == fusion::CostCriterion::kPaperJ;
-  Series threshold;
-  threshold.function = fmt::format("{}", o.verdict.max_cost);
-  threshold.title = "threshold (paper)";
-  threshold.style = fmt::format("lines dt 3 lw 2 lc rgb '{}'", kLimitColour);
-  std::vector<FigureSpec> f = {
-      fig7,
-      {"fig05_q_envelope", name + ": envelope of Q (Fig. 5)",
-       {{"", "cycle", "Q (N)", mark, {}, "",
-         {Line("cycles.csv", "cycle", "Q_max_N", "Q max", kForceColour),
-          Line("cycles.csv", "cycle", "Q_min_N", "Q min", kScanColour)}}}},
-      {"fig06_p_envelope", name + ": envelope of P (Fig. 6)",
-       {{"", "cycle", "P (N)", mark, {}, "",
-         {Line("cycles.csv", "cycle", "P_max_N", "P max", kForceColour),
-          Line("cycles.csv", "cycle", "P_min_N", "P min", kScanColour)}}}},
-      {"fig13_mu_hat", name + ": mu-hat per cycle (Fig. 13)",
-       {{"", "cycle", "mu (-)", mark, {}, "",
-         {Band("cycles.csv", "cycle", "mu_hat_force_low", "mu_hat_force_high",
-               "95% interval, k from P", kForceColour),
-          Band("cycles.csv", "cycle", "mu_hat_scan_low", "mu_hat_scan_high",
-               "95% interval, k from scan", kScanColour),
-          Dots("cycles.csv", "cycle", "mu_hat_force", "mu-hat, k from P",
-               kForceColour),
-          Dots("cycles.csv", "cycle", "mu_hat_scan", "mu-hat, k from scan",
-               kScanColour),
-          Line("cycles.csv", "cycle", "mu_mean", "mean method",
-               kClassicColour)}}}},
-      {"fig14_cost", name + ": J per cycle and its noise floor (Fig. 14)",
-       {{"", "cycle", "J (-)", mark + "set yrange [0:*]\n", {}, "",
-         {Dots("cycles.csv", "cycle", "J_force", "J, k from P", kForceColour),
-          Line("cycles.csv", "cycle", "J_force_floor", "its noise floor",
-               kMeasuredColour, 2, 2),
-          Dots("cycles.csv", "cycle", "J_scan", "J, k from scan", kScanColour),
-          Line("cycles.csv", "cycle", "J_scan_floor", "its noise floor",
-               kLimitColour, 2, 3)}}}},
-      {"fig15_energy_cof", name + ": energy-based COF (Fig. 15)",
-       {{"", "cycle", "mu (-)", mark, {}, "",
-         {Line("cycles.csv", "cycle", "mu_energy_g", "E_d / (4 P delta_g)",
-               kClassicColour),
-          Line("cycles.csv", "cycle", "mu_energy_max",
-               "E_d / (4 P delta_max)", kForceColour)}}}},
-  };
-  if (paper) f[4].panels[0].series.push_back(threshold);
   return f;
 }
 
-// Figs. 10-12 and 17 on the detail cycle; the lines broken where the
-// sliding direction changes.
-std::vector<FigureSpec> DetailFigures(const std::string& name,
-                                      const fusion::TestResult& r,
-                                      fusion::Table* minima) {
-  const std::string cycle = std::to_string(r.detail_cycle + 1);
-  auto detail = [](Series s) {
-    s.break_at = "direction";
-    return s;
-  };
+// Figs. 5-6 and 13-15 over the cycles, the running-in shaded.
+std::vector<FigureSpec> CycleFigures(const std::string& name,
+                                     const fusion::TestResult& r,
+                                     const fusion::FuseOptions& o) {
+  const std::string mark = RunningInMark(r);
   std::vector<FigureSpec> f = {
-      {"fig10_slope",
-       name + ": slope k of the sliding path, cycle " + cycle + " (Fig. 10)",
-       {{"", "x (mm)", "k (-)", "", {}, "",
-         {detail(Line("detail.csv", "x_mm", "k_force", "k from P",
-                      kForceColour, 1)),
-          detail(Line("detail.csv", "x_mm", "k_scan", "k from scan",
-                      kScanColour, 2.5))}}}},
-      {"fig11_cost", name + ": J(mu), cycle " + cycle + " (Fig. 11)",
-       {{"", "mu (-)", "J (-)", "set logscale y\n", {}, "",
-         {Line("cost_curve.csv", "mu", "J_force", "k from P", kForceColour),
-          Line("cost_curve.csv", "mu", "J_scan", "k from scan",
-               kScanColour)}}}},
-      {"fig12_reconstruction",
-       name + ": measured and reconstructed Q, cycle " + cycle + " (Fig. 12)",
-       {{"", "x (mm)", "Q (N)", "", {}, "",
-         {detail(Line("detail.csv", "x_mm", "Q_model_force_N",
-                      "wear-scar, k from P", kForceColour)),
-          detail(Line("detail.csv", "x_mm", "Q_model_scan_N",
-                      "wear-scar, k from scan", kScanColour, 2.5)),
-          Dots("detail.csv", "x_mm", "Q_N", "measured", kMeasuredColour,
-               0.3)}}}},
+      Plot("fig05_q_envelope",
+           name + ": envelope of Q (Fig. 5)",
+           "cycle",
+           "Q (N)",
+           mark,
+           {OverCycles("Q_max_N", "Q max", kForceColour),
+            OverCycles("Q_min_N", "Q min", kScanColour)}),
+      Plot("fig06_p_envelope",
+           name + ": envelope of P (Fig. 6)",
+           "cycle",
+           "P (N)",
+           mark,
+           {OverCycles("P_max_N", "P max", kForceColour),
+            OverCycles("P_min_N", "P min", kScanColour)}),
+      Plot("fig13_mu_hat",
+           name + ": mu-hat per cycle (Fig. 13)",
+           "cycle",
+           "mu (-)",
+           mark,
+           {Band("cycles.csv",
+                 "cycle",
+                 "mu_hat_force_low",
+                 "mu_hat_force_high",
+                 "95% interval, k from P",
+                 kForceColour),
+            Band("cycles.csv",
+                 "cycle",
+                 "mu_hat_scan_low",
+                 "mu_hat_scan_high",
+                 "95% interval, k from scan",
+                 kScanColour),
+            DotsOverCycles("mu_hat_force", "mu-hat, k from P", kForceColour),
+            DotsOverCycles("mu_hat_scan", "mu-hat, k from scan", kScanColour),
+            OverCycles("mu_mean", "mean method", kClassicColour)}),
+      Plot("fig14_cost",
+           name + ": J per cycle and its noise floor (Fig. 14)",
+           "cycle",
+           "J (-)",
+           mark + "set yrange [0:*]\n",
+           {DotsOverCycles("J_force", "J, k from P", kForceColour),
+            OverCycles(
+                "J_force_floor", "its noise floor", kMeasuredColour, 2, 2),
+            DotsOverCycles("J_scan", "J, k from scan", kScanColour),
+            OverCycles("J_scan_floor", "its noise floor", kLimitColour, 2, 3)}),
+      Plot(
+          "fig15_energy_cof",
+          name + ": energy-based COF (Fig. 15)",
+          "cycle",
+          "mu (-)",
+          mark,
+          {OverCycles("mu_energy_g", "E_d / (4 P delta_g)", kClassicColour),
+           OverCycles("mu_energy_max", "E_d / (4 P delta_max)", kForceColour)}),
   };
-  // The minima of J(mu): mu-hat and its J with each slope.
-  auto point = [&](const fusion::MuFit& fit, double slope, const char* what,
-                   int type) {
-    if (!fit.converged) return;
-    minima->rows.push_back({slope, fit.mu_hat, fit.cost});
-    Series s = Dots("minima", "mu", "J",
-                    fmt::format("minimum, k from {}: mu-hat {:.4f}, J {:.4f}",
-                                what, fit.mu_hat, fit.cost),
-                    kMeasuredColour, 1.6, type);
-    s.select = "slope";
-    s.select_value = slope;
-    f[1].panels[0].series.push_back(s);
-  };
+  if (o.verdict.cost_criterion == fusion::CostCriterion::kPaperJ) {
+    Series threshold;
+    threshold.function = fmt::format("{}", o.verdict.max_cost);
+    threshold.title = "threshold (paper)";
+    threshold.style = fmt::format("lines dt 3 lw 2 lc rgb '{}'", kLimitColour);
+    f[3].panels[0].series.push_back(threshold);
+  }
+  return f;
+}
+
+// A column of detail.csv along x, the line broken where the sliding
+// direction changes.
+Series AlongDetail(const char* column,
+                   std::string title,
+                   const char* colour,
+                   double width = 1.5) {
+  Series s =
+      Line("detail.csv", "x_mm", column, std::move(title), colour, width);
+  s.break_at = "direction";
+  return s;
+}
+
+// Fig. 11's minima of J(mu): mu-hat and its J with each slope (the rows
+// of `minima`: slope 0 from P, 1 from the scan).
+void AddCostMinima(const fusion::TestResult& r,
+                   fusion::Table* minima,
+                   FigureSpec* fig11) {
+  auto point =
+      [&](const fusion::MuFit& fit, double slope, const char* what, int type) {
+        if (!fit.converged) return;
+        minima->rows.push_back({slope, fit.mu_hat, fit.cost});
+        Series s =
+            Dots("minima",
+                 "mu",
+                 "J",
+                 fmt::format("minimum, k from {}: mu-hat {:.4f}, J {:.4f}",
+                             what,
+                             fit.mu_hat,
+                             fit.cost),
+                 kMeasuredColour,
+                 1.6,
+                 type);
+        s.select = "slope";
+        s.select_value = slope;
+        fig11->panels[0].series.push_back(s);
+      };
   const int dc = r.detail_cycle;
   if (dc >= 0 && dc < static_cast<int>(r.force.fit_force.size()))
     point(r.force.fit_force[dc], 0, "P", 7);
   if (r.scan && dc >= 0 && dc < static_cast<int>(r.scan->fit_scan.size()))
     point(r.scan->fit_scan[dc], 1, "scan", 5);
+}
+
+// Figs. 10-12 and 17 on the detail cycle.
+std::vector<FigureSpec> DetailFigures(const std::string& name,
+                                      const fusion::TestResult& r,
+                                      fusion::Table* minima) {
+  const std::string cycle = ", cycle " + std::to_string(r.detail_cycle + 1);
+  std::vector<FigureSpec> f = {
+      Plot("fig10_slope",
+           name + ": slope k of the sliding path" + cycle + " (Fig. 10)",
+           "x (mm)",
+           "k (-)",
+           "",
+           {AlongDetail("k_force", "k from P", kForceColour, 1),
+            AlongDetail("k_scan", "k from scan", kScanColour, 2.5)}),
+      Plot(
+          "fig11_cost",
+          name + ": J(mu)" + cycle + " (Fig. 11)",
+          "mu (-)",
+          "J (-)",
+          "set logscale y\n",
+          {Line("cost_curve.csv", "mu", "J_force", "k from P", kForceColour),
+           Line("cost_curve.csv", "mu", "J_scan", "k from scan", kScanColour)}),
+      Plot(
+          "fig12_reconstruction",
+          name + ": measured and reconstructed Q" + cycle + " (Fig. 12)",
+          "x (mm)",
+          "Q (N)",
+          "",
+          {AlongDetail("Q_model_force_N", "wear-scar, k from P", kForceColour),
+           AlongDetail(
+               "Q_model_scan_N", "wear-scar, k from scan", kScanColour, 2.5),
+           Dots(
+               "detail.csv", "x_mm", "Q_N", "measured", kMeasuredColour, 0.3)}),
+  };
+  AddCostMinima(r, minima, &f[1]);
   if (r.lugre) {
-    f.push_back(
-        {"fig17_lugre",
-         name + ": LuGre and wear-scar, cycle " + cycle + " (Fig. 17)",
-         {{"", "x (mm)", "Q (N)", "", {}, "",
-           {Line("lugre.csv", "x_mm", "Q_N", "measured", kMeasuredColour),
-            Line("lugre.csv", "x_mm", "Q_lugre_N", "LuGre", kClassicColour, 2,
-                 2),
-            Line("lugre.csv", "x_mm", "Q_wearscar_N", "wear-scar",
-                 kForceColour, 2, 4)}}}});
+    f.push_back(Plot(
+        "fig17_lugre",
+        name + ": LuGre and wear-scar" + cycle + " (Fig. 17)",
+        "x (mm)",
+        "Q (N)",
+        "",
+        {Line("lugre.csv", "x_mm", "Q_N", "measured", kMeasuredColour),
+         Line("lugre.csv", "x_mm", "Q_lugre_N", "LuGre", kClassicColour, 2, 2),
+         Line("lugre.csv",
+              "x_mm",
+              "Q_wearscar_N",
+              "wear-scar",
+              kForceColour,
+              2,
+              4)}));
   }
   return f;
 }
@@ -242,9 +334,11 @@ fusion::Table TrackOutline(const scan::Track& t) {
     const double side = line == 0 ? 0 : line == 1 ? -1 : 1;
     const double ox = -ay * side * 0.5 * t.width_mm,
                  oy = ax * side * 0.5 * t.width_mm;
-    o.rows.push_back({double(line), t.centre_x_mm - half * ax + ox,
+    o.rows.push_back({double(line),
+                      t.centre_x_mm - half * ax + ox,
                       t.centre_y_mm - half * ay + oy});
-    o.rows.push_back({double(line), t.centre_x_mm + half * ax + ox,
+    o.rows.push_back({double(line),
+                      t.centre_x_mm + half * ax + ox,
                       t.centre_y_mm + half * ay + oy});
   }
   return o;
@@ -263,14 +357,24 @@ Panel MapPanel(const scan::HeightMap& m, const scan::Track* t) {
       "set arrow 1 from first {0}, first {1} to first {2}, first {1} nohead "
       "lw 4 lc rgb 'black' front\n"
       "set label 1 '{3:g} mm' at first {4}, first {5} center front\n",
-      x0, y0, x0 + bar, bar, x0 + bar / 2, y0 + 0.05 * h,
-      -0.5 * im.dx, w - 0.5 * im.dx, -0.5 * im.dy, h - 0.5 * im.dy);
+      x0,
+      y0,
+      x0 + bar,
+      bar,
+      x0 + bar / 2,
+      y0 + 0.05 * h,
+      -0.5 * im.dx,
+      w - 0.5 * im.dx,
+      -0.5 * im.dy,
+      h - 0.5 * im.dy);
   if (t == nullptr) return p;
   for (int line = 0; line < 3; ++line) {
-    Series s{"track_outline", "x_mm", "y_mm", {},
+    Series s("track_outline",
+             "x_mm",
+             "y_mm",
              line == 0   ? "track axis (centreline)"
              : line == 1 ? "track width"
-                         : ""};
+                         : "");
     s.select = "line";
     s.select_value = line;
     s.style = line == 0 ? "lines lw 3 lc rgb 'red'"
@@ -329,27 +433,44 @@ void AddFrictionMap(const std::string& name,
       name + ": friction map mu(x, cycle)",
       {{fmt::format("raw: s Q / P (forward); its sd along x after running-in "
                     "{:.4f}, corrected {:.4f} (noise floor {:.4f})",
-                    m.spatial_sd_raw, m.spatial_sd_corrected,
+                    m.spatial_sd_raw,
+                    m.spatial_sd_corrected,
                     m.spatial_sd_noise),
-        "", "cycle", ranges,
+        "",
+        "cycle",
+        ranges,
         CycleGrid("friction_map_raw.f32", m.x_mm, m.cycles, forward(m.mu_raw)),
-        "mu (-)", {}},
-       {"corrected for the slope: s (Q - P k) / (P + k Q) (forward)", "x (mm)",
-        "cycle", ranges,
-        CycleGrid("friction_map_corrected.f32", m.x_mm, m.cycles,
+        "mu (-)",
+        {}},
+       {"corrected for the slope: s (Q - P k) / (P + k Q) (forward)",
+        "x (mm)",
+        "cycle",
+        ranges,
+        CycleGrid("friction_map_corrected.f32",
+                  m.x_mm,
+                  m.cycles,
                   forward(m.mu_corrected)),
-        "mu (-)", {}}}};
+        "mu (-)",
+        {}}}};
   if (r.scan) {
     fig.panels[1].xlabel.clear();
-    Series spring = Line("profiles.csv", "x_mm", "f_mean_mm",
-                                   "-P/S (mean of both directions)",
-                                   kForceColour);
-    Series scan = Line("profiles.csv", "x_mm", "h_scan_scaled_mm",
-                                 "scan (aligned, scaled)",
-                                 kScanColour, 2.5);
+    Series spring = Line("profiles.csv",
+                         "x_mm",
+                         "f_mean_mm",
+                         "-P/S (mean of both directions)",
+                         kForceColour);
+    Series scan = Line("profiles.csv",
+                       "x_mm",
+                       "h_scan_scaled_mm",
+                       "scan (aligned, scaled)",
+                       kScanColour,
+                       2.5);
     spring.y_scale = scan.y_scale = -1;
-    fig.panels.push_back({"the track along x", "x (mm)", "height (mm)",
-                          "set autoscale y\nset key inside top right\n", {},
+    fig.panels.push_back({"the track along x",
+                          "x (mm)",
+                          "height (mm)",
+                          "set autoscale y\nset key inside top right\n",
+                          {},
                           "",
                           {spring, scan}});
   }
@@ -368,19 +489,29 @@ void AddTrackHistory(const std::string& name,
        fmt::format("{}: the track's history from the spring, h = P/S; "
                    "waviness {:.4f} mm in cycle 1, {:.4f} mm at the end, "
                    "steady from cycle {}",
-                   name, h.waviness_sd_mm.front(), h.final_waviness_sd_mm,
+                   name,
+                   h.waviness_sd_mm.front(),
+                   h.final_waviness_sd_mm,
                    h.steady_cycle + 1),
-       {{"h(x, cycle): P/S about its mean, forward sliding", "x (mm)",
-         "cycle", GridRanges(h.x_mm, h.cycles) + "unset key\n",
-         CycleGrid("track_history.f32", h.x_mm, h.cycles,
-                   [&h](int c, size_t b) {
-                     return h.height_mm[h.Index(c, 0, b)];
-                   }),
-         "h (mm)", {}},
-        {"waviness: the sd of h along the stroke", "cycle", "waviness (mm)",
-         "set autoscale\nunset colorbox\nunset key\n", {}, "",
-         {Line("cycles.csv", "cycle", "waviness_sd_mm", "",
-                         kForceColour, 2)}}}});
+       {{"h(x, cycle): P/S about its mean, forward sliding",
+         "x (mm)",
+         "cycle",
+         GridRanges(h.x_mm, h.cycles) + "unset key\n",
+         CycleGrid(
+             "track_history.f32",
+             h.x_mm,
+             h.cycles,
+             [&h](int c, size_t b) { return h.height_mm[h.Index(c, 0, b)]; }),
+         "h (mm)",
+         {}},
+        {"waviness: the sd of h along the stroke",
+         "cycle",
+         "waviness (mm)",
+         "set autoscale\nunset colorbox\nunset key\n",
+         {},
+         "",
+         {Line(
+             "cycles.csv", "cycle", "waviness_sd_mm", "", kForceColour, 2)}}}});
 }
 
 }  // namespace
@@ -397,8 +528,8 @@ FigureSet DrawTestFigures(const std::string& dir,
   for (const auto& [file, table] : products.tables) tables[file] = &table;
   static const fusion::Table kNoLoops;
   const fusion::Table* loops = products.Find("loops.csv");
-  std::vector<FigureSpec> figs =
-      CycleFigures(name, r, options, loops ? *loops : kNoLoops);
+  std::vector<FigureSpec> figs = CycleFigures(name, r, options);
+  figs.insert(figs.begin(), LoopFigure(name, loops ? *loops : kNoLoops));
   fusion::Table minima({"slope", "mu", "J"});
   fusion::Table outline;
   if (r.scan) {
@@ -407,19 +538,26 @@ FigureSet DrawTestFigures(const std::string& dir,
     FigureSpec map{"fig08ab_scan_map",
                    name + ": levelled scan, detected track (Fig. 8a-b)",
                    {MapPanel(r.scan->levelled, &r.scan->track)}};
-    Series fwd = Line("profiles.csv", "x_mm", "f_forward_mm",
-                                fmt::format("P/S forward - {:.4f} mm",
-                                            r.scan->alignment.offset_mm),
-                                kForceColour);
-    Series rev = Line("profiles.csv", "x_mm", "f_reverse_mm",
-                                fmt::format("P/S reverse - {:.4f} mm",
-                                            r.scan->alignment.offset_mm),
-                                "#17becf");
+    Series fwd = Line(
+        "profiles.csv",
+        "x_mm",
+        "f_forward_mm",
+        fmt::format("P/S forward - {:.4f} mm", r.scan->alignment.offset_mm),
+        kForceColour);
+    Series rev = Line(
+        "profiles.csv",
+        "x_mm",
+        "f_reverse_mm",
+        fmt::format("P/S reverse - {:.4f} mm", r.scan->alignment.offset_mm),
+        "#17becf");
     fwd.y_offset = rev.y_offset = -r.scan->alignment.offset_mm;
-    Series h = Line("profiles.csv", "x_mm", "h_scan_mm",
-                              fmt::format("scan centreline x {:.2f}",
-                                          r.scan->alignment.scale),
-                              kScanColour, 2.5);
+    Series h =
+        Line("profiles.csv",
+             "x_mm",
+             "h_scan_mm",
+             fmt::format("scan centreline x {:.2f}", r.scan->alignment.scale),
+             kScanColour,
+             2.5);
     h.y_scale = r.scan->alignment.scale;
     figs.push_back(map);
     figs.push_back(

@@ -6,6 +6,7 @@
 
 #include "wearscar/force/read_force.h"
 #include "wearscar/fusion/fuse.h"
+#include "wearscar/fusion/map_analysis.h"
 #include "wearscar/scan/read_scan.h"
 #include "wearscar/support/settings.h"
 
@@ -50,6 +51,22 @@ const std::vector<support::Setting<TestSettings>>& TestSettingList();
 // option struct valid). Throws support::SettingFailed naming the setting
 // (its name empty for a check across settings).
 TestSettings MakeTestSettings(
+    const std::vector<std::pair<std::string, std::string>>& given);
+
+// Everything a height map analysed alone (wearscar scan) takes.
+struct MapSettings {
+  scan::ReadScanOptions read_scan;
+  MapAnalysisOptions analysis;
+};
+
+// The map's settings as text: reading, levelling, spikes, the track, the
+// centreline and the cross-sections ("sections": positions along the
+// track, comma-separated or repeated).
+const std::vector<support::Setting<MapSettings>>& MapSettingList();
+
+// The defaults with `given` applied, checked; throws
+// support::SettingFailed.
+MapSettings MakeMapSettings(
     const std::vector<std::pair<std::string, std::string>>& given);
 
 }  // namespace wearscar::fusion

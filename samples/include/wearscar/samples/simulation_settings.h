@@ -19,8 +19,8 @@ struct SimulationRequest {
   int scan_cols = -1, scan_rows = -1;
   double scan_pitch_mm = -1;
   bool no_elastic = false;
-  double noise = -1;             // scale of the calibrated sensor noise
-  double elastic_fraction = -1;  // S-RL-R-like elastic part, of the profile
+  double noise = -1;                 // scale of the calibrated sensor noise
+  double elastic_fraction = -1;      // S-RL-R-like elastic part, of the profile
   std::vector<std::string> effects;  // name=value
   bool triangle = false;
   long seed = -1;

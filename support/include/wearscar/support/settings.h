@@ -69,9 +69,10 @@ std::vector<std::string> ClosestNames(const std::vector<std::string>& names,
 // the order the user wrote them in. Throws SettingFailed naming the
 // setting for an unknown name or a bad value.
 template <class Target>
-void ApplySettings(const std::vector<Setting<Target>>& list,
-                   const std::vector<std::pair<std::string, std::string>>& given,
-                   Target* target) {
+void ApplySettings(
+    const std::vector<Setting<Target>>& list,
+    const std::vector<std::pair<std::string, std::string>>& given,
+    Target* target) {
   for (const auto& [name, text] : given) {
     bool known = false;
     for (const Setting<Target>& s : list) known |= s.name == name;

@@ -18,13 +18,12 @@ namespace wearscar::report {
 // each atomically, one table's text at a time, the inputs' checksums
 // taken beside the writing; returns them (result.json's contents in
 // `result`; the figures draw from the tables).
-fusion::TestProducts WriteTestResults(
-    const std::string& dir,
-    const std::string& name,
-    const force::ForceRecord& record,
-    const fusion::TestResult& result,
-    const fusion::FuseOptions& options,
-    const fusion::ProductOptions& write = {});
+fusion::TestProducts WriteTestResults(const std::string& dir,
+                                      const std::string& name,
+                                      const force::ForceRecord& record,
+                                      const fusion::TestResult& result,
+                                      const fusion::FuseOptions& options,
+                                      const fusion::ProductOptions& write = {});
 
 // Adds a warning to the result.json in `dir` (figures that were asked for
 // and not drawn are known only after it was written).

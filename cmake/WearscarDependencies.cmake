@@ -23,15 +23,9 @@ add_library(wearscar_fast_float INTERFACE)
 target_include_directories(wearscar_fast_float SYSTEM INTERFACE ${FASTFLOAT_INCLUDE_DIR})
 
 # PCL exports include dirs and definitions as variables, not a target.
-# The RANSAC plane is compiled from PCL's headers (PCL_NO_PRECOMPILE in
-# scan/src/level.cc) instead of linking libpcl_sample_consensus: its 25,000
-# symbol relocations, resolved at every start of the command, were about
-# half of the dynamic loader's work.
-set(wearscar_pcl_libraries ${PCL_LIBRARIES})
-list(FILTER wearscar_pcl_libraries EXCLUDE REGEX "sample_consensus")
 add_library(wearscar_pcl INTERFACE)
 target_include_directories(wearscar_pcl SYSTEM INTERFACE ${PCL_INCLUDE_DIRS})
-target_link_libraries(wearscar_pcl INTERFACE ${wearscar_pcl_libraries})
+target_link_libraries(wearscar_pcl INTERFACE ${PCL_LIBRARIES})
 target_compile_definitions(wearscar_pcl INTERFACE ${PCL_DEFINITIONS})
 
 if(WEARSCAR_BUILD_TESTS)

@@ -7,10 +7,12 @@
 #include <cstring>
 #include <limits>
 
+#include "wearscar/support/numbers.h"
+
 namespace wearscar::force::internal {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using support::kNaN;
 
 bool IsBlank(char c) { return c == ' ' || c == '\t'; }
 

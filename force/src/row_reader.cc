@@ -7,12 +7,13 @@
 #include <limits>
 
 #include "fields.h"
+#include "wearscar/support/numbers.h"
 #include "wearscar/support/text.h"
 
 namespace wearscar::force::internal {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using support::kNaN;
 
 }  // namespace
 

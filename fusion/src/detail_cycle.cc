@@ -4,11 +4,12 @@
 #include <limits>
 
 #include "wearscar/fusion/forward_model.h"
+#include "wearscar/support/numbers.h"
 
 namespace wearscar::fusion {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using support::kNaN;
 
 // The gross-slip samples of both directions with both slopes and both
 // models.

@@ -12,6 +12,7 @@
 #include "minimize.h"
 #include "wearscar/fusion/forward_model.h"
 #include "wearscar/support/check.h"
+#include "wearscar/support/numbers.h"
 
 namespace wearscar::fusion {
 
@@ -19,7 +20,7 @@ using internal::Resolved;
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+using support::kInf;
 
 // |Qm - Qw| / |Qm| over one direction.
 double DirectionCost(const SlipSamples& s, double mu) {

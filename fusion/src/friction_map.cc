@@ -8,11 +8,12 @@
 
 #include "wearscar/fusion/error.h"
 #include "wearscar/support/check.h"
+#include "wearscar/support/numbers.h"
 
 namespace wearscar::fusion {
 namespace {
 
-constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+using support::kNaN;
 
 // Sums per (cycle, direction, bin).
 struct Bins {
@@ -56,7 +57,7 @@ void SpatialVariation(const FrictionMap& m,
   const size_t bins = m.x_mm.size();
   const int steady = m.cycles - first;
   // centred[(c - first) * 2 * bins + d * bins + b]
-  std::vector<double> centred(static_cast<size_t>(steady) * 2 * bins, kNan);
+  std::vector<double> centred(static_cast<size_t>(steady) * 2 * bins, kNaN);
   for (int c = first; c < m.cycles; ++c) {
     for (int d = 0; d < 2; ++d) {
       double mean = 0;
@@ -74,8 +75,8 @@ void SpatialVariation(const FrictionMap& m,
   const int blocks = steady / std::max(1, block);
   double var_x = 0, var_noise = 0;
   int used = 0;
-  pattern->assign(2 * bins, kNan);
-  std::vector<double> means(2 * bins, kNan), se2(2 * bins, kNan);
+  pattern->assign(2 * bins, kNaN);
+  std::vector<double> means(2 * bins, kNaN), se2(2 * bins, kNaN);
   for (size_t i = 0; i < 2 * bins; ++i) {
     // Block means of this cell over the steady cycles.
     std::vector<double> bm;
@@ -119,8 +120,8 @@ void SpatialVariation(const FrictionMap& m,
       ++used;
     }
   }
-  *sd = used > 1 ? std::sqrt(var_x / used) : kNan;
-  *noise = used > 1 ? std::sqrt(std::max(0.0, var_noise) / used) : kNan;
+  *sd = used > 1 ? std::sqrt(var_x / used) : kNaN;
+  *noise = used > 1 ? std::sqrt(std::max(0.0, var_noise) / used) : kNaN;
 }
 
 }  // namespace
@@ -188,8 +189,8 @@ FrictionMap ComputeFrictionMap(const force::ForceRecord& record,
   m.samples = b.n;
   for (size_t i = 0; i < cells; ++i) {
     const bool ok = b.n[i] >= options.min_samples;
-    m.mu_raw[i] = ok ? b.raw[i] / b.n[i] : kNan;
-    m.mu_corrected[i] = ok ? b.corrected[i] / b.n[i] : kNan;
+    m.mu_raw[i] = ok ? b.raw[i] / b.n[i] : kNaN;
+    m.mu_corrected[i] = ok ? b.corrected[i] / b.n[i] : kNaN;
   }
   m.first_steady_cycle = std::clamp(first_steady, 0, m.cycles - 1);
   std::vector<double> raw_pattern;

@@ -9,11 +9,12 @@
 
 #include "wearscar/fusion/align.h"
 #include "wearscar/support/check.h"
+#include "wearscar/support/numbers.h"
 
 namespace wearscar::fusion {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using support::kNaN;
 
 // The normal distribution's two-sided 95% quantile: mu-hat's interval per
 // cycle is mu_hat +- kZ95 MuFit::standard_error.

@@ -6,11 +6,12 @@
 
 #include "wearscar/fusion/error.h"
 #include "wearscar/support/check.h"
+#include "wearscar/support/numbers.h"
 
 namespace wearscar::fusion {
 namespace {
 
-constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+using support::kNaN;
 
 // The sd over the finite values of v[from, from + n).
 double SdOf(const std::vector<double>& v, size_t from, size_t n) {
@@ -22,7 +23,7 @@ double SdOf(const std::vector<double>& v, size_t from, size_t n) {
     sum2 += v[i] * v[i];
     ++k;
   }
-  if (k < 2) return kNan;
+  if (k < 2) return kNaN;
   const double mean = sum / k;
   return std::sqrt(std::max(0.0, sum2 / k - mean * mean));
 }
@@ -54,7 +55,7 @@ void FindSteady(TrackHistory* h, double tolerance) {
   for (int c = n - std::max(1, n / 10); c < n; ++c) {
     if (std::isfinite(h->waviness_sd_mm[c])) last += h->waviness_sd_mm[c], ++m;
   }
-  h->final_waviness_sd_mm = m > 0 ? last / m : kNan;
+  h->final_waviness_sd_mm = m > 0 ? last / m : kNaN;
 }
 
 }  // namespace
@@ -114,7 +115,7 @@ double HeightRow(
   for (size_t i = 0; i < bins; ++i) {
     if (b.count[i] > 0) mean += b.sum[i] / b.count[i], ++k;
   }
-  if (k < 2) return kNan;
+  if (k < 2) return kNaN;
   mean /= k;
   for (size_t i = 0; i < bins; ++i) {
     if (b.count[i] > 0)
@@ -171,8 +172,8 @@ TrackHistory ComputeTrackHistory(const force::ForceRecord& record,
   const double start = 0.5 * (lo + hi) - 0.5 * bins * options.bin_mm;
   for (size_t b = 0; b < bins; ++b)
     h.x_mm.push_back(start + (b + 0.5) * options.bin_mm);
-  h.height_mm.assign(static_cast<size_t>(h.cycles) * 2 * bins, kNan);
-  h.waviness_sd_mm.assign(h.cycles, kNan);
+  h.height_mm.assign(static_cast<size_t>(h.cycles) * 2 * bins, kNaN);
+  h.waviness_sd_mm.assign(h.cycles, kNaN);
   HalfBins b{std::vector<double>(bins),
              std::vector<double>(bins),
              std::vector<double>(bins)};

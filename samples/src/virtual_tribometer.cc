@@ -11,6 +11,7 @@
 
 #include "wearscar/fusion/forward_model.h"
 #include "wearscar/support/interpolate.h"
+#include "wearscar/support/numbers.h"
 #include "wearscar/support/robust_stats.h"
 
 namespace wearscar::samples {

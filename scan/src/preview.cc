@@ -12,6 +12,7 @@
 #include "file_io.h"
 #include "wearscar/scan/level.h"
 #include "wearscar/support/check.h"
+#include "wearscar/support/numbers.h"
 #include "wearscar/support/png.h"
 #include "wearscar/support/robust_stats.h"
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "wearscar/support/check.h"
+#include "wearscar/support/numbers.h"
 #include "wearscar/support/robust_stats.h"
 
 namespace wearscar::scan {

@@ -25,10 +25,10 @@
 namespace wearscar::fusion {
 namespace {
 
-samples::SimulationOptions Case(const std::string& name,
-                                double noise,
-                                double elastic,
-                                int cycles = 200) {
+samples::SimulationOptions NoisyCase(const std::string& name,
+                                     double noise,
+                                     double elastic,
+                                     int cycles = 200) {
   samples::SimulationOptions o = samples::PaperCase(name, false);
   o.cycles = cycles;
   o.noise_scale = noise;
@@ -70,7 +70,8 @@ double RmsSlopeError(const samples::SimulatedTest& t, const CycleSamples& s) {
 TEST(EnsembleSlope, HasAFractionOfTheNoiseOfOneCycle) {
   // B-RT-R at the paper's noise: the slope of the last cycle against the
   // true path, from the cycle's own P (the paper) and from the ensemble.
-  const samples::SimulatedTest t = samples::Simulate(Case("B-RT-R", 1, 0, 60));
+  const samples::SimulatedTest t =
+      samples::Simulate(NoisyCase("B-RT-R", 1, 0, 60));
   AnalysisOptions a;
   const force::CycleSet cycles = force::SegmentCycles(t.record.x_mm);
   force::CycleSet slipped = cycles;
@@ -289,7 +290,7 @@ TEST(NoiseSplit, FloorFollowsTheNoiseTheExcessDoesNot) {
   // With an elastic part of 25%: the excess is the same at every noise.
   double floor1 = 0;
   for (double noise : {1.0, 4.0}) {
-    const auto t = samples::Simulate(Case("B-RT-R", noise, 0));
+    const auto t = samples::Simulate(NoisyCase("B-RT-R", noise, 0));
     const TestResult r = AnalyzeTest(t.record, std::nullopt, NoLugre());
     const CostSplit& s = r.mismatch.split_force;
     EXPECT_NEAR(s.cost * s.cost,
@@ -304,7 +305,7 @@ TEST(NoiseSplit, FloorFollowsTheNoiseTheExcessDoesNot) {
   }
   double excess1 = 0;
   for (double noise : {1.0, 4.0}) {
-    const auto t = samples::Simulate(Case("S-RL-R", noise, 0.25));
+    const auto t = samples::Simulate(NoisyCase("S-RL-R", noise, 0.25));
     const TestResult r = AnalyzeTest(t.record, std::nullopt, NoLugre());
     const CostSplit& s = r.mismatch.split_force;
     if (noise == 1) {
@@ -324,7 +325,7 @@ class VerdictOnCleanCases
 
 TEST_P(VerdictOnCleanCases, NothingIsFlagged) {
   const auto [name, noise] = GetParam();
-  const samples::SimulatedTest t = samples::Simulate(Case(name, noise, 0));
+  const samples::SimulatedTest t = samples::Simulate(NoisyCase(name, noise, 0));
   for (bool with_scan : {false, true}) {
     const TestResult r = with_scan
                              ? AnalyzeTest(t.record, t.scan, NoLugre())
@@ -361,7 +362,7 @@ INSTANTIATE_TEST_SUITE_P(Twelve,
 TEST(Verdict, PapersFixedThresholdFlagsCleanTestsAtTwiceThePapersNoise) {
   // The defect this verdict replaces: J itself against 0.4 with k from each
   // cycle's P measures the noise.
-  const samples::SimulatedTest t = samples::Simulate(Case("B-RT-R", 2, 0));
+  const samples::SimulatedTest t = samples::Simulate(NoisyCase("B-RT-R", 2, 0));
   FuseOptions paper = NoLugre();
   paper.analysis.friction.k_estimate = KEstimate::kCycle;
   paper.verdict.cost_criterion = CostCriterion::kPaperJ;
@@ -383,7 +384,7 @@ class VerdictOnElasticPart : public ::testing::TestWithParam<double> {};
 TEST_P(VerdictOnElasticPart, IsFlaggedWithAndWithoutTheScan) {
   const double noise = GetParam();
   const samples::SimulatedTest t =
-      samples::Simulate(Case("S-RL-R", noise, 0.25));
+      samples::Simulate(NoisyCase("S-RL-R", noise, 0.25));
   EXPECT_TRUE(t.truth.explained_by_wear_scar == false);
   for (bool with_scan : {false, true}) {
     const TestResult r = with_scan
@@ -412,7 +413,7 @@ INSTANTIATE_TEST_SUITE_P(Noise,
 TEST(Verdict, SmallElasticPartIsNotAFailedVerdictButIsWarnedOf) {
   // Full length: the scan is compared with the last 50 of 600 cycles.
   const samples::SimulatedTest t =
-      samples::Simulate(Case("S-RL-R", 1.0, 0.10, 600));
+      samples::Simulate(NoisyCase("S-RL-R", 1.0, 0.10, 600));
   EXPECT_TRUE(t.truth.explained_by_wear_scar);
   const TestResult r = AnalyzeTest(t.record, t.scan, NoLugre());
   EXPECT_TRUE(r.verdict.explained) << r.verdict.Summary();
@@ -424,7 +425,7 @@ TEST(Verdict, SmallElasticPartIsNotAFailedVerdictButIsWarnedOf) {
 
 TEST(DataWarnings, FewSamplesPerStrokeAndNoisySlope) {
   // 100 Hz: 50 samples per stroke.
-  samples::SimulationOptions o = Case("B-TL-L", 1.0, 0, 60);
+  samples::SimulationOptions o = NoisyCase("B-TL-L", 1.0, 0, 60);
   o.sampling_rate_hz = 100;
   o.scan_cols = o.scan_rows = 32;
   const samples::SimulatedTest t = samples::Simulate(o);
@@ -436,7 +437,7 @@ TEST(DataWarnings, FewSamplesPerStrokeAndNoisySlope) {
       << all;
   // Along the rings the track has little waviness: at 4x the paper's noise
   // one cycle's slope of P is mostly noise.
-  samples::SimulationOptions n = Case("B-TL-L", 4.0, 0, 60);
+  samples::SimulationOptions n = NoisyCase("B-TL-L", 4.0, 0, 60);
   n.scan_cols = n.scan_rows = 32;
   FuseOptions per_cycle = NoLugre();
   per_cycle.analysis.friction.k_estimate = KEstimate::kCycle;

@@ -12,6 +12,7 @@
 #include <random>
 #include <set>
 
+#include "file_helpers.h"
 #include "wearscar/scan/formats.h"
 #include "wearscar/scan/read_scan.h"
 
@@ -20,20 +21,14 @@ namespace {
 
 const std::string kOther = std::string(WEARSCAR_SHARED_DATA) + "/other/";
 
-#define REQUIRE_SHARED_DATA()                                                \
+#define REQUIRE_OTHER_FILES()                                                \
   if (!std::filesystem::exists(kOther)) {                                    \
     GTEST_SKIP() << "../shared/data/other is absent: real instrument files " \
                     "not available";                                         \
   }
 
-std::string Slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-void Spit(const std::string& path, const std::string& bytes) {
-  std::ofstream(path, std::ios::binary) << bytes;
-}
+using test_files::Slurp;
+using test_files::Spit;
 
 // Root mean square of the valid heights about their mean, in mm (two
 // passes: the mean may be far larger than the spread).
@@ -55,7 +50,7 @@ double Rms(const HeightMap& m) {
 // ---------------------------------------------------------------- real files
 
 TEST(RealFiles, SensofarPluToReferenceValues) {
-  REQUIRE_SHARED_DATA();
+  REQUIRE_OTHER_FILES();
   const HeightMap m = ReadScan(kOther + "plu-1.plu");
   EXPECT_EQ(m.metadata.format, "plu");
   ASSERT_EQ(m.cols(), 768);
@@ -70,7 +65,7 @@ TEST(RealFiles, SensofarPluToReferenceValues) {
 }
 
 TEST(RealFiles, AliconaAl3dToReferenceValues) {
-  REQUIRE_SHARED_DATA();
+  REQUIRE_OTHER_FILES();
   const HeightMap m = ReadScan(kOther + "al3d-1.al3d");
   EXPECT_EQ(m.metadata.format, "al3d");
   ASSERT_EQ(m.cols(), 200);
@@ -84,7 +79,7 @@ TEST(RealFiles, AliconaAl3dToReferenceValues) {
 }
 
 TEST(RealFiles, BrukerOpdToReferenceValues) {
-  REQUIRE_SHARED_DATA();
+  REQUIRE_OTHER_FILES();
   const std::string path = kOther + "opd-1.opd";
   const HeightMap m = ReadScan(path);
   EXPECT_EQ(m.metadata.format, "opd");
@@ -109,7 +104,7 @@ TEST(RealFiles, BrukerOpdToReferenceValues) {
 }
 
 TEST(RealFiles, DigitalSurfSurToReferenceValues) {
-  REQUIRE_SHARED_DATA();
+  REQUIRE_OTHER_FILES();
   const HeightMap m = ReadScan(kOther + "sur-3.sur");
   EXPECT_EQ(m.metadata.format, "sur");
   ASSERT_EQ(m.cols(), 512);
@@ -132,7 +127,7 @@ TEST(RealFiles, DigitalSurfSurToReferenceValues) {
 }
 
 TEST(RealFiles, ZygoMetroProToReferenceValues) {
-  REQUIRE_SHARED_DATA();
+  REQUIRE_OTHER_FILES();
   const HeightMap m = ReadScan(kOther + "metropro-1.dat");
   EXPECT_EQ(m.metadata.format, "metropro");
   ASSERT_EQ(m.cols(), 640);
@@ -146,7 +141,7 @@ TEST(RealFiles, ZygoMetroProToReferenceValues) {
 // The compressed variant of .sur holds the same points as zlib streams:
 // made here from the real file, it must read to the same map.
 TEST(RealFiles, DigitalSurfCompressedReadsLikeThePlainFile) {
-  REQUIRE_SHARED_DATA();
+  REQUIRE_OTHER_FILES();
   const std::string plain = Slurp(kOther + "sur-3.sur");
   const std::string points = plain.substr(512);
   // Two streams, to exercise the directory.
@@ -190,7 +185,7 @@ TEST(RealFiles, DigitalSurfCompressedReadsLikeThePlainFile) {
 // Every real file cut short, or with a header byte changed, ends in a
 // ScanError naming the file (never a crash, a hang or a huge allocation).
 TEST(RealFiles, CutOrCorruptedFilesAreRefusedWithTheirName) {
-  REQUIRE_SHARED_DATA();
+  REQUIRE_OTHER_FILES();
   std::mt19937 rng(7);
   for (const char* file : {"plu-1.plu",
                            "al3d-1.al3d",
@@ -258,7 +253,7 @@ TEST(ScanRegistry, NamesAreUniqueAndEveryFormatDetectsAndParses) {
 }
 
 TEST(ScanRegistry, ContentDecidesOverTheName) {
-  REQUIRE_SHARED_DATA();
+  REQUIRE_OTHER_FILES();
   // A real map renamed: found by its magic.
   for (const auto& [file, format] :
        std::vector<std::pair<std::string, std::string>>{

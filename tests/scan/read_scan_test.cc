@@ -11,6 +11,8 @@
 #include <fstream>
 #include <map>
 
+#include "file_helpers.h"
+
 namespace wearscar::scan {
 namespace {
 
@@ -22,14 +24,8 @@ const std::string kShared = WEARSCAR_SHARED_DATA;
         << "../shared/data is absent: real instrument files not available"; \
   }
 
-std::string Slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-void Spit(const std::string& path, const std::string& bytes) {
-  std::ofstream(path, std::ios::binary) << bytes;
-}
+using test_files::Slurp;
+using test_files::Spit;
 
 // ---------------------------------------------------------------- real files
 

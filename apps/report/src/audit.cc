@@ -107,7 +107,7 @@ void RecordAuditOutputs(const std::string& out,
     entries.push_back(fs::path(file).filename().string());
   std::error_code ec;
   for (const char* data : {"method_differences.csv", "wear_and_mu.csv"}) {
-    if (fs::exists(fs::path(out) / data, ec)) entries.push_back(data);
+    if (fs::exists(fs::path(out) / data, ec)) entries.emplace_back(data);
   }
   for (const auto& e : fs::directory_iterator(fs::path(out) / kFigureData, ec))
     entries.push_back((fs::path(kFigureData) / e.path().filename()).string());

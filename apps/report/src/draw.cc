@@ -286,8 +286,8 @@ FigureSet Draw(const std::string& dir,
                const FigureFormats& formats) {
   // PNG first: what a report shows when both are drawn.
   std::vector<std::string> terms;
-  if (formats.png) terms.push_back("png");
-  if (formats.svg) terms.push_back("svg");
+  if (formats.png) terms.emplace_back("png");
+  if (formats.svg) terms.emplace_back("svg");
   std::vector<FigureScript> prepared;
   std::string script = kPreamble;
   for (const FigureSpec& f : figures) {

@@ -30,7 +30,7 @@ void PaletteColour(const Palette& p, double gray, unsigned char* rgb) {
     const int shift = 16 - 8 * j;
     const double a = ((p[k] >> shift) & 255) / 255.0,
                  b = ((p[k + 1] >> shift) & 255) / 255.0;
-    rgb[j] = static_cast<unsigned char>(255 * (a + f * (b - a)) + 0.5);
+    rgb[j] = static_cast<unsigned char>(std::lround(255 * (a + f * (b - a))));
   }
 }
 

@@ -116,8 +116,10 @@ void RecordOutputs(const std::string& out,
     }
   }
   std::string text;
-  for (const ManifestEntry& e : kept) text += e.command + "\t" + e.path + "\n";
-  for (const std::string& e : entries) text += command + "\t" + e + "\n";
+  for (const ManifestEntry& e : kept)
+    text.append(e.command).append("\t").append(e.path).append("\n");
+  for (const std::string& e : entries)
+    text.append(command).append("\t").append(e).append("\n");
   WriteTextAtomically((fs::path(out) / kManifest).string(), text);
 }
 

@@ -334,10 +334,10 @@ fusion::Table TrackOutline(const scan::Track& t) {
     const double side = line == 0 ? 0 : line == 1 ? -1 : 1;
     const double ox = -ay * side * 0.5 * t.width_mm,
                  oy = ax * side * 0.5 * t.width_mm;
-    o.rows.push_back({double(line),
+    o.rows.push_back({static_cast<double>(line),
                       t.centre_x_mm - half * ax + ox,
                       t.centre_y_mm - half * ay + oy});
-    o.rows.push_back({double(line),
+    o.rows.push_back({static_cast<double>(line),
                       t.centre_x_mm + half * ax + ox,
                       t.centre_y_mm + half * ay + oy});
   }

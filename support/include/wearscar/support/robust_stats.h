@@ -34,6 +34,4 @@ inline std::pair<double, double> Percentiles(std::vector<double> v,
   return {v[lo], v[hi]};
 }
 
-inline constexpr double kPi = 3.14159265358979323846;
-
 }  // namespace wearscar::support

@@ -1,0 +1,14 @@
+# A fresh build's time goes into parsing and instantiating the same headers
+# (Eigen, fmt, nlohmann::json, CLI11, Ceres) in every source file. A unity
+# build compiles each target's sources in batches of 8 as one file, so that
+# what they share is instantiated once per batch: a fresh build of the
+# command in half the time (docs/development.md), the same object code.
+# Helpers in anonymous namespaces must then have names unique within their
+# target; CI builds this way, so a clash is caught there. The scan
+# readers keep their own files (each format's layout constants share
+# names). Turn it off for quick rebuilds of one file while developing (the
+# dev preset does).
+option(WEARSCAR_UNITY "Compile each target's sources in batches (unity build)" ON)
+if(WEARSCAR_UNITY)
+  set(CMAKE_UNITY_BUILD ON)
+endif()

@@ -4,10 +4,6 @@
 #include <filesystem>
 #include <thread>
 
-#if WEARSCAR_MIMALLOC
-#include <mimalloc.h>
-#endif
-
 #include "commands.h"
 #include "output.h"
 #include "setting_flags.h"
@@ -76,20 +72,6 @@ void RunAudit(AuditArgs a) {
   a.audit.read_scan = settings.read_scan;
   a.audit.fuse = settings.fuse;
   a.audit.figures = !a.no_figures;
-#if WEARSCAR_MIMALLOC
-  // Each specimen maps about 90 MB of temporaries, freed when it is done;
-  // kept committed, the next specimen reuses them instead of faulting
-  // every page in afresh (12 full-size cases: 90k page faults -> 27k, 14%
-  // less wall time; peak memory about 40% higher, bounded by the workers'
-  // high-water mark).
-  mi_option_set(mi_option_allow_decommit, 0);
-  // And each worker's first segments are committed at once, in huge
-  // pages, rather than page by page as first touched (12 cases without
-  // figures: 10.3k page faults -> 1.7k; with them 0.98x the wall time and
-  // CPU, 10 pairs; peak +6 MiB). Not for `fuse`: it put the 6000-cycle
-  // test's peak at 1.49x its numbers.
-  mi_option_set(mi_option_eager_commit_delay, 0);
-#endif
   const std::vector<fusion::Specimen> mine =
       fusion::FindSpecimens(a.input, batch);
   const unsigned jobs = batch.jobs > 0

@@ -1,6 +1,6 @@
 // Speed of wearscar's stages, and the paper's procedure done the simple way
 // (Nelder-Mead per cycle, as MATLAB's fminsearch) next to ours, in one run.
-// Run with scripts/bench; figures and targets are in README.md.
+// Run with scripts/bench; figures and targets are in docs/performance.md.
 #include <benchmark/benchmark.h>
 #include <fast_float/fast_float.h>
 #include <malloc.h>
@@ -120,7 +120,7 @@ BENCHMARK(BM_CsvIngest)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 // cache, read into memory that is already mapped, and its four columns
 // parsed by fast_float into arrays that are already mapped (no layout
 // detection, no checks, no units); then one pass over the parsed numbers.
-// README gives the ingest's and the fuse's ratio to these.
+// docs/performance.md gives the ingest's and the fuse's ratio to these.
 void BM_FloorParseWarm(benchmark::State& state) {
   const std::string& path = Csv600();
   std::string text(static_cast<size_t>(fs::file_size(path)), '\0');

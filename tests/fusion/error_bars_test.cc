@@ -247,7 +247,7 @@ class Coverage
 // mu-hat after running-in holds the mean of the true mu over the same
 // cycles in 90-98% of the seeds, and the per-cycle intervals hold the
 // cycle's true mu in at least 93% of the cycles. (Measured on all twelve
-// paper cases: 89-97% per test, 98-99% per cycle; README "Error bars".)
+// paper cases: 89-97% per test, 98-99% per cycle; docs/method.md "Error bars".)
 TEST_P(Coverage, PerTestIntervalHoldsTheTruth) {
   const auto [name, noise] = GetParam();
   int inside = 0, tests = 0;

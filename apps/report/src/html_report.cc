@@ -47,8 +47,7 @@ std::string Number(const nlohmann::json& j, const char* fmt_spec = "{:.4f}") {
 // SVG text as a data URI's payload, appended to `out`: the characters a
 // URL or a quoted attribute cannot hold as they are percent-encoded, the
 // rest kept (a tenth larger than the SVG, where base64 is a third). Runs
-// of plain characters are copied at once (a 12-specimen report embeds
-// about 18 MB of SVG).
+// of plain characters are copied at once: a report embeds every figure.
 void AppendSvgUriText(const std::string& svg, std::string* out) {
   static const char* kHex = "0123456789ABCDEF";
   static const std::array<bool, 256> kPlain = [] {
@@ -382,9 +381,8 @@ void AppendSpecimenSection(const ReportSection& s, std::string* out) {
 }  // namespace
 
 std::string RenderSpecimenSections(const std::vector<ReportSection>& sections) {
-  // Reserved once (and as huge pages) rather than grown by doubling, each
-  // doubling a fresh block whose first write faults in every page (a
-  // 12-specimen report is about 20 MB, mostly its figures).
+  // Reserved once rather than grown by doubling: the sections are mostly
+  // their figures, whose sizes are known from the files.
   std::uintmax_t figures_bytes = 0;
   std::error_code ec;
   for (const auto& s : sections) {

@@ -21,9 +21,9 @@ fusion::TestProducts WriteTestResults(const std::string& dir,
                                       const fusion::FuseOptions& o,
                                       const fusion::ProductOptions& w) {
   EnsureDirectory(dir);
-  // The inputs' checksums (a 45 MB force file: about 40 ms) on a second
-  // core while the tables are made and written; result.json takes them as
-  // MakeTestProducts would have put them, under "provenance".
+  // The inputs' checksums on a second core while the tables are made and
+  // written; result.json takes them as MakeTestProducts would have put them,
+  // under "provenance".
   std::future<fusion::Provenance> provenance;
   if (w.provenance) {
     provenance =

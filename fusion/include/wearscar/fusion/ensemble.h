@@ -36,9 +36,8 @@ struct PlateGrid {
 // Per cycle and direction, the sum of a quantity, of x and the count of
 // samples in each bin. Cycles are added in any order; sums over ranges of
 // cycles are taken afterwards. Without `with_x` the sums of x are not kept
-// (Sums::x stays zero, MeanX is meaningless): 40% less memory where only
-// the values are needed (the noise split's bins; 6000 cycles of a 6 mm
-// stroke in 0.01 mm bins hold 70 MB with x, 42 MB without).
+// (Sums::x stays zero, MeanX is meaningless), for where only the values
+// are needed (the noise split's bins).
 class CycleBins {
  public:
   // With `ring_cycles` > 0 only that many cycles are stored at once: cycle

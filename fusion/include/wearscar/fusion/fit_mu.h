@@ -48,7 +48,7 @@ struct FitMuOptions {
   // over which the misfit is correlated, since the neighbouring blocks'
   // covariance is counted. Calibrated on the simulator at its noise 1 and
   // 2: per-cycle intervals cover the truth in 98-99% of the cycles, the
-  // per-test mean's in 90-97% of the tests (README, "Error bars").
+  // per-test mean's in 90-97% of the tests (docs/method.md, "Error bars").
   double error_block_mm = 0.07;
 
   bool IsValid(std::string* why) const;

@@ -23,7 +23,7 @@ inline constexpr int kDetectFallback = 1;    // anything else it may try
 struct ScanFormat {
   std::string name;                     // "plu": registry key, fuzz target
   std::string title;                    // "Sensofar .plu"
-  std::string instruments;              // who writes it, for README and help
+  std::string instruments;              // who writes it, for the docs and help
   std::vector<std::string> extensions;  // lower case, with the dot
   // Bytes at offset 0 that every file of the format starts with; empty
   // when the format has none. A file named like the format without them is

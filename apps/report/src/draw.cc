@@ -72,18 +72,23 @@ std::string Block(const Series& s, const fusion::Table& t) {
   return out;
 }
 
-// The plot clause of a series whose block is `index` of `data`.
+// The plot clause of a series whose block is `index` of `data`. The block
+// holds the series' columns in the order Block writes them (x, y, more),
+// named in its header row, which gnuplot skips: the clause refers to them
+// by number, since a column named in `using` is looked up through
+// gnuplot's expression evaluator on every row (docs/performance.md).
 std::string Clause(const Series& s, const std::string& data, int index) {
   const std::string title =
       s.title.empty() ? "notitle" : "title " + Quote(s.title);
   if (!s.function.empty())
     return fmt::format("{} with {} {}", s.function, s.style, title);
-  std::string y = Quote(s.y);
+  std::string y = "2";
   if (s.y_scale != 1 || s.y_offset != 0) {
-    y = fmt::format("(column({})*{}+{})", Quote(s.y), s.y_scale, s.y_offset);
+    y = fmt::format("($2*{}+{})", s.y_scale, s.y_offset);
   }
-  std::string using_ = Quote(s.x) + ":" + y;
-  for (const std::string& m : s.more) using_ += ":" + Quote(m);
+  std::string using_ = "1:" + y;
+  for (size_t k = 0; k < s.more.size(); ++k)
+    using_ += fmt::format(":{}", k + 3);
   return fmt::format("{} index {} using {} with {} {}",
                      Quote(data),
                      index,

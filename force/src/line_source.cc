@@ -78,6 +78,7 @@ bool FileLines::Next(std::string_view* line) {
 // long line, up to the bound (a text export's lines are short; one without
 // breaks is not a text export).
 void FileLines::Refill() {
+  base_ += pos_;
   std::memmove(buffer_.data(), buffer_.data() + pos_, filled_ - pos_);
   filled_ -= pos_;
   pos_ = 0;
@@ -97,6 +98,48 @@ void FileLines::Refill() {
     eof_ = true;
   }
   filled_ += got;
+}
+
+void FileLines::SeekTo(std::uintmax_t offset, long lines_before) {
+  if (std::fseek(file_, static_cast<long>(offset), SEEK_SET) != 0) {
+    throw ForceError(
+        fmt::format("{}: seek failed: {}", name_, std::strerror(errno)));
+  }
+  base_ = offset;
+  pos_ = filled_ = 0;
+  lines_ = lines_before;
+  eof_ = false;
+}
+
+LineStart FirstLineAfter(std::FILE* file, std::uintmax_t middle) {
+  std::vector<char> block(kBlock);
+  LineStart start;
+  std::uintmax_t at = 0;
+  long lines = 0;
+  std::size_t got;
+  while ((got = std::fread(block.data(), 1, block.size(), file)) > 0) {
+    const char* begin = block.data();
+    const char* end = begin + got;
+    // Lines wholly before the middle are counted a block at a time.
+    const char* from = begin;
+    if (at + got <= middle) {
+      lines += static_cast<long>(std::count(begin, end, '\n'));
+      at += got;
+      continue;
+    }
+    if (at < middle) {
+      from = begin + (middle - at);
+      lines += static_cast<long>(std::count(begin, from, '\n'));
+    }
+    if (const char* nl =
+            static_cast<const char*>(std::memchr(from, '\n', end - from))) {
+      start.offset = static_cast<long long>(at + (nl - begin) + 1);
+      start.lines_before = lines + 1;
+      return start;
+    }
+    at += got;
+  }
+  return start;
 }
 
 std::size_t CountLines(

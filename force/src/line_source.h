@@ -4,6 +4,7 @@
 // data's).
 
 #include <cstddef>
+#include <cstdint>
 #include <cstdio>
 #include <functional>
 #include <string>
@@ -45,6 +46,10 @@ class FileLines : public LineSource {
             std::size_t max_line,
             std::function<void(const char*, std::size_t)> on_bytes = {});
   bool Next(std::string_view* line) override;
+  // The file offset of the next line's first byte.
+  std::uintmax_t Offset() const { return base_ + pos_; }
+  // Goes on from `offset`, the first byte of line `lines_before` + 1.
+  void SeekTo(std::uintmax_t offset, long lines_before);
 
  private:
   void Refill();
@@ -53,6 +58,7 @@ class FileLines : public LineSource {
   std::size_t max_line_;
   std::function<void(const char*, std::size_t)> on_bytes_;
   std::vector<char> buffer_;
+  std::uintmax_t base_ = 0;  // the file offset of buffer_[0]
   std::size_t pos_ = 0, filled_ = 0;
   long lines_ = 0;
   bool eof_ = false;
@@ -67,5 +73,13 @@ struct FileCloser {
 std::size_t CountLines(
     std::FILE* file,
     const std::function<void(const char*, std::size_t)>& on_bytes);
+
+// The first line that starts after byte `middle` of an open file: its
+// offset and the lines before it (offset -1: none). Reads no further.
+struct LineStart {
+  long long offset = -1;
+  long lines_before = 0;
+};
+LineStart FirstLineAfter(std::FILE* file, std::uintmax_t middle);
 
 }  // namespace wearscar::force::internal

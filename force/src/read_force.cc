@@ -3,7 +3,8 @@
 // the first bytes are), line_source.h (lines), layout_detection.h (the
 // layout of the head), columns.h (which column is which channel),
 // fields.h and clock.h (cells and numbers), row_reader.h (the rows),
-// plausibility.h (units and limits).
+// split_read.h (a large file's rows on two threads), plausibility.h
+// (units and limits).
 
 #include "wearscar/force/read_force.h"
 
@@ -22,6 +23,7 @@
 #include "line_source.h"
 #include "plausibility.h"
 #include "row_reader.h"
+#include "split_read.h"
 #include "units.h"
 
 namespace wearscar::force {
@@ -204,12 +206,14 @@ Plan PlanRead(LineSource& source,
 }
 
 // `lines`: the file's line count when the caller counted them (0: not);
-// `file_bytes` its size when known.
+// `file_bytes` its size when known; `split`: `source` itself, to be read
+// on two threads (ReadRowsOnTwoThreads).
 ForceRecord Read(LineSource& source,
                  const std::string& name,
                  std::size_t lines,
                  const ReadForceOptions& options,
-                 std::uintmax_t file_bytes = 0) {
+                 std::uintmax_t file_bytes = 0,
+                 FileLines* split = nullptr) {
   std::string why;
   if (!options.IsValid(&why))
     throw ForceError(fmt::format("{}: invalid read options: {}", name, why));
@@ -234,6 +238,15 @@ ForceRecord Read(LineSource& source,
     if (line_no - 1 >= layout.first_data_line) rows.Handle(h, line_no);
   }
   std::string_view line;
+  if (p.more && split != nullptr) {
+    line_no = internal::ReadRowsOnTwoThreads(rows,
+                                             *split,
+                                             line_no,
+                                             layout.first_data_line,
+                                             name,
+                                             file_bytes,
+                                             options);
+  }
   if (p.more) {
     while (source.Next(&line)) rows.Handle(line, ++line_no);
   }
@@ -322,6 +335,9 @@ bool ReadForceOptions::IsValid(std::string* why) const {
     return fail("head_lines must be 2 to 100000");
   if (delimiter_vote_lines < 1)
     return fail("delimiter_vote_lines must be >= 1");
+  if (threads < 1 || threads > 2) return fail("threads must be 1 or 2");
+  if (!(split_share >= 0.05 && split_share <= 0.95))
+    return fail("split_share must be in [0.05, 0.95]");
   if (!x_unit.empty() && !LengthToMm(x_unit))
     return fail("the x unit is not a length unit (mm, um, m, ...)");
   if (!force_unit.empty() && !ForceToN(force_unit))
@@ -365,7 +381,9 @@ ForceRecord ReadForceFile(const std::string& path,
   if (!size_error && size > 0 && size <= kWholeTextMaxBytes) {
     FileLines source(
         file.get(), path, options.max_line_bytes, options.on_bytes);
-    return Read(source, path, 0, options, size);
+    const bool split = options.threads >= 2 && !options.on_bytes &&
+                       size >= internal::kSplitMinBytes;
+    return Read(source, path, 0, options, size, split ? &source : nullptr);
   }
   const std::size_t lines = CountLines(file.get(), options.on_bytes);
   FileLines source(file.get(), path, options.max_line_bytes);

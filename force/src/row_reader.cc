@@ -7,7 +7,6 @@
 #include <limits>
 
 #include "fields.h"
-#include "wearscar/support/huge_pages.h"
 #include "wearscar/support/numbers.h"
 #include "wearscar/support/text.h"
 
@@ -43,9 +42,7 @@ RowReader::RowReader(const Layout& layout,
       previous_time_(-std::numeric_limits<double>::infinity()),
       previous_step_(kNaN) {
   for (int ch = 0; ch < 4; ++ch) {
-    if (column_[ch] < 0) continue;
-    data_[ch].resize(capacity);
-    support::AdviseHugePages(data_[ch].data(), sizeof(double) * capacity);
+    if (column_[ch] >= 0) data_[ch].resize(capacity);
   }
   // Fast path slots: the four channels, the RecipeStep column, and the
   // first field that holds a number (text there means a footer or a bad

@@ -14,9 +14,11 @@
 #include "clock.h"
 #include "columns.h"
 #include "layout_detection.h"
+#include "line_source.h"
 #include "plausibility.h"
 #include "wearscar/force/force_record.h"
 #include "wearscar/force/read_force.h"
+#include "wearscar/support/numbers.h"
 
 namespace wearscar::force::internal {
 
@@ -42,6 +44,36 @@ class RowReader {
   // After the last row: the bad rows left are a footer, an error or
   // dropped; the counts are checked. Returns the columns, trimmed.
   std::array<Eigen::VectorXd, 4> Finish();
+
+  // The two-thread split (split_read.cc). The ordinary rows of a stretch
+  // of the file parsed on their own, and what joining them needs.
+  struct FastRows {
+    Eigen::Index rows = 0;           // stored from the row they were parsed to
+    std::uintmax_t next_offset = 0;  // the first line not taken
+    double first_time = support::kNaN, last_time = support::kNaN;
+    double last_dt = support::kNaN;  // between their last two finite times
+    double last_step = support::kNaN;
+    int leading_nan[4] = {0, 0, 0, 0}, trailing_nan[4] = {0, 0, 0, 0};
+  };
+  // The columns as they are before the first row is read: the first
+  // thread's rows stay below the second's, short of this capacity, so it
+  // never grows them while the second writes.
+  struct Room {
+    double* column[4] = {nullptr, nullptr, nullptr, nullptr};
+    Eigen::Index capacity = 0;
+  };
+  Room Reserved();
+  // Parses the lines of `source` into the columns from row `at` on, as
+  // TryFast and Store would take them one after another, up to the first
+  // line they would not take on their own (a row for the careful path, a
+  // step back in time, a run of missing values beyond the bound) or the
+  // end. Reads only what no row changes; writes only rows from `at` on.
+  FastRows ParseFastRows(FileLines& source, Eigen::Index at, const Room& room);
+  // Takes those rows as the rows after the ones Handle has read when one
+  // pass would have read them the same (nothing pending, no clock joined,
+  // time advancing and the gaps bounded across the join), moving them to
+  // follow; returns false, changing nothing, otherwise.
+  bool AdoptFastRows(const FastRows& f, Eigen::Index at);
 
  private:
   static constexpr int kStepSlot = 4, kFirstSlot = 5;

@@ -362,9 +362,11 @@ SpecimenAnalysis AnalyzeSpecimen(const Specimen& s,
   // On the caller's thread alone (a batch whose workers fill the cores),
   // the force file's checksum for the provenance is taken as the reader
   // reads it, not by a third read of the file; otherwise it is taken on a
-  // thread of its own beside the tables' writing.
+  // thread of its own beside the tables' writing, and a large force file
+  // is parsed on two threads.
   std::optional<Sha256> hash;
   force::ReadForceOptions read = read_force;
+  if (fuse.parallel) read.threads = std::max(read.threads, 2);
   if (!fuse.parallel) {
     hash.emplace();
     read.on_bytes = [&hash](const char* bytes, std::size_t size) {

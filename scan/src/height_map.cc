@@ -3,15 +3,11 @@
 #include <cmath>
 #include <limits>
 
-#include "wearscar/support/huge_pages.h"
-
 namespace wearscar::scan {
 
 void HeightMap::Resize(Eigen::Index rows, Eigen::Index cols) {
   height_mm.resize(rows, cols);
   valid.resize(rows, cols);
-  support::AdviseHugePages(height_mm.data(), sizeof(float) * height_mm.size());
-  support::AdviseHugePages(valid.data(), valid.size());
 }
 
 void SyncValidity(HeightMap* map) {

@@ -28,6 +28,9 @@ struct ForceMetadata {
   int clock_restarts_joined = 0;     // Rtec RecipeStep, CETR step restarts
   int blocks_joined = 0;             // repeated header blocks (CETR test steps)
   int rows_dropped = 0;              // lenient mode only
+  // Rows a second thread parsed (ReadForceOptions::threads); the record is
+  // the same whoever parsed them.
+  long rows_on_second_thread = 0;
   std::vector<std::string> warnings;
   // The file's SHA-256 (64 hex digits) when its reader's caller computed
   // it from the bytes read (ReadForceOptions::on_bytes); empty otherwise.

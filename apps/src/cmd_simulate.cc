@@ -39,8 +39,19 @@ void RunSimulate(const SimulateCommandArgs& a) {
   for (const auto& o : cases) {
     const samples::SimulatedTest test = samples::Simulate(o);
     const std::string base = (std::filesystem::path(a.out) / o.name).string();
-    if (wants("csv")) force::WriteForceCsv(test.record, base + ".force.csv");
-    if (wants("rtec")) force::WriteRtecCsv(test.record, base + ".rtec.csv");
+    if (wants("csv") || wants("rtec")) {
+      const samples::SimulatedChannels& c = test.record;
+      const force::ForceRecord record =
+          force::RecordFromChannels(c.time_s,
+                                    c.x_mm,
+                                    c.tangential_n,
+                                    c.normal_n,
+                                    c.source,
+                                    "simulated",
+                                    c.sampling_rate_hz);
+      if (wants("csv")) force::WriteForceCsv(record, base + ".force.csv");
+      if (wants("rtec")) force::WriteRtecCsv(record, base + ".rtec.csv");
+    }
     if (wants("gsf")) scan::WriteGsf(test.scan, base + ".scan.gsf");
     if (wants("keyence-csv"))
       scan::WriteKeyenceCsv(test.scan, base + ".keyence.csv");

@@ -307,7 +307,16 @@ std::vector<Simulated> Simulate(const Given& given) {
   for (const samples::SimulationOptions& o : cases) {
     samples::SimulatedTest t = samples::Simulate(o);
     std::string truth = samples::TruthJson(o, t).dump();
-    out.push_back({std::move(t.record), std::move(t.scan), std::move(truth)});
+    samples::SimulatedChannels& c = t.record;
+    out.push_back({force::RecordFromChannels(std::move(c.time_s),
+                                             std::move(c.x_mm),
+                                             std::move(c.tangential_n),
+                                             std::move(c.normal_n),
+                                             c.source,
+                                             "simulated",
+                                             c.sampling_rate_hz),
+                   std::move(t.scan),
+                   std::move(truth)});
   }
   return out;
 }
@@ -352,14 +361,12 @@ void DefineForceRecord(py::module_& m) {
                    "ForceRecord: time_s, x_mm, q_n and p_n must have one "
                    "length");
              }
-             force::ForceRecord r;
-             r.time_s = std::move(t);
-             r.x_mm = std::move(x);
-             r.tangential_n = std::move(q);
-             r.normal_n = std::move(p);
-             r.metadata.source = source;
-             r.metadata.layout = "python";
-             return r;
+             return force::RecordFromChannels(std::move(t),
+                                              std::move(x),
+                                              std::move(q),
+                                              std::move(p),
+                                              source,
+                                              "python");
            }),
            py::arg("time_s"),
            py::arg("x_mm"),

@@ -9,7 +9,6 @@
 #include <stdexcept>
 #include <vector>
 
-#include "wearscar/fusion/forward_model.h"
 #include "wearscar/support/interpolate.h"
 #include "wearscar/support/numbers.h"
 #include "wearscar/support/robust_stats.h"
@@ -350,6 +349,29 @@ struct Schedule {
   }
 };
 
+// The contact: the sphere slides on a plane tilted by a = atan(k), k the
+// slope dz/dx of its worn path. The specimen pushes on it with a force
+// resolved along the plane's normal (N) and, against the motion s = +-1,
+// along its tangent (mu N); the frame measures the horizontal part Q and
+// the vertical part P:
+//   Q = N (sin a + s mu cos a),  P = N (cos a - s mu sin a).
+// The spring sets P; dividing the two by N cos a leaves
+//   Q = P (tan a + s mu) / (1 - s mu tan a).
+double TiltedContactQ(double p, double k, double mu, int s) {
+  const double tan_a = k;
+  const double s_mu = static_cast<double>(s) * mu;
+  return p * (tan_a + s_mu) / (1.0 - s_mu * tan_a);
+}
+
+// Resistance near the end of the stroke, where the slider meets the
+// material it pushed ahead (a pile-up at the reversal): it grows as the
+// distance to that end shrinks, over a length lambda.
+double PileUpResistance(double distance_to_end_mm,
+                        double strength_n,
+                        double length_mm) {
+  return strength_n * std::exp(-distance_to_end_mm / length_mm);
+}
+
 // The true forces at one instant: the wear-scar model with the hidden
 // effects, before the Jenkins element bounds the stick.
 struct SlidingBounds {
@@ -374,24 +396,23 @@ SlidingBounds ForcesAt(const SimulationOptions& o,
   const double p = pc + o.spring_n_per_mm * f;
   const double k = -depth_amp * s.wear_slope(x);
   const double speed = std::abs(v);
-  const double stribeck =
-      fx.stribeck_rise != 0
-          ? fusion::StribeckFactor(
-                speed, fx.stribeck_rise, fx.stribeck_speed_mm_s)
-          : 1.0;
+  // Boundary friction rises as the sliding speed falls below the speed
+  // at which the contact stops being sheared through a film.
+  const double slow = speed / fx.stribeck_speed_mm_s;
+  const double stribeck = fx.stribeck_rise != 0
+                              ? 1.0 + fx.stribeck_rise * std::exp(-slow * slow)
+                              : 1.0;
   const double mu_f = mu * (1 + fx.direction_asymmetry) * stribeck;
   const double mu_r = mu * (1 - fx.direction_asymmetry) * stribeck;
-  double upper = fusion::WearScarTangentialForce(p, k, mu_f, +1);
-  double lower = fusion::WearScarTangentialForce(p, k, mu_r, -1);
+  double upper = TiltedContactQ(p, k, mu_f, +1);
+  double lower = TiltedContactQ(p, k, mu_r, -1);
   const double extra =
       fx.ploughing_n_per_mm * depth + fx.viscous_n_s_per_mm * speed;
   upper += extra;
   lower -= extra;
   if (fx.hook_n != 0) {
-    upper +=
-        fusion::HookForce(o.amplitude_mm - x, fx.hook_n, fx.hook_length_mm, +1);
-    lower +=
-        fusion::HookForce(x + o.amplitude_mm, fx.hook_n, fx.hook_length_mm, -1);
+    upper += PileUpResistance(o.amplitude_mm - x, fx.hook_n, fx.hook_length_mm);
+    lower -= PileUpResistance(x + o.amplitude_mm, fx.hook_n, fx.hook_length_mm);
   }
   return {p, upper, lower};
 }
@@ -404,7 +425,7 @@ SlidingBounds ForcesAt(const SimulationOptions& o,
 void RunTribometer(const SimulationOptions& o,
                    const Specimen& s,
                    const Schedule& schedule,
-                   force::ForceRecord* rec,
+                   SimulatedChannels* rec,
                    Eigen::VectorXd* q_true,
                    Eigen::VectorXd* p_true) {
   const Eigen::Index n = static_cast<Eigen::Index>(
@@ -451,7 +472,7 @@ void Measure(const SimulationOptions& o,
              const Eigen::VectorXd& q_true,
              const Eigen::VectorXd& p_true,
              Rng& rng,
-             force::ForceRecord* rec) {
+             SimulatedChannels* rec) {
   const HiddenEffects& fx = o.effects;
   const Eigen::Index n = q_true.size();
   rec->tangential_n.resize(n);
@@ -474,11 +495,8 @@ void Measure(const SimulationOptions& o,
                                 o.p_resolution_n);
     rec->x_mm[i] += o.x_noise_mm * rng.Normal();
   }
-  rec->metadata.source = "simulator:" + o.name;
-  rec->metadata.layout = "simulated";
-  rec->metadata.sampling_rate_hz = o.sampling_rate_hz;
-  rec->metadata.channel_names = {"time_s", "x_mm", "Q_N", "P_N"};
-  rec->metadata.channel_units = {"s", "mm", "N", "N"};
+  rec->source = "simulator:" + o.name;
+  rec->sampling_rate_hz = o.sampling_rate_hz;
 }
 
 // What the analysis should recover: mu per cycle, the final worn profile

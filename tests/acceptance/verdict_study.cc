@@ -29,8 +29,8 @@
 #include <thread>
 #include <vector>
 
+#include "common/simulated.h"
 #include "wearscar/fusion/fuse.h"
-#include "wearscar/samples/virtual_tribometer.h"
 
 namespace {
 
@@ -39,8 +39,8 @@ using wearscar::fusion::FuseOptions;
 using wearscar::fusion::TestResult;
 using wearscar::samples::PaperCase;
 using wearscar::samples::PaperCases;
-using wearscar::samples::SimulatedTest;
 using wearscar::samples::SimulationOptions;
+using wearscar::sim::SimulatedTest;
 
 struct Job {
   std::string name;
@@ -72,7 +72,7 @@ Outcome Run(const Job& job, int cycles) {
   o.noise_scale = job.noise;
   o.elastic_fraction = job.elastic;
   o.seed += 7919 * static_cast<std::uint64_t>(job.seed);
-  const SimulatedTest t = Simulate(o);
+  const SimulatedTest t = wearscar::sim::Simulate(o);
   Outcome out;
   out.job = job;
   FuseOptions f;
@@ -260,7 +260,7 @@ int OneCase(const std::string& name,
   o.cycles = a.cycles;
   o.noise_scale = noise;
   o.elastic_fraction = elastic;
-  const SimulatedTest t = Simulate(o);
+  const SimulatedTest t = wearscar::sim::Simulate(o);
   FuseOptions f;
   f.fit_lugre = false;
   if (!wearscar::fusion::ParseKEstimate(a.k, &f.analysis.friction.k_estimate))

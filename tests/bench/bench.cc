@@ -15,13 +15,13 @@
 #include <fstream>
 #include <vector>
 
+#include "common/simulated.h"
 #include "wearscar/force/read_force.h"
 #include "wearscar/fusion/analysis.h"
 #include "wearscar/fusion/forward_model.h"
 #include "wearscar/fusion/friction_map.h"
 #include "wearscar/fusion/fuse.h"
 #include "wearscar/fusion/track_history.h"
-#include "wearscar/samples/virtual_tribometer.h"
 #include "wearscar/scan/gsf.h"
 #include "wearscar/scan/level.h"
 #include "wearscar/scan/track.h"
@@ -41,9 +41,9 @@ const std::string& Scratch() {
 }
 
 // The paper's test: 600 cycles at 2 kHz (1.2 million samples), full scan.
-const samples::SimulatedTest& Test600() {
-  static const samples::SimulatedTest t =
-      samples::Simulate(samples::PaperCase("S-RT-R"));
+const sim::SimulatedTest& Test600() {
+  static const sim::SimulatedTest t =
+      sim::Simulate(samples::PaperCase("S-RT-R"));
   return t;
 }
 
@@ -284,7 +284,7 @@ BENCHMARK(BM_MuHat600CyclesPaperNelderMead)->Unit(benchmark::kMillisecond);
 void BM_Simulate600CyclesWithScan(benchmark::State& state) {
   const samples::SimulationOptions o = samples::PaperCase("S-RT-R");
   for (auto _ : state) {
-    const samples::SimulatedTest t = samples::Simulate(o);
+    const sim::SimulatedTest t = sim::Simulate(o);
     benchmark::DoNotOptimize(t.scan.height_mm.data());
   }
 }
@@ -300,7 +300,7 @@ std::string ScanGsf(int cols) {
     o.scan_cols = cols;
     o.scan_rows = cols * 3 / 4;
     o.scan_pitch_mm = 0.0074 * 1024.0 / cols;
-    scan::WriteGsf(samples::Simulate(o).scan, path);
+    scan::WriteGsf(sim::Simulate(o).scan, path);
   }
   return path;
 }

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "common/simulated.h"
 #include "paper_cases.h"
 #include "wearscar/fusion/fuse.h"
-#include "wearscar/samples/virtual_tribometer.h"
 
 namespace wearscar::fusion {
 namespace {
@@ -139,7 +139,7 @@ class FullSizeAccuracy : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(FullSizeAccuracy, MuHatWithEitherSlopeAndAlignmentMatchTheTruth) {
   const samples::SimulationOptions o = samples::PaperCase(GetParam(), false);
-  const samples::SimulatedTest t = samples::Simulate(o);
+  const sim::SimulatedTest t = sim::Simulate(o);
   FuseOptions f;
   f.fit_lugre = false;
   const TestResult r = AnalyzeTest(t.record, t.scan, f);

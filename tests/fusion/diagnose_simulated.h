@@ -1,8 +1,8 @@
 #pragma once
 
+#include "common/simulated.h"
 #include "wearscar/fusion/diagnose.h"
 #include "wearscar/fusion/fuse.h"
-#include "wearscar/samples/virtual_tribometer.h"
 
 namespace wearscar::fusion {
 
@@ -11,7 +11,7 @@ namespace wearscar::fusion {
 // first 100.
 inline Diagnosis DiagnoseSimulated(samples::SimulationOptions o) {
   o.cycles = 200;
-  const samples::SimulatedTest t = samples::Simulate(o);
+  const sim::SimulatedTest t = sim::Simulate(o);
   FuseOptions f;
   f.fit_lugre = false;
   f.analysis.running_in_cycles = 100;

@@ -11,11 +11,11 @@
 #include <string>
 #include <tuple>
 
+#include "common/simulated.h"
 #include "wearscar/fusion/analysis.h"
 #include "wearscar/fusion/fit_mu.h"
 #include "wearscar/fusion/forward_model.h"
 #include "wearscar/fusion/fuse.h"
-#include "wearscar/samples/virtual_tribometer.h"
 
 namespace wearscar::fusion {
 namespace {
@@ -162,9 +162,9 @@ TEST(SummariseSeries, CoversTheMeanOfAutocorrelatedScatterAboutATrend) {
 
 // A paper case as the coverage studies run it: 100 cycles at 1 kHz, no
 // elastic part, a small scan (unused: k from P).
-samples::SimulatedTest ShortTest(const std::string& name,
-                                 double noise,
-                                 std::uint64_t seed) {
+sim::SimulatedTest ShortTest(const std::string& name,
+                             double noise,
+                             std::uint64_t seed) {
   samples::SimulationOptions o = samples::PaperCase(name);
   o.cycles = 100;
   o.sampling_rate_hz = 1000;
@@ -174,7 +174,7 @@ samples::SimulatedTest ShortTest(const std::string& name,
   o.scan_rows = 24;
   o.scan_pitch_mm = 0.25;
   o.seed = seed;
-  return samples::Simulate(o);
+  return sim::Simulate(o);
 }
 
 // Errors in variables: the noise in the ensemble's k biases mu-hat low by
@@ -186,7 +186,7 @@ TEST(KNoiseBias, IsRemovedFromMuHat) {
   double with = 0, without = 0, spread = 0, removed = 0;
   const int seeds = 24;
   for (int seed = 1; seed <= seeds; ++seed) {
-    const samples::SimulatedTest t = ShortTest("S-RT-T", 4, 7000 + seed);
+    const sim::SimulatedTest t = ShortTest("S-RT-T", 4, 7000 + seed);
     for (bool correct : {false, true}) {
       FuseOptions fo;
       fo.fit_lugre = false;
@@ -225,7 +225,7 @@ TEST(KNoiseBias, IsRemovedFromMuHat) {
 TEST(KNoiseBias, NoiseFromTheEnsemblesHalvesFollowsTheSensorNoise) {
   double halves[2] = {}, split[2] = {};
   for (int i = 0; i < 2; ++i) {
-    const samples::SimulatedTest t = ShortTest("S-RT-R", i + 1, 7001);
+    const sim::SimulatedTest t = ShortTest("S-RT-R", i + 1, 7001);
     FuseOptions fo;
     fo.fit_lugre = false;
     const TestResult r = AnalyzeTest(t.record, std::nullopt, fo);
@@ -253,7 +253,7 @@ TEST_P(Coverage, PerTestIntervalHoldsTheTruth) {
   int inside = 0, tests = 0;
   long cycles_inside = 0, cycles = 0;
   for (int seed = 1; seed <= 100; ++seed) {
-    const samples::SimulatedTest t = ShortTest(name, noise, 5000 + seed);
+    const sim::SimulatedTest t = ShortTest(name, noise, 5000 + seed);
     FuseOptions fo;
     fo.fit_lugre = false;
     const TestResult r = AnalyzeTest(t.record, std::nullopt, fo);

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <random>
 
+#include "common/simulated.h"
 #include "wearscar/fusion/analysis.h"
 #include "wearscar/fusion/forward_model.h"
-#include "wearscar/samples/virtual_tribometer.h"
 
 namespace wearscar::fusion {
 namespace {
@@ -117,7 +117,7 @@ TEST(FitMu, CostCurveHasItsMinimumAtMuHat) {
 TEST(AnalyzeForce, RecoversSimulatedMuPerCycleOnBeechRtR) {
   samples::SimulationOptions o = samples::PaperCase("B-RT-R");
   o.cycles = 80;
-  const samples::SimulatedTest t = samples::Simulate(o);
+  const sim::SimulatedTest t = sim::Simulate(o);
   AnalysisOptions a;
   a.running_in_cycles = 30;
   const ForceAnalysis r = AnalyzeForce(t.record, a);
@@ -159,7 +159,7 @@ TEST(RunningIn, DetectedOnTheSimulatorNearTheTrueTransient) {
   o.cycles = 200;
   o.scan_cols = o.scan_rows = 32;
   const ForceAnalysis r =
-      AnalyzeForce(samples::Simulate(o).record, AnalysisOptions{});
+      AnalyzeForce(sim::Simulate(o).record, AnalysisOptions{});
   EXPECT_TRUE(r.running_in.detected);
   EXPECT_NEAR(r.running_in.cycles, 62, 12) << r.running_in.rule;
 }
@@ -168,7 +168,7 @@ TEST(AnalyzeForce, LargeElasticPartRaisesJAboveThreshold) {
   samples::SimulationOptions o = samples::PaperCase("S-RL-R");
   o.cycles = 80;
   const ForceAnalysis r =
-      AnalyzeForce(samples::Simulate(o).record, AnalysisOptions{});
+      AnalyzeForce(sim::Simulate(o).record, AnalysisOptions{});
   EXPECT_GT(r.cost.mean, 0.4);
 }
 

@@ -8,15 +8,15 @@
 #include <cmath>
 #include <cstdint>
 
+#include "common/simulated.h"
 #include "wearscar/fusion/fuse.h"
 #include "wearscar/fusion/track_history.h"
-#include "wearscar/samples/virtual_tribometer.h"
 
 namespace wearscar::fusion {
 namespace {
 
 struct Mapped {
-  samples::SimulatedTest test;
+  sim::SimulatedTest test;
   TestResult result;
 };
 
@@ -32,7 +32,7 @@ Mapped Simulate(const std::string& name,
   o.scan_cols = 512;
   o.scan_rows = 384;
   o.scan_pitch_mm = 0.0148;
-  Mapped m{samples::Simulate(o), {}};
+  Mapped m{sim::Simulate(o), {}};
   m.result = AnalyzeTest(m.test.record, m.test.scan, FuseOptions{});
   return m;
 }
@@ -72,7 +72,7 @@ TEST(FrictionMap, TheFitsQuadraticLeavesTheFlanksInTheMap) {
   o.scan_cols = 64;
   o.scan_rows = 48;
   o.scan_pitch_mm = 0.12;
-  const samples::SimulatedTest t = samples::Simulate(o);
+  const sim::SimulatedTest t = sim::Simulate(o);
   FuseOptions quadratic;
   quadratic.fit_lugre = false;
   quadratic.friction_map.slope_polynomial_order = 2;
@@ -236,7 +236,7 @@ TEST(ScanSlopeHistory, TakesTheTracksGrowthOutOfTheScanSideMuHat) {
     o.scan_rows = 384;
     o.scan_pitch_mm = 0.0148;
     o.seed = seed;
-    const samples::SimulatedTest t = samples::Simulate(o);
+    const sim::SimulatedTest t = sim::Simulate(o);
     for (int history = 0; history < 2; ++history) {
       FuseOptions fo;
       fo.fit_lugre = false;

@@ -12,10 +12,10 @@
 #include <string>
 #include <vector>
 
+#include "common/simulated.h"
 #include "wearscar/force/read_force.h"
 #include "wearscar/fusion/batch.h"
 #include "wearscar/fusion/provenance.h"
-#include "wearscar/samples/virtual_tribometer.h"
 
 namespace wearscar::fusion {
 namespace {
@@ -80,7 +80,7 @@ TEST(Sha256, PiecesGiveTheDigestOfTheWhole) {
 TEST(Provenance, TheChecksumTakenWhileReadingIsTheFilesOwn) {
   samples::SimulationOptions o = samples::PaperCase("B-RT-R", false);
   o.cycles = 20;
-  const samples::SimulatedTest t = samples::Simulate(o);
+  const sim::SimulatedTest t = sim::Simulate(o);
   const std::string path =
       ::testing::TempDir() + "/wearscar-provenance.force.csv";
   force::WriteForceCsv(t.record, path);

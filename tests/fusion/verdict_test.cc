@@ -17,10 +17,10 @@
 #include <string>
 #include <vector>
 
+#include "common/simulated.h"
 #include "paper_cases.h"
 #include "wearscar/fusion/ensemble.h"
 #include "wearscar/fusion/fuse.h"
-#include "wearscar/samples/virtual_tribometer.h"
 
 namespace wearscar::fusion {
 namespace {
@@ -53,7 +53,7 @@ double TrueSlope(const samples::GroundTruth& t, double x) {
   return -(t.worn_depth_mm[i + 1] - t.worn_depth_mm[i - 1]) / (2 * step);
 }
 
-double RmsSlopeError(const samples::SimulatedTest& t, const CycleSamples& s) {
+double RmsSlopeError(const sim::SimulatedTest& t, const CycleSamples& s) {
   double sum = 0;
   long n = 0;
   for (const SlipSamples* h : {&s.forward, &s.reverse}) {
@@ -70,8 +70,7 @@ double RmsSlopeError(const samples::SimulatedTest& t, const CycleSamples& s) {
 TEST(EnsembleSlope, HasAFractionOfTheNoiseOfOneCycle) {
   // B-RT-R at the paper's noise: the slope of the last cycle against the
   // true path, from the cycle's own P (the paper) and from the ensemble.
-  const samples::SimulatedTest t =
-      samples::Simulate(NoisyCase("B-RT-R", 1, 0, 60));
+  const sim::SimulatedTest t = sim::Simulate(NoisyCase("B-RT-R", 1, 0, 60));
   AnalysisOptions a;
   const force::CycleSet cycles = force::SegmentCycles(t.record.x_mm);
   force::CycleSet slipped = cycles;
@@ -290,7 +289,7 @@ TEST(NoiseSplit, FloorFollowsTheNoiseTheExcessDoesNot) {
   // With an elastic part of 25%: the excess is the same at every noise.
   double floor1 = 0;
   for (double noise : {1.0, 4.0}) {
-    const auto t = samples::Simulate(NoisyCase("B-RT-R", noise, 0));
+    const auto t = sim::Simulate(NoisyCase("B-RT-R", noise, 0));
     const TestResult r = AnalyzeTest(t.record, std::nullopt, NoLugre());
     const CostSplit& s = r.mismatch.split_force;
     EXPECT_NEAR(s.cost * s.cost,
@@ -305,7 +304,7 @@ TEST(NoiseSplit, FloorFollowsTheNoiseTheExcessDoesNot) {
   }
   double excess1 = 0;
   for (double noise : {1.0, 4.0}) {
-    const auto t = samples::Simulate(NoisyCase("S-RL-R", noise, 0.25));
+    const auto t = sim::Simulate(NoisyCase("S-RL-R", noise, 0.25));
     const TestResult r = AnalyzeTest(t.record, std::nullopt, NoLugre());
     const CostSplit& s = r.mismatch.split_force;
     if (noise == 1) {
@@ -325,7 +324,7 @@ class VerdictOnCleanCases
 
 TEST_P(VerdictOnCleanCases, NothingIsFlagged) {
   const auto [name, noise] = GetParam();
-  const samples::SimulatedTest t = samples::Simulate(NoisyCase(name, noise, 0));
+  const sim::SimulatedTest t = sim::Simulate(NoisyCase(name, noise, 0));
   for (bool with_scan : {false, true}) {
     const TestResult r = with_scan
                              ? AnalyzeTest(t.record, t.scan, NoLugre())
@@ -362,7 +361,7 @@ INSTANTIATE_TEST_SUITE_P(Twelve,
 TEST(Verdict, PapersFixedThresholdFlagsCleanTestsAtTwiceThePapersNoise) {
   // The defect this verdict replaces: J itself against 0.4 with k from each
   // cycle's P measures the noise.
-  const samples::SimulatedTest t = samples::Simulate(NoisyCase("B-RT-R", 2, 0));
+  const sim::SimulatedTest t = sim::Simulate(NoisyCase("B-RT-R", 2, 0));
   FuseOptions paper = NoLugre();
   paper.analysis.friction.k_estimate = KEstimate::kCycle;
   paper.verdict.cost_criterion = CostCriterion::kPaperJ;
@@ -383,8 +382,7 @@ class VerdictOnElasticPart : public ::testing::TestWithParam<double> {};
 
 TEST_P(VerdictOnElasticPart, IsFlaggedWithAndWithoutTheScan) {
   const double noise = GetParam();
-  const samples::SimulatedTest t =
-      samples::Simulate(NoisyCase("S-RL-R", noise, 0.25));
+  const sim::SimulatedTest t = sim::Simulate(NoisyCase("S-RL-R", noise, 0.25));
   EXPECT_TRUE(t.truth.explained_by_wear_scar == false);
   for (bool with_scan : {false, true}) {
     const TestResult r = with_scan
@@ -412,8 +410,8 @@ INSTANTIATE_TEST_SUITE_P(Noise,
 
 TEST(Verdict, SmallElasticPartIsNotAFailedVerdictButIsWarnedOf) {
   // Full length: the scan is compared with the last 50 of 600 cycles.
-  const samples::SimulatedTest t =
-      samples::Simulate(NoisyCase("S-RL-R", 1.0, 0.10, 600));
+  const sim::SimulatedTest t =
+      sim::Simulate(NoisyCase("S-RL-R", 1.0, 0.10, 600));
   EXPECT_TRUE(t.truth.explained_by_wear_scar);
   const TestResult r = AnalyzeTest(t.record, t.scan, NoLugre());
   EXPECT_TRUE(r.verdict.explained) << r.verdict.Summary();
@@ -428,7 +426,7 @@ TEST(DataWarnings, FewSamplesPerStrokeAndNoisySlope) {
   samples::SimulationOptions o = NoisyCase("B-TL-L", 1.0, 0, 60);
   o.sampling_rate_hz = 100;
   o.scan_cols = o.scan_rows = 32;
-  const samples::SimulatedTest t = samples::Simulate(o);
+  const sim::SimulatedTest t = sim::Simulate(o);
   const TestResult r = AnalyzeTest(t.record, std::nullopt, NoLugre());
   std::string all;
   for (const auto& w : r.warnings) all += w + "\n";
@@ -442,7 +440,7 @@ TEST(DataWarnings, FewSamplesPerStrokeAndNoisySlope) {
   FuseOptions per_cycle = NoLugre();
   per_cycle.analysis.friction.k_estimate = KEstimate::kCycle;
   const TestResult rn =
-      AnalyzeTest(samples::Simulate(n).record, std::nullopt, per_cycle);
+      AnalyzeTest(sim::Simulate(n).record, std::nullopt, per_cycle);
   all.clear();
   for (const auto& w : rn.warnings) all += w + "\n";
   EXPECT_NE(all.find("k from P is dominated by noise"), std::string::npos)
@@ -487,7 +485,7 @@ namespace {
 TEST(AnalyzeTest, OnTheCallersThreadAloneGivesTheSameResult) {
   samples::SimulationOptions o = samples::PaperCase("B-RT-R", false);
   o.cycles = 40;
-  samples::SimulatedTest t = samples::Simulate(o);
+  sim::SimulatedTest t = sim::Simulate(o);
   FuseOptions threads, alone;
   alone.parallel = false;
   const TestResult a = AnalyzeTest(t.record, t.scan, threads);
@@ -530,7 +528,7 @@ TEST(ScanThatCannotServe, LeavesTheForceSideStandingAndSaysWhy) {
   // warning names the scan, its pixel and field of view, and the stroke.
   samples::SimulationOptions o = samples::PaperCase("B-RT-R", false);
   o.cycles = 40;
-  samples::SimulatedTest t = samples::Simulate(o);
+  sim::SimulatedTest t = sim::Simulate(o);
   t.scan.dx_mm /= 10;
   t.scan.dy_mm /= 10;
   t.scan.metadata.source = "wrong-pixel.gsf";

@@ -7,10 +7,10 @@
 #include <filesystem>
 #include <fstream>
 
+#include "common/simulated.h"
 #include "report_helpers.h"
 #include "wearscar/force/read_force.h"
 #include "wearscar/fusion/error.h"
-#include "wearscar/samples/virtual_tribometer.h"
 #include "wearscar/scan/gsf.h"
 
 namespace wearscar::report {
@@ -22,7 +22,7 @@ using test_support::Slurp;
 
 // B-RT-R simulated (a force export and its scan) beside an S-RL-R whose
 // force file is not a force export.
-fs::path TwoSpecimens(samples::SimulatedTest* test) {
+fs::path TwoSpecimens(sim::SimulatedTest* test) {
   const fs::path in = FreshFolder("in");
   samples::SimulationOptions o = samples::PaperCase("B-RT-R");
   o.cycles = 80;
@@ -30,7 +30,7 @@ fs::path TwoSpecimens(samples::SimulatedTest* test) {
   o.scan_cols = 384;
   o.scan_rows = 288;
   o.scan_pitch_mm = 0.0198;
-  *test = samples::Simulate(o);
+  *test = sim::Simulate(o);
   force::WriteForceCsv(test->record, (in / "B-RT-R.force.csv").string());
   scan::WriteGsf(test->scan, (in / "B-RT-R.scan.gsf").string());
   std::ofstream(in / "S-RL-R.force.csv") << "not,a,force\nexport,at,all\n";
@@ -38,7 +38,7 @@ fs::path TwoSpecimens(samples::SimulatedTest* test) {
 }
 
 TEST(Audit, OneBadSpecimenIsReportedAndTheOtherIsComplete) {
-  samples::SimulatedTest test;
+  sim::SimulatedTest test;
   const fs::path in = TwoSpecimens(&test);
   const fs::path out = FreshFolder("out");
   AuditOptions options;

@@ -17,11 +17,11 @@
 #include <string>
 #include <vector>
 
+#include "common/simulated.h"
 #include "report_helpers.h"
 #include "wearscar/fusion/fuse.h"
 #include "wearscar/report/html_report.h"
 #include "wearscar/report/test_folder.h"
-#include "wearscar/samples/virtual_tribometer.h"
 
 namespace wearscar::report {
 namespace {
@@ -213,7 +213,7 @@ struct DrawnTest {
 DrawnTest DrawSimulatedTest(const std::string& what) {
   samples::SimulationOptions o = samples::PaperCase("S-RT-R");
   o.cycles = 60;
-  const samples::SimulatedTest t = samples::Simulate(o);
+  const sim::SimulatedTest t = sim::Simulate(o);
   const fusion::FuseOptions options;
   const fusion::TestResult r = fusion::AnalyzeTest(t.record, t.scan, options);
   DrawnTest d{test_support::FreshFolder(what), {}, {}};

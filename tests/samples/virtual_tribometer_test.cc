@@ -8,6 +8,7 @@
 #include <map>
 #include <set>
 
+#include "common/simulated.h"
 #include "wearscar/force/cycles.h"
 #include "wearscar/force/read_force.h"
 #include "wearscar/fusion/analysis.h"
@@ -198,7 +199,7 @@ TEST(VirtualTribometer, PaperProcedureRecoversMuOnCleanData) {
     o.scan_cols = o.scan_rows = 32;
     o.q_noise_n = o.p_noise_n = o.x_noise_mm = 0;
     o.q_resolution_n = o.p_resolution_n = 0;
-    const SimulatedTest t = Simulate(o);
+    const sim::SimulatedTest t = sim::Simulate(o);
     fusion::AnalysisOptions a;
     a.friction.slope.window = 10;
     a.friction.slope.min_span_mm = 0;
@@ -231,7 +232,7 @@ TEST(VirtualTribometer, SensorNoiseIsCalibratedToThePapersJ) {
       SimulationOptions o = PaperCase(e.name);
       o.scan_cols = o.scan_rows = 32;
       o.noise_scale = noise;
-      const SimulatedTest t = Simulate(o);
+      const sim::SimulatedTest t = sim::Simulate(o);
       fusion::AnalysisOptions a;
       a.friction.k_estimate = fusion::KEstimate::kCycle;
       a.friction.slope.window = 10;
@@ -425,7 +426,7 @@ TEST(HiddenEffects, HookAddsResistanceOnlyNearTheStrokeEnd) {
 TEST(SimulatorOutputs, RtecAndKeyenceExportsReadBack) {
   SimulationOptions o = Small("B-RL-R");
   o.cycles = 25;  // > 2 recipe steps of 10 s
-  const SimulatedTest t = Simulate(o);
+  const sim::SimulatedTest t = sim::Simulate(o);
   const std::string dir = ::testing::TempDir() + "/sim-exports";
   std::filesystem::create_directories(dir);
   force::WriteRtecCsv(t.record, dir + "/b.rtec.csv", 10.0);

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <random>
 
-#include "wearscar/samples/virtual_tribometer.h"
+#include "common/simulated.h"
 #include "wearscar/scan/level.h"
 #include "wearscar/scan/preview.h"
 #include "wearscar/scan/track.h"
@@ -12,18 +12,18 @@
 namespace wearscar::scan {
 namespace {
 
-samples::SimulatedTest Simulated(const std::string& name,
-                                 double angle,
-                                 bool flipped) {
+sim::SimulatedTest Simulated(const std::string& name,
+                             double angle,
+                             bool flipped) {
   samples::SimulationOptions o = samples::PaperCase(name);
   o.cycles = 30;
   o.scan_angle_deg = angle;
   o.scan_flipped = flipped;
-  return samples::Simulate(o);
+  return sim::Simulate(o);
 }
 
 TEST(Level, RecoversKnownPlaneUnderTheTrack) {
-  samples::SimulatedTest t = Simulated("S-RT-R", 2.5, false);
+  sim::SimulatedTest t = Simulated("S-RT-R", 2.5, false);
   const LevelSummary s = LevelHeightMap(&t.scan);
   EXPECT_NEAR(s.dzdx(), t.truth.plane_dzdx, 2e-5) << s.message;
   EXPECT_NEAR(s.dzdy(), t.truth.plane_dzdy, 2e-5) << s.message;
@@ -54,7 +54,7 @@ TEST(Level, SecondOrderSurfaceIsRemoved) {
 }
 
 TEST(Spikes, MarksIsolatedOutliersOnly) {
-  samples::SimulatedTest t = Simulated("B-RT-T", 0, false);
+  sim::SimulatedTest t = Simulated("B-RT-T", 0, false);
   LevelHeightMap(&t.scan);
   const Eigen::Index before = t.scan.ValidCount();
   const int removed = RemoveSpikes(&t.scan);
@@ -67,7 +67,7 @@ class TrackTest : public ::testing::TestWithParam<std::tuple<double, bool>> {};
 
 TEST_P(TrackTest, FindsAxisCentreAndCentrelineOfKnownTrack) {
   const auto [angle, flipped] = GetParam();
-  samples::SimulatedTest t = Simulated("S-RT-R", angle, flipped);
+  sim::SimulatedTest t = Simulated("S-RT-R", angle, flipped);
   LevelHeightMap(&t.scan);
   RemoveSpikes(&t.scan);
   const Track track = FindTrack(t.scan);
@@ -199,7 +199,7 @@ TEST(Track, FlatMapHasNoTrackAndSaysSo) {
 }
 
 TEST(Track, CrossSectionShowsTheSphereShape) {
-  samples::SimulatedTest t = Simulated("B-TL-L", 0, false);
+  sim::SimulatedTest t = Simulated("B-TL-L", 0, false);
   LevelHeightMap(&t.scan);
   const Track track = FindTrack(t.scan);
   const WearProfile c = ExtractCrossSection(t.scan, track, 0.0, 1.2);
@@ -228,7 +228,7 @@ TEST(TrackConfidence, AShallowDepressionInRoughWoodIsFoundWithLowConfidence) {
     o.scan_rows = 384;
     o.scan_pitch_mm = 0.0148;
     o.final_depth_mm = depth;
-    HeightMap map = samples::Simulate(o).scan;
+    HeightMap map = sim::Simulate(o).scan;
     LevelHeightMap(&map);
     RemoveSpikes(&map);
     try {

@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace wearscar::force {
@@ -55,5 +56,33 @@ struct ForceRecord {
            normal_n.size() == time_s.size();
   }
 };
+
+// A record from four channels already in s, mm and N (arrays in memory, a
+// simulator's output): the metadata names the source, the layout and the
+// channels (time_s, x_mm, Q_N, P_N). Throws ForceError when the four lengths
+// differ.
+inline ForceRecord RecordFromChannels(Eigen::VectorXd time_s,
+                                      Eigen::VectorXd x_mm,
+                                      Eigen::VectorXd tangential_n,
+                                      Eigen::VectorXd normal_n,
+                                      std::string source,
+                                      std::string layout,
+                                      double sampling_rate_hz = 0.0) {
+  ForceRecord r;
+  r.time_s = std::move(time_s);
+  r.x_mm = std::move(x_mm);
+  r.tangential_n = std::move(tangential_n);
+  r.normal_n = std::move(normal_n);
+  if (!r.IsConsistent()) {
+    throw ForceError(source + ": the channels time_s, x_mm, Q and P have " +
+                     "different lengths; expected one length");
+  }
+  r.metadata.source = std::move(source);
+  r.metadata.layout = std::move(layout);
+  r.metadata.sampling_rate_hz = sampling_rate_hz;
+  r.metadata.channel_names = {"time_s", "x_mm", "Q_N", "P_N"};
+  r.metadata.channel_units = {"s", "mm", "N", "N"};
+  return r;
+}
 
 }  // namespace wearscar::force

@@ -6,7 +6,6 @@
 #include <string>
 #include <vector>
 
-#include "wearscar/force/force_record.h"
 #include "wearscar/scan/height_map.h"
 
 namespace wearscar::samples {
@@ -151,8 +150,21 @@ struct GroundTruth {
   bool explained_by_wear_scar = true;
 };
 
+// What the virtual tribometer logged, in the library's units (s, mm, N):
+// the four channels a force file holds, before any reader or analysis.
+// force::ForceRecord is built from it where the analysis needs one.
+struct SimulatedChannels {
+  Eigen::VectorXd time_s;
+  Eigen::VectorXd x_mm;
+  Eigen::VectorXd tangential_n;  // Q
+  Eigen::VectorXd normal_n;      // P, compression positive
+  double sampling_rate_hz = 0.0;
+  std::string source;  // "simulator:<case>"
+  Eigen::Index size() const { return time_s.size(); }
+};
+
 struct SimulatedTest {
-  force::ForceRecord record;
+  SimulatedChannels record;
   scan::HeightMap scan;
   GroundTruth truth;
 };

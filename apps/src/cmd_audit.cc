@@ -22,6 +22,7 @@ struct AuditArgs {
   std::string out = "audit";
   std::string shard;
   bool no_figures = false;
+  bool dry_run = false;
   report::AuditOptions audit;
   GivenSettings given;  // the settings as written
 };
@@ -42,9 +43,10 @@ void PrintSections(const std::vector<report::ReportSection>& sections) {
     if (sec.failed) {
       Say("  FAILED   {}: {}\n", sec.name, sec.row["error"].get<std::string>());
     } else {
-      Say("  {:8} {}: mu-hat {:.4f}, J {:.3f} (noise floor {:.3f}){}\n",
+      Say("  {:8} {}: {}, mu-hat {:.4f}, J {:.3f} (noise floor {:.3f}){}\n",
           sec.flagged ? "FLAGGED" : "ok",
           sec.name,
+          sec.row.value("pairing", std::string()),
           Dig(sec.row, {"comparison", "mu_hat_force", "mean"}).get<double>(),
           Dig(sec.row, {"comparison", "J_force", "mean"}).get<double>(),
           Dig(sec.row, {"comparison", "J_force_split", "noise_floor"})
@@ -74,6 +76,13 @@ void RunAudit(AuditArgs a) {
   a.audit.figures = !a.no_figures;
   const std::vector<fusion::Specimen> mine =
       fusion::FindSpecimens(a.input, batch);
+  if (a.dry_run) {
+    const fs::path root = fs::is_directory(a.input)
+                              ? fs::path(a.input)
+                              : fs::path(a.input).parent_path();
+    Say("{}", fusion::PairingTable(mine, root.string()));
+    return;
+  }
   const unsigned jobs = batch.jobs > 0
                             ? static_cast<unsigned>(batch.jobs)
                             : std::max(1u, std::thread::hardware_concurrency());
@@ -132,14 +141,19 @@ void AddAuditCommand(CLI::App& app) {
                   "Parallel specimens (default: all cores)");
   cmd->add_option(
       "--shard", args->shard, "Process shard i of n (1-based), e.g. 2/4");
+  cmd->add_flag("--dry-run",
+                args->dry_run,
+                "Print how the files pair (specimen, force, scan, note) and "
+                "stop: nothing is read or written");
   cmd->add_option("--name-pattern",
                   args->audit.batch.name_pattern,
                   "Regular expression naming a specimen in file names")
       ->capture_default_str();
-  cmd->add_flag("--recursive,!--no-recursive",
-                args->audit.batch.recursive,
-                "Look for specimens in sub-folders too (default; folders "
-                "wearscar wrote are skipped)");
+  cmd->add_flag_callback(
+      "--no-recursive",
+      [args] { args->audit.batch.recursive = false; },
+      "Look in the folder itself only (by default its sub-folders too, "
+      "skipping folders wearscar wrote)");
   AddFigureOptions(cmd, &args->no_figures, &args->audit.figure_formats);
   cmd->add_flag(
       "--diagnose",

@@ -22,6 +22,11 @@ struct DiagnoseArgs {
 };
 
 void RunDiagnose(DiagnoseArgs a) {
+  if (a.force_file.empty()) {
+    throw UsageError(
+        "diagnose: no force file; expected wearscar diagnose FORCE [SCAN] "
+        "(or --force FORCE --scan SCAN)");
+  }
   fusion::TestSettings settings =
       WithFlagNames([&] { return fusion::MakeTestSettings(a.given); });
   std::string why;
@@ -65,10 +70,11 @@ void AddDiagnoseCommand(CLI::App& app) {
                                  "and show the held-out gap shrink");
   cmd->add_option("force,--force",
                   args->force_file,
-                  "Force export (positional or --force)")
-      ->required();
-  cmd->add_option(
-      "--scan", args->scan_file, "Height map (optional: depth for ploughing)");
+                  "Force export (first positional or --force)");
+  cmd->add_option("scan,--scan",
+                  args->scan_file,
+                  "Height map (second positional or --scan; optional: depth "
+                  "for ploughing)");
   cmd->add_option(
       "-o,--out", args->out, "Directory for diagnosis.json and the maps");
   auto& d = args->diagnose;

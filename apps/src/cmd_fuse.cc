@@ -27,6 +27,11 @@ struct FuseArgs {
 };
 
 void RunFuse(FuseArgs a) {
+  if (a.force_file.empty()) {
+    throw UsageError(
+        "fuse: no force file; expected wearscar fuse FORCE [SCAN] (or "
+        "--force FORCE --scan SCAN)");
+  }
   fusion::TestSettings settings =
       WithFlagNames([&] { return fusion::MakeTestSettings(a.given); });
   // Cycles are numbered from 1 on the command line, from 0 in the library.
@@ -38,14 +43,16 @@ void RunFuse(FuseArgs a) {
   }
   const std::string name =
       a.name.empty() ? fusion::SpecimenName(a.force_file) : a.name;
-  const fusion::SpecimenAnalysis analysis =
-      fusion::AnalyzeSpecimen({name, a.force_file, a.scan_file, ""},
-                              settings.read_force,
-                              settings.read_scan,
-                              settings.fuse);
+  fusion::Specimen specimen;
+  specimen.name = name;
+  specimen.force = a.force_file;
+  specimen.scan = a.scan_file;
+  const fusion::SpecimenAnalysis analysis = fusion::AnalyzeSpecimen(
+      specimen, settings.read_force, settings.read_scan, settings.fuse);
   const force::ForceRecord& record = analysis.record;
   const fusion::TestResult& r = analysis.result;
   PrintSummary(name, r);
+  for (const auto& w : record.metadata.warnings) Say("  note: {}\n", w);
   if (a.out.empty()) {
     PrintJsonSummary(
         fusion::MakeTestProducts(name, record, r, settings.fuse, a.write)
@@ -92,12 +99,12 @@ void AddFuseCommand(CLI::App& app) {
                                  "wear-scar verdict");
   cmd->add_option("force,--force",
                   args->force_file,
-                  "Force export (positional or --force)")
-      ->required();
-  cmd->add_option("--scan",
+                  "Force export (first positional or --force)");
+  cmd->add_option("scan,--scan",
                   args->scan_file,
                   "Height map (" + scan::ScanExtensionList() +
-                      "); without it, the force slope only");
+                      "; second positional or --scan); without it, the "
+                      "force slope only");
   cmd->add_option("-o,--out", args->out, "Directory for the results");
   cmd->add_option("--name", args->name, "Specimen name in the outputs");
   cmd->add_option("--detail-cycle",

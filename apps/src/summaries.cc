@@ -71,6 +71,7 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
     Say("  LuGre, cycle {}: {}\n", r.detail_cycle + 1, r.lugre->BriefReport());
   }
   Say("  verdict: {}\n", r.verdict.Summary());
+  for (const auto& a : r.assumptions) Say("  assumed: {}\n", a);
   for (const auto& w : r.warnings) {
     if (CurrentPrintMode() == PrintMode::kText) {
       Say("  warning: {}\n", w);

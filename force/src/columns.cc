@@ -189,8 +189,24 @@ void RequireChannels(const Columns& column,
     if (column[ch] < 0) missing.push_back(ChannelLabel(Channel(ch)));
   }
   if (missing.empty()) return;
+  // The named columns (at most 12) and how many have no name: a height
+  // map's CSV has one name and a thousand empty cells.
   std::string known;
-  for (const auto& nm : layout.names) known += (known.empty() ? "" : ", ") + nm;
+  int named = 0, unnamed = 0;
+  for (const auto& nm : layout.names) {
+    if (nm.find_first_not_of(" \t") == std::string::npos) {
+      ++unnamed;
+    } else if (++named <= 12) {
+      known += (known.empty() ? "" : ", ") + nm;
+    }
+  }
+  if (named > 12) known += fmt::format(" and {} more", named - 12);
+  if (unnamed > 0) {
+    known += fmt::format("{}{} unnamed column{}",
+                         known.empty() ? "" : ", with ",
+                         unnamed,
+                         unnamed == 1 ? "" : "s");
+  }
   if (layout.header_line < 0) known = "(no header row)";
   const bool has_cof = std::any_of(
       layout.names.begin(), layout.names.end(), IsComputedCoefficient);

@@ -306,4 +306,48 @@ void CheckPlausible(ForceRecord& r, const std::string& file) {
   }
 }
 
+void CheckChannelRoles(const ForceRecord& r, const std::string& file) {
+  long both = 0, q_above = 0, p_negative = 0;
+  double span, median_p;
+  Spread(r.normal_n, &span, &median_p);
+  for (Eigen::Index i = 0; i < r.size(); ++i) {
+    const double q = r.tangential_n[i], p = r.normal_n[i];
+    if (!std::isfinite(q) || !std::isfinite(p)) continue;
+    ++both;
+    if (std::abs(q) > std::abs(p)) ++q_above;
+    if (p < -0.25 * median_p) ++p_negative;
+  }
+  if (both == 0) return;
+  auto name = [&](size_t ch) {
+    const auto& names = r.metadata.channel_names;
+    return ch < names.size() && !names[ch].empty() ? "'" + names[ch] + "'"
+                                                   : std::string("(none)");
+  };
+  const std::string fix =
+      "name the columns with --columns q=NAME,p=NAME, or give "
+      "--force-channels-as-given to read them as they are";
+  const double above = static_cast<double>(q_above) / both;
+  if (above > 0.5) {
+    throw ForceError(fmt::format(
+        "{}: the friction force Q {} exceeds the normal force P {} in "
+        "magnitude on {:.0f}% of the samples: the two look swapped; expected "
+        "|Q| below |P| (mu below 1): {}",
+        file,
+        name(2),
+        name(3),
+        100 * above,
+        fix));
+  }
+  const double negative = static_cast<double>(p_negative) / both;
+  if (negative > 0.2) {
+    throw ForceError(fmt::format(
+        "{}: the normal force P {} changes sign on {:.0f}% of the samples: "
+        "it reverses like a friction force; expected a load of one sign: {}",
+        file,
+        name(3),
+        100 * negative,
+        fix));
+  }
+}
+
 }  // namespace wearscar::force::internal

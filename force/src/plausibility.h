@@ -51,4 +51,10 @@ void InferUnits(Eigen::VectorXd* data,
 // hard limits (a unit or file error), warned of outside the usual ranges.
 void CheckPlausible(ForceRecord& r, const std::string& file);
 
+// Refuses channels that cannot be a friction force and a load: |Q| above
+// |P| on most samples (swapped channels, or mu above 1), or a "load" that
+// changes sign with the motion. The message names both columns and the
+// fix (--columns, or --force-channels-as-given).
+void CheckChannelRoles(const ForceRecord& r, const std::string& file);
+
 }  // namespace wearscar::force::internal

@@ -264,6 +264,7 @@ ForceRecord Read(LineSource& source,
   SetTime(&record, &data[kTime], layout, options, name);
   CheckPlausible(record, name);
   MakeCompressionPositive(&record);
+  if (!options.channels_as_given) internal::CheckChannelRoles(record, name);
   return record;
 }
 

@@ -27,43 +27,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A force export's extension, by the layouts of the registry.
-bool HasForceExtension(const fs::path& p) {
-  static const std::vector<std::string> extensions = force::ForceExtensions();
-  const std::string e = support::Lower(p.extension().string());
-  return std::find(extensions.begin(), extensions.end(), e) != extensions.end();
-}
-
-// A file found in a folder, with the role it plays for its specimen and how
-// strongly (a binary scan beats a text export of the same map; a file named
-// "force" beats other text).
-struct Candidate {
-  std::string key, path;
-  bool is_scan = false;
-  int rank = 0;
-};
-
-std::optional<Candidate> Classify(const fs::path& p, const std::regex& re) {
-  const std::string file = p.filename().string();
-  const std::string lower = support::Lower(file);
-  // A binary height map by its content; ".dat" is a Zygo map or a force
-  // export, told apart by the magic.
-  const bool binary_scan = scan::BinaryScanFormatOf(p.string()) != nullptr;
-  const bool text = !binary_scan && HasForceExtension(p);
-  if (!binary_scan && !text) return std::nullopt;
-  const bool text_scan = text && (lower.find("scan") != std::string::npos ||
-                                  lower.find("height") != std::string::npos ||
-                                  lower.find("keyence") != std::string::npos);
-  std::smatch m;
-  Candidate c;
-  c.key = std::regex_search(file, m, re) ? m.str(0) : SpecimenName(file);
-  c.path = p.string();
-  c.is_scan = binary_scan || text_scan;
-  c.rank = c.is_scan ? (binary_scan ? 2 : 1)
-                     : (lower.find("force") != std::string::npos ? 2 : 1);
-  return c;
-}
-
 // RFC 4180 cells of one line: a quoted cell may hold commas and doubled
 // quotes (a path "C:\tests\beech, run 2\B-RT-R.csv"); cells trimmed.
 std::vector<std::string> SplitCsvLine(const std::string& l) {
@@ -172,135 +135,6 @@ bool BatchOptions::IsValid(std::string* why) const {
                 e.what());
   }
   return true;
-}
-
-std::string SpecimenName(const std::string& path) {
-  std::string stem = fs::path(path).stem().string();
-  for (const char* suffix :
-       {".force", "_force", "-force", ".scan", "_scan", "-scan"}) {
-    const std::string sfx = suffix;
-    if (stem.size() > sfx.size() &&
-        stem.compare(stem.size() - sfx.size(), sfx.size(), sfx) == 0) {
-      return stem.substr(0, stem.size() - sfx.size());
-    }
-  }
-  return stem;
-}
-
-namespace {
-
-// The specimens of the files of one folder (not its sub-folders).
-std::vector<Specimen> PairFiles(std::vector<fs::path> files,
-                                const std::regex& re) {
-  std::sort(files.begin(), files.end());
-  struct Slot {
-    Specimen s;
-    int force_rank = 0, scan_rank = 0;
-  };
-  std::map<std::string, Slot> by_key;
-  for (const fs::path& p : files) {
-    const std::optional<Candidate> c = Classify(p, re);
-    if (!c) continue;
-    Slot& slot = by_key[c->key];
-    slot.s.name = c->key;
-    std::string& role = c->is_scan ? slot.s.scan : slot.s.force;
-    int& role_rank = c->is_scan ? slot.scan_rank : slot.force_rank;
-    if (!role.empty() && c->rank == role_rank) {
-      slot.s.error = fmt::format("two {} files match '{}': {} and {}",
-                                 c->is_scan ? "scan" : "force",
-                                 c->key,
-                                 fs::path(role).filename().string(),
-                                 p.filename().string());
-    }
-    if (role.empty() || c->rank >= role_rank) {
-      role = c->path;
-      role_rank = c->rank;
-    }
-  }
-  std::vector<Specimen> out;
-  for (auto& [key, slot] : by_key) out.push_back(slot.s);
-  return out;
-}
-
-// A sub-folder holding one force file and one scan whose names do not
-// pair (lab/B-RT-R/test.csv with lab/B-RT-R/surface.zon) is one specimen
-// named after the folder.
-void PairByFolder(const fs::path& folder, std::vector<Specimen>* specimens) {
-  if (specimens->size() != 2) return;
-  Specimen& a = (*specimens)[0];
-  Specimen& b = (*specimens)[1];
-  if (!a.error.empty() || !b.error.empty()) return;
-  const bool a_force = !a.force.empty() && a.scan.empty(),
-             b_force = !b.force.empty() && b.scan.empty();
-  const bool a_scan = a.force.empty() && !a.scan.empty(),
-             b_scan = b.force.empty() && !b.scan.empty();
-  if (!((a_force && b_scan) || (a_scan && b_force))) return;
-  Specimen s;
-  s.name = folder.filename().string();
-  s.force = a_force ? a.force : b.force;
-  s.scan = a_scan ? a.scan : b.scan;
-  *specimens = {s};
-}
-
-// A folder wearscar wrote (it has a manifest: an earlier --out) or a
-// hidden one is not searched.
-bool SkipFolder(const fs::path& dir) {
-  std::error_code ec;
-  return dir.filename().string().rfind('.', 0) == 0 ||
-         fs::exists(dir / ".wearscar-manifest", ec);
-}
-
-}  // namespace
-
-std::vector<Specimen> PairFolder(const std::string& dir,
-                                 const std::string& name_pattern,
-                                 bool recursive) {
-  const std::regex re(name_pattern);
-  std::map<fs::path, std::vector<fs::path>> by_folder;
-  by_folder[fs::path(dir)];
-  if (recursive) {
-    std::error_code ec;
-    fs::recursive_directory_iterator it(
-        dir, fs::directory_options::skip_permission_denied, ec);
-    for (; !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
-      if (it->is_directory() && SkipFolder(it->path())) {
-        it.disable_recursion_pending();
-      } else if (it->is_regular_file()) {
-        by_folder[it->path().parent_path()].push_back(it->path());
-      }
-    }
-  } else {
-    for (const auto& e : fs::directory_iterator(dir)) {
-      if (e.is_regular_file()) by_folder[fs::path(dir)].push_back(e.path());
-    }
-  }
-  std::vector<Specimen> out;
-  std::map<std::string, std::string> folder_of;  // specimen name -> folder
-  for (auto& [folder, files] : by_folder) {
-    std::vector<Specimen> here = PairFiles(files, re);
-    if (folder != fs::path(dir)) PairByFolder(folder, &here);
-    for (Specimen& s : here) {
-      if (s.force.empty() && s.error.empty()) {
-        s.error = fmt::format("no force file for the scan {}",
-                              fs::path(s.scan).filename().string());
-      }
-      auto [at, fresh] = folder_of.emplace(s.name, folder.string());
-      if (!fresh && s.error.empty()) {
-        s.error = fmt::format(
-            "specimen '{}' is in two folders ({} and {}); expected one "
-            "name per specimen (rename one, or use a manifest)",
-            s.name,
-            at->second,
-            folder.string());
-        s.name += "~" + std::to_string(out.size());
-      }
-      out.push_back(s);
-    }
-  }
-  std::sort(out.begin(), out.end(), [](const Specimen& a, const Specimen& b) {
-    return a.name < b.name;
-  });
-  return out;
 }
 
 std::vector<Specimen> ReadManifest(const std::string& path) {
@@ -420,9 +254,9 @@ std::vector<Specimen> FindSpecimens(const std::string& input,
   if (mine.empty() && all.empty() && fs::is_directory(input)) {
     throw FusionError(fmt::format(
         "{}: no specimens found: looked{} for force exports ({}) and scans "
-        "({}), paired by the name pattern '{}' or by the stem before "
-        ".force/.scan; expected at least one force file (or give a "
-        "manifest.csv)",
+        "({}), paired by the name pattern '{}' or by their names without "
+        "role words (force, scan, height, ...); expected at least one "
+        "force file (or give a manifest.csv)",
         input,
         options.recursive ? " in it and its sub-folders" : "",
         fmt::join(force::ForceExtensions(), ", "),
@@ -551,6 +385,8 @@ SummaryColumns() {
           {"scan_file", {"provenance", "inputs", "1", "path"}},
           {"scan_bytes", {"provenance", "inputs", "1", "bytes"}},
           {"scan_sha256", {"provenance", "inputs", "1", "sha256"}},
+          {"pairing", {"pairing"}},
+          {"assumptions", {"assumptions"}},
           {"wearscar_version", {"provenance", "wearscar_version"}},
           {"git_commit", {"provenance", "git_commit"}},
           {"date_utc", {"provenance", "date_utc"}},

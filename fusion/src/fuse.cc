@@ -317,6 +317,67 @@ void AddScanSide(const force::ForceRecord& record,
   }
 }
 
+// The spring's stiffness the scan implies, with its 95% interval: S times
+// the amplitude ratio of P/S to the scanned profile, divided by the
+// track's growth from the compared cycles to its final state (the scan
+// shows the final track; the ratio of the two waviness figures is P/S's
+// own, so it does not depend on S). NaN without a scan.
+struct ImpliedSpring {
+  double value = NAN, low = NAN, high = NAN;
+};
+
+ImpliedSpring SpringTheScanImplies(const TestResult& r, const FuseOptions& o) {
+  const MismatchReport& m = r.mismatch;
+  const TrackHistory& h = r.track_history;
+  if (!r.scan || !std::isfinite(m.amplitude_ratio_low) ||
+      !std::isfinite(m.amplitude_ratio_high))
+    return {};
+  double growth = 1.0, sum = 0.0;
+  int n = 0;
+  for (int c = std::max(0, m.first_cycle);
+       c <= m.last_cycle && c < static_cast<int>(h.waviness_sd_mm.size());
+       ++c) {
+    if (std::isfinite(h.waviness_sd_mm[c])) sum += h.waviness_sd_mm[c], ++n;
+  }
+  if (n > 0 && h.final_waviness_sd_mm > 0)
+    growth = sum / n / h.final_waviness_sd_mm;
+  const double s = o.analysis.friction.slope.spring_n_per_mm / growth;
+  return {s * m.amplitude_ratio,
+          s * m.amplitude_ratio_low,
+          s * m.amplitude_ratio_high};
+}
+
+// What the result rests on that the files did not state.
+std::vector<std::string> Assumptions(const TestResult& r,
+                                     const FuseOptions& o) {
+  const double s = o.analysis.friction.slope.spring_n_per_mm;
+  const ImpliedSpring implied = SpringTheScanImplies(r, o);
+  std::string spring =
+      o.spring_given
+          ? fmt::format("spring S = {:g} N/mm (given)", s)
+          : fmt::format(
+                "spring S = {:g} N/mm: the default (the paper's "
+                "rig), not given; k from P and the verdict depend on "
+                "it",
+                s);
+  if (!o.spring_given && r.verdict.scan_doubt.empty() &&
+      std::isfinite(implied.value)) {
+    spring += fmt::format(
+        "; the scan implies {:.3g} N/mm (95%: {:.3g}-{:.3g}) if all of P's "
+        "waviness is the worn path",
+        implied.value,
+        implied.low,
+        implied.high);
+  }
+  std::string slope =
+      o.slopes == SlopeChoice::kScan ? "mu-hat with k from the scan alone"
+      : r.scan ? "the verdict judges mu-hat with k from P; the scan's k is "
+                 "compared with it"
+      : r.scan_file.empty() ? "k from P alone (no scan)"
+                            : "k from P alone (the scan was not used)";
+  return {spring, slope};
+}
+
 // The comparison of the slopes, the verdict, the warnings and the wear,
 // once both sides are analysed.
 void CompareAndJudge(const force::ForceRecord& record,
@@ -334,12 +395,35 @@ void CompareAndJudge(const force::ForceRecord& record,
   result->mismatch =
       CompareSlopes(record, result->force, scan, first, last, options);
   result->verdict = Judge(result->mismatch, options.verdict);
-  result->warnings =
-      DataWarnings(result->force, result->mismatch, options.warnings);
+  // A doubted scan (possibly another test's) says nothing of this test's
+  // elastic part or spring.
+  const bool scan_doubted = !result->verdict.scan_doubt.empty();
+  MismatchReport judged = result->mismatch;
+  judged.has_scan = judged.has_scan && !scan_doubted;
+  result->warnings = DataWarnings(result->force, judged, options.warnings);
   if (!result->scan_skipped.empty())
     result->warnings.insert(result->warnings.begin(), result->scan_skipped);
+  if (!result->verdict.scan_doubt.empty())
+    result->warnings.insert(result->warnings.begin(),
+                            result->verdict.scan_doubt);
   if (scan != nullptr && scan->track.low_confidence)
     result->warnings.push_back("the scan's track: " + scan->track.message);
+  result->assumptions = Assumptions(*result, options);
+  const ImpliedSpring implied = SpringTheScanImplies(*result, options);
+  const double s = options.analysis.friction.slope.spring_n_per_mm;
+  if (!options.spring_given && !scan_doubted &&
+      (implied.low > s * 1.15 || implied.high < s / 1.15)) {
+    result->warnings.push_back(fmt::format(
+        "the spring's stiffness was not given and the default {:g} N/mm is "
+        "used, but the scan implies {:.3g} N/mm (95%: {:.3g}-{:.3g}) if all "
+        "of P's waviness is the worn path: give --spring if that is the "
+        "rig's (the verdict depends on it); if the default is right, part of "
+        "P's waviness is elastic",
+        s,
+        implied.value,
+        implied.low,
+        implied.high));
+  }
   result->wear = MeasureWear(
       record,
       result->force.cycles,

@@ -353,6 +353,7 @@ nlohmann::json ResultJson(const std::string& name,
   std::vector<std::string> warnings = record.metadata.warnings;
   warnings.insert(warnings.end(), r.warnings.begin(), r.warnings.end());
   j["warnings"] = warnings;
+  j["assumptions"] = r.assumptions;
   if (provenance) j["provenance"] = provenance->ToJson();
   return j;
 }

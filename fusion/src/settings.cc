@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 namespace wearscar::fusion {
 namespace {
 
@@ -161,6 +163,13 @@ std::vector<S> ForceFileSettings() {
                      g,
                      "Drop isolated bad rows with a warning",
                      [](T& t) -> bool& { return t.read_force.lenient; }),
+      FlagSetting<T>(
+          "force-channels-as-given",
+          g,
+          "Read Q and P as they are even when |Q| exceeds |P| on most "
+          "samples or the load changes sign (refused otherwise as swapped "
+          "channels)",
+          [](T& t) -> bool& { return t.read_force.channels_as_given; }),
   };
 }
 
@@ -714,6 +723,10 @@ TestSettings MakeTestSettings(
     const std::vector<std::pair<std::string, std::string>>& given) {
   TestSettings t;
   support::ApplySettings(TestSettingList(), given, &t);
+  t.fuse.spring_given =
+      std::any_of(given.begin(), given.end(), [](const auto& g) {
+        return g.first == "spring";
+      });
   const auto& fp = t.fuse.force_profile;
   if (fp.first_cycle >= 0 && fp.last_cycle >= 0 &&
       fp.first_cycle > fp.last_cycle) {

@@ -89,12 +89,16 @@ Verdict Judge(const MismatchReport& r, const VerdictOptions& o) {
         IntervalText(split.excess_low, split.excess_high, "{:.3f}"),
         o.max_cost_excess));
   }
+  // The scan's criteria are judged only when the scan can be this test's:
+  // a profile unlike P/S's while the force side alone passes is a doubt
+  // about the scan (scan_doubt), not a verdict on the physics.
+  std::vector<std::string> scan_reasons;
   if (r.has_scan) {
     const bool has_interval = std::isfinite(r.amplitude_ratio_low);
     const double ratio_low =
         has_interval ? r.amplitude_ratio_low : r.amplitude_ratio;
     if (ratio_low > o.max_amplitude_ratio) {
-      v.reasons.push_back(fmt::format(
+      scan_reasons.push_back(fmt::format(
           "the spring displacement varies {:.2f}x as much as the scanned "
           "profile{} (limit {:.2f}): part of the normal displacement is not "
           "worn geometry",
@@ -102,22 +106,25 @@ Verdict Judge(const MismatchReport& r, const VerdictOptions& o) {
           IntervalText(r.amplitude_ratio_low, r.amplitude_ratio_high, "{:.2f}"),
           o.max_amplitude_ratio));
     }
-    if (r.correlation_noise_corrected < o.min_correlation) {
-      v.reasons.push_back(fmt::format(
-          "the aligned profiles correlate at r = {:.2f} ({:.2f} corrected for "
-          "the noise of the force profile) < {:.2f}",
-          r.correlation,
-          r.correlation_noise_corrected,
-          o.min_correlation));
-    }
   }
+  const bool profiles_differ =
+      r.has_scan && r.correlation_noise_corrected < o.min_correlation;
+  if (profiles_differ) {
+    scan_reasons.push_back(fmt::format(
+        "the aligned profiles correlate at r = {:.2f} ({:.2f} corrected for "
+        "the noise of the force profile) < {:.2f}",
+        r.correlation,
+        r.correlation_noise_corrected,
+        o.min_correlation));
+  }
+  std::vector<std::string> method_reasons;
   const Statistic& mu = from_force ? r.mu_force : r.mu_scan;
   const Interval& d = r.method_difference;
   // The whole interval beyond the limit (one value: the value itself).
   const double nearest = d.low > 0 ? d.low : (d.high < 0 ? d.high : 0.0);
   if (mu.count > 0 && d.count > 0 &&
       std::abs(nearest) > o.max_method_difference) {
-    v.reasons.push_back(
+    method_reasons.push_back(
         fmt::format("the methods disagree: mu-hat {:.4f} ({}) vs energy "
                     "method {:.4f}, difference {:+.4f}{} beyond +-{:.3f} "
                     "(mean method {:.4f})",
@@ -129,6 +136,21 @@ Verdict Judge(const MismatchReport& r, const VerdictOptions& o) {
                     o.max_method_difference,
                     r.mu_mean.mean));
   }
+  const bool force_side_passes = v.reasons.empty() && method_reasons.empty();
+  if (profiles_differ && from_force && force_side_passes) {
+    v.scan_doubt = fmt::format(
+        "the scan may belong to another test: its profile correlates with "
+        "P/S at r = {:.2f} ({:.2f} corrected) < {:.2f} while the force side "
+        "alone is explained; the verdict is judged on the force side (check "
+        "that the scan is this specimen's)",
+        r.correlation,
+        r.correlation_noise_corrected,
+        o.min_correlation);
+  } else {
+    v.reasons.insert(v.reasons.end(), scan_reasons.begin(), scan_reasons.end());
+  }
+  v.reasons.insert(
+      v.reasons.end(), method_reasons.begin(), method_reasons.end());
   v.explained = v.reasons.empty();
   return v;
 }

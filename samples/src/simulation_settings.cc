@@ -82,6 +82,12 @@ std::vector<S> CaseSettings() {
                1e-6,
                1e3,
                &R::amplitude_mm),
+      Override("spring",
+               fmt::format("The rig's loading spring S, N/mm (default {})",
+                           d.spring_n_per_mm),
+               1e-3,
+               1e6,
+               &R::spring_n_per_mm),
       Override("frequency",
                fmt::format("Drive frequency, Hz (default {})", d.frequency_hz),
                1e-6,
@@ -158,6 +164,7 @@ void Override(const SimulationRequest& r,
   if (r.rate_hz > 0) o->sampling_rate_hz = r.rate_hz;
   if (r.amplitude_mm > 0) o->amplitude_mm = r.amplitude_mm;
   if (r.frequency_hz > 0) o->frequency_hz = r.frequency_hz;
+  if (r.spring_n_per_mm > 0) o->spring_n_per_mm = r.spring_n_per_mm;
   if (r.scan_cols > 0) o->scan_cols = r.scan_cols;
   if (r.scan_rows > 0) o->scan_rows = r.scan_rows;
   if (r.scan_pitch_mm > 0) o->scan_pitch_mm = r.scan_pitch_mm;

@@ -100,7 +100,7 @@ const ScanFormat& DetectScanFormat(const std::string& bytes,
   return *best;
 }
 
-const ScanFormat* BinaryScanFormatOf(const std::string& path) {
+const ScanFormat* ScanFormatOf(const std::string& path, int min_score) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return nullptr;
   std::string head(kDetectHeadBytes, '\0');
@@ -108,9 +108,13 @@ const ScanFormat* BinaryScanFormatOf(const std::string& path) {
   head.resize(static_cast<std::size_t>(in.gcount()));
   const std::string ext = LowerExtension(path);
   for (const ScanFormat& f : ScanFormats()) {
-    if (f.detect(head, ext) >= kDetectExtension) return &f;
+    if (f.detect(head, ext) >= min_score) return &f;
   }
   return nullptr;
+}
+
+const ScanFormat* BinaryScanFormatOf(const std::string& path) {
+  return ScanFormatOf(path, kDetectExtension);
 }
 
 std::string ScanExtensionList() {

@@ -279,7 +279,8 @@ Track FindTrack(const HeightMap& map, const TrackOptions& options) {
     throw NoTrackError(fmt::format(
         "{}: no worn track found: no elongated depression deeper than {:.4f} "
         "mm (length/width >= "
-        "{}); place it by hand (centre and angle) or lower the depth threshold",
+        "{}); place it by hand (--track-x, --track-y, --track-angle) or lower "
+        "the depth threshold (--min-depth; in Python min_depth=)",
         map.metadata.source,
         threshold,
         options.min_elongation));

@@ -380,6 +380,19 @@ TEST(Audit, FindsSpecimensInSubFoldersAndSaysWhatItLookedFor) {
   fs::copy_file(dir + "/S-TL-L.force.csv", lab + "/spruce/specimen7/test.csv");
   fs::copy_file(dir + "/S-TL-L.scan.gsf",
                 lab + "/spruce/specimen7/surface.gsf");
+  // lab/beech/extra_friction.csv: no scan of its name; the others have one.
+  fs::copy_file(dir + "/S-TL-L.force.csv", lab + "/beech/extra_friction.csv");
+  const CommandResult dry = Wearscar("audit " + lab + " --dry-run");
+  ASSERT_EQ(dry.status, 0) << dry.output;
+  EXPECT_NE(dry.output.find("specimen7  spruce/specimen7/test.csv  "
+                            "spruce/specimen7/surface.gsf"),
+            std::string::npos)
+      << dry.output;
+  EXPECT_NE(dry.output.find("warning: force only (no scan: no scan of its "
+                            "name in its folder)"),
+            std::string::npos)
+      << dry.output;
+  EXPECT_FALSE(fs::exists(lab + "/audit"));  // a dry run writes nothing
   // An earlier output inside the tree is not searched.
   ASSERT_EQ(
       Wearscar("audit " + lab + " --no-figures -o " + lab + "/audit").status,
@@ -387,7 +400,19 @@ TEST(Audit, FindsSpecimensInSubFoldersAndSaysWhatItLookedFor) {
   const CommandResult r =
       Wearscar("audit " + lab + " --no-figures -o " + lab + "/audit");
   ASSERT_EQ(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("2 specimens: "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("3 specimens: "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("B-RT-R: force + scan, mu-hat"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("extra: force only (no scan: no scan of its name "
+                          "in its folder), mu-hat"),
+            std::string::npos)
+      << r.output;
+  const std::string summary = Slurp(lab + "/audit/summary.csv");
+  EXPECT_NE(summary.find(",pairing,"), std::string::npos);
+  EXPECT_NE(summary.find("no scan paired, although other specimens of the "
+                         "batch have one"),
+            std::string::npos)
+      << summary;
   EXPECT_TRUE(fs::exists(lab + "/audit/B-RT-R/result.json"));
   const nlohmann::json j =
       ParseJson(Slurp(lab + "/audit/specimen7/result.json"));

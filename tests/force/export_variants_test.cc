@@ -422,5 +422,47 @@ TEST(ExportVariants, AWorkbookIsRefusedSayingWhatItIs) {
   }
 }
 
+// Q and P swapped in the header (the load under the friction's name), or
+// a "load" that reverses with the motion: refused with the fix, unless the
+// channels are to be read as given.
+TEST(ExportVariants, SwappedChannelsAreRefusedWithTheFix) {
+  const std::string swapped =
+      Text("time_s,x_mm,Load_N,Friction_N", [](const Row& r, int) {
+        return fmt::format(
+            "{:.4f},{:.6f},{:.4f},"
+            "{:.5f}",
+            r.t,
+            r.x,
+            r.p,
+            r.q);
+      });
+  ReadForceOptions o;
+  o.tangential_column = "Load_N";
+  o.normal_column = "Friction_N";
+  EXPECT_EQ(ErrorOf([&] { ReadForceText(swapped, "swap.csv", o); }),
+            "swap.csv: the friction force Q 'Load' exceeds the normal force "
+            "P 'Friction' in magnitude on 100% of the samples: the two look "
+            "swapped; expected |Q| below |P| (mu below 1): name the columns "
+            "with --columns q=NAME,p=NAME, or give --force-channels-as-given "
+            "to read them as they are");
+  // A friction force read as the load: it changes sign with the motion
+  // (|Q| is set small here so that only the sign speaks).
+  const std::string reversing =
+      Text("time_s,x_mm,Q_N,P_N", [](const Row& r, int) {
+        return fmt::format(
+            "{:.4f},{:.6f},{:.5f},{:.5f}", r.t, r.x, 0.01 * r.q, r.q);
+      });
+  const std::string reversed =
+      ErrorOf([&] { ReadForceText(reversing, "rev.csv"); });
+  EXPECT_NE(reversed.find("rev.csv: the normal force P 'P' changes sign on "
+                          "50% of the samples: it reverses like a friction "
+                          "force"),
+            std::string::npos)
+      << reversed;
+  o.channels_as_given = true;
+  const ForceRecord as_given = ReadForceText(swapped, "swap.csv", o);
+  EXPECT_NEAR(as_given.tangential_n[10], Rows()[10].p, 1e-4);
+}
+
 }  // namespace
 }  // namespace wearscar::force

@@ -87,7 +87,9 @@ TEST(Provenance, TheChecksumTakenWhileReadingIsTheFilesOwn) {
   const std::string sum = Sha256OfFile(path);
   FuseOptions threads, alone;
   alone.parallel = false;
-  const Specimen s{"B-RT-R", path, "", ""};
+  Specimen s;
+  s.name = "B-RT-R";
+  s.force = path;
   const SpecimenAnalysis a = AnalyzeSpecimen(s, {}, {}, alone);
   const SpecimenAnalysis b = AnalyzeSpecimen(s, {}, {}, threads);
   EXPECT_EQ(a.record.metadata.sha256, sum);

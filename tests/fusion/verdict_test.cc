@@ -553,5 +553,75 @@ TEST(ScanThatCannotServe, LeavesTheForceSideStandingAndSaysWhy) {
   EXPECT_THROW(AnalyzeTest(t.record, t.scan, f), FusionError);
 }
 
+// Another specimen's scan (a different ring pattern, so a different worn
+// profile): the force side alone passes, so the verdict stands on it and
+// the scan is doubted in a warning instead of the physics being blamed.
+// The specimen's own scan is not doubted.
+TEST(ScanOfAnotherTest, IsDoubtedNotBlamedOnThePhysics) {
+  samples::SimulationOptions own = NoisyCase("B-RT-R", 1, 0, 120);
+  samples::SimulationOptions other = NoisyCase("S-TL-L", 1, 0, 120);
+  other.seed = 7;
+  const sim::SimulatedTest a = sim::Simulate(own);
+  const sim::SimulatedTest b = sim::Simulate(other);
+  const TestResult mine = AnalyzeTest(a.record, a.scan, NoLugre());
+  EXPECT_TRUE(mine.verdict.explained) << mine.verdict.Summary();
+  EXPECT_EQ(mine.verdict.scan_doubt, "");
+  const TestResult foreign = AnalyzeTest(a.record, b.scan, NoLugre());
+  ASSERT_TRUE(foreign.scan.has_value());
+  EXPECT_LT(foreign.mismatch.correlation_noise_corrected, 0.7);
+  EXPECT_TRUE(foreign.verdict.explained) << foreign.verdict.Summary();
+  ASSERT_FALSE(foreign.warnings.empty());
+  EXPECT_NE(foreign.warnings.front().find(
+                "the scan may belong to another test: its profile correlates "
+                "with P/S at r = "),
+            std::string::npos)
+      << foreign.warnings.front();
+  // Nothing else is concluded from the doubted scan (no elastic part, no
+  // spring's stiffness).
+  for (const std::string& w : foreign.warnings) {
+    EXPECT_EQ(w.find("elastic"), std::string::npos) << w;
+    EXPECT_EQ(w.find("spring"), std::string::npos) << w;
+  }
+  // mu-hat with k from P is the same whichever scan is given.
+  EXPECT_NEAR(
+      foreign.mismatch.mu_force.mean, mine.mismatch.mu_force.mean, 1e-12);
+}
+
+// The spring's stiffness not given: the result says the default is
+// assumed; with a rig whose spring is 2.5x stiffer, the scan implies it and
+// a warning names it.
+TEST(SpringNotGiven, IsSaidAndTheScanImpliesTheRigsStiffness) {
+  samples::SimulationOptions o = NoisyCase("B-RT-R", 1, 0, 120);
+  o.spring_n_per_mm = 25.0;
+  const sim::SimulatedTest t = sim::Simulate(o);
+  const TestResult r = AnalyzeTest(t.record, t.scan, NoLugre());
+  ASSERT_FALSE(r.assumptions.empty());
+  EXPECT_NE(r.assumptions[0].find("spring S = 10.19 N/mm: the default (the "
+                                  "paper's rig), not given"),
+            std::string::npos)
+      << r.assumptions[0];
+  // The number said, corrected for the track's growth after the compared
+  // cycles: within 5% of the rig's.
+  const size_t at = r.assumptions[0].find("the scan implies ");
+  ASSERT_NE(at, std::string::npos) << r.assumptions[0];
+  EXPECT_NEAR(std::stod(r.assumptions[0].substr(at + 17)), 25.0, 1.25)
+      << r.assumptions[0];
+  bool warned = false;
+  for (const std::string& w : r.warnings)
+    warned = warned || w.find(
+                           "the spring's stiffness was not given and the "
+                           "default 10.19 N/mm is used, but the scan "
+                           "implies") != std::string::npos;
+  EXPECT_TRUE(warned);
+  FuseOptions given = NoLugre();
+  given.analysis.friction.slope.spring_n_per_mm = 25.0;
+  given.spring_given = true;
+  const TestResult g = AnalyzeTest(t.record, t.scan, given);
+  EXPECT_EQ(g.assumptions[0], "spring S = 25 N/mm (given)");
+  EXPECT_TRUE(g.verdict.explained) << g.verdict.Summary();
+  for (const std::string& w : g.warnings)
+    EXPECT_EQ(w.find("the spring's stiffness"), std::string::npos) << w;
+}
+
 }  // namespace
 }  // namespace wearscar::fusion

@@ -64,8 +64,16 @@ void AuditSpecimen(const AuditOptions& o,
     const fusion::TestProducts products =
         WriteTestResults(dir, s.name, record, r, o.fuse);
     nlohmann::json row = products.result;
+    if (s.scan_expected) {
+      const std::string missing =
+          "no scan paired, although other specimens of the batch have one (" +
+          s.no_scan + "); the verdict is the force side's alone";
+      AddWarningToResult(dir, missing);
+      row["warnings"].push_back(missing);
+    }
     row.update(sec->row);
     row["scan_file"] = s.scan;
+    row["pairing"] = s.Pairing();
     sec->row = row;
     sec->flagged = !r.verdict.explained;
     *series = {s.name,

@@ -357,6 +357,14 @@ void AppendSpecimenSection(const ReportSection& s, std::string* out) {
   }
   h +=
       "<p>" + Escape(s.row["verdict"]["summary"].get<std::string>()) + "</p>\n";
+  if (s.row.contains("pairing") && s.row["pairing"].is_string())
+    h += "<p class=\"note\">Files: " +
+         Escape(s.row["pairing"].get<std::string>()) + "</p>\n";
+  if (s.row.contains("assumptions") && s.row["assumptions"].is_array()) {
+    for (const auto& a : s.row["assumptions"])
+      h += "<p class=\"note\">Assumed: " + Escape(a.get<std::string>()) +
+           "</p>\n";
+  }
   h += NumbersTable(s.row);
   if (s.row.contains("slope_estimate") && s.row["slope_estimate"].is_string())
     h += "<p class=\"note\">" +

@@ -33,6 +33,10 @@ struct ReadForceOptions {
   double sampling_rate_hz = 0.0;
   // Drop isolated bad rows with a counted warning instead of failing.
   bool lenient = false;
+  // Read Q and P as they are even when they cannot be a friction force and
+  // a load (|Q| above |P| on most samples, a load changing sign); refused
+  // otherwise, naming the fix.
+  bool channels_as_given = false;
   // Lenient mode still fails when more than this fraction of rows is bad.
   double max_dropped_fraction = 0.01;
   // Longest run of NaN samples accepted in any channel.

@@ -9,17 +9,10 @@
 
 #include "wearscar/force/read_force.h"
 #include "wearscar/fusion/fuse.h"
+#include "wearscar/fusion/pairing.h"
 #include "wearscar/scan/read_scan.h"
 
 namespace wearscar::fusion {
-
-// One specimen of a batch: its force export and, optionally, its scan.
-struct Specimen {
-  std::string name;
-  std::string force;
-  std::string scan;   // empty: force-only analysis
-  std::string error;  // a pairing problem: reported as the specimen's failure
-};
 
 // What a specimen's name says of it: `pattern`'s groups are the material
 // (looked up in `materials`), the plane and the direction. The defaults are
@@ -45,25 +38,6 @@ struct BatchOptions {
 
   bool IsValid(std::string* why) const;
 };
-
-// A specimen name from a file name: the stem without ".force" / "_force"
-// / "-force" (or the same with "scan"): "data/B-RT-R.force.csv" -> "B-RT-R".
-std::string SpecimenName(const std::string& path);
-
-// Pairs the force files of a folder with their scans: a binary height map
-// by its content (the scan registry), a text file as a scan when its name
-// says "scan", "height" or "keyence", else as a force record; the specimen
-// key is the name pattern's match, else the stem without its role suffix.
-// Two candidates of the same rank for one role, or a scan without a force
-// file, are the specimen's error.
-// With `recursive`, sub-folders too (hidden ones and those holding a
-// .wearscar-manifest, an earlier output, are skipped): files pair within
-// their folder, and a sub-folder with one force file and one scan whose
-// names do not pair is one specimen named after the folder. A name found
-// in two folders is an error of the second.
-std::vector<Specimen> PairFolder(const std::string& dir,
-                                 const std::string& name_pattern,
-                                 bool recursive = false);
 
 // manifest.csv: a header naming specimen, force and (optional) scan in any
 // order (RFC 4180 cells), paths relative to the manifest. Throws

@@ -51,6 +51,10 @@ struct FuseOptions {
   }();
   VerdictOptions verdict;
   DataWarningOptions warnings;
+  // Whether the spring's stiffness (analysis.friction.slope) was given by
+  // the user; when not, its default is the paper's rig's and the result
+  // says so, with the stiffness a scan implies (MakeTestSettings sets it).
+  bool spring_given = false;
   // mu(x, cycle) along the stroke, raw and corrected for the slope.
   FrictionMapOptions friction_map;
   // h(x, cycle) from P/S: the track's shape under load as it wears.
@@ -108,6 +112,10 @@ struct TestResult {
   // How well the data carry the method (DataWarnings), and why a scan
   // given was not used (scan_skipped, also the first warning).
   std::vector<std::string> warnings;
+  // What the result rests on that the files did not state, in words: the
+  // spring's stiffness and where it came from, the slope the verdict
+  // judges (Assumptions).
+  std::vector<std::string> assumptions;
   std::string scan_skipped;
   std::string scan_file;  // the scan's source, used or not ("" without one)
   // Track size, load, sliding distance and specific wear rate (the scan

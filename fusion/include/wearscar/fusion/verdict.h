@@ -79,6 +79,10 @@ struct DataWarningOptions {
 struct Verdict {
   bool explained = false;
   std::vector<std::string> reasons;  // every criterion that failed
+  // Set when the scan's profile does not match P/S (correlation below the
+  // limit) while the force side alone passes: the scan may be another
+  // test's, so it is not judged; the sentence says so (a warning).
+  std::string scan_doubt;
   std::string Summary()
       const;  // "explained by wear-scar interaction" or "not explained: ..."
 };

@@ -16,6 +16,7 @@ struct SimulationRequest {
   int cycles = -1;
   double rate_hz = -1;
   double amplitude_mm = -1, frequency_hz = -1;
+  double spring_n_per_mm = -1;  // the rig's loading spring
   int scan_cols = -1, scan_rows = -1;
   double scan_pitch_mm = -1;
   bool no_elastic = false;

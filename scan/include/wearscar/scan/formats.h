@@ -58,6 +58,12 @@ const ScanFormat& DetectScanFormat(const std::string& bytes,
 // force records (".dat" is a Zygo map or a force export by its content).
 const ScanFormat* BinaryScanFormatOf(const std::string& path);
 
+// The format whose detect score for the file at `path` is at least
+// `min_score` (kDetectText: a text layout it recognises, such as a Keyence
+// VR CSV), or nullptr: how the audit tells a text height map whose name
+// says nothing from a force export.
+const ScanFormat* ScanFormatOf(const std::string& path, int min_score);
+
 // "zon, zag, vk4, vk6, vk7, x3p, gsf, plu, al3d, opd, sur, dat, csv, txt"
 // for help strings.
 std::string ScanExtensionList();

@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "fields.h"
+#include "stated.h"
 #include "units.h"
 #include "wearscar/support/check.h"
 #include "wearscar/support/text.h"
@@ -245,9 +246,10 @@ Layout DetectLayout(const std::vector<std::string>& head,
     ++layout.first_number_column;
   FindHeaderAndUnits(head, &layout);
   ReadNamesAndUnits(head, &layout);
-  layout.metadata_rate_hz = FindMetadataRate(
-      head,
-      layout.header_line >= 0 ? layout.header_line : layout.first_data_line);
+  const int above =
+      layout.header_line >= 0 ? layout.header_line : layout.first_data_line;
+  layout.metadata_rate_hz = FindMetadataRate(head, above);
+  layout.stated = FindStatedFacts(head, above);
   layout.kind = &KindOf(layout);
   return layout;
 }

@@ -190,6 +190,7 @@ Plan PlanRead(LineSource& source,
   RequireNumbers(p.head, p.column, p.layout, p.clock, name);
   meta->source = name;
   meta->layout = p.layout.kind->name;
+  meta->stated = p.layout.stated;
   for (int ch = 0; ch < 4; ++ch) {
     if (p.column[ch] < 0) continue;
     p.scale[ch] = ch == kTime && p.clock.field >= 0

@@ -378,6 +378,55 @@ std::vector<std::string> Assumptions(const TestResult& r,
   return {spring, slope};
 }
 
+// The median of P over about 4096 samples.
+double MedianLoad(const force::ForceRecord& record) {
+  std::vector<double> p;
+  const Eigen::Index n = record.size();
+  for (Eigen::Index i = 0; i < n; i += std::max<Eigen::Index>(1, n / 4096)) {
+    if (std::isfinite(record.normal_n[i])) p.push_back(record.normal_n[i]);
+  }
+  if (p.empty()) return NAN;
+  std::nth_element(p.begin(), p.begin() + p.size() / 2, p.end());
+  return p[p.size() / 2];
+}
+
+// The test conditions the file's header states that the data contradict
+// by more than 10% (the cycles' count by more than that and one cycle).
+std::vector<std::string> StatedButNotFound(const force::ForceRecord& record,
+                                           const ForceAnalysis& force) {
+  std::vector<std::string> out;
+  const auto& cycles = force.cycles.cycles;
+  for (const force::StatedFact& f : record.metadata.stated) {
+    double found = NAN;
+    std::string shown;
+    if (f.what == "stroke") {
+      found = force.cycles.stroke_mm;
+      shown = fmt::format("a stroke of {:.3g} mm (peak to peak)", found);
+    } else if (f.what == "cycles") {
+      found = static_cast<double>(cycles.size());
+      shown = fmt::format("{} complete cycles", cycles.size());
+    } else if (f.what == "load") {
+      found = MedianLoad(record);
+      shown = fmt::format("a load of {:.3g} N (median P)", found);
+    } else if (f.what == "frequency" && cycles.size() >= 2) {
+      const double t0 = record.time_s[cycles.front().forward.begin];
+      const double t1 = record.time_s[cycles.back().reverse.end - 1];
+      found = t1 > t0 ? static_cast<double>(cycles.size()) / (t1 - t0) : NAN;
+      shown = fmt::format("{:.3g} Hz", found);
+    }
+    if (!std::isfinite(found)) continue;
+    const double tolerance = f.what == "cycles" ? 0.1 + 1.0 / f.value : 0.1;
+    if (std::abs(found - f.value) > tolerance * f.value) {
+      out.push_back(
+          fmt::format("the file states \"{}\" (line {}), but the data show {}",
+                      f.line,
+                      f.line_number,
+                      shown));
+    }
+  }
+  return out;
+}
+
 // The comparison of the slopes, the verdict, the warnings and the wear,
 // once both sides are analysed.
 void CompareAndJudge(const force::ForceRecord& record,
@@ -401,6 +450,8 @@ void CompareAndJudge(const force::ForceRecord& record,
   MismatchReport judged = result->mismatch;
   judged.has_scan = judged.has_scan && !scan_doubted;
   result->warnings = DataWarnings(result->force, judged, options.warnings);
+  for (std::string& w : StatedButNotFound(record, result->force))
+    result->warnings.push_back(std::move(w));
   if (!result->scan_skipped.empty())
     result->warnings.insert(result->warnings.begin(), result->scan_skipped);
   if (!result->verdict.scan_doubt.empty())

@@ -13,6 +13,7 @@
 #include <ctime>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -462,6 +463,29 @@ TEST(ExportVariants, SwappedChannelsAreRefusedWithTheFix) {
   o.channels_as_given = true;
   const ForceRecord as_given = ReadForceText(swapped, "swap.csv", o);
   EXPECT_NEAR(as_given.tangential_n[10], Rows()[10].p, 1e-4);
+}
+
+// Test conditions stated above the data, in the ways exports write them:
+// each kind once, in mm, a count, N and Hz; the sampling rate is not the
+// drive's frequency, an elapsed time holds no "laps".
+TEST(ExportVariants, StatedTestConditionsAreRead) {
+  const std::string text =
+      "Sampling rate: 2000 Hz\nTime elapsed: 2 s\n"
+      "Track length 5 mm, Cycles 3000\nNormal load [N]: 30\n"
+      "Amplitude (um) = 2850\nFrequency: 1 Hz\n" +
+      Text("time_s,x_mm,Q_N,P_N", [](const Row& r, int) { return Plain(r); });
+  const ForceRecord r = ReadForceText(text, "stated.csv");
+  std::map<std::string, std::pair<double, int>> got;
+  for (const StatedFact& f : r.metadata.stated)
+    got[f.what] = {f.value, f.line_number};
+  ASSERT_EQ(got.size(), 4u) << text.substr(0, 200);
+  EXPECT_DOUBLE_EQ(got["stroke"].first, 5.0);  // the first stated
+  EXPECT_EQ(got["stroke"].second, 3);
+  EXPECT_DOUBLE_EQ(got["cycles"].first, 3000);
+  EXPECT_DOUBLE_EQ(got["load"].first, 30);
+  EXPECT_DOUBLE_EQ(got["frequency"].first, 1);
+  EXPECT_EQ(r.metadata.stated[0].line, "Track length 5 mm, Cycles 3000");
+  EXPECT_EQ(r.metadata.sampling_rate_hz, 2000);
 }
 
 }  // namespace

@@ -11,6 +11,8 @@
 
 #include <Eigen/QR>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <optional>
 #include <random>
@@ -19,6 +21,7 @@
 
 #include "common/simulated.h"
 #include "paper_cases.h"
+#include "wearscar/force/read_force.h"
 #include "wearscar/fusion/ensemble.h"
 #include "wearscar/fusion/fuse.h"
 
@@ -621,6 +624,37 @@ TEST(SpringNotGiven, IsSaidAndTheScanImpliesTheRigsStiffness) {
   EXPECT_TRUE(g.verdict.explained) << g.verdict.Summary();
   for (const std::string& w : g.warnings)
     EXPECT_EQ(w.find("the spring's stiffness"), std::string::npos) << w;
+}
+
+// A header that states other test conditions than the data show (the
+// home-built rig's "Track length 5 mm, Cycles 3000" over 4 mm and 31
+// cycles): each is a warning naming both; conditions that agree are not.
+TEST(StatedConditions, ThatTheDataContradictAreWarnedOf) {
+  samples::SimulationOptions o = NoisyCase("B-RT-R", 1, 0, 31);
+  o.amplitude_mm = 2.0;
+  const sim::SimulatedTest t = sim::Simulate(o);
+  const std::string path = ::testing::TempDir() + "/stated.force.csv";
+  force::WriteForceCsv(t.record, path);
+  std::ifstream in(path);
+  const std::string data((std::istreambuf_iterator<char>(in)),
+                         std::istreambuf_iterator<char>());
+  std::ofstream(path) << "Track length 5 mm, Cycles 3000\nLoad: 30 N\n"
+                         "Frequency: 1 Hz\n"
+                      << data;
+  const force::ForceRecord r = force::ReadForceFile(path);
+  const TestResult result = AnalyzeTest(r, std::nullopt, NoLugre());
+  std::vector<std::string> said;
+  for (const std::string& w : result.warnings)
+    if (w.find("the file states") == 0) said.push_back(w);
+  ASSERT_EQ(said.size(), 2u);
+  EXPECT_NE(said[0].find("the file states \"Track length 5 mm, Cycles "
+                         "3000\" (line 1), but the data show a stroke of 4 "
+                         "mm (peak to peak)"),
+            std::string::npos)
+      << said[0];
+  EXPECT_NE(said[1].find("but the data show 31 complete cycles"),
+            std::string::npos)
+      << said[1];
 }
 
 }  // namespace

@@ -16,6 +16,16 @@ class ForceError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A test condition the file's header states in words ("Track length 5 mm",
+// "Cycles: 3000"): what, its value in mm (stroke: peak to peak), a count
+// (cycles), N (load) or Hz (frequency), and the line it was read from.
+struct StatedFact {
+  std::string what;  // "stroke", "cycles", "load", "frequency"
+  double value = 0.0;
+  std::string line;
+  int line_number = 0;  // from 1
+};
+
 // Where a record came from and what the reader saw on the way.
 struct ForceMetadata {
   std::string source;             // file path, or "simulator"
@@ -33,6 +43,9 @@ struct ForceMetadata {
   // the same whoever parsed them.
   long rows_on_second_thread = 0;
   std::vector<std::string> warnings;
+  // Test conditions the header states; the analysis checks them against
+  // the data.
+  std::vector<StatedFact> stated;
   // The file's SHA-256 (64 hex digits) when its reader's caller computed
   // it from the bytes read (ReadForceOptions::on_bytes); empty otherwise.
   std::string sha256;

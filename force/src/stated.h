@@ -1,0 +1,18 @@
+#pragma once
+// Test conditions a force file's header states in words ("Track length
+// 5 mm", "Cycles: 3000", "Normal load [N] = 30", "Frequency 2 Hz"): what
+// the analysis checks the data against.
+
+#include <string>
+#include <vector>
+
+#include "wearscar/force/force_record.h"
+
+namespace wearscar::force::internal {
+
+// The facts stated in `head` lines [0, end): at most one of each kind, the
+// first found, in mm, a count, N and Hz.
+std::vector<StatedFact> FindStatedFacts(const std::vector<std::string>& head,
+                                        int end);
+
+}  // namespace wearscar::force::internal

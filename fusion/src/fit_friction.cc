@@ -2,6 +2,7 @@
 // test's noise explains and what repeats at the same x (FitFriction).
 
 #include <cmath>
+#include <future>
 #include <optional>
 
 #include "fit_mu_internal.h"
@@ -78,7 +79,8 @@ void RemoveKNoiseBias(const std::vector<double>& bias_per_variance,
 
 // Fits every cycle and keeps what the noise split needs: the misfit
 // Qm - Qw and k binned along x per cycle (sums of squares per cycle and
-// direction beside).
+// direction beside). Each cycle writes only its own places (its fit, its
+// sums, its cycle's bins), so that two threads may fit halves.
 struct CycleFitter {
   CycleFitter(const force::ForceRecord& r,
               const force::CycleSet& c,
@@ -204,7 +206,21 @@ FrictionFits FitFriction(const force::ForceRecord& record,
     out.correlated_cycles = std::max(1, n);
   }
   CycleFitter fitter(record, cycles, options, scan_slope, slope_scale, &out);
-  fitter.Fit(0, n, force_slopes ? &*force_slopes : nullptr);
+  // With threads, the force side's second half of the cycles on a thread
+  // of its own, with its own ensemble (its first window summed afresh: the
+  // same sums to the bit as slid, float sums of a few cycles being exact in
+  // double), so the fits are the same with and without.
+  const int half = n / 2;
+  if (force_slopes && options.threads > 1 && half >= 2 * shared) {
+    std::optional<ForceSlopes> second;
+    second.emplace(record, cycles, options);
+    std::future<void> done =
+        std::async(std::launch::async, [&] { fitter.Fit(half, n, &*second); });
+    fitter.Fit(0, half, &*force_slopes);
+    done.get();
+  } else {
+    fitter.Fit(0, n, force_slopes ? &*force_slopes : nullptr);
+  }
   // The split: other cycles at the same x whose k shares no P sample with
   // this cycle's form the template.
   SplitCosts(

@@ -270,6 +270,10 @@ bool FitMuOptions::IsValid(std::string* why) const {
 }
 
 bool FrictionFitOptions::IsValid(std::string* why) const {
+  if (threads < 1 || threads > 256) {
+    if (why) *why = "threads must be in [1, 256]";
+    return false;
+  }
   return slope.IsValid(why) && ensemble.IsValid(why) && fit.IsValid(why) &&
          repeatability.IsValid(why);
 }

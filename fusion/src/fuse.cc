@@ -533,6 +533,9 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
   result.scan_file = scan_file;
   AnalysisOptions ao = options.analysis;
   ao.fit_force_slope = options.slopes != SlopeChoice::kScan;
+  // The force side's fit on both cores where this test has them (its
+  // second half of the cycles beside the first; the same fits).
+  if (options.parallel) ao.friction.threads = std::max(ao.friction.threads, 2);
   result.force = AnalyzeForce(record, ao);
   const int n = static_cast<int>(result.force.cycles.cycles.size());
   RefuseCyclesBeyondTheTest(options, n);

@@ -131,6 +131,43 @@ TEST(AnalyzeForce, RecoversSimulatedMuPerCycleOnBeechRtR) {
   EXPECT_LT(r.cost.mean, 0.4);  // explained (paper's threshold)
 }
 
+// On two threads the second half of the cycles is fitted beside the first
+// with an ensemble of its own: every number of every cycle's fit, and the
+// noise split over all of them, the same as on one.
+TEST(FitFriction, TwoThreadsGiveTheFitsOfOne) {
+  samples::SimulationOptions o = samples::PaperCase("S-RT-R");
+  o.cycles = 90;
+  const sim::SimulatedTest t = sim::Simulate(o);
+  AnalysisOptions a;
+  force::CycleSet cycles = force::SegmentCycles(t.record.x_mm);
+  force::FindGrossSlip(t.record, &cycles, a.slip);
+  FrictionFitOptions one = a.friction, two = a.friction;
+  two.threads = 2;
+  const FrictionFits f1 =
+      FitFriction(t.record, cycles, SlopeSource::kForce, one);
+  const FrictionFits f2 =
+      FitFriction(t.record, cycles, SlopeSource::kForce, two);
+  ASSERT_EQ(f1.cycles.size(), 90u);
+  ASSERT_EQ(f2.cycles.size(), 90u);
+  for (size_t c = 0; c < f1.cycles.size(); ++c) {
+    const MuFit &x = f1.cycles[c], &y = f2.cycles[c];
+    ASSERT_TRUE(x.converged) << c;
+    EXPECT_EQ(x.mu_hat, y.mu_hat) << c;
+    EXPECT_EQ(x.cost, y.cost) << c;
+    EXPECT_EQ(x.samples, y.samples) << c;
+    EXPECT_EQ(x.standard_error, y.standard_error) << c;
+    EXPECT_EQ(x.cost_floor, y.cost_floor) << c;
+    EXPECT_EQ(x.cost_excess, y.cost_excess) << c;
+    EXPECT_NEAR(x.mu_hat, t.truth.mu_per_cycle[c], 0.01) << c;
+  }
+  EXPECT_EQ(f1.k_ensemble_noise_rms, f2.k_ensemble_noise_rms);
+  EXPECT_EQ(f1.k_noise_correction, f2.k_noise_correction);
+  one.threads = 0;
+  std::string why;
+  EXPECT_FALSE(one.IsValid(&why));
+  EXPECT_NE(why.find("threads"), std::string::npos) << why;
+}
+
 TEST(RunningIn, EndsWhereTheTransientFallsInsideTheBand) {
   // 0.11 + 0.04 exp(-c / 20) with a slow drift and scatter: the transient
   // drops below the 0.005 band at c = 20 ln 8 = 41.6.

@@ -113,6 +113,10 @@ struct FrictionFitOptions {
   // k noise the split estimates (FrictionFits::k_ensemble_noise_rms). Ensemble
   // only: the paper's k per cycle is left as the paper has it.
   bool correct_k_noise_bias = true;
+  // Threads FitFriction fits the cycles of the force side on: 2 fit the
+  // second half of the cycles beside the first (`wearscar fuse`); the fits
+  // are the same with any number.
+  int threads = 1;
   bool IsValid(std::string* why) const;
 };
 

@@ -58,6 +58,59 @@ std::string IntervalText(double low, double high, const char* format) {
                      high);
 }
 
+// The scan's criteria: the amplitude ratio and the profiles' correlation.
+std::vector<std::string> ScanReasons(const MismatchReport& r,
+                                     const VerdictOptions& o) {
+  std::vector<std::string> reasons;
+  if (!r.has_scan) return reasons;
+  const bool has_interval = std::isfinite(r.amplitude_ratio_low);
+  const double ratio_low =
+      has_interval ? r.amplitude_ratio_low : r.amplitude_ratio;
+  if (ratio_low > o.max_amplitude_ratio) {
+    reasons.push_back(fmt::format(
+        "the spring displacement varies {:.2f}x as much as the scanned "
+        "profile{} (limit {:.2f}): part of the normal displacement is not "
+        "worn geometry",
+        r.amplitude_ratio,
+        IntervalText(r.amplitude_ratio_low, r.amplitude_ratio_high, "{:.2f}"),
+        o.max_amplitude_ratio));
+  }
+  if (r.correlation_noise_corrected < o.min_correlation) {
+    reasons.push_back(fmt::format(
+        "the aligned profiles correlate at r = {:.2f} ({:.2f} corrected for "
+        "the noise of the force profile) < {:.2f}",
+        r.correlation,
+        r.correlation_noise_corrected,
+        o.min_correlation));
+  }
+  return reasons;
+}
+
+// mu-hat against the energy method: flagged when the whole interval of
+// their difference lies beyond the limit (one value: the value itself).
+std::vector<std::string> MethodReasons(const MismatchReport& r,
+                                       const VerdictOptions& o,
+                                       bool from_force,
+                                       const char* source) {
+  const Statistic& mu = from_force ? r.mu_force : r.mu_scan;
+  const Interval& d = r.method_difference;
+  const double nearest = d.low > 0 ? d.low : (d.high < 0 ? d.high : 0.0);
+  if (!(mu.count > 0 && d.count > 0 &&
+        std::abs(nearest) > o.max_method_difference))
+    return {};
+  return {
+      fmt::format("the methods disagree: mu-hat {:.4f} ({}) vs energy "
+                  "method {:.4f}, difference {:+.4f}{} beyond +-{:.3f} "
+                  "(mean method {:.4f})",
+                  mu.mean,
+                  source,
+                  r.mu_energy.mean,
+                  d.mean,
+                  IntervalText(d.low, d.high, "{:+.4f}"),
+                  o.max_method_difference,
+                  r.mu_mean.mean)};
+}
+
 }  // namespace
 
 Verdict Judge(const MismatchReport& r, const VerdictOptions& o) {
@@ -92,50 +145,11 @@ Verdict Judge(const MismatchReport& r, const VerdictOptions& o) {
   // The scan's criteria are judged only when the scan can be this test's:
   // a profile unlike P/S's while the force side alone passes is a doubt
   // about the scan (scan_doubt), not a verdict on the physics.
-  std::vector<std::string> scan_reasons;
-  if (r.has_scan) {
-    const bool has_interval = std::isfinite(r.amplitude_ratio_low);
-    const double ratio_low =
-        has_interval ? r.amplitude_ratio_low : r.amplitude_ratio;
-    if (ratio_low > o.max_amplitude_ratio) {
-      scan_reasons.push_back(fmt::format(
-          "the spring displacement varies {:.2f}x as much as the scanned "
-          "profile{} (limit {:.2f}): part of the normal displacement is not "
-          "worn geometry",
-          r.amplitude_ratio,
-          IntervalText(r.amplitude_ratio_low, r.amplitude_ratio_high, "{:.2f}"),
-          o.max_amplitude_ratio));
-    }
-  }
+  const std::vector<std::string> scan_reasons = ScanReasons(r, o);
   const bool profiles_differ =
       r.has_scan && r.correlation_noise_corrected < o.min_correlation;
-  if (profiles_differ) {
-    scan_reasons.push_back(fmt::format(
-        "the aligned profiles correlate at r = {:.2f} ({:.2f} corrected for "
-        "the noise of the force profile) < {:.2f}",
-        r.correlation,
-        r.correlation_noise_corrected,
-        o.min_correlation));
-  }
-  std::vector<std::string> method_reasons;
-  const Statistic& mu = from_force ? r.mu_force : r.mu_scan;
-  const Interval& d = r.method_difference;
-  // The whole interval beyond the limit (one value: the value itself).
-  const double nearest = d.low > 0 ? d.low : (d.high < 0 ? d.high : 0.0);
-  if (mu.count > 0 && d.count > 0 &&
-      std::abs(nearest) > o.max_method_difference) {
-    method_reasons.push_back(
-        fmt::format("the methods disagree: mu-hat {:.4f} ({}) vs energy "
-                    "method {:.4f}, difference {:+.4f}{} beyond +-{:.3f} "
-                    "(mean method {:.4f})",
-                    mu.mean,
-                    source,
-                    r.mu_energy.mean,
-                    d.mean,
-                    IntervalText(d.low, d.high, "{:+.4f}"),
-                    o.max_method_difference,
-                    r.mu_mean.mean));
-  }
+  const std::vector<std::string> method_reasons =
+      MethodReasons(r, o, from_force, source);
   const bool force_side_passes = v.reasons.empty() && method_reasons.empty();
   if (profiles_differ && from_force && force_side_passes) {
     v.scan_doubt = fmt::format(

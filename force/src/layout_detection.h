@@ -20,7 +20,7 @@ struct Layout {
   std::vector<std::string> names;  // per column
   std::vector<std::string> units;  // per column ("" unknown)
   double metadata_rate_hz = 0.0;
-  std::vector<StatedFact> stated;  // test conditions stated above the data
+  std::vector<StatedFact> stated;     // test conditions stated above the data
   const ForceLayout* kind = nullptr;  // the registry's entry
   // The first column holding a number in the first data row (0 but where
   // a text column, a status or a time of day, comes first): a row whose

@@ -66,6 +66,10 @@ void RowReader::Handle(std::string_view row, long line_no) {
   std::string error = ParseCells(value, &text_row, line_no);
   if (error.empty() && column_[kTime] >= 0) error = JoinClock(value, line_no);
   if (!error.empty()) {
+    // A row with fewer fields than the header, last in the file, is a cut
+    // row (an interrupted export), not a bad file (Finish).
+    if (pending_bad_rows_ == 0)
+      pending_short_ = !text_row && cells_.size() < columns_;
     if (pending_error_.empty()) pending_error_ = error;
     ++pending_bad_rows_;
     footer_rows_ += text_row ? 1 : 0;
@@ -78,7 +82,12 @@ void RowReader::Handle(std::string_view row, long line_no) {
 
 std::array<Eigen::VectorXd, 4> RowReader::Finish() {
   if (pending_bad_rows_ > 0) {
-    if (footer_rows_ == pending_bad_rows_) {
+    if (pending_bad_rows_ == 1 && pending_short_) {
+      meta_->warnings.push_back(
+          fmt::format("the last row is cut and was dropped ({}): was the "
+                      "export interrupted?",
+                      pending_error_.substr(name_.size() + 2)));
+    } else if (footer_rows_ == pending_bad_rows_) {
       meta_->warnings.push_back(
           fmt::format("ignored a footer of {} text lines", footer_rows_));
     } else if (!options_.lenient) {

@@ -104,6 +104,7 @@ class RowReader {
   std::vector<std::string_view> cells_;
   std::string pending_error_;
   int pending_bad_rows_ = 0, dropped_ = 0, footer_rows_ = 0, total_rows_ = 0;
+  bool pending_short_ = false;  // the first pending bad row has few fields
   double previous_time_;
   double time_offset_ = 0.0, last_dt_ = 0.0, previous_step_;
   bool in_repeated_header_ = false, block_restart_ = false;

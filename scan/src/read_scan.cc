@@ -39,6 +39,15 @@ void AllowLargeMaps(ReadScanOptions* o) {
 
 void CheckPixels(HeightMap* map, const ReadScanOptions& o) {
   const std::string& file = map->metadata.source;
+  if (map->rows() < 2 || map->cols() < 2) {
+    throw ScanError(fmt::format(
+        "{}: a 1-D profile ({} x {} points); expected a height map of the "
+        "worn track (an area scan: the track's centreline and its width are "
+        "found in it)",
+        file,
+        map->cols(),
+        map->rows()));
+  }
   const double dx = map->dx_mm, dy = map->dy_mm;
   if (!(dx >= o.min_pitch_mm && dx <= o.max_pitch_mm && dy >= o.min_pitch_mm &&
         dy <= o.max_pitch_mm)) {

@@ -488,5 +488,28 @@ TEST(ExportVariants, StatedTestConditionsAreRead) {
   EXPECT_EQ(r.metadata.sampling_rate_hz, 2000);
 }
 
+// An export cut in its last row (the file ends inside it): the row is
+// dropped with a warning that says so; a short row inside the file stays
+// an error.
+TEST(ExportVariants, ACutLastRowIsDroppedAndSaid) {
+  std::string text =
+      Text("time_s,x_mm,Q_N,P_N", [](const Row& r, int) { return Plain(r); });
+  text.resize(text.size() - 20);  // "1.9995,-0.0" and no line break
+  const ForceRecord r = ReadForceText(text, "cut.csv");
+  EXPECT_EQ(r.size(), 3999);
+  ASSERT_FALSE(r.metadata.warnings.empty());
+  EXPECT_EQ(r.metadata.warnings.back(),
+            "the last row is cut and was dropped (line 4001: ragged row: "
+            "found 2 fields, expected 4): was the export interrupted?");
+  size_t tenth = 0;
+  for (int i = 0; i < 10; ++i) tenth = text.find('\n', tenth) + 1;
+  const std::string short_inside =
+      text.substr(0, tenth) + "0.5,1\n" + text.substr(tenth);
+  EXPECT_NE(ErrorOf([&] {
+              ReadForceText(short_inside, "mid.csv");
+            }).find("mid.csv: line 11: ragged row: found 2 fields"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace wearscar::force

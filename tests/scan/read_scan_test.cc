@@ -514,5 +514,26 @@ TEST(KeyenceCsv, AnImplausibleFieldOfViewIsRefusedOrWarnedOf) {
             std::string::npos);
 }
 
+// A 1-D profile (one line of heights, a profilometer's line scan) is
+// refused by name: the track's centreline and width need an area scan.
+TEST(ReadScan, AOneDimensionalProfileIsRefusedByName) {
+  const std::string path = ::testing::TempDir() + "/profile-line.txt";
+  std::string line;
+  for (int i = 0; i < 400; ++i) line += (i ? " " : "") + std::to_string(i % 7);
+  std::ofstream(path) << line << "\n";
+  ReadScanOptions o;
+  o.ascii_pitch_mm = 0.005;
+  try {
+    ReadScan(path, o);
+    FAIL() << "a profile was read as a map";
+  } catch (const ScanError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              path +
+                  ": a 1-D profile (400 x 1 points); expected a height map "
+                  "of the worn track (an area scan: the track's centreline "
+                  "and its width are found in it)");
+  }
+}
+
 }  // namespace
 }  // namespace wearscar::scan

@@ -104,6 +104,12 @@ void RunAudit(AuditArgs a) {
       r.specimens.size() - r.flagged - r.failed,
       r.flagged,
       r.failed);
+  if (!settings.fuse.spring_given) {
+    Say("assumed for every specimen: spring S = {:g} N/mm, the default (the "
+        "paper's rig), not given; each result says the stiffness its scan "
+        "implies (--spring to set it)\n",
+        settings.fuse.analysis.friction.slope.spring_n_per_mm);
+  }
   Say("report: {}\n", fs::absolute(r.report_path).string());
   Say("tables: {} and summary.json\n",
       (fs::path(a.out) / "summary.csv").string());

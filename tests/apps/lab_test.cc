@@ -401,6 +401,10 @@ TEST(Audit, FindsSpecimensInSubFoldersAndSaysWhatItLookedFor) {
       Wearscar("audit " + lab + " --no-figures -o " + lab + "/audit");
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("3 specimens: "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("assumed for every specimen: spring S = 10.19 "
+                          "N/mm, the default"),
+            std::string::npos)
+      << r.output;
   EXPECT_NE(r.output.find("B-RT-R: force + scan, mu-hat"), std::string::npos)
       << r.output;
   EXPECT_NE(r.output.find("extra: force only (no scan: no scan of its name "

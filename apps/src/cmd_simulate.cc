@@ -40,15 +40,8 @@ void RunSimulate(const SimulateCommandArgs& a) {
     const samples::SimulatedTest test = samples::Simulate(o);
     const std::string base = (std::filesystem::path(a.out) / o.name).string();
     if (wants("csv") || wants("rtec")) {
-      const samples::SimulatedChannels& c = test.record;
       const force::ForceRecord record =
-          force::RecordFromChannels(c.time_s,
-                                    c.x_mm,
-                                    c.tangential_n,
-                                    c.normal_n,
-                                    c.source,
-                                    "simulated",
-                                    c.sampling_rate_hz);
+          force::RecordFromChannels(test.record, "simulated");
       if (wants("csv")) force::WriteForceCsv(record, base + ".force.csv");
       if (wants("rtec")) force::WriteRtecCsv(record, base + ".rtec.csv");
     }

@@ -307,14 +307,7 @@ std::vector<Simulated> Simulate(const Given& given) {
   for (const samples::SimulationOptions& o : cases) {
     samples::SimulatedTest t = samples::Simulate(o);
     std::string truth = samples::TruthJson(o, t).dump();
-    samples::SimulatedChannels& c = t.record;
-    out.push_back({force::RecordFromChannels(std::move(c.time_s),
-                                             std::move(c.x_mm),
-                                             std::move(c.tangential_n),
-                                             std::move(c.normal_n),
-                                             c.source,
-                                             "simulated",
-                                             c.sampling_rate_hz),
+    out.push_back({force::RecordFromChannels(std::move(t.record), "simulated"),
                    std::move(t.scan),
                    std::move(truth)});
   }

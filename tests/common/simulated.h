@@ -18,14 +18,7 @@ struct SimulatedTest {
 
 inline SimulatedTest Simulate(const samples::SimulationOptions& options) {
   samples::SimulatedTest t = samples::Simulate(options);
-  samples::SimulatedChannels& c = t.record;
-  return {force::RecordFromChannels(std::move(c.time_s),
-                                    std::move(c.x_mm),
-                                    std::move(c.tangential_n),
-                                    std::move(c.normal_n),
-                                    c.source,
-                                    "simulated",
-                                    c.sampling_rate_hz),
+  return {force::RecordFromChannels(std::move(t.record), "simulated"),
           std::move(t.scan),
           std::move(t.truth)};
 }

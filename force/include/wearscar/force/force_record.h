@@ -98,4 +98,20 @@ inline ForceRecord RecordFromChannels(Eigen::VectorXd time_s,
   return r;
 }
 
+// The same from any struct with the four channels and `source` and
+// `sampling_rate_hz` members (the simulator's SimulatedChannels): moved
+// from when given as an rvalue, copied otherwise.
+template <class Channels>
+ForceRecord RecordFromChannels(Channels&& c, std::string layout) {
+  const double rate = c.sampling_rate_hz;
+  std::string source = c.source;
+  return RecordFromChannels(std::forward<Channels>(c).time_s,
+                            std::forward<Channels>(c).x_mm,
+                            std::forward<Channels>(c).tangential_n,
+                            std::forward<Channels>(c).normal_n,
+                            std::move(source),
+                            std::move(layout),
+                            rate);
+}
+
 }  // namespace wearscar::force

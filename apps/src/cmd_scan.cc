@@ -62,6 +62,7 @@ void RunScan(const ScanArgs& a) {
       map.metadata.instrument.empty() ? "" : ", ",
       map.metadata.instrument,
       map.ValidCount());
+  for (const std::string& w : map.metadata.warnings) Say("  note: {}\n", w);
   // No track: everything that does not need one is still written, with
   // "track": null and the reason, and the command exits 0 with a warning.
   const fusion::MapAnalysis r =

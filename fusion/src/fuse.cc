@@ -452,6 +452,10 @@ void CompareAndJudge(const force::ForceRecord& record,
   result->warnings = DataWarnings(result->force, judged, options.warnings);
   for (std::string& w : StatedButNotFound(record, result->force))
     result->warnings.push_back(std::move(w));
+  if (scan != nullptr) {
+    for (const std::string& w : scan->levelled.metadata.warnings)
+      result->warnings.push_back("the scan: " + w);
+  }
   if (!result->scan_skipped.empty())
     result->warnings.insert(result->warnings.begin(), result->scan_skipped);
   if (!result->verdict.scan_doubt.empty())

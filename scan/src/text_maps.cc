@@ -272,7 +272,20 @@ HeightMap ParseKeyenceCsv(const std::string& bytes, const std::string& name) {
   const size_t pitch_key_row = h.pitch_key_row,
                fallback_pitch_row = h.fallback_pitch_row;
   if (ny < 0) ny = static_cast<long>(rows.size());
-  if (static_cast<long>(rows.size()) != ny || ny == 0 || nx <= 0) {
+  // A file cut short (an interrupted export or copy) keeps the rows it has
+  // when they are at least half the map, with a warning; fewer is refused.
+  std::string cut;
+  const long found = static_cast<long>(rows.size());
+  if (found < ny && 2 * found >= ny && found >= 2) {
+    cut = fmt::format(
+        "the map has {} of the {} rows its header declares (Vertical): the "
+        "file is cut; the {} rows present are read",
+        found,
+        ny,
+        found);
+    ny = found;
+  }
+  if (found != ny || ny == 0 || nx <= 0) {
     throw ScanError(
         fmt::format("{}: {} height rows after line {}; expected {} (Vertical)",
                     name,
@@ -300,6 +313,7 @@ HeightMap ParseKeyenceCsv(const std::string& bytes, const std::string& name) {
         pitch_row));
   }
   HeightMap map;
+  if (!cut.empty()) map.metadata.warnings.push_back(cut);
   if (field_mm < kVrMinField || field_mm > kVrMaxField) {
     map.metadata.warnings.push_back(fmt::format(
         "line {}: a pixel of {:.4g} um makes the map {:.4g} mm wide; a "

@@ -302,6 +302,28 @@ TEST(KeyenceCsv, EnglishHeaderQuotedCellsEmptyInvalidUmUnit) {
   EXPECT_EQ(h.ValidCount(), 4);
 }
 
+// A VR CSV cut short: the rows present are read with a warning giving the
+// count when they are at least half the map; fewer are refused.
+TEST(KeyenceCsv, ACutFileKeepsItsRowsAndSaysHowMany) {
+  std::string text =
+      "Horizontal,3\nVertical,4\nXY Calibration,7.413,um\nUnit,um\n"
+      "Height\n1,2,3\n4,5,6\n7,8,9\n";
+  const HeightMap h = ParseKeyenceCsv(text, "cut.csv");
+  EXPECT_EQ(h.rows(), 3);
+  ASSERT_FALSE(h.metadata.warnings.empty());  // (and the tiny field)
+  EXPECT_EQ(h.metadata.warnings[0],
+            "the map has 3 of the 4 rows its header declares (Vertical): the "
+            "file is cut; the 3 rows present are read");
+  text.replace(text.find("Vertical,4"), 10, "Vertical,8");
+  try {
+    ParseKeyenceCsv(text, "short.csv");
+    FAIL() << "3 of 8 rows read";
+  } catch (const ScanError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "short.csv: 3 height rows after line 5; expected 8 (Vertical)");
+  }
+}
+
 TEST(KeyenceCsv, ShiftJisKeysSemicolonsDecimalComma) {
   // Keys in Japanese (Shift-JIS): the pitch row is found by its um unit and
   // the size by the data block under the Shift-JIS 'Height' (高さ) row.

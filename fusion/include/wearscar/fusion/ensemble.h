@@ -35,7 +35,7 @@ struct PlateGrid {
 
 // Per cycle and direction, the sum of a quantity, of x and the count of
 // samples in each bin. Cycles are added in any order; a range of cycles is
-// summed from them on demand. Without `with_x` the sums of x are not kept
+// summed from them on demand. Without `with_x` the sums of x are left out
 // (Sums::x stays zero, MeanX is meaningless), for where only the values
 // are needed (the noise split's bins).
 class CycleBins {

@@ -37,7 +37,40 @@ nlohmann::json Dig(const nlohmann::json& j,
   return *p;
 }
 
-// One line per specimen: failed, flagged or ok, with mu-hat and J.
+// What a specimen's result rests on beyond the batch's settings: the force
+// file's layout and units (those guessed named) and the running-in.
+std::string ReadBrief(const nlohmann::json& row) {
+  const nlohmann::json read = Dig(row, {"force_file_read"});
+  std::string units, guessed;
+  static const char* const kChannel[4] = {"time", "x", "Q", "P"};
+  if (read.is_object() && read.contains("units")) {
+    const auto& u = read["units"];
+    const nlohmann::json g = read.value("units_guessed", nlohmann::json());
+    for (std::size_t ch = 0; ch < u.size() && ch < 4; ++ch) {
+      const std::string unit = u[ch].get<std::string>();
+      if (unit.empty()) continue;
+      units += (units.empty() ? "" : ", ") + unit;
+      if (g.is_array() && ch < g.size() && g[ch].get<bool>())
+        guessed += fmt::format(
+            "{}{} {}", guessed.empty() ? "" : ", ", kChannel[ch], unit);
+    }
+  }
+  if (read.is_object() && read.value("time_rebuilt", false))
+    units += ", time from the rate";
+  const nlohmann::json running = Dig(row, {"running_in"});
+  return fmt::format(
+      "read as '{}', units {}{}; running-in {} cycles ({})",
+      read.is_object() ? read.value("layout", std::string("?")) : "?",
+      units.empty() ? "none" : units,
+      guessed.empty() ? "" : " (guessed: " + guessed + ")",
+      running.is_object() ? running.value("cycles", 0) : 0,
+      running.is_object() && running.value("detected", false)
+          ? "detected"
+          : "given or too few cycles");
+}
+
+// One line per specimen: failed, flagged or ok, with mu-hat and J, and a
+// second with what it rests on (ReadBrief).
 void PrintSections(const std::vector<report::ReportSection>& sections) {
   for (const auto& sec : sections) {
     if (sec.failed) {
@@ -53,6 +86,7 @@ void PrintSections(const std::vector<report::ReportSection>& sections) {
               .get<double>(),
           sec.flagged ? " - " + sec.row["verdict"]["summary"].get<std::string>()
                       : "");
+      Say("           {}\n", ReadBrief(sec.row));
     }
   }
 }

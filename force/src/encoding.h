@@ -14,6 +14,8 @@ namespace wearscar::force::internal {
 // The most text a force file is read whole as (UTF-16 or CR line ends)
 // and in one pass without counting its lines first.
 inline constexpr std::uintmax_t kWholeTextMaxBytes = std::uintmax_t{256} << 20;
+// What a compressed force file may expand to (read whole in memory).
+inline constexpr std::uintmax_t kCompressedMaxBytes = std::uintmax_t{2} << 30;
 
 // UTF-16 text (a byte order mark, or a NUL beside each of the first two
 // ASCII bytes) from its first bytes, as iconv names its encoding; null for

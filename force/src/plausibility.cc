@@ -198,6 +198,7 @@ void InferUnits(Eigen::VectorXd* data,
                         unit,
                         because));
         scale[ch] = {factor, std::move(unit), false, {}};
+        meta->unit_guessed[ch] = true;
       };
   // x, then the forces (P first: Q without a unit takes P's when P's was
   // stated), then time.

@@ -25,6 +25,7 @@
 #include "row_reader.h"
 #include "split_read.h"
 #include "units.h"
+#include "wearscar/support/compressed.h"
 
 namespace wearscar::force {
 namespace {
@@ -321,6 +322,37 @@ std::string ReadWholeText(std::FILE* f,
   return text;
 }
 
+// A gzip or zstd file: read whole, expanded in memory, then as text.
+ForceRecord ReadCompressed(std::FILE* f,
+                           const std::string& path,
+                           support::Compression packed,
+                           const ReadForceOptions& options) {
+  std::string bytes;
+  std::vector<char> block(std::size_t{1} << 20);
+  while (const std::size_t got = std::fread(block.data(), 1, block.size(), f)) {
+    if (options.on_bytes) options.on_bytes(block.data(), got);
+    bytes.append(block.data(), got);
+    if (bytes.size() > internal::kCompressedMaxBytes) break;
+  }
+  if (std::ferror(f)) {
+    throw ForceError(
+        fmt::format("{}: read error: {}", path, std::strerror(errno)));
+  }
+  std::string text, why;
+  if (!support::Decompress(
+          bytes, packed, internal::kCompressedMaxBytes, false, &text, &why)) {
+    throw ForceError(fmt::format(
+        "{}: {}-compressed: {}{}",
+        path,
+        support::CompressionName(packed),
+        why,
+        why.find("MiB") != std::string::npos ? " (decompress it first)" : ""));
+  }
+  ReadForceOptions text_options = options;
+  text_options.on_bytes = nullptr;  // handed on as they were read
+  return ReadForceText(text, path, text_options);
+}
+
 }  // namespace
 
 bool ReadForceOptions::IsValid(std::string* why) const {
@@ -359,11 +391,15 @@ ForceRecord ReadForceFile(const std::string& path,
   }
   std::error_code size_error;
   const std::uintmax_t size = std::filesystem::file_size(path, size_error);
-  // What the first 64 KiB tell: a workbook (refused), UTF-16 text or lines
-  // ended by CR alone (read whole, then as text); else streamed.
+  // What the first 64 KiB tell: gzip or zstd (expanded, then as text), a
+  // workbook (refused), UTF-16 text or lines ended by CR alone (read whole,
+  // then as text); else streamed.
   std::string first(std::size_t{64} << 10, '\0');
   first.resize(std::fread(first.data(), 1, first.size(), file.get()));
   std::rewind(file.get());
+  const support::Compression packed = support::CompressionOf(first);
+  if (packed != support::Compression::kNone)
+    return ReadCompressed(file.get(), path, packed, options);
   RefuseWorkbook(first, path);
   const char* encoding = Utf16Encoding(first);
   if (encoding != nullptr || EndsLinesWithCrAlone(first)) {

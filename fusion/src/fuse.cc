@@ -310,6 +310,8 @@ void AddScanSide(const force::ForceRecord& record,
         options.scan_slope_history ? &result->track_history : nullptr);
   } catch (const std::exception& e) {
     if (options.slopes == SlopeChoice::kScan) throw;
+    if (const auto* no_track = dynamic_cast<const NoTrackInMap*>(&e))
+      result->unused_map = no_track->levelled;
     result->scan_skipped = fmt::format(
         "the scan was not used ({}); mu-hat and the verdict rest on k "
         "from P alone",
@@ -348,7 +350,30 @@ ImpliedSpring SpringTheScanImplies(const TestResult& r, const FuseOptions& o) {
 }
 
 // What the result rests on that the files did not state.
-std::vector<std::string> Assumptions(const TestResult& r,
+// How the force file was read: its layout and each channel's unit, stated
+// or guessed from the values.
+std::string ReadAssumption(const force::ForceMetadata& m) {
+  static const char* const kChannel[4] = {"time", "x", "Q", "P"};
+  std::string units;
+  for (int ch = 0; ch < 4; ++ch) {
+    if (static_cast<std::size_t>(ch) >= m.channel_units.size() ||
+        m.channel_units[ch].empty())
+      continue;
+    units +=
+        fmt::format("{}{} {}{}",
+                    units.empty() ? "" : ", ",
+                    kChannel[ch],
+                    m.channel_units[ch],
+                    m.unit_guessed[ch] ? " (guessed: no unit stated)" : "");
+  }
+  if (m.time_rebuilt) units += ", time from the sampling rate";
+  return fmt::format("the force file read as the '{}' layout; units: {}",
+                     m.layout,
+                     units.empty() ? "none read" : units);
+}
+
+std::vector<std::string> Assumptions(const force::ForceRecord& record,
+                                     const TestResult& r,
                                      const FuseOptions& o) {
   const double s = o.analysis.friction.slope.spring_n_per_mm;
   const ImpliedSpring implied = SpringTheScanImplies(r, o);
@@ -375,7 +400,7 @@ std::vector<std::string> Assumptions(const TestResult& r,
                         implied.high)
                   : std::string(
                         "; P/S varies no more than the scanned "
-                        "profile, as it should with this S");
+                        "profile, which says nothing against this S");
   }
   std::string slope =
       o.slopes == SlopeChoice::kScan ? "mu-hat with k from the scan alone"
@@ -383,7 +408,8 @@ std::vector<std::string> Assumptions(const TestResult& r,
                  "compared with it"
       : r.scan_file.empty() ? "k from P alone (no scan)"
                             : "k from P alone (the scan was not used)";
-  return {spring, slope};
+  return {
+      spring, slope, ReadAssumption(record.metadata), r.force.running_in.rule};
 }
 
 // The median of P over about 4096 samples.
@@ -471,7 +497,7 @@ void CompareAndJudge(const force::ForceRecord& record,
                             result->verdict.scan_doubt);
   if (scan != nullptr && scan->track.low_confidence)
     result->warnings.push_back("the scan's track: " + scan->track.message);
-  result->assumptions = Assumptions(*result, options);
+  result->assumptions = Assumptions(record, *result, options);
   const ImpliedSpring implied = SpringTheScanImplies(*result, options);
   const double s = options.analysis.friction.slope.spring_n_per_mm;
   if (!options.spring_given && !scan_doubted && implied.low > s * 1.15) {
@@ -498,7 +524,11 @@ ScanAnalysis PrepareScan(scan::HeightMap map, const FuseOptions& options) {
   ScanAnalysis s;
   s.level = scan::LevelHeightMap(&map, options.level);
   s.spikes_removed = scan::RemoveSpikes(&map, options.spikes);
-  s.track = scan::FindTrack(map, options.track);
+  try {
+    s.track = scan::FindTrack(map, options.track);
+  } catch (const scan::NoTrackError& e) {
+    throw NoTrackInMap(e, std::move(map));
+  }
   s.profile = scan::ExtractCentreline(map, s.track, options.profile);
   s.levelled = std::move(map);
   return s;

@@ -11,6 +11,7 @@
 
 #include "wearscar/force/layouts.h"
 #include "wearscar/scan/formats.h"
+#include "wearscar/support/compressed.h"
 #include "wearscar/support/text.h"
 
 namespace wearscar::fusion {
@@ -98,11 +99,13 @@ struct Candidate {
   int rank = 0;
 };
 
-std::optional<Candidate> Classify(const fs::path& p, const std::regex& re) {
+std::optional<Candidate> Classify(const fs::path& found, const std::regex& re) {
+  // "oak_01.csv.gz" is named as "oak_01.csv" (and read expanded).
+  const fs::path p(support::WithoutCompressionSuffix(found.string()));
   const std::string file = p.filename().string();
   // A binary height map by its content; ".dat" is a Zygo map or a force
   // export, told apart by the magic.
-  const bool binary_scan = scan::BinaryScanFormatOf(p.string()) != nullptr;
+  const bool binary_scan = scan::BinaryScanFormatOf(found.string()) != nullptr;
   const bool text = !binary_scan && HasForceExtension(p);
   if (!binary_scan && !text) return std::nullopt;
   NameWords w = SplitName(p.stem().string());
@@ -111,7 +114,7 @@ std::optional<Candidate> Classify(const fs::path& p, const std::regex& re) {
                           lower.find("scan") != std::string::npos ||
                           lower.find("height") != std::string::npos;
   Candidate c;
-  c.path = p.string();
+  c.path = found.string();
   c.is_scan = binary_scan || named_scan ||
               (!w.says_force &&
                scan::ScanFormatOf(c.path, scan::kDetectText) != nullptr);
@@ -124,7 +127,7 @@ std::optional<Candidate> Classify(const fs::path& p, const std::regex& re) {
     c.name = w.name.empty() ? p.stem().string() : w.name;
     c.words = std::move(w.key);
   }
-  c.key = c.words.empty() ? "\x01" + file
+  c.key = c.words.empty() ? "\x01" + found.filename().string()
                           : fmt::format("{}", fmt::join(c.words, "-"));
   return c;
 }
@@ -327,7 +330,8 @@ std::map<fs::path, std::vector<fs::path>> FilesByFolder(const std::string& dir,
 }  // namespace
 
 std::string SpecimenName(const std::string& path) {
-  const std::string stem = fs::path(path).stem().string();
+  const std::string stem =
+      fs::path(support::WithoutCompressionSuffix(path)).stem().string();
   const NameWords w = SplitName(stem);
   return w.name.empty() ? stem : w.name;
 }

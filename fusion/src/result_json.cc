@@ -136,6 +136,7 @@ nlohmann::json ForceFileJson(const force::ForceMetadata& m) {
   return {{"layout", m.layout},
           {"channels", m.channel_names},
           {"units", m.channel_units},
+          {"units_guessed", m.unit_guessed},
           {"time_rebuilt", m.time_rebuilt},
           {"normal_sign_flipped", m.normal_sign_flipped}};
 }

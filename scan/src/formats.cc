@@ -8,6 +8,7 @@
 
 #include "byte_reader.h"
 #include "format_list.h"
+#include "wearscar/support/compressed.h"
 
 namespace wearscar::scan {
 
@@ -33,7 +34,10 @@ const ScanFormat* FindScanFormat(std::string_view name) {
 }
 
 std::string LowerExtension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
+  std::string ext =
+      std::filesystem::path(support::WithoutCompressionSuffix(path))
+          .extension()
+          .string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](char c) {
     return static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   });
@@ -106,6 +110,19 @@ const ScanFormat* ScanFormatOf(const std::string& path, int min_score) {
   std::string head(kDetectHeadBytes, '\0');
   in.read(head.data(), static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<std::size_t>(in.gcount()));
+  const support::Compression packed = support::CompressionOf(head);
+  if (packed != support::Compression::kNone) {
+    // A compressed file's head: what its first MiB expands to (a cut
+    // stream gives what it has).
+    std::string some = head, rest, why;
+    some.resize(std::size_t{1} << 20);
+    in.read(some.data() + head.size(),
+            static_cast<std::streamsize>(some.size() - head.size()));
+    some.resize(head.size() + static_cast<std::size_t>(in.gcount()));
+    support::Decompress(some, packed, kDetectHeadBytes, true, &rest, &why);
+    if (rest.empty()) return nullptr;
+    head = std::move(rest);
+  }
   const std::string ext = LowerExtension(path);
   for (const ScanFormat& f : ScanFormats()) {
     if (f.detect(head, ext) >= min_score) return &f;

@@ -50,7 +50,8 @@ struct GsfHeader {
     long long v = 0;
     auto r = std::from_chars(
         it->second.data(), it->second.data() + it->second.size(), v);
-    if (r.ec != std::errc() || v <= 0 || v > kMaxPixels) {
+    if (r.ec != std::errc() || r.ptr != it->second.data() + it->second.size() ||
+        v <= 0 || v > kMaxPixels) {
       throw ScanError(fmt::format(
           "{}: header line {}: {} = '{}'; expected a positive pixel count up "
           "to {}",
@@ -67,7 +68,8 @@ struct GsfHeader {
     if (it == fields.end()) return fallback;
     char* end = nullptr;
     const double v = std::strtod(it->second.c_str(), &end);
-    if (end == it->second.c_str() || !(v > 0) || !std::isfinite(v)) {
+    if (end == it->second.c_str() || *end != '\0' || !(v > 0) ||
+        !std::isfinite(v)) {
       throw ScanError(
           fmt::format("{}: header line {}: {} = '{}'; expected a positive "
                       "length",
@@ -149,26 +151,42 @@ HeightMap ParseGsf(const std::string& bytes, const std::string& name) {
   const double xreal = h.Real("XReal", 1.0), yreal = h.Real("YReal", 1.0);
   // Data start: the header plus NUL padding is a multiple of 4.
   const size_t data = (nul / 4 + 1) * 4;
-  const size_t need = static_cast<size_t>(xres * yres) * 4;
-  if (bytes.size() < data + need) {
-    throw ScanError(
-        fmt::format("{}: byte {}: data truncated: {} bytes present, expected "
-                    "{} for {} x {} float32",
-                    name,
-                    data,
-                    bytes.size() > data ? bytes.size() - data : 0,
-                    need,
-                    xres,
-                    yres));
+  const size_t row_bytes = static_cast<size_t>(xres) * 4;
+  size_t need = static_cast<size_t>(yres) * row_bytes;
+  const size_t present = bytes.size() > data ? bytes.size() - data : 0;
+  // A file cut short (an interrupted copy) keeps its whole rows when at
+  // least half are there, with a warning giving the count.
+  const long long rows_present = static_cast<long long>(present / row_bytes);
+  std::string cut;
+  if (present < need) {
+    if (rows_present < 2 || 2 * rows_present < yres) {
+      throw ScanError(
+          fmt::format("{}: byte {}: data truncated: {} bytes present, expected "
+                      "{} for {} x {} float32",
+                      name,
+                      data,
+                      present,
+                      need,
+                      xres,
+                      yres));
+    }
+    cut = fmt::format(
+        "the file is cut short: {} of the {} rows declared (YRes) are whole "
+        "and were read; was the copy interrupted?",
+        rows_present,
+        yres);
   }
+  const long long rows = cut.empty() ? yres : rows_present;
+  need = static_cast<size_t>(rows) * row_bytes;
   HeightMap map;
-  map.Resize(yres, xres);
+  map.Resize(rows, xres);
+  if (!cut.empty()) map.metadata.warnings.push_back(cut);
   const float scale = static_cast<float>(*z_unit);
   std::memcpy(map.height_mm.data(), bytes.data() + data, need);
   map.height_mm *= scale;
   map.dx_mm = xreal * *xy_unit / static_cast<double>(xres);
   map.dy_mm = yreal * *xy_unit / static_cast<double>(yres);
-  if (bytes.size() > data + need) {
+  if (cut.empty() && bytes.size() > data + need) {
     map.metadata.warnings.push_back(
         fmt::format("{} trailing bytes after the data ignored",
                     bytes.size() - data - need));

@@ -5,7 +5,9 @@
 #include <algorithm>
 
 #include "file_io.h"
+#include "inflate.h"
 #include "wearscar/scan/formats.h"
+#include "wearscar/support/compressed.h"
 
 namespace wearscar::scan {
 
@@ -87,7 +89,28 @@ void CheckPixels(HeightMap* map, const ReadScanOptions& o) {
 HeightMap ReadScan(const std::string& path, const ReadScanOptions& options) {
   std::string why;
   if (!options.IsValid(&why)) throw ScanError(fmt::format("{}: {}", path, why));
-  const std::string bytes = internal::ReadFileBytes(path);
+  std::string bytes = internal::ReadFileBytes(path);
+  const support::Compression packed = support::CompressionOf(bytes);
+  if (packed != support::Compression::kNone) {
+    // A text map (or any other) gzip- or zstd-compressed as a whole.
+    // Within the limits of a compressed member (ReadScanOptions).
+    const double by_ratio =
+        options.max_expansion_ratio * static_cast<double>(bytes.size());
+    const auto bound = static_cast<std::uint64_t>(std::min(
+        static_cast<double>(options.max_member_bytes),
+        std::max(static_cast<double>(options.free_expansion_bytes), by_ratio)));
+    const std::string where = fmt::format(
+        "{} ({}-compressed)", path, support::CompressionName(packed));
+    std::string expanded, what;
+    if (!support::Decompress(bytes, packed, bound, false, &expanded, &what)) {
+      if (expanded.size() >= bound) {
+        internal::InflateBudget(options).Check(
+            bytes.size(), bound + 1, options.max_member_bytes, where);
+      }
+      throw ScanError(fmt::format("{}: {}", where, what));
+    }
+    bytes = std::move(expanded);
+  }
   HeightMap map = DetectScanFormat(bytes, path).parse(bytes, path, options);
   if (map.metadata.source.empty()) map.metadata.source = path;
   CheckPixels(&map, options);

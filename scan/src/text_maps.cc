@@ -1,4 +1,4 @@
-// Text height maps: the Keyence VR CSV export and plain ASCII matrices.
+// The Keyence VR CSV export of a height map.
 #include <fast_float/fast_float.h>
 #include <fmt/format.h>
 
@@ -10,6 +10,7 @@
 
 #include "byte_reader.h"
 #include "file_io.h"
+#include "text_cells.h"
 #include "wearscar/scan/formats.h"
 #include "wearscar/scan/gsf.h"
 #include "wearscar/scan/read_scan.h"
@@ -18,77 +19,13 @@
 namespace wearscar::scan {
 namespace {
 
-std::vector<std::string_view> Lines(std::string_view text) {
-  std::vector<std::string_view> lines;
-  size_t pos = 0;
-  while (pos < text.size()) {
-    size_t end = text.find('\n', pos);
-    if (end == std::string_view::npos) end = text.size();
-    std::string_view line = text.substr(pos, end - pos);
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-    lines.push_back(line);
-    pos = end + 1;
-  }
-  return lines;
-}
-
-// A cell without surrounding spaces and tabs, unquoted.
-std::string_view Trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t'))
-    s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t'))
-    s.remove_suffix(1);
-  if (s.size() >= 2 && s.front() == '"' && s.back() == '"')
-    s = s.substr(1, s.size() - 2);
-  return s;
-}
-
-std::vector<std::string_view> SplitCells(std::string_view line, char delim) {
-  std::vector<std::string_view> cells;
-  size_t start = 0;
-  for (;;) {
-    const size_t end = line.find(delim, start);
-    cells.push_back(Trim(
-        line.substr(start, end == std::string_view::npos ? end : end - start)));
-    if (end == std::string_view::npos) break;
-    start = end + 1;
-  }
-  return cells;
-}
-
-std::optional<double> Number(std::string_view cell, char decimal) {
-  if (cell.empty()) return std::nullopt;
-  if (cell.front() == '+') cell.remove_prefix(1);
-  double v;
-  const auto r = fast_float::from_chars_advanced(
-      cell.data(),
-      cell.data() + cell.size(),
-      v,
-      fast_float::parse_options{fast_float::chars_format::general, decimal});
-  if (r.ec != std::errc() || r.ptr != cell.data() + cell.size())
-    return std::nullopt;
-  return v;
-}
-
+using internal::IsMicrometre;
+using internal::Lines;
+using internal::Number;
+using internal::SplitCells;
+using internal::Trim;
+using internal::UnitToMm;
 using support::Lower;
-
-// "um", "µm" (UTF-8 or Latin-1), "μm", Shift-JIS "μm" (0x83 0xCA 'm').
-bool IsMicrometre(std::string_view u) {
-  const std::string l = Lower(Trim(u));
-  return l == "um" || l == "\xc2\xb5m" || l == "\xce\xbcm" || l == "\xb5m" ||
-         l == "\x83\xca"
-              "m" ||
-         l == "micrometer" || l == "micrometre";
-}
-
-std::optional<double> UnitToMm(std::string_view u) {
-  const std::string l = Lower(Trim(u));
-  if (IsMicrometre(u)) return 1e-3;
-  if (l == "mm") return 1.0;
-  if (l == "nm") return 1e-6;
-  if (l == "m") return 1e3;
-  return std::nullopt;
-}
 
 // Fields of view, mm: refused outside the first pair, warned of outside
 // what a Keyence VR measures.
@@ -336,80 +273,6 @@ HeightMap ParseKeyenceCsv(const std::string& bytes, const std::string& name) {
   return map;
 }
 
-HeightMap ParseAsciiMatrix(const std::string& bytes,
-                           const std::string& name,
-                           const ReadScanOptions& options) {
-  if (!(options.ascii_pitch_mm > 0)) {
-    throw ScanError(
-        fmt::format("{}: an ASCII matrix carries no pixel size; give the pitch "
-                    "(mm) explicitly",
-                    name));
-  }
-  const auto unit = UnitToMm(options.ascii_z_unit);
-  if (!unit) {
-    throw ScanError(
-        fmt::format("{}: height unit '{}'; expected mm, um, nm or m",
-                    name,
-                    options.ascii_z_unit));
-  }
-  const std::vector<std::string_view> lines = Lines(bytes);
-  std::vector<float> values;
-  long nx = -1, ny = 0;
-  for (size_t i = 0; i < lines.size(); ++i) {
-    std::string_view line = Trim(lines[i]);
-    if (line.empty() || line.front() == '#') continue;
-    long count = 0;
-    size_t pos = 0;
-    while (pos < line.size()) {
-      while (pos < line.size() && std::string_view(" \t,;").find(line[pos]) !=
-                                      std::string_view::npos) {
-        ++pos;
-      }
-      if (pos >= line.size()) break;
-      size_t end = pos;
-      while (end < line.size() && std::string_view(" \t,;").find(line[end]) ==
-                                      std::string_view::npos) {
-        ++end;
-      }
-      const std::string_view tok = line.substr(pos, end - pos);
-      const auto v = Number(tok, '.');
-      if (!v) {
-        throw ScanError(
-            fmt::format("{}: line {}, value {}: found '{}', expected a number",
-                        name,
-                        i + 1,
-                        count + 1,
-                        internal::Printable(tok, 30)));
-      }
-      values.push_back(static_cast<float>(*v * *unit));
-      ++count;
-      pos = end;
-    }
-    if (nx < 0) nx = count;
-    if (count != nx) {
-      throw ScanError(
-          fmt::format("{}: line {}: {} values; expected {} like the first row",
-                      name,
-                      i + 1,
-                      count,
-                      nx));
-    }
-    ++ny;
-    if (static_cast<std::int64_t>(nx) * ny > kMaxPixels) {
-      throw ScanError(fmt::format("{}: more than {} pixels", name, kMaxPixels));
-    }
-  }
-  if (ny == 0 || nx <= 0)
-    throw ScanError(fmt::format("{}: no numbers found", name));
-  HeightMap map;
-  map.height_mm = Eigen::Map<HeightMap::Heights>(values.data(), ny, nx);
-  map.dx_mm = map.dy_mm = options.ascii_pitch_mm;
-  SyncValidity(&map);
-  map.metadata.source = name;
-  map.metadata.format = "ascii";
-  return map;
-}
-
 void WriteKeyenceCsv(const HeightMap& map, const std::string& path) {
   if (!(map.dx_mm > 0) || std::abs(map.dx_mm - map.dy_mm) > 1e-9 * map.dx_mm) {
     throw ScanError(fmt::format(
@@ -439,35 +302,40 @@ void WriteKeyenceCsv(const HeightMap& map, const std::string& path) {
   internal::WriteFileAtomically(path, out);
 }
 
+namespace {
+// A row whose first cell is "Height" or "XY Calibration" (or Shift-JIS
+// "Height"), outside '#' comments: a Gwyddion header's "# Height: 10 um"
+// is an ASCII matrix's size, not this export.
+bool LooksLikeVrCsv(std::string_view head) {
+  if (head.find("\x8d\x82\x82\xb3") != std::string_view::npos) return true;
+  for (const std::string_view line : Lines(head)) {
+    const std::string_view t = Trim(line);
+    if (t.empty() || t.front() == '#') continue;
+    const std::string key =
+        Lower(Trim(line.substr(0, line.find_first_of(",;\t"))));
+    if (key == "height" || key == "xy calibration" ||
+        key == "\xe9\xab\x98\xe3\x81\x95")
+      return true;
+  }
+  return false;
+}
+}  // namespace
+
 namespace internal {
 ScanFormat KeyenceCsvFormat() {
-  return {
-      "keyence_csv",
-      "Keyence VR CSV export",
-      "Keyence VR series (CSV export of the height block)",
-      {".csv"},
-      {},
-      [](std::string_view head, std::string_view) {
-        return head.find("Height") != std::string_view::npos ||
-                       head.find("XY Calibration") != std::string_view::npos ||
-                       head.find("\x8d\x82\x82\xb3") != std::string_view::npos
-                   ? kDetectText
-                   : 0;
-      },
-      [](const std::string& bytes,
-         const std::string& name,
-         const ReadScanOptions&) { return ParseKeyenceCsv(bytes, name); }};
+  return {"keyence_csv",
+          "Keyence VR CSV export",
+          "Keyence VR series (CSV export of the height block)",
+          {".csv"},
+          {},
+          [](std::string_view head, std::string_view) {
+            return LooksLikeVrCsv(head) ? kDetectText : 0;
+          },
+          [](const std::string& bytes,
+             const std::string& name,
+             const ReadScanOptions&) { return ParseKeyenceCsv(bytes, name); }};
 }
 
-ScanFormat AsciiMatrixFormat() {
-  return {"ascii",
-          "ASCII matrix",
-          "any instrument (a grid of numbers; pitch given with --pitch-mm)",
-          {".txt", ".csv", ".asc", ".dat"},
-          {},
-          [](std::string_view, std::string_view) { return kDetectFallback; },
-          &ParseAsciiMatrix};
-}
 }  // namespace internal
 
 }  // namespace wearscar::scan

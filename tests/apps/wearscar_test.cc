@@ -543,6 +543,57 @@ TEST(Faults, LibrariesDoNotTalkOnStderr) {
       << err;
 }
 
+// Degenerate but legal data still draw what can be drawn: a friction
+// channel that never changes gives every force-side figure; a flat map,
+// in which no track can be found, is left out with a warning and still
+// drawn, so that the user sees why.
+TEST(Faults, ConstantFrictionAndAFlatMapStillDrawTheirFigures) {
+  const std::string dir = ::testing::TempDir() + "/faults-degenerate";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  {
+    std::ifstream in(kData + "generic.csv");
+    std::ofstream out(dir + "/constq.csv");
+    std::string line;
+    std::getline(in, line);
+    out << line << "\n";
+    while (std::getline(in, line)) {
+      // time_s,x_mm,Q_N,P_N with Q set to 2 N throughout.
+      const size_t a = line.find(','), b = line.find(',', a + 1),
+                   c = line.find(',', b + 1);
+      out << line.substr(0, b) << ",2.0" << line.substr(c) << "\n";
+    }
+    std::ofstream f(dir + "/flat.csv");
+    f << "XY Calibration,7.4,um\nHeight\n";
+    for (int r = 0; r < 200; ++r) {
+      for (int col = 0; col < 600; ++col) f << (col ? "," : "") << "0.5";
+      f << "\n";
+    }
+  }
+  const CommandResult r =
+      Shell(std::string(WEARSCAR_BINARY) + " fuse " + dir + "/constq.csv " +
+            dir + "/flat.csv --out " + dir + "/out 2>&1");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: the scan was not used (" + dir +
+                          "/flat.csv: no worn track found"),
+            std::string::npos)
+      << r.output;
+  const auto files = FilesIn(dir + "/out");
+  for (const char* f : {"fig05_q_envelope.svg",
+                        "fig06_p_envelope.svg",
+                        "fig07_loops.svg",
+                        "fig10_slope.svg",
+                        "fig13_mu_hat.svg",
+                        "fig_friction_map.svg",
+                        "fig08ab_scan_map.svg"})
+    EXPECT_TRUE(files.count(f)) << f << "\n" << r.output;
+  std::ifstream map(dir + "/out/fig08ab_scan_map.svg");
+  const std::string svg((std::istreambuf_iterator<char>(map)),
+                        std::istreambuf_iterator<char>());
+  EXPECT_NE(svg.find("levelled scan, no track found (not used)"),
+            std::string::npos);
+}
+
 TEST(Audit, ManifestNamesStayUnderOutAndAppearOnce) {
   const std::string dir = ::testing::TempDir() + "/audit-names";
   std::filesystem::remove_all(dir);
@@ -748,6 +799,46 @@ TEST(Cli, OtherInstrumentsReadThroughScanAndAudit) {
   const std::string json = Slurp(dir + "/audit/B-TL-L/result.json");
   EXPECT_NE(json.find("B-TL-L.dat: no worn track found"), std::string::npos)
       << json.substr(0, 2000);
+}
+
+// Each audit line says what its specimen rests on: the layout, the units
+// (those guessed named) and the running-in; fuse says it with the rest of
+// the assumptions.
+TEST(Audit, EachLineSaysTheLayoutTheGuessedUnitsAndTheRunningIn) {
+  const std::string dir = ::testing::TempDir() + "/audit-assumed";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir + "/in");
+  std::filesystem::copy_file(kData + "home_built_um.csv",
+                             dir + "/in/elm_force.csv");
+  std::filesystem::copy_file(kData + "generic.csv", dir + "/in/ash_force.csv");
+  const CommandResult r =
+      Wearscar("audit " + dir + "/in -o " + dir + "/out --no-figures");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const auto line_after = [&](const std::string& key) {
+    const size_t at = r.output.find(key);
+    if (at == std::string::npos) return std::string();
+    const size_t next = r.output.find('\n', at) + 1;
+    return r.output.substr(next, r.output.find('\n', next) - next);
+  };
+  EXPECT_EQ(line_after("elm: force only"),
+            "           read as 'home-built', units um, N, N, time from the "
+            "rate (guessed: x um, Q N, P N); running-in 0 cycles (given or "
+            "too few cycles)")
+      << r.output;
+  EXPECT_NE(line_after("ash: force only")
+                .find("read as 'delimited', units s, mm, N, N; running-in "),
+            std::string::npos)
+      << r.output;
+  const CommandResult f = Wearscar("fuse " + dir + "/in/elm_force.csv -o " +
+                                   dir + "/fuse --no-figures");
+  EXPECT_NE(f.output.find("  assumed: the force file read as the "
+                          "'home-built' layout; units: x um (guessed: no unit "
+                          "stated), Q N (guessed: no unit stated), P N "
+                          "(guessed: no unit stated), time from the sampling "
+                          "rate\n  assumed: running-in: 0 cycles (4 cycles are "
+                          "too few to detect it)"),
+            std::string::npos)
+      << f.output;
 }
 
 TEST(Audit, OneBadSpecimenIsReportedAndTheRestComplete) {

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <string>
 
+#include "../common/compress.h"
 #include "wearscar/force/cycles.h"
 
 namespace wearscar::force {
@@ -69,6 +70,41 @@ TEST(ReadForce, EveryByteOfTheFileIsHandedOnInOrder) {
   ASSERT_EQ(r.size(), 80000);
   EXPECT_NEAR(r.x_mm[500], 2.85, 1e-6);
   std::remove(path.c_str());
+}
+
+// A gzip- or zstd-compressed export reads as the file it expands to; the
+// caller's checksum still sees the bytes on disk. Cut or corrupt: refused,
+// naming the file and the compression.
+TEST(ReadForce, CompressedExportsReadAsTheirText) {
+  std::ifstream in(kData + "rtec_mft.csv", std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(in)),
+                         std::istreambuf_iterator<char>());
+  const ForceRecord plain = ReadForceFile(kData + "rtec_mft.csv");
+  for (const std::string& packed : {packing::Gzip(text), packing::Zstd(text)}) {
+    const std::string path = ::testing::TempDir() + "/rtec_mft.csv.gz";
+    std::ofstream(path, std::ios::binary) << packed;
+    std::string seen;
+    ReadForceOptions o;
+    o.on_bytes = [&](const char* b, std::size_t n) { seen.append(b, n); };
+    const ForceRecord r = ReadForceFile(path, o);
+    EXPECT_EQ(seen, packed);
+    ASSERT_EQ(r.size(), plain.size());
+    EXPECT_TRUE(r.tangential_n == plain.tangential_n);
+    EXPECT_TRUE(r.time_s == plain.time_s);
+    EXPECT_EQ(r.metadata.layout, "rtec");
+    std::ofstream(path, std::ios::binary)
+        << packed.substr(0, packed.size() / 2);
+    try {
+      ReadForceFile(path);
+      ADD_FAILURE() << "a cut compressed file was read";
+    } catch (const ForceError& e) {
+      const std::string m = e.what();
+      EXPECT_EQ(m.rfind(path + ": ", 0), 0u) << m;
+      EXPECT_NE(m.find("-compressed: the "), std::string::npos) << m;
+      EXPECT_NE(m.find("cut short"), std::string::npos) << m;
+    }
+    std::remove(path.c_str());
+  }
 }
 
 TEST(ReadForce, RtecJoinsRecipeStepClockAndIgnoresFooter) {

@@ -7,6 +7,7 @@
 #include <map>
 #include <string>
 
+#include "../common/compress.h"
 #include "wearscar/scan/gsf.h"
 
 namespace wearscar::fusion {
@@ -27,7 +28,9 @@ scan::HeightMap TinyMap() {
 class LabFolder : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = ::testing::TempDir() + "/pairing-lab";
+    // One folder per test: ctest runs them at once.
+    dir_ = ::testing::TempDir() + "/pairing-lab-" +
+           ::testing::UnitTest::GetInstance()->current_test_info()->name();
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -159,6 +162,31 @@ TEST_F(LabFolder, AForceOnlyBatchWarnsOfNothing) {
     EXPECT_FALSE(s.scan_expected) << s.name;
     EXPECT_EQ(s.Pairing(), "force only (no scan: no scan in its folder)");
   }
+}
+
+// Compressed files pair by the name under their .gz or .zst; a compressed
+// text map is told from a force export by its content like a plain one.
+TEST_F(LabFolder, CompressedFilesPairByTheNameUnderTheSuffix) {
+  Force("oak_02.csv");
+  KeyenceCsv("oak_02_tmp.csv");
+  const auto pack = [&](const std::string& from, const std::string& to) {
+    std::ifstream in(dir_ + "/" + from, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)),
+                            std::istreambuf_iterator<char>());
+    std::ofstream(dir_ + "/" + to, std::ios::binary)
+        << (to.back() == 'z' ? packing::Gzip(bytes) : packing::Zstd(bytes));
+    fs::remove(dir_ + "/" + from);
+  };
+  pack("oak_02.csv", "oak_02.csv.gz");
+  pack("oak_02_tmp.csv", "oak_02_profile.csv.zst");
+  Force("ash_3_force.csv");
+  Gsf("ash_3_tmp.gsf");
+  pack("ash_3_tmp.gsf", "ash_3.gsf.gz");
+  const std::map<std::string, std::string> p = Pairs();
+  ASSERT_EQ(p.size(), 2u);
+  EXPECT_EQ(p.at("oak_02"), "oak_02.csv.gz | oak_02_profile.csv.zst | ");
+  EXPECT_EQ(p.at("ash_3"), "ash_3_force.csv | ash_3.gsf.gz | ");
+  EXPECT_EQ(SpecimenName("lab/oak_02_force.csv.gz"), "oak_02");
 }
 
 TEST(SpecimenName, LeavesOutRoleWordsAndTheirSeparators) {

@@ -62,6 +62,33 @@ TEST(Gsf, BadInputsNameTheProblem) {
       Header("XRes = 1\nYRes = 1\nXYUnits = furlong\n") + std::string(4, '\0'),
       "expected m, mm, um or nm");
   expect("Gwyddion Simple Field 1.0\nXRes = 1\n", "no NUL byte");
+  // A number with text after it is not taken for its leading digits.
+  expect(Header("XRes = 8abc\nYRes = 2\n") + std::string(64, '\0'),
+         "XRes = '8abc'; expected a positive pixel count");
+  expect(Header("XRes = 2\nYRes = 2\nXReal = 0.01 m\n") + std::string(16, '\0'),
+         "XReal = '0.01 m'; expected a positive length");
+}
+
+// A file cut short keeps its whole rows, with the count, when at least
+// half of them are there; with fewer it is refused.
+TEST(Gsf, ACutFileKeepsItsWholeRowsAndSaysHowMany) {
+  const HeightMap a = Ramp(10, 7);
+  const std::string path = ::testing::TempDir() + "/cut.gsf";
+  WriteGsf(a, path);
+  std::ifstream in(path, std::ios::binary);
+  const std::string whole((std::istreambuf_iterator<char>(in)),
+                          std::istreambuf_iterator<char>());
+  // Six whole rows and half of the seventh.
+  const std::size_t data = whole.size() - 10 * 7 * 4;
+  const HeightMap b = ParseGsf(whole.substr(0, data + 6 * 28 + 14), "cut.gsf");
+  ASSERT_EQ(b.rows(), 6);
+  EXPECT_NEAR(b.dy_mm, a.dy_mm, 1e-12);
+  EXPECT_NEAR(b.height_mm(5, 6), a.height_mm(5, 6), 1e-9);
+  ASSERT_EQ(b.metadata.warnings.size(), 1u);
+  EXPECT_NE(b.metadata.warnings[0].find("6 of the 10 rows declared"),
+            std::string::npos)
+      << b.metadata.warnings[0];
+  EXPECT_THROW(ParseGsf(whole.substr(0, data + 4 * 28), "cut.gsf"), ScanError);
 }
 
 }  // namespace

@@ -340,13 +340,13 @@ TEST(KeyenceCsv, ShiftJisKeysSemicolonsDecimalComma) {
 }
 
 TEST(AsciiMatrix, NeedsPitchAndReadsUnits) {
-  const std::string text = "# exported\n1 2 3\n4 nan 6\n";
+  const std::string text = "# exported\n1 2 3\n4 nan 6\n7 8 9\n";
   EXPECT_THROW(ParseAsciiMatrix(text, "m.txt", {}), ScanError);
   ReadScanOptions o;
   o.ascii_pitch_mm = 0.005;
   o.ascii_z_unit = "um";
   const HeightMap h = ParseAsciiMatrix(text, "m.txt", o);
-  EXPECT_EQ(h.rows(), 2);
+  EXPECT_EQ(h.rows(), 3);
   EXPECT_NEAR(h.height_mm(1, 2), 6e-3, 1e-9);
   EXPECT_FALSE(h.valid(1, 1));
 }
@@ -551,9 +551,10 @@ TEST(ReadScan, AOneDimensionalProfileIsRefusedByName) {
   } catch (const ScanError& e) {
     EXPECT_EQ(std::string(e.what()),
               path +
-                  ": a 1-D profile (400 x 1 points); expected a height map "
-                  "of the worn track (an area scan: the track's centreline "
-                  "and its width are found in it)");
+                  ": 1 rows of 400 numbers: a line profile (a stylus trace "
+                  "or one line of a scan), not a height map; expected an "
+                  "area scan of the worn track (its centreline and width are "
+                  "found in it)");
   }
 }
 

@@ -566,6 +566,11 @@ FigureSet DrawTestFigures(const std::string& dir,
                 "(Fig. 8c-d)",
          {{"", "x (mm)", "height (mm)", "", {}, "", {fwd, rev, h}}}});
   }
+  if (!r.scan && r.unused_map) {
+    figs.push_back({"fig08ab_scan_map",
+                    name + ": levelled scan, no track found (not used)",
+                    {MapPanel(*r.unused_map, nullptr)}});
+  }
   for (FigureSpec& f : DetailFigures(name, r, &minima))
     figs.push_back(std::move(f));
   tables["minima"] = &minima;

@@ -42,6 +42,7 @@ put('truncated.gsf', gsf('XRes = 4\nYRes = 4\n', b'\0' * 30), 'scan', 'data trun
 put('absurd.gsf', gsf('XRes = 70000\nYRes = 70000\n'), 'scan', 'exceeds 268435456 pixels')
 put('no_nul.gsf', 'Gwyddion Simple Field 1.0\nXRes = 2\nYRes = 2\n', 'scan', 'no NUL byte ends the GSF header')
 put('missing_yres.gsf', gsf('XRes = 2\n', b'\0' * 16), 'scan', 'header has no YRes')
+put('trailing_text.gsf', gsf('XRes = 8abc\nYRes = 2\n', b'\0' * 64), 'scan', "XRes = '8abc'; expected a positive pixel count")
 
 # ---- VK4 / VK6
 def vk4(w, h, bits, size, pixels, magic=b'VK4_', cond_pm=(7413000, 7413000, 100)):
@@ -110,7 +111,11 @@ put('bad_type.x3p', x3p(main_xml(2, 2, dtype='Q'), {'bindata/data.bin': b'\0' * 
 put('keyence_no_pitch.csv', 'Horizontal,2\nVertical,2\nHeight\n1,2\n3,4\n', 'scan', "no 'XY Calibration' row")
 put('keyence_ragged.csv', 'XY Calibration,7.4,um\nHeight\n1,2,3\n4,5\n', 'scan', 'line 4: 2 values; expected 3')
 put('keyence_text_cell.csv', 'XY Calibration,7.4,um\nHeight\n1,2,3\n4,x,6\n', 'scan', "line 4, column 2: found 'x', expected a height")
-put('ascii_no_pitch.txt', '1 2 3\n4 5 6\n', 'scan', 'carries no pixel size')
+put('ascii_no_pitch.txt', '1 2 3\n4 5 6\n7 8 9\n', 'scan', 'whose header states no pixel size')
+put('ascii_line_profile.csv', 'Scan Data\nLateral um,Raw Micrometer,\n' + ''.join(f'{i*0.2:.1f},{0.01*i:.5f},,\n' for i in range(50)), 'scan', '50 rows of 2 numbers: a line profile')
+put('ascii_size_no_unit.txt', '# Width: 40\n1 2 3\n4 5 6\n7 8 9\n', 'scan', 'states a size of 40 \'\' but no length unit')
+put('ascii_trailing_text.txt', '# Width: 40 um\n# Value units: um\n1 2 3\n4 5 6um\n7 8 9\n', 'scan', "line 4, value 3: found '6um', expected a number")
+put('ascii_counts.txt', 'x-pixels = 4\ny-pixels = 4\npixel size = 1 um\n1 2 3\n4 5 6\n7 8 9\n', 'scan', 'the header states 4 x 4 pixels; found 3 rows of 3 values')
 
 # ---- hostile files: implausible data, special sizes, decompression bombs
 t_x = [(i * 0.005, 2.85 * math.sin(2 * math.pi * i * 0.005)) for i in range(1000)]
@@ -229,6 +234,12 @@ put('stream_outside.sur', sur(4, 4, magic=b'DSCOMPRESSED', data=struct.pack('<3I
 put('bomb.sur', sur_z(8192, 8192, 8192 * 8192 * 4, b'\0' * (8192 * 8192 * 4)), 'scan', 'a ratio above 100 (a decompression bomb? --large-maps accepts it)')
 put('not_zlib.sur', sur(4, 4, magic=b'DSCOMPRESSED', data=struct.pack('<3I', 1, 64, 8) + b'notzlib!', csize=20), 'scan', 'not a zlib stream')
 put('bad_magic.sur', b'DIGITAL SURG' + b'\0' * 600, 'scan', 'which is not the magic of a .sur file')
+
+# ---- compressed as a whole (gzip, zstd)
+import gzip
+put('cut.csv.gz', gzip.compress(csv(good).encode(), mtime=0)[:300], 'force', 'gzip-compressed: the gzip data end after 300 bytes, cut short')
+put('bomb.txt.gz', gzip.compress(b'0 ' * (40 << 20), mtime=0), 'scan', 'a ratio above 100 (a decompression bomb? --large-maps accepts it)')
+put('corrupt.txt.zst', zstd_raw(b'1 2 3\n4 5 6\n7 8 9\n')[:9] + b'\xff' * 40, 'scan', '(zstd-compressed): corrupt zstd data')
 
 # ---- Zygo MetroPro .dat (big-endian header of 834 bytes, intensity, phase)
 def metropro(w, h, phase_bytes=None, header=834, phase_res=1, lateral=1e-6, data=None, magic=b'\x88\x1b\x03\x6f'):

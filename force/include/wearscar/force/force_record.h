@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -34,6 +35,9 @@ struct ForceMetadata {
   // Channel header and unit as found in the file, for time, x, Q and P.
   std::vector<std::string> channel_names;
   std::vector<std::string> channel_units;
+  // Units the file did not state, guessed from the values (time, x, Q, P;
+  // each guess is also a warning saying why).
+  std::array<bool, 4> unit_guessed = {false, false, false, false};
   bool time_rebuilt = false;         // no time column; built from a rate
   bool normal_sign_flipped = false;  // P was negative in compression
   int clock_restarts_joined = 0;     // Rtec RecipeStep, CETR step restarts

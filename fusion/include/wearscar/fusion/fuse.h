@@ -1,6 +1,7 @@
 #pragma once
 
 #include <future>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -114,10 +115,14 @@ struct TestResult {
   std::vector<std::string> warnings;
   // What the result rests on that the files did not state, in words: the
   // spring's stiffness and where it came from, the slope the verdict
-  // judges (Assumptions).
+  // judges, the force file's layout and units (stated or guessed), the
+  // running-in (detected or given), in that order.
   std::vector<std::string> assumptions;
   std::string scan_skipped;
   std::string scan_file;  // the scan's source, used or not ("" without one)
+  // A scan left out for want of a track: its levelled map, for the figure
+  // that shows it (null otherwise).
+  std::shared_ptr<const scan::HeightMap> unused_map;
   // Track size, load, sliding distance and specific wear rate (the scan
   // side NaN without a usable scan).
   Wear wear;
@@ -145,10 +150,21 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
                        std::optional<scan::HeightMap> height_map,
                        const FuseOptions& options = {});
 
+// PrepareScan's scan::NoTrackError, with the map as levelled (drawn so that
+// the user sees why no track was found).
+class NoTrackInMap : public scan::NoTrackError {
+ public:
+  NoTrackInMap(const scan::NoTrackError& e, scan::HeightMap levelled_map)
+      : scan::NoTrackError(e),
+        levelled(
+            std::make_shared<const scan::HeightMap>(std::move(levelled_map))) {}
+  std::shared_ptr<const scan::HeightMap> levelled;
+};
+
 // The scan's own stages, which need nothing of the force record: levelling,
 // spikes, track, centreline (`levelled` holds the map; the rest of
-// ScanAnalysis is filled by AnalyzeTest). Throws scan::NoTrackError when
-// the map holds no track.
+// ScanAnalysis is filled by AnalyzeTest). Throws NoTrackInMap when the map
+// holds no track.
 ScanAnalysis PrepareScan(scan::HeightMap map, const FuseOptions& options);
 
 // AnalyzeTest with the scan prepared elsewhere (PrepareScan), possibly

@@ -12,8 +12,10 @@ struct ReadScanOptions {
   // .zag: which measurement (0-based; ListZagMeasurements names them).
   int measurement_index = 0;
   // ASCII matrix: pixel pitch (mm) and the unit of the heights.
-  double ascii_pitch_mm = 0.0;  // 0 = required for ASCII matrices
-  std::string ascii_z_unit = "mm";
+  // ASCII matrices whose header does not say (0, "": not given; a
+  // matrix's heights without a unit are then taken as mm, with a warning).
+  double ascii_pitch_mm = 0.0;
+  std::string ascii_z_unit;
   // Decompression limits (archive members, zstd frames), checked before
   // inflating where the container states the size and while inflating
   // where it does not: a member expands to at most max_member_bytes; beyond

@@ -138,10 +138,23 @@ void RunAudit(AuditArgs a) {
       r.specimens.size() - r.flagged - r.failed,
       r.flagged,
       r.failed);
-  if (!settings.fuse.spring_given) {
-    Say("assumed for every specimen: spring S = {:g} N/mm, the default (the "
-        "paper's rig), not given; each result says the stiffness its scan "
-        "implies (--spring to set it)\n",
+  // The default spring, for the specimens whose file states none.
+  std::size_t defaulted = 0, analysed = 0;
+  for (const auto& sec : r.specimens) {
+    if (sec.failed) continue;
+    ++analysed;
+    const nlohmann::json said = Dig(sec.row, {"assumptions"});
+    if (said.is_array() && !said.empty() && said[0].is_string() &&
+        said[0].get<std::string>().find("the default") != std::string::npos)
+      ++defaulted;
+  }
+  if (!settings.fuse.spring_given && defaulted > 0) {
+    Say("assumed for {}: spring S = {:g} N/mm, the default (the paper's "
+        "rig), neither given nor stated in the file; each result says the "
+        "stiffness its scan implies (--spring to set it)\n",
+        defaulted == analysed
+            ? std::string("every specimen")
+            : fmt::format("{} of {} specimens", defaulted, analysed),
         settings.fuse.analysis.friction.slope.spring_n_per_mm);
   }
   Say("report: {}\n", fs::absolute(r.report_path).string());

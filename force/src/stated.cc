@@ -31,10 +31,14 @@ constexpr Label kLabels[] = {
     {"normal force", "load", 1},
     {"load", "load", 1},
     {"frequency", "frequency", 1},
+    {"spring stiffness", "spring", 1},
+    {"spring constant", "spring", 1},
+    {"spring rate", "spring", 1},
+    {"loading spring", "spring", 1},
 };
 
 // The factor of the unit written near the number (before it in brackets,
-// or after it), into mm, N or Hz; 1 when none is written.
+// or after it), into mm, N, Hz or N/mm; 1 when none is written.
 double UnitFactor(const std::string& what, const std::string& near) {
   auto has = [&](const char* u) {
     const std::string unit(u);
@@ -59,6 +63,10 @@ double UnitFactor(const std::string& what, const std::string& near) {
     if (has("kn")) return 1e3;
   } else if (what == "frequency") {
     if (has("khz")) return 1e3;
+  } else if (what == "spring") {  // into N/mm
+    if (has("n/um") || has("n/\xc2\xb5m")) return 1e3;
+    if (has("kn/m")) return 1;
+    if (has("n/m")) return 1e-3;
   }
   return 1;
 }

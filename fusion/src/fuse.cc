@@ -378,7 +378,11 @@ std::vector<std::string> Assumptions(const force::ForceRecord& record,
   const double s = o.analysis.friction.slope.spring_n_per_mm;
   const ImpliedSpring implied = SpringTheScanImplies(r, o);
   std::string spring =
-      o.spring_given
+      !o.spring_stated.empty()
+          ? fmt::format("spring S = {:g} N/mm, as the force file states ({})",
+                        s,
+                        o.spring_stated)
+      : o.spring_given
           ? fmt::format("spring S = {:g} N/mm (given)", s)
           : fmt::format(
                 "spring S = {:g} N/mm: the default (the paper's "
@@ -433,7 +437,14 @@ std::vector<std::string> StatedButNotFound(const force::ForceRecord& record,
   for (const force::StatedFact& f : record.metadata.stated) {
     double found = NAN;
     std::string shown;
-    if (f.what == "stroke") {
+    if (f.what == "spring" && !(f.value >= 0.01 && f.value <= 1e5)) {
+      out.push_back(fmt::format(
+          "the file states \"{}\" (line {}): a spring of {:.3g} N/mm, "
+          "outside 0.01-1e5 N/mm, was not used",
+          f.line,
+          f.line_number,
+          f.value));
+    } else if (f.what == "stroke") {
       found = force.cycles.stroke_mm;
       shown = fmt::format("a stroke of {:.3g} mm (peak to peak)", found);
     } else if (f.what == "cycles") {
@@ -558,12 +569,29 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
   return AnalyzeTest(record, std::move(prepared), scan_file, options);
 }
 
+FuseOptions WithStatedSpring(const FuseOptions& options,
+                             const force::ForceRecord& record) {
+  FuseOptions o = options;
+  if (options.spring_given) return o;
+  for (const force::StatedFact& f : record.metadata.stated) {
+    // Plausible loading springs: 0.01 N/mm (a soft coil) to 1e5 N/mm (an
+    // implausible one is a warning, StatedButNotFound).
+    if (f.what != "spring" || !(f.value >= 0.01 && f.value <= 1e5)) continue;
+    o.analysis.friction.slope.spring_n_per_mm = f.value;
+    o.spring_given = true;
+    o.spring_stated = fmt::format("line {}: '{}'", f.line_number, f.line);
+    break;
+  }
+  return o;
+}
+
 TestResult AnalyzeTest(const force::ForceRecord& record,
                        std::future<ScanAnalysis> prepared_scan,
                        const std::string& scan_file,
-                       const FuseOptions& options) {
+                       const FuseOptions& given) {
   WEARSCAR_CHECK(record.IsConsistent(),
                  "AnalyzeTest needs channels of one length");
+  const FuseOptions options = WithStatedSpring(given, record);
   std::string why;
   if (!options.IsValid(&why)) throw FusionError("fuse options: " + why);
   if (options.slopes == SlopeChoice::kScan && !prepared_scan.valid())

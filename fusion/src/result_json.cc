@@ -56,7 +56,8 @@ nlohmann::json ScanOptionsJson(const FuseOptions& o);
 
 // Every option that shaped the analysis.
 nlohmann::json OptionsJson(const force::ForceRecord& record,
-                           const FuseOptions& o) {
+                           const FuseOptions& given) {
+  const FuseOptions o = WithStatedSpring(given, record);
   const auto& f = o.analysis.friction;
   return {{"spring_n_per_mm", f.slope.spring_n_per_mm},
           {"k_estimate", KEstimateName(f.k_estimate)},

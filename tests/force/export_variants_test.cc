@@ -486,6 +486,22 @@ TEST(ExportVariants, StatedTestConditionsAreRead) {
   EXPECT_DOUBLE_EQ(got["frequency"].first, 1);
   EXPECT_EQ(r.metadata.stated[0].line, "Track length 5 mm, Cycles 3000");
   EXPECT_EQ(r.metadata.sampling_rate_hz, 2000);
+  // The loading spring, in N/mm, N/m, kN/m or N/um.
+  for (const auto& [line, n_per_mm] :
+       std::vector<std::pair<std::string, double>>{
+           {"Spring stiffness [N/mm]: 25", 25},
+           {"Spring constant = 25000 N/m", 25},
+           {"Loading spring: 7.5 kN/m", 7.5},
+           {"spring rate 0.1 N/um", 100}}) {
+    const ForceRecord s =
+        ReadForceText(line + "\n" +
+                          Text("time_s,x_mm,Q_N,P_N",
+                               [](const Row& row, int) { return Plain(row); }),
+                      "spring.csv");
+    ASSERT_EQ(s.metadata.stated.size(), 1u) << line;
+    EXPECT_EQ(s.metadata.stated[0].what, "spring") << line;
+    EXPECT_DOUBLE_EQ(s.metadata.stated[0].value, n_per_mm) << line;
+  }
 }
 
 // An export cut in its last row (the file ends inside it): the row is

@@ -24,6 +24,7 @@
 #include "wearscar/force/read_force.h"
 #include "wearscar/fusion/ensemble.h"
 #include "wearscar/fusion/fuse.h"
+#include "wearscar/fusion/products.h"
 
 namespace wearscar::fusion {
 namespace {
@@ -650,6 +651,40 @@ TEST(SpringNotGiven, IsSaidAndTheScanImpliesTheRigsStiffness) {
   EXPECT_TRUE(g.verdict.explained) << g.verdict.Summary();
   for (const std::string& w : g.warnings)
     EXPECT_EQ(w.find("the spring's stiffness"), std::string::npos) << w;
+}
+
+// A force file that states its spring: used when none is given, and said
+// with the line; a given one wins. An implausible stated value is not used.
+TEST(SpringNotGiven, TheFilesStatedStiffnessIsUsedAndSaid) {
+  samples::SimulationOptions o = NoisyCase("B-RT-R", 1, 0, 60);
+  o.spring_n_per_mm = 25.0;
+  sim::SimulatedTest t = sim::Simulate(o);
+  t.record.metadata.stated.push_back(
+      {"spring", 25.0, "Spring stiffness [N/mm]: 25", 2});
+  const TestResult r = AnalyzeTest(t.record, t.scan, NoLugre());
+  EXPECT_EQ(r.assumptions[0],
+            "spring S = 25 N/mm, as the force file states (line 2: 'Spring "
+            "stiffness [N/mm]: 25')");
+  EXPECT_TRUE(r.verdict.explained) << r.verdict.Summary();
+  for (const std::string& w : r.warnings)
+    EXPECT_EQ(w.find("the spring's stiffness"), std::string::npos) << w;
+  const nlohmann::json j = ResultJson("B-RT-R", t.record, r, NoLugre());
+  EXPECT_DOUBLE_EQ(j["options"]["spring_n_per_mm"].get<double>(), 25.0);
+  FuseOptions given = NoLugre();
+  given.analysis.friction.slope.spring_n_per_mm = 20.0;
+  given.spring_given = true;
+  EXPECT_EQ(AnalyzeTest(t.record, t.scan, given).assumptions[0],
+            "spring S = 20 N/mm (given)");
+  t.record.metadata.stated[0].value = 1e9;
+  const TestResult absurd = AnalyzeTest(t.record, t.scan, NoLugre());
+  EXPECT_NE(absurd.assumptions[0].find("spring S = 10.19 N/mm: the default"),
+            std::string::npos);
+  bool said = false;
+  for (const std::string& w : absurd.warnings)
+    said = said || w.find(
+                       "a spring of 1e+09 N/mm, outside 0.01-1e5 N/mm, was "
+                       "not used") != std::string::npos;
+  EXPECT_TRUE(said);
 }
 
 // A header that states other test conditions than the data show (the

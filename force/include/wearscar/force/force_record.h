@@ -21,7 +21,8 @@ class ForceError : public std::runtime_error {
 // "Cycles: 3000"): what, its value in mm (stroke: peak to peak), a count
 // (cycles), N (load) or Hz (frequency), and the line it was read from.
 struct StatedFact {
-  std::string what;  // "stroke", "cycles", "load", "frequency"
+  // "stroke" (mm), "cycles", "load" (N), "frequency" (Hz), "spring" (N/mm)
+  std::string what;
   double value = 0.0;
   std::string line;
   int line_number = 0;  // from 1

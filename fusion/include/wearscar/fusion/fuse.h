@@ -56,6 +56,9 @@ struct FuseOptions {
   // the user; when not, its default is the paper's rig's and the result
   // says so, with the stiffness a scan implies (MakeTestSettings sets it).
   bool spring_given = false;
+  // Where the force file states the spring's stiffness and it was not
+  // given ("line 3: 'Spring stiffness [N/mm]: 25'"; WithStatedSpring).
+  std::string spring_stated;
   // mu(x, cycle) along the stroke, raw and corrected for the slope.
   FrictionMapOptions friction_map;
   // h(x, cycle) from P/S: the track's shape under load as it wears.
@@ -149,6 +152,13 @@ struct TestResult {
 TestResult AnalyzeTest(const force::ForceRecord& record,
                        std::optional<scan::HeightMap> height_map,
                        const FuseOptions& options = {});
+
+// The options a record is analysed with: when the spring's stiffness was
+// not given and the force file states one, that one (spring_given set,
+// spring_stated saying where). AnalyzeTest and the result's options block
+// apply it.
+FuseOptions WithStatedSpring(const FuseOptions& options,
+                             const force::ForceRecord& record);
 
 // PrepareScan's scan::NoTrackError, with the map as levelled (drawn so that
 // the user sees why no track was found).

@@ -18,6 +18,33 @@ std::string Interval95(const fusion::Statistic& s) {
 
 }  // namespace
 
+namespace {
+
+// The one coefficient to report, and why that one.
+std::string Quotable(const fusion::TestResult& r) {
+  const auto& m = r.mismatch;
+  const bool from_p = m.mu_force.count > 0;
+  const fusion::Statistic& mu = from_p ? m.mu_force : m.mu_scan;
+  if (mu.count == 0) return "nothing: no mu-hat was fitted";
+  if (!r.verdict.explained) {
+    return fmt::format(
+        "no wear-scar mu-hat: the verdict says the model misses an effect "
+        "(see the warnings; `wearscar diagnose` names it); the classic COF "
+        "of this test is mu energy {:.4f}",
+        m.mu_energy.mean);
+  }
+  return fmt::format(
+      "mu-hat = {:.4f} {} (k from {}, after running-in){}",
+      mu.mean,
+      Interval95(mu),
+      from_p ? "P" : "the scan",
+      m.has_scan && from_p && m.mu_scan.count > 0
+          ? fmt::format("; k from the scan gives {:.4f}", m.mu_scan.mean)
+          : "");
+}
+
+}  // namespace
+
 void PrintSummary(const std::string& name, const fusion::TestResult& r) {
   const auto& m = r.mismatch;
   Say("{}: {} cycles; compared over cycles {}-{}\n  {}\n",
@@ -28,7 +55,7 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
       r.force.running_in.rule);
   if (m.mu_force.count > 0) {
     Say("  mu-hat, k from P     {:.4f} {}, sd {:.4f}   J {:.3f} (noise "
-        "floor {:.3f}, excess {:.3f})\n",
+        "floor {:.3f} and excess {:.3f}, which add as squares)\n",
         m.mu_force.mean,
         Interval95(m.mu_force),
         m.mu_force.sd,
@@ -42,7 +69,7 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
   if (m.has_scan) {
     if (m.mu_scan.count > 0) {
       Say("  mu-hat, k from scan  {:.4f} {}, sd {:.4f}   J {:.3f} (noise "
-          "floor {:.3f}, excess {:.3f})\n",
+          "floor {:.3f} and excess {:.3f}, which add as squares)\n",
           m.mu_scan.mean,
           Interval95(m.mu_scan),
           m.mu_scan.sd,
@@ -59,7 +86,7 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
         a.correlation,
         a.amplitude_ratio,
         a.shift_mm,
-        a.flipped ? " (flipped)" : "",
+        a.flipped ? " (the scan's x runs against the stroke's: flipped)" : "",
         m.k_rms_difference);
   }
   Say("  mu mean {:.4f} {}, mu energy {:.4f} {}\n",
@@ -71,6 +98,7 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
     Say("  LuGre, cycle {}: {}\n", r.detail_cycle + 1, r.lugre->BriefReport());
   }
   Say("  verdict: {}\n", r.verdict.Summary());
+  Say("  to quote: {}\n", Quotable(r));
   for (const auto& a : r.assumptions) Say("  assumed: {}\n", a);
   for (const auto& w : r.warnings) {
     if (CurrentPrintMode() == PrintMode::kText) {

@@ -205,11 +205,12 @@ void JudgeFit(const ceres::Solver::Summary& summary,
     implausible +=
         (implausible.empty() ? "" : ", ") + std::string("sigma2 < 0");
   fit->physically_plausible = implausible.empty();
-  fit->message = summary.termination_type != ceres::CONVERGENCE
-                     ? summary.message
-                 : implausible.empty()
-                     ? "converged"
-                     : "fitted (physically implausible: " + implausible + ")";
+  fit->message =
+      summary.termination_type != ceres::CONVERGENCE ? summary.message
+      : implausible.empty()                          ? "converged"
+                            : "fitted (physically implausible: " + implausible +
+                                  "; the LuGre parameters are then no material "
+                                  "data: quote mu-hat)";
 }
 
 // The fitted model along the cycle and its cost (paper Eq. 11).

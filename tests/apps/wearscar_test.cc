@@ -174,6 +174,14 @@ TEST(Cli, FuseWritesResultsAndFlagsTheElasticCase) {
   EXPECT_NE(f.output.find("warning: the spring displacement varies"),
             std::string::npos)
       << f.output;
+  // The parts of J are said to add as squares; no coefficient is offered
+  // to quote when the verdict says the model misses an effect.
+  EXPECT_NE(f.output.find(", which add as squares)"), std::string::npos)
+      << f.output;
+  EXPECT_NE(f.output.find("  to quote: no wear-scar mu-hat: the verdict says "
+                          "the model misses an effect"),
+            std::string::npos)
+      << f.output;
   // The paper's criterion on request, named as such.
   const CommandResult p =
       Wearscar("fuse --force " + dir +
@@ -231,6 +239,14 @@ TEST(Cli, FuseSlopeChoiceFitsOnlyWhatIsAsked) {
   EXPECT_NE(s.output.find("k from P     not fitted"), std::string::npos)
       << s.output;
   EXPECT_NE(s.output.find("mu-hat, k from scan  0.1"), std::string::npos)
+      << s.output;
+  // The coefficient to quote is the one fitted, with its interval.
+  EXPECT_NE(f.output.find("  to quote: mu-hat = 0.1"), std::string::npos)
+      << f.output;
+  EXPECT_NE(f.output.find("(k from P, after running-in)\n"), std::string::npos)
+      << f.output;
+  EXPECT_NE(s.output.find("(k from the scan, after running-in)\n"),
+            std::string::npos)
       << s.output;
   // Without a scan: the force slope only; asking for the scan's is an error.
   const CommandResult alone = Wearscar(base);
@@ -905,14 +921,16 @@ TEST(Audit, ReportRendersInHeadlessChromium) {
   Wearscar("audit " + AuditFolder("browser") + " --running-in 30 -o " + out);
   const std::string profile =
       ::testing::TempDir() + "/chromium-profile-wearscar";
-  const std::string cmd =
-      "chromium --headless --no-sandbox --disable-gpu --disable-quic "
-      "--no-first-run "
-      "--disable-background-networking --disable-component-update "
-      "--disable-sync "
-      "--user-data-dir=" +
-      profile + " --virtual-time-budget=10000 --dump-dom file://" + out +
-      "/report.html 2>/dev/null";
+  const auto cmd_at = [&](const std::string& window) {
+    return "chromium --headless --no-sandbox --disable-gpu --disable-quic "
+           "--no-first-run "
+           "--disable-background-networking --disable-component-update "
+           "--disable-sync " +
+           window + " --user-data-dir=" + profile +
+           " --virtual-time-budget=10000 --dump-dom file://" + out +
+           "/report.html 2>/dev/null";
+  };
+  const std::string cmd = cmd_at("");
   const std::string dom = Shell(cmd).output;
   // The page's load handler counts decoded images and table rows.
   const auto at = dom.find("data-images-rendered=\"");
@@ -926,6 +944,29 @@ TEST(Audit, ReportRendersInHeadlessChromium) {
   EXPECT_NE(dom.find("data-table-rows=\"4\""), std::string::npos);
   EXPECT_NE(dom.find("<tr class=\"flagged\">"), std::string::npos);
   EXPECT_NE(dom.find("<tr class=\"failed\">"), std::string::npos);
+  // A flagged or failed row's reason is a row of its own under it.
+  EXPECT_NE(dom.find("<tr class=\"reason flagged\"><td colspan=\"19\"><div>"
+                     "not explained by wear-scar interaction"),
+            std::string::npos);
+  EXPECT_NE(dom.find("<tr class=\"reason failed\"><td colspan=\"19\"><div>"
+                     "error: "),
+            std::string::npos);
+  // As a reader sees it on a laptop's and a desktop's screen: no
+  // horizontal scrolling of the page (the wide table scrolls in its box),
+  // every figure at least 900 px wide, no text under 14 px.
+  for (const char* width : {"1280", "1920"}) {
+    const std::string shown =
+        Shell(cmd_at(std::string("--window-size=") + width + ",1000")).output;
+    const auto l = shown.find("data-layout=\"");
+    ASSERT_NE(l, std::string::npos) << width;
+    std::istringstream in(
+        shown.substr(l + 13, shown.find('"', l + 13) - l - 13));
+    int overflow = 1, narrowest = 0, smallest = 0;
+    in >> overflow >> narrowest >> smallest;
+    EXPECT_LE(overflow, 0) << width;
+    EXPECT_GE(narrowest, 900) << width;
+    EXPECT_GE(smallest, 14) << width;
+  }
 }
 
 }  // namespace

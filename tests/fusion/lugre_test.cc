@@ -71,7 +71,9 @@ TEST(Lugre, RecoversKnownParametersIncludingNegativeSigma2) {
             cycles.cycles[2].reverse.end - cycles.cycles[2].forward.begin);
   // The negative viscous damping fits, and is said to be unphysical.
   EXPECT_FALSE(fit.physically_plausible);
-  EXPECT_EQ(fit.message, "fitted (physically implausible: sigma2 < 0)");
+  EXPECT_EQ(fit.message,
+            "fitted (physically implausible: sigma2 < 0; the LuGre parameters "
+            "are then no material data: quote mu-hat)");
 }
 
 TEST(Lugre, PositiveDampingsAreReportedAsConverged) {

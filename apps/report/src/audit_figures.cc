@@ -53,7 +53,7 @@ FigureSpec Across(const char* stem,
                   const std::vector<SpecimenSeries>& specimens) {
   FigureSpec f{stem, title, {{"", "cycle", ylabel, "", {}, "", {}}}};
   if (specimens.size() > 20)
-    f.panels[0].setup = "set key font ',10' maxrows 40\n";
+    f.panels[0].setup = "set key font ',14' maxrows 40\n";
   for (size_t i = 0; i < specimens.size(); ++i) {
     Series s("cycles_by_specimen", "cycle", column, specimens[i].name);
     s.select = "specimen";
@@ -127,7 +127,7 @@ std::string PointLabels(const std::vector<SpecimenSeries>& specimens,
   std::string labels;
   for (const auto& row : wear.rows) {
     labels += fmt::format(
-        "set label {} {} at first {}, first {} offset 1,0.6 left font ',12'\n",
+        "set label {} {} at first {}, first {} offset 1,0.6 left font ',14'\n",
         static_cast<int>(row[0]) + 1,
         internal::Quote(specimens[static_cast<size_t>(row[0])].name),
         row[1],

@@ -146,20 +146,26 @@ std::string ReportHead(const std::string& title,
 <style>
 body {{ font-family: 'DejaVu Sans', Arial, sans-serif; margin: 2em; color: #222; }}
 table {{ border-collapse: collapse; font-size: 0.9em; }}
-th, td {{ border: 1px solid #bbb; padding: 0.3em 0.6em; text-align: right; }}
+th, td {{ border: 1px solid #bbb; padding: 0.3em 0.5em; text-align: right; }}
 th {{ background: #eee; }} td.name, td.text {{ text-align: left; }}
 tr.flagged td {{ background: #ffe3b3; }} tr.failed td {{ background: #ffc4c4; }}
-figure {{ display: inline-block; margin: 0.5em; }} img {{ max-width: 720px; border: 1px solid #ddd; }}
-figcaption {{ font-size: 0.85em; color: #555; }}
+div.wide {{ overflow-x: auto; max-width: 100%; }}
+#summary thead th {{ position: sticky; top: 0; z-index: 1; }}
+#summary td.name {{ position: sticky; left: 0; background: #fff; }}
+tr.reason td {{ text-align: left; border-top: none; }}
+tr.reason div {{ position: sticky; left: 0.5em; max-width: calc(100vw - 6em); white-space: normal; }}
+figure {{ display: block; margin: 1em 0; }}
+img {{ width: 1200px; max-width: 100%; height: auto; border: 1px solid #ddd; }}
+figcaption {{ font-size: 0.9em; color: #555; }}
 table.numbers {{ margin: 0.5em 1em 0.5em 0; display: inline-table; vertical-align: top; }}
-details {{ margin: 1em 0; font-size: 0.85em; }} pre {{ white-space: pre-wrap; }}
+details {{ margin: 1em 0; font-size: 0.9em; }} pre {{ white-space: pre-wrap; }}
 </style></head><body>
 <h1>{0}</h1>
 <p class="made">made by wearscar {4} (commit {5}) on {6}</p>
 <p>{1} specimens: {2} not explained by wear-scar interaction, {3} failed to analyse.
 mu-hat: the wear-scar coefficient of friction (Eq. 6) with the slope of the sliding path from the
 normal force (k = dP/dx / S) and, with a scan, from the worn track's centreline.</p>
-<table id="summary"><thead><tr><th>specimen</th><th>species</th><th>plane</th><th>direction</th>
+<div class="wide"><table id="summary"><thead><tr><th>specimen</th><th>species</th><th>plane</th><th>direction</th>
 <th>mu-hat (k from P)</th><th>its 95% interval</th><th>mu-hat (k from scan)</th><th>mu mean</th><th>mu energy</th>
 <th>J</th><th>J noise floor</th><th>J excess</th><th>J (k from scan)</th><th>its floor</th><th>r profiles</th><th>amplitude ratio</th><th>wear rate (mm<sup>3</sup>/(N m))</th><th>warnings</th><th>verdict</th></tr></thead><tbody>
 )",
@@ -235,6 +241,14 @@ std::string SummaryRow(const ReportSection& s) {
       get("warnings").is_array() ? std::to_string(get("warnings").size())
                                  : std::string(),
       verdict);
+  // A flagged or failed row's reason under it, in view whatever the
+  // table's scroll.
+  if (s.failed || s.flagged) {
+    h += fmt::format(
+        "<tr class=\"reason {}\"><td colspan=\"19\"><div>{}</div></td></tr>\n",
+        cls,
+        Escape(full));
+  }
   return h;
 }
 
@@ -420,7 +434,7 @@ std::string PageStart(const std::string& title,
             (sections.size() + 1) * 1024 + 16384);
   h += ReportHead(title, sections);
   for (const auto& s : sections) h += SummaryRow(s);
-  h += "</tbody></table>\n";
+  h += "</tbody></table></div>\n";
   if (!batch.shown.empty() || !batch.message.empty()) {
     h += "<h2>All specimens</h2>\n";
     if (!batch.message.empty()) h += "<p>" + Escape(batch.message) + "</p>\n";
@@ -437,7 +451,14 @@ window.addEventListener('load', function () {
   var imgs = document.images, ok = 0;
   for (var i = 0; i < imgs.length; ++i) if (imgs[i].complete && imgs[i].naturalWidth > 0) ++ok;
   document.body.setAttribute('data-images-rendered', ok + '/' + imgs.length);
-  document.body.setAttribute('data-table-rows', document.querySelectorAll('#summary tbody tr').length);
+  document.body.setAttribute('data-table-rows', document.querySelectorAll('#summary tbody tr:not(.reason)').length);
+  // What a reader sees at this window's width: horizontal overflow of the
+  // page (px), the narrowest figure and the smallest text (px).
+  var narrowest = Infinity, smallest = Infinity;
+  for (var i = 0; i < imgs.length; ++i) narrowest = Math.min(narrowest, imgs[i].getBoundingClientRect().width);
+  var texts = document.querySelectorAll('p, td, th, figcaption, li, summary, h1, h2, h3');
+  for (var i = 0; i < texts.length; ++i) smallest = Math.min(smallest, parseFloat(getComputedStyle(texts[i]).fontSize));
+  document.body.setAttribute('data-layout', [document.documentElement.scrollWidth - window.innerWidth, Math.round(narrowest), Math.round(smallest)].join(' '));
 });
 </script>
 </body></html>

@@ -334,3 +334,57 @@ TEST(FigureData, TheDetailCyclesLinesBreakAtTheReversal) {
 
 }  // namespace
 }  // namespace wearscar::report
+
+namespace wearscar::report {
+namespace {
+
+std::vector<SpecimenSeries> Batch(int n) {
+  std::vector<SpecimenSeries> specimens;
+  for (int i = 0; i < n; ++i) {
+    SpecimenSeries s;
+    s.name = fmt::format("oak_{:02d}", i + 1);
+    s.cycles =
+        fusion::Table({"cycle", "mu_hat_force", "J_force", "mu_energy_g"});
+    for (int c = 1; c <= 40; ++c)
+      s.cycles.rows.push_back({double(c), 0.1 + 0.005 * i, 0.2, 0.11});
+    s.wear_rate = NAN;
+    specimens.push_back(std::move(s));
+  }
+  return specimens;
+}
+
+// Twelve specimens are not twelve similar colours in one key: each gets a
+// panel of its own, drawn over the others in grey, four tics a side; six
+// keep one panel with a key.
+TEST(AuditFigures, ManySpecimensAreSmallMultiples) {
+  std::string why;
+  if (!PlotterAvailable(&why)) GTEST_SKIP() << why;
+  const fs::path dir = test_support::FreshFolder("small-multiples");
+  const FigureSet set = DrawAuditFigures(dir.string(), Batch(12));
+  ASSERT_TRUE(set.missing.empty()) << set.message;
+  std::ifstream in(dir / "figure-data" / "figures.gp");
+  const std::string gp((std::istreambuf_iterator<char>(in)),
+                       std::istreambuf_iterator<char>());
+  const size_t at = gp.find("# audit_fig13_mu_hat");
+  ASSERT_NE(at, std::string::npos) << gp.substr(0, 400);
+  const std::string fig = gp.substr(at, gp.find("unset multiplot", at) - at);
+  EXPECT_NE(fig.find("set multiplot layout 3,4 title"), std::string::npos);
+  EXPECT_NE(fig.find("each specimen over the others in grey"),
+            std::string::npos);
+  int titles = 0;
+  for (size_t t = fig.find("set title 'oak_"); t != std::string::npos;
+       t = fig.find("set title 'oak_", t + 1))
+    ++titles;
+  EXPECT_EQ(titles, 12);
+  EXPECT_NE(fig.find("lc rgb '#c8c8c8'"), std::string::npos);
+  EXPECT_NE(fig.find("set xtics 10\n"), std::string::npos);  // 40 cycles
+  const fs::path few = test_support::FreshFolder("one-key");
+  ASSERT_TRUE(DrawAuditFigures(few.string(), Batch(6)).missing.empty());
+  std::ifstream in6(few / "figure-data" / "figures.gp");
+  const std::string gp6((std::istreambuf_iterator<char>(in6)),
+                        std::istreambuf_iterator<char>());
+  EXPECT_EQ(gp6.find("set multiplot layout"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace wearscar::report

@@ -44,16 +44,84 @@ fusion::Table CyclesBySpecimen(const std::vector<SpecimenSeries>& specimens) {
   return t;
 }
 
-// One of Figs. 13-15 over every specimen: a line each, eight colours then
-// the next dash pattern (the key wraps in columns beyond 20).
+// 1, 2 or 5 times a power of ten, at least `rough`.
+double NiceStep(double rough) {
+  if (!(rough > 0) || !std::isfinite(rough)) return 1;
+  const double p = std::pow(10.0, std::floor(std::log10(rough)));
+  for (double m : {1.0, 2.0, 5.0}) {
+    if (m * p >= rough) return m * p;
+  }
+  return 10 * p;
+}
+
+// Beyond this many specimens a batch figure is small multiples: a panel
+// per specimen, drawn over the others in grey (no key of a dozen similar
+// colours).
+constexpr std::size_t kMostInOneKey = 6;
+
+FigureSpec SmallMultiples(const char* stem,
+                          const char* title,
+                          const char* column,
+                          const char* ylabel,
+                          const std::vector<SpecimenSeries>& specimens) {
+  FigureSpec f{stem,
+               fmt::format("{}: each specimen over the others in grey", title),
+               {}};
+  const std::size_t n = specimens.size();
+  f.columns = n <= 9 ? 3 : n <= 16 ? 4 : 5;
+  const std::size_t rows = (n + f.columns - 1) / f.columns;
+  // About four tics a side: small panels, 14 px text.
+  double last_cycle = 1, lo = INFINITY, hi = -INFINITY;
+  for (const SpecimenSeries& sp : specimens) {
+    const int c = sp.cycles.ColumnIndex("cycle"),
+              y = sp.cycles.ColumnIndex(column);
+    if (c < 0 || y < 0) continue;
+    for (const auto& row : sp.cycles.rows) {
+      last_cycle = std::max(last_cycle, row[c]);
+      if (std::isfinite(row[y]))
+        lo = std::min(lo, row[y]), hi = std::max(hi, row[y]);
+    }
+  }
+  const std::string tics = fmt::format(
+      "set xtics {:g}\n{}",
+      NiceStep(last_cycle / 4),
+      hi > lo ? fmt::format("set ytics {:g}\n", NiceStep((hi - lo) / 3)) : "");
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool left = i % f.columns == 0, bottom = i / f.columns == rows - 1;
+    internal::Panel p{specimens[i].name,
+                      bottom ? "cycle" : "",
+                      left ? ylabel : "",
+                      "set title font ',14'\nset tics font ',14'\n"
+                      "set xlabel font ',14'\nset ylabel font ',14'\n"
+                      "unset key\n" +
+                          tics + (bottom ? "" : "unset xlabel\n") +
+                          (left ? "" : "unset ylabel\n"),
+                      {},
+                      "",
+                      {}};
+    Series others("cycles_by_specimen", "cycle", column, "");
+    others.break_at = "specimen";
+    others.style = "lines lw 1 lc rgb '#c8c8c8'";
+    Series self("cycles_by_specimen", "cycle", column, "");
+    self.select = "specimen";
+    self.select_value = static_cast<double>(i);
+    self.style = fmt::format("lines lw 2.5 lc {}", i % 8 + 1);
+    p.series = {others, self};
+    f.panels.push_back(std::move(p));
+  }
+  return f;
+}
+
+// One of Figs. 13-15 over every specimen: a line each in its own colour
+// and one key; small multiples beyond kMostInOneKey specimens.
 FigureSpec Across(const char* stem,
                   const char* title,
                   const char* column,
                   const char* ylabel,
                   const std::vector<SpecimenSeries>& specimens) {
+  if (specimens.size() > kMostInOneKey)
+    return SmallMultiples(stem, title, column, ylabel, specimens);
   FigureSpec f{stem, title, {{"", "cycle", ylabel, "", {}, "", {}}}};
-  if (specimens.size() > 20)
-    f.panels[0].setup = "set key font ',14' maxrows 40\n";
   for (size_t i = 0; i < specimens.size(); ++i) {
     Series s("cycles_by_specimen", "cycle", column, specimens[i].name);
     s.select = "specimen";

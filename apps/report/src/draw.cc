@@ -184,9 +184,11 @@ std::string FigureCommands(const FigureSpec& f,
                               Quote(f.stem + "." + term + ".part"));
   const bool multi = f.panels.size() > 1;
   if (multi) {
-    s += fmt::format("set multiplot layout {},1 title {}\n",
-                     f.panels.size(),
-                     Quote(f.title));
+    const int columns = std::max(1, f.columns);
+    const int rows =
+        (static_cast<int>(f.panels.size()) + columns - 1) / columns;
+    s += fmt::format(
+        "set multiplot layout {},{} title {}\n", rows, columns, Quote(f.title));
   } else {
     s += "set title " + Quote(f.title) + "\n";
   }

@@ -68,6 +68,7 @@ struct Panel {
 struct FigureSpec {
   std::string stem, title;
   std::vector<Panel> panels;  // more than one: stacked top to bottom
+  int columns = 1;            // or in a grid of this many columns
 };
 
 // The tables figures read, by file name.

@@ -153,6 +153,7 @@ div.wide {{ overflow-x: auto; max-width: 100%; }}
 #summary thead th {{ position: sticky; top: 0; z-index: 1; }}
 #summary td.name {{ position: sticky; left: 0; background: #fff; }}
 tr.reason td {{ text-align: left; border-top: none; }}
+a.back {{ font-size: 0.6em; font-weight: normal; margin-left: 1em; }}
 tr.reason div {{ position: sticky; left: 0.5em; max-width: calc(100vw - 6em); white-space: normal; }}
 figure {{ display: block; margin: 1em 0; }}
 img {{ width: 1200px; max-width: 100%; height: auto; border: 1px solid #ddd; }}
@@ -363,7 +364,10 @@ std::string ProvenanceBlock(const nlohmann::json& r) {
 // One specimen's section: verdict, slope estimate, warnings, figures.
 void AppendSpecimenSection(const ReportSection& s, std::string* out) {
   std::string& h = *out;
-  h += fmt::format("<h2 id=\"{0}\">{0}</h2>\n", Escape(s.name));
+  h += fmt::format(
+      "<h2 id=\"{0}\">{0} <a class=\"back\" href=\"#summary\">back to the "
+      "table</a></h2>\n",
+      Escape(s.name));
   if (s.failed) {
     h += "<p class=\"error\">" + Escape(s.row.value("error", std::string())) +
          "</p>\n";

@@ -1,4 +1,5 @@
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -21,6 +22,7 @@ struct AuditArgs {
   std::string input;
   std::string out = "audit";
   std::string shard;
+  std::string merge;  // --merge OUT
   bool no_figures = false;
   bool dry_run = false;
   report::AuditOptions audit;
@@ -91,9 +93,50 @@ void PrintSections(const std::vector<report::ReportSection>& sections) {
   }
 }
 
+// A shard's or a merge's line on the merged summary.
+void PrintMerged(const report::AuditResult& r, const std::string& out) {
+  Say("merged into {}: {} specimens from {} of {} shards{}\n",
+      out,
+      r.merged,
+      r.shard_count - static_cast<int>(r.missing_shards.size()),
+      r.shard_count,
+      r.missing_shards.empty()
+          ? std::string()
+          : fmt::format("; missing: {} {} (not in the summary yet; run "
+                        "{}, or `wearscar audit --merge {}` once done)",
+                        r.missing_shards.size() > 1 ? "shards" : "shard",
+                        fmt::join(r.missing_shards, ", "),
+                        r.missing_shards.size() > 1 ? "them" : "it",
+                        out));
+}
+
+void RunMerge(const AuditArgs& a, const fusion::TestSettings& settings) {
+  report::AuditOptions o = a.audit;
+  o.read_force = settings.read_force;
+  o.read_scan = settings.read_scan;
+  o.fuse = settings.fuse;
+  o.figures = !a.no_figures;
+  const report::AuditResult r = report::MergeAudit(
+      a.merge, fmt::format("wearscar audit merged in {}", a.merge), o);
+  PrintSections(r.specimens);
+  Say("{} specimens: {} explained, {} not explained, {} failed\n",
+      r.specimens.size(),
+      r.specimens.size() - r.flagged - r.failed,
+      r.flagged,
+      r.failed);
+  PrintMerged(r, a.merge);
+  Say("report: {}\n", fs::absolute(r.report_path).string());
+}
+
 void RunAudit(AuditArgs a) {
   fusion::TestSettings settings =
       WithFlagNames([&] { return fusion::MakeTestSettings(a.given); });
+  if (!a.merge.empty()) return RunMerge(a, settings);
+  if (a.input.empty()) {
+    throw UsageError(
+        "audit: no input; expected a folder or a manifest (or --merge OUT to "
+        "merge the shards written into OUT)");
+  }
   fusion::BatchOptions& batch = a.audit.batch;
   if (!a.shard.empty() &&
       (std::sscanf(
@@ -123,12 +166,7 @@ void RunAudit(AuditArgs a) {
   Progress progress(
       fmt::format("audit ({} specimens, {} jobs)", mine.size(), jobs),
       static_cast<long>(mine.size()));
-  const std::string title =
-      batch.shard_count > 1 ? fmt::format("wearscar audit of {} (shard {}/{})",
-                                          a.input,
-                                          batch.shard_index,
-                                          batch.shard_count)
-                            : fmt::format("wearscar audit of {}", a.input);
+  const std::string title = fmt::format("wearscar audit of {}", a.input);
   const report::AuditResult r = report::Audit(
       mine, a.out, title, a.audit, [&](long done) { progress.Update(done); });
   progress.Finish();
@@ -138,6 +176,7 @@ void RunAudit(AuditArgs a) {
       r.specimens.size() - r.flagged - r.failed,
       r.flagged,
       r.failed);
+  if (batch.shard_count > 1) PrintMerged(r, a.out);
   // The default spring, for the specimens whose file states none.
   std::size_t defaulted = 0, analysed = 0;
   for (const auto& sec : r.specimens) {
@@ -185,15 +224,21 @@ void AddAuditCommand(CLI::App& app) {
       "when figures asked for were not drawn.");
   cmd->add_option("input",
                   args->input,
-                  "Folder of files, or manifest.csv (specimen,force,scan)")
-      ->required();
+                  "Folder of files, or manifest.csv (specimen,force,scan)");
+  cmd->add_option("--merge",
+                  args->merge,
+                  "Merge what the shards of an audit wrote into this folder "
+                  "(summary, batch figures, report of every shard present; "
+                  "each shard also does it when it ends)");
   cmd->add_option("-o,--out", args->out, "Output folder")
       ->capture_default_str();
   cmd->add_option("-j,--jobs",
                   args->audit.batch.jobs,
                   "Parallel specimens (default: all cores)");
-  cmd->add_option(
-      "--shard", args->shard, "Process shard i of n (1-based), e.g. 2/4");
+  cmd->add_option("--shard",
+                  args->shard,
+                  "Process shard i of n (1-based), e.g. 2/4; the shards may "
+                  "run at once into one --out");
   cmd->add_flag("--dry-run",
                 args->dry_run,
                 "Print how the files pair (specimen, force, scan, note) and "
@@ -221,8 +266,8 @@ void AddAuditCommand(CLI::App& app) {
   cmd->footer(
       "Examples:\n"
       "  wearscar audit lab/ -o audit\n"
-      "  wearscar audit manifest.csv -o audit --diagnose -j 2\n"
-      "  wearscar audit lab/ -o audit --shard 2/4 --no-figures --quiet");
+      "  wearscar audit manifest.csv -o audit --diagnose --shard 2/4 -j 1\n"
+      "  wearscar audit --merge audit");
   cmd->callback([args] { RunAudit(*args); });
 }
 

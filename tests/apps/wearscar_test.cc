@@ -886,7 +886,7 @@ TEST(Audit, OneBadSpecimenIsReportedAndTheRestComplete) {
   }
 }
 
-TEST(Audit, ManifestPairsFilesAndShardsConcatenate) {
+TEST(Audit, ManifestPairsFilesAndShardsMergeInOneFolder) {
   const std::string in = AuditFolder("manifest");
   const std::string manifest = ::testing::TempDir() + "/manifest.csv";
   std::ofstream(manifest) << "specimen,force,scan\n"
@@ -895,20 +895,86 @@ TEST(Audit, ManifestPairsFilesAndShardsConcatenate) {
                           << "S-TL-L," << in << "/S-TL-L.force.csv,\n"
                           << "S-RL-R," << in << "/S-RL-R.force.csv," << in
                           << "/S-RL-R.scan.gsf\n";
-  std::string tables;
-  for (const char* shard : {"1/2", "2/2"}) {
-    const std::string out =
-        ::testing::TempDir() + "/audit-shard-" + std::string(1, shard[0]);
-    const CommandResult r = Wearscar("audit " + manifest + " --shard " + shard +
-                                     " --no-figures --running-in 30 -o " + out);
-    EXPECT_EQ(r.status, 0) << r.output;
-    tables += Slurp(out + "/summary.csv");
-  }
+  const std::string out = ::testing::TempDir() + "/audit-shards";
+  std::filesystem::remove_all(out);
+  // Shard 2 first: the merge names shard 1 as missing until it has run.
+  const CommandResult second = Wearscar("audit " + manifest +
+                                        " --shard 2/2 --no-figures "
+                                        "--running-in 30 -o " +
+                                        out);
+  EXPECT_EQ(second.status, 0) << second.output;
+  EXPECT_NE(second.output.find("merged into " + out +
+                               ": 1 specimens from 1 of 2 shards; missing: "
+                               "shard 1 (not in the summary yet"),
+            std::string::npos)
+      << second.output;
+  EXPECT_NE(Slurp(out + "/report.html")
+                .find("(shard 1 of 2 missing: not in this report)"),
+            std::string::npos);
+  const CommandResult first = Wearscar("audit " + manifest +
+                                       " --shard 1/2 --no-figures "
+                                       "--running-in 30 -o " +
+                                       out);
+  EXPECT_EQ(first.status, 0) << first.output;
+  const std::string table = Slurp(out + "/summary.csv");
   // Header once, then the three specimens.
-  EXPECT_EQ(CountLines(tables), 4) << tables;
-  EXPECT_EQ(tables.rfind("specimen,species,plane,direction", 0), 0u);
-  EXPECT_NE(tables.find("\nS-TL-L,spruce,TL,L,60,"), std::string::npos)
-      << tables;
+  EXPECT_EQ(CountLines(table), 4) << table;
+  EXPECT_EQ(table.rfind("specimen,species,plane,direction", 0), 0u);
+  EXPECT_NE(table.find("\nS-TL-L,spruce,TL,L,60,"), std::string::npos) << table;
+  // The merge again, alone: the same table.
+  const CommandResult merge =
+      Wearscar("audit --merge " + out + " --no-figures");
+  EXPECT_EQ(merge.status, 0) << merge.output;
+  EXPECT_NE(merge.output.find("3 specimens from 2 of 2 shards"),
+            std::string::npos)
+      << merge.output;
+  EXPECT_EQ(Slurp(out + "/summary.csv"), table);
+  // A folder no shard wrote into: said, exit 2.
+  const CommandResult none = Wearscar("audit --merge " + in + "/nothing");
+  EXPECT_EQ(none.status, 2) << none.output;
+  EXPECT_NE(none.output.find("no parts (shard-<i>-of-<n>.json)"),
+            std::string::npos)
+      << none.output;
+}
+
+// The cluster recipe run as a lab would run it on one machine: three
+// shards at once (GNU parallel, or xargs -P without it) into one folder,
+// then the merge; its summary holds the rows a single audit writes.
+TEST(Audit, TheParallelRecipeMatchesASingleAudit) {
+  const std::string samples = std::string(WEARSCAR_SAMPLES_DIR) + "/data";
+  const std::string recipe =
+      std::string(WEARSCAR_SAMPLES_DIR) + "/../examples/parallel.sh";
+  const std::string dir = ::testing::TempDir() + "/audit-recipe";
+  std::filesystem::remove_all(dir);
+  const CommandResult r =
+      Shell("WEARSCAR=" + std::string(WEARSCAR_BINARY) + " " + recipe + " " +
+            samples + " " + dir + "/sharded 3 -j 1 --no-figures 2>&1");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("12 specimens from 3 of 3 shards"), std::string::npos)
+      << r.output;
+  EXPECT_EQ(
+      FilesIn(dir + "/sharded/parts"),
+      (std::set<std::string>{
+          "shard-1-of-3.json", "shard-2-of-3.json", "shard-3-of-3.json"}));
+  ASSERT_EQ(Wearscar("audit " + samples + " -o " + dir + "/single --no-figures")
+                .status,
+            0);
+  // Row by row, but for the date of the run.
+  const auto rows = [](const std::string& csv) {
+    std::vector<std::string> lines;
+    std::istringstream in(csv);
+    std::string line;
+    while (std::getline(in, line)) {
+      // date_utc is the last column.
+      lines.push_back(line.substr(0, line.rfind(',')));
+    }
+    std::sort(lines.begin() + 1, lines.end());
+    return lines;
+  };
+  const auto sharded = rows(Slurp(dir + "/sharded/summary.csv"));
+  const auto single = rows(Slurp(dir + "/single/summary.csv"));
+  ASSERT_EQ(sharded.size(), 13u);
+  EXPECT_EQ(sharded, single);
 }
 
 TEST(Audit, ReportRendersInHeadlessChromium) {

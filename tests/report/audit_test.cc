@@ -11,6 +11,7 @@
 #include "report_helpers.h"
 #include "wearscar/force/read_force.h"
 #include "wearscar/fusion/error.h"
+#include "wearscar/report/output_folder.h"
 #include "wearscar/scan/gsf.h"
 
 namespace wearscar::report {
@@ -106,6 +107,28 @@ TEST(Audit, InvalidOptionsAreNamedBeforeAnythingIsWritten) {
   }
   EXPECT_FALSE(fs::exists(out));
   fs::remove_all(out.parent_path());
+}
+
+// Shards share a folder; an exclusive writer (an unsharded audit, a fuse)
+// is refused while they hold it, and they while it does; the merge lock
+// is a lock of its own.
+TEST(OutputLock, ShardsShareAFolderAnExclusiveWriterDoesNot) {
+  const fs::path out = FreshFolder("locks");
+  {
+    const OutputLock a(out.string(), OutputLock::kShard);
+    const OutputLock b(out.string(), OutputLock::kShard);
+    EXPECT_THROW(OutputLock(out.string()), OutputError);
+    const OutputLock merge(out.string(), OutputLock::kMerge);
+  }
+  const OutputLock alone(out.string());
+  try {
+    OutputLock shard(out.string(), OutputLock::kShard);
+    ADD_FAILURE() << "a shard took a folder an exclusive writer holds";
+  } catch (const OutputError& e) {
+    EXPECT_NE(std::string(e.what()).find("another wearscar is writing into "
+                                         "this folder"),
+              std::string::npos);
+  }
 }
 
 }  // namespace

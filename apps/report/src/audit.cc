@@ -1,11 +1,15 @@
 #include "wearscar/report/audit.h"
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
 #include <algorithm>
 #include <atomic>
 #include <filesystem>
 #include <future>
 #include <vector>
 
+#include "audit_parts.h"
 #include "wearscar/fusion/error.h"
 #include "wearscar/report/html_report.h"
 #include "wearscar/report/output_folder.h"
@@ -107,9 +111,11 @@ void AuditSpecimen(const AuditOptions& o,
 void RecordAuditOutputs(const std::string& out,
                         bool sharded,
                         const std::vector<ReportSection>& sections,
-                        const FigureSet& batch) {
+                        const FigureSet& batch,
+                        const std::vector<std::string>& parts) {
   std::vector<std::string> entries = {
       "summary.csv", "summary.jsonl", "summary.json", "report.html"};
+  entries.insert(entries.end(), parts.begin(), parts.end());
   for (const auto& sec : sections) entries.push_back(sec.name + "/");
   for (const std::string& file : batch.files)
     entries.push_back(fs::path(file).filename().string());
@@ -122,11 +128,8 @@ void RecordAuditOutputs(const std::string& out,
   RecordOutputs(out, "audit", entries, !sharded);
 }
 
-// summary.csv (shard 1, or an unsharded run, writes the header, so that
-// the shards' files concatenate into one table), summary.jsonl (one row
-// per line: it concatenates as it is) and summary.json.
+// summary.csv, summary.jsonl (one row per line) and summary.json.
 void WriteSummaries(const std::string& out,
-                    bool header,
                     const std::vector<ReportSection>& sections) {
   std::vector<nlohmann::json> rows;
   std::string jsonl;
@@ -135,13 +138,83 @@ void WriteSummaries(const std::string& out,
     jsonl += sec.row.dump() + "\n";
   }
   WriteTextAtomically((fs::path(out) / "summary.csv").string(),
-                      fusion::SummaryCsv(rows, header));
+                      fusion::SummaryCsv(rows, true));
   WriteTextAtomically((fs::path(out) / "summary.jsonl").string(), jsonl);
   WriteTextAtomically((fs::path(out) / "summary.json").string(),
                       nlohmann::json(rows).dump(2) + "\n");
 }
 
+// The batch's summaries, figures, manifest and report over `sections`
+// (`analysed`: the series of those not failed); fills the result's
+// batch figures and report path.
+void WriteBatch(const std::string& out,
+                const std::string& title,
+                const AuditOptions& o,
+                bool sharded,
+                const std::vector<ReportSection>& sections,
+                const std::vector<SpecimenSeries>& analysed,
+                const std::vector<std::string>& parts,
+                AuditResult* result) {
+  WriteSummaries(out, sections);
+  // The specimens' part of the report is rendered while gnuplot draws the
+  // batch figures.
+  std::future<FigureSet> batch_figures;
+  if (o.figures) {
+    batch_figures = std::async(std::launch::async, [&] {
+      return DrawAuditFigures(out, analysed, o.figure_formats);
+    });
+  }
+  const std::string rendered = RenderSpecimenSections(sections);
+  if (o.figures) result->batch_figures = batch_figures.get();
+  RecordAuditOutputs(out, sharded, sections, result->batch_figures, parts);
+  result->report_path = (fs::path(out) / "report.html").string();
+  WriteReport(
+      result->report_path, title, sections, result->batch_figures, rendered);
+}
+
+// What the shards of a sharded audit wrote, merged (the merge lock held).
+internal::Parts Merge(const std::string& out,
+                      const std::string& title,
+                      const AuditOptions& o,
+                      AuditResult* result) {
+  internal::Parts parts = internal::ReadParts(out);
+  result->shard_count = parts.count;
+  result->missing_shards = parts.missing;
+  result->merged = static_cast<int>(parts.sections.size());
+  std::string heading = title;
+  if (!parts.missing.empty()) {
+    heading += fmt::format(" (shard{} {} of {} missing: not in this report)",
+                           parts.missing.size() > 1 ? "s" : "",
+                           fmt::join(parts.missing, ", "),
+                           parts.count);
+  }
+  WriteBatch(out,
+             heading,
+             o,
+             true,
+             parts.sections,
+             parts.analysed,
+             parts.files,
+             result);
+  return parts;
+}
+
 }  // namespace
+
+AuditResult MergeAudit(const std::string& out,
+                       const std::string& title,
+                       const AuditOptions& o) {
+  std::string why;
+  if (!o.IsValid(&why)) throw fusion::FusionError("audit options: " + why);
+  const OutputLock merge_lock(out, OutputLock::kMerge);
+  AuditResult result;
+  result.specimens = Merge(out, title, o, &result).sections;
+  for (const ReportSection& sec : result.specimens) {
+    result.failed += sec.failed;
+    result.flagged += sec.flagged;
+  }
+  return result;
+}
 
 bool AuditOptions::IsValid(std::string* why) const {
   return batch.IsValid(why) && read_force.IsValid(why) &&
@@ -158,9 +231,12 @@ AuditResult Audit(const std::vector<fusion::Specimen>& specimens,
   std::string why;
   if (!o.IsValid(&why)) throw fusion::FusionError("audit options: " + why);
   EnsureDirectory(out);
-  // One audit per folder at a time: two would interleave summary.csv and
-  // the specimen folders.
-  const OutputLock out_lock(out);
+  // One audit per folder at a time (two would interleave summary.csv and
+  // the specimen folders), but the shards of one audit together: each
+  // writes its own specimens, then its part and the merge in turn.
+  const bool sharded = o.batch.shard_count > 1;
+  const OutputLock out_lock(
+      out, sharded ? OutputLock::kShard : OutputLock::kExclusive);
   AuditResult result;
   result.specimens.resize(specimens.size());
   std::vector<SpecimenSeries> series(specimens.size());
@@ -191,25 +267,17 @@ AuditResult Audit(const std::vector<fusion::Specimen>& specimens,
     if (!result.specimens[i].failed) analysed.push_back(series[i]);
   }
   result.figures_missing = figures_missing;
-  WriteSummaries(out, o.batch.shard_index == 1, result.specimens);
-  // The specimens' part of the report is rendered while gnuplot draws the
-  // batch figures.
-  std::future<FigureSet> batch_figures;
-  if (o.figures) {
-    batch_figures = std::async(std::launch::async, [&] {
-      return DrawAuditFigures(out, analysed, o.figure_formats);
-    });
+  if (sharded) {
+    const OutputLock merge_lock(out, OutputLock::kMerge);
+    internal::WritePart(out,
+                        o.batch.shard_index,
+                        o.batch.shard_count,
+                        result.specimens,
+                        series);
+    Merge(out, title, o, &result);
+    return result;
   }
-  const std::string sections = RenderSpecimenSections(result.specimens);
-  if (o.figures) result.batch_figures = batch_figures.get();
-  RecordAuditOutputs(
-      out, o.batch.shard_count > 1, result.specimens, result.batch_figures);
-  result.report_path = (fs::path(out) / "report.html").string();
-  WriteReport(result.report_path,
-              title,
-              result.specimens,
-              result.batch_figures,
-              sections);
+  WriteBatch(out, title, o, false, result.specimens, analysed, {}, &result);
   return result;
 }
 

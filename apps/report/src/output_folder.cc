@@ -150,23 +150,35 @@ std::string StagedOutput::Final(const std::string& staged_path) const {
       .string();
 }
 
-OutputLock::OutputLock(const std::string& out) {
+OutputLock::OutputLock(const std::string& out, Mode mode) {
   EnsureDirectory(out);
   const std::string path =
-      (std::filesystem::path(out) / ".wearscar.lock").string();
+      (std::filesystem::path(out) /
+       (mode == kMerge ? ".wearscar.merge.lock" : ".wearscar.lock"))
+          .string();
   fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
   if (fd_ < 0) {
     throw OutputError(fmt::format(
         "{}: cannot create the lock file: {}", path, std::strerror(errno)));
   }
-  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+  const int how = mode == kMerge   ? LOCK_EX
+                  : mode == kShard ? LOCK_SH | LOCK_NB
+                                   : LOCK_EX | LOCK_NB;
+  int rc;
+  do {
+    rc = ::flock(fd_, how);
+  } while (rc != 0 && errno == EINTR && mode == kMerge);
+  if (rc != 0) {
     ::close(fd_);
     fd_ = -1;
     throw OutputError(fmt::format(
         "{}: another wearscar is writing into this folder (it holds {}); "
-        "wait for it or choose another --out",
+        "wait for it or choose another --out{}",
         out,
-        path));
+        path,
+        mode == kShard ? " (shards of one audit may share a folder; an "
+                         "unsharded run may not)"
+                       : ""));
   }
 }
 

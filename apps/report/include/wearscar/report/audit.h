@@ -45,19 +45,34 @@ struct AuditResult {
   // Figures asked for and not drawn for some specimen.
   bool figures_missing = false;
   std::string report_path;  // <out>/report.html
+  // A shard's run (and MergeAudit): the shards of the audit, those whose
+  // part is not there yet, and the specimens the merged summary holds.
+  int shard_count = 1;
+  std::vector<int> missing_shards;
+  int merged = 0;
 };
 
 // Audits `specimens` (fusion::FindSpecimens) into `out`, which it locks
-// (OutputLock) for the run: <out>/<specimen>/ per specimen, staged so that
-// its files appear together; a specimen that fails is its section's error
-// and the rest complete. `title` heads report.html. progress(done) is
-// called after each specimen, one call at a time. Throws
-// fusion::FusionError for invalid options (naming them) and OutputError
-// when `out` cannot be written.
+// (OutputLock; a shard shares it with the other shards) for the run:
+// <out>/<specimen>/ per specimen, staged so that its files appear together; a
+// specimen that fails is its section's error and the rest complete. `title`
+// heads report.html. progress(done) is called after each specimen, one call at
+// a time. Throws fusion::FusionError for invalid options (naming them) and
+// OutputError when `out` cannot be written.
 AuditResult Audit(const std::vector<fusion::Specimen>& specimens,
                   const std::string& out,
                   const std::string& title,
                   const AuditOptions& options,
                   const std::function<void(long)>& progress = {});
+
+// The shards of an audit run at once into one folder (--shard i/n, as the
+// tasks of a cluster job array): each writes its specimens' folders, then,
+// one at a time, its part (<out>/parts/shard-i-of-n.json) and the summary,
+// batch figures and report of every part present. MergeAudit does that
+// last step again, alone (`wearscar audit --merge OUT`): idempotent; the
+// result's specimens are the merged ones, missing_shards those absent.
+AuditResult MergeAudit(const std::string& out,
+                       const std::string& title,
+                       const AuditOptions& options);
 
 }  // namespace wearscar::report

@@ -52,12 +52,17 @@ class StagedOutput {
   std::string out_, command_, staging_;
 };
 
-// An exclusive lock on an output folder for the life of the object (flock
-// on <out>/.wearscar.lock; released when the process ends, however it
-// ends). A second writer fails at once with a clear message.
+// A lock on an output folder for the life of the object (flock on
+// <out>/.wearscar.lock; released when the process ends, however it ends).
+// kExclusive: one writer; a second fails at once with a clear message.
+// kShard: the shards of one audit share the folder (each writes only its
+// specimens' folders), and an exclusive writer is refused while they run.
+// kMerge: waits its turn on <out>/.wearscar.merge.lock (the shards' parts,
+// summaries and report are written one shard at a time).
 class OutputLock {
  public:
-  explicit OutputLock(const std::string& out);
+  enum Mode { kExclusive, kShard, kMerge };
+  explicit OutputLock(const std::string& out, Mode mode = kExclusive);
   ~OutputLock();
   OutputLock(const OutputLock&) = delete;
   OutputLock& operator=(const OutputLock&) = delete;

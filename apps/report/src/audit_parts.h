@@ -1,0 +1,35 @@
+#pragma once
+// The parts of a sharded audit: each shard writes what the merge needs of
+// its specimens into <out>/parts/shard-<i>-of-<n>.json; the merge reads
+// every part present and writes the summaries, batch figures and report of
+// them all.
+
+#include <string>
+#include <vector>
+
+#include "wearscar/report/figures.h"
+#include "wearscar/report/html_report.h"
+
+namespace wearscar::report::internal {
+
+// `series[k]` belongs to `sections[k]` (ignored for a failed one).
+void WritePart(const std::string& out,
+               int index,
+               int count,
+               const std::vector<ReportSection>& sections,
+               const std::vector<SpecimenSeries>& series);
+
+struct Parts {
+  std::vector<ReportSection> sections;   // by specimen name
+  std::vector<SpecimenSeries> analysed;  // those not failed, same order
+  std::vector<int> missing;              // shards with no part
+  int count = 0;                         // shards of the audit
+  std::vector<std::string> files;        // "parts/shard-1-of-3.json"
+};
+
+// Every part in <out>/parts. Throws OutputError when there is none, when
+// parts of audits with different shard counts are mixed, or when a part
+// cannot be read.
+Parts ReadParts(const std::string& out);
+
+}  // namespace wearscar::report::internal

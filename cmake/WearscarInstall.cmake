@@ -9,21 +9,64 @@ set(WEARSCAR_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/wearscar)
 # which the static libraries link privately; it has to be exported with them.
 set_target_properties(wearscar_pcl PROPERTIES EXPORT_NAME pcl_deps)
 
+# Three components, three Debian packages: wearscar (the command, its man
+# pages and documentation), libwearscar-dev (headers, static libraries, the
+# CMake package) and python3-wearscar (python/CMakeLists.txt).
 install(TARGETS wearscar_support wearscar_scan wearscar_force wearscar_fusion wearscar_report wearscar_samples
                 wearscar_pcl
         EXPORT wearscarTargets
-        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
-        LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT dev
+        LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT dev
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-install(TARGETS wearscar RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+install(TARGETS wearscar RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
+        COMPONENT wearscar)
 foreach(module support scan force fusion apps/report samples)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/${module}/include/
-          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} COMPONENT dev)
 endforeach()
+# Debian's place for a package's licence, and the documents for users.
+install(FILES ${PROJECT_SOURCE_DIR}/LICENSE
+        DESTINATION ${CMAKE_INSTALL_DOCDIR} RENAME copyright
+        COMPONENT wearscar)
+install(FILES ${PROJECT_SOURCE_DIR}/README.md ${PROJECT_SOURCE_DIR}/CHANGELOG.md
+              ${PROJECT_SOURCE_DIR}/docs/method.md
+              ${PROJECT_SOURCE_DIR}/docs/formats.md
+        DESTINATION ${CMAKE_INSTALL_DOCDIR} COMPONENT wearscar)
+
+# Man pages for wearscar and each subcommand, from their own --help by
+# help2man (Debian's help2man; without it, none, and CMake says so).
+find_program(WEARSCAR_HELP2MAN help2man)
+if(WEARSCAR_HELP2MAN)
+  set(pages)
+  foreach(sub "" simulate force scan fuse diagnose audit)
+    if(sub STREQUAL "")
+      set(page wearscar.1)
+      set(help "--help")
+    else()
+      set(page wearscar-${sub}.1)
+      set(help "${sub} --help")
+    endif()
+    add_custom_command(
+      OUTPUT ${PROJECT_BINARY_DIR}/man/${page}
+      COMMAND ${CMAKE_COMMAND} -E make_directory ${PROJECT_BINARY_DIR}/man
+      COMMAND ${WEARSCAR_HELP2MAN} --no-info --no-discard-stderr
+              "--name=friction coefficient of reciprocating tests from force and scan"
+              "--help-option=${help}" --version-option=--version
+              --output=${PROJECT_BINARY_DIR}/man/${page} $<TARGET_FILE:wearscar>
+      DEPENDS wearscar
+      VERBATIM)
+    list(APPEND pages ${PROJECT_BINARY_DIR}/man/${page})
+  endforeach()
+  add_custom_target(wearscar_man ALL DEPENDS ${pages})
+  install(FILES ${pages} DESTINATION ${CMAKE_INSTALL_MANDIR}/man1
+          COMPONENT wearscar)
+else()
+  message(STATUS "help2man not found: no man pages (apt-get install help2man)")
+endif()
 
 install(EXPORT wearscarTargets
         NAMESPACE wearscar::
-        DESTINATION ${WEARSCAR_CMAKE_DIR})
+        DESTINATION ${WEARSCAR_CMAKE_DIR} COMPONENT dev)
 configure_package_config_file(
   ${PROJECT_SOURCE_DIR}/cmake/wearscarConfig.cmake.in
   ${PROJECT_BINARY_DIR}/wearscarConfig.cmake
@@ -33,32 +76,56 @@ write_basic_package_version_file(
   COMPATIBILITY SameMinorVersion)
 install(FILES ${PROJECT_BINARY_DIR}/wearscarConfig.cmake
               ${PROJECT_BINARY_DIR}/wearscarConfigVersion.cmake
-        DESTINATION ${WEARSCAR_CMAKE_DIR})
+        DESTINATION ${WEARSCAR_CMAKE_DIR} COMPONENT dev)
 
-# A Debian package: cpack -G DEB in the build folder writes
-# wearscar_<version>_amd64.deb with the command, the Python module, the
-# headers, the static libraries and the CMake package under /usr.
+# Debian packages: cpack -G DEB in the build folder writes one per
+# component, wearscar_<version>_amd64.deb, libwearscar-dev_... and
+# python3-wearscar_..., their Depends computed by dpkg-shlibdeps plus what
+# a program needs besides. The maintainer: WEARSCAR_MAINTAINER, by default
+# the author of the commit built.
+execute_process(COMMAND git log -1 "--format=%an <%ae>"
+                WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}
+                OUTPUT_VARIABLE commit_author
+                OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
+if(NOT commit_author)
+  set(commit_author "wearscar maintainers <wearscar@users.noreply.github.com>")
+endif()
+set(WEARSCAR_MAINTAINER "${commit_author}" CACHE STRING
+    "The Debian packages' maintainer, 'Name <address>'")
 set(CPACK_GENERATOR DEB)
+set(CPACK_DEB_COMPONENT_INSTALL ON)
+set(CPACK_COMPONENTS_ALL wearscar dev python3-wearscar)
 set(CPACK_PACKAGE_NAME wearscar)
 set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
 set(CPACK_PACKAGE_VENDOR "the wearscar authors")
-set(CPACK_PACKAGE_CONTACT "the wearscar authors <wearscar@localhost>")
+set(CPACK_PACKAGE_CONTACT "${WEARSCAR_MAINTAINER}")
+set(CPACK_DEBIAN_PACKAGE_MAINTAINER "${WEARSCAR_MAINTAINER}")
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY
     "sliding friction coefficient of reciprocating tests from force and scan")
-set(CPACK_PACKAGE_DESCRIPTION
-    "wearscar identifies the sliding friction coefficient of reciprocating \
-friction tests whose loops look non-Coulomb, from the tribometer's force \
-record and a profilometer scan of the worn track (the wear-scar interaction). \
-It installs the wearscar command, the Python module, the C++ headers, static \
-libraries and CMake package.")
 set(CPACK_RESOURCE_FILE_LICENSE ${PROJECT_SOURCE_DIR}/LICENSE)
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
-set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)  # wearscar_0.1.0_amd64.deb
+set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)  # <package>_<version>_amd64.deb
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_LICENSE BSD-3-Clause)
-# Shared libraries the command and the module load, found by dpkg-shlibdeps;
-# what a program needs besides.
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-set(CPACK_DEBIAN_PACKAGE_DEPENDS "gnuplot-nox, python3, python3-numpy")
-set(CPACK_DEBIAN_PACKAGE_SUGGESTS "libceres-dev, libopencv-dev, libpcl-dev, nlohmann-json3-dev, libfmt-dev")
+set(CPACK_DEBIAN_WEARSCAR_PACKAGE_NAME wearscar)
+set(CPACK_DEBIAN_WEARSCAR_PACKAGE_DEPENDS "gnuplot-nox")
+set(CPACK_COMPONENT_WEARSCAR_DESCRIPTION
+    "wearscar identifies the sliding friction coefficient of reciprocating \
+friction tests whose loops look non-Coulomb, from the tribometer's force \
+record and a profilometer scan of the worn track (the wear-scar \
+interaction): the command, its man pages and documentation.")
+set(CPACK_DEBIAN_DEV_PACKAGE_NAME libwearscar-dev)
+set(CPACK_DEBIAN_DEV_PACKAGE_SECTION libdevel)
+set(CPACK_DEBIAN_DEV_PACKAGE_DEPENDS
+    "libeigen3-dev, libceres-dev, libopencv-dev, libpcl-dev, libfmt-dev, nlohmann-json3-dev, libzip-dev, libzstd-dev, zlib1g-dev, libssl-dev, libpugixml-dev, libpng-dev")
+set(CPACK_COMPONENT_DEV_DESCRIPTION
+    "wearscar's C++ libraries: headers, static libraries and the CMake \
+package (find_package(wearscar), then wearscar::fusion and the others).")
+set(CPACK_DEBIAN_PYTHON3-WEARSCAR_PACKAGE_NAME python3-wearscar)
+set(CPACK_DEBIAN_PYTHON3-WEARSCAR_PACKAGE_SECTION python)
+set(CPACK_DEBIAN_PYTHON3-WEARSCAR_PACKAGE_DEPENDS "python3, python3-numpy")
+set(CPACK_COMPONENT_PYTHON3-WEARSCAR_DESCRIPTION
+    "wearscar's Python module: import wearscar (fuse, audit, simulate, the \
+results as dictionaries and NumPy arrays).")
 include(CPack)

@@ -34,9 +34,10 @@ install(FILES ${PROJECT_SOURCE_DIR}/README.md ${PROJECT_SOURCE_DIR}/CHANGELOG.md
         DESTINATION ${CMAKE_INSTALL_DOCDIR} COMPONENT wearscar)
 
 # Man pages for wearscar and each subcommand, from their own --help by
-# help2man (Debian's help2man; without it, none, and CMake says so).
+# help2man (Debian's help2man; without it, none, and CMake says so). Not in
+# instrumented builds, whose command is not the one installed.
 find_program(WEARSCAR_HELP2MAN help2man)
-if(WEARSCAR_HELP2MAN)
+if(WEARSCAR_HELP2MAN AND wearscar_uninstrumented)
   set(pages)
   foreach(sub "" simulate force scan fuse diagnose audit)
     if(sub STREQUAL "")
@@ -60,7 +61,7 @@ if(WEARSCAR_HELP2MAN)
   add_custom_target(wearscar_man ALL DEPENDS ${pages})
   install(FILES ${pages} DESTINATION ${CMAKE_INSTALL_MANDIR}/man1
           COMPONENT wearscar)
-else()
+elseif(NOT WEARSCAR_HELP2MAN)
   message(STATUS "help2man not found: no man pages (apt-get install help2man)")
 endif()
 

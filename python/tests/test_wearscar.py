@@ -270,3 +270,47 @@ def test_simulate_takes_effects_and_lists_of_cases():
     assert len(plain["scan"]["height_mm"]) == runs[0].scan.shape[0]
     with pytest.raises(wearscar.OptionError, match="simulate"):
         small("X-RT-R")
+
+
+def test_python_conventions_missing_files_per_cycle_values_and_the_api(tmp_path):
+    # A missing file is FileNotFoundError (an OSError), naming the path,
+    # for each way a path enters.
+    missing = tmp_path / "nope.csv"
+    for call in (lambda: wearscar.read_force(missing),
+                 lambda: wearscar.read_scan(missing),
+                 lambda: wearscar.fuse(missing),
+                 lambda: wearscar.audit(tmp_path / "no-folder")):
+        with pytest.raises(FileNotFoundError) as e:
+            call()
+        assert "nope.csv" in str(e.value) or "no-folder" in str(e.value)
+    # mu-hat per cycle, named so, beside the steady value.
+    test = small(cycles=30)
+    result = wearscar.fuse(test.force, test.scan, running_in=5, no_lugre=True)
+    per_cycle = result.mu_hat_per_cycle
+    assert isinstance(per_cycle, np.ndarray) and len(per_cycle) == 30
+    assert np.array_equal(per_cycle, result.cycles["mu_hat_force"])
+    assert abs(np.mean(per_cycle[5:]) - result.mu_hat) < 0.01
+    # A keyword's error names it as Python spells it; a misspelt one gets
+    # the closest.
+    with pytest.raises(wearscar.OptionError, match=r"fuse\(spring=\.\.\.\)"):
+        wearscar.fuse(test.force, spring=-1)
+    with pytest.raises(TypeError, match="did you mean 'running_in'"):
+        wearscar.fuse(test.force, runing_in=5)
+    # The module's names are its API (and private ones).
+    public = {n for n in dir(wearscar) if not n.startswith("_")}
+    assert public == set(wearscar.__all__) - {"__version__"}, public
+
+
+def test_result_frame_is_a_dataframe_when_pandas_is_there():
+    test = small(cycles=20)
+    result = wearscar.fuse(test.force, no_lugre=True)
+    try:
+        import pandas  # noqa: F401
+    except ImportError:
+        with pytest.raises(ImportError, match="python3-pandas"):
+            result.frame()
+        return
+    frame = result.frame("cycles")
+    assert list(frame["cycle"]) == list(range(1, 21))
+    assert np.allclose(frame["mu_hat_force"], result.mu_hat_per_cycle,
+                       equal_nan=True)

@@ -19,9 +19,10 @@ was expected; a folder that cannot be written raises ``OutputError`` (an
 OSError). Long calls release the GIL.
 """
 
-import json
-import os
-import warnings
+import errno as _errno
+import json as _json
+import os as _os
+import warnings as _warnings
 
 from ._wearscar import (ForceError, ForceRecord, FusionError, HeightMap,
                         OptionError, OutputError, ScanError, git_commit,
@@ -76,13 +77,23 @@ def _text(value):
         return "true" if value else "false"
     if isinstance(value, float):
         return repr(value)
-    if isinstance(value, os.PathLike):
-        return os.fspath(value)
+    if isinstance(value, _os.PathLike):
+        return _os.fspath(value)
     return str(value)
 
 
+def _existing(path):
+    """The path as text; FileNotFoundError when nothing is there."""
+    path = _os.fspath(path)
+    if not _os.path.exists(path):
+        raise FileNotFoundError(_errno.ENOENT, _os.strerror(_errno.ENOENT),
+                                path)
+    return path
+
+
 def _path_or(value):
-    return os.fspath(value) if isinstance(value, (str, os.PathLike)) else value
+    """A path (checked) as text, or the object itself (a record, a map)."""
+    return _existing(value) if isinstance(value, (str, _os.PathLike)) else value
 
 
 def read_force(path, **options):
@@ -90,7 +101,7 @@ def read_force(path, **options):
     x_mm, q_n, p_n and a metadata dict). Options: time_column, x_column,
     q_column, p_column, columns, x_unit, force_unit, time_unit, rate,
     lenient."""
-    return _wearscar._read_force(os.fspath(path), _args(options))
+    return _wearscar._read_force(_existing(path), _args(options))
 
 
 def read_scan(path, **options):
@@ -98,7 +109,7 @@ def read_scan(path, **options):
     HeightMap (height_mm: NumPy float32 rows x cols in mm, NaN where not
     measured; dx_mm, dy_mm; metadata). Options: measurement, large_maps,
     max_pixel_aspect, ascii_pitch, ascii_unit."""
-    return _wearscar._read_scan(os.fspath(path), _args(options))
+    return _wearscar._read_scan(_existing(path), _args(options))
 
 
 class Result:
@@ -108,13 +119,15 @@ class Result:
       verdict, wear, provenance, every option).
     tables: {"cycles": {"cycle": array, "mu_hat_force": array, ...},
       "loops": ..., "detail": ..., "cost_curve": ..., "profiles": ...}.
-    mu_hat: mean mu-hat (k from P) over the compared cycles.
+    mu_hat: mean mu-hat (k from P) over the compared cycles, the value to
+      quote; mu_hat_per_cycle: each cycle's (from cycle 1, running-in
+      included); frame("cycles"): a table as a pandas DataFrame.
     """
 
     def __init__(self, output):
         self._output = output
         self.name = output.name
-        self.summary = json.loads(output.summary_json())
+        self.summary = _json.loads(output.summary_json())
         self.tables = {}
         for file, columns, values in output.tables():
             key = file[:-4] if file.endswith(".csv") else file
@@ -128,6 +141,23 @@ class Result:
     @property
     def mu_hat(self):
         return self.summary["comparison"]["mu_hat_force"]["mean"]
+
+    @property
+    def mu_hat_per_cycle(self):
+        """mu-hat (k from P) of each cycle, from cycle 1 (NumPy array)."""
+        return self.cycles["mu_hat_force"]
+
+    def frame(self, table="cycles"):
+        """A table ("cycles", "loops", "detail", ...) as a pandas DataFrame
+        (pandas is optional: the tables are dicts of NumPy arrays)."""
+        try:
+            import pandas
+        except ImportError as e:
+            raise ImportError(
+                "wearscar: Result.frame needs pandas (apt-get install "
+                "python3-pandas); result.tables[{!r}] is a dict of NumPy "
+                "arrays without it".format(table)) from e
+        return pandas.DataFrame(self.tables[table])
 
     @property
     def mu_hat_scan(self):
@@ -150,10 +180,10 @@ class Result:
         `wearscar fuse` too, drawn by gnuplot (True: SVG, the command's
         default); returns their paths. Figures that could not be drawn are
         a warning (also in result.json), not an error."""
-        written, why = self._output.write(os.fspath(out),
+        written, why = self._output.write(_os.fspath(out),
                                           _figure_formats(figures))
         if why:
-            warnings.warn("wearscar: " + why, RuntimeWarning, stacklevel=2)
+            _warnings.warn("wearscar: " + why, RuntimeWarning, stacklevel=2)
         return written
 
     def __repr__(self):
@@ -190,11 +220,11 @@ def audit(folder, out=None, jobs=0, name_pattern=None, recursive=True,
     writes (a folder per specimen, summary.csv, .jsonl and .json,
     report.html); with figures=True (or "svg", "png", "svg,png") the
     figures too, as `wearscar audit --figure-format` draws them."""
-    rows = _wearscar._audit(os.fspath(folder), _args(options),
+    rows = _wearscar._audit(_existing(folder), _args(options),
                             name_pattern or "", recursive, jobs,
-                            os.fspath(out) if out is not None else "",
+                            _os.fspath(out) if out is not None else "",
                             _figure_formats(figures))
-    return json.loads(rows)
+    return _json.loads(rows)
 
 
 class Simulation:
@@ -204,7 +234,7 @@ class Simulation:
     def __init__(self, simulated):
         self.force = simulated.force
         self.scan = simulated.scan
-        self.truth = json.loads(simulated.truth_json)
+        self.truth = _json.loads(simulated.truth_json)
         self.case = self.truth["case"]
 
     def to_dict(self):

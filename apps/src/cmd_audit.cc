@@ -72,8 +72,9 @@ std::string ReadBrief(const nlohmann::json& row) {
 }
 
 // One line per specimen: failed, flagged or ok, with mu-hat and J, and a
-// second with what it rests on (ReadBrief).
-void PrintSections(const std::vector<report::ReportSection>& sections) {
+// second with what it rests on (ReadBrief); then the counts.
+void PrintSections(const std::vector<report::ReportSection>& sections,
+                   const report::AuditResult& r) {
   for (const auto& sec : sections) {
     if (sec.failed) {
       Say("  FAILED   {}: {}\n", sec.name, sec.row["error"].get<std::string>());
@@ -91,6 +92,11 @@ void PrintSections(const std::vector<report::ReportSection>& sections) {
       Say("           {}\n", ReadBrief(sec.row));
     }
   }
+  Say("{} specimens: {} explained, {} not explained, {} failed\n",
+      sections.size(),
+      sections.size() - r.flagged - r.failed,
+      r.flagged,
+      r.failed);
 }
 
 // A shard's or a merge's line on the merged summary.
@@ -118,12 +124,7 @@ void RunMerge(const AuditArgs& a, const fusion::TestSettings& settings) {
   o.figures = !a.no_figures;
   const report::AuditResult r = report::MergeAudit(
       a.merge, fmt::format("wearscar audit merged in {}", a.merge), o);
-  PrintSections(r.specimens);
-  Say("{} specimens: {} explained, {} not explained, {} failed\n",
-      r.specimens.size(),
-      r.specimens.size() - r.flagged - r.failed,
-      r.flagged,
-      r.failed);
+  PrintSections(r.specimens, r);
   PrintMerged(r, a.merge);
   Say("report: {}\n", fs::absolute(r.report_path).string());
 }
@@ -170,12 +171,7 @@ void RunAudit(AuditArgs a) {
   const report::AuditResult r = report::Audit(
       mine, a.out, title, a.audit, [&](long done) { progress.Update(done); });
   progress.Finish();
-  PrintSections(r.specimens);
-  Say("{} specimens: {} explained, {} not explained, {} failed\n",
-      r.specimens.size(),
-      r.specimens.size() - r.flagged - r.failed,
-      r.flagged,
-      r.failed);
+  PrintSections(r.specimens, r);
   if (batch.shard_count > 1) PrintMerged(r, a.out);
   // The default spring, for the specimens whose file states none.
   std::size_t defaulted = 0, analysed = 0;

@@ -162,17 +162,20 @@ Grid ReadGrid(const std::vector<std::string_view>& lines,
               const std::string& name,
               MatrixHeader* header) {
   Grid g;
+  const auto header_line = [&](std::string_view line, std::size_t i) {
+    if (!ReadHeaderLine(line, header)) {
+      throw ScanError(fmt::format(
+          "{}: line {}: found '{}'; expected a number after the key",
+          name,
+          i + 1,
+          internal::Printable(line, 60)));
+    }
+  };
   for (std::size_t i = 0; i < lines.size(); ++i) {
     const std::string_view line = Trim(lines[i]);
     if (line.empty()) continue;
     if (line.front() == '#') {
-      if (!ReadHeaderLine(line, header)) {
-        throw ScanError(fmt::format(
-            "{}: line {}: found '{}'; expected a number after the key",
-            name,
-            i + 1,
-            internal::Printable(line, 60)));
-      }
+      header_line(line, i);
       continue;
     }
     std::string bad;
@@ -186,13 +189,7 @@ Grid ReadGrid(const std::vector<std::string_view>& lines,
             i + 1,
             internal::Printable(line, 40)));
       }
-      if (!ReadHeaderLine(line, header)) {
-        throw ScanError(fmt::format(
-            "{}: line {}: found '{}'; expected a number after the key",
-            name,
-            i + 1,
-            internal::Printable(line, 60)));
-      }
+      header_line(line, i);
       continue;
     }
     if (*count < 0) {

@@ -52,7 +52,8 @@ bool Gunzip(std::string_view data,
       // Another member may follow; trailing zero padding is allowed.
       const std::string_view rest = data.substr(in);
       if (rest.find_first_not_of('\0') == std::string_view::npos) return true;
-      if (inflateReset(&z) != Z_OK) break;
+      if (inflateReset(&z) != Z_OK)
+        return Fail(why, "the gzip decoder could not restart");
       continue;
     }
     if (rc == Z_BUF_ERROR && in == data.size() && z.avail_out > 0)

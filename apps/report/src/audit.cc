@@ -31,7 +31,9 @@ void AuditDiagnosis(const AuditOptions& o,
   try {
     fusion::DiagnoseOptions dopt = o.diagnose_options;
     dopt.running_in_cycles = r.force.running_in.cycles;
-    const fusion::Diagnosis d = fusion::DiagnoseTest(record, r, o.fuse, dopt);
+    // The spring the file states, as the analysis used it.
+    const fusion::Diagnosis d = fusion::DiagnoseTest(
+        record, r, fusion::WithStatedSpring(o.fuse, record), dopt);
     const std::string shown =
         WriteDiagnosis(dir, name, d, o.figures, o.figure_formats);
     sec->row["missing_effects"] = d.named;

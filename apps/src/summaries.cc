@@ -16,80 +16,67 @@ std::string Interval95(const fusion::Statistic& s) {
   return fmt::format("(95%: {:.4f}-{:.4f})", s.low, s.high);
 }
 
-}  // namespace
-
-namespace {
-
-// The one coefficient to report, and why that one.
-std::string Quotable(const fusion::TestResult& r) {
-  const auto& m = r.mismatch;
-  const bool from_p = m.mu_force.count > 0;
-  const fusion::Statistic& mu = from_p ? m.mu_force : m.mu_scan;
-  if (mu.count == 0) return "nothing: no mu-hat was fitted";
-  if (!r.verdict.explained) {
-    return fmt::format(
-        "no wear-scar mu-hat: the verdict says the model misses an effect "
-        "(see the warnings; `wearscar diagnose` names it); the classic COF "
-        "of this test is mu energy {:.4f}",
-        m.mu_energy.mean);
-  }
+// "J 0.125 (of J^2: noise 91%, excess 9%; ...)": the parts of J's square,
+// which add up, and their values as the verdict reads them.
+std::string CostText(double cost, const fusion::CostSplit& split) {
+  const double f2 = split.floor * split.floor, e2 = split.excess * split.excess;
+  if (!(f2 + e2 > 0)) return fmt::format("J {:.3f}", cost);
   return fmt::format(
-      "mu-hat = {:.4f} {} (k from {}, after running-in){}",
-      mu.mean,
-      Interval95(mu),
-      from_p ? "P" : "the scan",
-      m.has_scan && from_p && m.mu_scan.count > 0
-          ? fmt::format("; k from the scan gives {:.4f}", m.mu_scan.mean)
-          : "");
+      "J {:.3f} (of J^2 {:.0f}% noise, floor {:.3f}, and {:.0f}% repeating "
+      "misfit, excess {:.3f})",
+      cost,
+      100 * f2 / (f2 + e2),
+      split.floor,
+      100 * e2 / (f2 + e2),
+      split.excess);
 }
 
 }  // namespace
 
 void PrintSummary(const std::string& name, const fusion::TestResult& r) {
   const auto& m = r.mismatch;
-  Say("{}: {} cycles; compared over cycles {}-{}\n  {}\n",
+  // The fit quoted (k from P, or from the scan with --slope scan) first,
+  // the other below as a comparison.
+  auto fit_line = [&](bool from_p) {
+    const fusion::Statistic& mu = from_p ? m.mu_force : m.mu_scan;
+    const char* label = from_p ? "mu-hat, k from P   " : "mu-hat, k from scan";
+    if (mu.count == 0) {
+      Say("  {}  not fitted (--slope {})\n", label, from_p ? "scan" : "force");
+      return;
+    }
+    Say("  {}  {:.4f} {}, sd {:.4f}   {}\n",
+        label,
+        mu.mean,
+        Interval95(mu),
+        mu.sd,
+        from_p ? CostText(m.cost_force.mean, m.split_force)
+               : CostText(m.cost_scan.mean, m.split_scan));
+    if (from_p) Say("    {}\n", r.force.slope_estimate);
+  };
+  const bool quoted_from_p = m.mu_force.count > 0 || !m.has_scan;
+  Say("{}: {}\n  {} cycles, compared over cycles {}-{}; {}\n",
       name,
+      fusion::Headline(r),
       r.force.cycles.cycles.size(),
       m.first_cycle + 1,
       m.last_cycle + 1,
       r.force.running_in.rule);
-  if (m.mu_force.count > 0) {
-    Say("  mu-hat, k from P     {:.4f} {}, sd {:.4f}   J {:.3f} (noise "
-        "floor {:.3f} and excess {:.3f}, which add as squares)\n",
-        m.mu_force.mean,
-        Interval95(m.mu_force),
-        m.mu_force.sd,
-        m.cost_force.mean,
-        m.split_force.floor,
-        m.split_force.excess);
-    Say("    {}\n", r.force.slope_estimate);
-  } else {
-    Say("  mu-hat, k from P     not fitted (--slope scan)\n");
-  }
+  fit_line(quoted_from_p);
+  Say("  verdict: {}\n", r.verdict.Summary());
+  Say("  for comparison, not to quote:\n");
   if (m.has_scan) {
-    if (m.mu_scan.count > 0) {
-      Say("  mu-hat, k from scan  {:.4f} {}, sd {:.4f}   J {:.3f} (noise "
-          "floor {:.3f} and excess {:.3f}, which add as squares)\n",
-          m.mu_scan.mean,
-          Interval95(m.mu_scan),
-          m.mu_scan.sd,
-          m.cost_scan.mean,
-          m.split_scan.floor,
-          m.split_scan.excess);
-    } else {
-      Say("  mu-hat, k from scan  not fitted (--slope force)\n");
-    }
+    fit_line(!quoted_from_p);
     const auto& a = r.scan->alignment;
     Say("  profiles: r = {:.3f}, amplitude ratio {:.2f}, shift {:.3f} mm{}, "
-        "RMS(k_P - "
-        "k_scan) {:.3f}\n",
+        "RMS(k_P - k_scan) {:.3f}\n",
         a.correlation,
         a.amplitude_ratio,
         a.shift_mm,
         a.flipped ? " (the scan's x runs against the stroke's: flipped)" : "",
         m.k_rms_difference);
   }
-  Say("  mu mean {:.4f} {}, mu energy {:.4f} {}\n",
+  Say("  mu mean {:.4f} {}, mu energy {:.4f} {} (classic COFs, biased on a "
+      "wavy track)\n",
       m.mu_mean.mean,
       Interval95(m.mu_mean),
       m.mu_energy.mean,
@@ -97,8 +84,6 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
   if (r.lugre) {
     Say("  LuGre, cycle {}: {}\n", r.detail_cycle + 1, r.lugre->BriefReport());
   }
-  Say("  verdict: {}\n", r.verdict.Summary());
-  Say("  to quote: {}\n", Quotable(r));
   for (const auto& a : r.assumptions) Say("  assumed: {}\n", a);
   for (const auto& w : r.warnings) {
     if (CurrentPrintMode() == PrintMode::kText) {

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "wearscar/fusion/error.h"
+#include "wearscar/fusion/forward_model.h"
 #include "wearscar/support/check.h"
 #include "wearscar/support/numbers.h"
 
@@ -22,6 +23,31 @@ struct Bins {
   std::vector<double> raw, corrected;
   std::vector<int> n;
 };
+
+// Sums of the loop's Q, P and k per (cycle, direction, fine bin).
+struct LoopSums {
+  double lo = 0, width = 1;
+  size_t count = 0;
+  std::vector<double> q, p, k;
+  std::vector<int> n;
+};
+
+void AccumulateLoop(const SlipSamples& s, int cycle, LoopSums* b) {
+  const int d = s.direction > 0 ? 0 : 1;
+  for (Eigen::Index i = 0; i < s.q_n.size(); ++i) {
+    const double q = s.q_n[i], p = s.p_n[i], k = s.k[i], x = s.x_mm[i];
+    if (!std::isfinite(q) || !std::isfinite(p) || !std::isfinite(k) ||
+        !std::isfinite(x))
+      continue;
+    const auto bin = static_cast<long>(std::floor((x - b->lo) / b->width));
+    if (bin < 0 || bin >= static_cast<long>(b->count)) continue;
+    const size_t at = (static_cast<size_t>(cycle) * 2 + d) * b->count + bin;
+    b->q[at] += q;
+    b->p[at] += p;
+    b->k[at] += k;
+    ++b->n[at];
+  }
+}
 
 void Accumulate(const SlipSamples& s, int cycle, Bins* b) {
   const int d = s.direction > 0 ? 0 : 1;
@@ -135,6 +161,10 @@ bool FrictionMapOptions::IsValid(std::string* why) const {
     if (why) *why = "friction map: min_samples must be >= 1";
     return false;
   }
+  if (loop_bins < 2 || loop_bins > 10000) {
+    if (why) *why = "friction map: loop bins must be in [2, 10000]";
+    return false;
+  }
   if (slope_polynomial_order != 0 &&
       (slope_polynomial_order < 2 || slope_polynomial_order > 3)) {
     if (why) *why = "friction map: slope polynomial order must be 0, 2 or 3";
@@ -176,11 +206,33 @@ FrictionMap ComputeFrictionMap(const force::ForceRecord& record,
     map_friction.ensemble.span_mm =
         std::max(options.slope_span_mm, 2 * map_friction.ensemble.bin_mm);
   }
+  LoopSums loop;
+  loop.count = static_cast<size_t>(options.loop_bins);
+  loop.width = (hi - lo) / options.loop_bins;
+  loop.lo = lo;
+  const size_t loop_cells = static_cast<size_t>(m.cycles) * 2 * loop.count;
+  loop.q.assign(loop_cells, 0);
+  loop.p.assign(loop_cells, 0);
+  loop.k.assign(loop_cells, 0);
+  loop.n.assign(loop_cells, 0);
   const ForceSlopes slopes(record, cycles, map_friction);
   for (int c = 0; c < m.cycles; ++c) {
     const CycleSamples s = slopes.Gather(c);
     Accumulate(s.forward, c, &b);
     Accumulate(s.reverse, c, &b);
+    AccumulateLoop(s.forward, c, &loop);
+    AccumulateLoop(s.reverse, c, &loop);
+  }
+  for (size_t i = 0; i < loop.count; ++i)
+    m.loop_x_mm.push_back(loop.lo + (i + 0.5) * loop.width);
+  m.loop_q_n.resize(loop_cells);
+  m.loop_p_n.resize(loop_cells);
+  m.loop_k.resize(loop_cells);
+  for (size_t i = 0; i < loop_cells; ++i) {
+    const int n = loop.n[i];
+    m.loop_q_n[i] = n > 0 ? static_cast<float>(loop.q[i] / n) : NAN;
+    m.loop_p_n[i] = n > 0 ? static_cast<float>(loop.p[i] / n) : NAN;
+    m.loop_k[i] = n > 0 ? static_cast<float>(loop.k[i] / n) : NAN;
   }
   for (size_t i = 0; i < b.count; ++i)
     m.x_mm.push_back(b.lo + (i + 0.5) * b.width);
@@ -215,6 +267,18 @@ FrictionMap ComputeFrictionMap(const force::ForceRecord& record,
                          m.spatial_sd_corrected * m.spatial_sd_corrected -
                              m.spatial_sd_noise * m.spatial_sd_noise));
   return m;
+}
+
+double FrictionMap::LoopModelQ(int cycle,
+                               int direction,
+                               size_t bin,
+                               double mu) const {
+  const size_t at = LoopIndex(cycle, direction, bin);
+  const double p = loop_p_n[at], k = loop_k[at];
+  if (!std::isfinite(p) || !std::isfinite(k) || !std::isfinite(mu)) return kNaN;
+  const int s = direction == 0 ? 1 : -1;
+  if (!(1.0 - s * mu * k > 0)) return kNaN;
+  return WearScarTangentialForce(p, k, mu, s);
 }
 
 }  // namespace wearscar::fusion

@@ -644,4 +644,34 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
   return result;
 }
 
+std::string Headline(const TestResult& r) {
+  const MismatchReport& m = r.mismatch;
+  const bool from_p = m.mu_force.count > 0;
+  const Statistic& mu = from_p ? m.mu_force : m.mu_scan;
+  if (mu.count == 0) {
+    return "no mu to quote: no mu-hat was fitted (too few sliding samples "
+           "per cycle; see the warnings)";
+  }
+  if (!r.verdict.explained) {
+    return fmt::format(
+        "no mu to quote: not explained by wear-scar interaction, the model "
+        "misses an effect (reasons below; `wearscar diagnose` names it); "
+        "mu-hat {:.4f} and mu energy {:.4f} are for comparison only",
+        mu.mean,
+        m.mu_energy.mean);
+  }
+  const std::string interval =
+      std::isfinite(mu.low)
+          ? fmt::format(" (95%: {:.4f}-{:.4f})", mu.low, mu.high)
+          : std::string();
+  return fmt::format(
+      "mu = {:.4f}{}: mu-hat, k from {}, cycles {}-{}; explained by wear-scar "
+      "interaction",
+      mu.mean,
+      interval,
+      from_p ? "P" : "the scan",
+      m.first_cycle + 1,
+      m.last_cycle + 1);
+}
+
 }  // namespace wearscar::fusion

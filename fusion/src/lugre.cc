@@ -205,12 +205,14 @@ void JudgeFit(const ceres::Solver::Summary& summary,
     implausible +=
         (implausible.empty() ? "" : ", ") + std::string("sigma2 < 0");
   fit->physically_plausible = implausible.empty();
-  fit->message =
-      summary.termination_type != ceres::CONVERGENCE ? summary.message
-      : implausible.empty()                          ? "converged"
-                            : "fitted (physically implausible: " + implausible +
-                                  "; the LuGre parameters are then no material "
-                                  "data: quote mu-hat)";
+  fit->message = summary.termination_type != ceres::CONVERGENCE
+                     ? summary.message
+                 : implausible.empty()
+                     ? "converged"
+                     : "fitted (physically implausible: " + implausible +
+                           ": a negative damping fits the loop's shape but "
+                           "is no material's; LuGre is a comparison and "
+                           "does not change mu-hat)";
 }
 
 // The fitted model along the cycle and its cost (paper Eq. 11).

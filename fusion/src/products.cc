@@ -35,6 +35,7 @@ std::vector<std::pair<std::string, std::string>> TestProducts::Files() const {
   std::vector<std::pair<std::string, std::string>> files;
   for (const auto& [name, table] : tables)
     files.emplace_back(name, table.ToCsv());
+  files.insert(files.end(), documents.begin(), documents.end());
   files.emplace_back(result_name, ResultText());
   return files;
 }
@@ -101,6 +102,7 @@ TestProducts MakeTestProducts(const std::string& name,
     add("centreline.csv", internal::CentrelineTable(r.scan->profile));
   }
   if (r.lugre) add("lugre.csv", internal::LugreTable(*r.lugre, r.detail));
+  out.documents.emplace_back("loop_viewer.json", internal::LoopViewerJson(r));
   if (p.provenance) {
     const Provenance prov = TestProvenance(record, r);
     out.result = ResultJson(name, record, r, o, &prov);

@@ -349,6 +349,7 @@ nlohmann::json ResultJson(const std::string& name,
   j["track_history"] = TrackHistoryJson(r, o);
   if (r.scan) j["scan"] = ScanJson(*r.scan);
   if (r.lugre) j["lugre"] = LugreJson(r);
+  j["headline"] = Headline(r);
   j["verdict"] = {{"explained", r.verdict.explained},
                   {"summary", r.verdict.Summary()},
                   {"reasons", r.verdict.reasons}};

@@ -2,6 +2,7 @@
 // The tables of one test's products, each from the analysis's result (no
 // analysis here: formatting only).
 
+#include <string>
 #include <vector>
 
 #include "wearscar/force/force_record.h"
@@ -28,5 +29,8 @@ Table ProfileTable(const ScanAnalysis& scan);
 Table CentrelineTable(const scan::WearProfile& profile);
 Table LugreTable(const LugreFit& lugre, const DetailCycle& d);
 Table ResidualMapTable(const ResidualMap& m);
+// loop_viewer.json: each cycle's binned loop, the model's Q with its
+// mu-hat and the friction map's row (FrictionMap::loop_*), for the report.
+std::string LoopViewerJson(const TestResult& r);
 
 }  // namespace wearscar::fusion::internal

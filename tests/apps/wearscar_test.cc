@@ -1,4 +1,5 @@
 #include <fcntl.h>
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/file.h>
@@ -11,6 +12,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -80,7 +82,7 @@ TEST(Cli, SimulateThenAnalyseRecoversMu) {
       << f.output;
   // The summary says how k was estimated and what the noise explains.
   EXPECT_NE(f.output.find("(ensemble)"), std::string::npos) << f.output;
-  EXPECT_NE(f.output.find("(noise floor "), std::string::npos) << f.output;
+  EXPECT_NE(f.output.find("% noise, floor "), std::string::npos) << f.output;
 }
 
 TEST(Cli, ColumnsOptionMapsUnnamedColumnsAndRunningInIsReported) {
@@ -174,13 +176,26 @@ TEST(Cli, FuseWritesResultsAndFlagsTheElasticCase) {
   EXPECT_NE(f.output.find("warning: the spring displacement varies"),
             std::string::npos)
       << f.output;
-  // The parts of J are said to add as squares; no coefficient is offered
-  // to quote when the verdict says the model misses an effect.
-  EXPECT_NE(f.output.find(", which add as squares)"), std::string::npos)
+  // J's square is split into shares that add up (to rounding) and match
+  // the floor and excess printed beside them; no coefficient is offered to
+  // quote when the verdict says the model misses an effect.
+  const std::regex parts(
+      R"(J ([0-9.]+) \(of J\^2 ([0-9]+)% noise, floor ([0-9.]+), and ([0-9]+)% )"
+      R"(repeating misfit, excess ([0-9.]+)\))");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(f.output, m, parts)) << f.output;
+  const double noise_share = std::stod(m[2]), floor = std::stod(m[3]),
+               excess_share = std::stod(m[4]), excess = std::stod(m[5]);
+  EXPECT_NEAR(noise_share + excess_share, 100, 1);
+  EXPECT_NEAR(
+      noise_share, 100 * floor * floor / (floor * floor + excess * excess), 1);
+  EXPECT_GT(excess, 0.3);  // above the verdict's limit: not explained
+  EXPECT_EQ(f.output.rfind("S-RL-R: no mu to quote: not explained by "
+                           "wear-scar interaction, the model misses an effect",
+                           0),
+            0u)
       << f.output;
-  EXPECT_NE(f.output.find("  to quote: no wear-scar mu-hat: the verdict says "
-                          "the model misses an effect"),
-            std::string::npos)
+  EXPECT_NE(f.output.find("for comparison, not to quote:\n"), std::string::npos)
       << f.output;
   // The paper's criterion on request, named as such.
   const CommandResult p =
@@ -240,14 +255,17 @@ TEST(Cli, FuseSlopeChoiceFitsOnlyWhatIsAsked) {
       << s.output;
   EXPECT_NE(s.output.find("mu-hat, k from scan  0.1"), std::string::npos)
       << s.output;
-  // The coefficient to quote is the one fitted, with its interval.
-  EXPECT_NE(f.output.find("  to quote: mu-hat = 0.1"), std::string::npos)
-      << f.output;
-  EXPECT_NE(f.output.find("(k from P, after running-in)\n"), std::string::npos)
-      << f.output;
-  EXPECT_NE(s.output.find("(k from the scan, after running-in)\n"),
-            std::string::npos)
-      << s.output;
+  // The headline quotes the coefficient fitted, with its interval, what
+  // it was fitted with and over which cycles.
+  const std::regex headline(
+      R"(^B-RT-R: mu = 0\.1[0-9]{3} \(95%: 0\.1[0-9]{3}-0\.1[0-9]{3}\): )"
+      R"(mu-hat, k from (P|the scan), cycles 1-20; explained by wear-scar )"
+      R"(interaction\n)");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(f.output, m, headline)) << f.output;
+  EXPECT_EQ(m[1], "P");
+  ASSERT_TRUE(std::regex_search(s.output, m, headline)) << s.output;
+  EXPECT_EQ(m[1], "the scan");
   // Without a scan: the force slope only; asking for the scan's is an error.
   const CommandResult alone = Wearscar(base);
   EXPECT_EQ(alone.status, 0) << alone.output;
@@ -1032,6 +1050,32 @@ TEST(Audit, ReportRendersInHeadlessChromium) {
     EXPECT_LE(overflow, 0) << width;
     EXPECT_GE(narrowest, 900) << width;
     EXPECT_GE(smallest, 14) << width;
+  }
+  // The loop viewers, opened at cycle 12 (?cycle=12): one per analysed
+  // specimen, each drawing that cycle's loop, model and map row, and
+  // saying its mu-hat as the specimen's cycles.csv has it.
+  std::string at12 = cmd;
+  at12.replace(at12.find("/report.html"), 12, "/report.html?cycle=12");
+  const std::string viewed = Shell(at12).output;
+  EXPECT_NE(viewed.find("data-viewers=\"3\""), std::string::npos);
+  for (const char* name : {"B-RT-R", "S-RL-R", "S-TL-L"}) {
+    SCOPED_TRACE(name);
+    const std::regex viewer(
+        std::string("id=\"viewer-") + name +
+        R"re(" data-cycle="([0-9]+)" data-points="([0-9]+)")re");
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(viewed, m, viewer));
+    EXPECT_EQ(m[1], "12");
+    EXPECT_GT(std::stoi(m[2]), 200);  // 2 x 2 lines of ~100 bins, 2 x 2 rows
+    std::ifstream cycles(out + "/" + name + "/cycles.csv");
+    std::string line;
+    for (int i = 0; i <= 12; ++i) std::getline(cycles, line);
+    const std::string mu_hat =
+        line.substr(line.find(',') + 1,
+                    line.find(',', line.find(',') + 1) - line.find(',') - 1);
+    const std::string label = fmt::format(
+        "cycle 12 of 60: mu-hat {:.4f} (k from P)", std::stod(mu_hat));
+    EXPECT_NE(viewed.find(label), std::string::npos) << label;
   }
 }
 

@@ -72,8 +72,9 @@ TEST(Lugre, RecoversKnownParametersIncludingNegativeSigma2) {
   // The negative viscous damping fits, and is said to be unphysical.
   EXPECT_FALSE(fit.physically_plausible);
   EXPECT_EQ(fit.message,
-            "fitted (physically implausible: sigma2 < 0; the LuGre parameters "
-            "are then no material data: quote mu-hat)");
+            "fitted (physically implausible: sigma2 < 0: a negative damping "
+            "fits the loop's shape but is no material's; LuGre is a "
+            "comparison and does not change mu-hat)");
 }
 
 TEST(Lugre, PositiveDampingsAreReportedAsConverged) {

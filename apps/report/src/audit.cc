@@ -100,6 +100,7 @@ void AuditSpecimen(const AuditOptions& o,
     stage.Commit();
     // The report and the batch figures read the files where they are now.
     for (std::string& shown : sec->figures.shown) shown = stage.Final(shown);
+    sec->viewer = stage.Final((fs::path(dir) / "loop_viewer.json").string());
   } catch (const std::exception& e) {
     sec->failed = true;
     sec->flagged = false;

@@ -270,7 +270,7 @@ FigureSet DrawAuditFigures(const std::string& dir,
        "mu-hat minus mean and energy COF, means over the cycles with their "
        "95% intervals (Fig. 16)",
        {{"",
-         "",
+         "specimen",
          "difference (-)",
          NameTics(specimens) + "set xrange [-0.5:*]\nset offsets 0,0.5,0,0\n",
          {},

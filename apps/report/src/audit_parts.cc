@@ -94,12 +94,16 @@ void WritePart(const std::string& out,
     nlohmann::json shown = nlohmann::json::array();
     for (const std::string& f : sec.figures.shown)
       shown.push_back(fs::relative(f, out).string());
-    nlohmann::json one = {{"name", sec.name},
-                          {"row", sec.row},
-                          {"failed", sec.failed},
-                          {"flagged", sec.flagged},
-                          {"figures", shown},
-                          {"titles", sec.figures.titles}};
+    nlohmann::json one = {
+        {"name", sec.name},
+        {"row", sec.row},
+        {"failed", sec.failed},
+        {"flagged", sec.flagged},
+        {"viewer",
+         sec.viewer.empty() ? std::string()
+                            : fs::relative(sec.viewer, out).string()},
+        {"figures", shown},
+        {"titles", sec.figures.titles}};
     if (!sec.failed && k < series.size()) one["series"] = SeriesJson(series[k]);
     specimens.push_back(std::move(one));
   }
@@ -160,6 +164,8 @@ Parts ReadParts(const std::string& out) {
           sec.figures.shown.push_back(
               (fs::path(out) / f.get<std::string>()).string());
         sec.figures.titles = s.at("titles").get<std::vector<std::string>>();
+        const std::string viewer = s.value("viewer", std::string());
+        if (!viewer.empty()) sec.viewer = (fs::path(out) / viewer).string();
         std::optional<SpecimenSeries> series;
         if (s.contains("series")) series = SeriesOf(sec.name, s["series"]);
         all.emplace_back(std::move(sec), std::move(series));

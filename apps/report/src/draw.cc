@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -15,23 +16,73 @@
 #include "wearscar/support/check.h"
 
 namespace wearscar::report::internal {
+
+// A canvas 1200 wide with text of 16 px (tick labels, legends and titles
+// alike), readable at the figure's native size; 720 high, or 330 a row
+// for three or more rows of panels.
+std::string Terminal(const std::string& term, int rows) {
+  const int height = std::max(720, 330 * rows);
+  return term == "svg" ? fmt::format(
+                             "set terminal svg size 1200,{} noenhanced font "
+                             "'DejaVu Sans,16' background 'white'\n",
+                             height)
+                       : fmt::format(
+                             "set terminal pngcairo size 1200,{} noenhanced "
+                             "font 'DejaVu Sans,16'\n",
+                             height);
+}
+
 namespace {
 
 namespace fs = std::filesystem;
 
-// The terminals: a canvas of 1200 x 720 with text of 16 px (tick labels,
-// legends and titles alike), readable at the figure's native size.
-constexpr const char* kSvgTerminal =
-    "set terminal svg size 1200,720 noenhanced font 'DejaVu Sans,16' "
-    "background 'white'\n";
-constexpr const char* kPngTerminal =
-    "set terminal pngcairo size 1200,720 noenhanced font 'DejaVu Sans,16'\n";
 constexpr const char* kPreamble =
     "set datafile separator ','\nset datafile missing ''\nset grid\nset key "
-    "outside right top\nset style data lines\n";
+    "below\nset style data lines\n";
 
 std::string Cell(double v) {
   return std::isfinite(v) ? fmt::format("{:.8g}", v) : std::string();
+}
+
+// The rows at which a line's x has turned back (the end of a stroke, in a
+// loop Q(x)): a turn is x retreating from its running extreme by more
+// than a hundredth of the span, so that encoder noise breaks nothing, and
+// the line breaks right after the extreme.
+std::vector<bool> StrokeStarts(const std::vector<double>& x) {
+  std::vector<bool> starts(x.size(), false);
+  double lo = INFINITY, hi = -INFINITY;
+  for (double v : x) {
+    if (!std::isfinite(v)) continue;
+    lo = std::min(lo, v);
+    hi = std::max(hi, v);
+  }
+  if (!(hi > lo)) return starts;
+  const double tolerance = 1e-2 * (hi - lo);
+  int heading = 0;
+  size_t extreme = x.size();
+  for (size_t i = 0; i < x.size(); ++i) {
+    if (!std::isfinite(x[i])) continue;
+    if (extreme == x.size()) {
+      extreme = i;
+      continue;
+    }
+    const double step = x[i] - x[extreme];
+    if (heading == 0) {  // not yet moving
+      if (std::abs(step) > tolerance) {
+        heading = step > 0 ? 1 : -1;
+        extreme = i;
+      }
+      continue;
+    }
+    if (step * heading >= 0) {
+      extreme = i;
+    } else if (-step * heading > tolerance) {
+      if (extreme + 1 < x.size()) starts[extreme + 1] = true;
+      heading = -heading;
+      extreme = i;
+    }
+  }
+  return starts;
 }
 
 // One series' block of the figure's data file: a comment naming its
@@ -56,11 +107,26 @@ std::string Block(const Series& s, const fusion::Table& t) {
       select >= 0 ? fmt::format(" where {} = {}", s.select, s.select_value)
                   : "");
   out += fmt::format("{}\n", fmt::join(names, ","));
-  double previous = NAN;
-  bool first = true;
+  std::vector<const std::vector<double>*> rows;
+  std::vector<double> x;
   for (const auto& row : t.rows) {
     if (select >= 0 && row[select] != s.select_value) continue;
-    if (brk >= 0 && !first && row[brk] != previous) out += '\n';
+    rows.push_back(&row);
+    x.push_back(row[at[0]]);
+  }
+  // A line breaks where x turns back, too: no line joins two strokes.
+  const bool lines = s.style.rfind("lines", 0) == 0;
+  const std::vector<bool> turn =
+      lines ? StrokeStarts(x) : std::vector<bool>(x.size(), false);
+  double previous = NAN;
+  bool first = true;
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const auto& row = *rows[i];
+    if (brk >= 0 && !first && row[brk] != previous) {
+      out += '\n';
+    } else if (turn[i]) {
+      out += '\n';
+    }
     if (brk >= 0) previous = row[brk];
     first = false;
     for (size_t k = 0; k < at.size(); ++k) {
@@ -177,16 +243,15 @@ std::string FigureCommands(const FigureSpec& f,
                            const FigureScript& prepared,
                            const std::string& term) {
   const bool svg = term == "svg";
+  const int columns = std::max(1, f.columns);
+  const int rows = (static_cast<int>(f.panels.size()) + columns - 1) / columns;
   std::string s = fmt::format("# {}: {}\n{}set output {}\n",
                               f.stem,
                               f.title,
-                              svg ? kSvgTerminal : kPngTerminal,
+                              Terminal(term, rows),
                               Quote(f.stem + "." + term + ".part"));
   const bool multi = f.panels.size() > 1;
   if (multi) {
-    const int columns = std::max(1, f.columns);
-    const int rows =
-        (static_cast<int>(f.panels.size()) + columns - 1) / columns;
     s += fmt::format(
         "set multiplot layout {},{} title {}\n", rows, columns, Quote(f.title));
   } else {

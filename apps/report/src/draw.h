@@ -88,6 +88,10 @@ FigureSet Draw(const std::string& dir,
 // output goes to figure-data/<stem>.log. False when it failed.
 bool RunGnuplot(const std::string& dir, const std::string& script);
 
+// The `set terminal` line of a figure in format "svg" or "png" with
+// `rows` rows of panels: every figure's canvas and text size.
+std::string Terminal(const std::string& term, int rows);
+
 // A gnuplot string literal.
 std::string Quote(const std::string& s);
 

@@ -160,6 +160,8 @@ img {{ width: 1200px; max-width: 100%; height: auto; border: 1px solid #ddd; }}
 figcaption {{ font-size: 0.9em; color: #555; }}
 table.numbers {{ margin: 0.5em 1em 0.5em 0; display: inline-table; vertical-align: top; }}
 details {{ margin: 1em 0; font-size: 0.9em; }} pre {{ white-space: pre-wrap; }}
+div.viewer {{ margin: 1em 0; }} div.viewer canvas {{ width: 1200px; max-width: 100%; border: 1px solid #ddd; display: block; margin: 0.5em 0; }}
+div.viewer input {{ width: 40em; max-width: 70vw; vertical-align: middle; }} p.headline {{ font-size: 1.15em; font-weight: bold; }}
 </style></head><body>
 <h1>{0}</h1>
 <p class="made">made by wearscar {4} (commit {5}) on {6}</p>
@@ -361,6 +363,42 @@ std::string ProvenanceBlock(const nlohmann::json& r) {
   return h;
 }
 
+// The loop viewer: a cycle slider over the specimen's loop_viewer.json,
+// drawn by the page's script (kPageEnd) into two canvases: the cycle's Q-x
+// loop with the wear-scar model's Q, and its friction map row. Nothing when
+// the file is not there (an audit of an older wearscar).
+void AppendViewer(const ReportSection& s, std::string* h) {
+  if (s.viewer.empty()) return;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(s.viewer, ec)) return;
+  std::string data = ReadWhole(s.viewer);
+  // Inside <script> no "</" may appear; JSON allows "<" as \u003c.
+  std::string safe;
+  safe.reserve(data.size());
+  for (char c : data) {
+    if (c == '<') {
+      safe += "\\u003c";
+    } else {
+      safe += c;
+    }
+  }
+  *h += fmt::format(
+      "<div class=\"viewer\" id=\"viewer-{0}\"><h3>Cycle by cycle</h3>\n"
+      "<p><label>cycle <input type=\"range\" min=\"0\" value=\"0\" "
+      "aria-label=\"cycle of {0}\"></label> <span class=\"viewer-label\">"
+      "</span></p>\n<canvas class=\"loop\" width=\"1200\" height=\"600\">"
+      "</canvas>\n<canvas class=\"map\" width=\"1200\" height=\"420\">"
+      "</canvas>\n<p class=\"note\">Black: Q measured while sliding, averaged "
+      "in bins along the stroke; blue: the wear-scar model P (k + s mu) / (1 - "
+      "s mu k) with that cycle's mu-hat and k from P. Below: the cycle's row "
+      "of the friction map, s Q/P (grey) and corrected for k (blue); forward "
+      "solid, reverse dashed. Open the page with ?cycle=N to start at cycle N."
+      "</p>\n<script type=\"application/json\" class=\"viewer-data\">",
+      Escape(s.name));
+  *h += safe;
+  *h += "</script></div>\n";
+}
+
 // One specimen's section: verdict, slope estimate, warnings, figures.
 void AppendSpecimenSection(const ReportSection& s, std::string* out) {
   std::string& h = *out;
@@ -373,6 +411,9 @@ void AppendSpecimenSection(const ReportSection& s, std::string* out) {
          "</p>\n";
     return;
   }
+  if (s.row.contains("headline") && s.row["headline"].is_string())
+    h += "<p class=\"headline\">" +
+         Escape(s.row["headline"].get<std::string>()) + "</p>\n";
   h +=
       "<p>" + Escape(s.row["verdict"]["summary"].get<std::string>()) + "</p>\n";
   if (s.row.contains("pairing") && s.row["pairing"].is_string())
@@ -401,6 +442,7 @@ void AppendSpecimenSection(const ReportSection& s, std::string* out) {
   for (size_t i = 0; i < s.figures.shown.size(); ++i) {
     AppendImage(s.figures.shown[i], s.figures.titles[i], &h);
   }
+  AppendViewer(s, &h);
   h += ProvenanceBlock(s.row);
 }
 
@@ -464,6 +506,117 @@ window.addEventListener('load', function () {
   for (var i = 0; i < texts.length; ++i) smallest = Math.min(smallest, parseFloat(getComputedStyle(texts[i]).fontSize));
   document.body.setAttribute('data-layout', [document.documentElement.scrollWidth - window.innerWidth, Math.round(narrowest), Math.round(smallest)].join(' '));
 });
+</script>
+<script>
+// The loop viewers: each draws the cycle its slider selects (?cycle=N at
+// the start, else the last), from the data embedded beside it; plain
+// canvas, no network.
+(function () {
+  var FORCE = '#1f77b4', MEASURED = '#000000', GREY = '#888888';
+  function nice(span) {
+    var step = Math.pow(10, Math.floor(Math.log10(span / 5)));
+    var m = span / 5 / step;
+    return step * (m >= 5 ? 5 : m >= 2 ? 2 : 1);
+  }
+  function range(arrays) {
+    var lo = Infinity, hi = -Infinity;
+    arrays.forEach(function (a) { a.forEach(function (v) { if (v !== null) { lo = Math.min(lo, v); hi = Math.max(hi, v); } }); });
+    if (!(hi > lo)) { lo -= 1; hi += 1; }
+    var pad = 0.05 * (hi - lo);
+    return [lo - pad, hi + pad];
+  }
+  // Axes with ticks and labels; returns the data-to-pixel maps.
+  function axes(ctx, w, h, xr, yr, xlabel, ylabel) {
+    var L = 90, R = 20, T = 20, B = 70;
+    ctx.clearRect(0, 0, w, h);
+    ctx.fillStyle = '#fff'; ctx.fillRect(0, 0, w, h);
+    ctx.strokeStyle = '#000'; ctx.lineWidth = 1; ctx.setLineDash([]);
+    ctx.strokeRect(L, T, w - L - R, h - T - B);
+    var X = function (v) { return L + (v - xr[0]) / (xr[1] - xr[0]) * (w - L - R); };
+    var Y = function (v) { return h - B - (v - yr[0]) / (yr[1] - yr[0]) * (h - T - B); };
+    ctx.font = '16px DejaVu Sans, Arial, sans-serif'; ctx.fillStyle = '#000';
+    ctx.textAlign = 'center'; ctx.textBaseline = 'top';
+    var sx = nice(xr[1] - xr[0]), sy = nice(yr[1] - yr[0]);
+    for (var v = Math.ceil(xr[0] / sx) * sx; v <= xr[1]; v += sx) {
+      ctx.beginPath(); ctx.moveTo(X(v), h - B); ctx.lineTo(X(v), h - B + 6); ctx.stroke();
+      ctx.fillText(+v.toFixed(6) + '', X(v), h - B + 9);
+    }
+    ctx.fillText(xlabel, (L + w - R) / 2, h - 30);
+    ctx.textAlign = 'right'; ctx.textBaseline = 'middle';
+    for (var v = Math.ceil(yr[0] / sy) * sy; v <= yr[1]; v += sy) {
+      ctx.beginPath(); ctx.moveTo(L - 6, Y(v)); ctx.lineTo(L, Y(v)); ctx.stroke();
+      ctx.fillText(+v.toFixed(6) + '', L - 9, Y(v));
+    }
+    ctx.save(); ctx.translate(22, (T + h - B) / 2); ctx.rotate(-Math.PI / 2);
+    ctx.textAlign = 'center'; ctx.fillText(ylabel, 0, 0); ctx.restore();
+    return [X, Y];
+  }
+  // One direction's line, broken where a bin is empty; the points drawn.
+  function line(ctx, map, xs, ys, colour, dashed, width) {
+    ctx.strokeStyle = colour; ctx.lineWidth = width; ctx.setLineDash(dashed ? [8, 6] : []);
+    var drawn = 0, open = false;
+    ctx.beginPath();
+    for (var i = 0; i < xs.length; ++i) {
+      if (ys[i] === null) { open = false; continue; }
+      var px = map[0](xs[i]), py = map[1](ys[i]);
+      if (open) ctx.lineTo(px, py); else ctx.moveTo(px, py);
+      open = true; ++drawn;
+    }
+    ctx.stroke();
+    return drawn;
+  }
+  function slice(a, at, n, scale) {
+    var out = new Array(n);
+    for (var i = 0; i < n; ++i) out[i] = a[at + i] === null ? null : a[at + i] * scale;
+    return out;
+  }
+  function setUp(div, start) {
+    var d = JSON.parse(div.querySelector('.viewer-data').textContent);
+    var n = d.cycles.length, nb = d.x_mm.length, nm = d.map_x_mm.length;
+    var slider = div.querySelector('input'), label = div.querySelector('.viewer-label');
+    var loop = div.querySelector('canvas.loop'), map = div.querySelector('canvas.map');
+    slider.max = n - 1;
+    var qAll = [d.q.map(function (v) { return v === null ? null : v * d.q_scale_n; }),
+                d.q_model.map(function (v) { return v === null ? null : v * d.q_scale_n; })];
+    var qr = range(qAll), xr = range([d.x_mm]);
+    var mr = range([d.mu_raw.map(function (v) { return v === null ? null : v * d.mu_scale; }),
+                    d.mu_corrected.map(function (v) { return v === null ? null : v * d.mu_scale; })]);
+    function draw(i) {
+      var points = 0, c = loop.getContext('2d');
+      var m = axes(c, loop.width, loop.height, xr, qr, 'x (mm)', 'Q (N)');
+      for (var dir = 0; dir < 2; ++dir) {
+        var at = (i * 2 + dir) * nb;
+        points += line(c, m, d.x_mm, slice(d.q, at, nb, d.q_scale_n), MEASURED, dir === 1, 2);
+        points += line(c, m, d.x_mm, slice(d.q_model, at, nb, d.q_scale_n), FORCE, dir === 1, 2);
+      }
+      var g = map.getContext('2d');
+      var mm = axes(g, map.width, map.height, xr, mr, 'x (mm)', 'mu along the stroke (-)');
+      for (var dir = 0; dir < 2; ++dir) {
+        var at = (i * 2 + dir) * nm;
+        points += line(g, mm, d.map_x_mm, slice(d.mu_raw, at, nm, d.mu_scale), GREY, dir === 1, 2);
+        points += line(g, mm, d.map_x_mm, slice(d.mu_corrected, at, nm, d.mu_scale), FORCE, dir === 1, 3);
+      }
+      var mu = d.mu_hat[i];
+      label.textContent = 'cycle ' + d.cycles[i] + ' of ' + d.of_cycles + ': mu-hat ' +
+          (mu === null ? 'not fitted' : (mu * d.mu_hat_scale).toFixed(4)) + ' (' + d.mu_hat_from + ')';
+      div.setAttribute('data-cycle', d.cycles[i]);
+      div.setAttribute('data-points', points);
+    }
+    var first = n - 1;
+    if (start > 0) for (var k = 0; k < n; ++k) if (d.cycles[k] <= start) first = k;
+    slider.value = first;
+    slider.addEventListener('input', function () { draw(+slider.value); });
+    draw(first);
+  }
+  window.addEventListener('load', function () {
+    var start = +(new URLSearchParams(window.location.search).get('cycle') || 0);
+    var views = document.querySelectorAll('div.viewer');
+    for (var i = 0; i < views.length; ++i) {
+      try { setUp(views[i], start); } catch (e) { views[i].setAttribute('data-error', e.message); }
+    }
+    document.body.setAttribute('data-viewers', views.length);
+  });
+})();
 </script>
 </body></html>
 )";

@@ -436,7 +436,7 @@ void AddFrictionMap(const std::string& name,
                     m.spatial_sd_raw,
                     m.spatial_sd_corrected,
                     m.spatial_sd_noise),
-        "",
+        "x (mm)",
         "cycle",
         ranges,
         CycleGrid("friction_map_raw.f32", m.x_mm, m.cycles, forward(m.mu_raw)),
@@ -453,7 +453,6 @@ void AddFrictionMap(const std::string& name,
         "mu (-)",
         {}}}};
   if (r.scan) {
-    fig.panels[1].xlabel.clear();
     Series spring = Line("profiles.csv",
                          "x_mm",
                          "f_mean_mm",

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <future>
 
+#include "draw.h"
 #include "wearscar/report/figures.h"
 #include "wearscar/report/output_folder.h"
 
@@ -38,6 +39,8 @@ fusion::TestProducts WriteTestResults(const std::string& dir,
   // 6000 cycles' tables are tens of MB).
   for (const auto& [file, table] : products.tables)
     WriteTextAtomically((fs::path(dir) / file).string(), table.ToCsv());
+  for (const auto& [file, text] : products.documents)
+    WriteTextAtomically((fs::path(dir) / file).string(), text);
   if (provenance.valid()) {
     products.result["provenance"] = provenance.get().ToJson();
   }
@@ -66,27 +69,21 @@ std::string WriteDiagnosis(const std::string& dir,
   }
   if (!figures || !PlotterAvailable(nullptr)) return "";
   std::string gp;
-  std::vector<std::pair<const char*, const char*>> terms;
-  if (formats.png) terms.emplace_back("pngcairo size 960,560", "png");
-  if (formats.svg)
-    terms.emplace_back("svg size 960,560 background 'white'", "svg");
-  for (const auto& [term, ext] : terms) {
+  std::vector<std::string> terms;
+  if (formats.png) terms.emplace_back("png");
+  if (formats.svg) terms.emplace_back("svg");
+  for (const std::string& ext : terms) {
+    gp += internal::Terminal(ext, 1);
     gp += fmt::format(
-        "set terminal {0}\nset output 'diagnosis_residual_map.{1}'\nset "
-        "datafile separator "
+        "set output 'diagnosis_residual_map.{0}'\nset datafile separator "
         "','\nset grid\nset xlabel 'x (mm)'\nset ylabel 'mean |Q_measured - "
-        "Q_model| (N)'\nset "
-        "key outside right top\nset title '{2}: residual along the stroke "
-        "before and after the "
-        "named effects ({3})' noenhanced\nplot 'residual_map_before.csv' skip "
-        "1 using 1:2 with "
-        "lines lw 2 title 'before, forward', '' skip 1 using 1:3 with lines lw "
-        "2 title 'before, "
-        "reverse', 'residual_map_after.csv' skip 1 using 1:2 with lines dt 2 "
-        "title 'after, "
-        "forward', '' skip 1 using 1:3 with lines dt 2 title 'after, "
-        "reverse'\nunset output\n",
-        term,
+        "Q_model| (N)'\nset key below\nset title '{1}: residual along the "
+        "stroke before and after the named effects ({2})' noenhanced\nplot "
+        "'residual_map_before.csv' skip 1 using 1:2 with lines lw 2 title "
+        "'before, forward', '' skip 1 using 1:3 with lines lw 2 title "
+        "'before, reverse', 'residual_map_after.csv' skip 1 using 1:2 with "
+        "lines dt 2 title 'after, forward', '' skip 1 using 1:3 with lines "
+        "dt 2 title 'after, reverse'\nunset output\n",
         ext,
         name,
         d.named.empty() ? std::string("none named")
@@ -94,8 +91,7 @@ std::string WriteDiagnosis(const std::string& dir,
   }
   WriteTextAtomically(FigureDataPath(dir, "diagnosis.gp"), gp);
   if (terms.empty() || !RunGnuplotScript(dir, "diagnosis.gp")) return "";
-  return (fs::path(dir) / "diagnosis_residual_map.").string() +
-         terms.front().second;
+  return (fs::path(dir) / "diagnosis_residual_map.").string() + terms.front();
 }
 
 }  // namespace wearscar::report

@@ -22,6 +22,9 @@ struct FrictionMapOptions {
   // bin by bin; a cubic removes that term (0 keeps the fit's).
   int slope_polynomial_order = 3;
   double slope_span_mm = 0.1;
+  // Each cycle's loop, binned this many times finer than the stroke
+  // (FrictionMap::loop_*): what the report's loop viewer draws.
+  int loop_bins = 100;
 
   bool IsValid(std::string* why) const;
 };
@@ -56,10 +59,24 @@ struct FrictionMap {
   // The steady average per direction and bin (forward then reverse), about
   // each direction's mean: the along-track pattern of mu.
   std::vector<double> steady_corrected;
+  // Each cycle's gross-slip loop binned finely along the stroke: the means
+  // of Q (N), P (N) and k (the map's slope) per (cycle, direction, bin) at
+  // LoopIndex, over the bins centred at loop_x_mm; NaN where a bin is
+  // empty. The wear-scar model's Q of a cycle follows from them and its
+  // mu-hat (LoopModelQ).
+  std::vector<double> loop_x_mm;
+  std::vector<float> loop_q_n, loop_p_n, loop_k;
 
   size_t Index(int cycle, int direction, size_t bin) const {
     return (static_cast<size_t>(cycle) * 2 + direction) * x_mm.size() + bin;
   }
+  size_t LoopIndex(int cycle, int direction, size_t bin) const {
+    return (static_cast<size_t>(cycle) * 2 + direction) * loop_x_mm.size() +
+           bin;
+  }
+  // The wear-scar model's Q at a loop bin with coefficient mu (Eqs. 1-2 on
+  // the bin's mean P and k); NaN where the bin is empty.
+  double LoopModelQ(int cycle, int direction, size_t bin, double mu) const;
 };
 
 // The map of every complete cycle; the variation over cycles

@@ -153,6 +153,12 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
                        std::optional<scan::HeightMap> height_map,
                        const FuseOptions& options = {});
 
+// The one line to read first: the coefficient to quote, how it was got
+// and the verdict ("mu = 0.1443 (95%: 0.1436-0.1449): mu-hat, k from P,
+// cycles 13-59; explained by wear-scar interaction"), or why there is none
+// to quote. The other coefficients are comparisons.
+std::string Headline(const TestResult& result);
+
 // The options a record is analysed with: when the spring's stiffness was
 // not given and the force file states one, that one (spring_given set,
 // spring_stated saying where). AnalyzeTest and the result's options block

@@ -34,6 +34,9 @@ struct ProductOptions {
 // profiles.csv and centreline.csv; with LuGre lugre.csv) and result.json.
 struct TestProducts {
   std::vector<std::pair<std::string, Table>> tables;  // file name, table
+  // Other files, name and text: loop_viewer.json (the report's loop
+  // viewer reads it).
+  std::vector<std::pair<std::string, std::string>> documents;
   nlohmann::json result;  // result.json (scan.json for a map alone)
   std::string result_name = "result.json";
 

@@ -15,6 +15,8 @@ struct ReportSection {
   bool failed = false;
   bool flagged = false;  // not explained by wear-scar interaction
   FigureSet figures;
+  // The specimen's loop_viewer.json ("" none): the report's cycle slider.
+  std::string viewer;
 };
 
 // A self-contained HTML page (images embedded as data URIs): the summary

@@ -40,6 +40,10 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
   auto fit_line = [&](bool from_p) {
     const fusion::Statistic& mu = from_p ? m.mu_force : m.mu_scan;
     const char* label = from_p ? "mu-hat, k from P   " : "mu-hat, k from scan";
+    if (from_p && r.profile_source == fusion::ProfileSource::kFriction) {
+      Say("  {}  not used (P carries no profile: a dead weight)\n", label);
+      return;
+    }
     if (mu.count == 0) {
       Say("  {}  not fitted (--slope {})\n", label, from_p ? "scan" : "force");
       return;
@@ -67,13 +71,17 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
   if (m.has_scan) {
     fit_line(!quoted_from_p);
     const auto& a = r.scan->alignment;
-    Say("  profiles: r = {:.3f}, amplitude ratio {:.2f}, shift {:.3f} mm{}, "
-        "RMS(k_P - k_scan) {:.3f}\n",
+    Say("  profiles ({} and the scan): r = {:.3f}, amplitude ratio {:.2f}, "
+        "shift {:.3f} mm{}{}\n",
+        r.profile_source == fusion::ProfileSource::kFriction ? "friction"
+                                                             : "P/S",
         a.correlation,
         a.amplitude_ratio,
         a.shift_mm,
         a.flipped ? " (the scan's x runs against the stroke's: flipped)" : "",
-        m.k_rms_difference);
+        std::isfinite(m.k_rms_difference)
+            ? fmt::format(", RMS(k_P - k_scan) {:.3f}", m.k_rms_difference)
+            : std::string());
   }
   Say("  mu mean {:.4f} {}, mu energy {:.4f} {} (classic COFs, biased on a "
       "wavy track)\n",

@@ -173,16 +173,17 @@ void ProfilesFromBins(const DirectionBins& b, ForceProfile* p) {
 
 }  // namespace
 
-ForceProfile ComputeForceProfile(const force::ForceRecord& record,
-                                 const force::CycleSet& cycles,
-                                 double spring_n_per_mm,
-                                 const ForceProfileOptions& options) {
-  std::string why;
-  if (!options.IsValid(&why)) throw FusionError(why);
-  ForceProfile p;
-  ChooseCycles(static_cast<int>(cycles.cycles.size()), options, &p);
+namespace {
+
+// The profile's bins over the compared cycles' gross slip: [lo, lo + bins
+// step); throws when there is none.
+double ForceProfileGrid(const force::ForceRecord& record,
+                        const force::CycleSet& cycles,
+                        const ForceProfileOptions& options,
+                        ForceProfile* p) {
+  ChooseCycles(static_cast<int>(cycles.cycles.size()), options, p);
   double lo = INFINITY, hi = -INFINITY;
-  for (int c = p.first_cycle; c <= p.last_cycle; ++c) {
+  for (int c = p->first_cycle; c <= p->last_cycle; ++c) {
     for (const force::HalfCycle* h :
          {&cycles.cycles[c].forward, &cycles.cycles[c].reverse}) {
       for (Eigen::Index i = h->slip_begin; i < h->slip_end; ++i) {
@@ -197,8 +198,103 @@ ForceProfile ComputeForceProfile(const force::ForceRecord& record,
   const double step = options.step_mm;
   const Eigen::Index bins =
       static_cast<Eigen::Index>(std::floor((hi - lo) / step)) + 1;
-  p.x_mm = Eigen::VectorXd::LinSpaced(
+  p->x_mm = Eigen::VectorXd::LinSpaced(
       bins, lo + 0.5 * step, lo + (bins - 0.5) * step);
+  return lo;
+}
+
+}  // namespace
+
+ForceProfile ComputeFrictionProfile(const force::ForceRecord& record,
+                                    const force::CycleSet& cycles,
+                                    const ForceProfileOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw FusionError(why);
+  ForceProfile p;
+  const double lo = ForceProfileGrid(record, cycles, options, &p);
+  const double step = options.step_mm;
+  const Eigen::Index bins = p.x_mm.size();
+  // atan(Q/P) per direction and bin: theta + s phi on the wear-scar model.
+  DirectionBins b;
+  for (int d = 0; d < 2; ++d)
+    b.sum[d] = b.sum2[d] = b.count[d] = Eigen::VectorXd::Zero(bins);
+  for (int c = p.first_cycle; c <= p.last_cycle; ++c) {
+    for (const force::HalfCycle* h :
+         {&cycles.cycles[c].forward, &cycles.cycles[c].reverse}) {
+      const int d = h->direction > 0 ? 0 : 1;
+      for (Eigen::Index i = h->slip_begin; i < h->slip_end; ++i) {
+        const double x = record.x_mm[i], q = record.tangential_n[i],
+                     pn = record.normal_n[i];
+        if (!std::isfinite(x) || !std::isfinite(q) || !(pn > 0)) continue;
+        const Eigen::Index k = std::min<Eigen::Index>(
+            bins - 1, static_cast<Eigen::Index>(std::floor((x - lo) / step)));
+        const double a = std::atan(q / pn);
+        b.sum[d][k] += a;
+        b.sum2[d][k] += a * a;
+        b.count[d][k] += 1;
+      }
+    }
+  }
+  // k = tan(theta) where both directions slid, and its noise variance.
+  Eigen::VectorXd slope(bins), slope_var(bins);
+  for (Eigen::Index k = 0; k < bins; ++k) {
+    slope[k] = slope_var[k] = std::nan("");
+    if (!(b.count[0][k] > 1 && b.count[1][k] > 1)) continue;
+    double theta = 0, var = 0;
+    for (int d = 0; d < 2; ++d) {
+      const double n = b.count[d][k], mean = b.sum[d][k] / n;
+      theta += 0.5 * mean;
+      var += 0.25 * std::max(0.0, b.sum2[d][k] - n * mean * mean) / (n - 1) / n;
+    }
+    const double sec2 = 1 + std::tan(theta) * std::tan(theta);
+    slope[k] = std::tan(theta);
+    slope_var[k] = sec2 * sec2 * var;
+  }
+  // The height: the slope integrated along x from the first bin both
+  // directions slid (trapezoids; an empty bin between takes its
+  // neighbours' mean), about its mean; its noise a random walk.
+  p.mean_mm = Eigen::VectorXd::Constant(bins, std::nan(""));
+  Eigen::Index first = 0, last = bins - 1;
+  while (first < bins && !std::isfinite(slope[first])) ++first;
+  while (last > first && !std::isfinite(slope[last])) --last;
+  if (last - first < 2)
+    throw FusionError(
+        "too few positions where both directions slid to build the profile "
+        "from the friction");
+  double h = 0, walk = 0, walk_sum = 0, mean = 0;
+  double previous = slope[first];
+  p.mean_mm[first] = 0;
+  for (Eigen::Index k = first + 1; k <= last; ++k) {
+    double here = slope[k];
+    if (!std::isfinite(here)) {
+      Eigen::Index next = k + 1;
+      while (next <= last && !std::isfinite(slope[next])) ++next;
+      here = 0.5 * (previous + slope[next]);
+    } else {
+      walk += step * step * slope_var[k];
+    }
+    h += 0.5 * (previous + here) * step;
+    p.mean_mm[k] = h;
+    previous = here;
+    walk_sum += walk;
+  }
+  for (Eigen::Index k = first; k <= last; ++k) mean += p.mean_mm[k];
+  mean /= static_cast<double>(last - first + 1);
+  for (Eigen::Index k = first; k <= last; ++k) p.mean_mm[k] -= mean;
+  p.forward_mm = p.reverse_mm = p.mean_mm;
+  p.noise_variance_mm2 = walk_sum / static_cast<double>(last - first + 1);
+  return p;
+}
+
+ForceProfile ComputeForceProfile(const force::ForceRecord& record,
+                                 const force::CycleSet& cycles,
+                                 double spring_n_per_mm,
+                                 const ForceProfileOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw FusionError(why);
+  ForceProfile p;
+  const double lo = ForceProfileGrid(record, cycles, options, &p);
+  const double step = options.step_mm;
   ProfilesFromBins(BinSpring(record, cycles, p, lo, step, spring_n_per_mm), &p);
   return p;
 }

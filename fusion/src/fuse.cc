@@ -66,7 +66,8 @@ MismatchReport CompareSlopes(const force::ForceRecord& record,
                              const ScanAnalysis* scan,
                              int first,
                              int last,
-                             const FuseOptions& options) {
+                             const FuseOptions& options,
+                             bool force_slope_used) {
   MismatchReport r;
   r.first_cycle = first;
   r.last_cycle = last;
@@ -94,21 +95,27 @@ MismatchReport CompareSlopes(const force::ForceRecord& record,
         return SummariseWithErrors(
             v, se, 0, static_cast<int>(v.size()) - 1, correlated);
       };
-  const auto& ff = force.fit_force;
+  // Without a profile in P (a dead weight) its fits are not used: empty.
+  static const std::vector<MuFit> kUnused;
+  const auto& ff = force_slope_used ? force.fit_force : kUnused;
   const int shared = force.correlated_cycles;
-  r.mu_force = with_errors(ff, shared, [&](int c) { return ff[c].mu_hat; });
-  r.cost_force =
-      stat([&](int c) { return ff[c].converged ? ff[c].cost : std::nan(""); });
+  if (force_slope_used) {
+    r.mu_force = with_errors(ff, shared, [&](int c) { return ff[c].mu_hat; });
+    r.cost_force = stat(
+        [&](int c) { return ff[c].converged ? ff[c].cost : std::nan(""); });
+  }
   r.mu_mean = series([&](int c) { return force.cof[c].mu_mean; });
   r.mu_energy = series([&](int c) { return force.cof[c].mu_energy_g; });
   // The classic COFs' own noise is small against mu-hat's (they average
   // Q/P over whole half cycles): the differences carry mu-hat's errors.
-  r.mu_force_minus_mean = with_errors(
-      ff, shared, [&](int c) { return ff[c].mu_hat - force.cof[c].mu_mean; });
-  r.mu_force_minus_energy = with_errors(ff, shared, [&](int c) {
-    return ff[c].mu_hat - force.cof[c].mu_energy_g;
-  });
-  r.split_force = SplitCost(ff, first, last);
+  if (force_slope_used) {
+    r.mu_force_minus_mean = with_errors(
+        ff, shared, [&](int c) { return ff[c].mu_hat - force.cof[c].mu_mean; });
+    r.mu_force_minus_energy = with_errors(ff, shared, [&](int c) {
+      return ff[c].mu_hat - force.cof[c].mu_energy_g;
+    });
+    r.split_force = SplitCost(ff, first, last);
+  }
   // mu-hat minus mu_energy with the slope the verdict judges.
   auto method_difference = [&](const std::vector<MuFit>& fits) {
     std::vector<double> d(fits.size(), std::nan(""));
@@ -135,7 +142,11 @@ MismatchReport CompareSlopes(const force::ForceRecord& record,
       stat([&](int c) { return fs[c].converged ? fs[c].cost : std::nan(""); });
   r.mu_force_minus_scan = r.mu_force.mean - r.mu_scan.mean;
   r.k_rms_difference =
-      KRmsDifference(record, force, *scan, first, last, options);
+      force_slope_used
+          ? KRmsDifference(record, force, *scan, first, last, options)
+          : std::nan("");
+  if (scan->profile_source == ProfileSource::kFriction)
+    r.force_profile_name = "the profile from the friction";
   return r;
 }
 
@@ -149,6 +160,31 @@ const char* SlopeChoiceName(SlopeChoice choice) {
       break;
   }
   return "both";
+}
+
+const char* ProfileSourceName(ProfileSource source) {
+  switch (source) {
+    case ProfileSource::kSpring:
+      return "spring";
+    case ProfileSource::kFriction:
+      return "friction";
+    case ProfileSource::kAuto:
+      break;
+  }
+  return "auto";
+}
+
+bool ParseProfileSource(const std::string& name, ProfileSource* source) {
+  if (name == "auto") {
+    *source = ProfileSource::kAuto;
+  } else if (name == "spring") {
+    *source = ProfileSource::kSpring;
+  } else if (name == "friction") {
+    *source = ProfileSource::kFriction;
+  } else {
+    return false;
+  }
+  return true;
 }
 
 bool ParseSlopeChoice(const std::string& name, SlopeChoice* choice) {
@@ -190,7 +226,8 @@ ScanAnalysis AnalyzeScan(const force::ForceRecord& record,
                          const ForceAnalysis& force,
                          ScanAnalysis s,
                          const FuseOptions& options,
-                         const TrackHistory* history) {
+                         const TrackHistory* history,
+                         ProfileSource source) {
   const scan::HeightMap& map = s.levelled;
   // The last N cycles, but none of the running-in.
   ForceProfileOptions fpo = options.force_profile;
@@ -200,11 +237,14 @@ ScanAnalysis AnalyzeScan(const force::ForceRecord& record,
         std::max(nc - fpo.cycles, std::min(force.running_in.cycles, nc - 1));
     fpo.last_cycle = nc - 1;
   }
+  s.profile_source = source;
   s.force_profile =
-      ComputeForceProfile(record,
-                          force.cycles,
-                          options.analysis.friction.slope.spring_n_per_mm,
-                          fpo);
+      source == ProfileSource::kFriction
+          ? ComputeFrictionProfile(record, force.cycles, fpo)
+          : ComputeForceProfile(record,
+                                force.cycles,
+                                options.analysis.friction.slope.spring_n_per_mm,
+                                fpo);
   try {
     s.alignment = AlignProfiles(s.force_profile, s.profile, options.align);
   } catch (const FusionError& e) {
@@ -300,22 +340,31 @@ ForceOnlyProducts ComputeForceOnlyProducts(const force::ForceRecord& record,
 void AddScanSide(const force::ForceRecord& record,
                  std::future<ScanAnalysis> prepared,
                  const FuseOptions& options,
+                 ProfileSource source,
                  TestResult* result) {
   try {
+    // The spring's history scales the scan's slope only where P is the
+    // profile.
     result->scan = AnalyzeScan(
         record,
         result->force,
         prepared.get(),
         options,
-        options.scan_slope_history ? &result->track_history : nullptr);
+        options.scan_slope_history && source == ProfileSource::kSpring
+            ? &result->track_history
+            : nullptr,
+        source);
   } catch (const std::exception& e) {
     if (options.slopes == SlopeChoice::kScan) throw;
     if (const auto* no_track = dynamic_cast<const NoTrackInMap*>(&e))
       result->unused_map = no_track->levelled;
     result->scan_skipped = fmt::format(
         "the scan was not used ({}); mu-hat and the verdict rest on k "
-        "from P alone",
-        e.what());
+        "from P alone{}",
+        e.what(),
+        source == ProfileSource::kFriction
+            ? ", which is noise where P carries no profile (a dead weight)"
+            : "");
   }
 }
 
@@ -406,8 +455,12 @@ std::vector<std::string> Assumptions(const force::ForceRecord& record,
                         "; P/S varies no more than the scanned "
                         "profile, which says nothing against this S");
   }
+  if (r.profile_source == ProfileSource::kFriction) spring = r.profile_reason;
   std::string slope =
-      o.slopes == SlopeChoice::kScan ? "mu-hat with k from the scan alone"
+      r.profile_source == ProfileSource::kFriction
+          ? "the verdict judges mu-hat with k from the scan, aligned with the "
+            "profile from the friction; k from P is not used"
+      : o.slopes == SlopeChoice::kScan ? "mu-hat with k from the scan alone"
       : r.scan ? "the verdict judges mu-hat with k from P; the scan's k is "
                  "compared with it"
       : r.scan_file.empty() ? "k from P alone (no scan)"
@@ -472,6 +525,71 @@ std::vector<std::string> StatedButNotFound(const force::ForceRecord& record,
   return out;
 }
 
+// How far P's repeatable slope is from nothing, in its standard errors
+// (the k split's repeatable rms against its noise over the root of the
+// independent cycles: the ensemble's neighbouring cycles share their
+// noise); NaN without the split.
+double ProfileSignificance(const ForceAnalysis& force) {
+  const double n = static_cast<double>(force.fit_force.size()) /
+                   std::max(1, force.correlated_cycles);
+  if (!(force.k_noise_rms > 0) || !std::isfinite(force.k_signal_rms) || n < 2)
+    return NAN;
+  return force.k_signal_rms / (force.k_noise_rms / std::sqrt(std::max(1.0, n)));
+}
+
+// auto: the friction's profile when P carries none (a dead weight) -- its
+// repeatable slope insignificant and P/S varying far less than the track
+// the scan shows -- else the spring's. Sets the result's source and why.
+ProfileSource ChooseProfile(const TestResult& r, const FuseOptions& o) {
+  const double sig = ProfileSignificance(r.force);
+  const double ratio = r.scan ? r.scan->alignment.amplitude_ratio : NAN;
+  if (std::isfinite(sig) && sig < o.dead_weight_significance &&
+      ratio < o.dead_weight_ratio)
+    return ProfileSource::kFriction;
+  return ProfileSource::kSpring;
+}
+
+// `spring_ratio`: P/S's amplitude against the scanned profile, as the
+// choice read it (NaN when no choice was made).
+std::string ProfileReason(const TestResult& r,
+                          const FuseOptions& o,
+                          bool chosen,
+                          double spring_ratio) {
+  const double sig = ProfileSignificance(r.force);
+  const std::string p_says =
+      std::isfinite(sig)
+          ? fmt::format(
+                "P's repeatable slope is {:.1f} standard errors from nothing "
+                "(rms {:.2g} against noise {:.2g} over {} cycles, {} of them "
+                "sharing their noise)",
+                sig,
+                r.force.k_signal_rms,
+                r.force.k_noise_rms,
+                r.force.fit_force.size(),
+                r.force.correlated_cycles)
+          : std::string("P's slope was not split into signal and noise");
+  if (r.profile_source == ProfileSource::kFriction) {
+    const std::string why =
+        chosen ? fmt::format(
+                     "{} and P/S varies {:.2f}x the scanned profile (below "
+                     "{:.2f}): a dead-weight or force-controlled rig",
+                     p_says,
+                     spring_ratio,
+                     o.dead_weight_ratio)
+               : std::string("--profile-from friction");
+    return fmt::format(
+        "profile from the friction, no spring: {}; the spring is neither "
+        "needed nor used. k = tan((atan(Q_f/P) + atan(Q_r/P))/2) at each x "
+        "over the compared cycles, integrated along the stroke: circular for "
+        "a verdict on its own, it aligns the scan and is compared with it; "
+        "mu-hat takes k from the scan",
+        why);
+  }
+  return fmt::format("profile from the spring, P/S{}: {}",
+                     chosen ? "" : " (--profile-from spring)",
+                     p_says);
+}
+
 // The comparison of the slopes, the verdict, the warnings and the wear,
 // once both sides are analysed.
 void CompareAndJudge(const force::ForceRecord& record,
@@ -486,8 +604,9 @@ void CompareAndJudge(const force::ForceRecord& record,
     last = result->scan->force_profile.last_cycle;
   }
   const ScanAnalysis* scan = result->scan ? &*result->scan : nullptr;
-  result->mismatch =
-      CompareSlopes(record, result->force, scan, first, last, options);
+  const bool from_spring = result->profile_source == ProfileSource::kSpring;
+  result->mismatch = CompareSlopes(
+      record, result->force, scan, first, last, options, from_spring);
   result->verdict = Judge(result->mismatch, options.verdict);
   // A doubted scan (possibly another test's) says nothing of this test's
   // elastic part or spring.
@@ -495,6 +614,25 @@ void CompareAndJudge(const force::ForceRecord& record,
   MismatchReport judged = result->mismatch;
   judged.has_scan = judged.has_scan && !scan_doubted;
   result->warnings = DataWarnings(result->force, judged, options.warnings);
+  if (!from_spring) {
+    // k from P is not used: what its noise does to it is no warning.
+    result->warnings.erase(std::remove_if(result->warnings.begin(),
+                                          result->warnings.end(),
+                                          [](const std::string& w) {
+                                            return w.rfind("k from P", 0) == 0;
+                                          }),
+                           result->warnings.end());
+  } else if (!scan && options.profile_from == ProfileSource::kAuto) {
+    const double sig = ProfileSignificance(result->force);
+    if (sig < options.dead_weight_significance) {
+      result->warnings.push_back(fmt::format(
+          "P does not vary along the stroke beyond its noise ({:.1f} "
+          "standard errors): if the rig loads the ball with a dead weight, "
+          "k from P is noise; with a scan of the track the profile is taken "
+          "from the friction (--profile-from friction)",
+          sig));
+    }
+  }
   for (std::string& w : StatedButNotFound(record, result->force))
     result->warnings.push_back(std::move(w));
   if (scan != nullptr) {
@@ -511,7 +649,8 @@ void CompareAndJudge(const force::ForceRecord& record,
   result->assumptions = Assumptions(record, *result, options);
   const ImpliedSpring implied = SpringTheScanImplies(*result, options);
   const double s = options.analysis.friction.slope.spring_n_per_mm;
-  if (!options.spring_given && !scan_doubted && implied.low > s * 1.15) {
+  if (from_spring && !options.spring_given && !scan_doubted &&
+      implied.low > s * 1.15) {
     result->warnings.push_back(fmt::format(
         "the spring's stiffness was not given and the default {:g} N/mm is "
         "used, but the scan implies {:.3g} N/mm (95%: {:.3g}-{:.3g}) if all "
@@ -624,8 +763,43 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
                           result.force.cycles,
                           options.analysis.friction.slope.spring_n_per_mm,
                           options.track_history);
-  if (prepared_scan.valid())
-    AddScanSide(record, std::move(prepared_scan), options, &result);
+  if (options.profile_from == ProfileSource::kFriction) {
+    if (!prepared_scan.valid()) {
+      throw FusionError(
+          "--profile-from friction needs a scan of the track: the slope from "
+          "the friction alone is circular, and nothing else gives k");
+    }
+    result.profile_source = ProfileSource::kFriction;
+  }
+  double spring_ratio = NAN;
+  if (prepared_scan.valid()) {
+    AddScanSide(record,
+                std::move(prepared_scan),
+                options,
+                result.profile_source,
+                &result);
+    // auto: a rig whose P carries no profile (a dead weight) aligns the
+    // scan with the friction's profile instead, and fits again.
+    if (result.scan) spring_ratio = result.scan->alignment.amplitude_ratio;
+    if (options.profile_from == ProfileSource::kAuto && result.scan &&
+        ChooseProfile(result, options) == ProfileSource::kFriction) {
+      result.profile_source = ProfileSource::kFriction;
+      ScanAnalysis prepared = *result.scan;
+      std::promise<ScanAnalysis> again;
+      again.set_value(std::move(prepared));
+      result.scan.reset();
+      AddScanSide(record,
+                  again.get_future(),
+                  options,
+                  ProfileSource::kFriction,
+                  &result);
+    }
+  }
+  result.profile_reason =
+      ProfileReason(result,
+                    options,
+                    options.profile_from == ProfileSource::kAuto,
+                    spring_ratio);
   CompareAndJudge(record, options, &result);
   ForceOnlyProducts p = force_only.get();
   result.friction_map = std::move(p.friction_map);

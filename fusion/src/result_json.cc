@@ -350,6 +350,8 @@ nlohmann::json ResultJson(const std::string& name,
   if (r.scan) j["scan"] = ScanJson(*r.scan);
   if (r.lugre) j["lugre"] = LugreJson(r);
   j["headline"] = Headline(r);
+  j["profile"] = {{"source", ProfileSourceName(r.profile_source)},
+                  {"why", r.profile_reason}};
   j["verdict"] = {{"explained", r.verdict.explained},
                   {"summary", r.verdict.Summary()},
                   {"reasons", r.verdict.reasons}};

@@ -431,6 +431,20 @@ std::vector<S> CompareSettings() {
           [](const T& t) {
             return std::string(SlopeChoiceName(t.fuse.slopes));
           }),
+      ChoiceSetting(
+          "profile-from",
+          "Method",
+          "The force side's profile of the sliding path: spring (P/S), "
+          "friction (the two directions' Q at the same x, for a dead-weight "
+          "rig; needs a scan) or auto (spring unless P does not follow the "
+          "track the scan shows)",
+          {"auto", "spring", "friction"},
+          [](T* t, const std::string& v) {
+            ParseProfileSource(v, &t->fuse.profile_from);
+          },
+          [](const T& t) {
+            return std::string(ProfileSourceName(t.fuse.profile_from));
+          }),
       CycleSetting("compare-first",
                    "Compare from this cycle (from 1; with --compare-last) "
                    "instead of the last N",

@@ -68,9 +68,9 @@ std::vector<std::string> ScanReasons(const MismatchReport& r,
       has_interval ? r.amplitude_ratio_low : r.amplitude_ratio;
   if (ratio_low > o.max_amplitude_ratio) {
     reasons.push_back(fmt::format(
-        "the spring displacement varies {:.2f}x as much as the scanned "
-        "profile{} (limit {:.2f}): part of the normal displacement is not "
-        "worn geometry",
+        "{} varies {:.2f}x as much as the scanned profile{} (limit {:.2f}): "
+        "part of the normal displacement is not worn geometry",
+        r.force_profile_name,
         r.amplitude_ratio,
         IntervalText(r.amplitude_ratio_low, r.amplitude_ratio_high, "{:.2f}"),
         o.max_amplitude_ratio));

@@ -113,6 +113,19 @@ std::vector<S> CaseSettings() {
                      "Simulation",
                      "Triangular drive instead of sine",
                      [](R& r) -> bool& { return r.triangle; }),
+      {"rig",
+       "Simulation",
+       "How the ball is loaded: spring (the paper's; P follows the track) or "
+       "dead-weight (P constant)",
+       "TEXT",
+       ~0u,
+       [](R* r, const std::string& text) {
+         r->dead_weight = support::ParseChoice(
+                              text, {"spring", "dead-weight"}) == "dead-weight";
+       },
+       [](const R& r) {
+         return std::string(r.dead_weight ? "dead-weight" : "spring");
+       }},
   };
 }
 
@@ -169,6 +182,7 @@ void Override(const SimulationRequest& r,
   if (r.scan_rows > 0) o->scan_rows = r.scan_rows;
   if (r.scan_pitch_mm > 0) o->scan_pitch_mm = r.scan_pitch_mm;
   if (r.triangle) o->drive = Drive::kTriangle;
+  if (r.dead_weight) o->rig = Rig::kDeadWeight;
   if (r.noise >= 0) o->noise_scale = r.noise;
   if (r.elastic_fraction >= 0) o->elastic_fraction = r.elastic_fraction;
   o->effects = effects;

@@ -91,6 +91,7 @@ nlohmann::json TruthJson(const SimulationOptions& o, const SimulatedTest& t) {
                 {"p_resolution_n", o.p_resolution_n},
                 {"q_resolution_n", o.q_resolution_n}};
   j["spring_n_per_mm"] = o.spring_n_per_mm;
+  j["rig"] = o.rig == Rig::kSpring ? "spring" : "dead-weight";
   j["amplitudes"] = {{"force_profile_sd_mm", t.truth.force_profile_sd_mm},
                      {"force_profile_range_mm", t.truth.force_profile_range_mm},
                      {"force_profile_range_n",

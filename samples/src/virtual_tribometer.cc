@@ -393,7 +393,9 @@ SlidingBounds ForcesAt(const SimulationOptions& o,
   // it into P. The contact tilt k follows the worn (geometric) path only:
   // the elastic part moves the sphere, not the contact plane.
   const double f = -(depth + schedule.elastic_sd_mm * s.elastic_shape(x));
-  const double p = pc + o.spring_n_per_mm * f;
+  // A dead weight presses with its weight wherever the sphere is.
+  const double p =
+      o.rig == Rig::kSpring ? pc + o.spring_n_per_mm * f : o.target_normal_n;
   const double k = -depth_amp * s.wear_slope(x);
   const double speed = std::abs(v);
   // Boundary friction rises as the sliding speed falls below the speed

@@ -17,9 +17,10 @@
 
 namespace wearscar::report::internal {
 
-// Colours by role, the same in every figure: the force side's slope (k
-// from P) blue, the scan's orange, measured data black, the classic COFs
-// green, thresholds red.
+// Colours by role, the same in every figure and in the report's loop
+// viewer: the force side's slope (k from P) blue, the scan's orange,
+// measured data black, the classic COFs green, thresholds red; the
+// direction by the dash: forward solid, reverse dashed.
 inline constexpr const char* kForceColour = "#1f77b4";
 inline constexpr const char* kScanColour = "#ff7f0e";
 inline constexpr const char* kMeasuredColour = "#000000";

@@ -548,7 +548,9 @@ FigureSet DrawTestFigures(const std::string& dir,
         "x_mm",
         "f_reverse_mm",
         fmt::format("P/S reverse - {:.4f} mm", r.scan->alignment.offset_mm),
-        "#17becf");
+        kForceColour,
+        1.5,
+        2);
     fwd.y_offset = rev.y_offset = -r.scan->alignment.offset_mm;
     Series h =
         Line("profiles.csv",

@@ -40,6 +40,20 @@ ForceProfile ComputeForceProfile(const force::ForceRecord& record,
                                  double spring_n_per_mm,
                                  const ForceProfileOptions& options = {});
 
+// The sliding path's height from the friction alone, for rigs whose P
+// does not follow the track (a dead weight): on the wear-scar model the
+// two directions at the same x see Q/P = tan(theta + s phi), k = tan
+// theta, mu = tan phi, so theta is the mean of atan(Q/P) forward and
+// reverse; k binned over the compared cycles' gross slip where both
+// directions slid, integrated along x, about its mean (forward_mm =
+// reverse_mm = mean_mm). Circular for a verdict on its own (an effect that
+// is the same in both directions enters it as slope); it aligns the scan
+// and is compared with it. Throws FusionError when too few positions were
+// slid both ways.
+ForceProfile ComputeFrictionProfile(const force::ForceRecord& record,
+                                    const force::CycleSet& cycles,
+                                    const ForceProfileOptions& options = {});
+
 // Plate x maps to the scan's along-track coordinate s = flip * x + shift.
 struct Alignment {
   double shift_mm = 0.0;

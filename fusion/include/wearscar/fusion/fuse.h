@@ -27,6 +27,16 @@ enum class SlopeChoice { kForce, kScan, kBoth };
 bool ParseSlopeChoice(const std::string& name, SlopeChoice* choice);
 const char* SlopeChoiceName(SlopeChoice choice);
 
+// Where the force side's profile of the sliding path comes from: P/S
+// through the loading spring, or the friction of the two directions at the
+// same x (ComputeFrictionProfile) for rigs that load with a dead weight;
+// auto: the spring, unless P does not follow the track the scan shows.
+enum class ProfileSource { kAuto, kSpring, kFriction };
+
+// "auto", "spring", "friction"; false for anything else.
+bool ParseProfileSource(const std::string& name, ProfileSource* source);
+const char* ProfileSourceName(ProfileSource source);
+
 struct FuseOptions {
   AnalysisOptions analysis;
   scan::LevelOptions level;
@@ -75,6 +85,15 @@ struct FuseOptions {
   // Which slope mu-hat is fitted with when a scan is given: the force
   // side's k = (1/S) dP/dx, the scan's, or both (without a scan: force).
   SlopeChoice slopes = SlopeChoice::kBoth;
+  // The force side's profile (the one aligned with the scan and compared
+  // with it).
+  ProfileSource profile_from = ProfileSource::kAuto;
+  // auto takes the profile from the friction when P's repeatable slope is
+  // within this many of its standard errors of nothing (the k split's
+  // repeatable rms against noise / sqrt(cycles)) and P/S varies less than
+  // dead_weight_ratio of the scanned profile.
+  double dead_weight_significance = 3.0;
+  double dead_weight_ratio = 0.2;
   // LuGre beside the wear-scar fit (paper Fig. 17) on the detail cycle.
   bool fit_lugre = true;
   LugreOptions lugre;
@@ -99,7 +118,8 @@ struct ScanAnalysis {
   int spikes_removed = 0;
   scan::Track track;
   scan::WearProfile profile;
-  ForceProfile force_profile;
+  ForceProfile force_profile;  // P/S, or from the friction (profile_source)
+  ProfileSource profile_source = ProfileSource::kSpring;
   Alignment alignment;
   PlateProfile slope;           // k_scan in plate coordinates
   std::vector<MuFit> fit_scan;  // mu-hat per cycle with k from the scan
@@ -110,6 +130,9 @@ struct ScanAnalysis {
 
 struct TestResult {
   ForceAnalysis force;
+  // The force side's profile used (kSpring or kFriction) and why, in words.
+  ProfileSource profile_source = ProfileSource::kSpring;
+  std::string profile_reason;
   std::optional<ScanAnalysis> scan;
   MismatchReport mismatch;
   Verdict verdict;

@@ -12,6 +12,8 @@ namespace wearscar::fusion {
 // over a range of cycles (the paper's Fig. 8, 14 and 16 quantities).
 struct MismatchReport {
   bool has_scan = false;
+  // What the scan's profile was compared with, for the verdict's words.
+  std::string force_profile_name = "the spring displacement";
   int first_cycle = 0, last_cycle = 0;
   double correlation = 0.0;                  // aligned profiles
   double correlation_noise_corrected = 0.0;  // Alignment's

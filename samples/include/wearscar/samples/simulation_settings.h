@@ -24,6 +24,7 @@ struct SimulationRequest {
   double elastic_fraction = -1;      // S-RL-R-like elastic part, of the profile
   std::vector<std::string> effects;  // name=value
   bool triangle = false;
+  bool dead_weight = false;  // --rig dead-weight
   long seed = -1;
 };
 

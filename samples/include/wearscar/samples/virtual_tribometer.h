@@ -38,6 +38,12 @@ struct HiddenEffects {
 
 enum class Drive { kSine, kTriangle };
 
+// How the ball is loaded: through the paper's spring (P follows the
+// sphere's height along the track) or by a dead weight or a
+// force-controlled actuator (P constant: the weight; the height is not in
+// P).
+enum class Rig { kSpring, kDeadWeight };
+
 // The test case: specimen, machine and sensors. Defaults are the paper's
 // test conditions (Table 1) on a beech RT-R-like specimen.
 struct SimulationOptions {
@@ -51,6 +57,7 @@ struct SimulationOptions {
   int cycles = 600;
   double target_normal_n = 30.0;   // cycle mean held by a slow control
   double spring_n_per_mm = 10.19;  // S
+  Rig rig = Rig::kSpring;          // kDeadWeight: P = target_normal_n
   double control_gain = 0.5;  // fraction of the mean error removed per cycle
   double contact_stiffness_n_per_mm = 150.0;  // tangential (Jenkins element)
   double sphere_radius_mm = 3.25;

@@ -44,11 +44,11 @@ nlohmann::json Dig(const nlohmann::json& j,
 std::string ReadBrief(const nlohmann::json& row) {
   const nlohmann::json read = Dig(row, {"force_file_read"});
   std::string units, guessed;
-  static const char* const kChannel[4] = {"time", "x", "Q", "P"};
+  static const char* const kChannel[5] = {"time", "x", "Q", "P", "depth"};
   if (read.is_object() && read.contains("units")) {
     const auto& u = read["units"];
     const nlohmann::json g = read.value("units_guessed", nlohmann::json());
-    for (std::size_t ch = 0; ch < u.size() && ch < 4; ++ch) {
+    for (std::size_t ch = 0; ch < u.size() && ch < 5; ++ch) {
       const std::string unit = u[ch].get<std::string>();
       if (unit.empty()) continue;
       units += (units.empty() ? "" : ", ") + unit;

@@ -85,7 +85,8 @@ ForceChannel Public(Channel channel) {
   constexpr ForceChannel kPublic[] = {ForceChannel::kTime,
                                       ForceChannel::kX,
                                       ForceChannel::kTangential,
-                                      ForceChannel::kNormal};
+                                      ForceChannel::kNormal,
+                                      ForceChannel::kDepth};
   return kPublic[channel];
 }
 
@@ -150,26 +151,30 @@ std::string ListOf(const std::vector<std::string>& items) {
 
 const char* ChannelLabel(Channel channel) {
   constexpr const char* kLabel[] = {
-      "time", "position x", "tangential force Q", "normal force P"};
+      "time", "position x", "tangential force Q", "normal force P", "depth"};
   return kLabel[channel];
 }
 
 Columns ChooseColumns(const Layout& layout,
                       const ReadForceOptions& options,
                       const std::string& name) {
-  Columns column = {-1, -1, -1, -1};
-  const std::string* overrides[4] = {&options.time_column,
-                                     &options.x_column,
-                                     &options.tangential_column,
-                                     &options.normal_column};
-  // "none" for the time: no time column, the clock from the sampling rate.
-  const bool no_time = Lower(options.time_column) == "none";
-  for (int ch = 0; ch < 4; ++ch) {
-    if (!overrides[ch]->empty() && !(ch == kTime && no_time))
+  Columns column = {-1, -1, -1, -1, -1};
+  const std::string* overrides[kChannels] = {&options.time_column,
+                                             &options.x_column,
+                                             &options.tangential_column,
+                                             &options.normal_column,
+                                             &options.depth_column};
+  // "none" for the time: no time column, the clock from the sampling rate;
+  // for the depth: none read.
+  auto none = [&](int ch) {
+    return (ch == kTime || ch == kDepth) && Lower(*overrides[ch]) == "none";
+  };
+  for (int ch = 0; ch < kChannels; ++ch) {
+    if (!overrides[ch]->empty() && !none(ch))
       column[ch] = FindOverride(*overrides[ch], layout, name, Channel(ch));
   }
-  for (int ch = 0; ch < 4; ++ch) {
-    if (column[ch] >= 0 || (ch == kTime && no_time)) continue;
+  for (int ch = 0; ch < kChannels; ++ch) {
+    if (column[ch] >= 0 || none(ch)) continue;
     int best = -1, best_score = 0;
     for (int c = 0; c < static_cast<int>(layout.names.size()); ++c) {
       if (std::find(column.begin(), column.end(), c) != column.end()) continue;
@@ -255,7 +260,7 @@ void RequireNumbers(const std::vector<std::string>& head,
        i < std::min(n, layout.first_data_line + 3);
        ++i) {
     Split(head[i], layout.delimiter, &cells);
-    for (int ch = 0; ch < 4; ++ch) {
+    for (int ch = 0; ch < kChannels; ++ch) {
       if (column[ch] < 0 || column[ch] >= static_cast<int>(cells.size()))
         continue;
       const std::string_view cell = cells[column[ch]];

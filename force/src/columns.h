@@ -14,12 +14,13 @@
 namespace wearscar::force::internal {
 
 // The channels the reader fills, as indices of its columns.
-enum Channel { kTime = 0, kX = 1, kQ = 2, kP = 3 };
+enum Channel { kTime = 0, kX = 1, kQ = 2, kP = 3, kDepth = 4 };
+inline constexpr int kChannels = 5;
 
-// "time", "position x", "tangential force Q", "normal force P".
+// "time", "position x", "tangential force Q", "normal force P", "depth".
 const char* ChannelLabel(Channel channel);
 
-using Columns = std::array<int, 4>;  // per channel, -1 = absent
+using Columns = std::array<int, kChannels>;  // per channel, -1 = absent
 
 // The column of each channel: the ones the options name ("NAME" or "#3"),
 // then the best match by name among the columns left. Throws ForceError

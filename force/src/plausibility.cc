@@ -13,9 +13,9 @@ namespace wearscar::force::internal {
 namespace {
 
 std::optional<double> UnitFactor(Channel channel, const std::string& unit) {
-  return channel == kTime ? TimeToS(unit)
-         : channel == kX  ? LengthToMm(unit)
-                          : ForceToN(unit);
+  return channel == kTime                     ? TimeToS(unit)
+         : channel == kX || channel == kDepth ? LengthToMm(unit)
+                                              : ForceToN(unit);
 }
 
 // Robust spread of a channel (99th minus 1st percentile of a subsample) and
@@ -144,15 +144,17 @@ Scale ResolveUnit(Channel channel,
                   const std::string& column,
                   const ForceLayout& layout,
                   std::vector<std::string>* warnings) {
-  const std::string& given = channel == kTime ? options.time_unit
-                             : channel == kX  ? options.x_unit
-                                              : options.force_unit;
+  const std::string& given = channel == kTime    ? options.time_unit
+                             : channel == kX     ? options.x_unit
+                             : channel == kDepth ? options.depth_unit
+                                                 : options.force_unit;
   const std::string unit = given.empty() ? found : given;
   if (unit.empty()) {
     Scale s{1.0, "", true, {}};
-    s.preferred = channel == kTime ? layout.time_unit
-                  : channel == kX  ? layout.x_unit
-                                   : layout.force_unit;
+    s.preferred = channel == kTime    ? layout.time_unit
+                  : channel == kX     ? layout.x_unit
+                  : channel == kDepth ? std::string("um")
+                                      : layout.force_unit;
     return s;
   }
   const std::optional<double> f = UnitFactor(channel, unit);
@@ -162,12 +164,12 @@ Scale ResolveUnit(Channel channel,
                     file,
                     support::Printable(column),
                     support::Printable(unit),
-                    channel == kTime ? "time"
-                    : channel == kX  ? "length"
-                                     : "force",
-                    channel == kTime ? "s, ms, min"
-                    : channel == kX  ? "mm, um, m"
-                                     : "N, mN, kN, gf"));
+                    channel == kTime                     ? "time"
+                    : channel == kX || channel == kDepth ? "length"
+                                                         : "force",
+                    channel == kTime                     ? "s, ms, min"
+                    : channel == kX || channel == kDepth ? "mm, um, m"
+                                                         : "N, mN, kN, gf"));
   }
   if (!given.empty() && !found.empty()) {
     const std::optional<double> ff = UnitFactor(channel, found);
@@ -200,6 +202,17 @@ void InferUnits(Eigen::VectorXd* data,
         scale[ch] = {factor, std::move(unit), false, {}};
         meta->unit_guessed[ch] = true;
       };
+  // A depth without a unit: um, as depth channels are logged.
+  if (column[kDepth] >= 0 && scale[kDepth].inferred) {
+    const double factor = *LengthToMm("um");
+    data[kDepth] *= factor;
+    meta->warnings.push_back(fmt::format(
+        "column '{}' states no unit: taken as um (depth channels are logged "
+        "in um; --columns depth=NAME:mm if not)",
+        layout.names[column[kDepth]]));
+    scale[kDepth] = {factor, "um", false, {}};
+    meta->unit_guessed[kDepth] = true;
+  }
   // x, then the forces (P first: Q without a unit takes P's when P's was
   // stated), then time.
   for (Channel ch : {kX, kP, kQ, kTime}) {
@@ -349,6 +362,12 @@ void CheckChannelRoles(const ForceRecord& r, const std::string& file) {
         100 * negative,
         fix));
   }
+}
+
+bool NamesAPenetration(const std::string& column_name) {
+  const std::string lower = support::Lower(column_name);
+  return lower.find("depth") != std::string::npos ||
+         lower.find("penetration") != std::string::npos;
 }
 
 }  // namespace wearscar::force::internal

@@ -47,6 +47,11 @@ void InferUnits(Eigen::VectorXd* data,
                 const std::string& file,
                 ForceMetadata* meta);
 
+// A depth channel whose name says it grows into the specimen (a
+// "Penetration Depth", "Depth", "Wear depth") rather than a height or a
+// position (Z, "Fz position", "Height").
+bool NamesAPenetration(const std::string& column_name);
+
 // What a reciprocating tribometer can have measured: refused outside the
 // hard limits (a unit or file error), warned of outside the usual ranges.
 void CheckPlausible(ForceRecord& r, const std::string& file);

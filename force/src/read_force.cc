@@ -26,6 +26,7 @@
 #include "split_read.h"
 #include "units.h"
 #include "wearscar/support/compressed.h"
+#include "wearscar/support/text.h"
 
 namespace wearscar::force {
 namespace {
@@ -44,6 +45,8 @@ using internal::FindClock;
 using internal::FindStepColumn;
 using internal::ForceToN;
 using internal::InferUnits;
+using internal::kChannels;
+using internal::kDepth;
 using internal::kP;
 using internal::kQ;
 using internal::kTime;
@@ -175,7 +178,7 @@ struct Plan {
   Layout layout;
   Columns column;
   Clock clock;
-  Scale scale[4];
+  Scale scale[kChannels];
 };
 
 Plan PlanRead(LineSource& source,
@@ -188,11 +191,26 @@ Plan PlanRead(LineSource& source,
   p.column = ChooseColumns(p.layout, options, name);
   RequireChannels(p.column, p.layout, name);
   p.clock = FindClock(p.head, p.column, p.layout);
+  // A depth column found by its name but holding text is no depth channel.
+  if (p.column[kDepth] >= 0 && options.depth_column.empty()) {
+    try {
+      RequireNumbers(p.head, p.column, p.layout, p.clock, name);
+    } catch (const ForceError&) {
+      p.column[kDepth] = -1;
+    }
+  }
   RequireNumbers(p.head, p.column, p.layout, p.clock, name);
+  const std::string& p_name = p.layout.names[p.column[kP]];
+  if (support::Lower(p_name).find("nominal") != std::string::npos) {
+    meta->warnings.push_back(fmt::format(
+        "P is the column '{}': the load set on the instrument, not a "
+        "measured force; used as P (a dead weight presses with its weight)",
+        p_name));
+  }
   meta->source = name;
   meta->layout = p.layout.kind->name;
   meta->stated = p.layout.stated;
-  for (int ch = 0; ch < 4; ++ch) {
+  for (int ch = 0; ch < kChannels; ++ch) {
     if (p.column[ch] < 0) continue;
     p.scale[ch] = ch == kTime && p.clock.field >= 0
                       ? Scale{1.0, "s", false, {}}  // a clock's seconds
@@ -252,17 +270,27 @@ ForceRecord Read(LineSource& source,
   if (p.more) {
     while (source.Next(&line)) rows.Handle(line, ++line_no);
   }
-  std::array<Eigen::VectorXd, 4> data = rows.Finish();
-  Scale scale[4] = {p.scale[0], p.scale[1], p.scale[2], p.scale[3]};
+  std::array<Eigen::VectorXd, kChannels> data = rows.Finish();
+  Scale scale[kChannels];
+  std::copy(std::begin(p.scale), std::end(p.scale), std::begin(scale));
   InferUnits(data.data(), scale, p.column, layout, name, &meta);
-  for (int ch = 0; ch < 4; ++ch) {
+  for (int ch = 0; ch < kChannels; ++ch) {
     const bool read = p.column[ch] >= 0;
+    if (ch == kDepth && !read) break;  // the depth's entries only with one
     meta.channel_names.push_back(read ? layout.names[p.column[ch]] : "");
     meta.channel_units.push_back(read ? scale[ch].unit : "");
   }
   record.x_mm = std::move(data[kX]);
   record.tangential_n = std::move(data[kQ]);
   record.normal_n = std::move(data[kP]);
+  if (p.column[kDepth] >= 0) {
+    // Penetration positive: a height (Z, a position) is turned over.
+    meta.depth_is_penetration =
+        internal::NamesAPenetration(layout.names[p.column[kDepth]]);
+    record.depth_mm = meta.depth_is_penetration
+                          ? std::move(data[kDepth])
+                          : Eigen::VectorXd(-data[kDepth]);
+  }
   SetTime(&record, &data[kTime], layout, options, name);
   CheckPlausible(record, name);
   MakeCompressionPositive(&record);

@@ -41,7 +41,7 @@ RowReader::RowReader(const Layout& layout,
       slot_of_field_(columns_, -1),
       previous_time_(-std::numeric_limits<double>::infinity()),
       previous_step_(kNaN) {
-  for (int ch = 0; ch < 4; ++ch) {
+  for (int ch = 0; ch < kChannels; ++ch) {
     if (column_[ch] >= 0) data_[ch].resize(capacity);
   }
   // Fast path slots: the four channels, the RecipeStep column, and the
@@ -49,7 +49,7 @@ RowReader::RowReader(const Layout& layout,
   // row).
   if (layout.first_number_column < static_cast<int>(columns_))
     slot_of_field_[layout.first_number_column] = kFirstSlot;
-  for (int ch = 0; ch < 4; ++ch) {
+  for (int ch = 0; ch < kChannels; ++ch) {
     if (column_[ch] >= 0 && column_[ch] < static_cast<int>(columns_))
       slot_of_field_[column_[ch]] = ch;
   }
@@ -61,7 +61,7 @@ RowReader::RowReader(const Layout& layout,
 void RowReader::Handle(std::string_view row, long line_no) {
   if (fast_possible_ && pending_bad_rows_ == 0 && TryFast(row, line_no)) return;
   if (TrimView(row).empty() || SkipRepeatedBlock(row)) return;
-  double value[4] = {kNaN, kNaN, kNaN, kNaN};
+  double value[kChannels] = {kNaN, kNaN, kNaN, kNaN, kNaN};
   bool text_row = false;
   std::string error = ParseCells(value, &text_row, line_no);
   if (error.empty() && column_[kTime] >= 0) error = JoinClock(value, line_no);
@@ -80,7 +80,7 @@ void RowReader::Handle(std::string_view row, long line_no) {
   Store(value, line_no);
 }
 
-std::array<Eigen::VectorXd, 4> RowReader::Finish() {
+std::array<Eigen::VectorXd, kChannels> RowReader::Finish() {
   if (pending_bad_rows_ > 0) {
     if (pending_bad_rows_ == 1 && pending_short_) {
       meta_->warnings.push_back(
@@ -113,7 +113,7 @@ std::array<Eigen::VectorXd, 4> RowReader::Finish() {
     }
     meta_->warnings.push_back(fmt::format("dropped {} bad rows", dropped_));
   }
-  for (int ch = 0; ch < 4; ++ch) {
+  for (int ch = 0; ch < kChannels; ++ch) {
     if (column_[ch] >= 0) data_[ch].conservativeResize(rows_stored_);
   }
   return std::move(data_);
@@ -121,7 +121,7 @@ std::array<Eigen::VectorXd, 4> RowReader::Finish() {
 
 // The ordinary row: all fields numbers, time after the previous one.
 bool RowReader::TryFast(std::string_view row, long line_no) {
-  double v[6] = {kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
+  double v[kChannels + 2] = {kNaN, kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
   if (!FastRow(
           row, layout_.delimiter, layout_.decimal, slot_of_field_, clock_, v))
     return false;
@@ -198,7 +198,7 @@ std::string RowReader::ParseCells(double* value, bool* text_row, long line_no) {
                        cells_.size(),
                        columns_);
   }
-  for (int ch = 0; ch < 4; ++ch) {
+  for (int ch = 0; ch < kChannels; ++ch) {
     if (column_[ch] < 0) continue;
     const std::string_view cell = cells_[column_[ch]];
     const bool ok = column_[ch] == clock_.field
@@ -275,7 +275,7 @@ void RowReader::DropPending() {
 // One accepted row: time already on the joined clock, the other channels
 // converted to N and mm here; runs of missing values are bounded.
 void RowReader::Store(const double* values, long line_no) {
-  for (int ch = 0; ch < 4; ++ch) {
+  for (int ch = 0; ch < kChannels; ++ch) {
     if (column_[ch] < 0) continue;
     const double x = ch == kTime ? values[ch] : values[ch] * scale_[ch].factor;
     if (std::isnan(x)) {

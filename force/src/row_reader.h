@@ -43,7 +43,7 @@ class RowReader {
 
   // After the last row: the bad rows left are a footer, an error or
   // dropped; the counts are checked. Returns the columns, trimmed.
-  std::array<Eigen::VectorXd, 4> Finish();
+  std::array<Eigen::VectorXd, kChannels> Finish();
 
   // The two-thread split (split_read.cc). The ordinary rows of a stretch
   // of the file parsed on their own, and what joining them needs.
@@ -53,13 +53,13 @@ class RowReader {
     double first_time = support::kNaN, last_time = support::kNaN;
     double last_dt = support::kNaN;  // between their last two finite times
     double last_step = support::kNaN;
-    int leading_nan[4] = {0, 0, 0, 0}, trailing_nan[4] = {0, 0, 0, 0};
+    int leading_nan[kChannels] = {}, trailing_nan[kChannels] = {};
   };
   // The columns as they are before the first row is read: the first
   // thread's rows stay below the second's, short of this capacity, so it
   // never grows them while the second writes.
   struct Room {
-    double* column[4] = {nullptr, nullptr, nullptr, nullptr};
+    double* column[kChannels] = {};
     Eigen::Index capacity = 0;
   };
   Room Reserved();
@@ -76,7 +76,7 @@ class RowReader {
   bool AdoptFastRows(const FastRows& f, Eigen::Index at);
 
  private:
-  static constexpr int kStepSlot = 4, kFirstSlot = 5;
+  static constexpr int kStepSlot = kChannels, kFirstSlot = kChannels + 1;
 
   bool TryFast(std::string_view row, long line_no);
   bool SkipRepeatedBlock(std::string_view row);
@@ -99,7 +99,7 @@ class RowReader {
   std::vector<int> slot_of_field_;
   bool fast_possible_ = false;
 
-  std::array<Eigen::VectorXd, 4> data_;
+  std::array<Eigen::VectorXd, kChannels> data_;
   Eigen::Index rows_stored_ = 0;
   std::vector<std::string_view> cells_;
   std::string pending_error_;
@@ -108,7 +108,7 @@ class RowReader {
   double previous_time_;
   double time_offset_ = 0.0, last_dt_ = 0.0, previous_step_;
   bool in_repeated_header_ = false, block_restart_ = false;
-  int nan_run_[4] = {0, 0, 0, 0};
+  int nan_run_[kChannels] = {};
 };
 
 }  // namespace wearscar::force::internal

@@ -14,7 +14,7 @@ namespace wearscar::force::internal {
 RowReader::Room RowReader::Reserved() {
   Room r;
   r.capacity = std::numeric_limits<Eigen::Index>::max();
-  for (int ch = 0; ch < 4; ++ch) {
+  for (int ch = 0; ch < kChannels; ++ch) {
     if (column_[ch] < 0) continue;
     r.column[ch] = data_[ch].data();
     r.capacity = std::min(r.capacity, data_[ch].size());
@@ -28,34 +28,31 @@ RowReader::FastRows RowReader::ParseFastRows(FileLines& source,
   FastRows f;
   const bool timed = column_[kTime] >= 0;
   double previous = -std::numeric_limits<double>::infinity();
-  int run[4] = {0, 0, 0, 0};
-  bool finite[4] = {false, false, false, false};
+  int run[kChannels] = {};
+  bool finite[kChannels] = {};
   std::string_view row;
   for (;;) {
     f.next_offset = source.Offset();
     if (!fast_possible_ || at + f.rows >= room.capacity || !source.Next(&row))
       break;
-    double v[6] = {support::kNaN,
-                   support::kNaN,
-                   support::kNaN,
-                   support::kNaN,
-                   support::kNaN,
-                   support::kNaN};
+    double v[kChannels + 2];
+    std::fill(std::begin(v), std::end(v), support::kNaN);
     if (!FastRow(
             row, layout_.delimiter, layout_.decimal, slot_of_field_, clock_, v))
       break;
     // TryFast's time with no clock joined (AdoptFastRows checks that).
     const double t = timed ? v[kTime] * scale_[kTime].factor + 0.0 : 0;
     if (timed && std::isfinite(t) && t <= previous) break;
-    double x[4] = {support::kNaN, support::kNaN, support::kNaN, support::kNaN};
+    double x[kChannels];
+    std::fill(std::begin(x), std::end(x), support::kNaN);
     bool too_long = false;
-    for (int ch = 0; ch < 4; ++ch) {
+    for (int ch = 0; ch < kChannels; ++ch) {
       if (column_[ch] < 0) continue;
       x[ch] = ch == kTime ? t : v[ch] * scale_[ch].factor;
       too_long |= std::isnan(x[ch]) && run[ch] + 1 > options_.max_nan_run;
     }
     if (too_long) break;
-    for (int ch = 0; ch < 4; ++ch) {
+    for (int ch = 0; ch < kChannels; ++ch) {
       if (column_[ch] < 0) continue;
       if (std::isnan(x[ch])) {
         ++run[ch];
@@ -78,7 +75,7 @@ RowReader::FastRows RowReader::ParseFastRows(FileLines& source,
     if (step_column_ >= 0) f.last_step = v[kStepSlot];
     ++f.rows;
   }
-  for (int ch = 0; ch < 4; ++ch) f.trailing_nan[ch] = run[ch];
+  for (int ch = 0; ch < kChannels; ++ch) f.trailing_nan[ch] = run[ch];
   return f;
 }
 
@@ -89,12 +86,12 @@ bool RowReader::AdoptFastRows(const FastRows& f, Eigen::Index at) {
   const bool timed = column_[kTime] >= 0;
   if (timed && std::isfinite(f.first_time) && f.first_time <= previous_time_)
     return false;
-  for (int ch = 0; ch < 4; ++ch) {
+  for (int ch = 0; ch < kChannels; ++ch) {
     if (column_[ch] >= 0 &&
         nan_run_[ch] + f.leading_nan[ch] > options_.max_nan_run)
       return false;
   }
-  for (int ch = 0; ch < 4; ++ch) {
+  for (int ch = 0; ch < kChannels; ++ch) {
     if (column_[ch] < 0) continue;
     double* v = data_[ch].data();
     if (at != rows_stored_) {

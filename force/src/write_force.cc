@@ -43,16 +43,21 @@ void WriteForceCsv(const ForceRecord& record, const std::string& path) {
   WriteRowsAtomically(
       record,
       path,
-      [](fmt::memory_buffer& b) {
-        fmt::format_to(std::back_inserter(b), "time_s,x_mm,Q_N,P_N\n");
+      [&](fmt::memory_buffer& b) {
+        fmt::format_to(std::back_inserter(b),
+                       "time_s,x_mm,Q_N,P_N{}\n",
+                       record.has_depth() ? ",depth_mm" : "");
       },
       [&](Eigen::Index i, fmt::memory_buffer& b) {
         fmt::format_to(std::back_inserter(b),
-                       "{:.6f},{:.6f},{:.5f},{:.5f}\n",
+                       "{:.6f},{:.6f},{:.5f},{:.5f}",
                        record.time_s[i],
                        record.x_mm[i],
                        record.tangential_n[i],
                        record.normal_n[i]);
+        if (record.has_depth())
+          fmt::format_to(std::back_inserter(b), ",{:.7f}", record.depth_mm[i]);
+        b.push_back('\n');
       },
       [](fmt::memory_buffer&) {});
 }

@@ -107,12 +107,14 @@ struct DirectionBins {
   Eigen::VectorXd sum[2], sum2[2], count[2];
 };
 
-DirectionBins BinSpring(const force::ForceRecord& record,
+// `values` / `per_mm` is the height: P and S, or the depth and -1.
+DirectionBins BinHeight(const force::ForceRecord& record,
                         const force::CycleSet& cycles,
                         const ForceProfile& p,
                         double lo,
                         double step,
-                        double spring_n_per_mm) {
+                        const Eigen::VectorXd& values,
+                        double per_mm) {
   const Eigen::Index bins = p.x_mm.size();
   DirectionBins b;
   for (int d = 0; d < 2; ++d) {
@@ -123,11 +125,11 @@ DirectionBins BinSpring(const force::ForceRecord& record,
          {&cycles.cycles[c].forward, &cycles.cycles[c].reverse}) {
       const int d = h->direction > 0 ? 0 : 1;
       for (Eigen::Index i = h->slip_begin; i < h->slip_end; ++i) {
-        const double x = record.x_mm[i], pn = record.normal_n[i];
+        const double x = record.x_mm[i], pn = values[i];
         if (!std::isfinite(x) || !std::isfinite(pn)) continue;
         const Eigen::Index k = std::min<Eigen::Index>(
             bins - 1, static_cast<Eigen::Index>(std::floor((x - lo) / step)));
-        const double f = pn / spring_n_per_mm;
+        const double f = pn / per_mm;
         b.sum[d][k] += f;
         b.sum2[d][k] += f * f;
         b.count[d][k] += 1;
@@ -295,7 +297,24 @@ ForceProfile ComputeForceProfile(const force::ForceRecord& record,
   ForceProfile p;
   const double lo = ForceProfileGrid(record, cycles, options, &p);
   const double step = options.step_mm;
-  ProfilesFromBins(BinSpring(record, cycles, p, lo, step, spring_n_per_mm), &p);
+  ProfilesFromBins(
+      BinHeight(record, cycles, p, lo, step, record.normal_n, spring_n_per_mm),
+      &p);
+  return p;
+}
+
+ForceProfile ComputeDepthProfile(const force::ForceRecord& record,
+                                 const force::CycleSet& cycles,
+                                 const ForceProfileOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw FusionError(why);
+  if (!record.has_depth())
+    throw FusionError("a depth profile, but the record has no depth channel");
+  ForceProfile p;
+  const double lo = ForceProfileGrid(record, cycles, options, &p);
+  ProfilesFromBins(
+      BinHeight(record, cycles, p, lo, options.step_mm, record.depth_mm, -1.0),
+      &p);
   return p;
 }
 

@@ -274,6 +274,10 @@ bool FrictionFitOptions::IsValid(std::string* why) const {
     if (why) *why = "threads must be in [1, 256]";
     return false;
   }
+  if (k_from_depth && k_estimate != KEstimate::kEnsemble) {
+    if (why) *why = "k from the depth channel needs the ensemble estimate";
+    return false;
+  }
   return slope.IsValid(why) && ensemble.IsValid(why) && fit.IsValid(why) &&
          repeatability.IsValid(why);
 }
@@ -388,7 +392,12 @@ ForceSlopes::ForceSlopes(const force::ForceRecord& record,
                          int last)
     : record_(record),
       cycles_(cycles),
-      options_(Resolved(options, SamplingRateOf(record))) {
+      options_(Resolved(options, SamplingRateOf(record))),
+      profile_(options.k_from_depth ? record.depth_mm : record.normal_n),
+      profile_per_mm_(options.k_from_depth ? -1.0
+                                           : options.slope.spring_n_per_mm) {
+  if (options.k_from_depth && !record.has_depth())
+    throw FusionError("k from the depth channel, but the record has none");
   const int n = static_cast<int>(cycles.cycles.size());
   if (last < 0 || last >= n) last = n - 1;
   first = std::clamp(first, 0, std::max(0, n - 1));
@@ -453,7 +462,7 @@ void ForceSlopes::BinCycle(int c) const {
     normal_bins_->AddRange(c,
                            h->direction,
                            record_.x_mm.data(),
-                           record_.normal_n.data(),
+                           profile_.data(),
                            h->begin,
                            h->end);
   }
@@ -493,11 +502,8 @@ CycleSamples ForceSlopes::Gather(int c) const {
   }
   window_first_ = first;
   window_last_ = last;
-  const std::array<PlateProfile, 2> k =
-      EnsembleSlopeFromSums(*normal_bins_,
-                            window_sums_,
-                            options_.slope.spring_n_per_mm,
-                            options_.ensemble);
+  const std::array<PlateProfile, 2> k = EnsembleSlopeFromSums(
+      *normal_bins_, window_sums_, profile_per_mm_, options_.ensemble);
   return GatherCycle(
       record_, cycle, SlopeSource::kForce, options_, nullptr, &k);
 }
@@ -512,7 +518,7 @@ double ForceSlopes::EnsembleNoiseVariance(int first,
   const PlateGrid& grid = normal_bins_->grid();
   const double centre = grid.x0_mm + 0.5 * grid.bins * grid.bin_mm;
   const double half_range = 0.4 * grid.bins * grid.bin_mm;
-  const double spring = options_.slope.spring_n_per_mm;
+  const double spring = profile_per_mm_;
   double sum = 0;
   long n = 0;
   const int step = std::max(1, (last - first + 1) / probes);
@@ -551,6 +557,15 @@ double ForceSlopes::EnsembleNoiseVariance(int first,
 
 std::string ForceSlopes::Describe() const {
   const double s = options_.slope.spring_n_per_mm;
+  if (options_.k_from_depth) {
+    return fmt::format(
+        "k = -d(depth)/dx from the depth channel averaged over {} "
+        "neighbouring cycles per direction in {} mm bins, local quadratic "
+        "over {:.3g} mm (ensemble)",
+        options_.ensemble.cycles,
+        options_.ensemble.bin_mm,
+        options_.ensemble.span_mm);
+  }
   if (normal_bins_) {
     return fmt::format(
         "k = (1/S) dP/dx, S = {} N/mm, from P(x) averaged over {} "

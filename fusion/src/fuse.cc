@@ -8,6 +8,7 @@
 #include <limits>
 #include <tuple>
 
+#include "profile_choice.h"
 #include "wearscar/fusion/forward_model.h"
 #include "wearscar/support/check.h"
 
@@ -30,8 +31,9 @@ double KRmsDifference(const force::ForceRecord& record,
                       const FuseOptions& options) {
   double sum2 = 0;
   long n = 0;
-  const ForceSlopes force_slopes(
-      record, force.cycles, options.analysis.friction, first, last);
+  FrictionFitOptions friction = options.analysis.friction;
+  friction.k_from_depth = scan.profile_source == ProfileSource::kDepth;
+  const ForceSlopes force_slopes(record, force.cycles, friction, first, last);
   for (int c = first; c <= last; ++c) {
     const CycleSamples kf = force_slopes.Gather(c);
     for (const SlipSamples* s : {&kf.forward, &kf.reverse}) {
@@ -147,6 +149,8 @@ MismatchReport CompareSlopes(const force::ForceRecord& record,
           : std::nan("");
   if (scan->profile_source == ProfileSource::kFriction)
     r.force_profile_name = "the profile from the friction";
+  if (scan->profile_source == ProfileSource::kDepth)
+    r.force_profile_name = "the depth channel's profile";
   return r;
 }
 
@@ -160,31 +164,6 @@ const char* SlopeChoiceName(SlopeChoice choice) {
       break;
   }
   return "both";
-}
-
-const char* ProfileSourceName(ProfileSource source) {
-  switch (source) {
-    case ProfileSource::kSpring:
-      return "spring";
-    case ProfileSource::kFriction:
-      return "friction";
-    case ProfileSource::kAuto:
-      break;
-  }
-  return "auto";
-}
-
-bool ParseProfileSource(const std::string& name, ProfileSource* source) {
-  if (name == "auto") {
-    *source = ProfileSource::kAuto;
-  } else if (name == "spring") {
-    *source = ProfileSource::kSpring;
-  } else if (name == "friction") {
-    *source = ProfileSource::kFriction;
-  } else {
-    return false;
-  }
-  return true;
 }
 
 bool ParseSlopeChoice(const std::string& name, SlopeChoice* choice) {
@@ -241,6 +220,8 @@ ScanAnalysis AnalyzeScan(const force::ForceRecord& record,
   s.force_profile =
       source == ProfileSource::kFriction
           ? ComputeFrictionProfile(record, force.cycles, fpo)
+      : source == ProfileSource::kDepth
+          ? ComputeDepthProfile(record, force.cycles, fpo)
           : ComputeForceProfile(record,
                                 force.cycles,
                                 options.analysis.friction.slope.spring_n_per_mm,
@@ -402,9 +383,9 @@ ImpliedSpring SpringTheScanImplies(const TestResult& r, const FuseOptions& o) {
 // How the force file was read: its layout and each channel's unit, stated
 // or guessed from the values.
 std::string ReadAssumption(const force::ForceMetadata& m) {
-  static const char* const kChannel[4] = {"time", "x", "Q", "P"};
+  static const char* const kChannel[5] = {"time", "x", "Q", "P", "depth"};
   std::string units;
-  for (int ch = 0; ch < 4; ++ch) {
+  for (int ch = 0; ch < 5; ++ch) {
     if (static_cast<std::size_t>(ch) >= m.channel_units.size() ||
         m.channel_units[ch].empty())
       continue;
@@ -455,9 +436,13 @@ std::vector<std::string> Assumptions(const force::ForceRecord& record,
                         "; P/S varies no more than the scanned "
                         "profile, which says nothing against this S");
   }
-  if (r.profile_source == ProfileSource::kFriction) spring = r.profile_reason;
+  if (r.profile_source != ProfileSource::kSpring) spring = r.profile_reason;
   std::string slope =
-      r.profile_source == ProfileSource::kFriction
+      r.profile_source == ProfileSource::kDepth
+          ? (r.scan ? "the verdict judges mu-hat with k from the depth "
+                      "channel; the scan's k is compared with it"
+                    : "k from the depth channel alone (no scan)")
+      : r.profile_source == ProfileSource::kFriction
           ? "the verdict judges mu-hat with k from the scan, aligned with the "
             "profile from the friction; k from P is not used"
       : o.slopes == SlopeChoice::kScan ? "mu-hat with k from the scan alone"
@@ -525,71 +510,6 @@ std::vector<std::string> StatedButNotFound(const force::ForceRecord& record,
   return out;
 }
 
-// How far P's repeatable slope is from nothing, in its standard errors
-// (the k split's repeatable rms against its noise over the root of the
-// independent cycles: the ensemble's neighbouring cycles share their
-// noise); NaN without the split.
-double ProfileSignificance(const ForceAnalysis& force) {
-  const double n = static_cast<double>(force.fit_force.size()) /
-                   std::max(1, force.correlated_cycles);
-  if (!(force.k_noise_rms > 0) || !std::isfinite(force.k_signal_rms) || n < 2)
-    return NAN;
-  return force.k_signal_rms / (force.k_noise_rms / std::sqrt(std::max(1.0, n)));
-}
-
-// auto: the friction's profile when P carries none (a dead weight) -- its
-// repeatable slope insignificant and P/S varying far less than the track
-// the scan shows -- else the spring's. Sets the result's source and why.
-ProfileSource ChooseProfile(const TestResult& r, const FuseOptions& o) {
-  const double sig = ProfileSignificance(r.force);
-  const double ratio = r.scan ? r.scan->alignment.amplitude_ratio : NAN;
-  if (std::isfinite(sig) && sig < o.dead_weight_significance &&
-      ratio < o.dead_weight_ratio)
-    return ProfileSource::kFriction;
-  return ProfileSource::kSpring;
-}
-
-// `spring_ratio`: P/S's amplitude against the scanned profile, as the
-// choice read it (NaN when no choice was made).
-std::string ProfileReason(const TestResult& r,
-                          const FuseOptions& o,
-                          bool chosen,
-                          double spring_ratio) {
-  const double sig = ProfileSignificance(r.force);
-  const std::string p_says =
-      std::isfinite(sig)
-          ? fmt::format(
-                "P's repeatable slope is {:.1f} standard errors from nothing "
-                "(rms {:.2g} against noise {:.2g} over {} cycles, {} of them "
-                "sharing their noise)",
-                sig,
-                r.force.k_signal_rms,
-                r.force.k_noise_rms,
-                r.force.fit_force.size(),
-                r.force.correlated_cycles)
-          : std::string("P's slope was not split into signal and noise");
-  if (r.profile_source == ProfileSource::kFriction) {
-    const std::string why =
-        chosen ? fmt::format(
-                     "{} and P/S varies {:.2f}x the scanned profile (below "
-                     "{:.2f}): a dead-weight or force-controlled rig",
-                     p_says,
-                     spring_ratio,
-                     o.dead_weight_ratio)
-               : std::string("--profile-from friction");
-    return fmt::format(
-        "profile from the friction, no spring: {}; the spring is neither "
-        "needed nor used. k = tan((atan(Q_f/P) + atan(Q_r/P))/2) at each x "
-        "over the compared cycles, integrated along the stroke: circular for "
-        "a verdict on its own, it aligns the scan and is compared with it; "
-        "mu-hat takes k from the scan",
-        why);
-  }
-  return fmt::format("profile from the spring, P/S{}: {}",
-                     chosen ? "" : " (--profile-from spring)",
-                     p_says);
-}
-
 // The comparison of the slopes, the verdict, the warnings and the wear,
 // once both sides are analysed.
 void CompareAndJudge(const force::ForceRecord& record,
@@ -605,8 +525,12 @@ void CompareAndJudge(const force::ForceRecord& record,
   }
   const ScanAnalysis* scan = result->scan ? &*result->scan : nullptr;
   const bool from_spring = result->profile_source == ProfileSource::kSpring;
+  const bool force_slope_used =
+      from_spring || result->profile_source == ProfileSource::kDepth;
   result->mismatch = CompareSlopes(
-      record, result->force, scan, first, last, options, from_spring);
+      record, result->force, scan, first, last, options, force_slope_used);
+  if (result->profile_source == ProfileSource::kDepth)
+    result->mismatch.force_slope_name = "the depth";
   result->verdict = Judge(result->mismatch, options.verdict);
   // A doubted scan (possibly another test's) says nothing of this test's
   // elastic part or spring.
@@ -614,7 +538,7 @@ void CompareAndJudge(const force::ForceRecord& record,
   MismatchReport judged = result->mismatch;
   judged.has_scan = judged.has_scan && !scan_doubted;
   result->warnings = DataWarnings(result->force, judged, options.warnings);
-  if (!from_spring) {
+  if (result->profile_source == ProfileSource::kFriction) {
     // k from P is not used: what its noise does to it is no warning.
     result->warnings.erase(std::remove_if(result->warnings.begin(),
                                           result->warnings.end(),
@@ -622,8 +546,9 @@ void CompareAndJudge(const force::ForceRecord& record,
                                             return w.rfind("k from P", 0) == 0;
                                           }),
                            result->warnings.end());
-  } else if (!scan && options.profile_from == ProfileSource::kAuto) {
-    const double sig = ProfileSignificance(result->force);
+  } else if (from_spring && !scan &&
+             options.profile_from == ProfileSource::kAuto) {
+    const double sig = result->p_slope_significance;
     if (sig < options.dead_weight_significance) {
       result->warnings.push_back(fmt::format(
           "P does not vary along the stroke beyond its noise ({:.1f} "
@@ -744,26 +669,54 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
   // The force side's fit on both cores where this test has them (its
   // second half of the cycles beside the first; the same fits).
   if (options.parallel) ao.friction.threads = std::max(ao.friction.threads, 2);
+  if (record.has_depth()) {
+    const auto& names = record.metadata.channel_names;
+    result.depth_column = names.size() > 4 ? names[4] : "depth";
+    result.depth_is_penetration = record.metadata.depth_is_penetration;
+  }
+  if (options.profile_from == ProfileSource::kDepth) {
+    if (!record.has_depth()) {
+      throw FusionError(
+          "--profile-from depth, but the force file has no depth channel; "
+          "name its column with --columns depth=NAME:UNIT");
+    }
+    ao.friction.k_from_depth = true;
+    result.profile_source = ProfileSource::kDepth;
+  }
   result.force = AnalyzeForce(record, ao);
+  result.p_slope_significance = internal::ProfileSignificance(result.force);
+  // auto: P's slope insignificant (no spring) and a depth channel logged:
+  // k from the depth.
+  if (options.profile_from == ProfileSource::kAuto && record.has_depth() &&
+      ao.fit_force_slope &&
+      !(result.p_slope_significance >= options.dead_weight_significance)) {
+    ao.friction.k_from_depth = true;
+    result.profile_source = ProfileSource::kDepth;
+    result.force = AnalyzeForce(record, ao);
+  }
+  // What follows reads the force side's k where it came from.
+  FuseOptions used = options;
+  used.analysis.friction.k_from_depth = ao.friction.k_from_depth;
+  const FuseOptions& o_used = used;
   const int n = static_cast<int>(result.force.cycles.cycles.size());
-  RefuseCyclesBeyondTheTest(options, n);
-  result.detail_cycle = options.detail_cycle >= 0 && options.detail_cycle < n
-                            ? options.detail_cycle
+  RefuseCyclesBeyondTheTest(o_used, n);
+  result.detail_cycle = o_used.detail_cycle >= 0 && o_used.detail_cycle < n
+                            ? o_used.detail_cycle
                             : n - 1;
   // Nothing below changes result.force, which this thread reads.
   std::future<ForceOnlyProducts> force_only = std::async(
       policy,
-      [&record, &force = result.force, detail = result.detail_cycle, &options] {
-        return ComputeForceOnlyProducts(record, force, detail, options);
+      [&record, &force = result.force, detail = result.detail_cycle, &o_used] {
+        return ComputeForceOnlyProducts(record, force, detail, o_used);
       });
   // The track's history from the spring (before the scan: it may scale
   // the scan's slope).
   result.track_history =
       ComputeTrackHistory(record,
                           result.force.cycles,
-                          options.analysis.friction.slope.spring_n_per_mm,
-                          options.track_history);
-  if (options.profile_from == ProfileSource::kFriction) {
+                          o_used.analysis.friction.slope.spring_n_per_mm,
+                          o_used.track_history);
+  if (o_used.profile_from == ProfileSource::kFriction) {
     if (!prepared_scan.valid()) {
       throw FusionError(
           "--profile-from friction needs a scan of the track: the slope from "
@@ -775,14 +728,15 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
   if (prepared_scan.valid()) {
     AddScanSide(record,
                 std::move(prepared_scan),
-                options,
+                o_used,
                 result.profile_source,
                 &result);
     // auto: a rig whose P carries no profile (a dead weight) aligns the
     // scan with the friction's profile instead, and fits again.
     if (result.scan) spring_ratio = result.scan->alignment.amplitude_ratio;
-    if (options.profile_from == ProfileSource::kAuto && result.scan &&
-        ChooseProfile(result, options) == ProfileSource::kFriction) {
+    if (o_used.profile_from == ProfileSource::kAuto && result.scan &&
+        result.profile_source == ProfileSource::kSpring &&
+        internal::ChooseProfile(result, o_used) == ProfileSource::kFriction) {
       result.profile_source = ProfileSource::kFriction;
       ScanAnalysis prepared = *result.scan;
       std::promise<ScanAnalysis> again;
@@ -790,17 +744,17 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
       result.scan.reset();
       AddScanSide(record,
                   again.get_future(),
-                  options,
+                  o_used,
                   ProfileSource::kFriction,
                   &result);
     }
   }
   result.profile_reason =
-      ProfileReason(result,
-                    options,
-                    options.profile_from == ProfileSource::kAuto,
-                    spring_ratio);
-  CompareAndJudge(record, options, &result);
+      internal::ProfileReason(result,
+                              o_used,
+                              o_used.profile_from == ProfileSource::kAuto,
+                              spring_ratio);
+  CompareAndJudge(record, o_used, &result);
   ForceOnlyProducts p = force_only.get();
   result.friction_map = std::move(p.friction_map);
   result.lugre = std::move(p.lugre);
@@ -809,9 +763,9 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
   result.detail = ComputeDetailCycle(
       record,
       result.force,
-      options.analysis.friction,
+      o_used.analysis.friction,
       dc,
-      options.cost_curve_points,
+      o_used.cost_curve_points,
       scan && dc >= 0 && dc < n ? &scan->fit_scan[dc] : nullptr,
       scan ? &scan->slope : nullptr,
       result.lugre ? &*result.lugre : nullptr);
@@ -843,7 +797,7 @@ std::string Headline(const TestResult& r) {
       "interaction",
       mu.mean,
       interval,
-      from_p ? "P" : "the scan",
+      from_p ? m.force_slope_name : std::string("the scan"),
       m.first_cycle + 1,
       m.last_cycle + 1);
 }

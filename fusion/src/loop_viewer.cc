@@ -74,13 +74,17 @@ std::string LoopViewerJson(const TestResult& r) {
       it,
       "{{\"about\":\"each cycle's gross-slip loop: Q averaged in {} bins "
       "along the stroke per direction, the wear-scar model's Q there, P (k + "
-      "s mu) / (1 - s mu k) with the bin's P and k (from P) and the cycle's "
+      "s mu) / (1 - s mu k) with the bin's P and k and the cycle's "
       "mu-hat ({}), and the friction map's row of the cycle (raw s Q/P and "
       "corrected for k); values are integers times their scale, cycle-major, "
       "forward then reverse\",\n\"mu_hat_from\":\"{}\",\n\"cycles\":[",
       bins,
-      from_p ? "k from P" : "k from the scan",
-      from_p ? "k from P" : "k from the scan");
+      !from_p                                     ? "k from the scan"
+      : r.profile_source == ProfileSource::kDepth ? "k from the depth"
+                                                  : "k from P",
+      !from_p                                     ? "k from the scan"
+      : r.profile_source == ProfileSource::kDepth ? "k from the depth"
+                                                  : "k from P");
   for (size_t i = 0; i < shown.size(); ++i)
     fmt::format_to(it, "{}{}", i ? "," : "", shown[i] + 1);
   fmt::format_to(it, "],\n\"of_cycles\":{},\n\"x_mm\":[", n);

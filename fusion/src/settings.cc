@@ -75,11 +75,12 @@ void ApplyColumns(const std::string& columns, force::ReadForceOptions* r) {
     const std::string key = item.substr(0, eq);
     const std::string value =
         eq == std::string::npos ? "" : item.substr(eq + 1);
-    std::string* slot = key == "time" ? &r->time_column
-                        : key == "x"  ? &r->x_column
-                        : key == "q"  ? &r->tangential_column
-                        : key == "p"  ? &r->normal_column
-                                      : nullptr;
+    std::string* slot = key == "time"    ? &r->time_column
+                        : key == "x"     ? &r->x_column
+                        : key == "q"     ? &r->tangential_column
+                        : key == "p"     ? &r->normal_column
+                        : key == "depth" ? &r->depth_column
+                                         : nullptr;
     std::string column = value, unit;
     const size_t colon = value.rfind(':');
     if (colon != std::string::npos && colon > 0 && colon + 1 < value.size()) {
@@ -88,16 +89,17 @@ void ApplyColumns(const std::string& columns, force::ReadForceOptions* r) {
     }
     if (!slot || column.empty()) {
       throw SettingError(fmt::format(
-          "found '{}' in '{}'; expected time=, x=, q= or p= followed by a "
-          "column name or #N (and :UNIT)",
+          "found '{}' in '{}'; expected time=, x=, q=, p= or depth= followed "
+          "by a column name or #N (and :UNIT)",
           item,
           columns));
     }
     *slot = column;
     if (unit.empty()) continue;
-    std::string* unit_slot = key == "time" ? &r->time_unit
-                             : key == "x"  ? &r->x_unit
-                                           : &r->force_unit;
+    std::string* unit_slot = key == "time"    ? &r->time_unit
+                             : key == "x"     ? &r->x_unit
+                             : key == "depth" ? &r->depth_unit
+                                              : &r->force_unit;
     if (!unit_slot->empty() && *unit_slot != unit) {
       throw SettingError(fmt::format(
           "'{}' gives unit '{}' but another setting says '{}'; expected one "
@@ -128,6 +130,10 @@ std::vector<S> ForceFileSettings() {
              "Friction force column name or #N",
              &R::tangential_column),
       column("p-column", "Normal force column name or #N", &R::normal_column),
+      column("depth-column",
+             "Depth column (the ball's vertical position: penetration "
+             "depth, Z, LVDT) name or #N; none: read none",
+             &R::depth_column),
       UnitSetting("x-unit",
                   "Unit of the displacement (mm, um, m); default: the "
                   "file's, else inferred from a plausible stroke with a "
@@ -143,8 +149,9 @@ std::vector<S> ForceFileSettings() {
                   &R::time_unit),
       {"columns",
        g,
-       "Column overrides in one go: time=NAME,x=NAME,q=NAME,p=NAME (names "
-       "or #N; any subset), each optionally with its unit: x=Pos:um",
+       "Column overrides in one go: time=NAME,x=NAME,q=NAME,p=NAME,"
+       "depth=NAME (names or #N; any subset), each optionally with its "
+       "unit: x=Pos:um",
        "TEXT",
        ~0u,
        [](T* t, const std::string& text) {
@@ -434,11 +441,12 @@ std::vector<S> CompareSettings() {
       ChoiceSetting(
           "profile-from",
           "Method",
-          "The force side's profile of the sliding path: spring (P/S), "
-          "friction (the two directions' Q at the same x, for a dead-weight "
-          "rig; needs a scan) or auto (spring unless P does not follow the "
-          "track the scan shows)",
-          {"auto", "spring", "friction"},
+          "The force side's profile of the sliding path: spring (P/S), depth "
+          "(the depth channel, k = -d depth/dx), friction (the two "
+          "directions' Q at the same x, for a dead-weight rig; needs a scan) "
+          "or auto (spring unless P's slope is insignificant, then depth when "
+          "logged, else friction when P does not follow the scanned track)",
+          {"auto", "spring", "depth", "friction"},
           [](T* t, const std::string& v) {
             ParseProfileSource(v, &t->fuse.profile_from);
           },

@@ -120,7 +120,8 @@ Verdict Judge(const MismatchReport& r, const VerdictOptions& o) {
   const bool from_force = r.cost_force.count > 0;
   const Statistic& cost = from_force ? r.cost_force : r.cost_scan;
   const CostSplit& split = from_force ? r.split_force : r.split_scan;
-  const char* source = from_force ? "k from P" : "k from the scan";
+  const std::string source =
+      from_force ? "k from " + r.force_slope_name : "k from the scan";
   if (o.cost_criterion == CostCriterion::kPaperJ) {
     if (cost.count > 0 && cost.mean > o.max_cost) {
       v.reasons.push_back(
@@ -149,7 +150,7 @@ Verdict Judge(const MismatchReport& r, const VerdictOptions& o) {
   const bool profiles_differ =
       r.has_scan && r.correlation_noise_corrected < o.min_correlation;
   const std::vector<std::string> method_reasons =
-      MethodReasons(r, o, from_force, source);
+      MethodReasons(r, o, from_force, source.c_str());
   const bool force_side_passes = v.reasons.empty() && method_reasons.empty();
   if (profiles_differ && from_force && force_side_passes) {
     v.scan_doubt = fmt::format(
@@ -201,9 +202,10 @@ std::vector<std::string> DataWarnings(const ForceAnalysis& force,
   if (std::isfinite(force.k_noise_rms) && std::isfinite(force.k_signal_rms) &&
       force.k_noise_rms > force.k_signal_rms) {
     w.push_back(fmt::format(
-        "k from P is dominated by noise: its noise {:.4f} exceeds the part "
+        "k from {} is dominated by noise: its noise {:.4f} exceeds the part "
         "that repeats from cycle to cycle {:.4f} (rms); mu-hat and J with it "
         "rest on the noise split",
+        r.force_slope_name,
         force.k_noise_rms,
         force.k_signal_rms));
   }

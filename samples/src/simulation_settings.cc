@@ -126,6 +126,18 @@ std::vector<S> CaseSettings() {
        [](const R& r) {
          return std::string(r.dead_weight ? "dead-weight" : "spring");
        }},
+      {"depth-channel",
+       "Simulation",
+       "Log the ball's penetration as a depth channel (depth_mm, with a "
+       "sensor's noise, offset and drift): on or off (default: on for a "
+       "dead-weight rig)",
+       "TEXT",
+       ~0u,
+       [](R* r, const std::string& text) {
+         r->depth_channel =
+             support::ParseChoice(text, {"on", "off"}) == "on" ? 1 : 0;
+       },
+       [](const R&) { return std::string(); }},
   };
 }
 
@@ -183,6 +195,8 @@ void Override(const SimulationRequest& r,
   if (r.scan_pitch_mm > 0) o->scan_pitch_mm = r.scan_pitch_mm;
   if (r.triangle) o->drive = Drive::kTriangle;
   if (r.dead_weight) o->rig = Rig::kDeadWeight;
+  o->depth_channel =
+      r.depth_channel >= 0 ? r.depth_channel == 1 : r.dead_weight;
   if (r.noise >= 0) o->noise_scale = r.noise;
   if (r.elastic_fraction >= 0) o->elastic_fraction = r.elastic_fraction;
   o->effects = effects;

@@ -376,6 +376,7 @@ double PileUpResistance(double distance_to_end_mm,
 // effects, before the Jenkins element bounds the stick.
 struct SlidingBounds {
   double p, upper, lower;
+  double height;  // the sphere's, mm (up positive)
 };
 
 SlidingBounds ForcesAt(const SimulationOptions& o,
@@ -416,7 +417,7 @@ SlidingBounds ForcesAt(const SimulationOptions& o,
     upper += PileUpResistance(o.amplitude_mm - x, fx.hook_n, fx.hook_length_mm);
     lower -= PileUpResistance(x + o.amplitude_mm, fx.hook_n, fx.hook_length_mm);
   }
-  return {p, upper, lower};
+  return {p, upper, lower, f};
 }
 
 // The tribometer: x = A sin(2 pi f t) starts at 0 going up; complete cycles
@@ -429,13 +430,15 @@ void RunTribometer(const SimulationOptions& o,
                    const Schedule& schedule,
                    SimulatedChannels* rec,
                    Eigen::VectorXd* q_true,
-                   Eigen::VectorXd* p_true) {
+                   Eigen::VectorXd* p_true,
+                   Eigen::VectorXd* height_true) {
   const Eigen::Index n = static_cast<Eigen::Index>(
       std::llround((o.cycles + 1) * o.sampling_rate_hz / o.frequency_hz));
   rec->time_s.resize(n);
   rec->x_mm.resize(n);
   q_true->resize(n);
   p_true->resize(n);
+  height_true->resize(n);
   double pc = o.target_normal_n;  // controller's set point for the spring
   double q = 0.0, x_prev = 0.0, p_sum = 0;
   int cycle = -1;
@@ -462,6 +465,7 @@ void RunTribometer(const SimulationOptions& o,
     x_prev = x;
     (*q_true)[i] = q;
     (*p_true)[i] = b.p;
+    (*height_true)[i] = b.height;
     p_sum += b.p;
     ++p_count;
     rec->time_s[i] = t;
@@ -473,6 +477,7 @@ void RunTribometer(const SimulationOptions& o,
 void Measure(const SimulationOptions& o,
              const Eigen::VectorXd& q_true,
              const Eigen::VectorXd& p_true,
+             const Eigen::VectorXd& height_true,
              Rng& rng,
              SimulatedChannels* rec) {
   const HiddenEffects& fx = o.effects;
@@ -496,6 +501,20 @@ void Measure(const SimulationOptions& o,
     rec->normal_n[i] = Quantise(pm + o.noise_scale * o.p_noise_n * rng.Normal(),
                                 o.p_resolution_n);
     rec->x_mm[i] += o.x_noise_mm * rng.Normal();
+  }
+  // The depth sensor reads the penetration (the sphere's height turned
+  // over) with its offset and drift; drawn after the forces' noise, so that
+  // the force channels do not change with it.
+  if (o.depth_channel) {
+    rec->depth_mm.resize(n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double drift = o.depth_drift_mm * static_cast<double>(i) /
+                           std::max<Eigen::Index>(1, n - 1);
+      rec->depth_mm[i] =
+          Quantise(-height_true[i] + o.depth_offset_mm + drift +
+                       o.noise_scale * o.depth_noise_mm * rng.Normal(),
+                   o.depth_resolution_mm);
+    }
   }
   rec->source = "simulator:" + o.name;
   rec->sampling_rate_hz = o.sampling_rate_hz;
@@ -746,8 +765,10 @@ SimulatedTest Simulate(const SimulationOptions& o) {
   const Specimen specimen = MakeSpecimen(o, rng);
   const Schedule schedule(o, specimen);
   Eigen::VectorXd q_true, p_true;
-  RunTribometer(o, specimen, schedule, &out.record, &q_true, &p_true);
-  Measure(o, q_true, p_true, rng, &out.record);
+  Eigen::VectorXd height_true;
+  RunTribometer(
+      o, specimen, schedule, &out.record, &q_true, &p_true, &height_true);
+  Measure(o, q_true, p_true, height_true, rng, &out.record);
   FillTruth(o, specimen, schedule, &out.truth);
   out.scan = ScanTrack(o, specimen, schedule, rng, &out.truth);
   return out;

@@ -1,10 +1,12 @@
 // What a lab relies on around the numbers: command-line conventions,
 // provenance, wear, cycle numbering and output folders that can be
 // trusted after a re-run.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -690,6 +692,95 @@ TEST(Report, ShowsEachSpecimensNumbersAndWhereTheyCameFrom) {
                  0),
       0u)
       << wear;
+}
+
+// An Anton Paar TRB linear export of a dead-weight test (its columns as
+// the instrument writes them: tab separated, decimal commas, the nominal
+// load as the only load, "µ" and "Penetration Depth [µm]" in UTF-8 or in
+// Latin-1), made from a simulated test: read as the anton-paar layout, the
+// nominal load said to be a set value and used as P, k from the depth
+// channel, mu-hat within 0.002 of the simulator's truth.
+TEST(Rigs, AnAntonPaarTrbExportOfADeadWeightTestIsReadWithItsDepth) {
+  const std::string dir = ::testing::TempDir() + "/lab-trb";
+  fs::remove_all(dir);
+  ASSERT_EQ(Wearscar("simulate --case B-RT-R --rig dead-weight --cycles 120 "
+                     "--rate 1000 --scan-cols 512 --scan-rows 384 "
+                     "--scan-pitch 0.0148 --formats csv,gsf -o " +
+                     dir)
+                .status,
+            0);
+  std::ifstream in(dir + "/B-RT-R.force.csv");
+  std::string line;
+  std::getline(in, line);
+  ASSERT_EQ(line, "time_s,x_mm,Q_N,P_N,depth_mm");
+  for (const bool latin1 : {false, true}) {
+    SCOPED_TRACE(latin1 ? "Latin-1" : "UTF-8");
+    const std::string micro = latin1 ? "\xb5" : "\xc2\xb5";
+    const std::string degree = latin1 ? "\xb0" : "\xc2\xb0";
+    std::string text =
+        "Anton Paar TRB3\tLinear reciprocating\nSample\tB-RT-R\n\n";
+    text +=
+        "Time [s]\tDistance [m]\tLaps\tSequence ID\tCycle ID\tMax Linear "
+        "Speed [m/s]\tNominal Load [N]\t" +
+        micro + "\tLinear Position [mm]\tFriction Force [N]\tTemperature [" +
+        degree + "C]\tHumidity [%]\tPenetration Depth [" + micro + "m]\n";
+    std::ifstream rows(dir + "/B-RT-R.force.csv");
+    std::getline(rows, line);
+    double distance = 0, previous = NAN;
+    while (std::getline(rows, line)) {
+      double t, x, q, p, d;
+      ASSERT_EQ(
+          std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%lf", &t, &x, &q, &p, &d),
+          5);
+      if (std::isfinite(previous)) distance += std::abs(x - previous) / 1000;
+      previous = x;
+      std::string row = fmt::format(
+          "{:.4f}\t{:.6f}\t{}\t1\t{}\t0.0179\t30\t{:.4f}\t{:.5f}\t{:.4f}\t23."
+          "1\t"
+          "45\t{:.3f}\n",
+          t,
+          distance,
+          static_cast<int>(t),
+          static_cast<int>(t),
+          q / 30,
+          x,
+          q,
+          1000 * d);
+      std::replace(row.begin(), row.end(), '.', ',');
+      text += row;
+    }
+    const std::string file =
+        dir + (latin1 ? "/trb_latin1.txt" : "/trb_utf8.txt");
+    std::ofstream(file) << text;
+    const CommandResult f = Wearscar("fuse " + file + " --scan " + dir +
+                                     "/B-RT-R.scan.gsf --no-figures --json");
+    ASSERT_EQ(f.status, 0) << f.output;
+    const nlohmann::json j = ParseJson(f.output.substr(f.output.find('{')));
+    ASSERT_TRUE(j.is_object()) << f.output;
+    EXPECT_EQ(j["force_file_read"]["layout"], "anton-paar");
+    EXPECT_EQ(j["profile"]["source"], "depth");
+    EXPECT_NE(j["profile"]["why"].get<std::string>().find(
+                  "'Penetration Depth' (read as a penetration"),
+              std::string::npos)
+        << j["profile"]["why"];
+    bool said = false;
+    for (const auto& w : j["warnings"])
+      said |= w.get<std::string>().find(
+                  "P is the column 'Nominal Load': the "
+                  "load set on the instrument") != std::string::npos;
+    EXPECT_TRUE(said) << j["warnings"];
+    const nlohmann::json truth =
+        nlohmann::json::parse(Slurp(dir + "/B-RT-R.truth.json"));
+    const auto& c = j["comparison"];
+    const int first = c["first_cycle"].get<int>() - 1,
+              last = c["last_cycle"].get<int>() - 1;
+    double mu = 0;
+    for (int k = first; k <= last; ++k)
+      mu += truth["mu_per_cycle"][k].get<double>();
+    mu /= last - first + 1;
+    EXPECT_NEAR(c["mu_hat_force"]["mean"].get<double>(), mu, 0.002);
+    EXPECT_TRUE(j["verdict"]["explained"].get<bool>()) << j["verdict"];
+  }
 }
 
 }  // namespace

@@ -114,7 +114,8 @@ TEST(Cli, ColumnsOptionMapsUnnamedColumnsAndRunningInIsReported) {
   const CommandResult bad =
       Wearscar("force " + kData + "generic.csv --columns q");
   EXPECT_EQ(bad.status, 2);
-  EXPECT_NE(bad.output.find("expected time=, x=, q= or p="), std::string::npos)
+  EXPECT_NE(bad.output.find("expected time=, x=, q=, p= or depth="),
+            std::string::npos)
       << bad.output;
   // Without --out: a short per-cycle table on stdout.
   const CommandResult table = Wearscar("force " + kData + "generic.csv");

@@ -169,7 +169,7 @@ div.viewer input {{ width: 40em; max-width: 70vw; vertical-align: middle; }} p.h
 mu-hat: the wear-scar coefficient of friction (Eq. 6) with the slope of the sliding path from the
 normal force (k = dP/dx / S) and, with a scan, from the worn track's centreline.</p>
 <div class="wide"><table id="summary"><thead><tr><th>specimen</th><th>species</th><th>plane</th><th>direction</th>
-<th>mu-hat (k from P)</th><th>its 95% interval</th><th>mu-hat (k from scan)</th><th>mu mean</th><th>mu energy</th>
+<th>mu-hat (k from P or depth)</th><th>its 95% interval</th><th>mu-hat (k from scan)</th><th>mu mean</th><th>mu energy</th>
 <th>J</th><th>J noise floor</th><th>J excess</th><th>J (k from scan)</th><th>its floor</th><th>r profiles</th><th>amplitude ratio</th><th>wear rate (mm<sup>3</sup>/(N m))</th><th>warnings</th><th>verdict</th></tr></thead><tbody>
 )",
                      Escape(title),
@@ -286,8 +286,12 @@ std::string NumbersTable(const nlohmann::json& r) {
     return m.empty() ? m : m + range + ", sd " + sd;
   };
   std::string h =
-      "<table class=\"numbers\"><thead><tr><th></th><th>k from P "
-      "(spring)</th><th>k from the scan</th></tr></thead><tbody>\n";
+      "<table class=\"numbers\"><thead><tr><th></th><th>k from " +
+      std::string(r.contains("profile") && r["profile"].is_object() &&
+                          r["profile"].value("source", "") == "depth"
+                      ? "the depth channel"
+                      : "P (spring)") +
+      "</th><th>k from the scan</th></tr></thead><tbody>\n";
   h += fmt::format(
       "<tr><td class=\"text\">mu-hat (mean over the compared cycles, its "
       "95% interval, the sd of the cycles)</td><td>{}</td><td>{}</td></tr>\n",

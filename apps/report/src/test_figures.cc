@@ -26,6 +26,13 @@ using internal::Panel;
 using internal::Series;
 using internal::TableSet;
 
+// The force side's slope as the figures name it: "k from P" (P/S) or
+// "k from depth" (the depth channel).
+std::string ForceSideK(const fusion::TestResult& r) {
+  return r.profile_source == fusion::ProfileSource::kDepth ? "k from depth"
+                                                           : "k from P";
+}
+
 Series Line(const char* table,
             const char* x,
             const char* y,
@@ -135,6 +142,7 @@ std::vector<FigureSpec> CycleFigures(const std::string& name,
                                      const fusion::TestResult& r,
                                      const fusion::FuseOptions& o) {
   const std::string mark = RunningInMark(r);
+  const std::string kp = ForceSideK(r);
   std::vector<FigureSpec> f = {
       Plot("fig05_q_envelope",
            name + ": envelope of Q (Fig. 5)",
@@ -159,7 +167,7 @@ std::vector<FigureSpec> CycleFigures(const std::string& name,
                  "cycle",
                  "mu_hat_force_low",
                  "mu_hat_force_high",
-                 "95% interval, k from P",
+                 "95% interval, " + kp,
                  kForceColour),
             Band("cycles.csv",
                  "cycle",
@@ -167,7 +175,7 @@ std::vector<FigureSpec> CycleFigures(const std::string& name,
                  "mu_hat_scan_high",
                  "95% interval, k from scan",
                  kScanColour),
-            DotsOverCycles("mu_hat_force", "mu-hat, k from P", kForceColour),
+            DotsOverCycles("mu_hat_force", "mu-hat, " + kp, kForceColour),
             DotsOverCycles("mu_hat_scan", "mu-hat, k from scan", kScanColour),
             OverCycles("mu_mean", "mean method", kClassicColour)}),
       Plot("fig14_cost",
@@ -175,7 +183,7 @@ std::vector<FigureSpec> CycleFigures(const std::string& name,
            "cycle",
            "J (-)",
            mark + "set yrange [0:*]\n",
-           {DotsOverCycles("J_force", "J, k from P", kForceColour),
+           {DotsOverCycles("J_force", "J, " + kp, kForceColour),
             OverCycles(
                 "J_force_floor", "its noise floor", kMeasuredColour, 2, 2),
             DotsOverCycles("J_scan", "J, k from scan", kScanColour),
@@ -247,13 +255,14 @@ std::vector<FigureSpec> DetailFigures(const std::string& name,
                                       const fusion::TestResult& r,
                                       fusion::Table* minima) {
   const std::string cycle = ", cycle " + std::to_string(r.detail_cycle + 1);
+  const std::string kp = ForceSideK(r);
   std::vector<FigureSpec> f = {
       Plot("fig10_slope",
            name + ": slope k of the sliding path" + cycle + " (Fig. 10)",
            "x (mm)",
            "k (-)",
            "",
-           {AlongDetail("k_force", "k from P", kForceColour, 1),
+           {AlongDetail("k_force", kp, kForceColour, 1),
             AlongDetail("k_scan", "k from scan", kScanColour, 2.5)}),
       Plot(
           "fig11_cost",
@@ -261,7 +270,7 @@ std::vector<FigureSpec> DetailFigures(const std::string& name,
           "mu (-)",
           "J (-)",
           "set logscale y\n",
-          {Line("cost_curve.csv", "mu", "J_force", "k from P", kForceColour),
+          {Line("cost_curve.csv", "mu", "J_force", kp, kForceColour),
            Line("cost_curve.csv", "mu", "J_scan", "k from scan", kScanColour)}),
       Plot(
           "fig12_reconstruction",
@@ -269,7 +278,7 @@ std::vector<FigureSpec> DetailFigures(const std::string& name,
           "x (mm)",
           "Q (N)",
           "",
-          {AlongDetail("Q_model_force_N", "wear-scar, k from P", kForceColour),
+          {AlongDetail("Q_model_force_N", "wear-scar, " + kp, kForceColour),
            AlongDetail(
                "Q_model_scan_N", "wear-scar, k from scan", kScanColour, 2.5),
            Dots(

@@ -33,12 +33,16 @@ struct ForceMetadata {
   std::string source;             // file path, or "simulator"
   std::string layout;             // "delimited", "rtec", "bruker", ...
   double sampling_rate_hz = 0.0;  // 0 when unknown
-  // Channel header and unit as found in the file, for time, x, Q and P.
+  // Channel header and unit as found in the file, for time, x, Q and P
+  // (and the depth when the file has one).
   std::vector<std::string> channel_names;
   std::vector<std::string> channel_units;
-  // Units the file did not state, guessed from the values (time, x, Q, P;
-  // each guess is also a warning saying why).
-  std::array<bool, 4> unit_guessed = {false, false, false, false};
+  // Units the file did not state, guessed from the values (time, x, Q, P,
+  // depth; each guess is also a warning saying why).
+  std::array<bool, 5> unit_guessed = {false, false, false, false, false};
+  // The depth channel's sign as read: true when its name says it grows
+  // into the specimen (a penetration depth), false for a height (Z).
+  bool depth_is_penetration = true;
   bool time_rebuilt = false;         // no time column; built from a rate
   bool normal_sign_flipped = false;  // P was negative in compression
   int clock_restarts_joined = 0;     // Rtec RecipeStep, CETR step restarts
@@ -64,14 +68,19 @@ struct ForceRecord {
   Eigen::VectorXd x_mm;
   Eigen::VectorXd tangential_n;  // Q
   Eigen::VectorXd normal_n;      // P
+  // The ball's vertical position where the rig logs it (an LVDT, a
+  // "Penetration Depth"), mm, positive into the specimen; empty without.
+  Eigen::VectorXd depth_mm;
   ForceMetadata metadata;
 
   Eigen::Index size() const { return time_s.size(); }
-  // The four channels have one length (what every analysis requires).
+  bool has_depth() const { return depth_mm.size() > 0; }
+  // The channels have one length (what every analysis requires).
   bool IsConsistent() const {
     return x_mm.size() == time_s.size() &&
            tangential_n.size() == time_s.size() &&
-           normal_n.size() == time_s.size();
+           normal_n.size() == time_s.size() &&
+           (depth_mm.size() == 0 || depth_mm.size() == time_s.size());
   }
 };
 
@@ -103,20 +112,32 @@ inline ForceRecord RecordFromChannels(Eigen::VectorXd time_s,
   return r;
 }
 
-// The same from any struct with the four channels and `source` and
-// `sampling_rate_hz` members (the simulator's SimulatedChannels): moved
-// from when given as an rvalue, copied otherwise.
+// The same from any struct with the four channels, a depth_mm (empty
+// without one) and `source` and `sampling_rate_hz` members (the
+// simulator's SimulatedChannels): moved from when given as an rvalue,
+// copied otherwise.
 template <class Channels>
 ForceRecord RecordFromChannels(Channels&& c, std::string layout) {
   const double rate = c.sampling_rate_hz;
   std::string source = c.source;
-  return RecordFromChannels(std::forward<Channels>(c).time_s,
-                            std::forward<Channels>(c).x_mm,
-                            std::forward<Channels>(c).tangential_n,
-                            std::forward<Channels>(c).normal_n,
-                            std::move(source),
-                            std::move(layout),
-                            rate);
+  Eigen::VectorXd depth = std::forward<Channels>(c).depth_mm;
+  ForceRecord r = RecordFromChannels(std::forward<Channels>(c).time_s,
+                                     std::forward<Channels>(c).x_mm,
+                                     std::forward<Channels>(c).tangential_n,
+                                     std::forward<Channels>(c).normal_n,
+                                     std::move(source),
+                                     std::move(layout),
+                                     rate);
+  if (depth.size() > 0) {
+    if (depth.size() != r.size())
+      throw ForceError(r.metadata.source +
+                       ": the depth channel's length differs from the "
+                       "others'; expected one length");
+    r.depth_mm = std::move(depth);
+    r.metadata.channel_names.push_back("depth_mm");
+    r.metadata.channel_units.push_back("mm");
+  }
+  return r;
 }
 
 }  // namespace wearscar::force

@@ -12,6 +12,7 @@ enum class ForceChannel {
   kX,           // the reciprocating displacement
   kTangential,  // Q, the friction force
   kNormal,      // P, the normal force
+  kDepth,       // the ball's vertical position (penetration depth, Z)
   kStep,        // a recipe step: the clock may restart when it changes
   kNotAChannel  // a friction coefficient the instrument computed itself
 };

@@ -20,6 +20,9 @@ struct ReadForceOptions {
   std::string x_column;
   std::string tangential_column;
   std::string normal_column;
+  // The depth channel (the ball's vertical position): found by name when
+  // empty; "none" reads none.
+  std::string depth_column;
   // Units of x, of both forces and of time: empty = the file's; where the
   // file states none, inferred from plausibility (tribometer strokes of
   // 0.05-50 mm, loads of 0.01-5000 N, sampling at 1 Hz-1 MHz) with a
@@ -28,6 +31,9 @@ struct ReadForceOptions {
   std::string x_unit;
   std::string force_unit;
   std::string time_unit;
+  // Unit of the depth channel (um, mm, nm); default: the file's, else um
+  // with a warning.
+  std::string depth_unit;
   // Rebuild time from this rate when there is no time column and the
   // metadata gives none; 0 = required from the file.
   double sampling_rate_hz = 0.0;

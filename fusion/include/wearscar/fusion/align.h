@@ -40,6 +40,12 @@ ForceProfile ComputeForceProfile(const force::ForceRecord& record,
                                  double spring_n_per_mm,
                                  const ForceProfileOptions& options = {});
 
+// The same from the record's depth channel (height = -depth), per
+// direction. Throws FusionError without one.
+ForceProfile ComputeDepthProfile(const force::ForceRecord& record,
+                                 const force::CycleSet& cycles,
+                                 const ForceProfileOptions& options = {});
+
 // The sliding path's height from the friction alone, for rigs whose P
 // does not follow the track (a dead weight): on the wear-scar model the
 // two directions at the same x see Q/P = tan(theta + s phi), k = tan

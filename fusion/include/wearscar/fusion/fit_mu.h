@@ -117,6 +117,10 @@ struct FrictionFitOptions {
   // second half of the cycles beside the first (`wearscar fuse`); the fits
   // are the same with any number.
   int threads = 1;
+  // k from the record's depth channel (the ball's vertical position,
+  // penetration positive: k = -d depth/dx) instead of P/S; the ensemble
+  // estimate only.
+  bool k_from_depth = false;
   bool IsValid(std::string* why) const;
 };
 
@@ -166,6 +170,11 @@ class ForceSlopes {
   const force::ForceRecord& record_;
   const force::CycleSet& cycles_;
   FrictionFitOptions options_;  // the derivative's spans resolved
+  // The channel whose variation along x is the path's height, and its
+  // height's scale: height = profile / profile_per_mm (P and S, or the
+  // depth and -1).
+  const Eigen::VectorXd& profile_;
+  double profile_per_mm_;
   // P binned along x, for one ensemble's cycles at a time (a ring): a
   // cycle is binned when a window reaches it.
   mutable std::optional<CycleBins> normal_bins_;

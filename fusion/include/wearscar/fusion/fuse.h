@@ -29,11 +29,13 @@ const char* SlopeChoiceName(SlopeChoice choice);
 
 // Where the force side's profile of the sliding path comes from: P/S
 // through the loading spring, or the friction of the two directions at the
-// same x (ComputeFrictionProfile) for rigs that load with a dead weight;
-// auto: the spring, unless P does not follow the track the scan shows.
-enum class ProfileSource { kAuto, kSpring, kFriction };
+// same x (ComputeFrictionProfile) for rigs that load with a dead weight,
+// or the record's depth channel (k = -d depth/dx); auto: the spring unless
+// P's slope is insignificant, then the depth when logged, else the
+// friction when P does not follow the track the scan shows.
+enum class ProfileSource { kAuto, kSpring, kFriction, kDepth };
 
-// "auto", "spring", "friction"; false for anything else.
+// "auto", "spring", "friction", "depth"; false for anything else.
 bool ParseProfileSource(const std::string& name, ProfileSource* source);
 const char* ProfileSourceName(ProfileSource source);
 
@@ -133,6 +135,12 @@ struct TestResult {
   // The force side's profile used (kSpring or kFriction) and why, in words.
   ProfileSource profile_source = ProfileSource::kSpring;
   std::string profile_reason;
+  // The depth channel's column and sign as read (when the record has one).
+  std::string depth_column;
+  bool depth_is_penetration = true;
+  // P's repeatable slope in its standard errors, as auto read it (NaN when
+  // P's k was not split).
+  double p_slope_significance = std::numeric_limits<double>::quiet_NaN();
   std::optional<ScanAnalysis> scan;
   MismatchReport mismatch;
   Verdict verdict;

@@ -25,6 +25,7 @@ struct SimulationRequest {
   std::vector<std::string> effects;  // name=value
   bool triangle = false;
   bool dead_weight = false;  // --rig dead-weight
+  int depth_channel = -1;    // --depth-channel on|off; -1: on a dead weight
   long seed = -1;
 };
 

@@ -58,6 +58,14 @@ struct SimulationOptions {
   double target_normal_n = 30.0;   // cycle mean held by a slow control
   double spring_n_per_mm = 10.19;  // S
   Rig rig = Rig::kSpring;          // kDeadWeight: P = target_normal_n
+  // A depth sensor (an LVDT, a "Penetration Depth") logs the ball's
+  // vertical position: white noise and resolution (at noise_scale 1), an
+  // offset and a linear drift over the test, mm.
+  bool depth_channel = false;
+  double depth_noise_mm = 0.0003;
+  double depth_resolution_mm = 0.0001;
+  double depth_offset_mm = 0.05;
+  double depth_drift_mm = 0.002;
   double control_gain = 0.5;  // fraction of the mean error removed per cycle
   double contact_stiffness_n_per_mm = 150.0;  // tangential (Jenkins element)
   double sphere_radius_mm = 3.25;
@@ -165,6 +173,10 @@ struct SimulatedChannels {
   Eigen::VectorXd x_mm;
   Eigen::VectorXd tangential_n;  // Q
   Eigen::VectorXd normal_n;      // P, compression positive
+  // The ball's penetration into the specimen as the rig's sensor logs it
+  // (mm, with the sensor's offset, drift, noise and resolution); empty
+  // unless SimulationOptions::depth_channel.
+  Eigen::VectorXd depth_mm;
   double sampling_rate_hz = 0.0;
   std::string source;  // "simulator:<case>"
   Eigen::Index size() const { return time_s.size(); }

@@ -1,0 +1,120 @@
+// Where the force side's profile of the sliding path comes from: the
+// choice between P/S and the friction (a rig without a spring) and its
+// words.
+
+#include "profile_choice.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace wearscar::fusion {
+
+const char* ProfileSourceName(ProfileSource source) {
+  switch (source) {
+    case ProfileSource::kSpring:
+      return "spring";
+    case ProfileSource::kFriction:
+      return "friction";
+    case ProfileSource::kDepth:
+      return "depth";
+    case ProfileSource::kAuto:
+      break;
+  }
+  return "auto";
+}
+
+bool ParseProfileSource(const std::string& name, ProfileSource* source) {
+  if (name == "auto") {
+    *source = ProfileSource::kAuto;
+  } else if (name == "spring") {
+    *source = ProfileSource::kSpring;
+  } else if (name == "friction") {
+    *source = ProfileSource::kFriction;
+  } else if (name == "depth") {
+    *source = ProfileSource::kDepth;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+namespace internal {
+
+// How far P's repeatable slope is from nothing, in its standard errors
+// (the k split's repeatable rms against its noise over the root of the
+// independent cycles: the ensemble's neighbouring cycles share their
+// noise); NaN without the split.
+double ProfileSignificance(const ForceAnalysis& force) {
+  const double n = static_cast<double>(force.fit_force.size()) /
+                   std::max(1, force.correlated_cycles);
+  if (!(force.k_noise_rms > 0) || !std::isfinite(force.k_signal_rms) || n < 2)
+    return NAN;
+  return force.k_signal_rms / (force.k_noise_rms / std::sqrt(std::max(1.0, n)));
+}
+
+// auto: the friction's profile when P carries none (a dead weight) -- its
+// repeatable slope insignificant and P/S varying far less than the track
+// the scan shows -- else the spring's. Sets the result's source and why.
+ProfileSource ChooseProfile(const TestResult& r, const FuseOptions& o) {
+  const double sig = r.p_slope_significance;
+  const double ratio = r.scan ? r.scan->alignment.amplitude_ratio : NAN;
+  if (std::isfinite(sig) && sig < o.dead_weight_significance &&
+      ratio < o.dead_weight_ratio)
+    return ProfileSource::kFriction;
+  return ProfileSource::kSpring;
+}
+
+// `spring_ratio`: P/S's amplitude against the scanned profile, as the
+// choice read it (NaN when no choice was made).
+std::string ProfileReason(const TestResult& r,
+                          const FuseOptions& o,
+                          bool chosen,
+                          double spring_ratio) {
+  const double sig = r.p_slope_significance;
+  const std::string p_says =
+      std::isfinite(sig)
+          ? fmt::format(
+                "P's repeatable slope is {:.1f} standard errors from nothing "
+                "(over {} cycles, {} of them sharing their noise)",
+                sig,
+                r.force.fit_force.size(),
+                r.force.correlated_cycles)
+          : std::string("P's slope was not split into signal and noise");
+  if (r.profile_source == ProfileSource::kDepth) {
+    return fmt::format(
+        "profile from the depth channel '{}' ({}, penetration positive: k = "
+        "-d(depth)/dx), no spring: {}{}",
+        r.depth_column,
+        r.depth_is_penetration ? "read as a penetration"
+                               : "a height, turned over",
+        chosen ? p_says + ": a dead-weight or force-controlled rig"
+               : std::string("--profile-from depth"),
+        "; the spring is neither needed nor used");
+  }
+  if (r.profile_source == ProfileSource::kFriction) {
+    const std::string why =
+        chosen ? fmt::format(
+                     "{} and P/S varies {:.2f}x the scanned profile (below "
+                     "{:.2f}): a dead-weight or force-controlled rig",
+                     p_says,
+                     spring_ratio,
+                     o.dead_weight_ratio)
+               : std::string("--profile-from friction");
+    return fmt::format(
+        "profile from the friction, no spring: {}; the spring is neither "
+        "needed nor used. k = tan((atan(Q_f/P) + atan(Q_r/P))/2) at each x "
+        "over the compared cycles, integrated along the stroke: circular for "
+        "a verdict on its own, it aligns the scan and is compared with it; "
+        "mu-hat takes k from the scan",
+        why);
+  }
+  return fmt::format("profile from the spring, P/S{}: {}",
+                     chosen ? "" : " (--profile-from spring)",
+                     p_says);
+}
+
+}  // namespace internal
+}  // namespace wearscar::fusion

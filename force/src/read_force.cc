@@ -280,10 +280,23 @@ ForceRecord Read(LineSource& source,
     meta.channel_names.push_back(read ? layout.names[p.column[ch]] : "");
     meta.channel_units.push_back(read ? scale[ch].unit : "");
   }
+  bool p_depth_dropped = false;
   record.x_mm = std::move(data[kX]);
   record.tangential_n = std::move(data[kQ]);
   record.normal_n = std::move(data[kP]);
   if (p.column[kDepth] >= 0) {
+    long missing = 0;
+    for (Eigen::Index i = 0; i < data[kDepth].size(); ++i)
+      missing += !std::isfinite(data[kDepth][i]);
+    if (missing > 0.01 * static_cast<double>(data[kDepth].size())) {
+      meta.warnings.push_back(fmt::format(
+          "the depth column '{}' is empty on {:.0f}% of the rows: not used",
+          layout.names[p.column[kDepth]],
+          100.0 * missing / std::max<Eigen::Index>(1, data[kDepth].size())));
+      p_depth_dropped = true;
+    }
+  }
+  if (p.column[kDepth] >= 0 && !p_depth_dropped) {
     // Penetration positive: a height (Z, a position) is turned over.
     meta.depth_is_penetration =
         internal::NamesAPenetration(layout.names[p.column[kDepth]]);

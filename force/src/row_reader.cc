@@ -278,7 +278,9 @@ void RowReader::Store(const double* values, long line_no) {
   for (int ch = 0; ch < kChannels; ++ch) {
     if (column_[ch] < 0) continue;
     const double x = ch == kTime ? values[ch] : values[ch] * scale_[ch].factor;
-    if (std::isnan(x)) {
+    // (A depth channel may be logged more sparsely: its gaps are counted
+    // after the read.)
+    if (std::isnan(x) && ch != kDepth) {
       if (++nan_run_[ch] > options_.max_nan_run) {
         throw ForceError(fmt::format(
             "{}: line {}: more than {} consecutive missing values in '{}'; "

@@ -87,7 +87,7 @@ bool RowReader::AdoptFastRows(const FastRows& f, Eigen::Index at) {
   if (timed && std::isfinite(f.first_time) && f.first_time <= previous_time_)
     return false;
   for (int ch = 0; ch < kChannels; ++ch) {
-    if (column_[ch] >= 0 &&
+    if (column_[ch] >= 0 && ch != kDepth &&
         nan_run_[ch] + f.leading_nan[ch] > options_.max_nan_run)
       return false;
   }

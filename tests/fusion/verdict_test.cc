@@ -47,6 +47,29 @@ std::string CaseAndNoise(
          std::to_string(static_cast<int>(std::get<1>(info.param)));
 }
 
+// The mean true mu over the cycles a result compared.
+double TruthOverCompared(const sim::SimulatedTest& t, const MismatchReport& m) {
+  double truth = 0;
+  for (int c = m.first_cycle; c <= m.last_cycle; ++c)
+    truth += t.truth.mu_per_cycle[c];
+  return truth / (m.last_cycle - m.first_cycle + 1);
+}
+
+// A case on a dead-weight rig (P constant), with or without a depth
+// sensor, its scan at half the full size's resolution.
+samples::SimulationOptions DeadWeightCase(const std::string& name,
+                                          double noise,
+                                          bool depth,
+                                          int cycles = 200) {
+  samples::SimulationOptions o = NoisyCase(name, noise, 0, cycles);
+  o.rig = samples::Rig::kDeadWeight;
+  o.depth_channel = depth;
+  o.scan_cols = 512;
+  o.scan_rows = 384;
+  o.scan_pitch_mm = 0.0148;
+  return o;
+}
+
 FuseOptions NoLugre() {
   FuseOptions f;
   f.fit_lugre = false;
@@ -350,12 +373,8 @@ TEST_P(VerdictOnCleanCases, NothingIsFlagged) {
       // mu-hat within 0.002 (k from P) and 0.004 (k from the scan) of the
       // truth over the compared cycles.
       const auto& m = r.mismatch;
-      double truth = 0;
-      for (int c = m.first_cycle; c <= m.last_cycle; ++c)
-        truth += t.truth.mu_per_cycle[c];
-      truth /= m.last_cycle - m.first_cycle + 1;
-      EXPECT_NEAR(m.mu_force.mean, truth, 0.002);
-      EXPECT_NEAR(m.mu_scan.mean, truth, 0.004);
+      EXPECT_NEAR(m.mu_force.mean, TruthOverCompared(t, m), 0.002);
+      EXPECT_NEAR(m.mu_scan.mean, TruthOverCompared(t, m), 0.004);
     }
   }
 }
@@ -379,12 +398,8 @@ class DeadWeightRig
 
 TEST_P(DeadWeightRig, ProfileFromTheFrictionAlignsTheScanAndTheVerdictIsRight) {
   const auto [name, noise] = GetParam();
-  samples::SimulationOptions o = NoisyCase(name, noise, 0);
-  o.rig = samples::Rig::kDeadWeight;
-  o.scan_cols = 512;
-  o.scan_rows = 384;
-  o.scan_pitch_mm = 0.0148;
-  const sim::SimulatedTest t = sim::Simulate(o);
+  const sim::SimulatedTest t =
+      sim::Simulate(DeadWeightCase(name, noise, false));
   const TestResult r = AnalyzeTest(t.record, t.scan, NoLugre());
   EXPECT_EQ(r.profile_source, ProfileSource::kFriction) << r.profile_reason;
   ASSERT_TRUE(r.scan.has_value()) << r.scan_skipped;
@@ -393,11 +408,7 @@ TEST_P(DeadWeightRig, ProfileFromTheFrictionAlignsTheScanAndTheVerdictIsRight) {
   EXPECT_TRUE(r.verdict.explained) << r.verdict.Summary();
   const auto& m = r.mismatch;
   EXPECT_EQ(m.mu_force.count, 0);  // k from P is not used
-  double truth = 0;
-  for (int c = m.first_cycle; c <= m.last_cycle; ++c)
-    truth += t.truth.mu_per_cycle[c];
-  truth /= m.last_cycle - m.first_cycle + 1;
-  EXPECT_NEAR(m.mu_scan.mean, truth, 0.004);
+  EXPECT_NEAR(m.mu_scan.mean, TruthOverCompared(t, m), 0.004);
   EXPECT_NE(r.profile_reason.find("dead-weight or force-controlled rig"),
             std::string::npos)
       << r.profile_reason;
@@ -419,24 +430,14 @@ class DeadWeightWithDepth
 
 TEST_P(DeadWeightWithDepth, KFromTheDepthChannelAndTheVerdictIsRight) {
   const auto [name, noise] = GetParam();
-  samples::SimulationOptions o = NoisyCase(name, noise, 0);
-  o.rig = samples::Rig::kDeadWeight;
-  o.depth_channel = true;
-  o.scan_cols = 512;
-  o.scan_rows = 384;
-  o.scan_pitch_mm = 0.0148;
-  const sim::SimulatedTest t = sim::Simulate(o);
+  const sim::SimulatedTest t = sim::Simulate(DeadWeightCase(name, noise, true));
   ASSERT_TRUE(t.record.has_depth());
   const TestResult r = AnalyzeTest(t.record, t.scan, NoLugre());
   EXPECT_EQ(r.profile_source, ProfileSource::kDepth) << r.profile_reason;
   EXPECT_TRUE(r.verdict.explained) << r.verdict.Summary();
   const auto& m = r.mismatch;
-  double truth = 0;
-  for (int c = m.first_cycle; c <= m.last_cycle; ++c)
-    truth += t.truth.mu_per_cycle[c];
-  truth /= m.last_cycle - m.first_cycle + 1;
-  EXPECT_NEAR(m.mu_force.mean, truth, 0.002);
-  EXPECT_NEAR(m.mu_scan.mean, truth, 0.004);
+  EXPECT_NEAR(m.mu_force.mean, TruthOverCompared(t, m), 0.002);
+  EXPECT_NEAR(m.mu_scan.mean, TruthOverCompared(t, m), 0.004);
   EXPECT_EQ(m.force_slope_name, "the depth");
 }
 
@@ -453,14 +454,13 @@ INSTANTIATE_TEST_SUITE_P(Twelve,
 TEST(DeadWeightWithDepth, AnElasticPartIsFlagged) {
   for (const char* name : {"B-RT-R", "S-RL-R"}) {
     SCOPED_TRACE(name);
-    samples::SimulationOptions o = samples::PaperCase(name, true);
-    o.cycles = 200;
-    if (std::string(name) == "B-RT-R") o.elastic_fraction = 0.3;
-    o.rig = samples::Rig::kDeadWeight;
-    o.depth_channel = true;
-    o.scan_cols = 512;
-    o.scan_rows = 384;
-    o.scan_pitch_mm = 0.0148;
+    samples::SimulationOptions o = DeadWeightCase(name, 1, true);
+    // B-RT-R with an elastic part of 30% of the profile, S-RL-R with its
+    // own.
+    o.elastic_fraction = std::string(name) == "B-RT-R"
+                             ? 0.3
+                             : samples::PaperCase(name).elastic_fraction;
+    o.elastic_mm = samples::PaperCase(name).elastic_mm;
     const sim::SimulatedTest t = sim::Simulate(o);
     const TestResult r = AnalyzeTest(t.record, t.scan, NoLugre());
     EXPECT_EQ(r.profile_source, ProfileSource::kDepth);
@@ -488,12 +488,8 @@ TEST(DeadWeightWithDepth, AnElasticPartIsFlagged) {
 // aligned and the physics is blamed (what auto avoids); the friction's
 // profile needs a scan.
 TEST(DeadWeightRig, TheSpringsProfileFailsAndTheFrictionsNeedsAScan) {
-  samples::SimulationOptions o = NoisyCase("B-RT-R", 1, 0, 120);
-  o.rig = samples::Rig::kDeadWeight;
-  o.scan_cols = 512;
-  o.scan_rows = 384;
-  o.scan_pitch_mm = 0.0148;
-  const sim::SimulatedTest t = sim::Simulate(o);
+  const sim::SimulatedTest t =
+      sim::Simulate(DeadWeightCase("B-RT-R", 1, false, 120));
   FuseOptions spring = NoLugre();
   spring.profile_from = ProfileSource::kSpring;
   const TestResult r = AnalyzeTest(t.record, t.scan, spring);

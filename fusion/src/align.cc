@@ -305,7 +305,8 @@ ForceProfile ComputeForceProfile(const force::ForceRecord& record,
 
 ForceProfile ComputeDepthProfile(const force::ForceRecord& record,
                                  const force::CycleSet& cycles,
-                                 const ForceProfileOptions& options) {
+                                 const ForceProfileOptions& options,
+                                 double depth_sign) {
   std::string why;
   if (!options.IsValid(&why)) throw FusionError(why);
   if (!record.has_depth())
@@ -313,7 +314,8 @@ ForceProfile ComputeDepthProfile(const force::ForceRecord& record,
   ForceProfile p;
   const double lo = ForceProfileGrid(record, cycles, options, &p);
   ProfilesFromBins(
-      BinHeight(record, cycles, p, lo, options.step_mm, record.depth_mm, -1.0),
+      BinHeight(
+          record, cycles, p, lo, options.step_mm, record.depth_mm, -depth_sign),
       &p);
   return p;
 }

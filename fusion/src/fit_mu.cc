@@ -394,7 +394,7 @@ ForceSlopes::ForceSlopes(const force::ForceRecord& record,
       cycles_(cycles),
       options_(Resolved(options, SamplingRateOf(record))),
       profile_(options.k_from_depth ? record.depth_mm : record.normal_n),
-      profile_per_mm_(options.k_from_depth ? -1.0
+      profile_per_mm_(options.k_from_depth ? -options.depth_sign
                                            : options.slope.spring_n_per_mm) {
   if (options.k_from_depth && !record.has_depth())
     throw FusionError("k from the depth channel, but the record has none");

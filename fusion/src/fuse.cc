@@ -1,6 +1,7 @@
 #include "wearscar/fusion/fuse.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -221,7 +222,8 @@ ScanAnalysis AnalyzeScan(const force::ForceRecord& record,
       source == ProfileSource::kFriction
           ? ComputeFrictionProfile(record, force.cycles, fpo)
       : source == ProfileSource::kDepth
-          ? ComputeDepthProfile(record, force.cycles, fpo)
+          ? ComputeDepthProfile(
+                record, force.cycles, fpo, options.analysis.friction.depth_sign)
           : ComputeForceProfile(record,
                                 force.cycles,
                                 options.analysis.friction.slope.spring_n_per_mm,
@@ -549,6 +551,17 @@ void CompareAndJudge(const force::ForceRecord& record,
   } else if (from_spring && !scan &&
              options.profile_from == ProfileSource::kAuto) {
     const double sig = result->p_slope_significance;
+    // What fails with a slope that is noise is no finding about the test.
+    if (sig < options.dead_weight_significance && !result->verdict.explained) {
+      result->verdict.not_judged = fmt::format(
+          "P does not vary along the stroke beyond its noise ({:.1f} "
+          "standard errors), so k from P is noise if the rig has no spring, "
+          "and nothing else gives the slope (no scan, no depth channel); "
+          "give the track's scan or the depth channel. What k from P missed: "
+          "{}",
+          sig,
+          fmt::join(result->verdict.reasons, "; "));
+    }
     if (sig < options.dead_weight_significance) {
       result->warnings.push_back(fmt::format(
           "P does not vary along the stroke beyond its noise ({:.1f} "
@@ -694,9 +707,19 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
     result.profile_source = ProfileSource::kDepth;
     result.force = AnalyzeForce(record, ao);
   }
+  // The depth's sign checked against the friction's profile (which needs
+  // no sign): one running against it is turned over, and said.
+  if (result.profile_source == ProfileSource::kDepth) {
+    result.depth_agreement = internal::DepthAgreement(record, result.force);
+    if (result.depth_agreement < -0.5) {
+      ao.friction.depth_sign = -1.0;
+      result.force = AnalyzeForce(record, ao);
+    }
+  }
   // What follows reads the force side's k where it came from.
   FuseOptions used = options;
   used.analysis.friction.k_from_depth = ao.friction.k_from_depth;
+  used.analysis.friction.depth_sign = ao.friction.depth_sign;
   const FuseOptions& o_used = used;
   const int n = static_cast<int>(result.force.cycles.cycles.size());
   RefuseCyclesBeyondTheTest(o_used, n);
@@ -779,6 +802,10 @@ std::string Headline(const TestResult& r) {
   if (mu.count == 0) {
     return "no mu to quote: no mu-hat was fitted (too few sliding samples "
            "per cycle; see the warnings)";
+  }
+  if (!r.verdict.not_judged.empty()) {
+    return "no mu to quote: not judged, P carries no profile and nothing "
+           "else gives the slope (no scan, no depth channel)";
   }
   if (!r.verdict.explained) {
     return fmt::format(

@@ -10,6 +10,9 @@
 #include <cmath>
 #include <string>
 
+#include "wearscar/fusion/align.h"
+#include "wearscar/fusion/error.h"
+
 namespace wearscar::fusion {
 
 const char* ProfileSourceName(ProfileSource source) {
@@ -42,6 +45,46 @@ bool ParseProfileSource(const std::string& name, ProfileSource* source) {
 }
 
 namespace internal {
+
+double DepthAgreement(const force::ForceRecord& record,
+                      const ForceAnalysis& force) {
+  ForceProfileOptions o;
+  const int n = static_cast<int>(force.cycles.cycles.size());
+  if (n < 1) return NAN;
+  o.first_cycle =
+      std::max(n - o.cycles, std::min(force.running_in.cycles, n - 1));
+  o.last_cycle = n - 1;
+  try {
+    const ForceProfile d = ComputeDepthProfile(record, force.cycles, o);
+    const ForceProfile f = ComputeFrictionProfile(record, force.cycles, o);
+    double md = 0, mf = 0;
+    int k = 0;
+    const Eigen::Index bins = std::min(d.x_mm.size(), f.x_mm.size());
+    auto both = [&](Eigen::Index i) {
+      return std::isfinite(d.mean_mm[i]) && std::isfinite(f.mean_mm[i]);
+    };
+    for (Eigen::Index i = 0; i < bins; ++i) {
+      if (!both(i)) continue;
+      md += d.mean_mm[i];
+      mf += f.mean_mm[i];
+      ++k;
+    }
+    if (k < 3) return NAN;
+    md /= k;
+    mf /= k;
+    double sd = 0, sf = 0, sdf = 0;
+    for (Eigen::Index i = 0; i < bins; ++i) {
+      if (!both(i)) continue;
+      const double a = d.mean_mm[i] - md, b = f.mean_mm[i] - mf;
+      sd += a * a;
+      sf += b * b;
+      sdf += a * b;
+    }
+    return sd > 0 && sf > 0 ? sdf / std::sqrt(sd * sf) : NAN;
+  } catch (const FusionError&) {
+    return NAN;
+  }
+}
 
 // How far P's repeatable slope is from nothing, in its standard errors
 // (the k split's repeatable rms against its noise over the root of the
@@ -84,12 +127,20 @@ std::string ProfileReason(const TestResult& r,
                 r.force.correlated_cycles)
           : std::string("P's slope was not split into signal and noise");
   if (r.profile_source == ProfileSource::kDepth) {
+    const bool turned = r.depth_agreement < -0.5;
     return fmt::format(
-        "profile from the depth channel '{}' ({}, penetration positive: k = "
-        "-d(depth)/dx), no spring: {}{}",
+        "profile from the depth channel '{}' ({}{}, penetration positive: k "
+        "= -d(depth)/dx), no spring: {}{}",
         r.depth_column,
-        r.depth_is_penetration ? "read as a penetration"
-                               : "a height, turned over",
+        r.depth_is_penetration ? "read as a penetration by its name"
+                               : "a height by its name, turned over",
+        std::isfinite(r.depth_agreement)
+            ? fmt::format("; its profile against the friction's r = {:.2f}{}",
+                          r.depth_agreement,
+                          turned
+                              ? ": it runs the other way, so it was turned over"
+                              : "")
+            : std::string(),
         chosen ? p_says + ": a dead-weight or force-controlled rig"
                : std::string("--profile-from depth"),
         "; the spring is neither needed nor used");

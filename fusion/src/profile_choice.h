@@ -12,6 +12,12 @@ namespace wearscar::fusion::internal {
 // NaN without the k split.
 double ProfileSignificance(const ForceAnalysis& force);
 
+// The correlation of the depth channel's profile with the friction's over
+// the last cycles after running-in (the signs as read); NaN when either
+// cannot be built.
+double DepthAgreement(const force::ForceRecord& record,
+                      const ForceAnalysis& force);
+
 // auto's choice on a result analysed with P/S (its scan aligned with it).
 ProfileSource ChooseProfile(const TestResult& r, const FuseOptions& o);
 

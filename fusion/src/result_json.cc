@@ -351,9 +351,12 @@ nlohmann::json ResultJson(const std::string& name,
   if (r.lugre) j["lugre"] = LugreJson(r);
   j["headline"] = Headline(r);
   j["profile"] = {{"source", ProfileSourceName(r.profile_source)},
-                  {"why", r.profile_reason}};
+                  {"why", r.profile_reason},
+                  {"p_slope_significance", r.p_slope_significance},
+                  {"depth_against_friction", r.depth_agreement}};
   j["verdict"] = {{"explained", r.verdict.explained},
                   {"summary", r.verdict.Summary()},
+                  {"judged", r.verdict.not_judged.empty()},
                   {"reasons", r.verdict.reasons}};
   std::vector<std::string> warnings = record.metadata.warnings;
   warnings.insert(warnings.end(), r.warnings.begin(), r.warnings.end());

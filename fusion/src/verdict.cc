@@ -42,6 +42,7 @@ bool DataWarningOptions::IsValid(std::string* why) const {
 
 std::string Verdict::Summary() const {
   if (explained) return "explained by wear-scar interaction";
+  if (!not_judged.empty()) return "not judged: " + not_judged;
   std::string s = "not explained by wear-scar interaction: ";
   for (size_t i = 0; i < reasons.size(); ++i) s += (i ? "; " : "") + reasons[i];
   return s;

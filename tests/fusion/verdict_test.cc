@@ -447,6 +447,25 @@ INSTANTIATE_TEST_SUITE_P(Twelve,
                                             ::testing::Values(1.0, 2.0)),
                          CaseAndNoise);
 
+// A depth channel that runs the other way (a height logged under a
+// "depth" name) is found by its profile against the friction's, turned
+// over and said; the result is the right one's.
+TEST(DeadWeightWithDepth, ADepthRunningTheOtherWayIsTurnedOver) {
+  sim::SimulatedTest t = sim::Simulate(DeadWeightCase("B-RT-R", 1, true, 120));
+  const TestResult right = AnalyzeTest(t.record, t.scan, NoLugre());
+  EXPECT_GT(right.depth_agreement, 0.9);
+  t.record.depth_mm = -t.record.depth_mm;
+  const TestResult r = AnalyzeTest(t.record, t.scan, NoLugre());
+  EXPECT_EQ(r.profile_source, ProfileSource::kDepth);
+  EXPECT_LT(r.depth_agreement, -0.9);
+  EXPECT_NE(r.profile_reason.find("it runs the other way, so it was turned "
+                                  "over"),
+            std::string::npos)
+      << r.profile_reason;
+  EXPECT_TRUE(r.verdict.explained) << r.verdict.Summary();
+  EXPECT_NEAR(r.mismatch.mu_force.mean, right.mismatch.mu_force.mean, 1e-9);
+}
+
 // An elastic part (the ball sinks deeper where the wood is softer, without
 // tilting the contact) is in the depth channel and not in the scan: the
 // verdict flags it on the amplitude ratio, as it does P/S's on a spring
@@ -504,9 +523,15 @@ TEST(DeadWeightRig, TheSpringsProfileFailsAndTheFrictionsNeedsAScan) {
   } catch (const FusionError& e) {
     EXPECT_NE(std::string(e.what()).find("needs a scan"), std::string::npos);
   }
-  // Without a scan, auto keeps the spring and says what P shows.
+  // Without a scan, auto keeps the spring, says what P shows, and does not
+  // blame the physics for what a slope of noise misses: not judged.
   const TestResult alone = AnalyzeTest(t.record, std::nullopt, NoLugre());
   EXPECT_EQ(alone.profile_source, ProfileSource::kSpring);
+  EXPECT_FALSE(alone.verdict.explained);
+  EXPECT_EQ(alone.verdict.Summary().rfind("not judged: P does not vary", 0), 0u)
+      << alone.verdict.Summary();
+  EXPECT_EQ(Headline(alone).rfind("no mu to quote: not judged", 0), 0u)
+      << Headline(alone);
   bool said = false;
   for (const std::string& w : alone.warnings)
     said |=

@@ -203,11 +203,13 @@ std::string SummaryRow(const ReportSection& s) {
                            : get("verdict", "summary").is_string()
                                ? get("verdict", "summary").get<std::string>()
                                : "";
-  const std::string verdict = fmt::format("<span title=\"{}\">{}</span>",
-                                          Escape(full),
-                                          s.failed    ? "failed"
-                                          : s.flagged ? "not explained"
-                                                      : "explained");
+  const std::string verdict =
+      fmt::format("<span title=\"{}\">{}</span>",
+                  Escape(full),
+                  s.failed                           ? "failed"
+                  : full.rfind("not judged", 0) == 0 ? "not judged"
+                  : s.flagged                        ? "not explained"
+                                                     : "explained");
   h += fmt::format(
       "<tr class=\"{}\"><td class=\"name\"><a href=\"#{}\">{}</a></td><td "
       "class=\"text\">{}</td>"
@@ -418,8 +420,10 @@ void AppendSpecimenSection(const ReportSection& s, std::string* out) {
   if (s.row.contains("headline") && s.row["headline"].is_string())
     h += "<p class=\"headline\">" +
          Escape(s.row["headline"].get<std::string>()) + "</p>\n";
-  h +=
-      "<p>" + Escape(s.row["verdict"]["summary"].get<std::string>()) + "</p>\n";
+  // The verdict's sentence where it says more than the headline.
+  if (!s.row["verdict"].value("explained", false))
+    h += "<p>" + Escape(s.row["verdict"]["summary"].get<std::string>()) +
+         "</p>\n";
   if (s.row.contains("pairing") && s.row["pairing"].is_string())
     h += "<p class=\"note\">Files: " +
          Escape(s.row["pairing"].get<std::string>()) + "</p>\n";

@@ -44,7 +44,8 @@ ForceProfile ComputeForceProfile(const force::ForceRecord& record,
 // direction. Throws FusionError without one.
 ForceProfile ComputeDepthProfile(const force::ForceRecord& record,
                                  const force::CycleSet& cycles,
-                                 const ForceProfileOptions& options = {});
+                                 const ForceProfileOptions& options = {},
+                                 double depth_sign = 1.0);
 
 // The sliding path's height from the friction alone, for rigs whose P
 // does not follow the track (a dead weight): on the wear-scar model the

@@ -121,6 +121,10 @@ struct FrictionFitOptions {
   // penetration positive: k = -d depth/dx) instead of P/S; the ensemble
   // estimate only.
   bool k_from_depth = false;
+  // +1: the depth channel grows into the specimen (as the reader makes
+  // it); -1: it runs the other way (turned over where its profile runs
+  // against the friction's, DepthSign).
+  double depth_sign = 1.0;
   bool IsValid(std::string* why) const;
 };
 

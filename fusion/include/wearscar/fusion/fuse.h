@@ -141,6 +141,9 @@ struct TestResult {
   // P's repeatable slope in its standard errors, as auto read it (NaN when
   // P's k was not split).
   double p_slope_significance = std::numeric_limits<double>::quiet_NaN();
+  // The depth's profile against the friction's (correlation; NaN when not
+  // computed): below -0.5 the depth was read turned over.
+  double depth_agreement = std::numeric_limits<double>::quiet_NaN();
   std::optional<ScanAnalysis> scan;
   MismatchReport mismatch;
   Verdict verdict;

@@ -87,6 +87,10 @@ struct Verdict {
   // limit) while the force side alone passes: the scan may be another
   // test's, so it is not judged; the sentence says so (a warning).
   std::string scan_doubt;
+  // Set when the test cannot be judged: P carries no profile (a dead
+  // weight, or a track too flat to show) and nothing else gives k (no scan,
+  // no depth channel); says so and what would. `explained` is then false.
+  std::string not_judged;
   std::string Summary()
       const;  // "explained by wear-scar interaction" or "not explained: ..."
 };

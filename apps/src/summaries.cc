@@ -114,6 +114,9 @@ namespace {
 
 // "c_p_N_per_mm = 7.5 +- 0.2, ..."
 std::string ParameterText(const fusion::CandidateResult& c) {
+  if (c.parameters.size() > 4) {
+    return fmt::format("a shape of {} knots (below)", c.parameters.size());
+  }
   std::string s;
   for (size_t i = 0; i < c.parameters.size(); ++i) {
     s += fmt::format("{}{} = {:.4g} +- {:.2g}",
@@ -138,7 +141,18 @@ void PrintDiagnosis(const std::string& name,
       d.cycles.front() + 1,
       d.cycles.back() + 1,
       from_scan ? "scan" : "force side");
-  Say("where the wear-scar model misses: {}\n\n", d.before.where);
+  Say("where the wear-scar model misses: {}\n", d.before.where);
+  Say("  split by the direction of sliding at the same x: direction-odd "
+      "{:.3f} N rms (friction along the track is odd), direction-even "
+      "{:.3f} N rms (a lag, a pick-up, a tilt add the same sign both "
+      "ways); repeatable {:.3f} N ({:.0f} standard errors above its noise)\n",
+      d.before.odd_rms_n,
+      d.before.even_rms_n,
+      d.before.repeatable_rms_n,
+      d.before.repeatable_z);
+  for (const auto& l : d.lines)
+    Say("  a periodic line the drive does not make: {}\n", l.Describe());
+  Say("\n");
   Say("{:<5} {:<34} {:>10} {:>10} {:>7} {:>8} {:>9}  {}\n",
       "step",
       "best candidate",
@@ -162,7 +176,21 @@ void PrintDiagnosis(const std::string& name,
         ParameterText(c),
         c.accepted ? "NAMED" : "(rejected: stop)");
   }
+  for (const auto& step : d.steps) {
+    if (!step.note.empty()) Say("  ({})\n", step.note);
+  }
   Say("\n{}\n", d.BriefReport());
+  if (!d.along_track.empty()) {
+    const auto& a = d.along_track;
+    Say("friction along the track, mu_eff/mu - 1 at x (mm):");
+    for (Eigen::Index i = 0; i < a.a.size(); ++i)
+      Say("{} {:+.2f}:{:+.3f}", i % 6 == 0 ? "\n " : "", a.x_mm[i], a.a[i]);
+    Say("\n  it follows the groove's depth with r = {:.2f} and the depth's "
+        "short-wave texture with r = {:.2f} (friction following wear, the "
+        "wood's bands, or neither)\n",
+        a.correlation_depth,
+        a.correlation_texture);
+  }
   if (!d.named.empty()) Say("after: {}\n", d.after.where);
 }
 

@@ -10,6 +10,7 @@
 
 #include "diagnose_model.h"
 #include "minimize.h"
+#include "wearscar/force/periodic.h"
 #include "wearscar/fusion/error.h"
 #include "wearscar/fusion/forward_model.h"
 #include "wearscar/support/interpolate.h"
@@ -38,6 +39,17 @@ bool DiagnoseOptions::IsValid(std::string* why) const {
   if (decimation < 1) return fail("decimation must be >= 1");
   if (!(min_relative_gain > 0 && min_relative_gain < 1))
     return fail("min_relative_gain in (0,1)");
+  if (!(parsimony > 0 && parsimony <= 1)) return fail("parsimony in (0, 1]");
+  if (!(later_share >= 0 && later_share <= 1))
+    return fail("later_share in [0, 1]");
+  if (!(unexplained_z > 0)) return fail("unexplained_z must be > 0");
+  if (along_track_knots < 3 || along_track_knots > 200)
+    return fail("along_track_knots must be 3 to 200");
+  if (shape_penalties.empty()) return fail("shape_penalties is empty");
+  for (double w : shape_penalties) {
+    if (!(w >= 0) || !std::isfinite(w))
+      return fail("shape_penalties must be >= 0");
+  }
   if (!(min_improved_fraction > 0 && min_improved_fraction <= 1)) {
     return fail("min_improved_fraction in (0, 1]");
   }
@@ -216,26 +228,6 @@ PlateProfile ForceSideDepth(const Eigen::MatrixXd& p_prof,
   return {grid.centres, (top - f.array()).matrix()};
 }
 
-// A profile's shape over [lo, hi] normalised to mean 0 and sd 1 (zero
-// where it does not vary).
-PlateProfile Normalised(const PlateProfile& p, double lo, double hi) {
-  double sum = 0, sum2 = 0;
-  int n = 0;
-  for (Eigen::Index i = 0; i < p.k.size(); ++i) {
-    if (p.x_mm[i] < lo || p.x_mm[i] > hi || !std::isfinite(p.k[i])) continue;
-    sum += p.k[i];
-    sum2 += p.k[i] * p.k[i];
-    ++n;
-  }
-  PlateProfile out = p;
-  const double mean = n > 0 ? sum / n : 0;
-  const double sd =
-      n > 1 ? std::sqrt(std::max(0.0, sum2 / n - mean * mean)) : 0;
-  out.k = sd > 0 ? Eigen::VectorXd((p.k.array() - mean) / sd)
-                 : Eigen::VectorXd::Zero(p.k.size());
-  return out;
-}
-
 // The gross-slip samples of cycle c (every o.decimation-th) with their
 // slopes, depth, speed and distance to the stroke end.
 DiagCycle GatherCycle(const force::ForceRecord& record,
@@ -243,7 +235,6 @@ DiagCycle GatherCycle(const force::ForceRecord& record,
                       int c,
                       const CycleSlopes& slopes,
                       const PlateProfile& depth,
-                      const PlateProfile& softness,
                       int decimation) {
   double cmin = INFINITY, cmax = -INFINITY;
   for (Eigen::Index i = cy.forward.begin; i < cy.reverse.end; ++i) {
@@ -273,12 +264,10 @@ DiagCycle GatherCycle(const force::ForceRecord& record,
       s.k = kp[row].At(s.x);
       s.q_slope = kq[row].At(s.x);
       s.depth = depth.At(s.x);
-      s.softness = softness.At(s.x);
       s.to_end = h->direction > 0 ? cmax - s.x : s.x - cmin;
       if (!std::isfinite(s.x) || !std::isfinite(s.p) || !std::isfinite(s.q) ||
           !std::isfinite(s.k) || !std::isfinite(s.q_slope) ||
-          !std::isfinite(s.depth) || !std::isfinite(s.softness) ||
-          !std::isfinite(s.speed)) {
+          !std::isfinite(s.depth) || !std::isfinite(s.speed)) {
         continue;
       }
       (h->direction > 0 ? f2 : r2) += s.q * s.q;
@@ -304,8 +293,26 @@ CandidateResult TryEffect(const Data& data,
   *trial = model;
   trial->effects.push_back(e);
   trial->params.push_back(e->Initial());
+  trial->penalty.resize(trial->effects.size(), 0.0);
   std::vector<std::vector<double>> fold_params;
-  *heldout = HeldOut(data, *trial, o.folds, &fold_params);
+  if (e->PenaltyCount() == 0) {
+    *heldout = HeldOut(data, *trial, o.folds, &fold_params);
+  } else {
+    // The smoothness the held-out cycles prefer.
+    double best = INFINITY;
+    for (double w : o.shape_penalties) {
+      Model m = *trial;
+      m.penalty.back() = w;
+      std::vector<std::vector<double>> fp;
+      std::vector<double> h = HeldOut(data, m, o.folds, &fp);
+      if (Mean(h) < best) {
+        best = Mean(h);
+        *heldout = std::move(h);
+        fold_params = std::move(fp);
+        trial->penalty.back() = w;
+      }
+    }
+  }
   const std::vector<double>& h = *heldout;
   CandidateResult r;
   r.effect = e->Name();
@@ -321,8 +328,9 @@ CandidateResult TryEffect(const Data& data,
   std::iota(all.begin(), all.end(), 0);
   FitModel(data, all, trial);
   r.parameters = trial->params.back();
-  const size_t offset =
-      static_cast<size_t>(ParameterCount(*trial)) - r.parameters.size();
+  size_t offset = 0;
+  for (size_t i = 0; i + 1 < trial->params.size(); ++i)
+    offset += trial->params[i].size();
   r.uncertainties.assign(r.parameters.size(), 0.0);
   const double k = static_cast<double>(fold_params.size());
   for (size_t q = 0; q < r.parameters.size(); ++q) {
@@ -334,15 +342,24 @@ CandidateResult TryEffect(const Data& data,
     r.uncertainties[q] = std::sqrt((k - 1) / k * var);
   }
   r.delta_bic = CycleBic(data, *trial, ParameterCount(*trial)) - base_bic;
-  r.accepted = r.relative_gain >= o.min_relative_gain &&
-               r.improved_fraction >= o.min_improved_fraction &&
-               r.delta_bic < -o.bic_margin;
+  // A penalised shape is judged on held-out cycles alone, at twice the
+  // gain: the per-cycle information criterion (one observation per cycle)
+  // cannot weigh a smoother's effective parameters.
+  r.accepted = e->PenaltyCount() > 0
+                   ? r.relative_gain >= 2 * o.min_relative_gain &&
+                         r.improved_fraction >= o.min_improved_fraction
+                   : r.relative_gain >= o.min_relative_gain &&
+                         r.improved_fraction >= o.min_improved_fraction &&
+                         r.delta_bic < -o.bic_margin;
   return r;
 }
 
 // Greedy forward selection: each round tries every candidate not yet in
 // the model and keeps the best if it passes; stops at the first round whose
-// best fails, or at max_effects.
+// best fails, or at max_effects. Of candidates that explain nearly as much
+// (o.parsimony of the best one's held-out improvement), the one with the
+// fewest parameters is kept: in a sine drive the speed is a function of x,
+// and a free shape along the track can mimic a speed dependence.
 void SelectEffects(const Data& data,
                    const std::vector<const Effect*>& pool,
                    const DiagnoseOptions& o,
@@ -351,53 +368,245 @@ void SelectEffects(const Data& data,
                    std::vector<double>* base) {
   double base_bic = CycleBic(data, *model, 0);
   while (static_cast<int>(model->effects.size()) < o.max_effects) {
-    DiagnosisStep step;
-    Model best_model;
-    std::vector<double> best_heldout;
+    struct Tried {
+      CandidateResult result;
+      Model model;
+      std::vector<double> heldout;
+    };
+    std::vector<Tried> tried;
     for (const Effect* e : pool) {
       if (std::find(model->effects.begin(), model->effects.end(), e) !=
           model->effects.end())
         continue;
-      Model trial;
-      std::vector<double> h;
-      const CandidateResult r =
-          TryEffect(data, *model, *base, base_bic, e, o, &trial, &h);
-      if (step.tried.empty() ||
-          r.heldout_after < step.tried.front().heldout_after) {
-        step.tried.insert(step.tried.begin(), r);
-        best_model = trial;
-        best_heldout = h;
-      } else {
-        step.tried.push_back(r);
+      Tried t;
+      t.result =
+          TryEffect(data, *model, *base, base_bic, e, o, &t.model, &t.heldout);
+      tried.push_back(std::move(t));
+    }
+    if (tried.empty()) break;
+    std::stable_sort(
+        tried.begin(), tried.end(), [](const auto& a, const auto& b) {
+          return a.result.heldout_after < b.result.heldout_after;
+        });
+    const double before = Mean(*base);
+    const double best_gain = before - tried.front().result.heldout_after;
+    size_t pick = 0;
+    for (size_t i = 1; i < tried.size(); ++i) {
+      const CandidateResult& r = tried[i].result;
+      if (r.accepted && tried.front().result.accepted &&
+          r.parameters.size() < tried.front().result.parameters.size() &&
+          before - r.heldout_after >= o.parsimony * best_gain) {
+        pick = i;  // the best of those with fewer parameters
+        break;
       }
     }
-    if (step.tried.empty()) break;
-    std::sort(step.tried.begin() + 1,
-              step.tried.end(),
-              [](const auto& a, const auto& b) {
-                return a.heldout_after < b.heldout_after;
-              });
+    std::rotate(tried.begin(), tried.begin() + pick, tried.begin() + pick + 1);
+    DiagnosisStep step;
+    for (const Tried& t : tried) step.tried.push_back(t.result);
     step.chosen = step.tried.front();
+    if (pick > 0) {
+      step.note = fmt::format(
+          "{} explains {:.0f}% of what {} does with fewer parameters; "
+          "preferred",
+          step.chosen.effect,
+          100 * (before - step.chosen.heldout_after) / best_gain,
+          step.tried[1].effect);
+    }
+    // A further effect must also take a share of the initial gap: a first
+    // effect's small misfit (a sensor's first-order lag fitted as a pure
+    // delay also shrinks the profile's features) is no second effect.
+    if (!out->named.empty() && step.chosen.accepted &&
+        step.chosen.heldout_before - step.chosen.heldout_after <
+            o.later_share * o.min_relative_gain * out->heldout_initial) {
+      step.chosen.accepted = false;
+      step.tried.front().accepted = false;
+      step.note = fmt::format(
+          "{} lowers the held-out J by {:.1f}% of its initial value, less "
+          "than the {:.1f}% a further effect needs; not named",
+          step.chosen.effect,
+          100 * (step.chosen.heldout_before - step.chosen.heldout_after) /
+              out->heldout_initial,
+          100 * o.later_share * o.min_relative_gain);
+    }
     out->steps.push_back(step);
     if (!step.chosen.accepted) break;
-    *model = best_model;
-    *base = best_heldout;
+    *model = tried.front().model;
+    *base = tried.front().heldout;
     base_bic += step.chosen.delta_bic;
     out->named.push_back(step.chosen.effect);
     out->model.push_back(step.chosen);
   }
 }
 
-std::vector<const Effect*> CandidatePool(const DiagnoseOptions& o) {
+// The library's effects the options ask for; friction along the track
+// with the options' knots (owned by `along_track`).
+std::vector<const Effect*> CandidatePool(const DiagnoseOptions& o,
+                                         std::unique_ptr<Effect>* along_track) {
+  *along_track = AlongTrackFriction(o.along_track_knots);
   std::vector<const Effect*> pool;
   for (const auto& e : EffectLibrary()) {
-    if (o.candidates.empty() ||
-        std::find(o.candidates.begin(), o.candidates.end(), e->Name()) !=
-            o.candidates.end()) {
-      pool.push_back(e.get());
+    if (!o.candidates.empty() && std::find_if(o.candidates.begin(),
+                                              o.candidates.end(),
+                                              [&](const std::string& c) {
+                                                return c == e->Name() ||
+                                                       c == e->Key();
+                                              }) == o.candidates.end()) {
+      continue;
     }
+    pool.push_back(e->Key() == (*along_track)->Key() ? along_track->get()
+                                                     : e.get());
   }
   return pool;
+}
+
+// The recovered a(x) at its knots and its correlations with the groove's
+// depth and with the depth's short-wave part (the depth less its 1 mm
+// running mean).
+AlongTrackFrictionShape RecoveredShape(const std::vector<double>& knots,
+                                       double penalty,
+                                       double x_lo,
+                                       double x_hi,
+                                       const ProfileGrid& grid,
+                                       const PlateProfile& depth) {
+  AlongTrackFrictionShape shape;
+  const Eigen::Index n = static_cast<Eigen::Index>(knots.size());
+  shape.x_mm = Eigen::VectorXd::LinSpaced(n, x_lo, x_hi);
+  shape.a = Eigen::Map<const Eigen::VectorXd>(knots.data(), n);
+  shape.penalty = penalty;
+  Eigen::VectorXd d(grid.bins), texture(grid.bins);
+  for (Eigen::Index b = 0; b < grid.bins; ++b) d[b] = depth.At(grid.centres[b]);
+  const Eigen::Index half =
+      std::max<Eigen::Index>(1, static_cast<Eigen::Index>(0.5 / grid.bin));
+  for (Eigen::Index b = 0; b < grid.bins; ++b) {
+    double sum = 0;
+    int count = 0;
+    for (Eigen::Index j = std::max<Eigen::Index>(0, b - half);
+         j <= std::min(grid.bins - 1, b + half);
+         ++j) {
+      if (std::isfinite(d[j])) sum += d[j], ++count;
+    }
+    texture[b] = count > 0 ? d[b] - sum / count : std::nan("");
+  }
+  shape.correlation_depth = ShapeCorrelation(shape, grid.centres, d);
+  shape.correlation_texture = ShapeCorrelation(shape, grid.centres, texture);
+  return shape;
+}
+
+}  // namespace
+
+double ShapeCorrelation(const AlongTrackFrictionShape& shape,
+                        const Eigen::VectorXd& x_mm,
+                        const Eigen::VectorXd& v) {
+  if (shape.empty() || x_mm.size() != v.size()) return std::nan("");
+  const PlateProfile a{shape.x_mm, shape.a};
+  double sa = 0, sv = 0, saa = 0, svv = 0, sav = 0;
+  int n = 0;
+  for (Eigen::Index i = 0; i < x_mm.size(); ++i) {
+    if (x_mm[i] < shape.x_mm[0] ||
+        x_mm[i] > shape.x_mm[shape.x_mm.size() - 1] || !std::isfinite(v[i])) {
+      continue;
+    }
+    const double ai = a.At(x_mm[i]);
+    sa += ai, sv += v[i], saa += ai * ai, svv += v[i] * v[i], sav += ai * v[i];
+    ++n;
+  }
+  if (n < 3) return std::nan("");
+  const double cov = sav - sa * sv / n, va = saa - sa * sa / n,
+               vv = svv - sv * sv / n;
+  return va > 0 && vv > 0 ? cov / std::sqrt(va * vv) : std::nan("");
+}
+
+namespace {
+
+// The diagnosis's data from a record: the cycles' samples with their
+// slopes and depth, and where the samples slide.
+struct Prepared {
+  Data data;
+  ProfileGrid grid;
+  PlateProfile depth;
+  double slip_lo = INFINITY, slip_hi = -INFINITY;
+};
+
+void Prepare(const force::ForceRecord& record,
+             const force::CycleSet& cycles,
+             const FrictionFitOptions& friction,
+             const PlateProfile* depth,
+             const std::vector<int>& chosen,
+             const DiagnoseOptions& o,
+             Prepared* p) {
+  p->grid = MakeProfileGrid(record, cycles, chosen, o.profile_step_mm);
+  const CycleSlopes slopes(record, cycles, p->grid, friction, o);
+  p->depth = depth ? *depth
+                   : ForceSideDepth(slopes.Bin(chosen, record.normal_n),
+                                    p->grid,
+                                    slopes.spring());
+  Data& data = p->data;
+  data.record = &record;
+  data.options = &o;
+  data.dt = record.size() > 1
+                ? (record.time_s[record.size() - 1] - record.time_s[0]) /
+                      (record.size() - 1)
+                : 1e-3;
+  for (int c : chosen) {
+    DiagCycle dc = GatherCycle(
+        record, cycles.cycles[c], c, slopes, p->depth, o.decimation);
+    if (static_cast<int>(dc.samples.size()) >= o.min_samples_per_cycle)
+      data.cycles.push_back(std::move(dc));
+  }
+  if (static_cast<int>(data.cycles.size()) < 2 * o.folds) {
+    throw FusionError("too few usable cycles for the diagnosis");
+  }
+  // A shape along the track spans where the samples slide.
+  for (const DiagCycle& dc : data.cycles) {
+    for (const Sample& s : dc.samples) {
+      p->slip_lo = std::min(p->slip_lo, s.x);
+      p->slip_hi = std::max(p->slip_hi, s.x);
+    }
+  }
+  for (DiagCycle& dc : data.cycles) {
+    for (Sample& s : dc.samples)
+      s.u = (s.x - p->slip_lo) / std::max(1e-9, p->slip_hi - p->slip_lo);
+  }
+}
+
+// The drive's cycle rate over the record's complete cycles (0 if none).
+double DriveRate(const force::ForceRecord& record,
+                 const force::CycleSet& cycles) {
+  const auto& c = cycles.cycles;
+  if (c.size() < 2) return 0.0;
+  const double span = record.time_s[c.back().reverse.end - 1] -
+                      record.time_s[c.front().forward.begin];
+  return span > 0 ? static_cast<double>(c.size()) / span : 0.0;
+}
+
+// "Periodic interference": the strongest line that the drive does not make
+// notched out of Q and P, the diagnosis's data prepared again from the
+// notched record, and the plain model's held-out J compared. Named (and
+// the rest of the diagnosis run on the notched record) when it passes the
+// acceptance rules without the information criterion (a line's removal
+// fits nothing per cycle).
+CandidateResult TryNotch(const force::PeriodicLine& line,
+                         const std::vector<double>& base,
+                         const DiagnoseOptions& o,
+                         const Data& notched_data,
+                         std::vector<double>* heldout) {
+  *heldout = HeldOut(notched_data, Model{}, o.folds, nullptr);
+  CandidateResult r;
+  r.effect = "periodic interference";
+  r.parameter_names = {"frequency_Hz", "Q_amplitude_N", "P_amplitude_N"};
+  r.parameters = {line.frequency_hz, line.q_amplitude_n, line.p_amplitude_n};
+  r.uncertainties.assign(3, 0.0);
+  r.heldout_before = Mean(base);
+  r.heldout_after = Mean(*heldout);
+  r.relative_gain = (r.heldout_before - r.heldout_after) / r.heldout_before;
+  int better = 0;
+  for (size_t i = 0; i < heldout->size() && i < base.size(); ++i)
+    better += (*heldout)[i] < base[i];
+  r.improved_fraction =
+      static_cast<double>(better) / static_cast<double>(heldout->size());
+  r.accepted = r.relative_gain >= o.min_relative_gain &&
+               r.improved_fraction >= o.min_improved_fraction;
+  return r;
 }
 
 }  // namespace
@@ -421,55 +630,118 @@ Diagnosis Diagnose(const force::ForceRecord& record,
                     n));
   }
   out.cycles = ChooseCycles(n, first, o.max_cycles);
-  const ProfileGrid grid =
-      MakeProfileGrid(record, cycles, out.cycles, o.profile_step_mm);
-  const CycleSlopes slopes(record, cycles, grid, friction, o);
-  PlateProfile force_depth;
-  if (depth == nullptr) {
-    force_depth = ForceSideDepth(
-        slopes.Bin(out.cycles, record.normal_n), grid, slopes.spring());
-    depth = &force_depth;
-  }
-  Data data;
-  data.record = &record;
-  data.options = &o;
-  data.dt = record.size() > 1
-                ? (record.time_s[record.size() - 1] - record.time_s[0]) /
-                      (record.size() - 1)
-                : 1e-3;
-  const PlateProfile softness = Normalised(*depth, grid.x_lo, grid.x_hi);
-  for (int c : out.cycles) {
-    DiagCycle dc = GatherCycle(
-        record, cycles.cycles[c], c, slopes, *depth, softness, o.decimation);
-    if (static_cast<int>(dc.samples.size()) >= o.min_samples_per_cycle)
-      data.cycles.push_back(std::move(dc));
-  }
-  if (static_cast<int>(data.cycles.size()) < 2 * o.folds) {
-    throw FusionError("too few usable cycles for the diagnosis");
-  }
-  Model model;
-  std::vector<double> base = HeldOut(data, model, o.folds, nullptr);
+  auto prepared = std::make_unique<Prepared>();
+  Prepare(record, cycles, friction, depth, out.cycles, o, prepared.get());
+  std::vector<double> base = HeldOut(prepared->data, Model{}, o.folds, nullptr);
   out.heldout_initial = Mean(base);
-  out.before = Map(data, model, o, grid.x_lo, grid.x_hi);
-  SelectEffects(data, CandidatePool(o), o, &out, &model, &base);
-  // Report the final parameters of every named effect from the last fit.
-  for (size_t e = 0; e < out.model.size(); ++e)
-    out.model[e].parameters = model.params[e];
+  out.before =
+      Map(prepared->data, Model{}, o, prepared->grid.x_lo, prepared->grid.x_hi);
+  // A periodic line the drive does not make, tried first: it corrupts P's
+  // slope, and every effect fitted on top of it would be wrong.
+  force::ForceRecord notched;
+  if (o.periodic_lines) {
+    const std::vector<force::PeriodicLine> lines =
+        force::FindPeriodicLines(record, DriveRate(record, cycles));
+    out.lines = lines;
+    if (!lines.empty()) {
+      notched = record;
+      force::NotchLine(&notched, lines.front().frequency_hz);
+      auto again = std::make_unique<Prepared>();
+      Prepare(notched, cycles, friction, depth, out.cycles, o, again.get());
+      std::vector<double> h;
+      DiagnosisStep step;
+      step.chosen = TryNotch(lines.front(), base, o, again->data, &h);
+      step.tried.push_back(step.chosen);
+      out.steps.push_back(step);
+      if (step.chosen.accepted) {
+        out.named.push_back(step.chosen.effect);
+        out.model.push_back(step.chosen);
+        out.notched_hz = lines.front().frequency_hz;
+        prepared = std::move(again);
+        base = std::move(h);
+      }
+    }
+  }
+  Data& data = prepared->data;
+  const ProfileGrid& grid = prepared->grid;
+  const double slip_lo = prepared->slip_lo, slip_hi = prepared->slip_hi;
+  depth = &prepared->depth;
+  Model model;
+  std::unique_ptr<Effect> along_track;
+  SelectEffects(data, CandidatePool(o, &along_track), o, &out, &model, &base);
+  // Report the final parameters of every named effect from the last fit
+  // (after the notch, when one was named).
+  const size_t offset = out.model.size() - model.params.size();
+  for (size_t e = 0; e < model.params.size(); ++e)
+    out.model[offset + e].parameters = model.params[e];
   out.heldout_final = Mean(base);
   out.after = Map(data, model, o, grid.x_lo, grid.x_hi);
   out.solves = data.solves;
   out.solves_not_converged = data.not_converged;
-  out.message =
-      out.named.empty()
-          ? fmt::format(
-                "no effect named: the wear-scar model leaves nothing a "
-                "candidate explains (held-out J {:.4f})",
-                out.heldout_initial)
-          : fmt::format("named {}; held-out J {:.4f} -> {:.4f} ({:.0f}% lower)",
-                        fmt::join(out.named, ", "),
-                        out.heldout_initial,
-                        out.heldout_final,
-                        100 * (1 - out.heldout_final / out.heldout_initial));
+  for (size_t e = 0; e < model.effects.size(); ++e) {
+    if (model.effects[e] == along_track.get()) {
+      out.along_track = RecoveredShape(
+          model.params[e], model.penalty[e], slip_lo, slip_hi, grid, *depth);
+    }
+  }
+  // After named effects, what is left counts when it is a fair part of
+  // what repeated before (a quarter of its rms).
+  out.unexplained =
+      out.after.repeatable_z > o.unexplained_z &&
+      (out.named.empty() ||
+       out.after.repeatable_rms_n >= 0.25 * out.before.repeatable_rms_n);
+  // Names that leave most of what repeated (over half its power) explain
+  // too little of it to be trusted: withdrawn, "none of these" said.
+  std::string withdrawn;
+  if (out.unexplained && !out.named.empty() &&
+      out.after.repeatable_rms_n * out.after.repeatable_rms_n >
+          0.5 * out.before.repeatable_rms_n * out.before.repeatable_rms_n) {
+    withdrawn = fmt::format(
+        " ({} lowered the held-out J by {:.0f}% but left {:.0f}% of the "
+        "repeating residual's power: not named)",
+        fmt::join(out.named, ", "),
+        100 * (1 - out.heldout_final / out.heldout_initial),
+        100 * std::pow(out.after.repeatable_rms_n / out.before.repeatable_rms_n,
+                       2));
+    out.named.clear();
+    out.model.clear();
+    out.along_track = {};
+  }
+  const std::string left = fmt::format(
+      "a repeatable residual that no effect in the library "
+      "explains ({:.3f} N rms, {:.0f} standard errors above its "
+      "noise; direction-odd {:.3f} N, even {:.3f} N)",
+      out.after.repeatable_rms_n,
+      out.after.repeatable_z,
+      out.after.odd_rms_n,
+      out.after.even_rms_n);
+  if (out.named.empty()) {
+    out.message =
+        out.unexplained
+            ? fmt::format(
+                  "none of these: {}; held-out J {:.4f}, nothing named{}",
+                  left,
+                  out.heldout_initial,
+                  withdrawn)
+            : fmt::format(
+                  "no effect named: the wear-scar model leaves nothing a "
+                  "candidate explains (held-out J {:.4f})",
+                  out.heldout_initial);
+  } else {
+    std::vector<std::string> named = out.named;
+    if (out.notched_hz > 0) {
+      named.front() += fmt::format(" at {:.2f} Hz (notched; --notch {:.2f})",
+                                   out.notched_hz,
+                                   out.notched_hz);
+    }
+    out.message =
+        fmt::format("named {}; held-out J {:.4f} -> {:.4f} ({:.0f}% lower)",
+                    fmt::join(named, ", "),
+                    out.heldout_initial,
+                    out.heldout_final,
+                    100 * (1 - out.heldout_final / out.heldout_initial));
+    if (out.unexplained) out.message += "; left: " + left;
+  }
   return out;
 }
 
@@ -482,6 +754,14 @@ Diagnosis DiagnoseTest(const force::ForceRecord& record,
     const auto& fp = r.scan->force_profile;
     depth.x_mm = fp.x_mm;
     depth.k = -ScanHeightAtPlate(r.scan->profile, r.scan->alignment, fp.x_mm);
+  }
+  if (!fuse.notch_hz.empty()) {
+    // The lines the analysis removed, removed here too.
+    force::ForceRecord notched = record;
+    for (double f : fuse.notch_hz) force::NotchLine(&notched, f);
+    FuseOptions rest = fuse;
+    rest.notch_hz.clear();
+    return DiagnoseTest(notched, r, rest, options);
   }
   return Diagnose(record,
                   r.force.cycles,

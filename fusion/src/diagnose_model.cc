@@ -30,13 +30,14 @@ double Residual(const Data& d,
                 const Sample& s,
                 double mu,
                 const std::vector<const Effect*>& effects,
-                const std::vector<const double*>& params) {
+                const std::vector<const double*>& params,
+                ResidualTerms* terms) {
   EffectContext c;
   c.x_mm = s.x;
   c.s = s.s;
   c.speed_mm_s = s.speed;
   c.depth_mm = s.depth;
-  c.softness = s.softness;
+  c.stroke_fraction = s.u;
   c.to_end_mm = s.to_end;
   c.q_slope = s.q_slope;
   c.q_measured_n = s.q;
@@ -46,6 +47,13 @@ double Residual(const Data& d,
   for (size_t e = 0; e < effects.size(); ++e) effects[e]->Apply(params[e], &c);
   const double mu_eff = mu * c.mu_factor;
   const double denom = 1.0 - s.s * mu_eff * c.k;
+  if (terms) {
+    terms->context = c;
+    terms->mu_eff = mu_eff;
+    // dQ/dmu_eff of the wear-scar law: P s (1 + k^2) / (1 - s mu_eff k)^2.
+    terms->d_model_d_mu_eff =
+        denom > 0 ? c.p_n * s.s * (1 + c.k * c.k) / (denom * denom) : 0.0;
+  }
   const double model =
       denom > 0
           ? WearScarTangentialForce(c.p_n, c.k, mu_eff, s.s) + s.s * c.extra_n
@@ -109,6 +117,138 @@ struct CycleCost {
   std::vector<const Effect*> effects_;
 };
 
+// The same residuals with the derivatives in a shape's parameters
+// analytic (its many parameters each touch a few samples; numeric
+// differences would evaluate the cycle twice per parameter), central
+// differences for the others as Ceres takes them.
+class ShapeCycleCost : public ceres::CostFunction {
+ public:
+  ShapeCycleCost(const Data* d,
+                 const DiagCycle* c,
+                 std::vector<const Effect*> effects,
+                 std::vector<bool> analytic)
+      : d_(d),
+        c_(c),
+        effects_(std::move(effects)),
+        analytic_(std::move(analytic)) {
+    set_num_residuals(static_cast<int>(c->samples.size()));
+    mutable_parameter_block_sizes()->push_back(1);
+    for (const Effect* e : effects_) {
+      mutable_parameter_block_sizes()->push_back(
+          static_cast<int>(e->ParameterNames().size()));
+    }
+  }
+
+  bool Evaluate(double const* const* params,
+                double* residuals,
+                double** jacobians) const override {
+    const size_t n = c_->samples.size();
+    std::vector<ResidualTerms> terms(jacobians ? n : 0);
+    Residuals(params, residuals, jacobians ? terms.data() : nullptr);
+    if (!jacobians) return true;
+    const std::vector<int>& sizes = parameter_block_sizes();
+    std::vector<double> plus(n), minus(n);
+    for (size_t b = 0; b < sizes.size(); ++b) {
+      if (jacobians[b] == nullptr) continue;
+      const int size = sizes[b];
+      double* jac = jacobians[b];
+      if (b > 0 && analytic_[b - 1]) {
+        std::vector<double> grad(size);
+        for (size_t i = 0; i < n; ++i) {
+          effects_[b - 1]->MuFactorGradient(
+              params[b], terms[i].context, grad.data());
+          const double scale = -terms[i].d_model_d_mu_eff * terms[i].mu_eff /
+                               Norm(c_->samples[i]);
+          for (int j = 0; j < size; ++j) jac[i * size + j] = scale * grad[j];
+        }
+        continue;
+      }
+      std::vector<double> x(params[b], params[b] + size);
+      std::vector<const double*> moved(params, params + sizes.size());
+      moved[b] = x.data();
+      for (int j = 0; j < size; ++j) {
+        const double x0 = x[j];
+        const double h = kRelativeStep * (x0 != 0 ? std::abs(x0) : 1.0);
+        x[j] = x0 + h;
+        Residuals(moved.data(), plus.data(), nullptr);
+        x[j] = x0 - h;
+        Residuals(moved.data(), minus.data(), nullptr);
+        x[j] = x0;
+        for (size_t i = 0; i < n; ++i)
+          jac[i * size + j] = (plus[i] - minus[i]) / (2 * h);
+      }
+    }
+    return true;
+  }
+
+ private:
+  static constexpr double kRelativeStep = 1e-6;  // Ceres' default
+  double Norm(const Sample& s) const {
+    return s.s > 0 ? c_->norm_forward : c_->norm_reverse;
+  }
+  void Residuals(double const* const* params,
+                 double* out,
+                 ResidualTerms* terms) const {
+    const std::vector<const double*> p(params + 1,
+                                       params + 1 + effects_.size());
+    for (size_t i = 0; i < c_->samples.size(); ++i) {
+      const Sample& s = c_->samples[i];
+      out[i] =
+          Residual(
+              *d_, s, params[0][0], effects_, p, terms ? &terms[i] : nullptr) /
+          Norm(s);
+    }
+  }
+  const Data* d_;
+  const DiagCycle* c_;
+  std::vector<const Effect*> effects_;
+  std::vector<bool> analytic_;
+};
+
+// Whether an effect differentiates itself (a shape on mu_factor).
+bool HasAnalyticGradient(const Effect* e) {
+  const std::vector<double> p = e->Initial();
+  std::vector<double> grad(p.size());
+  return e->MuFactorGradient(p.data(), EffectContext{}, grad.data());
+}
+
+// An effect's penalty residuals (a shape's mean and roughness).
+struct PenaltyCost {
+  bool operator()(double const* const* params, double* residuals) const {
+    effect->Penalty(params[0], weight, residuals);
+    return true;
+  }
+  const Effect* effect;
+  double weight;
+};
+
+// A penalised shape's effective degrees of freedom at the solution,
+// tr((Jd'Jd + Jp'Jp)^-1 Jd'Jd) with Jd the data's and Jp the penalty's
+// Jacobian in the shape's parameters (the cycles' mu held).
+double EffectiveDof(ceres::Problem* problem,
+                    const std::vector<ceres::ResidualBlockId>& data,
+                    ceres::ResidualBlockId penalty,
+                    std::vector<double>* shape) {
+  auto gram = [&](const std::vector<ceres::ResidualBlockId>& blocks) {
+    ceres::Problem::EvaluateOptions eo;
+    eo.parameter_blocks = {shape->data()};
+    eo.residual_blocks = blocks;
+    ceres::CRSMatrix j;
+    problem->Evaluate(eo, nullptr, nullptr, nullptr, &j);
+    const Eigen::Index n = static_cast<Eigen::Index>(shape->size());
+    Eigen::MatrixXd g = Eigen::MatrixXd::Zero(n, n);
+    for (int r = 0; r < j.num_rows; ++r) {
+      Eigen::VectorXd row = Eigen::VectorXd::Zero(n);
+      for (int k = j.rows[r]; k < j.rows[r + 1]; ++k)
+        row[j.cols[k]] = j.values[k];
+      g += row * row.transpose();
+    }
+    return g;
+  };
+  const Eigen::MatrixXd hd = gram(data), hp = gram({penalty});
+  return (hd + hp).ldlt().solve(hd).trace();
+}
+
 }  // namespace
 
 // Fits the effect parameters (shared) and one mu per cycle on `train`.
@@ -131,21 +271,45 @@ std::vector<double> FitModel(const Data& d,
     mu[i] = FitCycleMu(d, d.cycles[train[i]], plain, &j);
   }
   ceres::Problem problem;
+  std::vector<ceres::ResidualBlockId> data_blocks, penalty_blocks;
+  std::vector<bool> analytic;
+  for (const Effect* e : m->effects) analytic.push_back(HasAnalyticGradient(e));
+  const bool any_analytic =
+      std::find(analytic.begin(), analytic.end(), true) != analytic.end();
   for (size_t i = 0; i < train.size(); ++i) {
     const DiagCycle& c = d.cycles[train[i]];
-    auto* cost =
-        new ceres::DynamicNumericDiffCostFunction<CycleCost, ceres::CENTRAL>(
-            new CycleCost(&d, &c, m->effects));
-    cost->AddParameterBlock(1);
     std::vector<double*> blocks = {&mu[i]};
-    for (auto& p : m->params) {
-      cost->AddParameterBlock(static_cast<int>(p.size()));
-      blocks.push_back(p.data());
+    for (auto& p : m->params) blocks.push_back(p.data());
+    ceres::CostFunction* cost = nullptr;
+    if (any_analytic) {
+      cost = new ShapeCycleCost(&d, &c, m->effects, analytic);
+    } else {
+      auto* numeric =
+          new ceres::DynamicNumericDiffCostFunction<CycleCost, ceres::CENTRAL>(
+              new CycleCost(&d, &c, m->effects));
+      numeric->AddParameterBlock(1);
+      for (auto& p : m->params)
+        numeric->AddParameterBlock(static_cast<int>(p.size()));
+      numeric->SetNumResiduals(static_cast<int>(c.samples.size()));
+      cost = numeric;
     }
-    cost->SetNumResiduals(static_cast<int>(c.samples.size()));
-    problem.AddResidualBlock(cost, nullptr, blocks);
+    data_blocks.push_back(problem.AddResidualBlock(cost, nullptr, blocks));
     problem.SetParameterLowerBound(&mu[i], 0, d.options->mu_fit.mu_min);
     problem.SetParameterUpperBound(&mu[i], 0, d.options->mu_fit.mu_max);
+  }
+  // Penalties hold shapes smooth, their weight per fitted cycle.
+  for (size_t e = 0; e < m->effects.size(); ++e) {
+    const Effect* effect = m->effects[e];
+    if (effect->PenaltyCount() == 0) continue;
+    const double weight =
+        (e < m->penalty.size() ? m->penalty[e] : 0.0) * train.size();
+    auto* cost =
+        new ceres::DynamicNumericDiffCostFunction<PenaltyCost, ceres::CENTRAL>(
+            new PenaltyCost{effect, weight});
+    cost->AddParameterBlock(static_cast<int>(m->params[e].size()));
+    cost->SetNumResiduals(effect->PenaltyCount());
+    penalty_blocks.push_back(
+        problem.AddResidualBlock(cost, nullptr, m->params[e].data()));
   }
   for (size_t e = 0; e < m->effects.size(); ++e) {
     const auto lo = m->effects[e]->Lower(), hi = m->effects[e]->Upper();
@@ -169,6 +333,13 @@ std::vector<double> FitModel(const Data& d,
   ceres::Solve(so, &problem, &summary);
   ++d.solves;
   if (summary.termination_type != ceres::CONVERGENCE) ++d.not_converged;
+  m->dof.assign(m->effects.size(), 0.0);
+  size_t penalised = 0;
+  for (size_t e = 0; e < m->effects.size(); ++e) {
+    if (m->effects[e]->PenaltyCount() == 0) continue;
+    m->dof[e] = EffectiveDof(
+        &problem, data_blocks, penalty_blocks[penalised++], &m->params[e]);
+  }
   return mu;
 }
 
@@ -201,7 +372,7 @@ std::vector<double> HeldOut(const Data& d,
 
 // Per-cycle BIC of a model fitted on all diagnosis cycles: each cycle counts
 // as one observation (samples within a cycle are strongly correlated).
-double CycleBic(const Data& d, const Model& m, int parameters) {
+double CycleBic(const Data& d, const Model& m, double parameters) {
   std::vector<int> all(d.cycles.size());
   std::iota(all.begin(), all.end(), 0);
   double sum = 0;
@@ -214,9 +385,13 @@ double CycleBic(const Data& d, const Model& m, int parameters) {
   return n * std::log(sum / n) + parameters * std::log(n);
 }
 
-int ParameterCount(const Model& m) {
-  int p = 0;
-  for (const auto& v : m.params) p += static_cast<int>(v.size());
+double ParameterCount(const Model& m) {
+  double p = 0;
+  for (size_t e = 0; e < m.params.size(); ++e) {
+    p += e < m.dof.size() && m.dof[e] > 0
+             ? m.dof[e]
+             : static_cast<double>(m.params[e].size());
+  }
   return p;
 }
 
@@ -282,6 +457,53 @@ void AddSample(const Sample& s,
   }
 }
 
+// How far the residual repeats: the maps of the two halves of the
+// diagnosis cycles, m1 and m2 per bin, agree in what repeats and differ in
+// noise. The halves do not share the cycles their slopes were averaged
+// over, so the slope's noise (common to neighbouring cycles) does not pass
+// for a repeatable residual. Repeatable power: mean(m1 m2); its noise:
+// mean((m1 - m2)^2) / 4 per bin of the mean map.
+void Repeatability(const Eigen::MatrixXd& half1,
+                   const Eigen::MatrixXd& half2,
+                   ResidualMap* map) {
+  double common = 0, diff = 0;
+  int bins = 0;
+  for (Eigen::Index i = 0; i < half1.size(); ++i) {
+    const double a = half1.data()[i], b = half2.data()[i];
+    if (!std::isfinite(a) || !std::isfinite(b)) continue;
+    common += a * b;
+    diff += 0.25 * (a - b) * (a - b);
+    ++bins;
+  }
+  if (bins == 0 || !(diff > 0)) return;
+  common /= bins;
+  diff /= bins;
+  // A pure-noise map: mean(m1 m2) = 0 with sd 2 diff / sqrt(bins).
+  map->repeatable_z = common / (2 * diff / std::sqrt(bins));
+  map->repeatable_rms_n = std::sqrt(std::max(0.0, common));
+}
+
+// The signed map's direction-odd and direction-even parts.
+void OddEven(ResidualMap* map) {
+  const Eigen::Index nb = map->mean_n.cols();
+  map->odd_n.resize(nb);
+  map->even_n.resize(nb);
+  double odd2 = 0, even2 = 0;
+  int n = 0;
+  for (Eigen::Index b = 0; b < nb; ++b) {
+    const double f = map->mean_n(0, b), r = map->mean_n(1, b);
+    const bool both = map->mean_abs_n(0, b) > 0 && map->mean_abs_n(1, b) > 0;
+    map->odd_n[b] = both ? 0.5 * (f - r) : std::nan("");
+    map->even_n[b] = both ? 0.5 * (f + r) : std::nan("");
+    if (!both) continue;
+    odd2 += map->odd_n[b] * map->odd_n[b];
+    even2 += map->even_n[b] * map->even_n[b];
+    ++n;
+  }
+  map->odd_rms_n = n > 0 ? std::sqrt(odd2 / n) : 0.0;
+  map->even_rms_n = n > 0 ? std::sqrt(even2 / n) : 0.0;
+}
+
 // The map in words.
 std::string Where(const ResidualMap& map, const MapSums& m) {
   Eigen::Index row, col;
@@ -330,14 +552,41 @@ ResidualMap Map(const Data& d,
   MapSums sums(nb, nr, nk);
   std::vector<const double*> p;
   for (const auto& v : m.params) p.push_back(v.data());
+  // Per bin and half of the cycles: the sum of the cycles' mean residuals
+  // and the count of cycles.
+  Eigen::MatrixXd half_sum[2] = {Eigen::MatrixXd::Zero(2, nb),
+                                 Eigen::MatrixXd::Zero(2, nb)};
+  Eigen::MatrixXd half_n[2] = {half_sum[0], half_sum[0]};
   for (size_t ci = 0; ci < d.cycles.size(); ++ci) {
     const DiagCycle& c = d.cycles[ci];
     double j;
     const double mu = FitCycleMu(d, c, m, &j);
     const int block = static_cast<int>(ci * nk / d.cycles.size());
-    for (const Sample& s : c.samples)
-      AddSample(s, Residual(d, s, mu, m.effects, p), block, x_lo, x_hi, &sums);
+    MapSums one(nb, 2, 1);
+    for (const Sample& s : c.samples) {
+      const double r = Residual(d, s, mu, m.effects, p);
+      AddSample(s, r, block, x_lo, x_hi, &sums);
+      AddSample(s, r, 0, x_lo, x_hi, &one);
+    }
+    const int h = 2 * ci < d.cycles.size() ? 0 : 1;
+    for (int row = 0; row < 2; ++row) {
+      for (int b = 0; b < nb; ++b) {
+        if (one.cnt(row, b) == 0) continue;
+        half_sum[h](row, b) += one.ss(row, b) / one.cnt(row, b);
+        half_n[h](row, b) += 1;
+      }
+    }
   }
+  const auto mean_of = [](const Eigen::MatrixXd& sum,
+                          const Eigen::MatrixXd& n) {
+    Eigen::MatrixXd mean = sum.cwiseQuotient(n);
+    for (Eigen::Index i = 0; i < mean.size(); ++i) {
+      if (n.data()[i] == 0) mean.data()[i] = std::nan("");
+    }
+    return mean;
+  };
+  Repeatability(
+      mean_of(half_sum[0], half_n[0]), mean_of(half_sum[1], half_n[1]), &map);
   map.mean_abs_n = sums.sa.cwiseQuotient(sums.cnt.cwiseMax(1.0));
   map.mean_n = sums.ss.cwiseQuotient(sums.cnt.cwiseMax(1.0));
   map.reversal_mean_abs_n = sums.ra.cwiseQuotient(sums.rc.cwiseMax(1.0));
@@ -346,6 +595,7 @@ ResidualMap Map(const Data& d,
     map.block_first_cycle.push_back(d.cycles[k * d.cycles.size() / nk].cycle);
   }
   map.mean_abs_n_all = sums.all_n > 0 ? sums.all / sums.all_n : 0.0;
+  OddEven(&map);
   map.where = Where(map, sums);
   return map;
 }

@@ -18,7 +18,8 @@ namespace wearscar::fusion::internal {
 struct Sample {
   Eigen::Index index;  // into the record
   int s;
-  double x, t, speed, p, q, k, q_slope, depth, softness, to_end;
+  double x, t, speed, p, q, k, q_slope, depth, to_end;
+  double u;  // x along the stroke, 0 to 1
 };
 
 struct DiagCycle {
@@ -41,14 +42,27 @@ struct Data {
 struct Model {
   std::vector<const Effect*> effects;
   std::vector<std::vector<double>> params;
+  // Per effect: the weight of its penalty residuals (per fitted cycle),
+  // and for a penalised shape its effective degrees of freedom in the last
+  // fit (what the information criterion counts).
+  std::vector<double> penalty;
+  std::vector<double> dof;
 };
 
-// Residual Q_measured - Q_model of one sample.
+// What a residual was made of: the context after the effects, mu_eff and
+// the model's derivative in it (for analytic derivatives in shapes).
+struct ResidualTerms {
+  EffectContext context;
+  double mu_eff = 0, d_model_d_mu_eff = 0;
+};
+
+// Residual Q_measured - Q_model of one sample (its terms in *terms).
 double Residual(const Data& d,
                 const Sample& s,
                 double mu,
                 const std::vector<const Effect*>& effects,
-                const std::vector<const double*>& params);
+                const std::vector<const double*>& params,
+                ResidualTerms* terms = nullptr);
 
 // mu of one cycle with the effects held fixed; its J in *j.
 double FitCycleMu(const Data& d, const DiagCycle& c, const Model& m, double* j);
@@ -67,8 +81,10 @@ std::vector<double> HeldOut(const Data& d,
                             std::vector<std::vector<double>>* fold_params);
 
 // Per-cycle BIC of a model fitted on all diagnosis cycles.
-double CycleBic(const Data& d, const Model& m, int parameters);
-int ParameterCount(const Model& m);
+double CycleBic(const Data& d, const Model& m, double parameters);
+// The parameters the information criterion counts: a penalised shape's
+// effective degrees of freedom, every other parameter as one.
+double ParameterCount(const Model& m);
 double Mean(const std::vector<double>& v);
 
 // The residual along the stroke per direction, by distance from the last

@@ -1,5 +1,8 @@
 #include "wearscar/fusion/effects.h"
 
+#include <fmt/format.h>
+
+#include <algorithm>
 #include <cmath>
 
 #include "wearscar/fusion/forward_model.h"
@@ -125,7 +128,10 @@ class Hook : public Effect {
     return {"H_N", "lambda_mm"};
   }
   std::vector<double> Initial() const override { return {0.2, 0.3}; }
-  std::vector<double> Lower() const override { return {-20.0, 0.02}; }
+  // A resistance (H >= 0): a negative hook would be a pull towards the
+  // stroke's end, no pile-up's, and with a speed dependence it mimics a
+  // peak after the reversal (adhesion grown at the dwell).
+  std::vector<double> Lower() const override { return {0.0, 0.02}; }
   std::vector<double> Upper() const override { return {20.0, 3.0}; }
   void Apply(const double* p, EffectContext* c) const override {
     c->extra_n += p[0] * std::exp(-c->to_end_mm / p[1]);
@@ -151,23 +157,74 @@ class ElasticCompliance : public Effect {
   }
 };
 
-// Friction that varies along the track with the wood: mu_eff = mu (1 + a
-// g(x)), g the groove depth's shape normalised to mean 0 and sd 1 (a proxy
-// of the local softness: earlywood wears deeper than latewood).
-class MuVariation : public Effect {
+// Friction that varies along the track in any smooth pattern (the wood's
+// hardness bands, a trend, a soft spot): mu_eff = mu (1 + a(x)), a(x)
+// linear between equally spaced knots over the stroke.
+class AlongTrack : public Effect {
  public:
+  explicit AlongTrack(int knots) : knots_(std::max(3, knots)) {}
   std::string Name() const override {
     return "friction varying along the track";
   }
-  std::string Key() const override { return "mu_variation"; }
-  std::string Formula() const override { return "mu_eff = mu (1 + a g(x))"; }
-  std::vector<std::string> ParameterNames() const override { return {"a"}; }
-  std::vector<double> Initial() const override { return {0.02}; }
-  std::vector<double> Lower() const override { return {-0.3}; }
-  std::vector<double> Upper() const override { return {0.3}; }
-  void Apply(const double* p, EffectContext* c) const override {
-    c->mu_factor *= 1.0 + p[0] * c->softness;
+  std::string Key() const override { return "mu_along_track"; }
+  std::string Formula() const override {
+    return fmt::format(
+        "mu_eff = mu (1 + a(x)), a(x) through {} knots, mean 0, smooth",
+        knots_);
   }
+  std::vector<std::string> ParameterNames() const override {
+    std::vector<std::string> names;
+    for (int i = 0; i < knots_; ++i) names.push_back(fmt::format("a_{}", i));
+    return names;
+  }
+  std::vector<double> Initial() const override {
+    return std::vector<double>(knots_, 0.0);
+  }
+  std::vector<double> Lower() const override {
+    return std::vector<double>(knots_, -0.5);
+  }
+  std::vector<double> Upper() const override {
+    return std::vector<double>(knots_, 0.5);
+  }
+  void Apply(const double* p, EffectContext* c) const override {
+    int i;
+    double w;
+    Locate(*c, &i, &w);
+    c->mu_factor *= 1.0 + (1 - w) * p[i] + w * p[i + 1];
+  }
+  bool MuFactorGradient(const double* p,
+                        const EffectContext& c,
+                        double* grad) const override {
+    int i;
+    double w;
+    Locate(c, &i, &w);
+    const double m = 1.0 + (1 - w) * p[i] + w * p[i + 1];
+    std::fill(grad, grad + knots_, 0.0);
+    grad[i] = (1 - w) / m;
+    grad[i + 1] = w / m;
+    return true;
+  }
+  // The knots' mean (held at 0: the level is each cycle's mu) and their
+  // second differences (the roughness).
+  int PenaltyCount() const override { return knots_ - 1; }
+  void Penalty(const double* p, double weight, double* r) const override {
+    double mean = 0;
+    for (int i = 0; i < knots_; ++i) mean += p[i] / knots_;
+    r[0] = kMeanWeight * mean;
+    const double w = std::sqrt(weight);
+    for (int i = 1; i + 1 < knots_; ++i)
+      r[i] = w * (p[i - 1] - 2 * p[i] + p[i + 1]);
+  }
+
+ private:
+  // The knot interval of x and the weight of its upper knot.
+  void Locate(const EffectContext& c, int* i, double* w) const {
+    const double u = std::clamp(c.stroke_fraction, 0.0, 1.0) * (knots_ - 1);
+    *i = std::min(knots_ - 2, static_cast<int>(u));
+    *w = u - *i;
+  }
+  static constexpr double kMeanWeight = 10.0;
+  int knots_;
 };
 
 }  // namespace
@@ -183,10 +240,14 @@ const std::vector<std::unique_ptr<Effect>>& EffectLibrary() {
     v.push_back(std::make_unique<Crosstalk>());
     v.push_back(std::make_unique<Hook>());
     v.push_back(std::make_unique<ElasticCompliance>());
-    v.push_back(std::make_unique<MuVariation>());
+    v.push_back(std::make_unique<AlongTrack>(12));
     return v;
   }();
   return library;
+}
+
+std::unique_ptr<Effect> AlongTrackFriction(int knots) {
+  return std::make_unique<AlongTrack>(knots);
 }
 
 const Effect* FindEffect(const std::string& name) {

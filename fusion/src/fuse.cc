@@ -53,6 +53,12 @@ double KRmsDifference(const force::ForceRecord& record,
 }  // namespace
 
 bool FuseOptions::IsValid(std::string* why) const {
+  for (double f : notch_hz) {
+    if (!(f > 0) || !std::isfinite(f)) {
+      if (why) *why = "notch frequencies must be > 0 Hz";
+      return false;
+    }
+  }
   if (cost_curve_points < 2 || cost_curve_points > 1000000) {
     if (why) *why = "cost_curve_points must be 2 to 10^6";
     return false;
@@ -463,6 +469,37 @@ ScanAnalysis PrepareScan(scan::HeightMap map, const FuseOptions& options) {
   return s;
 }
 
+namespace {
+
+// Periodic lines the drive does not make: a warning each, and a failed
+// verdict says its excess may come from them.
+void NoteLines(const force::ForceRecord& record, TestResult* result) {
+  const auto& c = result->force.cycles.cycles;
+  if (c.size() < 2) return;
+  const double span = record.time_s[c.back().reverse.end - 1] -
+                      record.time_s[c.front().forward.begin];
+  if (!(span > 0)) return;
+  result->periodic_lines =
+      force::FindPeriodicLines(record, static_cast<double>(c.size()) / span);
+  for (const force::PeriodicLine& l : result->periodic_lines) {
+    result->warnings.push_back(fmt::format(
+        "a periodic line at {} that the drive's motion does not make "
+        "(mains pick-up, a resonance): it corrupts P's slope and the "
+        "verdict; --notch {:.2f} removes it from Q and P",
+        l.Describe(),
+        l.frequency_hz));
+  }
+  if (!result->periodic_lines.empty() && !result->verdict.explained) {
+    result->verdict.reasons.push_back(fmt::format(
+        "the excess may come from the periodic line at {:.2f} Hz (see the "
+        "warnings; analyse again with --notch {:.2f})",
+        result->periodic_lines.front().frequency_hz,
+        result->periodic_lines.front().frequency_hz));
+  }
+}
+
+}  // namespace
+
 TestResult AnalyzeTest(const force::ForceRecord& record,
                        std::optional<scan::HeightMap> height_map,
                        const FuseOptions& options) {
@@ -509,6 +546,25 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
                        const FuseOptions& given) {
   WEARSCAR_CHECK(record.IsConsistent(),
                  "AnalyzeTest needs channels of one length");
+  if (!given.notch_hz.empty()) {
+    // The lines asked for removed, the record analysed, and it said.
+    force::ForceRecord notched = record;
+    std::vector<std::string> removed;
+    for (double f : given.notch_hz) {
+      const auto [q, p] = force::NotchLine(&notched, f);
+      removed.push_back(
+          fmt::format("{:.2f} Hz (Q {:.4f} N, P {:.4f} N)", f, q, p));
+    }
+    FuseOptions inner = given;
+    inner.notch_hz.clear();
+    TestResult r =
+        AnalyzeTest(notched, std::move(prepared_scan), scan_file, inner);
+    r.assumptions.push_back(fmt::format(
+        "notched (--notch): a sinusoid fitted in blocks of about 2 s removed "
+        "from Q and P at {}",
+        fmt::join(removed, ", ")));
+    return r;
+  }
   const FuseOptions options = WithStatedSpring(given, record);
   std::string why;
   if (!options.IsValid(&why)) throw FusionError("fuse options: " + why);
@@ -619,6 +675,7 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
                               o_used.profile_from == ProfileSource::kAuto,
                               spring_ratio);
   CompareAndJudge(record, o_used, &result);
+  if (o_used.find_periodic_lines) NoteLines(record, &result);
   ForceOnlyProducts p = force_only.get();
   result.friction_map = std::move(p.friction_map);
   result.lugre = std::move(p.lugre);

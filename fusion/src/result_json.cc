@@ -265,7 +265,13 @@ nlohmann::json MapJson(const ResidualMap& m) {
           {"forward_by_reversal_mean_abs_r_N", row(m.reversal_mean_abs_n, 0)},
           {"reverse_by_reversal_mean_abs_r_N", row(m.reversal_mean_abs_n, 1)},
           {"block_first_cycle", OneBased(m.block_first_cycle)},
-          {"block_mean_abs_r_N", vec(m.block_mean_abs_n)}};
+          {"block_mean_abs_r_N", vec(m.block_mean_abs_n)},
+          {"direction_odd_r_N", vec(m.odd_n)},
+          {"direction_even_r_N", vec(m.even_n)},
+          {"direction_odd_rms_N", m.odd_rms_n},
+          {"direction_even_rms_N", m.even_rms_n},
+          {"repeatable_rms_N", m.repeatable_rms_n},
+          {"repeatable_z", m.repeatable_z}};
 }
 
 nlohmann::json CandidateJson(const CandidateResult& c) {
@@ -385,9 +391,30 @@ nlohmann::json DiagnosisJson(const std::string& name, const Diagnosis& d) {
   j["steps"] = nlohmann::json::array();
   for (const auto& s : d.steps) {
     nlohmann::json step = {{"chosen", CandidateJson(s.chosen)},
+                           {"note", s.note},
                            {"tried", nlohmann::json::array()}};
     for (const auto& c : s.tried) step["tried"].push_back(CandidateJson(c));
     j["steps"].push_back(step);
+  }
+  j["unexplained"] = d.unexplained;
+  j["periodic_lines"] = nlohmann::json::array();
+  for (const auto& l : d.lines) {
+    j["periodic_lines"].push_back({{"frequency_Hz", l.frequency_hz},
+                                   {"Q_amplitude_N", l.q_amplitude_n},
+                                   {"P_amplitude_N", l.p_amplitude_n},
+                                   {"prominence", l.prominence},
+                                   {"drive_harmonic", l.drive_harmonic}});
+  }
+  j["notched_Hz"] = d.notched_hz > 0 ? nlohmann::json(d.notched_hz) : nullptr;
+  if (!d.along_track.empty()) {
+    const auto& a = d.along_track;
+    j["friction_along_track"] = {
+        {"x_mm",
+         std::vector<double>(a.x_mm.data(), a.x_mm.data() + a.x_mm.size())},
+        {"a", std::vector<double>(a.a.data(), a.a.data() + a.a.size())},
+        {"roughness_penalty", a.penalty},
+        {"r_with_groove_depth", a.correlation_depth},
+        {"r_with_depth_texture", a.correlation_texture}};
   }
   j["residual_map_before"] = MapJson(d.before);
   j["residual_map_after"] = MapJson(d.after);

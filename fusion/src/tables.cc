@@ -145,7 +145,9 @@ const std::vector<std::string>& TableColumns(std::string_view file) {
                                                      "forward_mean_abs_r_N",
                                                      "reverse_mean_abs_r_N",
                                                      "forward_mean_r_N",
-                                                     "reverse_mean_r_N"};
+                                                     "reverse_mean_r_N",
+                                                     "odd_r_N",
+                                                     "even_r_N"};
   static const std::vector<std::string> kSections = {"s_mm", "w_mm", "h_mm"};
   static const std::vector<std::string> kNone;
   for (const TableSchema& s : TestTableSchemas()) {
@@ -334,7 +336,9 @@ Table ResidualMapTable(const ResidualMap& m) {
                       m.mean_abs_n(0, i),
                       m.mean_abs_n(1, i),
                       m.mean_n(0, i),
-                      m.mean_n(1, i)});
+                      m.mean_n(1, i),
+                      i < m.odd_n.size() ? m.odd_n[i] : std::nan(""),
+                      i < m.even_n.size() ? m.even_n[i] : std::nan("")});
   }
   return t;
 }

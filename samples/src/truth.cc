@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include "wearscar/samples/virtual_tribometer.h"
 
@@ -27,7 +28,17 @@ constexpr EffectField kEffectFields[] = {
     {"hook", &HiddenEffects::hook_n, "N"},
     {"hook_length", &HiddenEffects::hook_length_mm, "mm"},
     {"viscous", &HiddenEffects::viscous_n_s_per_mm, "N s/mm"},
-    {"mu_variation", &HiddenEffects::mu_variation, "relative"},
+    {"mu_variation", &HiddenEffects::mu_variation, "sd of ln mu"},
+    {"mu_trend", &HiddenEffects::mu_trend, "sd of ln mu"},
+    {"mu_soft_spot", &HiddenEffects::mu_soft_spot, "sd of ln mu"},
+    {"pickup", &HiddenEffects::pickup_n, "N"},
+    {"pickup_hz", &HiddenEffects::pickup_hz, "Hz"},
+    {"dwell_adhesion", &HiddenEffects::dwell_adhesion, "relative"},
+    {"dwell_distance", &HiddenEffects::dwell_distance_mm, "mm"},
+    {"wobble", &HiddenEffects::wobble_rad, "rad"},
+    {"wobble_hz", &HiddenEffects::wobble_hz, "Hz"},
+    {"thermal_drift", &HiddenEffects::thermal_drift, "relative"},
+    {"thermal_time", &HiddenEffects::thermal_time_s, "s"},
 };
 
 }  // namespace
@@ -128,9 +139,21 @@ nlohmann::json TruthJson(const SimulationOptions& o, const SimulatedTest& t) {
                   {"hook_n", e.hook_n},
                   {"hook_length_mm", e.hook_length_mm},
                   {"viscous_n_s_per_mm", e.viscous_n_s_per_mm}};
-  if (e.mu_variation != 0) {
+  // The newer effects only when on (the committed samples' truth stays).
+  for (const auto& [key, value] :
+       {std::pair<const char*, double>{"mu_trend", e.mu_trend},
+        {"mu_soft_spot", e.mu_soft_spot},
+        {"pickup_n", e.pickup_n},
+        {"dwell_adhesion", e.dwell_adhesion},
+        {"wobble_rad", e.wobble_rad},
+        {"thermal_drift", e.thermal_drift}}) {
+    if (value != 0) j["effects"][key] = value;
+  }
+  if (e.pickup_n != 0) j["effects"]["pickup_hz"] = e.pickup_hz;
+  if (e.wobble_rad != 0) j["effects"]["wobble_hz"] = e.wobble_hz;
+  if (e.mu_variation != 0 || e.mu_trend != 0 || e.mu_soft_spot != 0) {
     // The along-track pattern of mu (every 0.05 mm of the stroke).
-    j["effects"]["mu_variation"] = e.mu_variation;
+    if (e.mu_variation != 0) j["effects"]["mu_variation"] = e.mu_variation;
     std::vector<double> x, factor;
     for (Eigen::Index i = 0; i < t.truth.profile_x_mm.size(); i += 5) {
       x.push_back(t.truth.profile_x_mm[i]);

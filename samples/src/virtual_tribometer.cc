@@ -9,6 +9,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "simulator_tools.h"
+#include "wearscar/samples/effect_laws.h"
 #include "wearscar/support/interpolate.h"
 #include "wearscar/support/numbers.h"
 #include "wearscar/support/robust_stats.h"
@@ -16,131 +18,12 @@
 namespace wearscar::samples {
 namespace {
 
+using internal::BlurInPlace;
+using internal::GaussianSmooth;
+using internal::Grid;
+using internal::Rng;
+using internal::Texture;
 using support::kPi;
-
-// Deterministic across platforms: mt19937_64's output is fixed by the
-// standard; the distributions are written here (std:: ones are not).
-class Rng {
- public:
-  explicit Rng(std::uint64_t seed) : engine_(seed) {}
-  double Uniform() {  // [0, 1)
-    return static_cast<double>(engine_() >> 11) * 0x1.0p-53;
-  }
-  double Normal() {  // Box-Muller
-    if (has_spare_) {
-      has_spare_ = false;
-      return spare_;
-    }
-    double u1 = Uniform();
-    while (u1 <= 0.0) u1 = Uniform();
-    const double u2 = Uniform();
-    const double r = std::sqrt(-2.0 * std::log(u1));
-    spare_ = r * std::sin(2 * kPi * u2);
-    has_spare_ = true;
-    return r * std::cos(2 * kPi * u2);
-  }
-
- private:
-  std::mt19937_64 engine_;
-  double spare_ = 0.0;
-  bool has_spare_ = false;
-};
-
-// A function of the plate coordinate sampled on a uniform grid, linearly
-// interpolated; values beyond the grid are clamped.
-struct Grid {
-  double x0 = 0, step = 1;
-  Eigen::VectorXd v;
-  double operator()(double x) const {
-    const double t = (x - x0) / step;
-    const Eigen::Index n = v.size();
-    if (t <= 0) return v[0];
-    if (t >= static_cast<double>(n - 1)) return v[n - 1];
-    return support::InterpolateAtIndex(v, t);
-  }
-  Grid Derivative() const {
-    Grid d{x0, step, Eigen::VectorXd::Zero(v.size())};
-    for (Eigen::Index i = 1; i + 1 < v.size(); ++i) {
-      d.v[i] = (v[i + 1] - v[i - 1]) / (2 * step);
-    }
-    d.v[0] = d.v[1];
-    d.v[v.size() - 1] = d.v[v.size() - 2];
-    return d;
-  }
-};
-
-Eigen::VectorXd GaussianSmooth(const Eigen::VectorXd& v, double sigma_samples) {
-  if (sigma_samples < 0.5) return v;
-  const int h = static_cast<int>(std::ceil(3 * sigma_samples));
-  Eigen::VectorXd kernel(2 * h + 1);
-  for (int j = -h; j <= h; ++j) {
-    kernel[j + h] = std::exp(-0.5 * j * j / (sigma_samples * sigma_samples));
-  }
-  kernel /= kernel.sum();
-  Eigen::VectorXd out(v.size());
-  const Eigen::Index n = v.size();
-  for (Eigen::Index i = 0; i < n; ++i) {
-    double s = 0;
-    for (int j = -h; j <= h; ++j) {
-      const Eigen::Index k = std::clamp<Eigen::Index>(i + j, 0, n - 1);
-      s += kernel[j + h] * v[k];
-    }
-    out[i] = s;
-  }
-  return out;
-}
-
-// Separable Gaussian blur of an image, edges clamped.
-void BlurInPlace(scan::HeightMap::Heights* image, double sigma_px) {
-  if (sigma_px < 0.3) return;
-  const int h = static_cast<int>(std::ceil(3 * sigma_px));
-  std::vector<float> kernel(2 * h + 1);
-  float sum = 0;
-  for (int j = -h; j <= h; ++j) {
-    kernel[j + h] =
-        static_cast<float>(std::exp(-0.5 * j * j / (sigma_px * sigma_px)));
-    sum += kernel[j + h];
-  }
-  for (float& k : kernel) k /= sum;
-  const Eigen::Index rows = image->rows(), cols = image->cols();
-  scan::HeightMap::Heights tmp(rows, cols);
-  for (Eigen::Index r = 0; r < rows; ++r) {
-    for (Eigen::Index c = 0; c < cols; ++c) {
-      float acc = 0;
-      for (int j = -h; j <= h; ++j) {
-        acc += kernel[j + h] *
-               (*image)(r, std::clamp<Eigen::Index>(c + j, 0, cols - 1));
-      }
-      tmp(r, c) = acc;
-    }
-  }
-  for (Eigen::Index r = 0; r < rows; ++r) {
-    for (Eigen::Index c = 0; c < cols; ++c) {
-      float acc = 0;
-      for (int j = -h; j <= h; ++j) {
-        acc += kernel[j + h] *
-               tmp(std::clamp<Eigen::Index>(r + j, 0, rows - 1), c);
-      }
-      (*image)(r, c) = acc;
-    }
-  }
-}
-
-// Smooth random texture: a sum of sinusoids with wavelengths 0.3-1.5 mm,
-// unit standard deviation.
-Eigen::VectorXd Texture(const Eigen::VectorXd& x, Rng& rng) {
-  Eigen::VectorXd t = Eigen::VectorXd::Zero(x.size());
-  const int kWaves = 8;
-  for (int w = 0; w < kWaves; ++w) {
-    const double wavelength = 0.3 + 1.2 * rng.Uniform();
-    const double phase = 2 * kPi * rng.Uniform();
-    const double amp = rng.Normal();
-    t += amp * (2 * kPi * x.array() / wavelength + phase).sin().matrix();
-  }
-  const double mean = t.mean();
-  const double sd = std::sqrt((t.array() - mean).square().mean());
-  return sd > 0 ? Eigen::VectorXd((t.array() - mean) / sd) : t;
-}
 
 double Quantise(double v, double resolution) {
   return resolution > 0 ? std::round(v / resolution) * resolution : v;
@@ -213,8 +96,16 @@ bool SimulationOptions::IsValid(std::string* why) const {
     return fail("hook_length_mm must be > 0");
   }
   if (effects.q_lag_s < 0) return fail("q_lag_s must be >= 0");
-  if (!(std::abs(effects.mu_variation) <= 0.3)) {
-    return fail("mu_variation must be in [-0.3, 0.3] (mu stays positive)");
+  for (double a :
+       {effects.mu_variation, effects.mu_trend, effects.mu_soft_spot}) {
+    if (!(std::abs(a) <= 0.3))
+      return fail(
+          "mu_variation, mu_trend, mu_soft_spot must be in [-0.3, 0.3]");
+  }
+  if (!(effects.pickup_hz > 0 && effects.wobble_hz > 0 &&
+        effects.dwell_distance_mm > 0 && effects.thermal_time_s > 0)) {
+    return fail(
+        "pickup_hz, wobble_hz, dwell_distance, thermal_time must be > 0");
   }
   if (!(noise_scale >= 0 && noise_scale <= 1000))
     return fail("noise_scale must be in [0, 1000]");
@@ -233,14 +124,69 @@ namespace {
 struct Specimen {
   Grid wear_shape, wear_slope, elastic_shape;
   double wear_sd = 0;  // sd of wear_shape over the stroke (its mean is 1)
-
-  // mu_eff / mu at x for HiddenEffects::mu_variation = a: 1 + a g(x), g
-  // the wear shape normalised to mean 0 and sd 1 over the stroke.
-  double MuFactor(double x, double a) const {
-    if (a == 0 || !(wear_sd > 0)) return 1.0;
-    return 1.0 + a * (wear_shape(x) - 1.0) / wear_sd;
-  }
+  // mu_eff / mu along the stroke from the local hardness (mean 1 over the
+  // stroke; 1 everywhere without a friction pattern).
+  Grid friction;
 };
+
+// The density across one growth ring at phase p in [0, 1): it rises
+// gradually from the earlywood to the latewood and falls sharply at the
+// ring's boundary (1% of a ring).
+double RingDensity(double p) {
+  const double rise = p * p * p;
+  const double fall = 1.0 / (1.0 + std::exp((p - 0.99) / 0.003));
+  return rise * fall;
+}
+
+// mu / mean(mu) along the grid from the friction patterns: mu ~ H^-gamma
+// with each pattern's ln H scaled to the strength's sd over the stroke.
+// The soft spot's place is drawn from `rng`.
+Eigen::VectorXd FrictionFactor(const SimulationOptions& o,
+                               const Eigen::VectorXd& xg,
+                               const Eigen::VectorXd& texture,
+                               double ring_phase,
+                               Rng& rng) {
+  const HiddenEffects& fx = o.effects;
+  const Eigen::Index ng = xg.size();
+  Eigen::VectorXd log_mu = Eigen::VectorXd::Zero(ng);
+  auto add = [&](double strength, const Eigen::VectorXd& log_h) {
+    if (strength == 0) return;
+    double m = 0, m2 = 0;
+    int n = 0;
+    for (Eigen::Index i = 0; i < ng; ++i) {
+      if (std::abs(xg[i]) > o.amplitude_mm) continue;
+      m += log_h[i];
+      m2 += log_h[i] * log_h[i];
+      ++n;
+    }
+    m /= n;
+    const double sd = std::sqrt(std::max(0.0, m2 / n - m * m));
+    if (sd > 0) log_mu -= strength * (log_h.array() - m).matrix() / sd;
+  };
+  Eigen::VectorXd bands(ng), trend(ng), spot(ng);
+  const double centre = (rng.Uniform() - 0.5) * 1.2 * o.amplitude_mm;
+  for (Eigen::Index i = 0; i < ng; ++i) {
+    const double p = std::fmod(xg[i] - ring_phase + 100 * o.ring_period_mm,
+                               o.ring_period_mm) /
+                     o.ring_period_mm;
+    const double density = o.across_rings ? RingDensity(p) : 0.0;
+    bands[i] = std::log(1.0 + (o.hardness_contrast - 1.0) * density) +
+               o.texture * texture[i];
+    trend[i] = xg[i] / o.amplitude_mm;
+    const double u = (xg[i] - centre) / 0.25;
+    spot[i] = -std::exp(-0.5 * u * u);
+  }
+  add(fx.mu_variation, bands);
+  add(fx.mu_trend, trend);
+  add(fx.mu_soft_spot, spot);
+  Eigen::VectorXd factor = log_mu.array().exp().matrix();
+  double sum = 0;
+  int n = 0;
+  for (Eigen::Index i = 0; i < ng; ++i) {
+    if (std::abs(xg[i]) <= o.amplitude_mm) sum += factor[i], ++n;
+  }
+  return factor / (sum / n);
+}
 
 // The fraction of latewood at x: smooth band edges (logistic, 4% of a
 // ring), the band wrapping around the ring.
@@ -272,7 +218,7 @@ std::pair<double, double> StrokeMoments(const SimulationOptions& o,
   return {m, std::sqrt(s2 / n)};
 }
 
-Specimen MakeSpecimen(const SimulationOptions& o, Rng& rng) {
+Specimen MakeSpecimen(const SimulationOptions& o, Rng& rng, Rng& extra) {
   const double margin = o.sphere_radius_mm;
   const double step = 0.002;
   const Eigen::Index ng = static_cast<Eigen::Index>(
@@ -311,6 +257,8 @@ Specimen MakeSpecimen(const SimulationOptions& o, Rng& rng) {
   s.wear_shape = Grid{x0, step, wear};
   s.wear_slope = s.wear_shape.Derivative();
   s.elastic_shape = Grid{x0, step, elastic};
+  s.friction =
+      Grid{x0, step, FrictionFactor(o, xg, texture, ring_phase, extra)};
   // The sd by the one-pass formula the elastic fraction always used.
   double w1 = 0, w2 = 0;
   for (Eigen::Index i = 0; i < ng; ++i) {
@@ -363,20 +311,19 @@ double TiltedContactQ(double p, double k, double mu, int s) {
   return p * (tan_a + s_mu) / (1.0 - s_mu * tan_a);
 }
 
-// Resistance near the end of the stroke, where the slider meets the
-// material it pushed ahead (a pile-up at the reversal): it grows as the
-// distance to that end shrinks, over a length lambda.
-double PileUpResistance(double distance_to_end_mm,
-                        double strength_n,
-                        double length_mm) {
-  return strength_n * std::exp(-distance_to_end_mm / length_mm);
-}
-
 // The true forces at one instant: the wear-scar model with the hidden
-// effects, before the Jenkins element bounds the stick.
+// effects (from their physical laws, samples/effect_laws.h), before the
+// Jenkins element bounds the stick.
 struct SlidingBounds {
   double p, upper, lower;
   double height;  // the sphere's, mm (up positive)
+};
+
+// The slow state of the contact: the specimen's temperature rise (0 to 1
+// of its equilibrium) and the counter-face's wobble phase.
+struct ContactState {
+  double t = 0, warmth = 0;
+  double wobble_phase = 0;
 };
 
 SlidingBounds ForcesAt(const SimulationOptions& o,
@@ -385,10 +332,12 @@ SlidingBounds ForcesAt(const SimulationOptions& o,
                        int c,
                        double pc,
                        double x,
-                       double v) {
+                       double v,
+                       const ContactState& state) {
   const HiddenEffects& fx = o.effects;
   const double depth_amp = schedule.DepthAmp(c);
-  const double mu = schedule.Mu(c) * s.MuFactor(x, fx.mu_variation);
+  const double mu =
+      schedule.Mu(c) * s.friction(x) * (1.0 + fx.thermal_drift * state.warmth);
   const double depth = depth_amp * s.wear_shape(x);
   // Sphere height f = -(worn depth + elastic penetration); the spring turns
   // it into P. The contact tilt k follows the worn (geometric) path only:
@@ -397,25 +346,49 @@ SlidingBounds ForcesAt(const SimulationOptions& o,
   // A dead weight presses with its weight wherever the sphere is.
   const double p =
       o.rig == Rig::kSpring ? pc + o.spring_n_per_mm * f : o.target_normal_n;
-  const double k = -depth_amp * s.wear_slope(x);
+  // A wobbling counter-face adds its own tilt to the contact's.
+  const double k = -depth_amp * s.wear_slope(x) +
+                   fx.wobble_rad * std::sin(2 * kPi * fx.wobble_hz * state.t +
+                                            state.wobble_phase);
   const double speed = std::abs(v);
-  // Boundary friction rises as the sliding speed falls below the speed
-  // at which the contact stops being sheared through a film.
-  const double slow = speed / fx.stribeck_speed_mm_s;
-  const double stribeck = fx.stribeck_rise != 0
-                              ? 1.0 + fx.stribeck_rise * std::exp(-slow * slow)
-                              : 1.0;
-  const double mu_f = mu * (1 + fx.direction_asymmetry) * stribeck;
-  const double mu_r = mu * (1 - fx.direction_asymmetry) * stribeck;
+  const double boundary =
+      fx.stribeck_rise != 0
+          ? laws::BoundaryFrictionFactor(
+                speed, fx.stribeck_rise, fx.stribeck_speed_mm_s)
+          : 1.0;
+  // Adhesion grown at the last reversal, broken over the distance slid.
+  const double slid = v >= 0 ? x + o.amplitude_mm : o.amplitude_mm - x;
+  const double dwell = fx.dwell_adhesion != 0
+                           ? laws::DwellAdhesionFactor(
+                                 slid, fx.dwell_adhesion, fx.dwell_distance_mm)
+                           : 1.0;
+  const double mu_b = mu * boundary * dwell;
+  constexpr double kRatchetMu = 0.11;
+  const double mu_f =
+      fx.direction_asymmetry != 0
+          ? laws::RatchetMu(mu_b, +1, fx.direction_asymmetry, kRatchetMu)
+          : mu_b;
+  const double mu_r =
+      fx.direction_asymmetry != 0
+          ? laws::RatchetMu(mu_b, -1, fx.direction_asymmetry, kRatchetMu)
+          : mu_b;
   double upper = TiltedContactQ(p, k, mu_f, +1);
   double lower = TiltedContactQ(p, k, mu_r, -1);
+  constexpr double kFilmSpeed = 10.0;  // mm/s, where c is stated
   const double extra =
-      fx.ploughing_n_per_mm * depth + fx.viscous_n_s_per_mm * speed;
+      (fx.ploughing_n_per_mm != 0
+           ? laws::PloughingForce(
+                 depth, fx.ploughing_n_per_mm, o.final_depth_mm)
+           : 0.0) +
+      (fx.viscous_n_s_per_mm != 0
+           ? laws::FilmShearForce(speed, fx.viscous_n_s_per_mm, kFilmSpeed)
+           : 0.0);
   upper += extra;
   lower -= extra;
   if (fx.hook_n != 0) {
-    upper += PileUpResistance(o.amplitude_mm - x, fx.hook_n, fx.hook_length_mm);
-    lower -= PileUpResistance(x + o.amplitude_mm, fx.hook_n, fx.hook_length_mm);
+    const double reach = 3 * fx.hook_length_mm;
+    upper += laws::EndWallResistance(o.amplitude_mm - x, fx.hook_n, reach);
+    lower -= laws::EndWallResistance(x + o.amplitude_mm, fx.hook_n, reach);
   }
   return {p, upper, lower, f};
 }
@@ -431,7 +404,8 @@ void RunTribometer(const SimulationOptions& o,
                    SimulatedChannels* rec,
                    Eigen::VectorXd* q_true,
                    Eigen::VectorXd* p_true,
-                   Eigen::VectorXd* height_true) {
+                   Eigen::VectorXd* height_true,
+                   double wobble_phase) {
   const Eigen::Index n = static_cast<Eigen::Index>(
       std::llround((o.cycles + 1) * o.sampling_rate_hz / o.frequency_hz));
   rec->time_s.resize(n);
@@ -443,8 +417,16 @@ void RunTribometer(const SimulationOptions& o,
   double q = 0.0, x_prev = 0.0, p_sum = 0;
   int cycle = -1;
   long p_count = 0;
+  ContactState state;
+  state.wobble_phase = wobble_phase;
+  // Frictional heating: the power |Q v| against its steady mean warms the
+  // specimen with the thermal time constant.
+  const double steady_power =
+      o.mu_steady * o.target_normal_n * 4 * o.amplitude_mm * o.frequency_hz;
+  const double dt = 1.0 / o.sampling_rate_hz;
   for (Eigen::Index i = 0; i < n; ++i) {
     const double t = static_cast<double>(i) / o.sampling_rate_hz;
+    state.t = t;
     double x, v;
     DriveAt(o, t, &x, &v);
     const int c =
@@ -458,11 +440,17 @@ void RunTribometer(const SimulationOptions& o,
       p_count = 0;
       cycle = c;
     }
-    const SlidingBounds b = ForcesAt(o, s, schedule, c, pc, x, v);
+    const SlidingBounds b = ForcesAt(o, s, schedule, c, pc, x, v, state);
     // Jenkins element: elastic stick, bounded by the sliding forces.
     if (i > 0) q += o.contact_stiffness_n_per_mm * (x - x_prev);
     q = std::clamp(q, b.lower, b.upper);
     x_prev = x;
+    if (o.effects.thermal_drift != 0) {
+      state.warmth = laws::FirstOrderStep(state.warmth,
+                                          std::abs(q * v) / steady_power,
+                                          dt,
+                                          o.effects.thermal_time_s);
+    }
     (*q_true)[i] = q;
     (*p_true)[i] = b.p;
     (*height_true)[i] = b.height;
@@ -479,25 +467,28 @@ void Measure(const SimulationOptions& o,
              const Eigen::VectorXd& p_true,
              const Eigen::VectorXd& height_true,
              Rng& rng,
+             double pickup_phase,
              SimulatedChannels* rec) {
   const HiddenEffects& fx = o.effects;
   const Eigen::Index n = q_true.size();
   rec->tangential_n.resize(n);
   rec->normal_n.resize(n);
-  const double lag_samples = fx.q_lag_s * o.sampling_rate_hz;
+  const double dt = 1.0 / o.sampling_rate_hz;
+  double qm = n > 0 ? q_true[0] : 0.0;
   for (Eigen::Index i = 0; i < n; ++i) {
-    double qm = q_true[i];
-    if (lag_samples > 0) {
-      const double src = static_cast<double>(i) - lag_samples;
-      const Eigen::Index j = static_cast<Eigen::Index>(std::floor(src));
-      const double w = src - static_cast<double>(j);
-      const Eigen::Index j0 = std::clamp<Eigen::Index>(j, 0, n - 1);
-      const Eigen::Index j1 = std::clamp<Eigen::Index>(j + 1, 0, n - 1);
-      qm = (1 - w) * q_true[j0] + w * q_true[j1];
+    // The Q channel behind a first-order sensor.
+    qm = fx.q_lag_s > 0 ? laws::FirstOrderStep(qm, q_true[i], dt, fx.q_lag_s)
+                        : q_true[i];
+    double q_out = qm;
+    double pm = p_true[i] + fx.crosstalk_q_into_p * q_true[i];
+    if (fx.pickup_n != 0) {
+      // Mains picked up by both channels' cables (P's a little later).
+      const double w = 2 * kPi * fx.pickup_hz * rec->time_s[i] + pickup_phase;
+      q_out += fx.pickup_n * std::sin(w);
+      pm += fx.pickup_n * std::sin(w - 0.6);
     }
-    const double pm = p_true[i] + fx.crosstalk_q_into_p * q_true[i];
     rec->tangential_n[i] = Quantise(
-        qm + o.noise_scale * o.q_noise_n * rng.Normal(), o.q_resolution_n);
+        q_out + o.noise_scale * o.q_noise_n * rng.Normal(), o.q_resolution_n);
     rec->normal_n[i] = Quantise(pm + o.noise_scale * o.p_noise_n * rng.Normal(),
                                 o.p_resolution_n);
     rec->x_mm[i] += o.x_noise_mm * rng.Normal();
@@ -537,8 +528,7 @@ void FillTruth(const SimulationOptions& o,
   truth->elastic_mm.resize(np);
   truth->mu_factor.resize(np);
   for (int i = 0; i < np; ++i) {
-    truth->mu_factor[i] =
-        s.MuFactor(truth->profile_x_mm[i], o.effects.mu_variation);
+    truth->mu_factor[i] = s.friction(truth->profile_x_mm[i]);
     truth->worn_depth_mm[i] = final_amp * s.wear_shape(truth->profile_x_mm[i]);
     truth->elastic_mm[i] =
         schedule.elastic_sd_mm * s.elastic_shape(truth->profile_x_mm[i]);
@@ -762,13 +752,24 @@ SimulatedTest Simulate(const SimulationOptions& o) {
   // the committed samples depend on it.
   Rng rng(o.seed);
   SimulatedTest out;
-  const Specimen specimen = MakeSpecimen(o, rng);
+  // The newer effects draw from their own stream, so that the committed
+  // samples (drawn from `rng`) stay as they were.
+  Rng extra(o.seed ^ 0x9E3779B97F4A7C15ULL);
+  const Specimen specimen = MakeSpecimen(o, rng, extra);
+  const double wobble_phase = 2 * kPi * extra.Uniform();
+  const double pickup_phase = 2 * kPi * extra.Uniform();
   const Schedule schedule(o, specimen);
   Eigen::VectorXd q_true, p_true;
   Eigen::VectorXd height_true;
-  RunTribometer(
-      o, specimen, schedule, &out.record, &q_true, &p_true, &height_true);
-  Measure(o, q_true, p_true, height_true, rng, &out.record);
+  RunTribometer(o,
+                specimen,
+                schedule,
+                &out.record,
+                &q_true,
+                &p_true,
+                &height_true,
+                wobble_phase);
+  Measure(o, q_true, p_true, height_true, rng, pickup_phase, &out.record);
   FillTruth(o, specimen, schedule, &out.truth);
   out.scan = ScanTrack(o, specimen, schedule, rng, &out.truth);
   return out;

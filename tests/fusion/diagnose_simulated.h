@@ -9,9 +9,12 @@ namespace wearscar::fusion {
 // Simulates a case (200 cycles), runs the force and scan analysis for the
 // cycles and the aligned groove depth, then diagnoses the cycles after the
 // first 100.
-inline Diagnosis DiagnoseSimulated(samples::SimulationOptions o) {
+inline Diagnosis DiagnoseSimulated(samples::SimulationOptions o,
+                                   samples::GroundTruth* truth = nullptr,
+                                   DiagnoseOptions d = {}) {
   o.cycles = 200;
   const sim::SimulatedTest t = sim::Simulate(o);
+  if (truth) *truth = t.truth;
   FuseOptions f;
   f.fit_lugre = false;
   f.analysis.running_in_cycles = 100;
@@ -19,7 +22,6 @@ inline Diagnosis DiagnoseSimulated(samples::SimulationOptions o) {
   PlateProfile depth;
   depth.x_mm = r.scan->force_profile.x_mm;
   depth.k = -ScanHeightAtPlate(r.scan->profile, r.scan->alignment, depth.x_mm);
-  DiagnoseOptions d;
   d.running_in_cycles = 100;
   return Diagnose(t.record, r.force.cycles, f.analysis.friction, &depth, d);
 }

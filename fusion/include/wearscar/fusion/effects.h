@@ -15,9 +15,8 @@ struct EffectContext {
   int s = 1;              // direction of motion
   double speed_mm_s = 0;  // |dx/dt|
   double depth_mm = 0;    // groove depth at x (scan, or force side)
-  // The groove depth's shape normalised to mean 0 and sd 1 over the
-  // stroke: a proxy of the local softness (earlywood wears deeper).
-  double softness = 0;
+  // x along the diagnosis's stroke: 0 at its lowest x, 1 at its highest.
+  double stroke_fraction = 0;
   double to_end_mm = 0;     // distance to the stroke end ahead
   double q_slope = 0;       // (1/S) dQ/dx of the measured Q (crosstalk)
   double q_measured_n = 0;  // measured Q at this sample
@@ -48,13 +47,34 @@ class Effect {
   virtual void Apply(const double* p, EffectContext* c) const = 0;
   // The parameter reported as the effect's strength.
   virtual int StrengthIndex() const { return 0; }
+  // Effects with many parameters (a shape) are held smooth by penalty
+  // residuals added to the fit with a weight the diagnosis chooses by the
+  // held-out cycles; `weight` multiplies the roughness terms.
+  virtual int PenaltyCount() const { return 0; }
+  // For an effect that only multiplies mu_factor by m(p, x): fills grad
+  // with dm/dp_j / m (ParameterNames().size() values) and returns true, so
+  // that the fit differentiates a many-parameter shape analytically.
+  virtual bool MuFactorGradient(const double* /*p*/,
+                                const EffectContext& /*c*/,
+                                double* /*grad*/) const {
+    return false;
+  }
+  virtual void Penalty(const double* /*p*/,
+                       double /*weight*/,
+                       double* /*residuals*/) const {}
 };
 
 // The library, in a fixed order: ploughing, velocity dependence (Stribeck),
 // viscous term, direction asymmetry, channel time lag, crosstalk of Q into
 // P, end-of-stroke hook, elastic compliance of the track, friction varying
-// along the track.
+// along the track (with DiagnoseOptions' knots: see AlongTrackFriction).
 const std::vector<std::unique_ptr<Effect>>& EffectLibrary();
+
+// Friction along the track without an assumed shape: mu_eff = mu (1 +
+// a(x)), a(x) linear between `knots` equally spaced values over the stroke,
+// the same in both directions; its mean is held at 0 (the cycle's mu
+// carries the level) and its second differences are the penalty.
+std::unique_ptr<Effect> AlongTrackFriction(int knots);
 
 // Finds an effect by its name or its key; nullptr when unknown.
 const Effect* FindEffect(const std::string& name);

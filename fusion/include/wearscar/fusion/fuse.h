@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "wearscar/force/periodic.h"
 #include "wearscar/fusion/align.h"
 #include "wearscar/fusion/analysis.h"
 #include "wearscar/fusion/detail_cycle.h"
@@ -109,6 +110,12 @@ struct FuseOptions {
   // on the caller's thread, for callers whose own threads keep every core
   // busy already (an audit's workers). The results are the same.
   bool parallel = true;
+  // Periodic lines removed from Q and P before the analysis (Hz; --notch),
+  // each a sinusoid fitted in blocks (force::NotchLine), said in the
+  // assumptions. Lines the drive does not make are sought either way and
+  // warned about (force::FindPeriodicLines).
+  std::vector<double> notch_hz;
+  bool find_periodic_lines = true;
 
   bool IsValid(std::string* why) const;
 };
@@ -150,6 +157,8 @@ struct TestResult {
   // How well the data carry the method (DataWarnings), and why a scan
   // given was not used (scan_skipped, also the first warning).
   std::vector<std::string> warnings;
+  // Periodic lines in Q and P the drive does not make (after any notch).
+  std::vector<force::PeriodicLine> periodic_lines;
   // What the result rests on that the files did not state, in words: the
   // spring's stiffness and where it came from, the slope the verdict
   // judges, the force file's layout and units (stated or guessed), the

@@ -11,29 +11,54 @@
 namespace wearscar::samples {
 
 // Hidden effects the simulator can switch on; each has a strength (0 = off).
-// The diagnosis stage must find them.
+// The diagnosis stage must find them. Each is generated from the physics it
+// stands for (samples/effect_laws.h), never from the formula the diagnosis
+// fits; the last four are not in the diagnosis's library at all.
 struct HiddenEffects {
-  // Ploughing: extra resistance s * c * depth(x), c in N per mm of groove
-  // depth.
+  // Ploughing: the groove's cross-section pushed ahead of the sphere
+  // (laws::PloughingForce, ~ depth^1.5); N per mm of depth at the final
+  // mean depth.
   double ploughing_n_per_mm = 0.0;
-  // Stribeck rise at low speed: mu (1 + rise exp(-(v/v_s)^2)).
+  // Boundary friction rising at low speed (laws::BoundaryFrictionFactor):
+  // mu (1 + rise / (1 + (v/v_s)^2)).
   double stribeck_rise = 0.0;
   double stribeck_speed_mm_s = 8.0;  // the paper's LuGre fit: 8.09 mm/s
-  // Direction asymmetry: mu_forward = mu (1 + a), mu_reverse = mu (1 - a).
+  // Fibres as a ratchet (laws::RatchetMu): relative asymmetry at mu 0.11.
   double direction_asymmetry = 0.0;
-  // Q channel delayed by this time.
+  // Q channel behind a first-order sensor of this time constant.
   double q_lag_s = 0.0;
-  // Crosstalk: P_measured = P + c Q.
+  // Crosstalk: P_measured = P + c Q (a load cell's cross-sensitivity).
   double crosstalk_q_into_p = 0.0;
-  // End-of-stroke hook: s H exp(-(distance to the stroke end)/lambda).
+  // The groove's unworn end wall (laws::EndWallResistance): N at the wall,
+  // reaching 3 hook_length_mm before it.
   double hook_n = 0.0;
   double hook_length_mm = 0.3;
-  // Viscous resistance s * c * |v|, c in N s/mm.
+  // A shear-thinning film (laws::FilmShearForce): N s/mm at 10 mm/s.
   double viscous_n_s_per_mm = 0.0;
-  // Friction that varies along the track with the wood's hardness:
-  // mu_eff(x) = mu (1 + a g(x)), g the worn depth's shape along the stroke
-  // normalised to mean 0 and sd 1 (softer earlywood wears deeper).
+  // Friction following the wood's local hardness H(x), not smoothed by
+  // wear: mu ~ H^-gamma, gamma set so that the sd of ln(mu) along the
+  // stroke is the strength. mu_variation: the growth rings' bands (a
+  // gradual rise through each ring, a sharp fall at its boundary; on
+  // along-ring specimens the texture alone); mu_trend: a linear change of
+  // hardness across the stroke; mu_soft_spot: one soft spot 0.25 mm wide.
   double mu_variation = 0.0;
+  double mu_trend = 0.0;
+  double mu_soft_spot = 0.0;
+  // Mains pick-up on both force channels: amplitude (N) and frequency.
+  double pickup_n = 0.0;
+  double pickup_hz = 50.0;
+  // Not in the library: adhesion grown during the dwell at each reversal,
+  // broken within dwell_distance_mm (laws::DwellAdhesionFactor).
+  double dwell_adhesion = 0.0;
+  double dwell_distance_mm = 0.1;
+  // Not in the library: a counter-face wobbling at its own frequency,
+  // tilting the contact by wobble_rad sin(2 pi f_w t).
+  double wobble_rad = 0.0;
+  double wobble_hz = 0.73;
+  // Not in the library: mu rising with the specimen's temperature as
+  // frictional heating warms it (first order, time constant thermal_time_s).
+  double thermal_drift = 0.0;
+  double thermal_time_s = 60.0;
 };
 
 enum class Drive { kSine, kTriangle };
@@ -140,7 +165,7 @@ struct GroundTruth {
   Eigen::VectorXd profile_x_mm;
   Eigen::VectorXd worn_depth_mm;  // > 0 into the surface
   Eigen::VectorXd elastic_mm;     // varying part of the penetration
-  Eigen::VectorXd mu_factor;      // mu_eff / mu along the stroke
+  Eigen::VectorXd mu_factor;      // mu_eff / mu along the stroke (mean 1)
   // Per cycle: the sd along the stroke of the sphere's path under load
   // (worn depth at that cycle plus the elastic part): what P/S shows.
   Eigen::VectorXd waviness_sd_mm;

@@ -1,0 +1,237 @@
+#include "wearscar/force/periodic.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <Eigen/Dense>
+#include <unsupported/Eigen/FFT>
+#include <utility>
+
+namespace wearscar::force {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// The largest length <= n whose only prime factors are 2, 3 and 5 (fast
+// for the FFT).
+Eigen::Index SmoothLength(Eigen::Index n) {
+  Eigen::Index best = 1;
+  for (Eigen::Index a = 1; a <= n; a *= 2) {
+    for (Eigen::Index b = a; b <= n; b *= 3) {
+      for (Eigen::Index c = b; c <= n; c *= 5) best = std::max(best, c);
+    }
+  }
+  return best;
+}
+
+// Amplitude spectrum (N per bin, a sinusoid's amplitude at its bin) of the
+// first `n` samples of a channel, mean removed, Hann window; NaN read as
+// the mean.
+std::vector<double> AmplitudeSpectrum(const Eigen::VectorXd& v,
+                                      Eigen::Index n) {
+  double mean = 0;
+  Eigen::Index finite = 0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (std::isfinite(v[i])) mean += v[i], ++finite;
+  }
+  mean = finite > 0 ? mean / finite : 0.0;
+  std::vector<double> in(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double w = 0.5 - 0.5 * std::cos(2 * kPi * i / n);
+    in[i] = std::isfinite(v[i]) ? w * (v[i] - mean) : 0.0;
+  }
+  Eigen::FFT<double> fft;
+  fft.SetFlag(Eigen::FFT<double>::HalfSpectrum);
+  std::vector<std::complex<double>> out;
+  fft.fwd(out, in);
+  std::vector<double> amp(out.size());
+  for (size_t k = 0; k < out.size(); ++k)
+    amp[k] = 4.0 * std::abs(out[k]) / static_cast<double>(n);
+  return amp;
+}
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+// Per block of about two seconds (a whole number of the line's periods):
+// the least-squares sine and cosine amplitudes at f with a constant.
+struct BlockFit {
+  Eigen::Index begin, end;
+  double a, b;  // v ~ c + a sin(w t) + b cos(w t)
+};
+
+std::vector<BlockFit> FitBlocks(const Eigen::VectorXd& t,
+                                const Eigen::VectorXd& v,
+                                double f) {
+  std::vector<BlockFit> fits;
+  const Eigen::Index n = t.size();
+  if (n < 8) return fits;
+  const double dt = (t[n - 1] - t[0]) / static_cast<double>(n - 1);
+  const double periods = std::max(1.0, std::round(2.0 * f));
+  const Eigen::Index len = std::max<Eigen::Index>(
+      8, static_cast<Eigen::Index>(std::llround(periods / f / dt)));
+  const double w = 2 * kPi * f;
+  for (Eigen::Index begin = 0; begin < n; begin += len) {
+    const Eigen::Index end = std::min(n, begin + len);
+    Eigen::Matrix3d ata = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d atb = Eigen::Vector3d::Zero();
+    for (Eigen::Index i = begin; i < end; ++i) {
+      if (!std::isfinite(v[i]) || !std::isfinite(t[i])) continue;
+      const Eigen::Vector3d row(1.0, std::sin(w * t[i]), std::cos(w * t[i]));
+      ata += row * row.transpose();
+      atb += row * v[i];
+    }
+    if (ata(0, 0) < 4) continue;
+    const Eigen::Vector3d x = ata.ldlt().solve(atb);
+    fits.push_back({begin, end, x[1], x[2]});
+  }
+  return fits;
+}
+
+double MeanAmplitude(const std::vector<BlockFit>& fits) {
+  double sum = 0;
+  for (const BlockFit& b : fits) sum += std::hypot(b.a, b.b);
+  return fits.empty() ? 0.0 : sum / static_cast<double>(fits.size());
+}
+
+// A peak of one channel's spectrum: bin, amplitude, prominence.
+struct Peak {
+  Eigen::Index bin;
+  double amplitude, prominence;
+  int harmonic;
+};
+
+// The channel's lines: local maxima far above the floor and above their
+// neighbours (harmonics of the same parity near a harmonic of the drive).
+std::vector<Peak> ChannelPeaks(const std::vector<double>& amp,
+                               double df,
+                               double drive_hz,
+                               const PeriodicLineOptions& o) {
+  const Eigen::Index bins = static_cast<Eigen::Index>(amp.size());
+  // The floor: medians of blocks of about 1 Hz.
+  const Eigen::Index block =
+      std::max<Eigen::Index>(16, static_cast<Eigen::Index>(1.0 / df));
+  std::vector<double> floor((bins + block - 1) / block);
+  for (size_t b = 0; b < floor.size(); ++b) {
+    const Eigen::Index lo = static_cast<Eigen::Index>(b) * block;
+    floor[b] = Median(std::vector<double>(
+        amp.begin() + lo, amp.begin() + std::min(bins, lo + block)));
+  }
+  const Eigen::Index near = std::max<Eigen::Index>(
+      3, static_cast<Eigen::Index>(std::ceil(0.05 * drive_hz / df)));
+  auto peak_near = [&](double f) {
+    const Eigen::Index c = static_cast<Eigen::Index>(std::llround(f / df));
+    double m = 0;
+    for (Eigen::Index k = std::max<Eigen::Index>(0, c - near);
+         k <= std::min(bins - 1, c + near);
+         ++k)
+      m = std::max(m, amp[k]);
+    return m;
+  };
+  std::vector<Peak> peaks;
+  const Eigen::Index first = static_cast<Eigen::Index>(
+      std::ceil(o.min_harmonic * drive_hz / df));
+  const Eigen::Index last = static_cast<Eigen::Index>(0.9 * (bins - 1));
+  for (Eigen::Index k = std::max<Eigen::Index>(1, first); k < last; ++k) {
+    if (amp[k] < amp[k - 1] || amp[k] < amp[k + 1]) continue;
+    const double fl = std::max(floor[k / block], 1e-12);
+    if (amp[k] < o.min_over_floor * fl) continue;
+    const double f = k * df;
+    const int n = static_cast<int>(std::llround(f / drive_hz));
+    Peak p{k, amp[k], amp[k] / fl, 0};
+    if (std::abs(f - n * drive_hz) <= near * df) {
+      // The loop's own harmonic, unless it stands above its neighbours.
+      if (amp[k] < peak_near(n * drive_hz)) continue;  // not the top here
+      std::vector<double> around;
+      for (int j : {-6, -4, -2, 2, 4, 6}) {
+        if (n + j > 0) around.push_back(peak_near((n + j) * drive_hz));
+      }
+      p.prominence = amp[k] / std::max(Median(around), 1e-12);
+      // Locked to the drive: within two bins of its harmonic.
+      if (std::abs(f - n * drive_hz) <= 2 * df) p.harmonic = n;
+    }
+    if (p.prominence >= o.min_prominence) peaks.push_back(p);
+  }
+  return peaks;
+}
+
+}  // namespace
+
+std::string PeriodicLine::Describe() const {
+  return fmt::format(
+      "{:.2f} Hz (Q {:.3f} N, P {:.3f} N{}; {:.0f}x its neighbours)",
+      frequency_hz,
+      q_amplitude_n,
+      p_amplitude_n,
+      drive_harmonic > 0
+          ? fmt::format(", at the drive's harmonic {}", drive_harmonic)
+          : std::string(),
+      prominence);
+}
+
+std::vector<PeriodicLine> FindPeriodicLines(const ForceRecord& record,
+                                            double drive_hz,
+                                            const PeriodicLineOptions& o) {
+  std::vector<PeriodicLine> lines;
+  const Eigen::Index n = SmoothLength(record.size());
+  if (n < 1024 || !(drive_hz > 0)) return lines;
+  const double duration =
+      record.time_s[n - 1] - record.time_s[0];
+  if (!(duration > 0)) return lines;
+  const double df = (n - 1) / duration / n;  // fs / n
+  std::vector<Peak> all;
+  for (const Eigen::VectorXd* ch : {&record.tangential_n, &record.normal_n}) {
+    const std::vector<Peak> p =
+        ChannelPeaks(AmplitudeSpectrum(*ch, n), df, drive_hz, o);
+    all.insert(all.end(), p.begin(), p.end());
+  }
+  std::sort(all.begin(), all.end(), [](const Peak& a, const Peak& b) {
+    return a.amplitude > b.amplitude;
+  });
+  for (const Peak& p : all) {
+    const double f = p.bin * df;
+    bool seen = false;
+    for (PeriodicLine& l : lines) {
+      if (std::abs(l.frequency_hz - f) <= 3 * df) {
+        l.prominence = std::max(l.prominence, p.prominence);
+        seen = true;
+      }
+    }
+    if (seen || static_cast<int>(lines.size()) >= o.max_lines) continue;
+    PeriodicLine l;
+    l.frequency_hz = f;
+    l.prominence = p.prominence;
+    l.drive_harmonic = p.harmonic;
+    l.q_amplitude_n =
+        MeanAmplitude(FitBlocks(record.time_s, record.tangential_n, f));
+    l.p_amplitude_n =
+        MeanAmplitude(FitBlocks(record.time_s, record.normal_n, f));
+    lines.push_back(l);
+  }
+  return lines;
+}
+
+std::pair<double, double> NotchLine(ForceRecord* record, double f) {
+  std::pair<double, double> removed{0.0, 0.0};
+  if (!(f > 0)) return removed;
+  const double w = 2 * kPi * f;
+  int which = 0;
+  for (Eigen::VectorXd* ch : {&record->tangential_n, &record->normal_n}) {
+    const std::vector<BlockFit> fits = FitBlocks(record->time_s, *ch, f);
+    for (const BlockFit& b : fits) {
+      for (Eigen::Index i = b.begin; i < b.end; ++i) {
+        const double t = record->time_s[i];
+        (*ch)[i] -= b.a * std::sin(w * t) + b.b * std::cos(w * t);
+      }
+    }
+    (which++ == 0 ? removed.first : removed.second) = MeanAmplitude(fits);
+  }
+  return removed;
+}
+
+}  // namespace wearscar::force

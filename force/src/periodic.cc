@@ -2,10 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <complex>
-#include <Eigen/Dense>
 #include <unsupported/Eigen/FFT>
 #include <utility>
 
@@ -134,8 +134,8 @@ std::vector<Peak> ChannelPeaks(const std::vector<double>& amp,
     return m;
   };
   std::vector<Peak> peaks;
-  const Eigen::Index first = static_cast<Eigen::Index>(
-      std::ceil(o.min_harmonic * drive_hz / df));
+  const Eigen::Index first =
+      static_cast<Eigen::Index>(std::ceil(o.min_harmonic * drive_hz / df));
   const Eigen::Index last = static_cast<Eigen::Index>(0.9 * (bins - 1));
   for (Eigen::Index k = std::max<Eigen::Index>(1, first); k < last; ++k) {
     if (amp[k] < amp[k - 1] || amp[k] < amp[k + 1]) continue;
@@ -180,8 +180,7 @@ std::vector<PeriodicLine> FindPeriodicLines(const ForceRecord& record,
   std::vector<PeriodicLine> lines;
   const Eigen::Index n = SmoothLength(record.size());
   if (n < 1024 || !(drive_hz > 0)) return lines;
-  const double duration =
-      record.time_s[n - 1] - record.time_s[0];
+  const double duration = record.time_s[n - 1] - record.time_s[0];
   if (!(duration > 0)) return lines;
   const double df = (n - 1) / duration / n;  // fs / n
   std::vector<Peak> all;

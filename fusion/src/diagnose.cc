@@ -487,6 +487,14 @@ AlongTrackFrictionShape RecoveredShape(const std::vector<double>& knots,
     }
     texture[b] = count > 0 ? d[b] - sum / count : std::nan("");
   }
+  std::vector<double> dx, dd;
+  for (Eigen::Index b = 0; b < grid.bins; ++b) {
+    if (grid.centres[b] < x_lo || grid.centres[b] > x_hi) continue;
+    dx.push_back(grid.centres[b]);
+    dd.push_back(d[b]);
+  }
+  shape.depth_x_mm = Eigen::Map<Eigen::VectorXd>(dx.data(), dx.size());
+  shape.depth_mm = Eigen::Map<Eigen::VectorXd>(dd.data(), dd.size());
   shape.correlation_depth = ShapeCorrelation(shape, grid.centres, d);
   shape.correlation_texture = ShapeCorrelation(shape, grid.centres, texture);
   return shape;

@@ -21,7 +21,8 @@ class Ploughing : public Effect {
     return {"c_p_N_per_mm"};
   }
   std::vector<double> Initial() const override { return {1.0}; }
-  std::vector<double> Lower() const override { return {-100.0}; }
+  // A resistance: material pushed ahead never pulls the sphere on.
+  std::vector<double> Lower() const override { return {0.0}; }
   std::vector<double> Upper() const override { return {100.0}; }
   void Apply(const double* p, EffectContext* c) const override {
     c->extra_n += p[0] * c->depth_mm;
@@ -58,7 +59,9 @@ class Viscous : public Effect {
     return {"c_v_N_s_per_mm"};
   }
   std::vector<double> Initial() const override { return {0.01}; }
-  std::vector<double> Lower() const override { return {-1.0}; }
+  // A film sheared resists (c_v >= 0): a negative one would be friction
+  // falling with speed, which is the Stribeck candidate's to claim.
+  std::vector<double> Lower() const override { return {0.0}; }
   std::vector<double> Upper() const override { return {1.0}; }
   void Apply(const double* p, EffectContext* c) const override {
     c->extra_n += p[0] * c->speed_mm_s;

@@ -15,10 +15,15 @@ namespace wearscar::fusion {
 
 std::vector<std::pair<std::string, std::string>> DiagnosisFiles(
     const std::string& name, const Diagnosis& d) {
-  return {
+  std::vector<std::pair<std::string, std::string>> files = {
       {"diagnosis.json", internal::DiagnosisJson(name, d).dump(2) + "\n"},
       {"residual_map_before.csv", internal::ResidualMapTable(d.before).ToCsv()},
       {"residual_map_after.csv", internal::ResidualMapTable(d.after).ToCsv()}};
+  if (!d.along_track.empty()) {
+    files.emplace_back("friction_along_track.csv",
+                       internal::AlongTrackTable(d.along_track).ToCsv());
+  }
+  return files;
 }
 
 bool ProductOptions::IsValid(std::string* why) const {

@@ -156,6 +156,9 @@ const std::vector<std::string>& TableColumns(std::string_view file) {
   if (file == "residual_map_before.csv" || file == "residual_map_after.csv")
     return kResidual;
   if (file == "cross_sections.csv") return kSections;
+  static const std::vector<std::string> kAlong = {
+      "x_mm", "mu_factor_minus_1", "groove_depth_mm"};
+  if (file == "friction_along_track.csv") return kAlong;
   return kNone;
 }
 
@@ -326,6 +329,15 @@ Table LugreTable(const LugreFit& lg, const DetailCycle& d) {
                       lg.q_lugre_n[i],
                       d.lugre_q_wearscar_n[i]});
   }
+  return t;
+}
+
+Table AlongTrackTable(const AlongTrackFrictionShape& a) {
+  Table t(TableColumns("friction_along_track.csv"));
+  const PlateProfile shape{a.x_mm, a.a};
+  for (Eigen::Index i = 0; i < a.depth_x_mm.size(); ++i)
+    t.rows.push_back(
+        {a.depth_x_mm[i], shape.At(a.depth_x_mm[i]), a.depth_mm[i]});
   return t;
 }
 

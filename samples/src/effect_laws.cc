@@ -19,7 +19,8 @@ double PloughingForce(double depth_mm,
 }
 
 double RatchetMu(double mu, int direction, double asymmetry, double mu_ref) {
-  const double theta = std::atan(mu_ref * (1.0 + asymmetry)) - std::atan(mu_ref);
+  const double theta =
+      std::atan(mu_ref * (1.0 + asymmetry)) - std::atan(mu_ref);
   return std::tan(std::atan(mu) + direction * theta);
 }
 

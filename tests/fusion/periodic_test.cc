@@ -60,7 +60,8 @@ TEST(PeriodicLines, VerdictBlamesTheLineAndTheNotchClearsIt) {
   ASSERT_EQ(r.periodic_lines.size(), 1u);
   bool said = false;
   for (const auto& reason : r.verdict.reasons)
-    said = said || reason.find("periodic line at 50.00 Hz") != std::string::npos;
+    said =
+        said || reason.find("periodic line at 50.00 Hz") != std::string::npos;
   EXPECT_TRUE(said);
   f.notch_hz = {50.0};
   const TestResult n = AnalyzeTest(t.record, t.scan, f);

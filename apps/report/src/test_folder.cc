@@ -88,6 +88,32 @@ std::string WriteDiagnosis(const std::string& dir,
         name,
         d.named.empty() ? std::string("none named")
                         : fmt::format("{}", fmt::join(d.named, ", ")));
+    // The residual split by the direction of sliding at the same x.
+    gp += fmt::format(
+        "set output 'diagnosis_direction_split.{0}'\nset ylabel 'part of "
+        "the signed residual (N)'\nset title '{1}: direction-odd (friction "
+        "along the track) and direction-even parts (a lag, a pick-up, a "
+        "tilt)' noenhanced\nplot 'residual_map_before.csv' skip 1 using 1:6 "
+        "with lines lw 2 title 'odd, before', '' skip 1 using 1:7 with lines "
+        "lw 2 title 'even, before', 'residual_map_after.csv' skip 1 using "
+        "1:6 with lines dt 2 title 'odd, after', '' skip 1 using 1:7 with "
+        "lines dt 2 title 'even, after'\nunset output\n",
+        ext,
+        name);
+    if (!d.along_track.empty()) {
+      gp += fmt::format(
+          "set output 'diagnosis_friction_along_track.{0}'\nset ylabel "
+          "'mu_eff / mu - 1 (-)'\nset y2label 'groove depth (mm)'\nset "
+          "y2tics\nset title '{1}: friction along the track (r = {2:.2f} "
+          "with the groove depth)' noenhanced\nplot "
+          "'friction_along_track.csv' skip 1 using 1:2 with lines lw 2 title "
+          "'a(x), recovered', '' skip 1 using 1:3 axes x1y2 with lines dt 2 "
+          "title 'groove depth'\nunset y2tics\nunset y2label\nunset "
+          "output\n",
+          ext,
+          name,
+          d.along_track.correlation_depth);
+    }
   }
   WriteTextAtomically(FigureDataPath(dir, "diagnosis.gp"), gp);
   if (terms.empty() || !RunGnuplotScript(dir, "diagnosis.gp")) return "";

@@ -20,7 +20,7 @@ struct PeriodicLine {
   // The line's spectral amplitude over its neighbours' median (the larger
   // of the two channels).
   double prominence = 0;
-  int drive_harmonic = 0;  // n when the line sits at n x the drive's rate
+  int drive_harmonic = 0;        // n when the line sits at n x the drive's rate
   std::string Describe() const;  // "50.00 Hz (Q 0.030 N, P 0.030 N, ...)"
 };
 

@@ -99,6 +99,9 @@ struct ResidualMap {
 // friction follows wear, the wood's bands, or neither.
 struct AlongTrackFrictionShape {
   Eigen::VectorXd x_mm, a;
+  // The groove's depth along the same range (scan, else the force side),
+  // for the figure beside a(x).
+  Eigen::VectorXd depth_x_mm, depth_mm;
   double penalty = 0;                // the roughness weight chosen
   double correlation_depth = NAN;    // Pearson r with the groove's depth
   double correlation_texture = NAN;  // with the depth's short-wave part

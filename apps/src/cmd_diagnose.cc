@@ -91,7 +91,13 @@ void AddDiagnoseCommand(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--candidates",
                   d.candidates,
-                  "Effects to try (default: the whole library)");
+                  "Effects to try, by name or key, comma-separated "
+                  "(default: the whole library)")
+      ->delimiter(',');
+  cmd->add_option("--knots",
+                  d.along_track_knots,
+                  "Knots of friction along the track over the sliding range")
+      ->capture_default_str();
   cmd->add_option("--max-effects", d.max_effects, "At most this many effects")
       ->capture_default_str();
   cmd->add_option(

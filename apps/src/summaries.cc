@@ -174,7 +174,9 @@ void PrintDiagnosis(const std::string& name,
         100 * c.improved_fraction,
         c.delta_bic,
         ParameterText(c),
-        c.accepted ? "NAMED" : "(rejected: stop)");
+        c.accepted    ? "NAMED"
+        : c.plausible ? "(rejected: stop)"
+                      : "(a resistance fitted negative, implausible: stop)");
   }
   for (const auto& step : d.steps) {
     if (!step.note.empty()) Say("  ({})\n", step.note);

@@ -351,6 +351,8 @@ CandidateResult TryEffect(const Data& data,
                    : r.relative_gain >= o.min_relative_gain &&
                          r.improved_fraction >= o.min_improved_fraction &&
                          r.delta_bic < -o.bic_margin;
+  r.plausible = e->Plausible(r.parameters.data());
+  r.accepted = r.accepted && r.plausible;
   return r;
 }
 

@@ -21,8 +21,9 @@ class Ploughing : public Effect {
     return {"c_p_N_per_mm"};
   }
   std::vector<double> Initial() const override { return {1.0}; }
+  std::vector<double> Lower() const override { return {-100.0}; }
   // A resistance: material pushed ahead never pulls the sphere on.
-  std::vector<double> Lower() const override { return {0.0}; }
+  bool Plausible(const double* p) const override { return p[0] >= 0; }
   std::vector<double> Upper() const override { return {100.0}; }
   void Apply(const double* p, EffectContext* c) const override {
     c->extra_n += p[0] * c->depth_mm;
@@ -59,9 +60,10 @@ class Viscous : public Effect {
     return {"c_v_N_s_per_mm"};
   }
   std::vector<double> Initial() const override { return {0.01}; }
+  std::vector<double> Lower() const override { return {-1.0}; }
   // A film sheared resists (c_v >= 0): a negative one would be friction
   // falling with speed, which is the Stribeck candidate's to claim.
-  std::vector<double> Lower() const override { return {0.0}; }
+  bool Plausible(const double* p) const override { return p[0] >= 0; }
   std::vector<double> Upper() const override { return {1.0}; }
   void Apply(const double* p, EffectContext* c) const override {
     c->extra_n += p[0] * c->speed_mm_s;
@@ -131,10 +133,11 @@ class Hook : public Effect {
     return {"H_N", "lambda_mm"};
   }
   std::vector<double> Initial() const override { return {0.2, 0.3}; }
+  std::vector<double> Lower() const override { return {-20.0, 0.02}; }
   // A resistance (H >= 0): a negative hook would be a pull towards the
   // stroke's end, no pile-up's, and with a speed dependence it mimics a
   // peak after the reversal (adhesion grown at the dwell).
-  std::vector<double> Lower() const override { return {0.0, 0.02}; }
+  bool Plausible(const double* p) const override { return p[0] >= 0; }
   std::vector<double> Upper() const override { return {20.0, 3.0}; }
   void Apply(const double* p, EffectContext* c) const override {
     c->extra_n += p[0] * std::exp(-c->to_end_mm / p[1]);

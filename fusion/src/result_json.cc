@@ -277,7 +277,10 @@ nlohmann::json MapJson(const ResidualMap& m) {
 nlohmann::json CandidateJson(const CandidateResult& c) {
   const Effect* e = FindEffect(c.effect);
   return {{"effect", c.effect},
-          {"key", e ? e->Key() : std::string()},
+          {"key",
+           e                                     ? e->Key()
+           : c.effect == "periodic interference" ? "periodic_interference"
+                                                 : ""},
           {"parameter_names", c.parameter_names},
           {"parameters", c.parameters},
           {"uncertainties", c.uncertainties},
@@ -286,6 +289,7 @@ nlohmann::json CandidateJson(const CandidateResult& c) {
           {"relative_gain", c.relative_gain},
           {"improved_fraction", c.improved_fraction},
           {"delta_bic", c.delta_bic},
+          {"plausible", c.plausible},
           {"accepted", c.accepted}};
 }
 

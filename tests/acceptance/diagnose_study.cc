@@ -12,6 +12,9 @@
 //   diagnose_study lines
 //     periodic lines found in the 12 cases without effects and with a
 //     0.03 N pick-up at 50 Hz (locked) and at 60.03 Hz, noise 1 and 2.
+//   diagnose_study notch
+//     the verdict on the 12 cases (noise 1, 2) clean, with a 50 Hz
+//     pick-up, and with it notched.
 //
 // A long program, not a unit test: a subset runs in fusion_test
 // (tests/fusion/diagnose_test.cc).
@@ -29,6 +32,7 @@
 
 #include "fusion/diagnose_simulated.h"
 #include "wearscar/force/periodic.h"
+#include "wearscar/fusion/fuse.h"
 
 namespace {
 
@@ -177,8 +181,48 @@ int Lines() {
   return wrong > 0 ? 1 : 0;
 }
 
+// The verdict on the 12 cases with a locked 50 Hz pick-up of 0.03 N,
+// without and with --notch 50 (and without the pick-up): flags counted.
+int Notch() {
+  int flagged[3] = {0, 0, 0}, n = 0;
+  for (const auto& base : wearscar::samples::PaperCases(false)) {
+    for (double noise : {1.0, 2.0}) {
+      SimulationOptions o = base;
+      o.cycles = 200;
+      o.noise_scale = noise;
+      const auto clean = wearscar::sim::Simulate(o);
+      o.effects.pickup_n = 0.03;
+      const auto t = wearscar::sim::Simulate(o);
+      wearscar::fusion::FuseOptions f;
+      f.fit_lugre = false;
+      const auto a = wearscar::fusion::AnalyzeTest(clean.record, clean.scan, f);
+      const auto b = wearscar::fusion::AnalyzeTest(t.record, t.scan, f);
+      f.notch_hz = {50.0};
+      const auto c = wearscar::fusion::AnalyzeTest(t.record, t.scan, f);
+      flagged[0] += !a.verdict.explained;
+      flagged[1] += !b.verdict.explained;
+      flagged[2] += !c.verdict.explained;
+      ++n;
+      fmt::print("{} noise {}: clean {}, pick-up {}, notched {}\n",
+                 o.name,
+                 noise,
+                 a.verdict.explained ? "explained" : "FLAGGED",
+                 b.verdict.explained ? "explained" : "FLAGGED",
+                 c.verdict.explained ? "explained" : "FLAGGED");
+      std::fflush(stdout);
+    }
+  }
+  fmt::print("flagged of {}: clean {}, with the pick-up {}, notched {}\n",
+             n,
+             flagged[0],
+             flagged[1],
+             flagged[2]);
+  return flagged[0] != flagged[2] ? 1 : 0;
+}
+
 int main(int argc, char** argv) {
   if (argc > 1 && std::string(argv[1]) == "lines") return Lines();
+  if (argc > 1 && std::string(argv[1]) == "notch") return Notch();
   int seeds = 3, jobs = 2;
   std::string only;
   for (int i = 1; i + 1 < argc; i += 2) {

@@ -124,6 +124,7 @@ struct CandidateResult {
   double relative_gain = 0.0;
   double improved_fraction = 0.0;
   double delta_bic = 0.0;
+  bool plausible = true;  // the fitted sign is the effect's physics
   bool accepted = false;
 };
 

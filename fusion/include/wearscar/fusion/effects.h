@@ -47,6 +47,10 @@ class Effect {
   virtual void Apply(const double* p, EffectContext* c) const = 0;
   // The parameter reported as the effect's strength.
   virtual int StrengthIndex() const { return 0; }
+  // Whether fitted parameters are the effect's physics (a resistance that
+  // resists): an implausible fit is not named. The fit itself is left
+  // unbounded there (a bound at zero slows it several times).
+  virtual bool Plausible(const double* /*p*/) const { return true; }
   // Effects with many parameters (a shape) are held smooth by penalty
   // residuals added to the fit with a weight the diagnosis chooses by the
   // held-out cycles; `weight` multiplies the roughness terms.

@@ -133,13 +133,13 @@ std::string ParameterText(const fusion::CandidateResult& c) {
 void PrintDiagnosis(const std::string& name,
                     const fusion::Diagnosis& d,
                     bool from_scan) {
-  Say("{}: diagnosis on {} cycles ({}-{}), slope from each cycle's binned P "
-      "profile, "
-      "depth from the {}\n",
+  Say("{}: diagnosis on {} cycles ({}-{}), slope from {}, depth from the "
+      "{}\n",
       name,
       d.cycles.size(),
       d.cycles.front() + 1,
       d.cycles.back() + 1,
+      d.slope_source,
       from_scan ? "scan" : "force side");
   Say("where the wear-scar model misses: {}\n", d.before.where);
   Say("  split by the direction of sliding at the same x: direction-odd "

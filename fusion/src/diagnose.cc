@@ -43,6 +43,8 @@ bool DiagnoseOptions::IsValid(std::string* why) const {
   if (!(later_share >= 0 && later_share <= 1))
     return fail("later_share in [0, 1]");
   if (!(unexplained_z > 0)) return fail("unexplained_z must be > 0");
+  if (!(unexplained_share >= 0 && unexplained_share < 1))
+    return fail("unexplained_share in [0, 1)");
   if (along_track_knots < 3 || along_track_knots > 200)
     return fail("along_track_knots must be 3 to 200");
   if (shape_penalties.empty()) return fail("shape_penalties is empty");
@@ -142,15 +144,27 @@ ProfileGrid MakeProfileGrid(const force::ForceRecord& record,
 // Savitzky-Golay filter and differentiated once: k = (1/S) dP/dx and
 // (1/S) dQ/dx. Binning and smoothing keep the noise of a sample-wise
 // derivative out of the comparison (no effect can win by shrinking noisy
-// slopes), while each cycle keeps its own track.
+// slopes), while each cycle keeps its own track. A rig whose P carries no
+// profile (a dead weight) gives k from its depth channel the same way
+// (k = -d(depth)/dx, no Q in it), or from a fixed profile (the scan's
+// centreline) for every cycle.
 class CycleSlopes {
  public:
   CycleSlopes(const force::ForceRecord& record,
               const force::CycleSet& cycles,
               const ProfileGrid& grid,
               const FrictionFitOptions& friction,
+              const PlateProfile* fixed,
               const DiagnoseOptions& o)
-      : record_(record), cycles_(cycles), grid_(grid), o_(o) {
+      : record_(record),
+        cycles_(cycles),
+        grid_(grid),
+        o_(o),
+        fixed_(fixed),
+        from_depth_(friction.k_from_depth),
+        profile_(friction.k_from_depth ? record.depth_mm : record.normal_n) {
+    if (from_depth_ && !record.has_depth())
+      throw FusionError("k from the depth channel, but the record has none");
     sg_ = friction.slope;
     sg_.method = force::DerivativeMethod::kSavitzkyGolay;
     sg_.window = std::max(
@@ -159,18 +173,29 @@ class CycleSlopes {
             1);
     sg_.polynomial_order = o.slope_polynomial_order;
     sg_.min_span_mm = 0;
-    spring_ = friction.slope.spring_n_per_mm;
+    per_mm_ =
+        from_depth_ ? -friction.depth_sign : friction.slope.spring_n_per_mm;
     half_ = friction.k_estimate == KEstimate::kEnsemble
                 ? std::max(friction.ensemble.cycles, o.slope_cycles) / 2
                 : 0;
   }
 
   void operator()(int c, PlateProfile kp[2], PlateProfile kq[2]) const {
+    if (fixed_ != nullptr) {
+      Eigen::VectorXd k(grid_.bins);
+      for (Eigen::Index b = 0; b < grid_.bins; ++b)
+        k[b] = fixed_->At(grid_.centres[b]);
+      for (int row = 0; row < 2; ++row) {
+        kp[row] = {grid_.centres, k};
+        kq[row] = {grid_.centres, Eigen::VectorXd::Zero(grid_.bins)};
+      }
+      return;
+    }
     const int n = static_cast<int>(cycles_.cycles.size());
     std::vector<int> window;
     for (int j = std::max(0, c - half_); j <= std::min(n - 1, c + half_); ++j)
       window.push_back(j);
-    const Eigen::MatrixXd pc = Bin(window, record_.normal_n);
+    const Eigen::MatrixXd pc = Bin(window, profile_);
     const Eigen::MatrixXd qc = Bin(window, record_.tangential_n);
     Eigen::VectorXd kpd[2], kqd[2];
     for (int row = 0; row < 2; ++row) {
@@ -178,10 +203,12 @@ class CycleSlopes {
                             qr = qc.row(row).transpose();
       kpd[row] =
           force::DerivativeAlongX(grid_.centres, pr, 0, grid_.bins, sg_) /
-          spring_;
-      kqd[row] =
-          force::DerivativeAlongX(grid_.centres, qr, 0, grid_.bins, sg_) /
-          spring_;
+          per_mm_;
+      kqd[row] = from_depth_ ? Eigen::VectorXd::Zero(grid_.bins).eval()
+                             : (force::DerivativeAlongX(
+                                    grid_.centres, qr, 0, grid_.bins, sg_) /
+                                per_mm_)
+                                   .eval();
     }
     // Both directions slide over the same geometry: their mean slope halves
     // the noise variance. Crosstalk then enters through the mean of the two
@@ -199,20 +226,26 @@ class CycleSlopes {
     return BinProfile(
         record_, cycles_, which, channel, grid_.x_lo, grid_.bin, grid_.bins);
   }
-  double spring() const { return spring_; }
+  // The channel k comes from and its units per mm of height (S for P).
+  const Eigen::VectorXd& profile() const { return profile_; }
+  double per_mm() const { return per_mm_; }
 
  private:
   const force::ForceRecord& record_;
   const force::CycleSet& cycles_;
   const ProfileGrid& grid_;
   const DiagnoseOptions& o_;
+  const PlateProfile* fixed_;
+  bool from_depth_;
+  const Eigen::VectorXd& profile_;
   force::SlopeOptions sg_;
-  double spring_ = 0;
+  double per_mm_ = 0;
   int half_ = 0;
 };
 
-// Depth without a scan: the force side's mean profile below its highest
-// point (the constant part is absorbed by mu).
+// Depth without a scan: the force side's mean profile (P/S, or the depth
+// channel's height) below its highest point (the constant part is absorbed
+// by mu).
 PlateProfile ForceSideDepth(const Eigen::MatrixXd& p_prof,
                             const ProfileGrid& grid,
                             double spring) {
@@ -541,15 +574,16 @@ void Prepare(const force::ForceRecord& record,
              const force::CycleSet& cycles,
              const FrictionFitOptions& friction,
              const PlateProfile* depth,
+             const PlateProfile* slope,
              const std::vector<int>& chosen,
              const DiagnoseOptions& o,
              Prepared* p) {
   p->grid = MakeProfileGrid(record, cycles, chosen, o.profile_step_mm);
-  const CycleSlopes slopes(record, cycles, p->grid, friction, o);
+  const CycleSlopes slopes(record, cycles, p->grid, friction, slope, o);
   p->depth = depth ? *depth
-                   : ForceSideDepth(slopes.Bin(chosen, record.normal_n),
+                   : ForceSideDepth(slopes.Bin(chosen, slopes.profile()),
                                     p->grid,
-                                    slopes.spring());
+                                    slopes.per_mm());
   Data& data = p->data;
   data.record = &record;
   data.options = &o;
@@ -625,6 +659,7 @@ Diagnosis Diagnose(const force::ForceRecord& record,
                    const force::CycleSet& cycles,
                    const FrictionFitOptions& friction,
                    const PlateProfile* depth,
+                   const PlateProfile* slope,
                    const DiagnoseOptions& o) {
   std::string why;
   if (!o.IsValid(&why)) throw FusionError("diagnose options: " + why);
@@ -639,9 +674,21 @@ Diagnosis Diagnose(const force::ForceRecord& record,
                     n - first,
                     n));
   }
-  out.cycles = ChooseCycles(n, first, o.max_cycles);
+  // A fixed slope is the track at the test's end: the last cycles.
+  out.cycles = ChooseCycles(
+      n, slope ? std::max(first, n - o.max_cycles) : first, o.max_cycles);
+  out.slope_source =
+      slope ? "the scan's centreline, every cycle (the track at the test's "
+              "end: the last cycles)"
+      : friction.k_from_depth
+          ? "each cycle's binned depth channel (k = -d(depth)/dx)"
+          : fmt::format(
+                "each cycle's binned P profile (k = (1/S) dP/dx, S "
+                "= {:g} N/mm)",
+                friction.slope.spring_n_per_mm);
   auto prepared = std::make_unique<Prepared>();
-  Prepare(record, cycles, friction, depth, out.cycles, o, prepared.get());
+  Prepare(
+      record, cycles, friction, depth, slope, out.cycles, o, prepared.get());
   std::vector<double> base = HeldOut(prepared->data, Model{}, o.folds, nullptr);
   out.heldout_initial = Mean(base);
   out.before =
@@ -657,7 +704,8 @@ Diagnosis Diagnose(const force::ForceRecord& record,
       notched = record;
       force::NotchLine(&notched, lines.front().frequency_hz);
       auto again = std::make_unique<Prepared>();
-      Prepare(notched, cycles, friction, depth, out.cycles, o, again.get());
+      Prepare(
+          notched, cycles, friction, depth, slope, out.cycles, o, again.get());
       std::vector<double> h;
       DiagnosisStep step;
       step.chosen = TryNotch(lines.front(), base, o, again->data, &h);
@@ -696,8 +744,15 @@ Diagnosis Diagnose(const force::ForceRecord& record,
   }
   // After named effects, what is left counts when it is a fair part of
   // what repeated before (a quarter of its rms).
+  double q2 = 0;
+  long nq = 0;
+  for (const DiagCycle& dc : data.cycles) {
+    for (const Sample& smp : dc.samples) q2 += smp.q * smp.q, ++nq;
+  }
+  const double q_rms = nq > 0 ? std::sqrt(q2 / nq) : 0.0;
   out.unexplained =
       out.after.repeatable_z > o.unexplained_z &&
+      out.after.repeatable_rms_n >= o.unexplained_share * q_rms &&
       (out.named.empty() ||
        out.after.repeatable_rms_n >= 0.25 * out.before.repeatable_rms_n);
   // Names that leave most of what repeated (over half its power) explain
@@ -773,10 +828,30 @@ Diagnosis DiagnoseTest(const force::ForceRecord& record,
     rest.notch_hz.clear();
     return DiagnoseTest(notched, r, rest, options);
   }
+  // k where the analysis took it: P/S, the depth channel, or on a rig
+  // whose P carries no profile the scan's centreline.
+  FrictionFitOptions friction = fuse.analysis.friction;
+  const PlateProfile* slope = nullptr;
+  if (r.profile_source == ProfileSource::kDepth) {
+    friction.k_from_depth = true;
+    if (r.depth_agreement < -0.5) friction.depth_sign = -1.0;
+  } else if (r.profile_source == ProfileSource::kFriction && r.scan) {
+    slope = &r.scan->slope;
+  } else if (fuse.profile_from == ProfileSource::kAuto && !r.scan &&
+             !(r.p_slope_significance >= fuse.dead_weight_significance)) {
+    throw FusionError(fmt::format(
+        "P does not vary along the stroke beyond its noise ({:.1f} standard "
+        "errors): if the rig loads the ball with a dead weight, k from P is "
+        "noise and every effect the diagnosis named would be fitted to it; "
+        "give the track's scan or the depth channel (or --profile-from "
+        "spring to diagnose with k from P regardless)",
+        r.p_slope_significance));
+  }
   return Diagnose(record,
                   r.force.cycles,
-                  fuse.analysis.friction,
+                  friction,
                   r.scan ? &depth : nullptr,
+                  slope,
                   options);
 }
 

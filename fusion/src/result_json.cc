@@ -384,6 +384,7 @@ nlohmann::json DiagnosisJson(const std::string& name, const Diagnosis& d) {
   std::vector<int> numbers;
   for (int c : d.cycles) numbers.push_back(c + 1);
   j["cycles"] = numbers;
+  j["slope_source"] = d.slope_source;
   j["named"] = d.named;
   j["heldout_J_initial"] = d.heldout_initial;
   j["heldout_J_final"] = d.heldout_final;

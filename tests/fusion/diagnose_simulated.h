@@ -23,7 +23,8 @@ inline Diagnosis DiagnoseSimulated(samples::SimulationOptions o,
   depth.x_mm = r.scan->force_profile.x_mm;
   depth.k = -ScanHeightAtPlate(r.scan->profile, r.scan->alignment, depth.x_mm);
   d.running_in_cycles = 100;
-  return Diagnose(t.record, r.force.cycles, f.analysis.friction, &depth, d);
+  return Diagnose(
+      t.record, r.force.cycles, f.analysis.friction, &depth, nullptr, d);
 }
 
 }  // namespace wearscar::fusion

@@ -3,8 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
+#include <string>
+#include <utility>
 
 #include "diagnose_simulated.h"
+#include "wearscar/fusion/error.h"
 #include "wearscar/fusion/fuse.h"
 #include "wearscar/samples/virtual_tribometer.h"
 
@@ -240,6 +244,72 @@ INSTANTIATE_TEST_SUITE_P(Eleven,
                                   std::to_string(static_cast<int>(
                                       std::get<1>(param_info.param)));
                          });
+
+// A rig that loads the ball with a dead weight: P carries no profile, so
+// the diagnosis takes k where the analysis took it (the scan's centreline,
+// or the depth channel), and refuses when nothing gives it.
+Diagnosis DiagnoseDeadWeight(const char* effect,
+                             bool depth_channel,
+                             bool with_scan) {
+  samples::SimulationOptions o = samples::PaperCase("S-RT-R");
+  o.cycles = 200;
+  o.rig = samples::Rig::kDeadWeight;
+  o.depth_channel = depth_channel;
+  if (effect) samples::ApplyEffectSetting(effect, &o.effects);
+  sim::SimulatedTest t = sim::Simulate(o);
+  FuseOptions f;
+  f.fit_lugre = false;
+  std::optional<scan::HeightMap> scan;
+  if (with_scan) scan = std::move(t.scan);
+  const TestResult r = AnalyzeTest(t.record, std::move(scan), f);
+  DiagnoseOptions d;
+  d.running_in_cycles = r.force.running_in.cycles;
+  return DiagnoseTest(t.record, r, f, d);
+}
+
+TEST(DiagnoseDeadWeight, TakesTheSlopeFromTheScan) {
+  const Diagnosis clean = DiagnoseDeadWeight(nullptr, false, true);
+  EXPECT_EQ(clean.slope_source.rfind("the scan's centreline", 0), 0u)
+      << clean.slope_source;
+  EXPECT_TRUE(clean.named.empty()) << clean.message;
+  EXPECT_FALSE(clean.unexplained) << clean.message;
+  // The scan is the track at the end: the last cycles are diagnosed.
+  EXPECT_EQ(clean.cycles.back(), 199);
+  EXPECT_EQ(clean.cycles.front(), 160);
+  const Diagnosis plough = DiagnoseDeadWeight("ploughing=8", false, true);
+  ASSERT_FALSE(plough.named.empty()) << plough.message;
+  EXPECT_EQ(plough.named.front(), "ploughing") << plough.message;
+  EXPECT_LE(plough.heldout_final, 0.7 * plough.heldout_initial);
+}
+
+TEST(DiagnoseDeadWeight, TakesTheSlopeFromTheDepthChannel) {
+  const Diagnosis clean = DiagnoseDeadWeight(nullptr, true, false);
+  EXPECT_EQ(clean.slope_source.rfind("each cycle's binned depth channel", 0),
+            0u)
+      << clean.slope_source;
+  EXPECT_TRUE(clean.named.empty()) << clean.message;
+  EXPECT_FALSE(clean.unexplained) << clean.message;
+  const Diagnosis hook = DiagnoseDeadWeight("hook=1", true, false);
+  ASSERT_FALSE(hook.named.empty()) << hook.message;
+  EXPECT_EQ(hook.named.front(), "end-of-stroke hook") << hook.message;
+  EXPECT_LE(hook.heldout_final, 0.7 * hook.heldout_initial);
+}
+
+TEST(DiagnoseDeadWeight, RefusesWithoutScanOrDepth) {
+  try {
+    DiagnoseDeadWeight(nullptr, false, false);
+    FAIL() << "diagnosed with k from P on a dead-weight rig";
+  } catch (const FusionError& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  "P does not vary along the stroke beyond its noise"),
+              std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("give the track's scan or the depth "
+                                         "channel"),
+              std::string::npos)
+        << e.what();
+  }
+}
 
 TEST(Diagnose, ResidualMapSaysWhereTheHookIs) {
   samples::SimulationOptions o = samples::PaperCase("S-RT-T");

@@ -40,6 +40,11 @@ struct DiagnoseOptions {
   // 22 clean simulated tests (the 11 cases at noise 1 and 2, 200 cycles)
   // reach up to 19: the wear-scar model's own small misfit repeats too.
   double unexplained_z = 25.0;
+  // ... and is at least this share of the measured Q's rms: the model's
+  // own misfit seen above a depth channel's small noise (a clean
+  // dead-weight test: 0.012 N, 0.21% of Q, z 80) is no effect worth a
+  // word; adhesion at the dwells (dwell_adhesion 0.6) leaves 0.81%.
+  double unexplained_share = 0.004;
   // Per-cycle binned P and Q for the base slope: bins of this width, or of
   // the largest x step between samples when that is wider (low rates).
   double profile_step_mm = 0.01;
@@ -48,7 +53,10 @@ struct DiagnoseOptions {
   // Cycles averaged for the base slope (with the ensemble estimate): more
   // than the fit's, because a noisy slope fitted against Q shrinks (an
   // apparent elastic compliance) and the diagnosis compares such shrinkage.
-  int slope_cycles = 21;
+  // At 21, P's noise through the slope was the held-out J's floor at twice
+  // the paper's noise (a viscous film: 13-33% lower); 81 blurs a growing
+  // track into a shape (friction along the track named for the film).
+  int slope_cycles = 41;
   int position_bins = 40;
   int reversal_bins = 20;
   int cycle_blocks = 8;
@@ -135,7 +143,8 @@ struct DiagnosisStep {
 };
 
 struct Diagnosis {
-  std::vector<int> cycles;  // the diagnosis cycles
+  std::vector<int> cycles;   // the diagnosis cycles
+  std::string slope_source;  // where k came from, in words
   std::vector<DiagnosisStep>
       steps;  // the last one is the rejection that stopped it
   std::vector<std::string> named;  // accepted effects, in order
@@ -162,11 +171,15 @@ struct Diagnosis {
 
 // Greedy forward selection of the effects that the wear-scar model misses.
 // `depth_mm` gives the groove depth along the plate coordinate (from the
-// scan); without it the force side's profile stands in.
+// scan); without it the force side's profile stands in. k comes from P/S,
+// or the depth channel (friction.k_from_depth), per cycle; `slope`, when
+// given (the scan's centreline on a rig whose P carries no profile), is
+// every cycle's k, and the diagnosis takes the last cycles.
 Diagnosis Diagnose(const force::ForceRecord& record,
                    const force::CycleSet& cycles,
                    const FrictionFitOptions& friction,
                    const PlateProfile* depth_mm,
+                   const PlateProfile* slope = nullptr,
                    const DiagnoseOptions& options = {});
 
 // Diagnoses a test AnalyzeTest analysed with `fuse`: the groove depth from

@@ -45,4 +45,16 @@ double DwellAdhesionFactor(double slid_mm, double b, double d_c_mm) {
   return 1.0 + b * std::exp(-std::max(0.0, slid_mm) / d_c_mm);
 }
 
+void ResonatorStep(
+    Resonator* r, double input, double dt_s, double f_hz, double zeta) {
+  const double w = 2.0 * 3.14159265358979323846 * f_hz;
+  const int steps =
+      std::max(1, static_cast<int>(std::ceil(dt_s * f_hz * 50.0)));
+  const double h = dt_s / steps;
+  for (int i = 0; i < steps; ++i) {
+    r->v += h * (w * w * (input - r->y) - 2.0 * zeta * w * r->v);
+    r->y += h * r->v;
+  }
+}
+
 }  // namespace wearscar::samples::laws

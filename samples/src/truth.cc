@@ -39,6 +39,8 @@ constexpr EffectField kEffectFields[] = {
     {"wobble_hz", &HiddenEffects::wobble_hz, "Hz"},
     {"thermal_drift", &HiddenEffects::thermal_drift, "relative"},
     {"thermal_time", &HiddenEffects::thermal_time_s, "s"},
+    {"ringing", &HiddenEffects::ringing_hz, "Hz"},
+    {"ringing_damping", &HiddenEffects::ringing_damping, "ratio"},
 };
 
 }  // namespace
@@ -146,11 +148,14 @@ nlohmann::json TruthJson(const SimulationOptions& o, const SimulatedTest& t) {
         {"pickup_n", e.pickup_n},
         {"dwell_adhesion", e.dwell_adhesion},
         {"wobble_rad", e.wobble_rad},
-        {"thermal_drift", e.thermal_drift}}) {
+        {"thermal_drift", e.thermal_drift},
+        {"ringing_hz", e.ringing_hz}}) {
     if (value != 0) j["effects"][key] = value;
   }
   if (e.pickup_n != 0) j["effects"]["pickup_hz"] = e.pickup_hz;
   if (e.wobble_rad != 0) j["effects"]["wobble_hz"] = e.wobble_hz;
+  if (e.ringing_hz != 0)
+    j["effects"]["ringing_damping"] = e.ringing_damping;
   if (e.mu_variation != 0 || e.mu_trend != 0 || e.mu_soft_spot != 0) {
     // The along-track pattern of mu (every 0.05 mm of the stroke).
     if (e.mu_variation != 0) j["effects"]["mu_variation"] = e.mu_variation;

@@ -96,6 +96,10 @@ bool SimulationOptions::IsValid(std::string* why) const {
     return fail("hook_length_mm must be > 0");
   }
   if (effects.q_lag_s < 0) return fail("q_lag_s must be >= 0");
+  if (!(effects.ringing_hz >= 0 && effects.ringing_hz <= 1e5 &&
+        effects.ringing_damping > 0 && effects.ringing_damping <= 2)) {
+    return fail("ringing must be in [0, 1e5] Hz, its damping in (0, 2]");
+  }
   for (double a :
        {effects.mu_variation, effects.mu_trend, effects.mu_soft_spot}) {
     if (!(std::abs(a) <= 0.3))
@@ -475,10 +479,15 @@ void Measure(const SimulationOptions& o,
   rec->normal_n.resize(n);
   const double dt = 1.0 / o.sampling_rate_hz;
   double qm = n > 0 ? q_true[0] : 0.0;
+  laws::Resonator arm{qm, 0.0};
   for (Eigen::Index i = 0; i < n; ++i) {
-    // The Q channel behind a first-order sensor.
+    // The Q channel behind a first-order sensor, and a resonance.
     qm = fx.q_lag_s > 0 ? laws::FirstOrderStep(qm, q_true[i], dt, fx.q_lag_s)
                         : q_true[i];
+    if (fx.ringing_hz > 0) {
+      laws::ResonatorStep(&arm, qm, dt, fx.ringing_hz, fx.ringing_damping);
+      qm = arm.y;
+    }
     double q_out = qm;
     double pm = p_true[i] + fx.crosstalk_q_into_p * q_true[i];
     if (fx.pickup_n != 0) {

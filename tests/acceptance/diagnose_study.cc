@@ -3,7 +3,7 @@
 //
 //   diagnose_study [--seeds K] [--jobs J] [--only EFFECT] [--scale F]
 //     every hidden effect (the library's, friction along the track in three
-//     patterns, a 50 Hz pick-up, three effects outside the library, none)
+//     patterns, a 50 Hz pick-up, four effects outside the library, none)
 //     x noise 1 and 2 x K seeds on S-RT-R at 200 cycles: what is named
 //     first, the held-out J before and after, and for friction along the
 //     track the recovered a(x)'s correlation with the truth. Exit status 1
@@ -65,6 +65,7 @@ const Effect kEffects[] = {
     {"dwell_adhesion", "dwell_adhesion=0.3", "-"},
     {"wobble", "wobble=0.01", "-"},
     {"thermal_drift", "thermal_drift=0.1", "-"},
+    {"ringing", "ringing=40", "-"},
     {"clean", "", ""},
 };
 

@@ -245,6 +245,23 @@ INSTANTIATE_TEST_SUITE_P(Eleven,
                                       std::get<1>(param_info.param)));
                          });
 
+// A resonance of the friction arm rings after each reversal, the same
+// every cycle: no effect in the library is a resonance, so nothing is
+// named, the repeating residual is said, and its map puts it just after
+// the reversals.
+TEST(Diagnose, RingingAfterTheReversalsIsNoneOfThese) {
+  samples::SimulationOptions o = samples::PaperCase("S-RT-R");
+  o.effects.ringing_hz = 40;
+  const Diagnosis d = DiagnoseSimulated(o);
+  EXPECT_TRUE(d.named.empty()) << d.message;
+  EXPECT_TRUE(d.unexplained) << d.message;
+  const Eigen::MatrixXd& m = d.before.reversal_mean_abs_n;
+  const Eigen::Index last = m.cols() - 1;
+  for (int row = 0; row < 2; ++row) {
+    EXPECT_GT(m(row, 0), 2.0 * m(row, last)) << d.before.where;
+  }
+}
+
 // A rig that loads the ball with a dead weight: P carries no profile, so
 // the diagnosis takes k where the analysis took it (the scan's centreline,
 // or the depth channel), and refuses when nothing gives it.

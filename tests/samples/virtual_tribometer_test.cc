@@ -627,6 +627,27 @@ TEST(EffectLaws, DifferFromTheLibrarysFormulas) {
 // Friction along the track comes from a hardness field, not from the
 // groove's depth (the library's former depth-shaped effect): a trend of
 // hardness across the stroke makes a pattern unlike the groove's.
+// The friction arm's resonance: a unit step overshoots by
+// exp(-pi zeta / sqrt(1 - zeta^2)) and rings at the damped frequency.
+TEST(EffectLaws, AResonatorRingsAtItsFrequency) {
+  const double f = 40, zeta = 0.05, dt = 1.0 / 2000;
+  laws::Resonator r;
+  double peak = 0, t_peak = 0, t_trough = 0, trough = 2;
+  for (int i = 1; i <= 2000; ++i) {
+    laws::ResonatorStep(&r, 1.0, dt, f, zeta);
+    const double t = i * dt;
+    if (t < 0.5 / f + 0.005 && r.y > peak) peak = r.y, t_peak = t;
+    if (t > t_peak && t < 1.0 / f + 0.005 && r.y < trough)
+      trough = r.y, t_trough = t;
+  }
+  EXPECT_NEAR(peak - 1,
+              std::exp(-M_PI * zeta / std::sqrt(1 - zeta * zeta)),
+              0.02);
+  const double damped_period = 1.0 / (f * std::sqrt(1 - zeta * zeta));
+  EXPECT_NEAR(t_trough - t_peak, 0.5 * damped_period, 1.5 * dt);
+  EXPECT_NEAR(r.y, 1.0, 1e-5);  // settled after 1 s (e^-12.6 = 3e-6)
+}
+
 TEST(EffectLaws, FrictionPatternsAreNotTheGroovesShape) {
   SimulationOptions o = PaperCase("S-RT-R");
   o.cycles = 20;

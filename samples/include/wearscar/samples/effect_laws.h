@@ -48,4 +48,13 @@ double FirstOrderStep(double y, double input, double dt_s, double tau_s);
 // mu_eff / mu = 1 + b exp(-slid / d_c).
 double DwellAdhesionFactor(double slid_mm, double b, double d_c_mm);
 
+// A sensor behind a resonance: y'' + 2 zeta w y' + w^2 y = w^2 input,
+// advanced by dt with the input held (semi-implicit Euler in substeps of
+// at most 1/(50 f)).
+struct Resonator {
+  double y = 0, v = 0;
+};
+void ResonatorStep(
+    Resonator* r, double input, double dt_s, double f_hz, double zeta);
+
 }  // namespace wearscar::samples::laws

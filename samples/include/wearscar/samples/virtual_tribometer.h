@@ -59,6 +59,12 @@ struct HiddenEffects {
   // frictional heating warms it (first order, time constant thermal_time_s).
   double thermal_drift = 0.0;
   double thermal_time_s = 60.0;
+  // The Q channel behind a lightly damped resonance (the friction arm's
+  // mass on the load cell's stiffness, laws::ResonatorStep): natural
+  // frequency (Hz; 0 = none) and damping ratio. Each reversal's step in
+  // friction rings at it, the same every cycle.
+  double ringing_hz = 0.0;
+  double ringing_damping = 0.05;
 };
 
 enum class Drive { kSine, kTriangle };

@@ -154,8 +154,7 @@ nlohmann::json TruthJson(const SimulationOptions& o, const SimulatedTest& t) {
   }
   if (e.pickup_n != 0) j["effects"]["pickup_hz"] = e.pickup_hz;
   if (e.wobble_rad != 0) j["effects"]["wobble_hz"] = e.wobble_hz;
-  if (e.ringing_hz != 0)
-    j["effects"]["ringing_damping"] = e.ringing_damping;
+  if (e.ringing_hz != 0) j["effects"]["ringing_damping"] = e.ringing_damping;
   if (e.mu_variation != 0 || e.mu_trend != 0 || e.mu_soft_spot != 0) {
     // The along-track pattern of mu (every 0.05 mm of the stroke).
     if (e.mu_variation != 0) j["effects"]["mu_variation"] = e.mu_variation;

@@ -640,9 +640,8 @@ TEST(EffectLaws, AResonatorRingsAtItsFrequency) {
     if (t > t_peak && t < 1.0 / f + 0.005 && r.y < trough)
       trough = r.y, t_trough = t;
   }
-  EXPECT_NEAR(peak - 1,
-              std::exp(-M_PI * zeta / std::sqrt(1 - zeta * zeta)),
-              0.02);
+  EXPECT_NEAR(
+      peak - 1, std::exp(-M_PI * zeta / std::sqrt(1 - zeta * zeta)), 0.02);
   const double damped_period = 1.0 / (f * std::sqrt(1 - zeta * zeta));
   EXPECT_NEAR(t_trough - t_peak, 0.5 * damped_period, 1.5 * dt);
   EXPECT_NEAR(r.y, 1.0, 1e-5);  // settled after 1 s (e^-12.6 = 3e-6)

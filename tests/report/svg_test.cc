@@ -259,8 +259,12 @@ TEST(SvgFigures, AnAuditsFiguresAreReadable) {
       record, scan::ReadScan((in / "S-RL-R.scan.gsf").string()), options.fuse);
   const fusion::Diagnosis d =
       fusion::DiagnoseTest(record, result, options.fuse);
-  EXPECT_FALSE(
-      WriteDiagnosis((out / "S-RL-R").string(), "S-RL-R", d, true).empty());
+  const FigureSet shown =
+      WriteDiagnosis((out / "S-RL-R").string(), "S-RL-R", d, true);
+  ASSERT_EQ(shown.shown.size(), 2u);  // nothing along the track named
+  EXPECT_EQ(fs::path(shown.shown[1]).stem(), "diagnosis_direction_split");
+  EXPECT_EQ(shown.titles[1],
+            "S-RL-R: diagnosis, the residual split by direction");
   for (const std::string& c : cases) {
     SCOPED_TRACE(c);
     // The diagnosis adds its residual map and its direction split.

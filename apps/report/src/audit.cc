@@ -34,14 +34,13 @@ void AuditDiagnosis(const AuditOptions& o,
     // The spring the file states, as the analysis used it.
     const fusion::Diagnosis d = fusion::DiagnoseTest(
         record, r, fusion::WithStatedSpring(o.fuse, record), dopt);
-    const std::string shown =
+    const FigureSet shown =
         WriteDiagnosis(dir, name, d, o.figures, o.figure_formats);
     sec->row["missing_effects"] = d.named;
     sec->row["diagnosis"] = d.message;
-    if (!shown.empty()) {
-      sec->figures.shown.push_back(shown);
-      sec->figures.titles.push_back(
-          name + ": diagnosis, residual map before and after");
+    for (size_t i = 0; i < shown.shown.size(); ++i) {
+      sec->figures.shown.push_back(shown.shown[i]);
+      sec->figures.titles.push_back(shown.titles[i]);
     }
   } catch (const std::exception& e) {
     sec->row["diagnosis"] = std::string("not run: ") + e.what();

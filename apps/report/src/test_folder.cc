@@ -58,16 +58,16 @@ void AddWarningToResult(const std::string& dir, const std::string& warning) {
   WriteTextAtomically(path, j.dump(2) + "\n");
 }
 
-std::string WriteDiagnosis(const std::string& dir,
-                           const std::string& name,
-                           const fusion::Diagnosis& d,
-                           bool figures,
-                           const FigureFormats& formats) {
+FigureSet WriteDiagnosis(const std::string& dir,
+                         const std::string& name,
+                         const fusion::Diagnosis& d,
+                         bool figures,
+                         const FigureFormats& formats) {
   EnsureDirectory(dir);
   for (const auto& [file, text] : fusion::DiagnosisFiles(name, d)) {
     WriteTextAtomically((fs::path(dir) / file).string(), text);
   }
-  if (!figures || !PlotterAvailable(nullptr)) return "";
+  if (!figures || !PlotterAvailable(nullptr)) return {};
   std::string gp;
   std::vector<std::string> terms;
   if (formats.png) terms.emplace_back("png");
@@ -116,8 +116,20 @@ std::string WriteDiagnosis(const std::string& dir,
     }
   }
   WriteTextAtomically(FigureDataPath(dir, "diagnosis.gp"), gp);
-  if (terms.empty() || !RunGnuplotScript(dir, "diagnosis.gp")) return "";
-  return (fs::path(dir) / "diagnosis_residual_map.").string() + terms.front();
+  FigureSet shown;
+  if (terms.empty() || !RunGnuplotScript(dir, "diagnosis.gp")) return shown;
+  const std::pair<const char*, const char*> drawn[] = {
+      {"diagnosis_residual_map", "residual map before and after"},
+      {"diagnosis_direction_split", "the residual split by direction"},
+      {"diagnosis_friction_along_track", "friction along the track"}};
+  for (const auto& [file, title] : drawn) {
+    const std::string path =
+        (fs::path(dir) / file).string() + "." + terms.front();
+    if (!fs::exists(path)) continue;
+    shown.shown.push_back(path);
+    shown.titles.push_back(fmt::format("{}: diagnosis, {}", name, title));
+  }
+  return shown;
 }
 
 }  // namespace wearscar::report

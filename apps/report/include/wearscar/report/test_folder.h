@@ -30,12 +30,14 @@ fusion::TestProducts WriteTestResults(const std::string& dir,
 void AddWarningToResult(const std::string& dir, const std::string& warning);
 
 // diagnosis.json, residual_map_before.csv / after.csv and (with figures)
-// diagnosis_residual_map.svg / .png in `dir`. Returns the figure to show
-// (FigureSet::shown) or "" when none was drawn.
-std::string WriteDiagnosis(const std::string& dir,
-                           const std::string& name,
-                           const fusion::Diagnosis& d,
-                           bool figures,
-                           const FigureFormats& formats = {});
+// the diagnosis's figures (.svg / .png) in `dir`. Returns the figures to
+// show with their titles (FigureSet::shown, titles; empty when none was
+// drawn): the residual map, its split by direction, and friction along the
+// track when named.
+FigureSet WriteDiagnosis(const std::string& dir,
+                         const std::string& name,
+                         const fusion::Diagnosis& d,
+                         bool figures,
+                         const FigureFormats& formats = {});
 
 }  // namespace wearscar::report

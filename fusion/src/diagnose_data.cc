@@ -111,7 +111,10 @@ class CycleSlopes {
     for (int j = std::max(0, c - half_); j <= std::min(n - 1, c + half_); ++j)
       window.push_back(j);
     const Eigen::MatrixXd pc = Bin(window, profile_);
-    const Eigen::MatrixXd qc = Bin(window, record_.tangential_n);
+    // Q enters k only through P (crosstalk); a depth channel holds none.
+    const Eigen::MatrixXd qc = from_depth_
+                                   ? Eigen::MatrixXd::Zero(2, grid_.bins).eval()
+                                   : Bin(window, record_.tangential_n);
     Eigen::VectorXd kpd[2], kqd[2];
     for (int row = 0; row < 2; ++row) {
       const Eigen::VectorXd pr = pc.row(row).transpose(),
@@ -119,11 +122,9 @@ class CycleSlopes {
       kpd[row] =
           force::DerivativeAlongX(grid_.centres, pr, 0, grid_.bins, sg_) /
           per_mm_;
-      kqd[row] = from_depth_ ? Eigen::VectorXd::Zero(grid_.bins).eval()
-                             : (force::DerivativeAlongX(
-                                    grid_.centres, qr, 0, grid_.bins, sg_) /
-                                per_mm_)
-                                   .eval();
+      kqd[row] =
+          force::DerivativeAlongX(grid_.centres, qr, 0, grid_.bins, sg_) /
+          per_mm_;
     }
     // Both directions slide over the same geometry: their mean slope halves
     // the noise variance. Crosstalk then enters through the mean of the two

@@ -600,7 +600,11 @@ ResidualMap Map(const Data& d,
   return map;
 }
 
-// Per-direction binned average of a channel over the diagnosis cycles.
+// Per-direction binned average of a channel over the diagnosis cycles,
+// over each half's whole stroke: P (and a depth channel) follows the track
+// in stick as in gross slip, and where the slip starts late (a steep wall
+// near a stroke end holds Q's climb back) the slope would otherwise be
+// missing, or extrapolated from half a window, over that part of the track.
 Eigen::MatrixXd BinProfile(const force::ForceRecord& r,
                            const force::CycleSet& cycles,
                            const std::vector<int>& use,
@@ -613,7 +617,7 @@ Eigen::MatrixXd BinProfile(const force::ForceRecord& r,
     for (const force::HalfCycle* h :
          {&cycles.cycles[c].forward, &cycles.cycles[c].reverse}) {
       const int row = h->direction > 0 ? 0 : 1;
-      for (Eigen::Index i = h->slip_begin; i < h->slip_end; ++i) {
+      for (Eigen::Index i = h->begin; i < h->end; ++i) {
         if (!std::isfinite(r.x_mm[i]) || !std::isfinite(channel[i])) continue;
         const Eigen::Index b =
             static_cast<Eigen::Index>(std::floor((r.x_mm[i] - x0) / step));

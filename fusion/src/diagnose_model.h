@@ -95,7 +95,8 @@ ResidualMap Map(const Data& d,
                 double x_lo,
                 double x_hi);
 
-// Per-direction binned average of a channel over the diagnosis cycles.
+// Per-direction binned average of a channel over the diagnosis cycles
+// (each half's whole stroke, stick included).
 Eigen::MatrixXd BinProfile(const force::ForceRecord& r,
                            const force::CycleSet& cycles,
                            const std::vector<int>& use,

@@ -209,6 +209,52 @@ INSTANTIATE_TEST_SUITE_P(
       return n.substr(0, n.find('='));
     });
 
+// On this specimen (S-RT-R, seed 3) the track's wall near +A is steep
+// enough (k about twice mu) that Q keeps climbing after the stick, and the
+// reverse halves' gross slip is found only some 1.5 mm after the reversal.
+// P follows the track in stick as well: binned over whole halves, the slope
+// still covers the track there, forward samples are diagnosed over it, and
+// a viscous film at twice the paper's noise is named with the held-out J
+// down by a third (binned over the slip alone, the slope stopped at +1.4 mm
+// and the film's gain was 18%).
+TEST(Diagnose, TheSlopeCoversTheTrackWhereGrossSlipStartsLate) {
+  samples::SimulationOptions o = samples::PaperCase("S-RT-R");
+  o.seed = 3;
+  o.cycles = 200;
+  const sim::SimulatedTest t = sim::Simulate(o);
+  FuseOptions f;
+  f.fit_lugre = false;
+  f.analysis.running_in_cycles = 100;
+  const TestResult r = AnalyzeTest(t.record, t.scan, f);
+  // The premise: late gross slip in the reverse halves.
+  const force::HalfCycle& rev = r.force.cycles.cycles[150].reverse;
+  ASSERT_LT(t.record.x_mm[rev.slip_begin], 2.0);
+  PlateProfile depth;
+  depth.x_mm = r.scan->force_profile.x_mm;
+  depth.k = -ScanHeightAtPlate(r.scan->profile, r.scan->alignment, depth.x_mm);
+  DiagnoseOptions dopt;
+  dopt.running_in_cycles = 100;
+  const Diagnosis d = Diagnose(
+      t.record, r.force.cycles, f.analysis.friction, &depth, nullptr, dopt);
+  EXPECT_TRUE(d.named.empty()) << d.message;
+  EXPECT_FALSE(d.unexplained) << d.message;
+  int covered = 0, bins = 0;
+  for (Eigen::Index b = 0; b < d.before.x_mm.size(); ++b) {
+    if (d.before.x_mm[b] < 1.6 || d.before.x_mm[b] > 2.6) continue;
+    ++bins;
+    covered += d.before.mean_abs_n(0, b) > 0;
+  }
+  EXPECT_GE(bins, 5);
+  EXPECT_EQ(covered, bins) << "forward bins in [1.6, 2.6] mm with samples";
+
+  o.noise_scale = 2;
+  o.effects.viscous_n_s_per_mm = 0.04;
+  const Diagnosis v = DiagnoseSimulated(o);
+  ASSERT_FALSE(v.named.empty()) << v.message;
+  EXPECT_EQ(v.named.front(), "viscous term") << v.message;
+  EXPECT_LE(v.heldout_final, 0.7 * v.heldout_initial) << v.message;
+}
+
 // Adhesion at the reversals strong enough to repeat well above the noise:
 // said, with its map, and nothing named.
 TEST(Diagnose, DwellAdhesionIsNoneOfThese) {

@@ -180,7 +180,30 @@ void FindHalfSlip(const Eigen::VectorXd& x,
     i20 = b;
     i80 = std::min(e - 1, b + o.stick_samples);
   }
-  const double k_stick = LocalSlope(x, q, i20, i80 + 1);
+  double k_stick = LocalSlope(x, q, i20, i80 + 1);
+  Eigen::Index search_from = i80;
+  // On a worn track whose wall near the stroke end is steep (k near mu or
+  // above) the sliding level moves with the slope after the stick, so Q's
+  // climb to the central median runs on into gross slip: the 20-80% slope
+  // then understates the stick's, and slip would be found only where the
+  // track flattens (1.5 mm on). The first part of the climb (5-30%) is
+  // stick on any track; when it is clearly stiffer, the stick is that part.
+  Eigen::Index i05 = -1, i30 = -1;
+  for (Eigen::Index i = b; i < e; ++i) {
+    const double frac = (s * q[i] - q_rev) / swing;
+    if (i05 < 0 && frac >= 0.05) i05 = i;
+    if (i05 >= 0 && frac >= 0.3) {
+      i30 = i;
+      break;
+    }
+  }
+  if (i05 >= 0 && i30 - i05 >= 2) {
+    const double k_early = LocalSlope(x, q, i05, i30 + 1);
+    if (std::isfinite(k_early) && k_early > o.early_stick_ratio * k_stick) {
+      k_stick = k_early;
+      search_from = std::min(search_from, i30);
+    }
+  }
   if (!std::isfinite(k_stick) || k_stick <= 0) {
     CentralFallback(x, o.fallback_central_fraction, half);
     return;
@@ -188,7 +211,7 @@ void FindHalfSlip(const Eigen::VectorXd& x,
   const double threshold = o.stiffness_fraction * k_stick;
   const Eigen::Index h = o.slope_window / 2;
   Eigen::Index start = -1;
-  for (Eigen::Index i = std::max(i80, b + h); i + h < e; ++i) {
+  for (Eigen::Index i = std::max(search_from, b + h); i + h < e; ++i) {
     // dQ/dx is positive in stick whichever way x moves.
     const double k_local = LocalSlope(x, q, i - h, i + h + 1);
     if (std::isfinite(k_local) && k_local < threshold) {
@@ -238,6 +261,7 @@ bool GrossSlipOptions::IsValid(std::string* why) const {
     return fail("min_window_fraction must be in [0, 1)");
   }
   if (end_margin_samples < 0) return fail("end_margin_samples must be >= 0");
+  if (!(early_stick_ratio >= 1)) return fail("early_stick_ratio must be >= 1");
   return true;
 }
 

@@ -176,6 +176,52 @@ TEST(GrossSlip, WindowStartsWhereStickEnds) {
   }
 }
 
+// A worn track whose wall near +A is steep (k = 0.3, falling off over
+// 0.6 mm; mu 0.12): after the stick at that reversal Q climbs on with the
+// slope, P dk/dx, as it slides. The stick still lasts about 0.05 mm; the
+// 20-80% run of the climb reaches 0.4 mm into the slide, and taken as the
+// stick it put the slip's start 1.1 mm from the reversal.
+TEST(GrossSlip, ASteepWallAtTheStrokeEndDoesNotDelayTheSlip) {
+  const double mu = 0.12, p = 30.0, rate = 2000;
+  const auto k = [](double x) { return 0.3 * std::exp(-(2.85 - x) / 0.6); };
+  const Eigen::Index n = static_cast<Eigen::Index>(4.5 * rate);
+  ForceRecord r;
+  r.time_s.resize(n);
+  r.x_mm.resize(n);
+  r.tangential_n.resize(n);
+  r.normal_n.resize(n);
+  double q = 0, xp = 0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double t = i / rate, x = Sine(t);
+    // The tilted contact's sliding bounds, Q = P (k + s mu) / (1 - s mu k).
+    const double upper = p * (k(x) + mu) / (1 - mu * k(x));
+    const double lower = p * (k(x) - mu) / (1 + mu * k(x));
+    if (i) q += 150.0 * (x - xp);
+    q = std::clamp(q, lower, upper);
+    xp = x;
+    r.time_s[i] = t;
+    r.x_mm[i] = x;
+    r.tangential_n[i] = q;
+    r.normal_n[i] = p;
+  }
+  CycleSet set = SegmentCycles(r.x_mm);
+  FindGrossSlip(r, &set);
+  ASSERT_GE(set.cycles.size(), 3u);
+  for (const Cycle& c : set.cycles) {
+    for (const HalfCycle* h : {&c.forward, &c.reverse}) {
+      EXPECT_FALSE(h->slip_fallback);
+      const double travel = std::abs(r.x_mm[h->slip_begin] - r.x_mm[h->begin]);
+      EXPECT_LT(travel, 0.1) << "direction " << h->direction;
+      // Slides from there on: Q on its sliding bound.
+      const double x = r.x_mm[h->slip_begin + 5];
+      const double bound =
+          h->direction > 0 ? p * (k(x) + mu) / (1 - mu * k(x))
+                           : p * (k(x) - mu) / (1 + mu * k(x));
+      EXPECT_NEAR(r.tangential_n[h->slip_begin + 5], bound, 1e-9);
+    }
+  }
+}
+
 TEST(ClassicCof, CoulombLoopGivesMuByMeanAndEnergyWithDeltaG) {
   const double mu = 0.12;
   const ForceRecord r = JenkinsRecord(Sine, 2000, 4.5, mu);

@@ -78,6 +78,9 @@ struct GrossSlipOptions {
   int slope_window = 9;
   // Samples after the reversal used to measure the stick stiffness.
   int stick_samples = 9;
+  // The stick is the first 5-30% of Q's climb instead of 20-80% when that
+  // part is this much stiffer (a steep wall moves the sliding level).
+  double early_stick_ratio = 1.5;
   // The window must hold at least this fraction of the half's stroke;
   // otherwise the fallback is used.
   double min_window_fraction = 0.3;

@@ -214,9 +214,8 @@ TEST(GrossSlip, ASteepWallAtTheStrokeEndDoesNotDelayTheSlip) {
       EXPECT_LT(travel, 0.1) << "direction " << h->direction;
       // Slides from there on: Q on its sliding bound.
       const double x = r.x_mm[h->slip_begin + 5];
-      const double bound =
-          h->direction > 0 ? p * (k(x) + mu) / (1 - mu * k(x))
-                           : p * (k(x) - mu) / (1 + mu * k(x));
+      const double bound = h->direction > 0 ? p * (k(x) + mu) / (1 - mu * k(x))
+                                            : p * (k(x) - mu) / (1 + mu * k(x));
       EXPECT_NEAR(r.tangential_n[h->slip_begin + 5], bound, 1e-9);
     }
   }

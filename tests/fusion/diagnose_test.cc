@@ -342,10 +342,54 @@ TEST(DiagnoseDeadWeight, TakesTheSlopeFromTheScan) {
   // The scan is the track at the end: the last cycles are diagnosed.
   EXPECT_EQ(clean.cycles.back(), 199);
   EXPECT_EQ(clean.cycles.front(), 160);
+  // The scan's slope holds no elastic part and is not read from P: neither
+  // the elastic compliance (it fitted the track's growth over those cycles,
+  // beta 0.03 and 23% of the held-out J) nor crosstalk is tried, and the
+  // slope's source says so.
+  for (const DiagnosisStep& step : clean.steps) {
+    for (const CandidateResult& c : step.tried) {
+      EXPECT_NE(c.effect, "elastic compliance of the track");
+      EXPECT_NE(c.effect, "crosstalk of Q into P");
+    }
+  }
+  EXPECT_NE(clean.slope_source.find("elastic compliance and crosstalk"),
+            std::string::npos)
+      << clean.slope_source;
+  // The scan is deeper than the track the diagnosed cycles slid on: the
+  // simulator deepens it as 1 - exp(-(n + 1) / running-in) + 0.3 (n + 1) /
+  // cycles, so k_scan / k over cycles 160-199 is the last cycle's depth
+  // over their mean.
+  const samples::SimulationOptions o = samples::PaperCase("S-RT-R");
+  const auto growth = [&](int n) {
+    return 1 - std::exp(-(n + 1) / o.running_in_cycles) + 0.3 * (n + 1) / 200.0;
+  };
+  double mean = 0;
+  for (int c = 160; c < 200; ++c) mean += growth(c) / 40;
+  const size_t at = clean.slope_source.find("k = k_scan / ");
+  ASSERT_NE(at, std::string::npos) << clean.slope_source;
+  const double scale = std::stod(clean.slope_source.substr(at + 13));
+  EXPECT_NEAR(scale, growth(199) / mean, 0.01) << clean.slope_source;
   const Diagnosis plough = DiagnoseDeadWeight("ploughing=8", false, true);
   ASSERT_FALSE(plough.named.empty()) << plough.message;
   EXPECT_EQ(plough.named.front(), "ploughing") << plough.message;
   EXPECT_LE(plough.heldout_final, 0.7 * plough.heldout_initial);
+}
+
+// A lag of the Q channel and friction that rises along the track, on a
+// dead-weight rig with its scan: each named alone. Before the scan's slope
+// was scaled to the diagnosed cycles, the track's growth over them was
+// named second: as an elastic compliance of the track after the lag, as
+// ploughing after the trend.
+TEST(DiagnoseDeadWeight, NamesOneEffectAloneFromTheScan) {
+  const Diagnosis lag = DiagnoseDeadWeight("q_lag=0.003", false, true);
+  ASSERT_EQ(lag.named.size(), 1u) << lag.message;
+  EXPECT_EQ(lag.named.front(), "time lag of the Q channel") << lag.message;
+  EXPECT_LE(lag.heldout_final, 0.5 * lag.heldout_initial) << lag.message;
+  const Diagnosis trend = DiagnoseDeadWeight("mu_trend=0.1", false, true);
+  ASSERT_EQ(trend.named.size(), 1u) << trend.message;
+  EXPECT_EQ(trend.named.front(), "friction varying along the track")
+      << trend.message;
+  EXPECT_LE(trend.heldout_final, 0.7 * trend.heldout_initial) << trend.message;
 }
 
 TEST(DiagnoseDeadWeight, TakesTheSlopeFromTheDepthChannel) {

@@ -255,19 +255,16 @@ void SelectEffects(const Data& data,
 
 // The library's effects the options ask for; friction along the track
 // with the options' knots (owned by `along_track`). With a fixed slope
-// (the scan's centreline) the two that act on a slope read from P are left
-// out: the elastic compliance is what P/S sees beyond the track's geometry,
-// the scan holds none, and its formula is the depth scale Diagnose has
-// already fitted to the scan; crosstalk changes k through P's slope, which
-// a fixed slope does not read.
+// (the scan's centreline) the elastic compliance is left out: it is what
+// P/S sees beyond the track's geometry, the scan holds none, and its
+// formula is the depth scale Diagnose has already fitted to the scan.
 std::vector<const Effect*> CandidatePool(const DiagnoseOptions& o,
                                          bool fixed_slope,
                                          std::unique_ptr<Effect>* along_track) {
   *along_track = AlongTrackFriction(o.along_track_knots);
   std::vector<const Effect*> pool;
   for (const auto& e : EffectLibrary()) {
-    if (fixed_slope && (e->Key() == "elastic" || e->Key() == "crosstalk"))
-      continue;
+    if (fixed_slope && e->Key() == "elastic") continue;
     if (!o.candidates.empty() && std::find_if(o.candidates.begin(),
                                               o.candidates.end(),
                                               [&](const std::string& c) {
@@ -445,8 +442,8 @@ Diagnosis Diagnose(const force::ForceRecord& record,
     slope = &scaled;
     out.slope_source += fmt::format(
         ", k = k_scan / {:.3f} for the diagnosed cycles' track (fitted: "
-        "the scan shows it after the last cycle); elastic compliance and "
-        "crosstalk, which act on a slope read from P, not tried",
+        "the scan shows it after the last cycle); elastic compliance, the "
+        "same formula, not tried",
         1.0 + g);
     prepared = std::make_unique<Prepared>();
     Prepare(

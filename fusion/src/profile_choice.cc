@@ -46,41 +46,69 @@ bool ParseProfileSource(const std::string& name, ProfileSource* source) {
 
 namespace internal {
 
-double DepthAgreement(const force::ForceRecord& record,
-                      const ForceAnalysis& force) {
+namespace {
+
+// Pearson r of two profiles' means over the bins both hold.
+double ProfileCorrelation(const ForceProfile& d, const ForceProfile& f) {
+  double md = 0, mf = 0;
+  int k = 0;
+  const Eigen::Index bins = std::min(d.x_mm.size(), f.x_mm.size());
+  auto both = [&](Eigen::Index i) {
+    return std::isfinite(d.mean_mm[i]) && std::isfinite(f.mean_mm[i]);
+  };
+  for (Eigen::Index i = 0; i < bins; ++i) {
+    if (!both(i)) continue;
+    md += d.mean_mm[i];
+    mf += f.mean_mm[i];
+    ++k;
+  }
+  if (k < 3) return NAN;
+  md /= k;
+  mf /= k;
+  double sd = 0, sf = 0, sdf = 0;
+  for (Eigen::Index i = 0; i < bins; ++i) {
+    if (!both(i)) continue;
+    const double a = d.mean_mm[i] - md, b = f.mean_mm[i] - mf;
+    sd += a * a;
+    sf += b * b;
+    sdf += a * b;
+  }
+  return sd > 0 && sf > 0 ? sdf / std::sqrt(sd * sf) : NAN;
+}
+
+// The last cycles after running-in (at most ForceProfileOptions::cycles).
+ForceProfileOptions LastCycles(const ForceAnalysis& force) {
   ForceProfileOptions o;
   const int n = static_cast<int>(force.cycles.cycles.size());
-  if (n < 1) return NAN;
   o.first_cycle =
       std::max(n - o.cycles, std::min(force.running_in.cycles, n - 1));
   o.last_cycle = n - 1;
+  return o;
+}
+
+}  // namespace
+
+double DepthAgreement(const force::ForceRecord& record,
+                      const ForceAnalysis& force) {
+  if (force.cycles.cycles.empty()) return NAN;
+  const ForceProfileOptions o = LastCycles(force);
   try {
-    const ForceProfile d = ComputeDepthProfile(record, force.cycles, o);
-    const ForceProfile f = ComputeFrictionProfile(record, force.cycles, o);
-    double md = 0, mf = 0;
-    int k = 0;
-    const Eigen::Index bins = std::min(d.x_mm.size(), f.x_mm.size());
-    auto both = [&](Eigen::Index i) {
-      return std::isfinite(d.mean_mm[i]) && std::isfinite(f.mean_mm[i]);
-    };
-    for (Eigen::Index i = 0; i < bins; ++i) {
-      if (!both(i)) continue;
-      md += d.mean_mm[i];
-      mf += f.mean_mm[i];
-      ++k;
-    }
-    if (k < 3) return NAN;
-    md /= k;
-    mf /= k;
-    double sd = 0, sf = 0, sdf = 0;
-    for (Eigen::Index i = 0; i < bins; ++i) {
-      if (!both(i)) continue;
-      const double a = d.mean_mm[i] - md, b = f.mean_mm[i] - mf;
-      sd += a * a;
-      sf += b * b;
-      sdf += a * b;
-    }
-    return sd > 0 && sf > 0 ? sdf / std::sqrt(sd * sf) : NAN;
+    return ProfileCorrelation(ComputeDepthProfile(record, force.cycles, o),
+                              ComputeFrictionProfile(record, force.cycles, o));
+  } catch (const FusionError&) {
+    return NAN;
+  }
+}
+
+double SpringDepthAgreement(const force::ForceRecord& record,
+                            const ForceAnalysis& force,
+                            double spring_n_per_mm) {
+  if (force.cycles.cycles.empty() || !record.has_depth()) return NAN;
+  const ForceProfileOptions o = LastCycles(force);
+  try {
+    return ProfileCorrelation(
+        ComputeDepthProfile(record, force.cycles, o),
+        ComputeForceProfile(record, force.cycles, spring_n_per_mm, o));
   } catch (const FusionError&) {
     return NAN;
   }
@@ -141,8 +169,16 @@ std::string ProfileReason(const TestResult& r,
                               ? ": it runs the other way, so it was turned over"
                               : "")
             : std::string(),
-        chosen ? p_says + ": a dead-weight or force-controlled rig"
-               : std::string("--profile-from depth"),
+        !chosen ? std::string("--profile-from depth")
+        : std::isfinite(r.spring_depth_agreement)
+            ? fmt::format(
+                  "{}, but P/S's profile follows the depth's by r = {:.2f} "
+                  "only (below {:.2f}): P's variation is not the track's (a "
+                  "dead weight with Q's crosstalk into P?)",
+                  p_says,
+                  r.spring_depth_agreement,
+                  o.spring_depth_agreement)
+            : p_says + ": a dead-weight or force-controlled rig",
         "; the spring is neither needed nor used");
   }
   if (r.profile_source == ProfileSource::kFriction) {

@@ -18,6 +18,13 @@ double ProfileSignificance(const ForceAnalysis& force);
 double DepthAgreement(const force::ForceRecord& record,
                       const ForceAnalysis& force);
 
+// The correlation of P/S's profile with the depth channel's over the same
+// cycles (a spring's P follows the depth: near +-1); NaN when either cannot
+// be built.
+double SpringDepthAgreement(const force::ForceRecord& record,
+                            const ForceAnalysis& force,
+                            double spring_n_per_mm);
+
 // auto's choice on a result analysed with P/S (its scan aligned with it).
 ProfileSource ChooseProfile(const TestResult& r, const FuseOptions& o);
 

@@ -363,7 +363,8 @@ nlohmann::json ResultJson(const std::string& name,
   j["profile"] = {{"source", ProfileSourceName(r.profile_source)},
                   {"why", r.profile_reason},
                   {"p_slope_significance", r.p_slope_significance},
-                  {"depth_against_friction", r.depth_agreement}};
+                  {"depth_against_friction", r.depth_agreement},
+                  {"spring_against_depth", r.spring_depth_agreement}};
   j["verdict"] = {{"explained", r.verdict.explained},
                   {"summary", r.verdict.Summary()},
                   {"judged", r.verdict.not_judged.empty()},

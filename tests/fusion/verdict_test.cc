@@ -466,6 +466,35 @@ TEST(DeadWeightWithDepth, ADepthRunningTheOtherWayIsTurnedOver) {
   EXPECT_NEAR(r.mismatch.mu_force.mean, right.mismatch.mu_force.mean, 1e-9);
 }
 
+// Q's crosstalk into P (c = 0.05) on a dead weight makes P vary along the
+// stroke, far beyond its noise, but with the track's slope (through Q),
+// not its height: P/S's profile does not follow the depth channel's, so
+// auto takes k from the depth and says why (P/S's slope was taken before:
+// J 1.7, "not explained"). A spring rig logging a depth keeps P: its P/S
+// follows the depth.
+TEST(DeadWeightWithDepth, QsCrosstalkIntoPIsNotTakenForASpring) {
+  samples::SimulationOptions o = DeadWeightCase("S-RT-R", 1, true);
+  o.effects.crosstalk_q_into_p = 0.05;
+  const sim::SimulatedTest t = sim::Simulate(o);
+  const TestResult r = AnalyzeTest(t.record, std::nullopt, NoLugre());
+  EXPECT_GT(r.p_slope_significance, 10.0);
+  EXPECT_LT(std::abs(r.spring_depth_agreement), 0.5);
+  EXPECT_EQ(r.profile_source, ProfileSource::kDepth) << r.profile_reason;
+  EXPECT_NE(r.profile_reason.find("P's variation is not the track's"),
+            std::string::npos)
+      << r.profile_reason;
+  EXPECT_TRUE(r.verdict.explained) << r.verdict.Summary();
+  EXPECT_NEAR(
+      r.mismatch.mu_force.mean, TruthOverCompared(t, r.mismatch), 0.002);
+
+  samples::SimulationOptions spring = NoisyCase("S-RT-R", 1, 0, 200);
+  spring.depth_channel = true;
+  const sim::SimulatedTest s = sim::Simulate(spring);
+  const TestResult p = AnalyzeTest(s.record, std::nullopt, NoLugre());
+  EXPECT_GT(std::abs(p.spring_depth_agreement), 0.9);
+  EXPECT_EQ(p.profile_source, ProfileSource::kSpring) << p.profile_reason;
+}
+
 // An elastic part (the ball sinks deeper where the wood is softer, without
 // tilting the contact) is in the depth channel and not in the scan: the
 // verdict flags it on the amplitude ratio, as it does P/S's on a spring

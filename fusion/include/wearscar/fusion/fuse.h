@@ -97,6 +97,11 @@ struct FuseOptions {
   // dead_weight_ratio of the scanned profile.
   double dead_weight_significance = 3.0;
   double dead_weight_ratio = 0.2;
+  // With a depth channel, auto also takes the depth when P varies but its
+  // profile (P/S) correlates with the depth's by less than this in
+  // magnitude: P's variation is not the track's (Q's crosstalk into P on a
+  // dead weight follows the track's slope, not its height).
+  double spring_depth_agreement = 0.5;
   // LuGre beside the wear-scar fit (paper Fig. 17) on the detail cycle.
   bool fit_lugre = true;
   LugreOptions lugre;
@@ -151,6 +156,9 @@ struct TestResult {
   // The depth's profile against the friction's (correlation; NaN when not
   // computed): below -0.5 the depth was read turned over.
   double depth_agreement = std::numeric_limits<double>::quiet_NaN();
+  // P/S's profile against the depth channel's (NaN when not computed: no
+  // depth channel, or P's slope insignificant).
+  double spring_depth_agreement = std::numeric_limits<double>::quiet_NaN();
   std::optional<ScanAnalysis> scan;
   MismatchReport mismatch;
   Verdict verdict;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 namespace wearscar::force {
@@ -164,17 +165,23 @@ void FindHalfSlip(const Eigen::VectorXd& x,
     CentralFallback(x, o.fallback_central_fraction, half);
     return;
   }
+  // The first samples from which Q has climbed `lo` and then `hi` of the
+  // swing after the reversal (-1 when it does not).
+  const auto climb = [&](double lo, double hi) {
+    std::pair<Eigen::Index, Eigen::Index> run{-1, -1};
+    for (Eigen::Index i = b; i < e; ++i) {
+      const double frac = (s * q[i] - q_rev) / swing;
+      if (run.first < 0 && frac >= lo) run.first = i;
+      if (run.first >= 0 && frac >= hi) {
+        run.second = i;
+        break;
+      }
+    }
+    return run;
+  };
   // Stick stiffness: slope of Q over x while Q climbs from 20% to 80% of the
   // swing (the first contiguous run after the reversal).
-  Eigen::Index i20 = -1, i80 = -1;
-  for (Eigen::Index i = b; i < e; ++i) {
-    const double frac = (s * q[i] - q_rev) / swing;
-    if (i20 < 0 && frac >= 0.2) i20 = i;
-    if (i20 >= 0 && frac >= 0.8) {
-      i80 = i;
-      break;
-    }
-  }
+  auto [i20, i80] = climb(0.2, 0.8);
   if (i20 < 0 || i80 < 0 || i80 - i20 < 2) {
     // Too few samples in the transition: estimate with a short window.
     i20 = b;
@@ -188,15 +195,7 @@ void FindHalfSlip(const Eigen::VectorXd& x,
   // then understates the stick's, and slip would be found only where the
   // track flattens (1.5 mm on). The first part of the climb (5-30%) is
   // stick on any track; when it is clearly stiffer, the stick is that part.
-  Eigen::Index i05 = -1, i30 = -1;
-  for (Eigen::Index i = b; i < e; ++i) {
-    const double frac = (s * q[i] - q_rev) / swing;
-    if (i05 < 0 && frac >= 0.05) i05 = i;
-    if (i05 >= 0 && frac >= 0.3) {
-      i30 = i;
-      break;
-    }
-  }
+  const auto [i05, i30] = climb(0.05, 0.3);
   if (i05 >= 0 && i30 - i05 >= 2) {
     const double k_early = LocalSlope(x, q, i05, i30 + 1);
     if (std::isfinite(k_early) && k_early > o.early_stick_ratio * k_stick) {

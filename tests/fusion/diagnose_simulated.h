@@ -7,17 +7,19 @@
 namespace wearscar::fusion {
 
 // Simulates a case (200 cycles), runs the force and scan analysis for the
-// cycles and the aligned groove depth, then diagnoses the cycles after the
-// first 100.
+// cycles (gross slip found with `slip`) and the aligned groove depth, then
+// diagnoses the cycles after the first 100.
 inline Diagnosis DiagnoseSimulated(samples::SimulationOptions o,
                                    samples::GroundTruth* truth = nullptr,
-                                   DiagnoseOptions d = {}) {
+                                   DiagnoseOptions d = {},
+                                   const force::GrossSlipOptions& slip = {}) {
   o.cycles = 200;
   const sim::SimulatedTest t = sim::Simulate(o);
   if (truth) *truth = t.truth;
   FuseOptions f;
   f.fit_lugre = false;
   f.analysis.running_in_cycles = 100;
+  f.analysis.slip = slip;
   const TestResult r = AnalyzeTest(t.record, t.scan, f);
   PlateProfile depth;
   depth.x_mm = r.scan->force_profile.x_mm;

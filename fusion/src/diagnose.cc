@@ -49,6 +49,7 @@ bool DiagnoseOptions::IsValid(std::string* why) const {
   if (!(unexplained_z > 0)) return fail("unexplained_z must be > 0");
   if (!(unexplained_share >= 0 && unexplained_share < 1))
     return fail("unexplained_share in [0, 1)");
+  if (!(scan_scale_warning > 0)) return fail("scan_scale_warning > 0");
   if (along_track_knots < 3 || along_track_knots > 200)
     return fail("along_track_knots must be 3 to 200");
   if (shape_penalties.empty()) return fail("shape_penalties is empty");
@@ -438,16 +439,19 @@ Diagnosis Diagnose(const force::ForceRecord& record,
     std::iota(all.begin(), all.end(), 0);
     FitModel(prepared->data, all, &scale);
     const double g = scale.params[0][0];
+    for (DiagCycle& c : prepared->data.cycles) {
+      for (Sample& s : c.samples) s.k /= 1.0 + g;
+    }
     scaled = {slope->x_mm, slope->k / (1.0 + g)};
-    slope = &scaled;
+    slope = &scaled;  // for a notched record's data
     out.slope_source += fmt::format(
         ", k = k_scan / {:.3f} for the diagnosed cycles' track (fitted: "
-        "the scan shows it after the last cycle); elastic compliance, the "
+        "the scan shows it after the last cycle{}); elastic compliance, the "
         "same formula, not tried",
-        1.0 + g);
-    prepared = std::make_unique<Prepared>();
-    Prepare(
-        record, cycles, friction, depth, slope, out.cycles, o, prepared.get());
+        1.0 + g,
+        std::abs(g) > o.scan_scale_warning
+            ? "; far from 1: is the scan this test's track, in its units?"
+            : "");
   }
   std::vector<double> base = HeldOut(prepared->data, Model{}, o.folds, nullptr);
   out.heldout_initial = Mean(base);

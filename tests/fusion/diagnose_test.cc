@@ -306,7 +306,8 @@ TEST(Diagnose, RingingAfterTheReversalsIsNoneOfThese) {
 // or the depth channel), and refuses when nothing gives it.
 Diagnosis DiagnoseDeadWeight(const char* effect,
                              bool depth_channel,
-                             bool with_scan) {
+                             bool with_scan,
+                             float scan_height_factor = 1) {
   samples::SimulationOptions o = samples::PaperCase("S-RT-R");
   o.cycles = 200;
   o.rig = samples::Rig::kDeadWeight;
@@ -317,6 +318,7 @@ Diagnosis DiagnoseDeadWeight(const char* effect,
   f.fit_lugre = false;
   std::optional<scan::HeightMap> scan;
   if (with_scan) scan = std::move(t.scan);
+  if (scan) scan->height_mm *= scan_height_factor;
   const TestResult r = AnalyzeTest(t.record, std::move(scan), f);
   DiagnoseOptions d;
   d.running_in_cycles = r.force.running_in.cycles;
@@ -357,6 +359,8 @@ TEST(DiagnoseDeadWeight, TakesTheSlopeFromTheScan) {
   ASSERT_NE(at, std::string::npos) << clean.slope_source;
   const double scale = std::stod(clean.slope_source.substr(at + 13));
   EXPECT_NEAR(scale, growth(199) / mean, 0.01) << clean.slope_source;
+  EXPECT_EQ(clean.slope_source.find("far from 1"), std::string::npos)
+      << clean.slope_source;
   const Diagnosis plough = DiagnoseDeadWeight("ploughing=8", false, true);
   ASSERT_FALSE(plough.named.empty()) << plough.message;
   EXPECT_EQ(plough.named.front(), "ploughing") << plough.message;
@@ -378,6 +382,21 @@ TEST(DiagnoseDeadWeight, NamesOneEffectAloneFromTheScan) {
   EXPECT_EQ(trend.named.front(), "friction varying along the track")
       << trend.message;
   EXPECT_LE(trend.heldout_final, 0.7 * trend.heldout_initial) << trend.message;
+}
+
+// A scan whose heights are twice the track's (another test's, or read in
+// the wrong unit): the depth scale fitted to the diagnosed cycles is far
+// from 1, and the slope's source doubts the scan in words.
+TEST(DiagnoseDeadWeight, DoubtsAScanFarDeeperThanTheTrack) {
+  const Diagnosis d = DiagnoseDeadWeight(nullptr, false, true, 2.0f);
+  EXPECT_NE(d.slope_source.find("far from 1: is the scan this test's track, "
+                                "in its units?"),
+            std::string::npos)
+      << d.slope_source;
+  const size_t at = d.slope_source.find("k = k_scan / ");
+  ASSERT_NE(at, std::string::npos) << d.slope_source;
+  EXPECT_NEAR(std::stod(d.slope_source.substr(at + 13)), 2 * 1.033, 0.1)
+      << d.slope_source;
 }
 
 TEST(DiagnoseDeadWeight, TakesTheSlopeFromTheDepthChannel) {

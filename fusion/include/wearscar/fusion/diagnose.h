@@ -45,6 +45,11 @@ struct DiagnoseOptions {
   // dead-weight test: 0.012 N, 0.21% of Q, z 80) is no effect worth a
   // word; adhesion at the dwells (dwell_adhesion 0.6) leaves 0.81%.
   double unexplained_share = 0.004;
+  // With the scan's slope (a rig whose P carries no profile): the depth
+  // scale fitted to the diagnosed cycles, k = k_scan / (1 + g), is doubted
+  // in words beyond this |g| (a track deepening by a third over the last
+  // cycles is no wear a test shows; 0.033 on the simulator's S-RT-R).
+  double scan_scale_warning = 0.3;
   // Per-cycle binned P and Q for the base slope: bins of this width, or of
   // the largest x step between samples when that is wider (low rates).
   double profile_step_mm = 0.01;

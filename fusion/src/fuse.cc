@@ -595,21 +595,19 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
   }
   result.force = AnalyzeForce(record, ao);
   result.p_slope_significance = internal::ProfileSignificance(result.force);
-  // auto: P's slope insignificant (no spring) and a depth channel logged:
-  // k from the depth.
-  // The same when P varies but not with the depth channel: its variation
-  // is not the track's (crosstalk of Q into P on a dead weight).
-  if (options.profile_from == ProfileSource::kAuto && record.has_depth() &&
-      ao.fit_force_slope &&
-      result.p_slope_significance >= options.dead_weight_significance) {
+  // auto with a depth channel logged: k from the depth when P's slope is
+  // insignificant (no spring), or when P varies but not with the depth (its
+  // variation is not the track's: Q's crosstalk into P on a dead weight).
+  const bool auto_with_depth = options.profile_from == ProfileSource::kAuto &&
+                               record.has_depth() && ao.fit_force_slope;
+  const bool p_varies =
+      result.p_slope_significance >= options.dead_weight_significance;
+  if (auto_with_depth && p_varies) {
     result.spring_depth_agreement = internal::SpringDepthAgreement(
         record, result.force, ao.friction.slope.spring_n_per_mm);
   }
-  if (options.profile_from == ProfileSource::kAuto && record.has_depth() &&
-      ao.fit_force_slope &&
-      (!(result.p_slope_significance >= options.dead_weight_significance) ||
-       std::abs(result.spring_depth_agreement) <
-           options.spring_depth_agreement)) {
+  if (auto_with_depth && (!p_varies || std::abs(result.spring_depth_agreement) <
+                                           options.spring_depth_agreement)) {
     ao.friction.k_from_depth = true;
     result.profile_source = ProfileSource::kDepth;
     result.force = AnalyzeForce(record, ao);

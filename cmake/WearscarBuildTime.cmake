@@ -12,3 +12,17 @@ option(WEARSCAR_UNITY "Compile each target's sources in batches (unity build)" O
 if(WEARSCAR_UNITY)
   set(CMAKE_UNITY_BUILD ON)
 endif()
+
+# A compiler cache: a clean clone on a machine that has built wearscar
+# before (CI's, a developer's second checkout) reuses the objects. Paths
+# under the source tree are hashed relative to it (CCACHE_BASEDIR), so two
+# checkouts in different folders share their entries.
+option(WEARSCAR_CCACHE "Compile through ccache when it is installed" ON)
+if(WEARSCAR_CCACHE AND NOT CMAKE_CXX_COMPILER_LAUNCHER)
+  find_program(WEARSCAR_CCACHE_PROGRAM ccache)
+  if(WEARSCAR_CCACHE_PROGRAM)
+    set(CMAKE_CXX_COMPILER_LAUNCHER
+        ${CMAKE_COMMAND} -E env CCACHE_BASEDIR=${PROJECT_SOURCE_DIR}
+        CCACHE_NOHASHDIR=true ${WEARSCAR_CCACHE_PROGRAM})
+  endif()
+endif()

@@ -30,7 +30,7 @@
 #include <thread>
 #include <vector>
 
-#include "fusion/diagnose_simulated.h"
+#include "diagnose/diagnose_simulated.h"
 #include "wearscar/force/periodic.h"
 #include "wearscar/fusion/fuse.h"
 

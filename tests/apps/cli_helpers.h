@@ -9,6 +9,8 @@
 #include <fstream>
 #include <string>
 
+#include "common/paths.h"
+
 namespace wearscar_test {
 
 struct CommandResult {

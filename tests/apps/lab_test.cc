@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "cli_helpers.h"
+#include "common/paths.h"
 
 namespace {
 

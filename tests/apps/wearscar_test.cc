@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "cli_helpers.h"
+#include "common/paths.h"
 
 namespace {
 

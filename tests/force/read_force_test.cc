@@ -11,6 +11,7 @@
 #include <string>
 
 #include "../common/compress.h"
+#include "common/paths.h"
 #include "wearscar/force/cycles.h"
 
 namespace wearscar::force {

@@ -12,6 +12,7 @@
 #include <random>
 #include <set>
 
+#include "common/paths.h"
 #include "file_helpers.h"
 #include "wearscar/scan/formats.h"
 #include "wearscar/scan/read_scan.h"

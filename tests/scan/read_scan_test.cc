@@ -11,6 +11,7 @@
 #include <fstream>
 #include <map>
 
+#include "common/paths.h"
 #include "file_helpers.h"
 
 namespace wearscar::scan {

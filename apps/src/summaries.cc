@@ -39,11 +39,10 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
   // the other below as a comparison.
   auto fit_line = [&](bool from_p) {
     const fusion::Statistic& mu = from_p ? m.mu_force : m.mu_scan;
-    const bool depth = r.profile_source == fusion::ProfileSource::kDepth;
-    const char* label = !from_p ? "mu-hat, k from scan"
-                        : depth ? "mu-hat, k from depth"
-                                : "mu-hat, k from P   ";
-    if (from_p && r.profile_source == fusion::ProfileSource::kFriction) {
+    const std::string label =
+        !from_p ? "mu-hat, k from scan"
+                : fmt::format("mu-hat, {:<11}", r.profile.SlopeName());
+    if (from_p && r.profile.FromFriction()) {
       Say("  {}  not used (P carries no profile: a dead weight)\n", label);
       return;
     }
@@ -76,18 +75,16 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
     const auto& a = r.scan->alignment;
     Say("  profiles ({} and the scan): r = {:.3f}, amplitude ratio {:.2f}, "
         "shift {:.3f} mm{}{}\n",
-        r.profile_source == fusion::ProfileSource::kFriction ? "friction"
-        : r.profile_source == fusion::ProfileSource::kDepth  ? "depth"
-                                                             : "P/S",
+        r.profile.FromFriction() ? "friction"
+        : r.profile.FromDepth()  ? "depth"
+                                 : "P/S",
         a.correlation,
         a.amplitude_ratio,
         a.shift_mm,
         a.flipped ? " (the scan's x runs against the stroke's: flipped)" : "",
         std::isfinite(m.k_rms_difference)
             ? fmt::format(", RMS(k_{} - k_scan) {:.3f}",
-                          r.profile_source == fusion::ProfileSource::kDepth
-                              ? "depth"
-                              : "P",
+                          r.profile.FromDepth() ? "depth" : "P",
                           m.k_rms_difference)
             : std::string());
   }

@@ -132,39 +132,41 @@ void CentralFallback(const Eigen::VectorXd& x,
   half->slip_fallback = true;
 }
 
-void FindHalfSlip(const Eigen::VectorXd& x,
-                  const Eigen::VectorXd& q,
-                  const GrossSlipOptions& o,
-                  HalfCycle* half) {
-  const Eigen::Index b = half->begin, e = half->end;
-  const Eigen::Index n = e - b;
-  const double s = half->direction;
-  const double stroke = std::abs(x[e - 1] - x[b]);
-  if (n < 4 * o.slope_window || !(stroke > 0)) {
-    CentralFallback(x, o.fallback_central_fraction, half);
-    return;
-  }
-  // Q at the reversal and the sliding level (median over the central half of
-  // the stroke), in the direction of motion.
-  const double q_rev = s * q.segment(b, std::min<Eigen::Index>(3, n)).mean();
+// Q's sliding level in the direction of motion: its median over the
+// central half of the stroke (NaN when no sample is finite there).
+double SlidingLevel(const Eigen::VectorXd& x,
+                    const Eigen::VectorXd& q,
+                    const HalfCycle& half,
+                    double stroke) {
+  const Eigen::Index b = half.begin, e = half.end;
+  const double s = half.direction;
   std::vector<double> central;
   for (Eigen::Index i = b; i < e; ++i) {
     const double t = std::abs(x[i] - x[b]) / stroke;
     if (t > 0.25 && t < 0.75 && std::isfinite(q[i]))
       central.push_back(s * q[i]);
   }
-  if (central.empty()) {
-    CentralFallback(x, o.fallback_central_fraction, half);
-    return;
-  }
+  if (central.empty()) return std::nan("");
   std::nth_element(
       central.begin(), central.begin() + central.size() / 2, central.end());
-  const double q_slide = central[central.size() / 2];
-  const double swing = q_slide - q_rev;
-  if (!(swing > 0) || !std::isfinite(q_rev)) {
-    CentralFallback(x, o.fallback_central_fraction, half);
-    return;
-  }
+  return central[central.size() / 2];
+}
+
+// The stick's stiffness dQ/dx after the reversal, and the sample from which
+// slip is sought.
+struct Stick {
+  double k_stick;
+  Eigen::Index search_from;
+};
+
+Stick StickAfterReversal(const Eigen::VectorXd& x,
+                         const Eigen::VectorXd& q,
+                         const HalfCycle& half,
+                         double q_rev,
+                         double swing,
+                         const GrossSlipOptions& o) {
+  const Eigen::Index b = half.begin, e = half.end;
+  const double s = half.direction;
   // The first samples from which Q has climbed `lo` and then `hi` of the
   // swing after the reversal (-1 when it does not).
   const auto climb = [&](double lo, double hi) {
@@ -187,8 +189,7 @@ void FindHalfSlip(const Eigen::VectorXd& x,
     i20 = b;
     i80 = std::min(e - 1, b + o.stick_samples);
   }
-  double k_stick = LocalSlope(x, q, i20, i80 + 1);
-  Eigen::Index search_from = i80;
+  Stick stick{LocalSlope(x, q, i20, i80 + 1), i80};
   // On a worn track whose wall near the stroke end is steep (k near mu or
   // above) the sliding level moves with the slope after the stick, so Q's
   // climb to the central median runs on into gross slip: the 20-80% slope
@@ -198,11 +199,37 @@ void FindHalfSlip(const Eigen::VectorXd& x,
   const auto [i05, i30] = climb(0.05, 0.3);
   if (i05 >= 0 && i30 - i05 >= 2) {
     const double k_early = LocalSlope(x, q, i05, i30 + 1);
-    if (std::isfinite(k_early) && k_early > o.early_stick_ratio * k_stick) {
-      k_stick = k_early;
-      search_from = std::min(search_from, i30);
+    if (std::isfinite(k_early) &&
+        k_early > o.early_stick_ratio * stick.k_stick) {
+      stick.k_stick = k_early;
+      stick.search_from = std::min(stick.search_from, i30);
     }
   }
+  return stick;
+}
+
+void FindHalfSlip(const Eigen::VectorXd& x,
+                  const Eigen::VectorXd& q,
+                  const GrossSlipOptions& o,
+                  HalfCycle* half) {
+  const Eigen::Index b = half->begin, e = half->end;
+  const Eigen::Index n = e - b;
+  const double s = half->direction;
+  const double stroke = std::abs(x[e - 1] - x[b]);
+  if (n < 4 * o.slope_window || !(stroke > 0)) {
+    CentralFallback(x, o.fallback_central_fraction, half);
+    return;
+  }
+  // Q at the reversal and the sliding level (median over the central half of
+  // the stroke), in the direction of motion.
+  const double q_rev = s * q.segment(b, std::min<Eigen::Index>(3, n)).mean();
+  const double swing = SlidingLevel(x, q, *half, stroke) - q_rev;
+  if (!(swing > 0) || !std::isfinite(q_rev)) {
+    CentralFallback(x, o.fallback_central_fraction, half);
+    return;
+  }
+  const auto [k_stick, search_from] =
+      StickAfterReversal(x, q, *half, q_rev, swing, o);
   if (!std::isfinite(k_stick) || k_stick <= 0) {
     CentralFallback(x, o.fallback_central_fraction, half);
     return;

@@ -225,6 +225,28 @@ Plan PlanRead(LineSource& source,
   return p;
 }
 
+// The depth channel into the record, penetration positive (a height: Z, a
+// position, is turned over); a column empty on more than 1% of the rows is
+// not used, with a warning.
+void TakeDepth(const std::string& column,
+               Eigen::VectorXd* depth,
+               ForceRecord* record) {
+  ForceMetadata& meta = record->metadata;
+  long missing = 0;
+  for (Eigen::Index i = 0; i < depth->size(); ++i)
+    missing += !std::isfinite((*depth)[i]);
+  if (missing > 0.01 * static_cast<double>(depth->size())) {
+    meta.warnings.push_back(fmt::format(
+        "the depth column '{}' is empty on {:.0f}% of the rows: not used",
+        column,
+        100.0 * missing / std::max<Eigen::Index>(1, depth->size())));
+    return;
+  }
+  meta.depth_is_penetration = internal::NamesAPenetration(column);
+  record->depth_mm =
+      meta.depth_is_penetration ? std::move(*depth) : Eigen::VectorXd(-*depth);
+}
+
 // `lines`: the file's line count when the caller counted them (0: not);
 // `file_bytes` its size when known; `split`: `source` itself, to be read
 // on two threads (ReadRowsOnTwoThreads).
@@ -280,30 +302,11 @@ ForceRecord Read(LineSource& source,
     meta.channel_names.push_back(read ? layout.names[p.column[ch]] : "");
     meta.channel_units.push_back(read ? scale[ch].unit : "");
   }
-  bool p_depth_dropped = false;
   record.x_mm = std::move(data[kX]);
   record.tangential_n = std::move(data[kQ]);
   record.normal_n = std::move(data[kP]);
-  if (p.column[kDepth] >= 0) {
-    long missing = 0;
-    for (Eigen::Index i = 0; i < data[kDepth].size(); ++i)
-      missing += !std::isfinite(data[kDepth][i]);
-    if (missing > 0.01 * static_cast<double>(data[kDepth].size())) {
-      meta.warnings.push_back(fmt::format(
-          "the depth column '{}' is empty on {:.0f}% of the rows: not used",
-          layout.names[p.column[kDepth]],
-          100.0 * missing / std::max<Eigen::Index>(1, data[kDepth].size())));
-      p_depth_dropped = true;
-    }
-  }
-  if (p.column[kDepth] >= 0 && !p_depth_dropped) {
-    // Penetration positive: a height (Z, a position) is turned over.
-    meta.depth_is_penetration =
-        internal::NamesAPenetration(layout.names[p.column[kDepth]]);
-    record.depth_mm = meta.depth_is_penetration
-                          ? std::move(data[kDepth])
-                          : Eigen::VectorXd(-data[kDepth]);
-  }
+  if (p.column[kDepth] >= 0)
+    TakeDepth(layout.names[p.column[kDepth]], &data[kDepth], &record);
   SetTime(&record, &data[kTime], layout, options, name);
   CheckPlausible(record, name);
   MakeCompressionPositive(&record);

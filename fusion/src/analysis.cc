@@ -258,10 +258,10 @@ RunningIn DetectRunningIn(const std::vector<double>& v, double tolerance) {
   return r;
 }
 
-ForceAnalysis AnalyzeForce(const force::ForceRecord& record,
+ForceAnalysis SegmentForce(const force::ForceRecord& record,
                            const AnalysisOptions& options) {
   WEARSCAR_CHECK(record.IsConsistent(),
-                 "AnalyzeForce needs channels of one length");
+                 "SegmentForce needs channels of one length");
   std::string why;
   if (!options.IsValid(&why)) throw FusionError("analysis options: " + why);
   ForceAnalysis a;
@@ -272,20 +272,6 @@ ForceAnalysis AnalyzeForce(const force::ForceRecord& record,
     a.slip_fallbacks += c.forward.slip_fallback + c.reverse.slip_fallback;
   }
   a.cof = force::ComputeClassicCof(record, a.cycles);
-  if (options.fit_force_slope) {
-    FrictionFits fits =
-        FitFriction(record, a.cycles, SlopeSource::kForce, options.friction);
-    a.fit_force = std::move(fits.cycles);
-    a.slope_estimate = std::move(fits.slope);
-    a.k_signal_rms = fits.k_signal_rms;
-    a.k_noise_rms = fits.k_noise_rms;
-    a.k_ensemble_noise_rms = fits.k_ensemble_noise_rms;
-    a.k_noise_correction = fits.k_noise_correction;
-    a.correlated_cycles = fits.correlated_cycles;
-  } else {
-    a.fit_force.assign(a.cycles.cycles.size(), MuFit{});
-    for (auto& f : a.fit_force) f.message = "not fitted (scan slope only)";
-  }
   // Running-in never swallows the whole test: keep at least the last half.
   const int n = static_cast<int>(a.cycles.cycles.size());
   if (options.running_in_cycles >= 0) {
@@ -307,20 +293,47 @@ ForceAnalysis AnalyzeForce(const force::ForceRecord& record,
     for (const auto& c : a.cof) friction.push_back(c.mu_mean);
     a.running_in = DetectRunningIn(friction, options.running_in_tolerance);
   }
-  const int first = a.running_in.cycles;
+  return a;
+}
+
+void FitForceSide(const force::ForceRecord& record,
+                  const AnalysisOptions& options,
+                  ForceAnalysis* a) {
+  if (options.fit_force_slope) {
+    FrictionFits fits =
+        FitFriction(record, a->cycles, SlopeSource::kForce, options.friction);
+    a->fit_force = std::move(fits.cycles);
+    a->slope_estimate = std::move(fits.slope);
+    a->k_signal_rms = fits.k_signal_rms;
+    a->k_noise_rms = fits.k_noise_rms;
+    a->k_ensemble_noise_rms = fits.k_ensemble_noise_rms;
+    a->k_noise_correction = fits.k_noise_correction;
+    a->correlated_cycles = fits.correlated_cycles;
+  } else {
+    a->fit_force.assign(a->cycles.cycles.size(), MuFit{});
+    for (auto& f : a->fit_force) f.message = "not fitted (scan slope only)";
+  }
+  const int n = static_cast<int>(a->cycles.cycles.size());
+  const int first = a->running_in.cycles;
   std::vector<double> mu, se, j, mm, me;
   for (int i = 0; i < n; ++i) {
-    const bool ok = a.fit_force[i].converged;
-    mu.push_back(ok ? a.fit_force[i].mu_hat : std::nan(""));
-    se.push_back(ok ? a.fit_force[i].standard_error : std::nan(""));
-    j.push_back(ok ? a.fit_force[i].cost : std::nan(""));
-    mm.push_back(a.cof[i].mu_mean);
-    me.push_back(a.cof[i].mu_energy_g);
+    const bool ok = a->fit_force[i].converged;
+    mu.push_back(ok ? a->fit_force[i].mu_hat : std::nan(""));
+    se.push_back(ok ? a->fit_force[i].standard_error : std::nan(""));
+    j.push_back(ok ? a->fit_force[i].cost : std::nan(""));
+    mm.push_back(a->cof[i].mu_mean);
+    me.push_back(a->cof[i].mu_energy_g);
   }
-  a.mu_hat = SummariseWithErrors(mu, se, first, n - 1, a.correlated_cycles);
-  a.cost = Summarise(j, first);
-  a.mu_mean = SummariseSeries(mm, first, n - 1);
-  a.mu_energy = SummariseSeries(me, first, n - 1);
+  a->mu_hat = SummariseWithErrors(mu, se, first, n - 1, a->correlated_cycles);
+  a->cost = Summarise(j, first);
+  a->mu_mean = SummariseSeries(mm, first, n - 1);
+  a->mu_energy = SummariseSeries(me, first, n - 1);
+}
+
+ForceAnalysis AnalyzeForce(const force::ForceRecord& record,
+                           const AnalysisOptions& options) {
+  ForceAnalysis a = SegmentForce(record, options);
+  FitForceSide(record, options, &a);
   return a;
 }
 

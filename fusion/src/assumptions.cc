@@ -99,13 +99,13 @@ std::vector<std::string> Assumptions(const force::ForceRecord& record,
                         "; P/S varies no more than the scanned "
                         "profile, which says nothing against this S");
   }
-  if (r.profile_source != ProfileSource::kSpring) spring = r.profile_reason;
+  if (!r.profile.FromSpring()) spring = r.profile.reason;
   std::string slope =
-      r.profile_source == ProfileSource::kDepth
+      r.profile.FromDepth()
           ? (r.scan ? "the verdict judges mu-hat with k from the depth "
                       "channel; the scan's k is compared with it"
                     : "k from the depth channel alone (no scan)")
-      : r.profile_source == ProfileSource::kFriction
+      : r.profile.FromFriction()
           ? "the verdict judges mu-hat with k from the scan, aligned with the "
             "profile from the friction; k from P is not used"
       : o.slopes == SlopeChoice::kScan ? "mu-hat with k from the scan alone"

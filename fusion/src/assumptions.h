@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "wearscar/fusion/fuse.h"
+#include "wearscar/fusion/test_result.h"
 
 namespace wearscar::fusion::internal {
 

@@ -93,6 +93,14 @@ std::string Diagnosis::BriefReport() const {
 
 namespace {
 
+// The library's effect that scales the slope as a whole (elastic
+// compliance): on a fixed slope, the scan's depth scale.
+const Effect* SlopeScale() {
+  for (const auto& e : EffectLibrary())
+    if (e->ScalesTheSlope()) return e.get();
+  throw FusionError("the effect library has no slope scale");
+}
+
 // One candidate added to `model`: held-out cost over the folds, parameters
 // on all cycles with their jackknife spread over the folds, the change of
 // the information criterion, and whether it passes the acceptance rules.
@@ -265,7 +273,7 @@ std::vector<const Effect*> CandidatePool(const DiagnoseOptions& o,
   *along_track = AlongTrackFriction(o.along_track_knots);
   std::vector<const Effect*> pool;
   for (const auto& e : EffectLibrary()) {
-    if (fixed_slope && e->Key() == "elastic") continue;
+    if (fixed_slope && e->ScalesTheSlope()) continue;
     if (!o.candidates.empty() && std::find_if(o.candidates.begin(),
                                               o.candidates.end(),
                                               [&](const std::string& c) {
@@ -389,6 +397,216 @@ CandidateResult TryNotch(const force::PeriodicLine& line,
 
 }  // namespace
 
+namespace {
+
+// The slope's source in words: the scan's centreline, each cycle's depth
+// channel or each cycle's P.
+std::string SlopeSourceWords(const FrictionFitOptions& friction,
+                             bool fixed_slope) {
+  if (fixed_slope) {
+    return "the scan's centreline, every cycle (the track at the test's "
+           "end: the last cycles)";
+  }
+  if (friction.k_from_depth)
+    return "each cycle's binned depth channel (k = -d(depth)/dx)";
+  return fmt::format(
+      "each cycle's binned P profile (k = (1/S) dP/dx, S = {:g} N/mm)",
+      friction.slope.spring_n_per_mm);
+}
+
+// A fixed slope is the track when it was scanned; the diagnosed cycles
+// slid on a shallower one (the track still deepens: k about 3% steeper
+// in the scan over the last 40 of 200 cycles). One depth scale for those
+// cycles, k = k_scan / (1 + g), fitted before any effect, stands in for
+// the spring's S (a clean test otherwise showed the growth as 23% of the
+// held-out J and an effect could be named for it). Returns the scaled
+// slope; says so in the diagnosis's slope source.
+PlateProfile ScaleTheScanSlope(const PlateProfile& slope,
+                               const DiagnoseOptions& o,
+                               Prepared* prepared,
+                               Diagnosis* out) {
+  Model scale;
+  scale.effects = {SlopeScale()};
+  scale.params = {scale.effects[0]->Initial()};
+  scale.penalty = {0.0};
+  std::vector<int> all(prepared->data.cycles.size());
+  std::iota(all.begin(), all.end(), 0);
+  FitModel(prepared->data, all, &scale);
+  const double g = scale.params[0][0];
+  for (DiagCycle& c : prepared->data.cycles) {
+    for (Sample& smp : c.samples) smp.k /= 1.0 + g;
+  }
+  out->slope_source += fmt::format(
+      ", k = k_scan / {:.3f} for the diagnosed cycles' track (fitted: "
+      "the scan shows it after the last cycle{}); elastic compliance, the "
+      "same formula, not tried",
+      1.0 + g,
+      std::abs(g) > o.scan_scale_warning
+          ? "; far from 1: is the scan this test's track, in its units?"
+          : "");
+  return {slope.x_mm, slope.k / (1.0 + g)};
+}
+
+// What the diagnosis's data are prepared from (Prepare's inputs).
+struct Inputs {
+  const force::ForceRecord* record;
+  const force::CycleSet* cycles;
+  const FrictionFitOptions* friction;
+  const PlateProfile* depth;
+  const PlateProfile* slope;
+};
+
+// A periodic line the drive does not make, tried first: it corrupts P's
+// slope, and every effect fitted on top of it would be wrong. `notched`
+// holds the record without it (the prepared data point into it).
+void TryPeriodicLine(const Inputs& in,
+                     const DiagnoseOptions& o,
+                     force::ForceRecord* notched,
+                     std::unique_ptr<Prepared>* prepared,
+                     std::vector<double>* base,
+                     Diagnosis* out) {
+  const std::vector<force::PeriodicLine> lines =
+      force::FindPeriodicLines(*in.record, DriveRate(*in.record, *in.cycles));
+  out->lines = lines;
+  if (lines.empty()) return;
+  *notched = *in.record;
+  force::NotchLine(notched, lines.front().frequency_hz);
+  auto again = std::make_unique<Prepared>();
+  Prepare(*notched,
+          *in.cycles,
+          *in.friction,
+          in.depth,
+          in.slope,
+          out->cycles,
+          o,
+          again.get());
+  std::vector<double> h;
+  DiagnosisStep step;
+  step.chosen = TryNotch(lines.front(), *base, o, again->data, &h);
+  step.tried.push_back(step.chosen);
+  out->steps.push_back(step);
+  if (!step.chosen.accepted) return;
+  out->named.push_back(step.chosen.effect);
+  out->model.push_back(step.chosen);
+  out->notched_hz = lines.front().frequency_hz;
+  *prepared = std::move(again);
+  *base = std::move(h);
+}
+
+// After named effects, what is left counts when it is a fair part of
+// what repeated before (a quarter of its rms); names that leave most of
+// it (over half its power) explain too little of it to be trusted: they
+// are withdrawn, and "none of these" said (the withdrawal's words
+// returned).
+std::string JudgeWhatIsLeft(const Data& data,
+                            const DiagnoseOptions& o,
+                            Diagnosis* out) {
+  double q2 = 0;
+  long nq = 0;
+  for (const DiagCycle& dc : data.cycles) {
+    for (const Sample& smp : dc.samples) q2 += smp.q * smp.q, ++nq;
+  }
+  const double q_rms = nq > 0 ? std::sqrt(q2 / nq) : 0.0;
+  const double before = out->before.repeatable_rms_n;
+  const double after = out->after.repeatable_rms_n;
+  out->unexplained = out->after.repeatable_z > o.unexplained_z &&
+                     after >= o.unexplained_share * q_rms &&
+                     (out->named.empty() || after >= 0.25 * before);
+  if (!out->unexplained || out->named.empty() ||
+      !(after * after > 0.5 * before * before))
+    return "";
+  const std::string withdrawn = fmt::format(
+      " ({} lowered the held-out J by {:.0f}% but left {:.0f}% of the "
+      "repeating residual's power: not named)",
+      fmt::join(out->named, ", "),
+      100 * (1 - out->heldout_final / out->heldout_initial),
+      100 * std::pow(after / before, 2));
+  out->named.clear();
+  out->model.clear();
+  out->along_track = {};
+  return withdrawn;
+}
+
+// The diagnosis's one line: what was named and how much lower the held-out
+// J is, or "none of these", or nothing to name.
+std::string DiagnosisMessage(const Diagnosis& out,
+                             const std::string& withdrawn) {
+  const std::string left = fmt::format(
+      "a repeatable residual that no effect in the library "
+      "explains ({:.3f} N rms, {:.0f} standard errors above its "
+      "noise; direction-odd {:.3f} N, even {:.3f} N)",
+      out.after.repeatable_rms_n,
+      out.after.repeatable_z,
+      out.after.odd_rms_n,
+      out.after.even_rms_n);
+  if (out.named.empty()) {
+    return out.unexplained
+               ? fmt::format(
+                     "none of these: {}; held-out J {:.4f}, nothing named{}",
+                     left,
+                     out.heldout_initial,
+                     withdrawn)
+               : fmt::format(
+                     "no effect named: the wear-scar model leaves nothing a "
+                     "candidate explains (held-out J {:.4f})",
+                     out.heldout_initial);
+  }
+  std::vector<std::string> named = out.named;
+  if (out.notched_hz > 0) {
+    named.front() += fmt::format(" at {:.2f} Hz (notched; --notch {:.2f})",
+                                 out.notched_hz,
+                                 out.notched_hz);
+  }
+  std::string message =
+      fmt::format("named {}; held-out J {:.4f} -> {:.4f} ({:.0f}% lower)",
+                  fmt::join(named, ", "),
+                  out.heldout_initial,
+                  out.heldout_final,
+                  100 * (1 - out.heldout_final / out.heldout_initial));
+  if (out.unexplained) message += "; left: " + left;
+  return message;
+}
+
+// The effects named on the prepared data, their final parameters, the
+// held-out J and the residual map after them.
+void NameEffects(const Prepared& prepared,
+                 const PlateProfile* slope,
+                 const DiagnoseOptions& o,
+                 std::vector<double>* base,
+                 Diagnosis* out) {
+  const Data& data = prepared.data;
+  const ProfileGrid& grid = prepared.grid;
+  Model model;
+  std::unique_ptr<Effect> along_track;
+  SelectEffects(data,
+                CandidatePool(o, slope != nullptr, &along_track),
+                o,
+                out,
+                &model,
+                base);
+  // Report the final parameters of every named effect from the last fit
+  // (after the notch, when one was named).
+  const size_t offset = out->model.size() - model.params.size();
+  for (size_t e = 0; e < model.params.size(); ++e)
+    out->model[offset + e].parameters = model.params[e];
+  out->heldout_final = Mean(*base);
+  out->after = Map(data, model, o, grid.x_lo, grid.x_hi);
+  out->solves = data.solves;
+  out->solves_not_converged = data.not_converged;
+  for (size_t e = 0; e < model.effects.size(); ++e) {
+    if (model.effects[e] == along_track.get()) {
+      out->along_track = RecoveredShape(model.params[e],
+                                        model.penalty[e],
+                                        prepared.slip_lo,
+                                        prepared.slip_hi,
+                                        grid,
+                                        prepared.depth);
+    }
+  }
+}
+
+}  // namespace
+
 Diagnosis Diagnose(const force::ForceRecord& record,
                    const force::CycleSet& cycles,
                    const FrictionFitOptions& friction,
@@ -411,171 +629,31 @@ Diagnosis Diagnose(const force::ForceRecord& record,
   // A fixed slope is the track at the test's end: the last cycles.
   out.cycles = ChooseCycles(
       n, slope ? std::max(first, n - o.max_cycles) : first, o.max_cycles);
-  out.slope_source =
-      slope ? "the scan's centreline, every cycle (the track at the test's "
-              "end: the last cycles)"
-      : friction.k_from_depth
-          ? "each cycle's binned depth channel (k = -d(depth)/dx)"
-          : fmt::format(
-                "each cycle's binned P profile (k = (1/S) dP/dx, S "
-                "= {:g} N/mm)",
-                friction.slope.spring_n_per_mm);
+  out.slope_source = SlopeSourceWords(friction, slope != nullptr);
   auto prepared = std::make_unique<Prepared>();
   Prepare(
       record, cycles, friction, depth, slope, out.cycles, o, prepared.get());
-  // A fixed slope is the track when it was scanned; the diagnosed cycles
-  // slid on a shallower one (the track still deepens: k about 3% steeper
-  // in the scan over the last 40 of 200 cycles). One depth scale for those
-  // cycles, k = k_scan / (1 + g), fitted before any effect, stands in for
-  // the spring's S (a clean test otherwise showed the growth as 23% of the
-  // held-out J and an effect could be named for it).
   PlateProfile scaled;
   if (slope != nullptr) {
-    Model scale;
-    scale.effects = {FindEffect("elastic")};
-    scale.params = {scale.effects[0]->Initial()};
-    scale.penalty = {0.0};
-    std::vector<int> all(prepared->data.cycles.size());
-    std::iota(all.begin(), all.end(), 0);
-    FitModel(prepared->data, all, &scale);
-    const double g = scale.params[0][0];
-    for (DiagCycle& c : prepared->data.cycles) {
-      for (Sample& s : c.samples) s.k /= 1.0 + g;
-    }
-    scaled = {slope->x_mm, slope->k / (1.0 + g)};
+    scaled = ScaleTheScanSlope(*slope, o, prepared.get(), &out);
     slope = &scaled;  // for a notched record's data
-    out.slope_source += fmt::format(
-        ", k = k_scan / {:.3f} for the diagnosed cycles' track (fitted: "
-        "the scan shows it after the last cycle{}); elastic compliance, the "
-        "same formula, not tried",
-        1.0 + g,
-        std::abs(g) > o.scan_scale_warning
-            ? "; far from 1: is the scan this test's track, in its units?"
-            : "");
   }
   std::vector<double> base = HeldOut(prepared->data, Model{}, o.folds, nullptr);
   out.heldout_initial = Mean(base);
   out.before =
       Map(prepared->data, Model{}, o, prepared->grid.x_lo, prepared->grid.x_hi);
-  // A periodic line the drive does not make, tried first: it corrupts P's
-  // slope, and every effect fitted on top of it would be wrong.
   force::ForceRecord notched;
   if (o.periodic_lines) {
-    const std::vector<force::PeriodicLine> lines =
-        force::FindPeriodicLines(record, DriveRate(record, cycles));
-    out.lines = lines;
-    if (!lines.empty()) {
-      notched = record;
-      force::NotchLine(&notched, lines.front().frequency_hz);
-      auto again = std::make_unique<Prepared>();
-      Prepare(
-          notched, cycles, friction, depth, slope, out.cycles, o, again.get());
-      std::vector<double> h;
-      DiagnosisStep step;
-      step.chosen = TryNotch(lines.front(), base, o, again->data, &h);
-      step.tried.push_back(step.chosen);
-      out.steps.push_back(step);
-      if (step.chosen.accepted) {
-        out.named.push_back(step.chosen.effect);
-        out.model.push_back(step.chosen);
-        out.notched_hz = lines.front().frequency_hz;
-        prepared = std::move(again);
-        base = std::move(h);
-      }
-    }
+    TryPeriodicLine({&record, &cycles, &friction, depth, slope},
+                    o,
+                    &notched,
+                    &prepared,
+                    &base,
+                    &out);
   }
-  Data& data = prepared->data;
-  const ProfileGrid& grid = prepared->grid;
-  const double slip_lo = prepared->slip_lo, slip_hi = prepared->slip_hi;
-  depth = &prepared->depth;
-  Model model;
-  std::unique_ptr<Effect> along_track;
-  SelectEffects(data,
-                CandidatePool(o, slope != nullptr, &along_track),
-                o,
-                &out,
-                &model,
-                &base);
-  // Report the final parameters of every named effect from the last fit
-  // (after the notch, when one was named).
-  const size_t offset = out.model.size() - model.params.size();
-  for (size_t e = 0; e < model.params.size(); ++e)
-    out.model[offset + e].parameters = model.params[e];
-  out.heldout_final = Mean(base);
-  out.after = Map(data, model, o, grid.x_lo, grid.x_hi);
-  out.solves = data.solves;
-  out.solves_not_converged = data.not_converged;
-  for (size_t e = 0; e < model.effects.size(); ++e) {
-    if (model.effects[e] == along_track.get()) {
-      out.along_track = RecoveredShape(
-          model.params[e], model.penalty[e], slip_lo, slip_hi, grid, *depth);
-    }
-  }
-  // After named effects, what is left counts when it is a fair part of
-  // what repeated before (a quarter of its rms).
-  double q2 = 0;
-  long nq = 0;
-  for (const DiagCycle& dc : data.cycles) {
-    for (const Sample& smp : dc.samples) q2 += smp.q * smp.q, ++nq;
-  }
-  const double q_rms = nq > 0 ? std::sqrt(q2 / nq) : 0.0;
-  out.unexplained =
-      out.after.repeatable_z > o.unexplained_z &&
-      out.after.repeatable_rms_n >= o.unexplained_share * q_rms &&
-      (out.named.empty() ||
-       out.after.repeatable_rms_n >= 0.25 * out.before.repeatable_rms_n);
-  // Names that leave most of what repeated (over half its power) explain
-  // too little of it to be trusted: withdrawn, "none of these" said.
-  std::string withdrawn;
-  if (out.unexplained && !out.named.empty() &&
-      out.after.repeatable_rms_n * out.after.repeatable_rms_n >
-          0.5 * out.before.repeatable_rms_n * out.before.repeatable_rms_n) {
-    withdrawn = fmt::format(
-        " ({} lowered the held-out J by {:.0f}% but left {:.0f}% of the "
-        "repeating residual's power: not named)",
-        fmt::join(out.named, ", "),
-        100 * (1 - out.heldout_final / out.heldout_initial),
-        100 * std::pow(out.after.repeatable_rms_n / out.before.repeatable_rms_n,
-                       2));
-    out.named.clear();
-    out.model.clear();
-    out.along_track = {};
-  }
-  const std::string left = fmt::format(
-      "a repeatable residual that no effect in the library "
-      "explains ({:.3f} N rms, {:.0f} standard errors above its "
-      "noise; direction-odd {:.3f} N, even {:.3f} N)",
-      out.after.repeatable_rms_n,
-      out.after.repeatable_z,
-      out.after.odd_rms_n,
-      out.after.even_rms_n);
-  if (out.named.empty()) {
-    out.message =
-        out.unexplained
-            ? fmt::format(
-                  "none of these: {}; held-out J {:.4f}, nothing named{}",
-                  left,
-                  out.heldout_initial,
-                  withdrawn)
-            : fmt::format(
-                  "no effect named: the wear-scar model leaves nothing a "
-                  "candidate explains (held-out J {:.4f})",
-                  out.heldout_initial);
-  } else {
-    std::vector<std::string> named = out.named;
-    if (out.notched_hz > 0) {
-      named.front() += fmt::format(" at {:.2f} Hz (notched; --notch {:.2f})",
-                                   out.notched_hz,
-                                   out.notched_hz);
-    }
-    out.message =
-        fmt::format("named {}; held-out J {:.4f} -> {:.4f} ({:.0f}% lower)",
-                    fmt::join(named, ", "),
-                    out.heldout_initial,
-                    out.heldout_final,
-                    100 * (1 - out.heldout_final / out.heldout_initial));
-    if (out.unexplained) out.message += "; left: " + left;
-  }
+  NameEffects(*prepared, slope, o, &base, &out);
+  const std::string withdrawn = JudgeWhatIsLeft(prepared->data, o, &out);
+  out.message = DiagnosisMessage(out, withdrawn);
   return out;
 }
 
@@ -597,24 +675,24 @@ Diagnosis DiagnoseTest(const force::ForceRecord& record,
     rest.notch_hz.clear();
     return DiagnoseTest(notched, r, rest, options);
   }
-  // k where the analysis took it: P/S, the depth channel, or on a rig
-  // whose P carries no profile the scan's centreline.
-  FrictionFitOptions friction = fuse.analysis.friction;
+  // k where the analysis took it (its ProfileDecision, recorded with the
+  // options it ran with): P/S, the depth channel with its sign, or on a
+  // rig whose P carries no profile the scan's centreline.
+  const FrictionFitOptions& friction = r.options.analysis.friction;
   const PlateProfile* slope = nullptr;
-  if (r.profile_source == ProfileSource::kDepth) {
-    friction.k_from_depth = true;
-    if (r.depth_agreement < -0.5) friction.depth_sign = -1.0;
-  } else if (r.profile_source == ProfileSource::kFriction && r.scan) {
+  if (r.profile.FromFriction() && r.scan) {
     slope = &r.scan->slope;
-  } else if (fuse.profile_from == ProfileSource::kAuto && !r.scan &&
-             !(r.p_slope_significance >= fuse.dead_weight_significance)) {
+  } else if (r.profile.FromSpring() &&
+             r.profile.given == ProfileSource::kAuto && !r.scan &&
+             !(r.profile.p_slope_significance >=
+               r.options.dead_weight_significance)) {
     throw FusionError(fmt::format(
         "P does not vary along the stroke beyond its noise ({:.1f} standard "
         "errors): if the rig loads the ball with a dead weight, k from P is "
         "noise and every effect the diagnosis named would be fitted to it; "
         "give the track's scan or the depth channel (or --profile-from "
         "spring to diagnose with k from P regardless)",
-        r.p_slope_significance));
+        r.profile.p_slope_significance));
   }
   return Diagnose(record,
                   r.force.cycles,

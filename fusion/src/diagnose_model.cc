@@ -249,6 +249,35 @@ double EffectiveDof(ceres::Problem* problem,
   return (hd + hp).ldlt().solve(hd).trace();
 }
 
+// The penalties that hold shapes smooth (their weight per fitted cycle,
+// `cycles` of them) and the effects' bounds; the penalties' blocks.
+std::vector<ceres::ResidualBlockId> AddPenaltiesAndBounds(
+    Model* model, double cycles, ceres::Problem* problem) {
+  Model& m = *model;
+  std::vector<ceres::ResidualBlockId> blocks;
+  for (size_t e = 0; e < m.effects.size(); ++e) {
+    const Effect* effect = m.effects[e];
+    if (effect->PenaltyCount() == 0) continue;
+    const double weight = (e < m.penalty.size() ? m.penalty[e] : 0.0) * cycles;
+    auto* cost =
+        new ceres::DynamicNumericDiffCostFunction<PenaltyCost, ceres::CENTRAL>(
+            new PenaltyCost{effect, weight});
+    cost->AddParameterBlock(static_cast<int>(m.params[e].size()));
+    cost->SetNumResiduals(effect->PenaltyCount());
+    blocks.push_back(
+        problem->AddResidualBlock(cost, nullptr, m.params[e].data()));
+  }
+  for (size_t e = 0; e < m.effects.size(); ++e) {
+    const auto lo = m.effects[e]->Lower(), hi = m.effects[e]->Upper();
+    double* params = m.params[e].data();
+    for (size_t k = 0; k < lo.size(); ++k) {
+      problem->SetParameterLowerBound(params, static_cast<int>(k), lo[k]);
+      problem->SetParameterUpperBound(params, static_cast<int>(k), hi[k]);
+    }
+  }
+  return blocks;
+}
+
 }  // namespace
 
 // Fits the effect parameters (shared) and one mu per cycle on `train`.
@@ -271,7 +300,7 @@ std::vector<double> FitModel(const Data& d,
     mu[i] = FitCycleMu(d, d.cycles[train[i]], plain, &j);
   }
   ceres::Problem problem;
-  std::vector<ceres::ResidualBlockId> data_blocks, penalty_blocks;
+  std::vector<ceres::ResidualBlockId> data_blocks;
   std::vector<bool> analytic;
   for (const Effect* e : m->effects) analytic.push_back(HasAnalyticGradient(e));
   const bool any_analytic =
@@ -297,29 +326,8 @@ std::vector<double> FitModel(const Data& d,
     problem.SetParameterLowerBound(&mu[i], 0, d.options->mu_fit.mu_min);
     problem.SetParameterUpperBound(&mu[i], 0, d.options->mu_fit.mu_max);
   }
-  // Penalties hold shapes smooth, their weight per fitted cycle.
-  for (size_t e = 0; e < m->effects.size(); ++e) {
-    const Effect* effect = m->effects[e];
-    if (effect->PenaltyCount() == 0) continue;
-    const double weight =
-        (e < m->penalty.size() ? m->penalty[e] : 0.0) * train.size();
-    auto* cost =
-        new ceres::DynamicNumericDiffCostFunction<PenaltyCost, ceres::CENTRAL>(
-            new PenaltyCost{effect, weight});
-    cost->AddParameterBlock(static_cast<int>(m->params[e].size()));
-    cost->SetNumResiduals(effect->PenaltyCount());
-    penalty_blocks.push_back(
-        problem.AddResidualBlock(cost, nullptr, m->params[e].data()));
-  }
-  for (size_t e = 0; e < m->effects.size(); ++e) {
-    const auto lo = m->effects[e]->Lower(), hi = m->effects[e]->Upper();
-    for (size_t k = 0; k < lo.size(); ++k) {
-      problem.SetParameterLowerBound(
-          m->params[e].data(), static_cast<int>(k), lo[k]);
-      problem.SetParameterUpperBound(
-          m->params[e].data(), static_cast<int>(k), hi[k]);
-    }
-  }
+  const std::vector<ceres::ResidualBlockId> penalty_blocks =
+      AddPenaltiesAndBounds(m, static_cast<double>(train.size()), &problem);
   ceres::Solver::Options so;
   so.linear_solver_type = ceres::SPARSE_SCHUR;
   if (!ceres::IsSparseLinearAlgebraLibraryTypeAvailable(

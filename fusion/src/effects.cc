@@ -153,6 +153,7 @@ class ElasticCompliance : public Effect {
     return "elastic compliance of the track";
   }
   std::string Key() const override { return "elastic"; }
+  bool ScalesTheSlope() const override { return true; }
   std::string Formula() const override { return "k = k_measured / (1 + beta)"; }
   std::vector<std::string> ParameterNames() const override { return {"beta"}; }
   std::vector<double> Initial() const override { return {0.1}; }

@@ -177,6 +177,67 @@ bool FrictionMapOptions::IsValid(std::string* why) const {
   return true;
 }
 
+namespace {
+
+// The sums' means where they hold samples enough (NaN elsewhere), with the
+// bins' centres.
+void StoreMeans(const LoopSums& loop,
+                const Bins& b,
+                const FrictionMapOptions& options,
+                FrictionMap* map) {
+  FrictionMap& m = *map;
+  const size_t loop_cells = loop.n.size(), cells = b.n.size();
+  for (size_t i = 0; i < loop.count; ++i)
+    m.loop_x_mm.push_back(loop.lo + (i + 0.5) * loop.width);
+  m.loop_q_n.resize(loop_cells);
+  m.loop_p_n.resize(loop_cells);
+  m.loop_k.resize(loop_cells);
+  for (size_t i = 0; i < loop_cells; ++i) {
+    const int n = loop.n[i];
+    m.loop_q_n[i] = n > 0 ? static_cast<float>(loop.q[i] / n) : NAN;
+    m.loop_p_n[i] = n > 0 ? static_cast<float>(loop.p[i] / n) : NAN;
+    m.loop_k[i] = n > 0 ? static_cast<float>(loop.k[i] / n) : NAN;
+  }
+  for (size_t i = 0; i < b.count; ++i)
+    m.x_mm.push_back(b.lo + (i + 0.5) * b.width);
+  m.mu_raw.resize(cells);
+  m.mu_corrected.resize(cells);
+  m.samples = b.n;
+  for (size_t i = 0; i < cells; ++i) {
+    const bool ok = b.n[i] >= options.min_samples;
+    m.mu_raw[i] = ok ? b.raw[i] / b.n[i] : kNaN;
+    m.mu_corrected[i] = ok ? b.corrected[i] / b.n[i] : kNaN;
+  }
+}
+
+// The map's variation along the track after running-in, raw and
+// corrected, against its noise (`block` cycles share their slope).
+void StoreVariation(int block, FrictionMap* map) {
+  FrictionMap& m = *map;
+  std::vector<double> raw_pattern;
+  double raw_noise = 0;
+  SpatialVariation(m,
+                   m.mu_raw,
+                   m.first_steady_cycle,
+                   block,
+                   &m.spatial_sd_raw,
+                   &raw_noise,
+                   &raw_pattern);
+  SpatialVariation(m,
+                   m.mu_corrected,
+                   m.first_steady_cycle,
+                   block,
+                   &m.spatial_sd_corrected,
+                   &m.spatial_sd_noise,
+                   &m.steady_corrected);
+  m.spatial_sd_excess =
+      std::sqrt(std::max(0.0,
+                         m.spatial_sd_corrected * m.spatial_sd_corrected -
+                             m.spatial_sd_noise * m.spatial_sd_noise));
+}
+
+}  // namespace
+
 FrictionMap ComputeFrictionMap(const force::ForceRecord& record,
                                const force::CycleSet& cycles,
                                const FrictionFitOptions& friction,
@@ -223,49 +284,9 @@ FrictionMap ComputeFrictionMap(const force::ForceRecord& record,
     AccumulateLoop(s.forward, c, &loop);
     AccumulateLoop(s.reverse, c, &loop);
   }
-  for (size_t i = 0; i < loop.count; ++i)
-    m.loop_x_mm.push_back(loop.lo + (i + 0.5) * loop.width);
-  m.loop_q_n.resize(loop_cells);
-  m.loop_p_n.resize(loop_cells);
-  m.loop_k.resize(loop_cells);
-  for (size_t i = 0; i < loop_cells; ++i) {
-    const int n = loop.n[i];
-    m.loop_q_n[i] = n > 0 ? static_cast<float>(loop.q[i] / n) : NAN;
-    m.loop_p_n[i] = n > 0 ? static_cast<float>(loop.p[i] / n) : NAN;
-    m.loop_k[i] = n > 0 ? static_cast<float>(loop.k[i] / n) : NAN;
-  }
-  for (size_t i = 0; i < b.count; ++i)
-    m.x_mm.push_back(b.lo + (i + 0.5) * b.width);
-  m.mu_raw.resize(cells);
-  m.mu_corrected.resize(cells);
-  m.samples = b.n;
-  for (size_t i = 0; i < cells; ++i) {
-    const bool ok = b.n[i] >= options.min_samples;
-    m.mu_raw[i] = ok ? b.raw[i] / b.n[i] : kNaN;
-    m.mu_corrected[i] = ok ? b.corrected[i] / b.n[i] : kNaN;
-  }
+  StoreMeans(loop, b, options, &m);
   m.first_steady_cycle = std::clamp(first_steady, 0, m.cycles - 1);
-  std::vector<double> raw_pattern;
-  double raw_noise = 0;
-  const int block = slopes.SharedCycles();
-  SpatialVariation(m,
-                   m.mu_raw,
-                   m.first_steady_cycle,
-                   block,
-                   &m.spatial_sd_raw,
-                   &raw_noise,
-                   &raw_pattern);
-  SpatialVariation(m,
-                   m.mu_corrected,
-                   m.first_steady_cycle,
-                   block,
-                   &m.spatial_sd_corrected,
-                   &m.spatial_sd_noise,
-                   &m.steady_corrected);
-  m.spatial_sd_excess =
-      std::sqrt(std::max(0.0,
-                         m.spatial_sd_corrected * m.spatial_sd_corrected -
-                             m.spatial_sd_noise * m.spatial_sd_noise));
+  StoreVariation(slopes.SharedCycles(), &m);
   return m;
 }
 

@@ -41,11 +41,43 @@ double ScaleFor(double largest) {
   return std::pow(10.0, std::floor(std::log10(raw)));
 }
 
+// The friction map's rows of the cycles shown (raw and corrected), after
+// their bins' x and their scale.
+void AppendMapRows(const FrictionMap& m,
+                   const std::vector<int>& shown,
+                   std::string* out) {
+  double mu_max = 0;
+  for (double v : m.mu_raw)
+    if (std::isfinite(v)) mu_max = std::max(mu_max, std::abs(v));
+  for (double v : m.mu_corrected)
+    if (std::isfinite(v)) mu_max = std::max(mu_max, std::abs(v));
+  const double mu_scale = ScaleFor(mu_max);
+  const size_t map_bins = m.x_mm.size();
+  auto it = std::back_inserter(*out);
+  *out += ",\n\"map_x_mm\":[";
+  for (size_t b = 0; b < map_bins; ++b)
+    fmt::format_to(it, "{}{:.4f}", b ? "," : "", m.x_mm[b]);
+  fmt::format_to(it, "],\n\"mu_scale\":{:g},\n\"mu_raw\":", mu_scale);
+  const size_t map_cells = shown.size() * 2 * map_bins;
+  auto map_value = [&](const std::vector<double>& v, size_t i) {
+    const size_t b = i % map_bins;
+    const int d = static_cast<int>(i / map_bins % 2);
+    return v[m.Index(shown[i / map_bins / 2], d, b)];
+  };
+  AppendScaled(out, map_cells, mu_scale, [&](size_t i) {
+    return map_value(m.mu_raw, i);
+  });
+  *out += ",\n\"mu_corrected\":";
+  AppendScaled(out, map_cells, mu_scale, [&](size_t i) {
+    return map_value(m.mu_corrected, i);
+  });
+}
+
 }  // namespace
 
 std::string LoopViewerJson(const TestResult& r) {
   const FrictionMap& m = r.friction_map;
-  const size_t bins = m.loop_x_mm.size(), map_bins = m.x_mm.size();
+  const size_t bins = m.loop_x_mm.size();
   const int n = m.cycles;
   const bool from_p = !r.force.fit_force.empty();
   const std::vector<MuFit>& fits =
@@ -60,14 +92,10 @@ std::string LoopViewerJson(const TestResult& r) {
                ? fits[c].mu_hat
                : NAN;
   };
-  double q_max = 0, mu_max = 0;
+  double q_max = 0;
   for (float q : m.loop_q_n)
     if (std::isfinite(q)) q_max = std::max(q_max, std::abs(double(q)));
-  for (double v : m.mu_raw)
-    if (std::isfinite(v)) mu_max = std::max(mu_max, std::abs(v));
-  for (double v : m.mu_corrected)
-    if (std::isfinite(v)) mu_max = std::max(mu_max, std::abs(v));
-  const double q_scale = ScaleFor(q_max), mu_scale = ScaleFor(mu_max);
+  const double q_scale = ScaleFor(q_max);
   std::string out;
   auto it = std::back_inserter(out);
   fmt::format_to(
@@ -79,12 +107,8 @@ std::string LoopViewerJson(const TestResult& r) {
       "corrected for k); values are integers times their scale, cycle-major, "
       "forward then reverse\",\n\"mu_hat_from\":\"{}\",\n\"cycles\":[",
       bins,
-      !from_p                                     ? "k from the scan"
-      : r.profile_source == ProfileSource::kDepth ? "k from the depth"
-                                                  : "k from P",
-      !from_p                                     ? "k from the scan"
-      : r.profile_source == ProfileSource::kDepth ? "k from the depth"
-                                                  : "k from P");
+      from_p ? r.profile.SlopeName() : "k from the scan",
+      from_p ? r.profile.SlopeName() : "k from the scan");
   for (size_t i = 0; i < shown.size(); ++i)
     fmt::format_to(it, "{}{}", i ? "," : "", shown[i] + 1);
   fmt::format_to(it, "],\n\"of_cycles\":{},\n\"x_mm\":[", n);
@@ -115,23 +139,7 @@ std::string LoopViewerJson(const TestResult& r) {
     const int c = cell(i, &b, &d);
     return m.LoopModelQ(c, d, b, mu_of(c));
   });
-  out += ",\n\"map_x_mm\":[";
-  for (size_t b = 0; b < map_bins; ++b)
-    fmt::format_to(it, "{}{:.4f}", b ? "," : "", m.x_mm[b]);
-  fmt::format_to(it, "],\n\"mu_scale\":{:g},\n\"mu_raw\":", mu_scale);
-  const size_t map_cells = shown.size() * 2 * map_bins;
-  auto map_value = [&](const std::vector<double>& v, size_t i) {
-    const size_t b = i % map_bins;
-    const int d = static_cast<int>(i / map_bins % 2);
-    return v[m.Index(shown[i / map_bins / 2], d, b)];
-  };
-  AppendScaled(&out, map_cells, mu_scale, [&](size_t i) {
-    return map_value(m.mu_raw, i);
-  });
-  out += ",\n\"mu_corrected\":";
-  AppendScaled(&out, map_cells, mu_scale, [&](size_t i) {
-    return map_value(m.mu_corrected, i);
-  });
+  AppendMapRows(m, shown, &out);
   out += "}\n";
   return out;
 }

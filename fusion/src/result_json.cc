@@ -56,8 +56,7 @@ nlohmann::json ScanOptionsJson(const FuseOptions& o);
 
 // Every option that shaped the analysis.
 nlohmann::json OptionsJson(const force::ForceRecord& record,
-                           const FuseOptions& given) {
-  const FuseOptions o = WithStatedSpring(given, record);
+                           const FuseOptions& o) {
   const auto& f = o.analysis.friction;
   return {{"spring_n_per_mm", f.slope.spring_n_per_mm},
           {"k_estimate", KEstimateName(f.k_estimate)},
@@ -337,7 +336,7 @@ nlohmann::json ResultJson(const std::string& name,
   j["slip_fallback_half_cycles"] = r.force.slip_fallbacks;
   j["force_file_read"] = ForceFileJson(record.metadata);
   if (!r.scan_file.empty()) j["scan_file"] = r.scan_file;
-  j["options"] = OptionsJson(record, o);
+  j["options"] = OptionsJson(record, r.options);
   j["running_in"] = {
       {"cycles", r.force.running_in.cycles},
       {"detected", r.force.running_in.detected},
@@ -360,11 +359,14 @@ nlohmann::json ResultJson(const std::string& name,
   if (r.scan) j["scan"] = ScanJson(*r.scan);
   if (r.lugre) j["lugre"] = LugreJson(r);
   j["headline"] = Headline(r);
-  j["profile"] = {{"source", ProfileSourceName(r.profile_source)},
-                  {"why", r.profile_reason},
-                  {"p_slope_significance", r.p_slope_significance},
-                  {"depth_against_friction", r.depth_agreement},
-                  {"spring_against_depth", r.spring_depth_agreement}};
+  j["profile"] = {{"given", ProfileSourceName(r.profile.given)},
+                  {"source", ProfileSourceName(r.profile.used)},
+                  {"why", r.profile.reason},
+                  {"depth_sign", r.profile.depth_sign},
+                  {"p_slope_significance", r.profile.p_slope_significance},
+                  {"depth_against_friction", r.profile.depth_agreement},
+                  {"spring_against_depth", r.profile.spring_depth_agreement},
+                  {"spring_against_scan", r.profile.spring_amplitude_ratio}};
   j["verdict"] = {{"explained", r.verdict.explained},
                   {"summary", r.verdict.Summary()},
                   {"judged", r.verdict.not_judged.empty()},

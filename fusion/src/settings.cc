@@ -112,6 +112,29 @@ void ApplyColumns(const std::string& columns, force::ReadForceOptions* r) {
   }
 }
 
+// --notch: comma-separated frequencies, Hz.
+S NotchSetting(const char* group) {
+  return {"notch",
+          group,
+          "Periodic lines to remove from Q and P before the analysis, Hz, "
+          "comma-separated (mains pick-up: 50 or 60): a sinusoid fitted in "
+          "blocks of about 2 s and subtracted; lines the drive does not make "
+          "are warned about without it",
+          "TEXT",
+          ~0u,
+          [](T* t, const std::string& text) {
+            t->fuse.notch_hz.clear();
+            size_t at = 0;
+            while (at <= text.size()) {
+              const size_t comma = std::min(text.find(',', at), text.size());
+              t->fuse.notch_hz.push_back(support::ParseNumber(
+                  std::string_view(text).substr(at, comma - at), 0.001, 1e6));
+              at = comma + 1;
+            }
+          },
+          [](const T&) { return std::string(); }};
+}
+
 std::vector<S> ForceFileSettings() {
   const char* g = "Force file";
   auto column = [g](const char* name, const char* help, auto member) {
@@ -158,25 +181,7 @@ std::vector<S> ForceFileSettings() {
          ApplyColumns(text, &t->read_force);
        },
        [](const T&) { return std::string(); }},
-      {"notch",
-       g,
-       "Periodic lines to remove from Q and P before the analysis, Hz, "
-       "comma-separated (mains pick-up: 50 or 60): a sinusoid fitted in "
-       "blocks of about 2 s and subtracted; lines the drive does not make "
-       "are warned about without it",
-       "TEXT",
-       ~0u,
-       [](T* t, const std::string& text) {
-         t->fuse.notch_hz.clear();
-         size_t at = 0;
-         while (at <= text.size()) {
-           const size_t comma = std::min(text.find(',', at), text.size());
-           t->fuse.notch_hz.push_back(support::ParseNumber(
-               std::string_view(text).substr(at, comma - at), 0.001, 1e6));
-           at = comma + 1;
-         }
-       },
-       [](const T&) { return std::string(); }},
+      NotchSetting(g),
       NumberSetting<T>(
           "rate",
           g,

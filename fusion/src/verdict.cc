@@ -200,7 +200,8 @@ std::vector<std::string> DataWarnings(const ForceAnalysis& force,
           static_cast<long>(halves)));
     }
   }
-  if (std::isfinite(force.k_noise_rms) && std::isfinite(force.k_signal_rms) &&
+  if (r.force_slope_judged && std::isfinite(force.k_noise_rms) &&
+      std::isfinite(force.k_signal_rms) &&
       force.k_noise_rms > force.k_signal_rms) {
     w.push_back(fmt::format(
         "k from {} is dominated by noise: its noise {:.4f} exceeds the part "
@@ -215,9 +216,10 @@ std::vector<std::string> DataWarnings(const ForceAnalysis& force,
                                : r.amplitude_ratio;
   if (r.has_scan && ratio_low > o.elastic_ratio) {
     w.push_back(fmt::format(
-        "the spring displacement varies {:.2f}x as much as the scanned "
-        "profile: an elastic part of about {:.0f}% of the profile moves the "
-        "sphere without tilting the contact",
+        "{} varies {:.2f}x as much as the scanned profile: an elastic part "
+        "of about {:.0f}% of the profile moves the sphere without tilting "
+        "the contact",
+        r.force_profile_name,
         r.amplitude_ratio,
         100 * (r.amplitude_ratio - 1)));
   }

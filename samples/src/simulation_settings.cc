@@ -55,11 +55,14 @@ S IntOverride(
           [](const R&) { return std::string(); }};
 }
 
-// The cases and their drive, sampling and scan (the help shows each
-// default).
+// The scan, the drive's shape and the rig (the help shows each default).
+std::vector<S> ScanAndRigSettings();
+
+// The cases and their drive and sampling, then the scan and the rig (the
+// help shows each default).
 std::vector<S> CaseSettings() {
   const SimulationOptions d;
-  return {
+  std::vector<S> settings = {
       Repeated("case", "Case name, e.g. B-RT-R (repeatable)", &R::cases),
       FlagSetting<R>("all",
                      "Simulation",
@@ -93,6 +96,14 @@ std::vector<S> CaseSettings() {
                1e-6,
                1e5,
                &R::frequency_hz),
+  };
+  for (S& s : ScanAndRigSettings()) settings.push_back(std::move(s));
+  return settings;
+}
+
+std::vector<S> ScanAndRigSettings() {
+  const SimulationOptions d;
+  return {
       IntOverride("scan-cols",
                   fmt::format("Scan width in pixels (default {})", d.scan_cols),
                   2,

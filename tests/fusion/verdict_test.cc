@@ -367,7 +367,7 @@ TEST_P(VerdictOnCleanCases, NothingIsFlagged) {
         << (with_scan ? "with scan: " : "without scan: ")
         << r.verdict.Summary();
     // A spring rig's profile is P/S, whatever the track.
-    EXPECT_EQ(r.profile_source, ProfileSource::kSpring) << r.profile_reason;
+    EXPECT_EQ(r.profile.used, ProfileSource::kSpring) << r.profile.reason;
     if (with_scan) {
       EXPECT_EQ(r.scan->alignment.flipped, t.truth.scan_flipped);
       // mu-hat within 0.002 (k from P) and 0.004 (k from the scan) of the
@@ -401,7 +401,7 @@ TEST_P(DeadWeightRig, ProfileFromTheFrictionAlignsTheScanAndTheVerdictIsRight) {
   const sim::SimulatedTest t =
       sim::Simulate(DeadWeightCase(name, noise, false));
   const TestResult r = AnalyzeTest(t.record, t.scan, NoLugre());
-  EXPECT_EQ(r.profile_source, ProfileSource::kFriction) << r.profile_reason;
+  EXPECT_EQ(r.profile.used, ProfileSource::kFriction) << r.profile.reason;
   ASSERT_TRUE(r.scan.has_value()) << r.scan_skipped;
   EXPECT_EQ(r.scan->alignment.flipped, t.truth.scan_flipped);
   EXPECT_GT(r.scan->alignment.correlation, 0.95);
@@ -409,9 +409,9 @@ TEST_P(DeadWeightRig, ProfileFromTheFrictionAlignsTheScanAndTheVerdictIsRight) {
   const auto& m = r.mismatch;
   EXPECT_EQ(m.mu_force.count, 0);  // k from P is not used
   EXPECT_NEAR(m.mu_scan.mean, TruthOverCompared(t, m), 0.004);
-  EXPECT_NE(r.profile_reason.find("dead-weight or force-controlled rig"),
+  EXPECT_NE(r.profile.reason.find("dead-weight or force-controlled rig"),
             std::string::npos)
-      << r.profile_reason;
+      << r.profile.reason;
 }
 
 INSTANTIATE_TEST_SUITE_P(Twelve,
@@ -433,7 +433,7 @@ TEST_P(DeadWeightWithDepth, KFromTheDepthChannelAndTheVerdictIsRight) {
   const sim::SimulatedTest t = sim::Simulate(DeadWeightCase(name, noise, true));
   ASSERT_TRUE(t.record.has_depth());
   const TestResult r = AnalyzeTest(t.record, t.scan, NoLugre());
-  EXPECT_EQ(r.profile_source, ProfileSource::kDepth) << r.profile_reason;
+  EXPECT_EQ(r.profile.used, ProfileSource::kDepth) << r.profile.reason;
   EXPECT_TRUE(r.verdict.explained) << r.verdict.Summary();
   const auto& m = r.mismatch;
   EXPECT_NEAR(m.mu_force.mean, TruthOverCompared(t, m), 0.002);
@@ -453,15 +453,15 @@ INSTANTIATE_TEST_SUITE_P(Twelve,
 TEST(DeadWeightWithDepth, ADepthRunningTheOtherWayIsTurnedOver) {
   sim::SimulatedTest t = sim::Simulate(DeadWeightCase("B-RT-R", 1, true, 120));
   const TestResult right = AnalyzeTest(t.record, t.scan, NoLugre());
-  EXPECT_GT(right.depth_agreement, 0.9);
+  EXPECT_GT(right.profile.depth_agreement, 0.9);
   t.record.depth_mm = -t.record.depth_mm;
   const TestResult r = AnalyzeTest(t.record, t.scan, NoLugre());
-  EXPECT_EQ(r.profile_source, ProfileSource::kDepth);
-  EXPECT_LT(r.depth_agreement, -0.9);
-  EXPECT_NE(r.profile_reason.find("it runs the other way, so it was turned "
+  EXPECT_EQ(r.profile.used, ProfileSource::kDepth);
+  EXPECT_LT(r.profile.depth_agreement, -0.9);
+  EXPECT_NE(r.profile.reason.find("it runs the other way, so it was turned "
                                   "over"),
             std::string::npos)
-      << r.profile_reason;
+      << r.profile.reason;
   EXPECT_TRUE(r.verdict.explained) << r.verdict.Summary();
   EXPECT_NEAR(r.mismatch.mu_force.mean, right.mismatch.mu_force.mean, 1e-9);
 }
@@ -477,12 +477,12 @@ TEST(DeadWeightWithDepth, QsCrosstalkIntoPIsNotTakenForASpring) {
   o.effects.crosstalk_q_into_p = 0.05;
   const sim::SimulatedTest t = sim::Simulate(o);
   const TestResult r = AnalyzeTest(t.record, std::nullopt, NoLugre());
-  EXPECT_GT(r.p_slope_significance, 10.0);
-  EXPECT_LT(std::abs(r.spring_depth_agreement), 0.5);
-  EXPECT_EQ(r.profile_source, ProfileSource::kDepth) << r.profile_reason;
-  EXPECT_NE(r.profile_reason.find("P's variation is not the track's"),
+  EXPECT_GT(r.profile.p_slope_significance, 10.0);
+  EXPECT_LT(std::abs(r.profile.spring_depth_agreement), 0.5);
+  EXPECT_EQ(r.profile.used, ProfileSource::kDepth) << r.profile.reason;
+  EXPECT_NE(r.profile.reason.find("P's variation is not the track's"),
             std::string::npos)
-      << r.profile_reason;
+      << r.profile.reason;
   EXPECT_TRUE(r.verdict.explained) << r.verdict.Summary();
   EXPECT_NEAR(
       r.mismatch.mu_force.mean, TruthOverCompared(t, r.mismatch), 0.002);
@@ -491,8 +491,8 @@ TEST(DeadWeightWithDepth, QsCrosstalkIntoPIsNotTakenForASpring) {
   spring.depth_channel = true;
   const sim::SimulatedTest s = sim::Simulate(spring);
   const TestResult p = AnalyzeTest(s.record, std::nullopt, NoLugre());
-  EXPECT_GT(std::abs(p.spring_depth_agreement), 0.9);
-  EXPECT_EQ(p.profile_source, ProfileSource::kSpring) << p.profile_reason;
+  EXPECT_GT(std::abs(p.profile.spring_depth_agreement), 0.9);
+  EXPECT_EQ(p.profile.used, ProfileSource::kSpring) << p.profile.reason;
 }
 
 // An elastic part (the ball sinks deeper where the wood is softer, without
@@ -511,7 +511,7 @@ TEST(DeadWeightWithDepth, AnElasticPartIsFlagged) {
     o.elastic_mm = samples::PaperCase(name).elastic_mm;
     const sim::SimulatedTest t = sim::Simulate(o);
     const TestResult r = AnalyzeTest(t.record, t.scan, NoLugre());
-    EXPECT_EQ(r.profile_source, ProfileSource::kDepth);
+    EXPECT_EQ(r.profile.used, ProfileSource::kDepth);
     EXPECT_FALSE(r.verdict.explained);
     EXPECT_NE(r.verdict.Summary().find("the depth channel's profile varies"),
               std::string::npos)
@@ -541,7 +541,7 @@ TEST(DeadWeightRig, TheSpringsProfileFailsAndTheFrictionsNeedsAScan) {
   FuseOptions spring = NoLugre();
   spring.profile_from = ProfileSource::kSpring;
   const TestResult r = AnalyzeTest(t.record, t.scan, spring);
-  EXPECT_EQ(r.profile_source, ProfileSource::kSpring);
+  EXPECT_EQ(r.profile.used, ProfileSource::kSpring);
   EXPECT_LT(r.scan->alignment.amplitude_ratio, 0.2);
   EXPECT_FALSE(r.verdict.explained);
   FuseOptions friction = NoLugre();
@@ -555,7 +555,7 @@ TEST(DeadWeightRig, TheSpringsProfileFailsAndTheFrictionsNeedsAScan) {
   // Without a scan, auto keeps the spring, says what P shows, and does not
   // blame the physics for what a slope of noise misses: not judged.
   const TestResult alone = AnalyzeTest(t.record, std::nullopt, NoLugre());
-  EXPECT_EQ(alone.profile_source, ProfileSource::kSpring);
+  EXPECT_EQ(alone.profile.used, ProfileSource::kSpring);
   EXPECT_FALSE(alone.verdict.explained);
   EXPECT_EQ(alone.verdict.Summary().rfind("not judged: P does not vary", 0), 0u)
       << alone.verdict.Summary();

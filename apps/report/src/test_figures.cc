@@ -27,10 +27,9 @@ using internal::Series;
 using internal::TableSet;
 
 // The force side's slope as the figures name it: "k from P" (P/S) or
-// "k from depth" (the depth channel).
+// "k from the depth" (the depth channel).
 std::string ForceSideK(const fusion::TestResult& r) {
-  return r.profile_source == fusion::ProfileSource::kDepth ? "k from depth"
-                                                           : "k from P";
+  return r.profile.SlopeName();
 }
 
 Series Line(const char* table,

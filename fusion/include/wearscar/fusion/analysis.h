@@ -142,7 +142,22 @@ struct ForceAnalysis {
   double k_noise_correction = 0.0;
 };
 
-// Segments, finds gross slip, computes the classic COFs and fits mu-hat per
+// The force side's stages that need no slope: cycles, gross slip, the
+// classic COFs and the running-in (from the mean COF). Throws
+// force::ForceError for records that cannot be segmented, FusionError for a
+// running-in longer than half the test. Requires record.IsConsistent().
+ForceAnalysis SegmentForce(const force::ForceRecord& record,
+                           const AnalysisOptions& options);
+
+// mu-hat per cycle with the force side's slope (options.friction: P/S or
+// the depth channel) on a segmented record, and the statistics after
+// running-in.
+void FitForceSide(const force::ForceRecord& record,
+                  const AnalysisOptions& options,
+                  ForceAnalysis* analysis);
+
+// SegmentForce, then FitForceSide: segments, finds gross slip, computes the
+// classic COFs and fits mu-hat per
 // cycle with the force-side slope. Throws force::ForceError for records that
 // cannot be segmented.
 // Requires record.IsConsistent().

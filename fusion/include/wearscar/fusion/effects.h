@@ -45,6 +45,10 @@ class Effect {
   virtual std::vector<double> Upper() const = 0;
   // Modifies the context for parameters p (length ParameterNames().size()).
   virtual void Apply(const double* p, EffectContext* c) const = 0;
+  // Whether the effect only scales the slope of the sliding path, k ->
+  // (1 + g) k (an elastic part in phase with the track): with a slope that
+  // is one fixed profile (the scan's), it is that profile's depth scale.
+  virtual bool ScalesTheSlope() const { return false; }
   // The parameter reported as the effect's strength.
   virtual int StrengthIndex() const { return 0; }
   // Whether fitted parameters are the effect's physics (a resistance that

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "wearscar/force/read_force.h"
-#include "wearscar/fusion/fuse.h"
+#include "wearscar/fusion/fuse_options.h"
 #include "wearscar/fusion/map_analysis.h"
 #include "wearscar/scan/read_scan.h"
 #include "wearscar/support/settings.h"

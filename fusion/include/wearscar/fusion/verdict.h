@@ -14,8 +14,11 @@ struct MismatchReport {
   bool has_scan = false;
   // What the scan's profile was compared with, for the verdict's words.
   std::string force_profile_name = "the spring displacement";
-  // Where the force side's k came from: "P" (P/S) or "the depth".
+  // Where the force side's k came from: "P" (P/S) or "the depth"
+  // (ProfileDecision::ChannelName), and whether mu-hat with it is judged
+  // (not with the friction's circular profile: the scan's k is).
   std::string force_slope_name = "P";
+  bool force_slope_judged = true;
   int first_cycle = 0, last_cycle = 0;
   double correlation = 0.0;                  // aligned profiles
   double correlation_noise_corrected = 0.0;  // Alignment's

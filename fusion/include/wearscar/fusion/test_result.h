@@ -1,0 +1,136 @@
+#pragma once
+// What one test's analysis yields (AnalyzeTest): every number, table and
+// reconstruction a user can see, each decision recorded once as given and
+// as used. Below the pipeline: the products, the summaries, the figures and
+// the diagnosis read this header, not fuse.h.
+
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "wearscar/force/periodic.h"
+#include "wearscar/fusion/align.h"
+#include "wearscar/fusion/analysis.h"
+#include "wearscar/fusion/detail_cycle.h"
+#include "wearscar/fusion/friction_map.h"
+#include "wearscar/fusion/fuse_options.h"
+#include "wearscar/fusion/lugre.h"
+#include "wearscar/fusion/track_history.h"
+#include "wearscar/fusion/verdict.h"
+#include "wearscar/fusion/wear.h"
+#include "wearscar/scan/height_map.h"
+#include "wearscar/scan/level.h"
+#include "wearscar/scan/track.h"
+
+namespace wearscar::fusion {
+
+// Where the force side's profile of the sliding path came from (Ceres'
+// Summary style: given and used), with the figures the choice read. Made
+// once by DecideProfile (profile_decision.h); the fit, the verdict,
+// result.json, the summary, the figures, the viewer and the diagnosis read
+// it and never decide again.
+struct ProfileDecision {
+  ProfileSource given = ProfileSource::kAuto;  // FuseOptions::profile_from
+  ProfileSource used = ProfileSource::kSpring;
+  // -1: the depth channel read turned over (its profile ran against the
+  // friction's); +1 otherwise. Only meaningful with used == kDepth.
+  double depth_sign = 1.0;
+  // The depth channel's column and how its name reads (when logged).
+  std::string depth_column;
+  bool depth_is_penetration = true;
+  // The figures the choice read (NaN where it did not need them): P's
+  // repeatable slope in its standard errors; the depth's profile against
+  // the friction's; P/S's profile against the depth's; P/S's amplitude
+  // against the scanned profile.
+  double p_slope_significance = std::numeric_limits<double>::quiet_NaN();
+  double depth_agreement = std::numeric_limits<double>::quiet_NaN();
+  double spring_depth_agreement = std::numeric_limits<double>::quiet_NaN();
+  double spring_amplitude_ratio = std::numeric_limits<double>::quiet_NaN();
+  // Why, in words (result.json profile.why, the assumptions).
+  std::string reason;
+
+  bool FromSpring() const { return used == ProfileSource::kSpring; }
+  bool FromDepth() const { return used == ProfileSource::kDepth; }
+  bool FromFriction() const { return used == ProfileSource::kFriction; }
+  // Whether mu-hat with the force side's own k is fitted and judged (P/S or
+  // the depth); from the friction it is circular and the scan's k is used.
+  bool ForceSlopeJudged() const { return !FromFriction(); }
+  // The channel the force side's own k is fitted from, as every output
+  // names it: "the depth" or "P" (also with the friction's profile, where
+  // that fit is not judged); SlopeName() is "k from " that.
+  const char* ChannelName() const;
+  std::string SlopeName() const;
+  // The force side's profile as compared with the scan: "the spring
+  // displacement", "the depth channel's profile", "the profile from the
+  // friction".
+  std::string ProfileName() const;
+};
+
+// The scan side of one test.
+struct ScanAnalysis {
+  scan::HeightMap levelled;  // after levelling and spike removal (for figures)
+  scan::LevelSummary level;
+  int spikes_removed = 0;
+  scan::Track track;
+  scan::WearProfile profile;
+  // P/S, the depth channel's or the friction's (TestResult::profile.used).
+  ForceProfile force_profile;
+  Alignment alignment;
+  PlateProfile slope;           // k_scan in plate coordinates
+  std::vector<MuFit> fit_scan;  // mu-hat per cycle with k from the scan
+  // Per cycle, the factor on the scan's slope (FuseOptions::
+  // scan_slope_history); empty when the slope was used as scanned.
+  std::vector<double> slope_scale;
+};
+
+struct TestResult {
+  ForceAnalysis force;
+  // Where the force side's profile came from, as given and as used, and
+  // why: decided once (DecideProfile), read by everything after it.
+  ProfileDecision profile;
+  // The options the analysis ran with: the given ones with a spring the
+  // force file states (WithStatedSpring) and the slope's source and the
+  // depth's sign as decided.
+  FuseOptions options;
+  std::optional<ScanAnalysis> scan;
+  MismatchReport mismatch;
+  Verdict verdict;
+  // How well the data carry the method (DataWarnings), and why a scan
+  // given was not used (scan_skipped, also the first warning).
+  std::vector<std::string> warnings;
+  // Periodic lines in Q and P the drive does not make (after any notch).
+  std::vector<force::PeriodicLine> periodic_lines;
+  // What the result rests on that the files did not state, in words: the
+  // spring's stiffness and where it came from, the slope the verdict
+  // judges, the force file's layout and units (stated or guessed), the
+  // running-in (detected or given), in that order.
+  std::vector<std::string> assumptions;
+  std::string scan_skipped;
+  std::string scan_file;  // the scan's source, used or not ("" without one)
+  // A scan left out for want of a track: its levelled map, for the figure
+  // that shows it (null otherwise).
+  std::shared_ptr<const scan::HeightMap> unused_map;
+  // Track size, load, sliding distance and specific wear rate (the scan
+  // side NaN without a usable scan).
+  Wear wear;
+  // mu along the stroke per cycle and direction (force-side k), and its
+  // along-track variation after running-in.
+  FrictionMap friction_map;
+  // The force-side profile of every cycle, its waviness over the cycles.
+  TrackHistory track_history;
+  int detail_cycle = 0;
+  std::optional<LugreFit> lugre;
+  // The detail cycle's slopes, reconstructions, J(mu) and the wear-scar
+  // model beside LuGre (paper Figs. 10-12, 17).
+  DetailCycle detail;
+};
+
+// The one line to read first: the coefficient to quote, how it was got
+// and the verdict ("mu = 0.1443 (95%: 0.1436-0.1449): mu-hat, k from P,
+// cycles 13-59; explained by wear-scar interaction"), or why there is none
+// to quote. The other coefficients are comparisons.
+std::string Headline(const TestResult& result);
+
+}  // namespace wearscar::fusion

@@ -1,0 +1,60 @@
+// The words a test's result says of itself: its headline and the names of
+// the force side's profile and slope.
+
+#include "wearscar/fusion/test_result.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+namespace wearscar::fusion {
+
+const char* ProfileDecision::ChannelName() const {
+  return FromDepth() ? "the depth" : "P";
+}
+
+std::string ProfileDecision::SlopeName() const {
+  return std::string("k from ") + ChannelName();
+}
+
+std::string ProfileDecision::ProfileName() const {
+  return FromDepth()      ? "the depth channel's profile"
+         : FromFriction() ? "the profile from the friction"
+                          : "the spring displacement";
+}
+
+std::string Headline(const TestResult& r) {
+  const MismatchReport& m = r.mismatch;
+  const bool from_p = m.mu_force.count > 0;
+  const Statistic& mu = from_p ? m.mu_force : m.mu_scan;
+  if (mu.count == 0) {
+    return "no mu to quote: no mu-hat was fitted (too few sliding samples "
+           "per cycle; see the warnings)";
+  }
+  if (!r.verdict.not_judged.empty()) {
+    return "no mu to quote: not judged, P carries no profile and nothing "
+           "else gives the slope (no scan, no depth channel)";
+  }
+  if (!r.verdict.explained) {
+    return fmt::format(
+        "no mu to quote: not explained by wear-scar interaction, the model "
+        "misses an effect (reasons below; `wearscar diagnose` names it); "
+        "mu-hat {:.4f} and mu energy {:.4f} are for comparison only",
+        mu.mean,
+        m.mu_energy.mean);
+  }
+  const std::string interval =
+      std::isfinite(mu.low)
+          ? fmt::format(" (95%: {:.4f}-{:.4f})", mu.low, mu.high)
+          : std::string();
+  return fmt::format(
+      "mu = {:.4f}{}: mu-hat, k from {}, cycles {}-{}; explained by wear-scar "
+      "interaction",
+      mu.mean,
+      interval,
+      from_p ? m.force_slope_name : std::string("the scan"),
+      m.first_cycle + 1,
+      m.last_cycle + 1);
+}
+
+}  // namespace wearscar::fusion

@@ -1,0 +1,30 @@
+#pragma once
+// What a test's result rests on that its files did not state
+// (TestResult::assumptions), the spring a scan implies, and the test
+// conditions a file states that its data contradict.
+
+#include <string>
+#include <vector>
+
+#include "wearscar/fusion/test_result.h"
+
+namespace wearscar::fusion {
+
+// The spring's stiffness the scan implies and its 95% interval; NaN
+// without a scan.
+struct ImpliedSpring {
+  double value = NAN, low = NAN, high = NAN;
+};
+ImpliedSpring SpringTheScanImplies(const TestResult& r, const FuseOptions& o);
+
+// The spring, the slope judged, the reading and the running-in, in words.
+std::vector<std::string> Assumptions(const force::ForceRecord& record,
+                                     const TestResult& r,
+                                     const FuseOptions& o);
+
+// The conditions the file's header states that the data contradict by
+// more than 10% (and a stated spring that could not be used).
+std::vector<std::string> StatedButNotFound(const force::ForceRecord& record,
+                                           const ForceAnalysis& force);
+
+}  // namespace wearscar::fusion

@@ -1,0 +1,22 @@
+#pragma once
+// The comparison of the force side's and the scan's view of one test over
+// its compared cycles (the MismatchReport the verdict judges).
+
+#include "wearscar/force/force_record.h"
+#include "wearscar/fusion/test_result.h"
+
+namespace wearscar::fusion {
+
+// The mismatch over cycles [first, last] with the profile as decided:
+// mu-hat with the force side's k only where it is judged (P/S or the
+// depth, not the friction's circular profile); the scan's side when
+// `scan` is given.
+MismatchReport CompareSlopes(const force::ForceRecord& record,
+                             const ForceAnalysis& force,
+                             const ScanAnalysis* scan,
+                             const ProfileDecision& profile,
+                             int first,
+                             int last,
+                             const FuseOptions& options);
+
+}  // namespace wearscar::fusion

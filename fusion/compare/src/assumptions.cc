@@ -1,0 +1,180 @@
+// What a test's result rests on that its files did not state, and the
+// conditions they state that the data contradict: the words of
+// TestResult::assumptions and of some warnings.
+
+#include "wearscar/fusion/assumptions.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace wearscar::fusion {
+
+// The spring's stiffness the scan implies, with its 95% interval: S times
+// the amplitude ratio of P/S to the scanned profile, divided by the
+// track's growth from the compared cycles to its final state (the scan
+// shows the final track; the ratio of the two waviness figures is P/S's
+// own, so it does not depend on S). NaN without a scan.
+ImpliedSpring SpringTheScanImplies(const TestResult& r, const FuseOptions& o) {
+  const MismatchReport& m = r.mismatch;
+  const TrackHistory& h = r.track_history;
+  if (!r.scan || !std::isfinite(m.amplitude_ratio_low) ||
+      !std::isfinite(m.amplitude_ratio_high))
+    return {};
+  double growth = 1.0, sum = 0.0;
+  int n = 0;
+  for (int c = std::max(0, m.first_cycle);
+       c <= m.last_cycle && c < static_cast<int>(h.waviness_sd_mm.size());
+       ++c) {
+    if (std::isfinite(h.waviness_sd_mm[c])) sum += h.waviness_sd_mm[c], ++n;
+  }
+  if (n > 0 && h.final_waviness_sd_mm > 0)
+    growth = sum / n / h.final_waviness_sd_mm;
+  const double s = o.analysis.friction.slope.spring_n_per_mm / growth;
+  return {s * m.amplitude_ratio,
+          s * m.amplitude_ratio_low,
+          s * m.amplitude_ratio_high};
+}
+
+namespace {
+
+// What the result rests on that the files did not state.
+// How the force file was read: its layout and each channel's unit, stated
+// or guessed from the values.
+std::string ReadAssumption(const force::ForceMetadata& m) {
+  static const char* const kChannel[5] = {"time", "x", "Q", "P", "depth"};
+  std::string units;
+  for (int ch = 0; ch < 5; ++ch) {
+    if (static_cast<std::size_t>(ch) >= m.channel_units.size() ||
+        m.channel_units[ch].empty())
+      continue;
+    units +=
+        fmt::format("{}{} {}{}",
+                    units.empty() ? "" : ", ",
+                    kChannel[ch],
+                    m.channel_units[ch],
+                    m.unit_guessed[ch] ? " (guessed: no unit stated)" : "");
+  }
+  if (m.time_rebuilt) units += ", time from the sampling rate";
+  return fmt::format("the force file read as the '{}' layout; units: {}",
+                     m.layout,
+                     units.empty() ? "none read" : units);
+}
+
+}  // namespace
+
+std::vector<std::string> Assumptions(const force::ForceRecord& record,
+                                     const TestResult& r,
+                                     const FuseOptions& o) {
+  const double s = o.analysis.friction.slope.spring_n_per_mm;
+  const ImpliedSpring implied = SpringTheScanImplies(r, o);
+  std::string spring =
+      !o.spring_stated.empty()
+          ? fmt::format("spring S = {:g} N/mm, as the force file states ({})",
+                        s,
+                        o.spring_stated)
+      : o.spring_given
+          ? fmt::format("spring S = {:g} N/mm (given)", s)
+          : fmt::format(
+                "spring S = {:g} N/mm: the default (the paper's "
+                "rig), not given; k from P and the verdict depend on "
+                "it",
+                s);
+  // P/S varying less than the scanned groove says nothing against S: the
+  // sphere bridges the groove's short waves. Varying more, it bounds S
+  // from below (or is an elastic part).
+  if (!o.spring_given && r.verdict.scan_doubt.empty() &&
+      std::isfinite(implied.value)) {
+    spring += implied.low > s
+                  ? fmt::format(
+                        "; the scan implies {:.3g} N/mm (95%: "
+                        "{:.3g}-{:.3g}) if all of P's waviness is the "
+                        "worn path",
+                        implied.value,
+                        implied.low,
+                        implied.high)
+                  : std::string(
+                        "; P/S varies no more than the scanned "
+                        "profile, which says nothing against this S");
+  }
+  if (!r.profile.FromSpring()) spring = r.profile.reason;
+  std::string slope =
+      r.profile.FromDepth()
+          ? (r.scan ? "the verdict judges mu-hat with k from the depth "
+                      "channel; the scan's k is compared with it"
+                    : "k from the depth channel alone (no scan)")
+      : r.profile.FromFriction()
+          ? "the verdict judges mu-hat with k from the scan, aligned with the "
+            "profile from the friction; k from P is not used"
+      : o.slopes == SlopeChoice::kScan ? "mu-hat with k from the scan alone"
+      : r.scan ? "the verdict judges mu-hat with k from P; the scan's k is "
+                 "compared with it"
+      : r.scan_file.empty() ? "k from P alone (no scan)"
+                            : "k from P alone (the scan was not used)";
+  return {
+      spring, slope, ReadAssumption(record.metadata), r.force.running_in.rule};
+}
+
+namespace {
+
+// The median of P over about 4096 samples.
+double MedianLoad(const force::ForceRecord& record) {
+  std::vector<double> p;
+  const Eigen::Index n = record.size();
+  for (Eigen::Index i = 0; i < n; i += std::max<Eigen::Index>(1, n / 4096)) {
+    if (std::isfinite(record.normal_n[i])) p.push_back(record.normal_n[i]);
+  }
+  if (p.empty()) return NAN;
+  std::nth_element(p.begin(), p.begin() + p.size() / 2, p.end());
+  return p[p.size() / 2];
+}
+
+}  // namespace
+
+// The test conditions the file's header states that the data contradict
+// by more than 10% (the cycles' count by more than that and one cycle).
+std::vector<std::string> StatedButNotFound(const force::ForceRecord& record,
+                                           const ForceAnalysis& force) {
+  std::vector<std::string> out;
+  const auto& cycles = force.cycles.cycles;
+  for (const force::StatedFact& f : record.metadata.stated) {
+    double found = NAN;
+    std::string shown;
+    if (f.what == "spring" && !(f.value >= 0.01 && f.value <= 1e5)) {
+      out.push_back(fmt::format(
+          "the file states \"{}\" (line {}): a spring of {:.3g} N/mm, "
+          "outside 0.01-1e5 N/mm, was not used",
+          f.line,
+          f.line_number,
+          f.value));
+    } else if (f.what == "stroke") {
+      found = force.cycles.stroke_mm;
+      shown = fmt::format("a stroke of {:.3g} mm (peak to peak)", found);
+    } else if (f.what == "cycles") {
+      found = static_cast<double>(cycles.size());
+      shown = fmt::format("{} complete cycles", cycles.size());
+    } else if (f.what == "load") {
+      found = MedianLoad(record);
+      shown = fmt::format("a load of {:.3g} N (median P)", found);
+    } else if (f.what == "frequency" && cycles.size() >= 2) {
+      const double t0 = record.time_s[cycles.front().forward.begin];
+      const double t1 = record.time_s[cycles.back().reverse.end - 1];
+      found = t1 > t0 ? static_cast<double>(cycles.size()) / (t1 - t0) : NAN;
+      shown = fmt::format("{:.3g} Hz", found);
+    }
+    if (!std::isfinite(found)) continue;
+    const double tolerance = f.what == "cycles" ? 0.1 + 1.0 / f.value : 0.1;
+    if (std::abs(found - f.value) > tolerance * f.value) {
+      out.push_back(
+          fmt::format("the file states \"{}\" (line {}), but the data show {}",
+                      f.line,
+                      f.line_number,
+                      shown));
+    }
+  }
+  return out;
+}
+
+}  // namespace wearscar::fusion

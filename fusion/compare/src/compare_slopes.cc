@@ -1,0 +1,163 @@
+// The force side's and the scan's mu-hat, J and profiles side by side.
+
+#include "wearscar/fusion/compare_slopes.h"
+
+#include <cmath>
+#include <vector>
+
+namespace wearscar::fusion {
+namespace {
+
+// RMS of k_force - k_scan over the gross-slip samples of cycles [first,
+// last].
+double KRmsDifference(const force::ForceRecord& record,
+                      const ForceAnalysis& force,
+                      const ScanAnalysis& scan,
+                      const FrictionFitOptions& friction,
+                      int first,
+                      int last) {
+  double sum2 = 0;
+  long n = 0;
+  const ForceSlopes force_slopes(record, force.cycles, friction, first, last);
+  for (int c = first; c <= last; ++c) {
+    const CycleSamples kf = force_slopes.Gather(c);
+    for (const SlipSamples* s : {&kf.forward, &kf.reverse}) {
+      for (Eigen::Index i = 0; i < s->k.size(); ++i) {
+        const double ks = scan.slope.At(s->x_mm[i]);
+        if (!std::isfinite(ks)) continue;
+        sum2 += (s->k[i] - ks) * (s->k[i] - ks);
+        ++n;
+      }
+    }
+  }
+  return n > 0 ? std::sqrt(sum2 / n) : std::nan("");
+}
+
+// Per-cycle values over [first, last] in the summaries the report uses.
+class CycleRange {
+ public:
+  CycleRange(int first, int last) : first_(first), last_(last) {}
+
+  template <typename F>
+  std::vector<double> Values(F value) const {
+    std::vector<double> v;
+    for (int c = first_; c <= last_; ++c) v.push_back(value(c));
+    return v;
+  }
+  template <typename F>
+  Statistic Stat(F value) const {
+    return Summarise(Values(value), 0);
+  }
+  // The classic COFs: judged by their own scatter (SummariseSeries).
+  template <typename F>
+  Statistic Series(F value) const {
+    const std::vector<double> v = Values(value);
+    return SummariseSeries(v, 0, static_cast<int>(v.size()) - 1);
+  }
+  // mu-hat and what is computed from it carry the fits' standard errors,
+  // correlated over the cycles that share a slope.
+  template <typename F>
+  Statistic WithErrors(const std::vector<MuFit>& fits,
+                       int correlated,
+                       F value) const {
+    std::vector<double> v, se;
+    for (int c = first_; c <= last_; ++c) {
+      const bool ok = fits[c].converged;
+      v.push_back(ok ? value(c) : std::nan(""));
+      se.push_back(ok ? fits[c].standard_error : std::nan(""));
+    }
+    return SummariseWithErrors(
+        v, se, 0, static_cast<int>(v.size()) - 1, correlated);
+  }
+  // mu-hat minus mu_energy with the slope the verdict judges.
+  Interval MethodDifference(const std::vector<MuFit>& fits,
+                            const ForceAnalysis& force) const {
+    std::vector<double> d(fits.size(), std::nan(""));
+    for (int c = first_; c <= last_ && c < static_cast<int>(fits.size()); ++c) {
+      if (fits[c].converged) d[c] = fits[c].mu_hat - force.cof[c].mu_energy_g;
+    }
+    return MeanInterval(d, first_, last_);
+  }
+  int Count() const { return last_ - first_ + 1; }
+
+ private:
+  int first_, last_;
+};
+
+void CompareForceSide(const ForceAnalysis& force,
+                      const CycleRange& range,
+                      MismatchReport* r) {
+  const auto& ff = force.fit_force;
+  const int shared = force.correlated_cycles;
+  r->mu_force =
+      range.WithErrors(ff, shared, [&](int c) { return ff[c].mu_hat; });
+  r->cost_force = range.Stat(
+      [&](int c) { return ff[c].converged ? ff[c].cost : std::nan(""); });
+  // The classic COFs' own noise is small against mu-hat's (they average
+  // Q/P over whole half cycles): the differences carry mu-hat's errors.
+  r->mu_force_minus_mean = range.WithErrors(
+      ff, shared, [&](int c) { return ff[c].mu_hat - force.cof[c].mu_mean; });
+  r->mu_force_minus_energy = range.WithErrors(ff, shared, [&](int c) {
+    return ff[c].mu_hat - force.cof[c].mu_energy_g;
+  });
+  r->split_force = SplitCost(ff, r->first_cycle, r->last_cycle);
+  r->method_difference = range.MethodDifference(ff, force);
+}
+
+void CompareScanSide(const ForceAnalysis& force,
+                     const ScanAnalysis& scan,
+                     const CycleRange& range,
+                     MismatchReport* r) {
+  r->has_scan = true;
+  r->correlation = scan.alignment.correlation;
+  r->correlation_noise_corrected = scan.alignment.correlation_noise_corrected;
+  r->amplitude_ratio = scan.alignment.amplitude_ratio;
+  r->amplitude_ratio_low = scan.alignment.amplitude_ratio_low;
+  r->amplitude_ratio_high = scan.alignment.amplitude_ratio_high;
+  const auto& fs = scan.fit_scan;
+  r->split_scan = SplitCost(fs, r->first_cycle, r->last_cycle);
+  if (r->cost_force.count == 0)
+    r->method_difference = range.MethodDifference(fs, force);
+  // One scan slope for every cycle: its errors are common to all.
+  r->mu_scan =
+      range.WithErrors(fs, range.Count(), [&](int c) { return fs[c].mu_hat; });
+  r->cost_scan = range.Stat(
+      [&](int c) { return fs[c].converged ? fs[c].cost : std::nan(""); });
+  r->mu_force_minus_scan = r->mu_force.mean - r->mu_scan.mean;
+}
+
+}  // namespace
+
+MismatchReport CompareSlopes(const force::ForceRecord& record,
+                             const ForceAnalysis& force,
+                             const ScanAnalysis* scan,
+                             const ProfileDecision& profile,
+                             int first,
+                             int last,
+                             const FuseOptions& options) {
+  MismatchReport r;
+  r.first_cycle = first;
+  r.last_cycle = last;
+  r.force_slope_name = profile.ChannelName();
+  r.force_profile_name = profile.ProfileName();
+  r.force_slope_judged = profile.ForceSlopeJudged();
+  const CycleRange range(first, last);
+  r.mu_mean = range.Series([&](int c) { return force.cof[c].mu_mean; });
+  r.mu_energy = range.Series([&](int c) { return force.cof[c].mu_energy_g; });
+  // Without a profile in P (a dead weight) its fits are not used.
+  if (profile.ForceSlopeJudged()) {
+    CompareForceSide(force, range, &r);
+  } else {
+    r.method_difference = range.MethodDifference({}, force);
+  }
+  if (scan == nullptr) return r;
+  CompareScanSide(force, *scan, range, &r);
+  r.k_rms_difference =
+      profile.ForceSlopeJudged()
+          ? KRmsDifference(
+                record, force, *scan, options.analysis.friction, first, last)
+          : std::nan("");
+  return r;
+}
+
+}  // namespace wearscar::fusion

@@ -1,0 +1,608 @@
+#include "wearscar/fusion/fuse.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <future>
+#include <limits>
+#include <tuple>
+
+#include "wearscar/fusion/assumptions.h"
+#include "wearscar/fusion/compare_slopes.h"
+#include "wearscar/fusion/forward_model.h"
+#include "wearscar/fusion/profile_decision.h"
+#include "wearscar/support/check.h"
+
+namespace wearscar::fusion {
+namespace {
+
+// Per cycle, the track's waviness from the spring over the final one, within
+// [0, max_scan_slope_scale]; 1 where the history has no value.
+std::vector<double> ScanSlopeScale(const TrackHistory& history,
+                                   const FuseOptions& options) {
+  std::vector<double> scale(history.waviness_sd_mm.size(), 1.0);
+  const double final_sd = history.final_waviness_sd_mm;
+  if (!(final_sd > 0)) return scale;
+  for (size_t c = 0; c < scale.size(); ++c) {
+    const double r = history.waviness_sd_mm[c] / final_sd;
+    if (std::isfinite(r))
+      scale[c] = std::clamp(r, 0.0, options.max_scan_slope_scale);
+  }
+  return scale;
+}
+
+// The force side's profile over the compared cycles (the last N, none of
+// the running-in) from `source`, aligned with the prepared scan's
+// centreline. Throws FusionError naming both files when they cannot be
+// aligned.
+ScanAnalysis AlignScan(const force::ForceRecord& record,
+                       const ForceAnalysis& force,
+                       ScanAnalysis s,
+                       const FuseOptions& options,
+                       ProfileSource source,
+                       double depth_sign) {
+  ForceProfileOptions fpo = options.force_profile;
+  const int nc = static_cast<int>(force.cycles.cycles.size());
+  if (fpo.first_cycle < 0 && nc > 0) {
+    fpo.first_cycle =
+        std::max(nc - fpo.cycles, std::min(force.running_in.cycles, nc - 1));
+    fpo.last_cycle = nc - 1;
+  }
+  s.force_profile =
+      source == ProfileSource::kFriction
+          ? ComputeFrictionProfile(record, force.cycles, fpo)
+      : source == ProfileSource::kDepth
+          ? ComputeDepthProfile(record, force.cycles, fpo, depth_sign)
+          : ComputeForceProfile(record,
+                                force.cycles,
+                                options.analysis.friction.slope.spring_n_per_mm,
+                                fpo);
+  try {
+    s.alignment = AlignProfiles(s.force_profile, s.profile, options.align);
+  } catch (const FusionError& e) {
+    // Name both files and the figures that decide the overlap: a wrong
+    // pixel size shrinks the scan, a wrong x unit stretches the stroke.
+    const scan::HeightMap& map = s.levelled;
+    throw FusionError(fmt::format(
+        "{}: {} (the scan: {} x {} pixels of {:.4g} um, {:.3g} x {:.3g} mm, "
+        "track {:.3g} mm long; the stroke of {}: {:.3g} mm); check the scan's "
+        "pixel size and the force file's x unit",
+        map.metadata.source,
+        e.what(),
+        map.cols(),
+        map.rows(),
+        1e3 * map.dx_mm,
+        map.cols() * map.dx_mm,
+        map.rows() * map.dy_mm,
+        s.track.length_mm,
+        record.metadata.source,
+        force.cycles.stroke_mm));
+  }
+  return s;
+}
+
+// The scan's slope in plate coordinates over the stroke and mu-hat with it
+// (unless the force slope alone was asked for). `history` (null unless
+// options.scan_slope_history) scales the scan's slope per cycle.
+void FitScanSide(const force::ForceRecord& record,
+                 const ForceAnalysis& force,
+                 const FuseOptions& options,
+                 const TrackHistory* history,
+                 ScanAnalysis* s) {
+  // The sphere's excursion over the complete cycles bounds the sliding
+  // path: the scan beyond it is the groove's end walls.
+  double stroke_min = -std::numeric_limits<double>::infinity();
+  double stroke_max = std::numeric_limits<double>::infinity();
+  if (!force.cycles.cycles.empty()) {
+    // Isolated gaps in x are allowed: finite samples only.
+    std::tie(stroke_min, stroke_max) =
+        force::CyclesXRange(record.x_mm, force.cycles);
+  }
+  s->slope = ScanSlopeInPlate(
+      s->profile, s->alignment, options.scan_slope, stroke_min, stroke_max);
+  if (options.slopes == SlopeChoice::kForce) {
+    s->fit_scan.assign(force.cycles.cycles.size(), MuFit{});
+    for (auto& f : s->fit_scan) f.message = "not fitted (force slope only)";
+    return;
+  }
+  if (history != nullptr) s->slope_scale = ScanSlopeScale(*history, options);
+  s->fit_scan = FitFrictionPerCycle(record,
+                                    force.cycles,
+                                    SlopeSource::kScan,
+                                    options.analysis.friction,
+                                    &s->slope,
+                                    history ? &s->slope_scale : nullptr);
+}
+
+// The pipeline's figures for DecideProfile, each computed when first asked
+// for, and what the decision needed kept for the analysis after it: the
+// fit with k from P/S, the scan (prepared on another thread) and its
+// alignment with P/S.
+class PipelineEvidence : public ProfileEvidence {
+ public:
+  PipelineEvidence(const force::ForceRecord& record,
+                   const ForceAnalysis& segmented,
+                   const AnalysisOptions& analysis,
+                   const FuseOptions& options,
+                   std::future<ScanAnalysis> prepared)
+      : record_(record),
+        segmented_(segmented),
+        analysis_(analysis),
+        options_(options),
+        has_scan_(prepared.valid()),
+        prepared_(std::move(prepared)) {}
+
+  bool HasDepthChannel() const override { return record_.has_depth(); }
+  std::string DepthColumn() const override {
+    const auto& names = record_.metadata.channel_names;
+    return names.size() > 4 ? names[4] : "depth";
+  }
+  bool DepthIsPenetration() const override {
+    return record_.metadata.depth_is_penetration;
+  }
+  bool HasScan() const override { return has_scan_; }
+  bool ForceSlopeFitted() const override { return analysis_.fit_force_slope; }
+  double PSlopeSignificance() override {
+    return ProfileSignificance(SpringFit());
+  }
+  int FittedCycles() override {
+    return static_cast<int>(SpringFit().fit_force.size());
+  }
+  int CorrelatedCycles() override { return SpringFit().correlated_cycles; }
+  double SpringDepthAgreement() override {
+    return fusion::SpringDepthAgreement(
+        record_, segmented_, analysis_.friction.slope.spring_n_per_mm);
+  }
+  double DepthAgreement() override {
+    return fusion::DepthAgreement(record_, segmented_);
+  }
+  double SpringAmplitudeRatio() override {
+    AlignWithSpring();
+    return aligned_spring_ ? aligned_spring_->alignment.amplitude_ratio : NAN;
+  }
+
+  // The force side fitted with k where the decision put it.
+  ForceAnalysis TakeForce(const AnalysisOptions& used) {
+    if (used.friction.k_from_depth) {
+      ForceAnalysis a = segmented_;
+      FitForceSide(record_, used, &a);
+      return a;
+    }
+    return std::move(SpringFit());
+  }
+
+  // The scan aligned with the decided profile; throws what its preparation
+  // or its alignment threw. Requires HasScan().
+  ScanAnalysis TakeAlignedScan(const ProfileDecision& d) {
+    if (d.FromSpring()) {
+      AlignWithSpring();
+      if (align_error_) std::rethrow_exception(align_error_);
+      return std::move(*aligned_spring_);
+    }
+    return AlignScan(
+        record_, segmented_, Prepared(), options_, d.used, d.depth_sign);
+  }
+
+ private:
+  ForceAnalysis& SpringFit() {
+    if (!spring_fit_) {
+      spring_fit_ = segmented_;
+      AnalysisOptions spring = analysis_;
+      spring.friction.k_from_depth = false;
+      FitForceSide(record_, spring, &*spring_fit_);
+    }
+    return *spring_fit_;
+  }
+  const ScanAnalysis& Prepared() {
+    if (!prepared_scan_ && !scan_error_) {
+      try {
+        prepared_scan_ = prepared_.get();
+      } catch (...) {
+        scan_error_ = std::current_exception();
+      }
+    }
+    if (scan_error_) std::rethrow_exception(scan_error_);
+    return *prepared_scan_;
+  }
+  void AlignWithSpring() {
+    if (aligned_spring_ || align_error_) return;
+    try {
+      aligned_spring_ = AlignScan(record_,
+                                  segmented_,
+                                  Prepared(),
+                                  options_,
+                                  ProfileSource::kSpring,
+                                  1.0);
+    } catch (...) {
+      align_error_ = std::current_exception();
+    }
+  }
+
+  const force::ForceRecord& record_;
+  const ForceAnalysis& segmented_;
+  const AnalysisOptions& analysis_;
+  const FuseOptions& options_;
+  const bool has_scan_;
+  std::future<ScanAnalysis> prepared_;
+  std::optional<ForceAnalysis> spring_fit_;
+  std::optional<ScanAnalysis> prepared_scan_;
+  std::exception_ptr scan_error_;
+  std::optional<ScanAnalysis> aligned_spring_;
+  std::exception_ptr align_error_;
+};
+
+// A cycle asked for beyond the test's n complete cycles is refused, not
+// replaced (messages count cycles from 1, as every output does).
+void RefuseCyclesBeyondTheTest(const FuseOptions& options, int n) {
+  for (auto [what, cycle] :
+       {std::pair<const char*, int>{"the detail cycle", options.detail_cycle},
+        {"the first compared cycle", options.force_profile.first_cycle},
+        {"the last compared cycle", options.force_profile.last_cycle}}) {
+    if (cycle >= n) {
+      throw FusionError(fmt::format(
+          "{} is cycle {}, but the test has {} complete cycles; expected 1 "
+          "to {}",
+          what,
+          cycle + 1,
+          n,
+          n));
+    }
+  }
+}
+
+// What needs only the force side once it is analysed: the friction map
+// and the LuGre fit (on a second core while the scan's slope is fitted).
+struct ForceOnlyProducts {
+  FrictionMap friction_map;
+  std::optional<LugreFit> lugre;
+};
+
+ForceOnlyProducts ComputeForceOnlyProducts(const force::ForceRecord& record,
+                                           const ForceAnalysis& force,
+                                           int detail_cycle,
+                                           const FuseOptions& options) {
+  ForceOnlyProducts p;
+  p.friction_map = ComputeFrictionMap(record,
+                                      force.cycles,
+                                      options.analysis.friction,
+                                      force.running_in.cycles,
+                                      options.friction_map);
+  if (options.fit_lugre) {
+    p.lugre = FitLugre(record, force.cycles, detail_cycle, options.lugre);
+  }
+  return p;
+}
+
+// The scan side aligned with the decided profile, or why it was not used:
+// a scan that cannot serve (no track, no overlap with the stroke) does not
+// lose the test; the force side stands, with a warning that says why
+// (unless the scan's slope alone was asked for).
+void AddScanSide(const force::ForceRecord& record,
+                 PipelineEvidence* evidence,
+                 TestResult* result) {
+  const FuseOptions& o = result->options;
+  const ProfileDecision& d = result->profile;
+  try {
+    ScanAnalysis s = evidence->TakeAlignedScan(d);
+    // The spring's history scales the scan's slope only where P is the
+    // profile.
+    FitScanSide(record,
+                result->force,
+                o,
+                o.scan_slope_history && d.FromSpring() ? &result->track_history
+                                                       : nullptr,
+                &s);
+    result->scan = std::move(s);
+  } catch (const std::exception& e) {
+    if (o.slopes == SlopeChoice::kScan) throw;
+    if (const auto* no_track = dynamic_cast<const NoTrackInMap*>(&e))
+      result->unused_map = no_track->levelled;
+    result->scan_skipped = fmt::format(
+        "the scan was not used ({}); mu-hat and the verdict rest on k "
+        "from P alone{}",
+        e.what(),
+        d.FromFriction()
+            ? ", which is noise where P carries no profile (a dead weight)"
+            : "");
+  }
+}
+
+// Without a scan, on a rig whose P may carry no profile (auto): what fails
+// with a slope that is noise is no finding about the test.
+void JudgeWithoutASlope(const FuseOptions& options, TestResult* result) {
+  const double sig = result->profile.p_slope_significance;
+  if (!(sig < options.dead_weight_significance)) return;
+  if (!result->verdict.explained) {
+    result->verdict.not_judged = fmt::format(
+        "P does not vary along the stroke beyond its noise ({:.1f} "
+        "standard errors), so k from P is noise if the rig has no spring, "
+        "and nothing else gives the slope (no scan, no depth channel); "
+        "give the track's scan or the depth channel. What k from P missed: "
+        "{}",
+        sig,
+        fmt::join(result->verdict.reasons, "; "));
+  }
+  result->warnings.push_back(fmt::format(
+      "P does not vary along the stroke beyond its noise ({:.1f} "
+      "standard errors): if the rig loads the ball with a dead weight, "
+      "k from P is noise; with a scan of the track the profile is taken "
+      "from the friction (--profile-from friction)",
+      sig));
+}
+
+// The warnings of a test once judged: the data's, the file's stated
+// conditions the data contradict, the scan's, a doubted or unused scan
+// first; then the assumptions and a default spring the scan contradicts.
+void Warn(const force::ForceRecord& record, TestResult* result) {
+  const FuseOptions& options = result->options;
+  const ScanAnalysis* scan = result->scan ? &*result->scan : nullptr;
+  // A doubted scan (possibly another test's) says nothing of this test's
+  // elastic part or spring.
+  const bool scan_doubted = !result->verdict.scan_doubt.empty();
+  MismatchReport judged = result->mismatch;
+  judged.has_scan = judged.has_scan && !scan_doubted;
+  result->warnings = DataWarnings(result->force, judged, options.warnings);
+  if (result->profile.FromSpring() && !scan &&
+      options.profile_from == ProfileSource::kAuto)
+    JudgeWithoutASlope(options, result);
+  for (std::string& w : StatedButNotFound(record, result->force))
+    result->warnings.push_back(std::move(w));
+  if (scan != nullptr) {
+    for (const std::string& w : scan->levelled.metadata.warnings)
+      result->warnings.push_back("the scan: " + w);
+  }
+  if (!result->scan_skipped.empty())
+    result->warnings.insert(result->warnings.begin(), result->scan_skipped);
+  if (scan_doubted)
+    result->warnings.insert(result->warnings.begin(),
+                            result->verdict.scan_doubt);
+  if (scan != nullptr && scan->track.low_confidence)
+    result->warnings.push_back("the scan's track: " + scan->track.message);
+  result->assumptions = Assumptions(record, *result, options);
+  const ImpliedSpring implied = SpringTheScanImplies(*result, options);
+  const double s = options.analysis.friction.slope.spring_n_per_mm;
+  if (result->profile.FromSpring() && !options.spring_given && !scan_doubted &&
+      implied.low > s * 1.15) {
+    result->warnings.push_back(fmt::format(
+        "the spring's stiffness was not given and the default {:g} N/mm is "
+        "used, but the scan implies {:.3g} N/mm (95%: {:.3g}-{:.3g}) if all "
+        "of P's waviness is the worn path: give --spring if that is the "
+        "rig's (the verdict depends on it); if the default is right, part of "
+        "P's waviness is elastic",
+        s,
+        implied.value,
+        implied.low,
+        implied.high));
+  }
+}
+
+// The comparison of the slopes, the verdict, the warnings and the wear,
+// once both sides are analysed.
+void CompareAndJudge(const force::ForceRecord& record, TestResult* result) {
+  // Compare over the cycles the scan describes best: the force profile's
+  // range with a scan, else everything after running-in.
+  const int n = static_cast<int>(result->force.cycles.cycles.size());
+  int first = result->force.running_in.cycles, last = n - 1;
+  if (result->scan) {
+    first = result->scan->force_profile.first_cycle;
+    last = result->scan->force_profile.last_cycle;
+  }
+  const ScanAnalysis* scan = result->scan ? &*result->scan : nullptr;
+  result->mismatch = CompareSlopes(record,
+                                   result->force,
+                                   scan,
+                                   result->profile,
+                                   first,
+                                   last,
+                                   result->options);
+  result->verdict = Judge(result->mismatch, result->options.verdict);
+  Warn(record, result);
+  result->wear = MeasureWear(
+      record,
+      result->force.cycles,
+      scan ? std::optional<scan::Track>(scan->track) : std::nullopt);
+}
+
+}  // namespace
+
+ScanAnalysis PrepareScan(scan::HeightMap map, const FuseOptions& options) {
+  ScanAnalysis s;
+  s.level = scan::LevelHeightMap(&map, options.level);
+  s.spikes_removed = scan::RemoveSpikes(&map, options.spikes);
+  try {
+    s.track = scan::FindTrack(map, options.track);
+  } catch (const scan::NoTrackError& e) {
+    throw NoTrackInMap(e, std::move(map));
+  }
+  s.profile = scan::ExtractCentreline(map, s.track, options.profile);
+  s.levelled = std::move(map);
+  return s;
+}
+
+namespace {
+
+// Periodic lines the drive does not make: a warning each, and a failed
+// verdict says its excess may come from them.
+void NoteLines(const force::ForceRecord& record, TestResult* result) {
+  const auto& c = result->force.cycles.cycles;
+  if (c.size() < 2) return;
+  const double span = record.time_s[c.back().reverse.end - 1] -
+                      record.time_s[c.front().forward.begin];
+  if (!(span > 0)) return;
+  result->periodic_lines =
+      force::FindPeriodicLines(record, static_cast<double>(c.size()) / span);
+  for (const force::PeriodicLine& l : result->periodic_lines) {
+    result->warnings.push_back(fmt::format(
+        "a periodic line at {} that the drive's motion does not make "
+        "(mains pick-up, a resonance): it corrupts P's slope and the "
+        "verdict; --notch {:.2f} removes it from Q and P",
+        l.Describe(),
+        l.frequency_hz));
+  }
+  if (!result->periodic_lines.empty() && !result->verdict.explained) {
+    result->verdict.reasons.push_back(fmt::format(
+        "the excess may come from the periodic line at {:.2f} Hz (see the "
+        "warnings; analyse again with --notch {:.2f})",
+        result->periodic_lines.front().frequency_hz,
+        result->periodic_lines.front().frequency_hz));
+  }
+}
+
+// AnalyzeTest on the record with the lines asked for removed, and it said.
+TestResult AnalyzeNotched(const force::ForceRecord& record,
+                          std::future<ScanAnalysis> prepared_scan,
+                          const std::string& scan_file,
+                          const FuseOptions& given) {
+  force::ForceRecord notched = record;
+  std::vector<std::string> removed;
+  for (double f : given.notch_hz) {
+    const auto [q, p] = force::NotchLine(&notched, f);
+    removed.push_back(
+        fmt::format("{:.2f} Hz (Q {:.4f} N, P {:.4f} N)", f, q, p));
+  }
+  FuseOptions inner = given;
+  inner.notch_hz.clear();
+  TestResult r =
+      AnalyzeTest(notched, std::move(prepared_scan), scan_file, inner);
+  r.assumptions.push_back(fmt::format(
+      "notched (--notch): a sinusoid fitted in blocks of about 2 s removed "
+      "from Q and P at {}",
+      fmt::join(removed, ", ")));
+  return r;
+}
+
+// The force side's options as this test's analysis runs them.
+AnalysisOptions ForceOptions(const FuseOptions& options) {
+  AnalysisOptions ao = options.analysis;
+  ao.fit_force_slope = options.slopes != SlopeChoice::kScan;
+  // The force side's fit on both cores where this test has them (its
+  // second half of the cycles beside the first; the same fits).
+  if (options.parallel) ao.friction.threads = std::max(ao.friction.threads, 2);
+  return ao;
+}
+
+// After the profile's decision: the force side, then the scan side beside
+// the products that need only the force side, the comparison and verdict,
+// the lines and the detail cycle.
+void AnalyzeDecided(const force::ForceRecord& record,
+                    PipelineEvidence* evidence,
+                    AnalysisOptions ao,
+                    TestResult* result) {
+  const FuseOptions& o = result->options;
+  ao.friction.k_from_depth = o.analysis.friction.k_from_depth;
+  ao.friction.depth_sign = o.analysis.friction.depth_sign;
+  result->force = evidence->TakeForce(ao);
+  const int n = static_cast<int>(result->force.cycles.cycles.size());
+  RefuseCyclesBeyondTheTest(o, n);
+  result->detail_cycle =
+      o.detail_cycle >= 0 && o.detail_cycle < n ? o.detail_cycle : n - 1;
+  // Nothing below changes result->force, which this thread reads.
+  std::future<ForceOnlyProducts> force_only = std::async(
+      o.parallel ? std::launch::async : std::launch::deferred,
+      [&record, &force = result->force, detail = result->detail_cycle, &o] {
+        return ComputeForceOnlyProducts(record, force, detail, o);
+      });
+  // The track's history from the spring (before the scan: it may scale
+  // the scan's slope).
+  result->track_history =
+      ComputeTrackHistory(record,
+                          result->force.cycles,
+                          o.analysis.friction.slope.spring_n_per_mm,
+                          o.track_history);
+  if (evidence->HasScan()) AddScanSide(record, evidence, result);
+  CompareAndJudge(record, result);
+  if (o.find_periodic_lines) NoteLines(record, result);
+  ForceOnlyProducts p = force_only.get();
+  result->friction_map = std::move(p.friction_map);
+  result->lugre = std::move(p.lugre);
+  const ScanAnalysis* scan = result->scan ? &*result->scan : nullptr;
+  const int dc = result->detail_cycle;
+  result->detail = ComputeDetailCycle(
+      record,
+      result->force,
+      o.analysis.friction,
+      dc,
+      o.cost_curve_points,
+      scan && dc >= 0 && dc < n ? &scan->fit_scan[dc] : nullptr,
+      scan ? &scan->slope : nullptr,
+      result->lugre ? &*result->lugre : nullptr);
+}
+
+}  // namespace
+
+TestResult AnalyzeTest(const force::ForceRecord& record,
+                       std::optional<scan::HeightMap> height_map,
+                       const FuseOptions& options) {
+  WEARSCAR_CHECK(!height_map || height_map->IsConsistent(),
+                 "AnalyzeTest needs a consistent map");
+  std::string why;
+  if (!options.IsValid(&why)) throw FusionError("fuse options: " + why);
+  std::future<ScanAnalysis> prepared;
+  std::string scan_file;
+  if (height_map) {
+    // The scan's preparation needs nothing of the force record: on a
+    // second core while the force side is analysed (deferred: run where
+    // its result is asked for).
+    scan_file = height_map->metadata.source;
+    prepared = std::async(
+        options.parallel ? std::launch::async : std::launch::deferred,
+        [&options](scan::HeightMap m) {
+          return PrepareScan(std::move(m), options);
+        },
+        std::move(*height_map));
+  }
+  return AnalyzeTest(record, std::move(prepared), scan_file, options);
+}
+
+FuseOptions WithStatedSpring(const FuseOptions& options,
+                             const force::ForceRecord& record) {
+  FuseOptions o = options;
+  if (options.spring_given) return o;
+  for (const force::StatedFact& f : record.metadata.stated) {
+    // Plausible loading springs: 0.01 N/mm (a soft coil) to 1e5 N/mm (an
+    // implausible one is a warning, StatedButNotFound).
+    if (f.what != "spring" || !(f.value >= 0.01 && f.value <= 1e5)) continue;
+    o.analysis.friction.slope.spring_n_per_mm = f.value;
+    o.spring_given = true;
+    o.spring_stated = fmt::format("line {}: '{}'", f.line_number, f.line);
+    break;
+  }
+  return o;
+}
+
+TestResult AnalyzeTest(const force::ForceRecord& record,
+                       std::future<ScanAnalysis> prepared_scan,
+                       const std::string& scan_file,
+                       const FuseOptions& given) {
+  WEARSCAR_CHECK(record.IsConsistent(),
+                 "AnalyzeTest needs channels of one length");
+  if (!given.notch_hz.empty())
+    return AnalyzeNotched(record, std::move(prepared_scan), scan_file, given);
+  TestResult result;
+  result.options = WithStatedSpring(given, record);
+  std::string why;
+  if (!result.options.IsValid(&why)) throw FusionError("fuse options: " + why);
+  if (result.options.slopes == SlopeChoice::kScan && !prepared_scan.valid())
+    throw FusionError("mu-hat with the scan slope only, but no scan given");
+  result.scan_file = scan_file;
+  const AnalysisOptions ao = ForceOptions(result.options);
+  // Cycles, gross slip, the classic COFs and the running-in need no slope;
+  // the profile's decision then asks for what it needs (the fit with k from
+  // P/S, the depth's agreement, the scan's alignment) and the analysis
+  // runs once with k where it put it.
+  const ForceAnalysis segmented = SegmentForce(record, ao);
+  PipelineEvidence evidence(
+      record, segmented, ao, result.options, std::move(prepared_scan));
+  result.profile = DecideProfile(&evidence, result.options);
+  FrictionFitOptions& friction = result.options.analysis.friction;
+  friction.k_from_depth = result.profile.FromDepth();
+  friction.depth_sign = result.profile.FromDepth() ? result.profile.depth_sign
+                                                   : friction.depth_sign;
+  AnalyzeDecided(record, &evidence, ao, &result);
+  return result;
+}
+
+}  // namespace wearscar::fusion

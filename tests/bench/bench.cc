@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "common/simulated.h"
+#include "wearscar/force/periodic.h"
 #include "wearscar/force/read_force.h"
 #include "wearscar/fusion/analysis.h"
 #include "wearscar/fusion/forward_model.h"
@@ -378,6 +379,30 @@ void BM_TrackHistory600Cycles(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_TrackHistory600Cycles)->Unit(benchmark::kMillisecond);
+
+// The force side's own stages of BM_Fuse600Cycles: the fit with k from P
+// (the ensemble slope, mu-hat per cycle, the noise split) and the search
+// for periodic lines in Q and P.
+void BM_FitForceSide600Cycles(benchmark::State& state) {
+  const auto& r = Test600().record;
+  fusion::AnalysisOptions o;
+  const fusion::ForceAnalysis segmented = fusion::SegmentForce(r, o);
+  for (auto _ : state) {
+    fusion::ForceAnalysis a = segmented;
+    fusion::FitForceSide(r, o, &a);
+    benchmark::DoNotOptimize(a.mu_hat.mean);
+  }
+}
+BENCHMARK(BM_FitForceSide600Cycles)->Unit(benchmark::kMillisecond);
+
+void BM_PeriodicLines600Cycles(benchmark::State& state) {
+  const auto& r = Test600().record;
+  for (auto _ : state) {
+    const auto lines = force::FindPeriodicLines(r, 1.0);
+    benchmark::DoNotOptimize(lines.data());
+  }
+}
+BENCHMARK(BM_PeriodicLines600Cycles)->Unit(benchmark::kMillisecond);
 
 // The whole command line on the paper's 12 cases (600 cycles, 2 kHz,
 // 1024 x 768 scans), figures and report included.

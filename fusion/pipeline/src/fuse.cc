@@ -424,16 +424,22 @@ ScanAnalysis PrepareScan(scan::HeightMap map, const FuseOptions& options) {
 
 namespace {
 
-// Periodic lines the drive does not make: a warning each, and a failed
-// verdict says its excess may come from them.
-void NoteLines(const force::ForceRecord& record, TestResult* result) {
-  const auto& c = result->force.cycles.cycles;
-  if (c.size() < 2) return;
+// Periodic lines in Q and P that the drive (its rate from the cycles)
+// does not make.
+std::vector<force::PeriodicLine> FindLines(const force::ForceRecord& record,
+                                           const force::CycleSet& cycles) {
+  const auto& c = cycles.cycles;
+  if (c.size() < 2) return {};
   const double span = record.time_s[c.back().reverse.end - 1] -
                       record.time_s[c.front().forward.begin];
-  if (!(span > 0)) return;
-  result->periodic_lines =
-      force::FindPeriodicLines(record, static_cast<double>(c.size()) / span);
+  if (!(span > 0)) return {};
+  return force::FindPeriodicLines(record, static_cast<double>(c.size()) / span);
+}
+
+// The periodic lines found: a warning each, and a failed verdict says its
+// excess may come from them.
+void NoteLines(std::vector<force::PeriodicLine> lines, TestResult* result) {
+  result->periodic_lines = std::move(lines);
   for (const force::PeriodicLine& l : result->periodic_lines) {
     result->warnings.push_back(fmt::format(
         "a periodic line at {} that the drive's motion does not make "
@@ -490,6 +496,7 @@ AnalysisOptions ForceOptions(const FuseOptions& options) {
 void AnalyzeDecided(const force::ForceRecord& record,
                     PipelineEvidence* evidence,
                     AnalysisOptions ao,
+                    std::future<std::vector<force::PeriodicLine>> lines,
                     TestResult* result) {
   const FuseOptions& o = result->options;
   ao.friction.k_from_depth = o.analysis.friction.k_from_depth;
@@ -514,7 +521,7 @@ void AnalyzeDecided(const force::ForceRecord& record,
                           o.track_history);
   if (evidence->HasScan()) AddScanSide(record, evidence, result);
   CompareAndJudge(record, result);
-  if (o.find_periodic_lines) NoteLines(record, result);
+  NoteLines(lines.get(), result);
   ForceOnlyProducts p = force_only.get();
   result->friction_map = std::move(p.friction_map);
   result->lugre = std::move(p.lugre);
@@ -594,6 +601,14 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
   // P/S, the depth's agreement, the scan's alignment) and the analysis
   // runs once with k where it put it.
   const ForceAnalysis segmented = SegmentForce(record, ao);
+  // The search for periodic lines needs only the record and the drive's
+  // rate: beside the rest, on a core of its own when there is one.
+  std::future<std::vector<force::PeriodicLine>> lines = std::async(
+      result.options.parallel ? std::launch::async : std::launch::deferred,
+      [&record, &segmented, find = result.options.find_periodic_lines] {
+        return find ? FindLines(record, segmented.cycles)
+                    : std::vector<force::PeriodicLine>();
+      });
   PipelineEvidence evidence(
       record, segmented, ao, result.options, std::move(prepared_scan));
   result.profile = DecideProfile(&evidence, result.options);
@@ -601,7 +616,7 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
   friction.k_from_depth = result.profile.FromDepth();
   friction.depth_sign = result.profile.FromDepth() ? result.profile.depth_sign
                                                    : friction.depth_sign;
-  AnalyzeDecided(record, &evidence, ao, &result);
+  AnalyzeDecided(record, &evidence, ao, std::move(lines), &result);
   return result;
 }
 

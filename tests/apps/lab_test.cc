@@ -420,6 +420,24 @@ TEST(Audit, FindsSpecimensInSubFoldersAndSaysWhatItLookedFor) {
             std::string::npos)
       << summary;
   EXPECT_TRUE(fs::exists(lab + "/audit/B-RT-R/result.json"));
+  // extra_friction.csv is a copy of specimen7's force file: both say so,
+  // naming the other, in the summary and in their result.json; B-RT-R,
+  // whose files are its own, does not.
+  EXPECT_NE(summary.find("the force file is byte-identical to that of "
+                         "specimen7 (SHA-256 "),
+            std::string::npos)
+      << summary;
+  EXPECT_NE(summary.find("the force file is byte-identical to that of extra "
+                         "(SHA-256 "),
+            std::string::npos)
+      << summary;
+  const std::string copied =
+      ParseJson(Slurp(lab + "/audit/extra/result.json"))["warnings"].dump();
+  EXPECT_NE(copied.find("byte-identical to that of specimen7"),
+            std::string::npos)
+      << copied;
+  EXPECT_EQ(Slurp(lab + "/audit/B-RT-R/result.json").find("byte-identical"),
+            std::string::npos);
   const nlohmann::json j =
       ParseJson(Slurp(lab + "/audit/specimen7/result.json"));
   EXPECT_EQ(j["provenance"]["inputs"][1]["path"],

@@ -146,6 +146,24 @@ void WriteSummaries(const std::string& out,
                       nlohmann::json(rows).dump(2) + "\n");
 }
 
+// Inputs shared by specimens (the same SHA-256): a warning in each one's
+// row and result.json, naming the others (fusion::SharedInputWarnings).
+void WarnOfSharedInputs(const std::string& out,
+                        std::vector<ReportSection>* sections) {
+  std::vector<nlohmann::json> rows;
+  for (const ReportSection& sec : *sections) rows.push_back(sec.row);
+  const auto warnings = fusion::SharedInputWarnings(rows);
+  for (size_t i = 0; i < sections->size(); ++i) {
+    ReportSection& sec = (*sections)[i];
+    for (const std::string& w : warnings[i]) {
+      nlohmann::json& list = sec.row["warnings"];
+      if (std::find(list.begin(), list.end(), w) != list.end()) continue;
+      list.push_back(w);
+      AddWarningToResult((fs::path(out) / sec.name).string(), w);
+    }
+  }
+}
+
 // The batch's summaries, figures, manifest and report over `sections`
 // (`analysed`: the series of those not failed); fills the result's
 // batch figures and report path.
@@ -153,10 +171,12 @@ void WriteBatch(const std::string& out,
                 const std::string& title,
                 const AuditOptions& o,
                 bool sharded,
-                const std::vector<ReportSection>& sections,
+                std::vector<ReportSection>* specimens,
                 const std::vector<SpecimenSeries>& analysed,
                 const std::vector<std::string>& parts,
                 AuditResult* result) {
+  WarnOfSharedInputs(out, specimens);
+  const std::vector<ReportSection>& sections = *specimens;
   WriteSummaries(out, sections);
   // The specimens' part of the report is rendered while gnuplot draws the
   // batch figures.
@@ -194,7 +214,7 @@ internal::Parts Merge(const std::string& out,
              heading,
              o,
              true,
-             parts.sections,
+             &parts.sections,
              parts.analysed,
              parts.files,
              result);
@@ -279,7 +299,7 @@ AuditResult Audit(const std::vector<fusion::Specimen>& specimens,
     Merge(out, title, o, &result);
     return result;
   }
-  WriteBatch(out, title, o, false, result.specimens, analysed, {}, &result);
+  WriteBatch(out, title, o, false, &result.specimens, analysed, {}, &result);
   return result;
 }
 

@@ -54,6 +54,8 @@ void AddWarningToResult(const std::string& dir, const std::string& warning) {
   std::ifstream in(path);
   nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
   if (j.is_discarded() || !j.is_object()) return;
+  for (const auto& w : j["warnings"])
+    if (w == warning) return;  // a merge again adds nothing
   j["warnings"].push_back(warning);
   WriteTextAtomically(path, j.dump(2) + "\n");
 }

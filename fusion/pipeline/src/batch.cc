@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <future>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <regex>
@@ -392,6 +393,39 @@ SummaryColumns() {
           {"date_utc", {"provenance", "date_utc"}},
       };
   return kColumns;
+}
+
+std::vector<std::vector<std::string>> SharedInputWarnings(
+    const std::vector<nlohmann::json>& rows) {
+  // (role, sha256) -> the rows holding such an input.
+  std::map<std::pair<std::string, std::string>, std::vector<size_t>> holders;
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const nlohmann::json* inputs = rows[i].contains("provenance")
+                                       ? &rows[i]["provenance"]["inputs"]
+                                       : nullptr;
+    if (inputs == nullptr || !inputs->is_array()) continue;
+    for (const nlohmann::json& in : *inputs) {
+      const std::string sha = in.value("sha256", "");
+      if (!sha.empty()) holders[{in.value("role", ""), sha}].push_back(i);
+    }
+  }
+  std::vector<std::vector<std::string>> out(rows.size());
+  for (const auto& [key, at] : holders) {
+    if (at.size() < 2) continue;
+    for (size_t i : at) {
+      std::vector<std::string> others;
+      for (size_t j : at) {
+        if (j != i) others.push_back(rows[j].value("specimen", "?"));
+      }
+      out[i].push_back(fmt::format(
+          "the {} file is byte-identical to that of {} (SHA-256 {}...): a "
+          "copied file or a mix-up; two tests never give the same bytes",
+          key.first,
+          fmt::join(others, ", "),
+          key.second.substr(0, 12)));
+    }
+  }
+  return out;
 }
 
 std::string SummaryCsv(const std::vector<nlohmann::json>& rows, bool header) {

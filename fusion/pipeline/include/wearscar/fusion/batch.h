@@ -81,6 +81,15 @@ void ForEachSpecimen(size_t n,
                      const std::function<void(size_t)>& work,
                      const std::function<void(long)>& progress);
 
+// Inputs that specimens of one batch share: for each row (a specimen's
+// result.json with "specimen"), a warning per input whose SHA-256 another
+// specimen's input of the same role has too, naming those specimens (a
+// copied file or a mix-up: two tests are never byte-identical). Rows
+// without provenance (failed specimens) share nothing. One entry per row,
+// empty where nothing is shared.
+std::vector<std::vector<std::string>> SharedInputWarnings(
+    const std::vector<nlohmann::json>& rows);
+
 // The batch table: one row per specimen from its result.json (ResultJson
 // with SpecimenIdentity, "error" when it failed), columns by path.
 const std::vector<std::pair<std::string, std::vector<std::string>>>&

@@ -60,13 +60,26 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
     if (from_p) Say("    {}\n", r.force.slope_estimate);
   };
   const bool quoted_from_p = m.mu_force.count > 0 || !m.has_scan;
-  Say("{}: {}\n  {} cycles, compared over cycles {}-{}; {}\n",
+  Say("{}: {}\n  {} cycles, compared over cycles {}-{} ({}); {}\n",
       name,
       fusion::Headline(r),
       r.force.cycles.cycles.size(),
       m.first_cycle + 1,
       m.last_cycle + 1,
+      r.window.why,
       r.force.running_in.rule);
+  // The other window's number beside the one quoted: every cycle after
+  // running-in, when the quoted cycles are fewer.
+  const int after = r.force.running_in.cycles;
+  const int n = static_cast<int>(r.force.cycles.cycles.size());
+  if (m.mu_force.count > 0 && r.force.mu_hat.count > 0 &&
+      (m.first_cycle != after || m.last_cycle != n - 1)) {
+    Say("  every cycle after running-in ({}-{}): mu-hat {:.4f} {}\n",
+        after + 1,
+        n,
+        r.force.mu_hat.mean,
+        Interval95(r.force.mu_hat));
+  }
   fit_line(quoted_from_p);
   Say("  verdict: {}\n", r.verdict.Summary());
   Say("  for comparison, not to quote:\n");

@@ -186,7 +186,15 @@ TEST(Conventions, CyclesAreNumberedFromOne) {
   for (std::string l; std::getline(loops, l);)
     seen.insert(l.substr(0, l.find(',')));
   EXPECT_EQ(seen, (std::set<std::string>{"2", "30"}));
-  EXPECT_NE(r.output.find(", cycles 21-30; "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(", cycles 21-30 (as given); "), std::string::npos)
+      << r.output;
+  // Both windows' numbers: the quoted one and every cycle after running-in.
+  EXPECT_NE(r.output.find("compared over cycles 21-30 (as given)"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("every cycle after running-in (3-30): mu-hat 0.1"),
+            std::string::npos)
+      << r.output;
   EXPECT_EQ(
       Wearscar("fuse " + dir + "/B-RT-R.force.csv --detail-cycle 0").status, 2);
   // A cycle beyond the test is refused, named from 1.

@@ -261,7 +261,8 @@ TEST(Cli, FuseSlopeChoiceFitsOnlyWhatIsAsked) {
   // it was fitted with and over which cycles.
   const std::regex headline(
       R"(^B-RT-R: mu = 0\.1[0-9]{3} \(95%: 0\.1[0-9]{3}-0\.1[0-9]{3}\): )"
-      R"(mu-hat, k from (P|the scan), cycles 1-20; explained by wear-scar )"
+      R"(mu-hat, k from (P|the scan), cycles 1-20 \(every cycle: no )"
+      R"(running-in, whose track the scan shows\); explained by wear-scar )"
       R"(interaction\n)");
   std::smatch m;
   ASSERT_TRUE(std::regex_search(f.output, m, headline)) << f.output;

@@ -48,13 +48,14 @@ std::string Headline(const TestResult& r) {
           ? fmt::format(" (95%: {:.4f}-{:.4f})", mu.low, mu.high)
           : std::string();
   return fmt::format(
-      "mu = {:.4f}{}: mu-hat, k from {}, cycles {}-{}; explained by wear-scar "
-      "interaction",
+      "mu = {:.4f}{}: mu-hat, k from {}, cycles {}-{} ({}); explained by "
+      "wear-scar interaction",
       mu.mean,
       interval,
       from_p ? m.force_slope_name : std::string("the scan"),
       m.first_cycle + 1,
-      m.last_cycle + 1);
+      m.last_cycle + 1,
+      r.window.why);
 }
 
 }  // namespace wearscar::fusion

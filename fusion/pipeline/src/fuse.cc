@@ -379,17 +379,38 @@ void Warn(const force::ForceRecord& record, TestResult* result) {
   }
 }
 
+// The cycles quoted and compared: a range given; with a scan the force
+// profile's (the last cycles after running-in: the scan shows the track
+// after the last cycle, so the cycles nearest it); else every cycle after
+// running-in.
+CycleWindow QuotedWindow(const TestResult& r) {
+  const int n = static_cast<int>(r.force.cycles.cycles.size());
+  const ForceProfileOptions& given = r.options.force_profile;
+  const int running_in = r.force.running_in.cycles;
+  CycleWindow w{running_in, n - 1, ""};
+  if (given.first_cycle >= 0) {
+    w.first = given.first_cycle;
+    w.last = given.last_cycle >= 0 ? given.last_cycle : n - 1;
+    w.why = "as given";
+  } else {
+    if (r.scan) {
+      w.first = r.scan->force_profile.first_cycle;
+      w.last = r.scan->force_profile.last_cycle;
+    }
+    w.why = w.first > running_in ? fmt::format("the last {} after running-in",
+                                               w.last - w.first + 1)
+            : running_in > 0     ? "every cycle after running-in"
+                                 : "every cycle: no running-in";
+    if (r.scan) w.why += ", whose track the scan shows";
+  }
+  return w;
+}
+
 // The comparison of the slopes, the verdict, the warnings and the wear,
 // once both sides are analysed.
 void CompareAndJudge(const force::ForceRecord& record, TestResult* result) {
-  // Compare over the cycles the scan describes best: the force profile's
-  // range with a scan, else everything after running-in.
-  const int n = static_cast<int>(result->force.cycles.cycles.size());
-  int first = result->force.running_in.cycles, last = n - 1;
-  if (result->scan) {
-    first = result->scan->force_profile.first_cycle;
-    last = result->scan->force_profile.last_cycle;
-  }
+  result->window = QuotedWindow(*result);
+  const int first = result->window.first, last = result->window.last;
   const ScanAnalysis* scan = result->scan ? &*result->scan : nullptr;
   result->mismatch = CompareSlopes(record,
                                    result->force,

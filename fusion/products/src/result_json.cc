@@ -146,6 +146,7 @@ nlohmann::json ComparisonJson(const TestResult& r) {
   const auto& m = r.mismatch;
   nlohmann::json j = {{"first_cycle", CycleNumber(m.first_cycle)},
                       {"last_cycle", CycleNumber(m.last_cycle)},
+                      {"cycles_why", r.window.why},
                       {"mu_hat_force", Stat(m.mu_force)},
                       {"J_force", Stat(m.cost_force)},
                       {"mu_mean", Stat(m.mu_mean)},

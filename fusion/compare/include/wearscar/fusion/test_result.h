@@ -85,8 +85,18 @@ struct ScanAnalysis {
   std::vector<double> slope_scale;
 };
 
+// The cycles the result quotes and compares (mu-hat's mean, J, the
+// verdict) and why those: with a scan, the last cycles after running-in,
+// whose track the scan shows; without one, every cycle after running-in;
+// or a range given. Decided once (the pipeline's comparison).
+struct CycleWindow {
+  int first = 0, last = -1;  // 0-based, inclusive
+  std::string why;           // "the last 50 after running-in, whose track ..."
+};
+
 struct TestResult {
   ForceAnalysis force;
+  CycleWindow window;
   // Where the force side's profile came from, as given and as used, and
   // why: decided once (DecideProfile), read by everything after it.
   ProfileDecision profile;

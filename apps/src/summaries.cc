@@ -31,6 +31,22 @@ std::string CostText(double cost, const fusion::CostSplit& split) {
       split.excess);
 }
 
+// The other window's number beside the one quoted: every cycle after
+// running-in, when the quoted cycles are fewer.
+void SayEveryCycleAfterRunningIn(const fusion::TestResult& r) {
+  const auto& m = r.mismatch;
+  const int after = r.force.running_in.cycles;
+  const int n = static_cast<int>(r.force.cycles.cycles.size());
+  if (m.mu_force.count == 0 || r.force.mu_hat.count == 0 ||
+      (m.first_cycle == after && m.last_cycle == n - 1))
+    return;
+  Say("  every cycle after running-in ({}-{}): mu-hat {:.4f} {}\n",
+      after + 1,
+      n,
+      r.force.mu_hat.mean,
+      Interval95(r.force.mu_hat));
+}
+
 }  // namespace
 
 void PrintSummary(const std::string& name, const fusion::TestResult& r) {
@@ -68,18 +84,7 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
       m.last_cycle + 1,
       r.window.why,
       r.force.running_in.rule);
-  // The other window's number beside the one quoted: every cycle after
-  // running-in, when the quoted cycles are fewer.
-  const int after = r.force.running_in.cycles;
-  const int n = static_cast<int>(r.force.cycles.cycles.size());
-  if (m.mu_force.count > 0 && r.force.mu_hat.count > 0 &&
-      (m.first_cycle != after || m.last_cycle != n - 1)) {
-    Say("  every cycle after running-in ({}-{}): mu-hat {:.4f} {}\n",
-        after + 1,
-        n,
-        r.force.mu_hat.mean,
-        Interval95(r.force.mu_hat));
-  }
+  SayEveryCycleAfterRunningIn(r);
   fit_line(quoted_from_p);
   Say("  verdict: {}\n", r.verdict.Summary());
   Say("  for comparison, not to quote:\n");

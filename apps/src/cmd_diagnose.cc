@@ -36,8 +36,9 @@ void RunDiagnose(DiagnoseArgs a) {
   std::optional<scan::HeightMap> map;
   if (!a.scan_file.empty())
     map = scan::ReadScan(a.scan_file, settings.read_scan);
-  // The spring the file states, when none is given (as fuse does).
-  fusion::FuseOptions fo = fusion::WithStatedSpring(settings.fuse, record);
+  // The analysis applies a spring the file states; the diagnosis reads
+  // the options it ran with (TestResult::options).
+  fusion::FuseOptions fo = settings.fuse;
   fo.fit_lugre = false;
   const fusion::TestResult r = fusion::AnalyzeTest(record, std::move(map), fo);
   fusion::DiagnoseOptions dopt = a.diagnose;

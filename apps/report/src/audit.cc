@@ -31,9 +31,9 @@ void AuditDiagnosis(const AuditOptions& o,
   try {
     fusion::DiagnoseOptions dopt = o.diagnose_options;
     dopt.running_in_cycles = r.force.running_in.cycles;
-    // The spring the file states, as the analysis used it.
-    const fusion::Diagnosis d = fusion::DiagnoseTest(
-        record, r, fusion::WithStatedSpring(o.fuse, record), dopt);
+    // k as the analysis took it (the spring a file states included): the
+    // diagnosis reads TestResult::options and ::profile.
+    const fusion::Diagnosis d = fusion::DiagnoseTest(record, r, o.fuse, dopt);
     const FigureSet shown =
         WriteDiagnosis(dir, name, d, o.figures, o.figure_formats);
     sec->row["missing_effects"] = d.named;

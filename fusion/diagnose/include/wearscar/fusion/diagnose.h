@@ -189,7 +189,9 @@ Diagnosis Diagnose(const force::ForceRecord& record,
 
 // Diagnoses a test AnalyzeTest analysed with `fuse`: the groove depth from
 // the aligned scan when it was used (levelled reference = unworn), else
-// from the force side.
+// from the force side; k where the analysis took it (result.profile, with
+// result.options' spring and depth sign). `fuse` gives the lines notched
+// (FuseOptions::notch_hz), removed from the record here as there.
 Diagnosis DiagnoseTest(const force::ForceRecord& record,
                        const TestResult& result,
                        const FuseOptions& fuse,

@@ -26,3 +26,7 @@ if(WEARSCAR_CCACHE AND NOT CMAKE_CXX_COMPILER_LAUNCHER)
         CCACHE_NOHASHDIR=true ${WEARSCAR_CCACHE_PROGRAM})
   endif()
 endif()
+# __FILE__ (in WEARSCAR_CHECK's messages) names a source relative to the
+# source tree, so an object does not carry the folder it was built in: the
+# same cache entry then serves every checkout.
+add_compile_options(-fmacro-prefix-map=${PROJECT_SOURCE_DIR}/=)

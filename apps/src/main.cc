@@ -3,6 +3,9 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
+#if WEARSCAR_MIMALLOC
+#include <mimalloc.h>
+#endif
 #include <exception>
 
 #include "commands.h"
@@ -38,6 +41,13 @@ bool IsCommand(CLI::App& app, const std::string& name) {
 }  // namespace
 
 int main(int argc, char** argv) {
+#if WEARSCAR_MIMALLOC
+  // 2 MiB pages (transparent huge pages where the kernel allows them) for
+  // the large arrays of a full-size test: on a virtual machine a fresh
+  // 4 KiB page costs microseconds, and a fuse touches 140 MB of them
+  // (docs/performance.md).
+  mi_option_set_enabled(mi_option_large_os_pages, true);
+#endif
   CLI::App app{
       "wearscar: identify the sliding friction coefficient (mu-hat) of "
       "reciprocating friction tests whose loops look non-Coulomb, from the "

@@ -27,35 +27,48 @@ Eigen::Index SmoothLength(Eigen::Index n) {
   return best;
 }
 
-// Amplitude spectra (N per bin, a sinusoid's amplitude at its bin) of the
-// first `n` samples of Q and P, each with its mean removed, under a Hann
-// window; NaN read as the mean. One FFT plan serves both channels (its
-// twiddles cost three times the transform at a million samples).
+// Amplitude spectra (N per bin, a sinusoid's amplitude at its bin) of Q
+// and P, each with its mean removed, under a Hann window of `length`
+// samples; NaN read as the mean. A record longer than one window is
+// covered by windows spread evenly from its start to its end (overlapping
+// where the length does not divide it), their amplitudes averaged
+// (Welch): a steady line keeps its amplitude, the floor's scatter shrinks,
+// and the transform's buffers and twiddles stay a few MB however long the
+// test. One FFT plan serves every window of both channels.
 std::array<std::vector<double>, 2> AmplitudeSpectra(const ForceRecord& record,
-                                                    Eigen::Index n) {
-  std::vector<double> window(n);
-  for (Eigen::Index i = 0; i < n; ++i)
-    window[i] = 0.5 - 0.5 * std::cos(2 * kPi * i / n);
+                                                    Eigen::Index length) {
+  const Eigen::Index n = record.size();
+  const Eigen::Index windows = (n + length - 1) / length;
+  std::vector<double> hann(length);
+  for (Eigen::Index i = 0; i < length; ++i)
+    hann[i] = 0.5 - 0.5 * std::cos(2 * kPi * i / length);
   Eigen::FFT<double> fft;
   fft.SetFlag(Eigen::FFT<double>::HalfSpectrum);
   std::array<std::vector<double>, 2> amp;
-  std::vector<double> in(n);
+  std::vector<double> in(length);
   std::vector<std::complex<double>> out;
   const Eigen::VectorXd* channels[2] = {&record.tangential_n, &record.normal_n};
+  const double scale = 4.0 / static_cast<double>(length * windows);
   for (int ch = 0; ch < 2; ++ch) {
     const Eigen::VectorXd& v = *channels[ch];
-    double mean = 0;
-    Eigen::Index finite = 0;
-    for (Eigen::Index i = 0; i < n; ++i) {
-      if (std::isfinite(v[i])) mean += v[i], ++finite;
+    for (Eigen::Index w = 0; w < windows; ++w) {
+      const Eigen::Index begin =
+          windows > 1 ? (n - length) * w / (windows - 1) : 0;
+      double mean = 0;
+      Eigen::Index finite = 0;
+      for (Eigen::Index i = begin; i < begin + length; ++i) {
+        if (std::isfinite(v[i])) mean += v[i], ++finite;
+      }
+      mean = finite > 0 ? mean / finite : 0.0;
+      for (Eigen::Index i = 0; i < length; ++i) {
+        const double x = v[begin + i];
+        in[i] = std::isfinite(x) ? hann[i] * (x - mean) : 0.0;
+      }
+      fft.fwd(out, in);
+      amp[ch].resize(out.size(), 0.0);
+      for (size_t k = 0; k < out.size(); ++k)
+        amp[ch][k] += scale * std::abs(out[k]);
     }
-    mean = finite > 0 ? mean / finite : 0.0;
-    for (Eigen::Index i = 0; i < n; ++i)
-      in[i] = std::isfinite(v[i]) ? window[i] * (v[i] - mean) : 0.0;
-    fft.fwd(out, in);
-    amp[ch].resize(out.size());
-    for (size_t k = 0; k < out.size(); ++k)
-      amp[ch][k] = 4.0 * std::sqrt(std::norm(out[k])) / static_cast<double>(n);
   }
   return amp;
 }
@@ -186,11 +199,13 @@ std::vector<PeriodicLine> FindPeriodicLines(const ForceRecord& record,
                                             double drive_hz,
                                             const PeriodicLineOptions& o) {
   std::vector<PeriodicLine> lines;
-  const Eigen::Index n = SmoothLength(record.size());
+  const Eigen::Index n =
+      SmoothLength(std::min<Eigen::Index>(record.size(), o.window_samples));
   if (n < 1024 || !(drive_hz > 0)) return lines;
-  const double duration = record.time_s[n - 1] - record.time_s[0];
+  const Eigen::Index all_n = record.size();
+  const double duration = record.time_s[all_n - 1] - record.time_s[0];
   if (!(duration > 0)) return lines;
-  const double df = (n - 1) / duration / n;  // fs / n
+  const double df = (all_n - 1) / duration / n;  // fs / n
   std::vector<Peak> all;
   for (const std::vector<double>& amp : AmplitudeSpectra(record, n)) {
     const std::vector<Peak> p = ChannelPeaks(amp, df, drive_hz, o);

@@ -33,10 +33,16 @@ struct PeriodicLineOptions {
   // ... and above this many times the spectrum's floor around it.
   double min_over_floor = 8.0;
   int max_lines = 5;
+  // The spectrum's window, samples (at most; rounded down to a length
+  // whose prime factors are 2, 3, 5): a longer record is covered by
+  // windows whose amplitudes are averaged. 2^18 resolves 0.008 Hz at 2 kHz,
+  // far finer than the drive's harmonics are apart.
+  Eigen::Index window_samples = Eigen::Index{1} << 18;
 };
 
-// The lines of Q and P over the record (a Hann-windowed spectrum of the
-// whole record), strongest first. drive_hz: the drive's cycle rate.
+// The lines of Q and P over the record (Hann-windowed spectra averaged
+// over windows that cover the whole record), strongest first. drive_hz: the
+// drive's cycle rate.
 std::vector<PeriodicLine> FindPeriodicLines(
     const ForceRecord& record,
     double drive_hz,

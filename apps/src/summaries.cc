@@ -37,7 +37,7 @@ void SayEveryCycleAfterRunningIn(const fusion::TestResult& r) {
   const auto& m = r.mismatch;
   const int after = r.force.running_in.cycles;
   const int n = static_cast<int>(r.force.cycles.cycles.size());
-  if (m.mu_force.count == 0 || r.force.mu_hat.count == 0 ||
+  if (!m.JudgesForceSlope() || r.force.mu_hat.count == 0 ||
       (m.first_cycle == after && m.last_cycle == n - 1))
     return;
   Say("  every cycle after running-in ({}-{}): mu-hat {:.4f} {}\n",
@@ -75,7 +75,7 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
                : CostText(m.cost_scan.mean, m.split_scan));
     if (from_p) Say("    {}\n", r.force.slope_estimate);
   };
-  const bool quoted_from_p = m.mu_force.count > 0 || !m.has_scan;
+  const bool quoted_from_p = m.JudgesForceSlope() || !m.has_scan;
   Say("{}: {}\n  {} cycles, compared over cycles {}-{} ({}); {}\n",
       name,
       fusion::Headline(r),

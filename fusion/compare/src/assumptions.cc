@@ -12,30 +12,10 @@
 
 namespace wearscar::fusion {
 
-// The spring's stiffness the scan implies, with its 95% interval: S times
-// the amplitude ratio of P/S to the scanned profile, divided by the
-// track's growth from the compared cycles to its final state (the scan
-// shows the final track; the ratio of the two waviness figures is P/S's
-// own, so it does not depend on S). NaN without a scan.
-ImpliedSpring SpringTheScanImplies(const TestResult& r, const FuseOptions& o) {
-  const MismatchReport& m = r.mismatch;
-  const TrackHistory& h = r.track_history;
-  if (!r.scan || !std::isfinite(m.amplitude_ratio_low) ||
-      !std::isfinite(m.amplitude_ratio_high))
-    return {};
-  double growth = 1.0, sum = 0.0;
-  int n = 0;
-  for (int c = std::max(0, m.first_cycle);
-       c <= m.last_cycle && c < static_cast<int>(h.waviness_sd_mm.size());
-       ++c) {
-    if (std::isfinite(h.waviness_sd_mm[c])) sum += h.waviness_sd_mm[c], ++n;
-  }
-  if (n > 0 && h.final_waviness_sd_mm > 0)
-    growth = sum / n / h.final_waviness_sd_mm;
-  const double s = o.analysis.friction.slope.spring_n_per_mm / growth;
-  return {s * m.amplitude_ratio,
-          s * m.amplitude_ratio_low,
-          s * m.amplitude_ratio_high};
+std::string SpringOrigin(const FuseOptions& o) {
+  return !o.spring_stated.empty() ? "the force file states"
+         : o.spring_given         ? "given"
+                                  : "assumed (the default: not given)";
 }
 
 namespace {
@@ -69,7 +49,6 @@ std::vector<std::string> Assumptions(const force::ForceRecord& record,
                                      const TestResult& r,
                                      const FuseOptions& o) {
   const double s = o.analysis.friction.slope.spring_n_per_mm;
-  const ImpliedSpring implied = SpringTheScanImplies(r, o);
   std::string spring =
       !o.spring_stated.empty()
           ? fmt::format("spring S = {:g} N/mm, as the force file states ({})",
@@ -82,22 +61,23 @@ std::vector<std::string> Assumptions(const force::ForceRecord& record,
                 "rig), not given; k from P and the verdict depend on "
                 "it",
                 s);
-  // P/S varying less than the scanned groove says nothing against S: the
-  // sphere bridges the groove's short waves. Varying more, it bounds S
-  // from below (or is an elastic part).
-  if (!o.spring_given && r.verdict.scan_doubt.empty() &&
-      std::isfinite(implied.value)) {
-    spring += implied.low > s
+  // What P/S against the scan says of S (SpringCheck).
+  const SpringCheck& c = r.mismatch.spring;
+  if (r.verdict.scan_doubt.empty() && std::isfinite(c.stiffness_ratio)) {
+    spring += c.contradicted
                   ? fmt::format(
-                        "; the scan implies {:.3g} N/mm (95%: "
-                        "{:.3g}-{:.3g}) if all of P's waviness is the "
-                        "worn path",
-                        implied.value,
-                        implied.low,
-                        implied.high)
-                  : std::string(
-                        "; P/S varies no more than the scanned "
-                        "profile, which says nothing against this S");
+                        "; the scan contradicts it: {:.3g} N/mm "
+                        "(95%: {:.3g}-{:.3g}; see the warnings)",
+                        c.ImpliedStiffness(),
+                        c.ImpliedLow(),
+                        c.ImpliedHigh())
+                  : fmt::format(
+                        "; the scan agrees: P/S's worn part is the "
+                        "scanned track times {:.2f} after its growth "
+                        "(95%: {:.2f}-{:.2f})",
+                        c.stiffness_ratio,
+                        c.stiffness_ratio_low,
+                        c.stiffness_ratio_high);
   }
   if (!r.profile.FromSpring()) spring = r.profile.reason;
   std::string slope =
@@ -109,6 +89,9 @@ std::vector<std::string> Assumptions(const force::ForceRecord& record,
           ? "the verdict judges mu-hat with k from the scan, aligned with the "
             "profile from the friction; k from P is not used"
       : o.slopes == SlopeChoice::kScan ? "mu-hat with k from the scan alone"
+      : r.scan && !r.mismatch.JudgesForceSlope()
+          ? "the verdict judges mu-hat with k from the scan: the scan "
+            "contradicts the spring that k from P is divided by"
       : r.scan ? "the verdict judges mu-hat with k from P; the scan's k is "
                  "compared with it"
       : r.scan_file.empty() ? "k from P alone (no scan)"

@@ -43,7 +43,8 @@ bool FuseOptions::IsValid(std::string* why) const {
          profile.IsValid(why) && force_profile.IsValid(why) &&
          align.IsValid(why) && scan_slope.IsValid(why) &&
          verdict.IsValid(why) && warnings.IsValid(why) &&
-         friction_map.IsValid(why) && track_history.IsValid(why) &&
+         spring_check.IsValid(why) && friction_map.IsValid(why) &&
+         track_history.IsValid(why) &&
          CheckScanSlopeScale(max_scan_slope_scale, why) &&
          CheckAgreements(*this, why);
 }

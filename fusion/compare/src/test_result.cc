@@ -25,7 +25,7 @@ std::string ProfileDecision::ProfileName() const {
 
 std::string Headline(const TestResult& r) {
   const MismatchReport& m = r.mismatch;
-  const bool from_p = m.mu_force.count > 0;
+  const bool from_p = m.JudgesForceSlope();
   const Statistic& mu = from_p ? m.mu_force : m.mu_scan;
   if (mu.count == 0) {
     return "no mu to quote: no mu-hat was fitted (too few sliding samples "
@@ -47,12 +47,23 @@ std::string Headline(const TestResult& r) {
       std::isfinite(mu.low)
           ? fmt::format(" (95%: {:.4f}-{:.4f})", mu.low, mu.high)
           : std::string();
+  // A spring the scan contradicts is why the scan's k is quoted: said here.
+  const SpringCheck& spring = m.spring;
+  const std::string source =
+      from_p ? m.force_slope_name
+      : spring.contradicted && m.cost_force.count > 0
+          ? fmt::format(
+                "the scan (the spring's stiffness appears to be {:.3g} N/mm, "
+                "not the {:g} used)",
+                spring.ImpliedStiffness(),
+                spring.used_n_per_mm)
+          : std::string("the scan");
   return fmt::format(
       "mu = {:.4f}{}: mu-hat, k from {}, cycles {}-{} ({}); explained by "
       "wear-scar interaction",
       mu.mean,
       interval,
-      from_p ? m.force_slope_name : std::string("the scan"),
+      source,
       m.first_cycle + 1,
       m.last_cycle + 1,
       r.window.why);

@@ -59,6 +59,17 @@ std::string IntervalText(double low, double high, const char* format) {
                      high);
 }
 
+// P/S's elastic part from its share before any wear (SpringCheck).
+std::string ElasticShareReason(const MismatchReport& r) {
+  return fmt::format(
+      "{} carries an elastic part: {:.0f}% of its profile (95% interval "
+      "{:.0f}-{:.0f}%) was there before any wear",
+      r.force_profile_name,
+      100 * r.spring.elastic_share,
+      100 * r.spring.elastic_share_low,
+      100 * r.spring.elastic_share_high);
+}
+
 // The scan's criteria: the amplitude ratio and the profiles' correlation.
 std::vector<std::string> ScanReasons(const MismatchReport& r,
                                      const VerdictOptions& o) {
@@ -67,7 +78,11 @@ std::vector<std::string> ScanReasons(const MismatchReport& r,
   const bool has_interval = std::isfinite(r.amplitude_ratio_low);
   const double ratio_low =
       has_interval ? r.amplitude_ratio_low : r.amplitude_ratio;
-  if (ratio_low > o.max_amplitude_ratio) {
+  if (r.spring.contradicted) {
+    // The ratio is the stiffness's; only an elastic part beside it is a
+    // finding about the physics.
+    if (r.spring.elastic) reasons.push_back(ElasticShareReason(r));
+  } else if (ratio_low > o.max_amplitude_ratio) {
     reasons.push_back(fmt::format(
         "{} varies {:.2f}x as much as the scanned profile{} (limit {:.2f}): "
         "part of the normal displacement is not worn geometry",
@@ -116,9 +131,9 @@ std::vector<std::string> MethodReasons(const MismatchReport& r,
 
 Verdict Judge(const MismatchReport& r, const VerdictOptions& o) {
   Verdict v;
-  // J and mu-hat from the force-side slope when it was fitted, else from
-  // the scan's (--slope scan).
-  const bool from_force = r.cost_force.count > 0;
+  // J and mu-hat from the force-side slope when it was fitted and its
+  // spring is not contradicted, else from the scan's (--slope scan).
+  const bool from_force = r.JudgesForceSlope();
   const Statistic& cost = from_force ? r.cost_force : r.cost_scan;
   const CostSplit& split = from_force ? r.split_force : r.split_scan;
   const std::string source =
@@ -214,7 +229,7 @@ std::vector<std::string> DataWarnings(const ForceAnalysis& force,
   const double ratio_low = std::isfinite(r.amplitude_ratio_low)
                                ? r.amplitude_ratio_low
                                : r.amplitude_ratio;
-  if (r.has_scan && ratio_low > o.elastic_ratio) {
+  if (r.has_scan && ratio_low > o.elastic_ratio && !r.spring.contradicted) {
     w.push_back(fmt::format(
         "{} varies {:.2f}x as much as the scanned profile: an elastic part "
         "of about {:.0f}% of the profile moves the sphere without tilting "

@@ -362,20 +362,11 @@ void Warn(const force::ForceRecord& record, TestResult* result) {
   if (scan != nullptr && scan->track.low_confidence)
     result->warnings.push_back("the scan's track: " + scan->track.message);
   result->assumptions = Assumptions(record, *result, options);
-  const ImpliedSpring implied = SpringTheScanImplies(*result, options);
-  const double s = options.analysis.friction.slope.spring_n_per_mm;
-  if (result->profile.FromSpring() && !options.spring_given && !scan_doubted &&
-      implied.low > s * 1.15) {
-    result->warnings.push_back(fmt::format(
-        "the spring's stiffness was not given and the default {:g} N/mm is "
-        "used, but the scan implies {:.3g} N/mm (95%: {:.3g}-{:.3g}) if all "
-        "of P's waviness is the worn path: give --spring if that is the "
-        "rig's (the verdict depends on it); if the default is right, part of "
-        "P's waviness is elastic",
-        s,
-        implied.value,
-        implied.low,
-        implied.high));
+  // A spring the data contradict is said first: it changes what is quoted.
+  const SpringCheck& spring = result->mismatch.spring;
+  if (spring.contradicted && !scan_doubted) {
+    result->warnings.insert(result->warnings.begin(),
+                            spring.Describe(SpringOrigin(options)));
   }
 }
 
@@ -406,6 +397,23 @@ CycleWindow QuotedWindow(const TestResult& r) {
   return w;
 }
 
+// P/S against the track: its elastic part from the track's history, and
+// with a scan that can be this test's the stiffness it implies. Only where
+// k comes from P/S.
+SpringCheck CheckTheSpring(const TestResult& r) {
+  if (!r.profile.FromSpring()) return {};
+  const FuseOptions& o = r.options;
+  const Alignment* a = r.scan ? &r.scan->alignment : nullptr;
+  if (a && a->correlation_noise_corrected < o.verdict.min_correlation)
+    a = nullptr;
+  return CheckSpring(r.track_history,
+                     a,
+                     r.window.first,
+                     r.window.last,
+                     o.analysis.friction.slope.spring_n_per_mm,
+                     o.spring_check);
+}
+
 // The comparison of the slopes, the verdict, the warnings and the wear,
 // once both sides are analysed.
 void CompareAndJudge(const force::ForceRecord& record, TestResult* result) {
@@ -419,6 +427,7 @@ void CompareAndJudge(const force::ForceRecord& record, TestResult* result) {
                                    first,
                                    last,
                                    result->options);
+  result->mismatch.spring = CheckTheSpring(*result);
   result->verdict = Judge(result->mismatch, result->options.verdict);
   Warn(record, result);
   result->wear = MeasureWear(

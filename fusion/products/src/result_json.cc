@@ -141,6 +141,23 @@ nlohmann::json ForceFileJson(const force::ForceMetadata& m) {
           {"normal_sign_flipped", m.normal_sign_flipped}};
 }
 
+// P/S against the track (SpringCheck): its elastic share, and with a scan
+// the stiffness it implies (null without one).
+nlohmann::json SpringJson(const SpringCheck& c) {
+  return {
+      {"elastic_share", c.elastic_share},
+      {"elastic_share_interval", {c.elastic_share_low, c.elastic_share_high}},
+      {"elastic", c.elastic},
+      {"growth", c.growth},
+      {"stiffness_ratio", c.stiffness_ratio},
+      {"stiffness_ratio_interval",
+       {c.stiffness_ratio_low, c.stiffness_ratio_high}},
+      {"used_n_per_mm", c.used_n_per_mm},
+      {"implied_n_per_mm", c.ImpliedStiffness()},
+      {"implied_interval_n_per_mm", {c.ImpliedLow(), c.ImpliedHigh()}},
+      {"contradicted", c.contradicted}};
+}
+
 // The comparison of the slopes over the compared cycles.
 nlohmann::json ComparisonJson(const TestResult& r) {
   const auto& m = r.mismatch;
@@ -368,10 +385,15 @@ nlohmann::json ResultJson(const std::string& name,
                   {"depth_against_friction", r.profile.depth_agreement},
                   {"spring_against_depth", r.profile.spring_depth_agreement},
                   {"spring_against_scan", r.profile.spring_amplitude_ratio}};
-  j["verdict"] = {{"explained", r.verdict.explained},
-                  {"summary", r.verdict.Summary()},
-                  {"judged", r.verdict.not_judged.empty()},
-                  {"reasons", r.verdict.reasons}};
+  if (r.mismatch.spring.judged) j["spring"] = SpringJson(r.mismatch.spring);
+  j["verdict"] = {
+      {"explained", r.verdict.explained},
+      {"judged_slope",
+       r.mismatch.JudgesForceSlope() ? r.profile.SlopeName()
+                                     : std::string("k from the scan")},
+      {"summary", r.verdict.Summary()},
+      {"judged", r.verdict.not_judged.empty()},
+      {"reasons", r.verdict.reasons}};
   std::vector<std::string> warnings = record.metadata.warnings;
   warnings.insert(warnings.end(), r.warnings.begin(), r.warnings.end());
   j["warnings"] = warnings;

@@ -1,6 +1,6 @@
 #pragma once
 // What a test's result rests on that its files did not state
-// (TestResult::assumptions), the spring a scan implies, and the test
+// (TestResult::assumptions), where the spring came from, and the test
 // conditions a file states that its data contradict.
 
 #include <string>
@@ -10,12 +10,9 @@
 
 namespace wearscar::fusion {
 
-// The spring's stiffness the scan implies and its 95% interval; NaN
-// without a scan.
-struct ImpliedSpring {
-  double value = NAN, low = NAN, high = NAN;
-};
-ImpliedSpring SpringTheScanImplies(const TestResult& r, const FuseOptions& o);
+// Where the spring's stiffness used came from, in words: "given", "the
+// force file states", "assumed (the default: not given)".
+std::string SpringOrigin(const FuseOptions& o);
 
 // The spring, the slope judged, the reading and the running-in, in words.
 std::vector<std::string> Assumptions(const force::ForceRecord& record,

@@ -10,6 +10,7 @@
 #include "wearscar/fusion/analysis.h"
 #include "wearscar/fusion/friction_map.h"
 #include "wearscar/fusion/lugre.h"
+#include "wearscar/fusion/spring_check.h"
 #include "wearscar/fusion/track_history.h"
 #include "wearscar/fusion/verdict.h"
 #include "wearscar/scan/level.h"
@@ -62,6 +63,7 @@ struct FuseOptions {
   }();
   VerdictOptions verdict;
   DataWarningOptions warnings;
+  SpringCheckOptions spring_check;
   // Whether the spring's stiffness (analysis.friction.slope) was given by
   // the user; when not, its default is the paper's rig's and the result
   // says so, with the stiffness a scan implies (MakeTestSettings sets it).

@@ -5,6 +5,7 @@
 
 #include "wearscar/fusion/align.h"
 #include "wearscar/fusion/analysis.h"
+#include "wearscar/fusion/spring_check.h"
 
 namespace wearscar::fusion {
 
@@ -38,6 +39,17 @@ struct MismatchReport {
   Interval method_difference;
   // The amplitude ratio's 95% interval (Alignment).
   double amplitude_ratio_low = 0.0, amplitude_ratio_high = 0.0;
+  // Whether P/S is the worn track at the stiffness used (k from P only):
+  // an elastic part, there before any wear, or a stiffness the scan
+  // contradicts.
+  SpringCheck spring;
+  // mu-hat with the force side's k is what the verdict judges and the
+  // headline quotes: fitted, and not scaled by a spring the scan
+  // contradicts (then the scan's k is).
+  bool JudgesForceSlope() const {
+    return cost_force.count > 0 &&
+           !(spring.contradicted && cost_scan.count > 0);
+  }
 };
 
 // What the verdict judges J by.

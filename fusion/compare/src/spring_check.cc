@@ -164,8 +164,11 @@ SpringCheck CheckSpring(const TrackHistory& history,
       !std::isfinite(alignment->amplitude_ratio_high))
     return c;
   // The worn part's share of P/S, within [0, 1], its interval's ends
-  // taken where they widen the ratio's.
-  auto worn = [](double share) { return std::clamp(1.0 - share, 0.0, 1.0); };
+  // taken where they widen the ratio's; all of it where no elastic part
+  // stands out of the share's noise (a noisy share would only bias it).
+  auto worn = [&](double share) {
+    return c.elastic ? std::clamp(1.0 - share, 0.0, 1.0) : 1.0;
+  };
   c.growth = Growth(history, first, last);
   c.stiffness_ratio =
       alignment->amplitude_ratio * worn(c.elastic_share) / c.growth;

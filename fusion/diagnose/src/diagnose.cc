@@ -273,6 +273,9 @@ std::vector<const Effect*> CandidatePool(const DiagnoseOptions& o,
   std::vector<const Effect*> pool;
   for (const auto& e : EffectLibrary()) {
     if (fixed_slope && e->ScalesTheSlope()) continue;
+    if (std::find(o.ruled_out.begin(), o.ruled_out.end(), e->Key()) !=
+        o.ruled_out.end())
+      continue;
     if (!o.candidates.empty() && std::find_if(o.candidates.begin(),
                                               o.candidates.end(),
                                               [&](const std::string& c) {
@@ -629,6 +632,7 @@ Diagnosis Diagnose(const force::ForceRecord& record,
   out.cycles = ChooseCycles(
       n, slope ? std::max(first, n - o.max_cycles) : first, o.max_cycles);
   out.slope_source = SlopeSourceWords(friction, slope != nullptr);
+  if (!o.ruled_out_why.empty()) out.slope_source += "; " + o.ruled_out_why;
   auto prepared = std::make_unique<Prepared>();
   Prepare(
       record, cycles, friction, depth, slope, out.cycles, o, prepared.get());
@@ -655,6 +659,52 @@ Diagnosis Diagnose(const force::ForceRecord& record,
   out.message = DiagnosisMessage(out, withdrawn);
   return out;
 }
+
+namespace {
+
+// Of the two effects that scale k (one formula), the one the test's track
+// history supports: an elastic part is there from the first cycle, a
+// stiffness other than the one used scales a track grown from nothing.
+DiagnoseOptions WithTheSpringsEvidence(const TestResult& r, DiagnoseOptions o) {
+  const SpringCheck& c = r.mismatch.spring;
+  if (!c.judged) return o;
+  const std::string share = fmt::format(
+      "{:.0f}% of P/S's profile (95%: {:.0f} to {:.0f}%) was there "
+      "before any wear",
+      100 * c.elastic_share,
+      100 * c.elastic_share_low,
+      100 * c.elastic_share_high);
+  if (c.elastic) {
+    o.ruled_out.push_back("spring");
+    o.ruled_out_why = "a scale of k is tried as elastic compliance: " + share;
+  } else {
+    o.ruled_out.push_back("elastic");
+    o.ruled_out_why =
+        "a scale of k is tried as the spring's stiffness, not as elastic "
+        "compliance: " +
+        share;
+  }
+  return o;
+}
+
+// A named spring's stiffness in N/mm, in the message.
+void SayTheSpring(double used_n_per_mm, Diagnosis* d) {
+  for (const CandidateResult& c : d->model) {
+    if (c.effect != FindEffect("spring")->Name() || c.parameters.empty())
+      continue;
+    const double ratio = c.parameters[0];
+    const double se = c.uncertainties.empty() ? NAN : c.uncertainties[0];
+    d->message += fmt::format(
+        "; the rig's spring appears to be {:.3g} N/mm{}, not the {:g} N/mm "
+        "used",
+        ratio * used_n_per_mm,
+        std::isfinite(se) ? fmt::format(" (+- {:.2g})", se * used_n_per_mm)
+                          : std::string(),
+        used_n_per_mm);
+  }
+}
+
+}  // namespace
 
 Diagnosis DiagnoseTest(const force::ForceRecord& record,
                        const TestResult& r,
@@ -693,12 +743,14 @@ Diagnosis DiagnoseTest(const force::ForceRecord& record,
         "spring to diagnose with k from P regardless)",
         r.profile.p_slope_significance));
   }
-  return Diagnose(record,
-                  r.force.cycles,
-                  friction,
-                  r.scan ? &depth : nullptr,
-                  slope,
-                  options);
+  Diagnosis d = Diagnose(record,
+                         r.force.cycles,
+                         friction,
+                         r.scan ? &depth : nullptr,
+                         slope,
+                         WithTheSpringsEvidence(r, options));
+  SayTheSpring(friction.slope.spring_n_per_mm, &d);
+  return d;
 }
 
 }  // namespace wearscar::fusion

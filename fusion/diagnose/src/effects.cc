@@ -164,6 +164,27 @@ class ElasticCompliance : public Effect {
   }
 };
 
+// The loading spring's stiffness other than the one k was divided by: P/S
+// is the worn geometry times S_rig / S_used, so the contact tilts by
+// k = k_measured / ratio. The same formula as the elastic compliance; the
+// two are told apart by the track's history (SpringCheck: an elastic part
+// is there from the first cycle, a wrong stiffness scales a track that
+// grew from nothing), and the diagnosis tries the one it supports.
+class SpringStiffness : public Effect {
+ public:
+  std::string Name() const override { return "spring stiffness"; }
+  std::string Key() const override { return "spring"; }
+  bool ScalesTheSlope() const override { return true; }
+  std::string Formula() const override {
+    return "k = k_measured / ratio, ratio = S_rig / S_used";
+  }
+  std::vector<std::string> ParameterNames() const override { return {"ratio"}; }
+  std::vector<double> Initial() const override { return {1.1}; }
+  std::vector<double> Lower() const override { return {0.05}; }
+  std::vector<double> Upper() const override { return {20.0}; }
+  void Apply(const double* p, EffectContext* c) const override { c->k /= p[0]; }
+};
+
 // Friction that varies along the track in any smooth pattern (the wood's
 // hardness bands, a trend, a soft spot): mu_eff = mu (1 + a(x)), a(x)
 // linear between equally spaced knots over the stroke.
@@ -247,6 +268,7 @@ const std::vector<std::unique_ptr<Effect>>& EffectLibrary() {
     v.push_back(std::make_unique<Crosstalk>());
     v.push_back(std::make_unique<Hook>());
     v.push_back(std::make_unique<ElasticCompliance>());
+    v.push_back(std::make_unique<SpringStiffness>());
     v.push_back(std::make_unique<AlongTrack>(12));
     return v;
   }();

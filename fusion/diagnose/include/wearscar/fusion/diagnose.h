@@ -66,6 +66,11 @@ struct DiagnoseOptions {
   int reversal_bins = 20;
   int cycle_blocks = 8;
   std::vector<std::string> candidates;  // names; empty = the whole library
+  // Keys of effects the test's own evidence rules out (DiagnoseTest: of
+  // the elastic compliance and the spring's stiffness, one formula, the
+  // one the track's history does not support), and why, in words.
+  std::vector<std::string> ruled_out;
+  std::string ruled_out_why;
   // Friction along the track: knots over the stroke, and the weights of
   // its roughness penalty the held-out cycles choose from.
   int along_track_knots = 24;

@@ -74,7 +74,8 @@ class Effect {
 
 // The library, in a fixed order: ploughing, velocity dependence (Stribeck),
 // viscous term, direction asymmetry, channel time lag, crosstalk of Q into
-// P, end-of-stroke hook, elastic compliance of the track, friction varying
+// P, end-of-stroke hook, elastic compliance of the track, the spring's
+// stiffness, friction varying
 // along the track (with DiagnoseOptions' knots: see AlongTrackFriction).
 const std::vector<std::unique_ptr<Effect>>& EffectLibrary();
 

@@ -176,6 +176,14 @@ std::vector<S> NoiseSettings() {
                0,
                10,
                &R::elastic_fraction),
+      Override("ring-width-cv",
+               "Growth rings of varying width: each ring's width varies about "
+               "the case's ring period by this (sd over the mean; default 0, "
+               "every ring alike), so that specimens differ in where their "
+               "rings fall",
+               0,
+               0.5,
+               &R::ring_width_cv),
       {"seed",
        "Simulation",
        "Random seed for every case (default: each case's own)",
@@ -210,6 +218,7 @@ void Override(const SimulationRequest& r,
       r.depth_channel >= 0 ? r.depth_channel == 1 : r.dead_weight;
   if (r.noise >= 0) o->noise_scale = r.noise;
   if (r.elastic_fraction >= 0) o->elastic_fraction = r.elastic_fraction;
+  if (r.ring_width_cv >= 0) o->ring_width_cv = r.ring_width_cv;
   o->effects = effects;
   if (r.seed >= 0) o->seed = static_cast<std::uint64_t>(r.seed);
 }

@@ -70,6 +70,8 @@ bool SimulationOptions::IsValid(std::string* why) const {
   if (!(contact_stiffness_n_per_mm > 0))
     return fail("contact_stiffness_n_per_mm must be > 0");
   if (!(ring_period_mm > 0)) return fail("ring_period_mm must be > 0");
+  if (!(ring_width_cv >= 0 && ring_width_cv <= 0.5))
+    return fail("ring_width_cv must be 0 to 0.5");
   if (!(latewood_fraction > 0 && latewood_fraction < 1)) {
     return fail("latewood_fraction must be in (0, 1)");
   }
@@ -148,7 +150,7 @@ double RingDensity(double p) {
 Eigen::VectorXd FrictionFactor(const SimulationOptions& o,
                                const Eigen::VectorXd& xg,
                                const Eigen::VectorXd& texture,
-                               double ring_phase,
+                               const Eigen::VectorXd& ring_phase,
                                Rng& rng) {
   const HiddenEffects& fx = o.effects;
   const Eigen::Index ng = xg.size();
@@ -170,10 +172,7 @@ Eigen::VectorXd FrictionFactor(const SimulationOptions& o,
   Eigen::VectorXd bands(ng), trend(ng), spot(ng);
   const double centre = (rng.Uniform() - 0.5) * 1.2 * o.amplitude_mm;
   for (Eigen::Index i = 0; i < ng; ++i) {
-    const double p = std::fmod(xg[i] - ring_phase + 100 * o.ring_period_mm,
-                               o.ring_period_mm) /
-                     o.ring_period_mm;
-    const double density = o.across_rings ? RingDensity(p) : 0.0;
+    const double density = o.across_rings ? RingDensity(ring_phase[i]) : 0.0;
     bands[i] = std::log(1.0 + (o.hardness_contrast - 1.0) * density) +
                o.texture * texture[i];
     trend[i] = xg[i] / o.amplitude_mm;
@@ -192,12 +191,38 @@ Eigen::VectorXd FrictionFactor(const SimulationOptions& o,
   return factor / (sum / n);
 }
 
-// The fraction of latewood at x: smooth band edges (logistic, 4% of a
-// ring), the band wrapping around the ring.
-double Latewood(const SimulationOptions& o, double x, double ring_phase) {
-  const double p =
-      std::fmod(x - ring_phase + 100 * o.ring_period_mm, o.ring_period_mm) /
-      o.ring_period_mm;
+// Each grid point's phase within its growth ring, in [0, 1). Rings of
+// ring_period_mm, a boundary `offset_mm` after a multiple of it; with
+// ring_width_cv each ring's width varies about that mean (a year's growth
+// differs from the next), drawn from a stream of its own so that nothing
+// else a seed makes changes: two specimens of one wood then differ in
+// where their rings fall, not only in phase.
+Eigen::VectorXd RingPhase(const SimulationOptions& o,
+                          const Eigen::VectorXd& xg,
+                          double offset_mm) {
+  const double period = o.ring_period_mm;
+  Eigen::VectorXd p(xg.size());
+  if (o.ring_width_cv == 0) {
+    for (Eigen::Index i = 0; i < xg.size(); ++i)
+      p[i] = std::fmod(xg[i] - offset_mm + 100 * period, period) / period;
+    return p;
+  }
+  Rng widths(o.seed ^ 0xD1B54A32D192ED03ULL);
+  double begin = offset_mm - period * std::ceil((offset_mm - xg[0]) / period);
+  double width = period * std::max(0.3, 1 + o.ring_width_cv * widths.Normal());
+  for (Eigen::Index i = 0; i < xg.size(); ++i) {
+    while (xg[i] >= begin + width) {
+      begin += width;
+      width = period * std::max(0.3, 1 + o.ring_width_cv * widths.Normal());
+    }
+    p[i] = std::clamp((xg[i] - begin) / width, 0.0, std::nextafter(1.0, 0.0));
+  }
+  return p;
+}
+
+// The fraction of latewood at ring phase p: smooth band edges (logistic,
+// 4% of a ring), the band wrapping around the ring.
+double Latewood(const SimulationOptions& o, double p) {
   const double edge = 0.04;
   const double start = 1.0 - o.latewood_fraction;
   return 1.0 / (1.0 + std::exp(-(p - start) / edge)) *
@@ -231,13 +256,13 @@ Specimen MakeSpecimen(const SimulationOptions& o, Rng& rng, Rng& extra) {
   const double x0 = -(o.amplitude_mm + margin);
   const Eigen::VectorXd xg =
       Eigen::VectorXd::LinSpaced(ng, x0, x0 + (ng - 1) * step);
-  const double ring_phase = o.ring_period_mm * rng.Uniform();
+  const Eigen::VectorXd ring_phase =
+      RingPhase(o, xg, o.ring_period_mm * rng.Uniform());
   const Eigen::VectorXd texture = Texture(xg, rng);
   const Eigen::VectorXd texture_e = Texture(xg, rng);
   Eigen::VectorXd hardness(ng), stiffness(ng);
   for (Eigen::Index i = 0; i < ng; ++i) {
-    const double latewood =
-        o.across_rings ? Latewood(o, xg[i], ring_phase) : 0.0;
+    const double latewood = o.across_rings ? Latewood(o, ring_phase[i]) : 0.0;
     hardness[i] = (1.0 + (o.hardness_contrast - 1.0) * latewood) *
                   (1.0 + o.texture * texture[i]);
     stiffness[i] = (1.0 + (o.hardness_contrast - 1.0) * latewood) *

@@ -78,6 +78,10 @@ bool AlignOptions::IsValid(std::string* why) const {
     if (why) *why = "min_overlap_fraction must be in (0, 1]";
     return false;
   }
+  if (!(waviness_window_mm > 0)) {
+    if (why) *why = "waviness_window_mm must be > 0";
+    return false;
+  }
   if (ratio_blocks < 3 || ratio_blocks > 100) {
     if (why) *why = "ratio_blocks must be in [3, 100]";
     return false;
@@ -422,6 +426,43 @@ Moments OverlapMoments(const std::vector<double>& fs,
       sff - sf * sf / k, shh - sh * sh / k, sfh - sf * sh / k, sf / k, sh / k};
 }
 
+// v less its centred running mean over `window` points (the ends, where
+// the window does not fit, dropped).
+std::vector<double> HighPass(const std::vector<double>& v, int window) {
+  const int n = static_cast<int>(v.size()), half = window / 2;
+  std::vector<double> out;
+  if (n <= 2 * half) return out;
+  double sum = 0;
+  for (int j = 0; j < 2 * half + 1; ++j) sum += v[j];
+  for (int i = half; i + half < n; ++i) {
+    if (i > half) sum += v[i + half] - v[i - half - 1];
+    out.push_back(v[i] - sum / (2 * half + 1));
+  }
+  return out;
+}
+
+// The waviness's noise-corrected correlation and its variance over the
+// noise's (Alignment::waviness_*): the running mean takes 1 / window of
+// the noise's variance with it.
+void Waviness(const std::vector<double>& fs,
+              const std::vector<double>& hs,
+              double noise_variance,
+              int window,
+              Alignment* best) {
+  const std::vector<double> f = HighPass(fs, window), h = HighPass(hs, window);
+  const int n = static_cast<int>(f.size());
+  if (n < 4 * window) return;
+  const Moments m = OverlapMoments(f, h, 0, 0);
+  if (!(m.vf > 0 && m.vh > 0)) return;
+  const double noise =
+      n * noise_variance * (1.0 - 1.0 / (2 * (window / 2) + 1));
+  const double signal = std::max(0.0, m.vf - noise);
+  best->waviness_to_noise = noise > 0 ? signal / noise : INFINITY;
+  const double r = m.cfh / std::sqrt(m.vf * m.vh);
+  best->waviness_correlation =
+      signal > 0 ? std::min(1.0, r * std::sqrt(m.vf / signal)) : NAN;
+}
+
 // Least-squares scale and offset, the amplitude ratio std(f) / std(h) with
 // f's variance less its noise, the noise-corrected correlation, and the
 // ratio's 95% interval by a delete-a-block jackknife over contiguous
@@ -430,8 +471,9 @@ Moments OverlapMoments(const std::vector<double>& fs,
 void ScaleAndRatio(const ForceProfile& fp,
                    const ScanGrid& g,
                    int flip,
-                   int blocks,
+                   const AlignOptions& options,
                    Alignment* best) {
+  const int blocks = options.ratio_blocks;
   std::vector<double> fs, hs;
   for (Eigen::Index j = 0; j < fp.x_mm.size(); ++j) {
     const double f = fp.mean_mm[j];
@@ -457,6 +499,15 @@ void ScaleAndRatio(const ForceProfile& fp,
           ? std::min(1.0, best->correlation / std::sqrt(1.0 - noise_share))
           : best->correlation;
   best->overlap_samples = n;
+  const Eigen::Index bins = fp.x_mm.size();
+  const double bin_mm = (fp.x_mm[bins - 1] - fp.x_mm[0]) / (bins - 1);
+  Waviness(fs,
+           hs,
+           fp.noise_variance_mm2,
+           std::max(3,
+                    static_cast<int>(
+                        std::lround(options.waviness_window_mm / bin_mm))),
+           best);
   if (n < 4 * blocks || !(all.vh > 0)) return;
   std::vector<double> r(blocks);
   double mean = 0;
@@ -496,7 +547,7 @@ Alignment AlignProfiles(const ForceProfile& fp,
       Correlate(fp.x_mm, fp.forward_mm, g.h, g.s0, g.step, flip, shift).r;
   best.correlation_reverse =
       Correlate(fp.x_mm, fp.reverse_mm, g.h, g.s0, g.step, flip, shift).r;
-  ScaleAndRatio(fp, g, flip, options.ratio_blocks, &best);
+  ScaleAndRatio(fp, g, flip, options, &best);
   best.message =
       fmt::format("shift {:.3f} mm{}, r = {:.3f}, scale {:.2f}, {} points",
                   best.shift_mm,

@@ -96,8 +96,23 @@ std::vector<std::string> Assumptions(const force::ForceRecord& record,
                  "compared with it"
       : r.scan_file.empty() ? "k from P alone (no scan)"
                             : "k from P alone (the scan was not used)";
-  return {
+  std::vector<std::string> said = {
       spring, slope, ReadAssumption(record.metadata), r.force.running_in.rule};
+  if (r.scan && r.mismatch.has_scan && !r.mismatch.identity_judged) {
+    said.push_back(
+        "the scan's identity is not checked against the profile from the "
+        "friction (integrated from it, its errors are not a sensor's noise)");
+  } else if (r.scan && r.mismatch.has_scan &&
+             !o.verdict.IdentityCheckable(r.mismatch)) {
+    said.push_back(fmt::format(
+        "the scan's identity cannot be checked: the track's waviness (its "
+        "rings and texture) stands {:.1f}x above P/S's noise in variance, "
+        "below {:g}, so another specimen's track of the same case would fit "
+        "as well",
+        r.mismatch.waviness_to_noise,
+        o.verdict.min_waviness_to_noise));
+  }
+  return said;
 }
 
 namespace {

@@ -111,6 +111,8 @@ void CompareScanSide(const ForceAnalysis& force,
   r->has_scan = true;
   r->correlation = scan.alignment.correlation;
   r->correlation_noise_corrected = scan.alignment.correlation_noise_corrected;
+  r->waviness_correlation = scan.alignment.waviness_correlation;
+  r->waviness_to_noise = scan.alignment.waviness_to_noise;
   r->amplitude_ratio = scan.alignment.amplitude_ratio;
   r->amplitude_ratio_low = scan.alignment.amplitude_ratio_low;
   r->amplitude_ratio_high = scan.alignment.amplitude_ratio_high;
@@ -152,6 +154,7 @@ MismatchReport CompareSlopes(const force::ForceRecord& record,
   }
   if (scan == nullptr) return r;
   CompareScanSide(force, *scan, range, &r);
+  r.identity_judged = !profile.FromFriction();
   r.k_rms_difference =
       profile.ForceSlopeJudged()
           ? KRmsDifference(

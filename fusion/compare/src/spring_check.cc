@@ -105,8 +105,8 @@ double Projection(const std::vector<double>& p,
 double Growth(const TrackHistory& h, int first, int last) {
   const int n = h.cycles;
   const int tail = std::min(n, std::max(3, n / 10));
-  const double g = Projection(MeanProfile(h, first, last),
-                              MeanProfile(h, n - tail, n - 1));
+  const double g =
+      Projection(MeanProfile(h, first, last), MeanProfile(h, n - tail, n - 1));
   return std::isfinite(g) && g > 0 ? g : 1.0;
 }
 

@@ -23,11 +23,25 @@ bool ParseCostCriterion(const std::string& text, CostCriterion* c) {
 
 bool VerdictOptions::IsValid(std::string* why) const {
   if (!(max_cost > 0) || !(max_cost_excess > 0) || !(max_amplitude_ratio > 0) ||
-      !(min_correlation > -1) || !(max_method_difference > 0)) {
+      !(min_correlation > -1) || !(max_method_difference > 0) ||
+      !(min_waviness_to_noise > 0) || !(min_waviness_correlation > -1) ||
+      !(max_waviness_misfit > 0)) {
     if (why) *why = "verdict thresholds must be positive (correlation > -1)";
     return false;
   }
   return true;
+}
+
+bool VerdictOptions::IdentityCheckable(const MismatchReport& r) const {
+  return r.has_scan && r.identity_judged &&
+         r.waviness_to_noise >= min_waviness_to_noise &&
+         std::isfinite(r.waviness_correlation);
+}
+
+bool VerdictOptions::ScanIsForeign(const MismatchReport& r) const {
+  return IdentityCheckable(r) &&
+         (r.waviness_correlation < min_waviness_correlation ||
+          r.WavinessMisfit() > max_waviness_misfit);
 }
 
 bool DataWarningOptions::IsValid(std::string* why) const {
@@ -70,6 +84,21 @@ std::string ElasticShareReason(const MismatchReport& r) {
       100 * r.spring.elastic_share_high);
 }
 
+// The waviness of another specimen's track.
+std::string ForeignWaviness(const MismatchReport& r, const VerdictOptions& o) {
+  return fmt::format(
+      "the scan's waviness (its rings and texture, the groove's shape "
+      "removed) correlates with P/S's at r = {:.2f} (corrected for noise; "
+      "limit {:.2f}), leaving {:.1f}x P/S's noise (limit {:g}), although the "
+      "whole profiles correlate at r = {:.2f} (the groove's shape, common to "
+      "every track of a case)",
+      r.waviness_correlation,
+      o.min_waviness_correlation,
+      r.WavinessMisfit(),
+      o.max_waviness_misfit,
+      r.correlation);
+}
+
 // The scan's criteria: the amplitude ratio and the profiles' correlation.
 std::vector<std::string> ScanReasons(const MismatchReport& r,
                                      const VerdictOptions& o) {
@@ -91,6 +120,7 @@ std::vector<std::string> ScanReasons(const MismatchReport& r,
         IntervalText(r.amplitude_ratio_low, r.amplitude_ratio_high, "{:.2f}"),
         o.max_amplitude_ratio));
   }
+  if (o.ScanIsForeign(r)) reasons.push_back(ForeignWaviness(r, o));
   if (r.correlation_noise_corrected < o.min_correlation) {
     reasons.push_back(fmt::format(
         "the aligned profiles correlate at r = {:.2f} ({:.2f} corrected for "
@@ -163,20 +193,30 @@ Verdict Judge(const MismatchReport& r, const VerdictOptions& o) {
   // a profile unlike P/S's while the force side alone passes is a doubt
   // about the scan (scan_doubt), not a verdict on the physics.
   const std::vector<std::string> scan_reasons = ScanReasons(r, o);
+  const bool foreign = o.ScanIsForeign(r);
   const bool profiles_differ =
-      r.has_scan && r.correlation_noise_corrected < o.min_correlation;
+      r.has_scan &&
+      (r.correlation_noise_corrected < o.min_correlation || foreign);
   const std::vector<std::string> method_reasons =
       MethodReasons(r, o, from_force, source.c_str());
   const bool force_side_passes = v.reasons.empty() && method_reasons.empty();
   if (profiles_differ && from_force && force_side_passes) {
-    v.scan_doubt = fmt::format(
-        "the scan may belong to another test: its profile correlates with "
-        "P/S at r = {:.2f} ({:.2f} corrected) < {:.2f} while the force side "
-        "alone is explained; the verdict is judged on the force side (check "
-        "that the scan is this specimen's)",
-        r.correlation,
-        r.correlation_noise_corrected,
-        o.min_correlation);
+    v.scan_doubt =
+        foreign && r.correlation_noise_corrected >= o.min_correlation
+            ? fmt::format(
+                  "the scan may belong to another specimen: {}; the verdict "
+                  "is judged on the force side (check that the scan is this "
+                  "specimen's)",
+                  ForeignWaviness(r, o))
+            : fmt::format(
+                  "the scan may belong to another test: its profile "
+                  "correlates with P/S at r = {:.2f} ({:.2f} corrected) < "
+                  "{:.2f} while the force side alone is explained; the "
+                  "verdict is judged on the force side (check that the scan "
+                  "is this specimen's)",
+                  r.correlation,
+                  r.correlation_noise_corrected,
+                  o.min_correlation);
   } else {
     v.reasons.insert(v.reasons.end(), scan_reasons.begin(), scan_reasons.end());
   }

@@ -403,8 +403,10 @@ CycleWindow QuotedWindow(const TestResult& r) {
 SpringCheck CheckTheSpring(const TestResult& r) {
   if (!r.profile.FromSpring()) return {};
   const FuseOptions& o = r.options;
+  // A scan that may be another test's says nothing of this spring.
   const Alignment* a = r.scan ? &r.scan->alignment : nullptr;
-  if (a && a->correlation_noise_corrected < o.verdict.min_correlation)
+  if (a && (a->correlation_noise_corrected < o.verdict.min_correlation ||
+            o.verdict.ScanIsForeign(r.mismatch)))
     a = nullptr;
   return CheckSpring(r.track_history,
                      a,

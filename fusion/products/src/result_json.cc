@@ -183,6 +183,10 @@ nlohmann::json ComparisonJson(const TestResult& r) {
   j["profile_correlation"] = m.correlation;
   j["profile_correlation_noise_corrected"] = m.correlation_noise_corrected;
   j["amplitude_ratio"] = m.amplitude_ratio;
+  if (r.scan) {
+    j["waviness_correlation"] = r.scan->alignment.waviness_correlation;
+    j["waviness_to_noise"] = r.scan->alignment.waviness_to_noise;
+  }
   return j;
 }
 

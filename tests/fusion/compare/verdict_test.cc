@@ -797,6 +797,44 @@ TEST(ScanOfAnotherTest, IsDoubtedNotBlamedOnThePhysics) {
       foreign.mismatch.mu_force.mean, mine.mismatch.mu_force.mean, 1e-12);
 }
 
+// The scan's identity from the waviness: judged where it stands above the
+// noise; a low correlation or a misfit beyond the noise is another
+// specimen's scan, said as a doubt while the force side passes.
+TEST(Verdict, AScanWhoseWavinessIsAnotherSpecimensIsDoubted) {
+  MismatchReport r;
+  r.has_scan = true;
+  r.identity_judged = true;
+  r.correlation = r.correlation_noise_corrected = 0.95;
+  r.amplitude_ratio = 1.0;
+  r.amplitude_ratio_low = 0.98;
+  r.amplitude_ratio_high = 1.02;
+  r.cost_force.count = 10;
+  r.waviness_correlation = 0.99;
+  r.waviness_to_noise = 50;
+  const VerdictOptions o;
+  EXPECT_TRUE(o.IdentityCheckable(r));
+  EXPECT_FALSE(o.ScanIsForeign(r));  // misfit (1 - 0.98) * 50 = 1.0
+  EXPECT_EQ(Judge(r, o).scan_doubt, "");
+  r.waviness_correlation = 0.9;  // misfit 9.5 > 8
+  EXPECT_TRUE(o.ScanIsForeign(r));
+  const Verdict v = Judge(r, o);
+  EXPECT_TRUE(v.explained);
+  EXPECT_EQ(v.scan_doubt.rfind("the scan may belong to another specimen: "
+                               "the scan's waviness",
+                               0),
+            0u)
+      << v.scan_doubt;
+  r.waviness_correlation = 0.5;
+  r.waviness_to_noise = 5;  // misfit 3.75, but r below 0.6
+  EXPECT_TRUE(o.ScanIsForeign(r));
+  r.waviness_to_noise = 3;  // below 4: not judged
+  EXPECT_FALSE(o.IdentityCheckable(r));
+  EXPECT_FALSE(o.ScanIsForeign(r));
+  r.waviness_to_noise = 50;
+  r.identity_judged = false;  // the profile from the friction
+  EXPECT_FALSE(o.ScanIsForeign(r));
+}
+
 // The bundled samples' tests (20 cycles at 500 Hz, 256 x 192 scans of
 // 29.6 um pixels, the default spring, which is the rig's): P/S varies 0.54-
 // 0.69x as much as the scanned groove because the track is still growing

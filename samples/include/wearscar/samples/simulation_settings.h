@@ -22,6 +22,7 @@ struct SimulationRequest {
   bool no_elastic = false;
   double noise = -1;                 // scale of the calibrated sensor noise
   double elastic_fraction = -1;      // S-RL-R-like elastic part, of the profile
+  double ring_width_cv = -1;         // rings of varying width (sd / mean)
   std::vector<std::string> effects;  // name=value
   bool triangle = false;
   bool dead_weight = false;  // --rig dead-weight

@@ -103,6 +103,10 @@ struct SimulationOptions {
   // Specimen along the stroke.
   bool across_rings = true;  // R sliding crosses earlywood/latewood
   double ring_period_mm = 1.6;
+  // Each ring's width varies about ring_period_mm by this (sd over the
+  // mean): one year's growth differs from the next, so two specimens of
+  // the same wood differ in where their rings fall. 0: every ring alike.
+  double ring_width_cv = 0.0;
   double latewood_fraction = 0.3;
   double hardness_contrast = 1.6;  // latewood / earlywood hardness
   double texture = 0.05;         // along-ring random hardness variation (rel.)

@@ -81,6 +81,14 @@ struct Alignment {
   double amplitude_ratio_low = std::numeric_limits<double>::quiet_NaN();
   double amplitude_ratio_high = std::numeric_limits<double>::quiet_NaN();
   int overlap_samples = 0;
+  // The waviness: both profiles less their running mean over
+  // AlignOptions::waviness_window_mm, the groove's envelope (common to
+  // every track of a case) removed, its rings and texture (each
+  // specimen's own) kept. Its correlation corrected for the force
+  // profile's noise (at most 1), and the force profile's waviness variance
+  // over that noise's: what tells this specimen's scan from another's.
+  double waviness_correlation = std::numeric_limits<double>::quiet_NaN();
+  double waviness_to_noise = std::numeric_limits<double>::quiet_NaN();
   std::string message = "not run";
   // The search's outcome: shift, flip, correlation, scale, points.
   std::string BriefReport() const { return message; }
@@ -102,6 +110,7 @@ struct AlignOptions {
   double min_overlap_fraction = 0.6;  // of the force profile's valid points
   bool allow_flip = true;
   int ratio_blocks = 10;  // jackknife blocks for the amplitude ratio's interval
+  double waviness_window_mm = 0.4;  // Alignment::waviness_correlation
   bool IsValid(std::string* why) const;
 };
 

@@ -160,9 +160,10 @@ void PrintDiagnosis(const std::string& name,
       from_scan ? "scan" : "force side");
   Say("where the wear-scar model misses: {}\n", d.before.where);
   Say("  split by the direction of sliding at the same x: direction-odd "
-      "{:.3f} N rms (friction along the track is odd), direction-even "
-      "{:.3f} N rms (a lag, a pick-up, a tilt add the same sign both "
-      "ways); repeatable {:.3f} N ({:.0f} standard errors above its noise)\n",
+      "{:.3f} N rms (friction along the track, ploughing, a viscous or "
+      "Stribeck term), direction-even {:.3f} N rms (a scale of k, a "
+      "pick-up; a lag and an asymmetry add to both); repeatable {:.3f} N "
+      "({:.0f} standard errors above its noise)\n",
       d.before.odd_rms_n,
       d.before.even_rms_n,
       d.before.repeatable_rms_n,

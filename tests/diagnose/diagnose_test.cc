@@ -43,6 +43,14 @@ TEST_P(DiagnoseHiddenEffect, NamesItFirstAndShrinksTheGap) {
   EXPECT_EQ(d.named.front(), h.effect) << d.message;
   EXPECT_EQ(d.named.size(), 1u) << d.message;
   EXPECT_LE(d.heldout_final, 0.7 * d.heldout_initial) << d.message;
+  // The residual before any effect has the direction parity the named
+  // effect declares (the registry's property, from the simulator's law).
+  const Parity parity = FindEffect(h.effect)->DirectionParity();
+  if (parity == Parity::kOdd) {
+    EXPECT_GT(d.before.odd_rms_n, 2 * d.before.even_rms_n) << d.message;
+  } else if (parity == Parity::kEven) {
+    EXPECT_GT(d.before.even_rms_n, 2 * d.before.odd_rms_n) << d.message;
+  }
   if (h.same_law) {
     const double fitted = d.model.front().parameters.front();
     EXPECT_NEAR(fitted, h.strength, 0.25 * std::abs(h.strength)) << d.message;

@@ -94,8 +94,8 @@ FigureSet WriteDiagnosis(const std::string& dir,
     gp += fmt::format(
         "set output 'diagnosis_direction_split.{0}'\nset ylabel 'part of "
         "the signed residual (N)'\nset title '{1}: direction-odd (friction "
-        "along the track) and direction-even parts (a lag, a pick-up, a "
-        "tilt)' noenhanced\nplot 'residual_map_before.csv' skip 1 using 1:6 "
+        "along the track) and direction-even parts (a scale of k, a "
+        "pick-up)' noenhanced\nplot 'residual_map_before.csv' skip 1 using 1:6 "
         "with lines lw 2 title 'odd, before', '' skip 1 using 1:7 with lines "
         "lw 2 title 'even, before', 'residual_map_after.csv' skip 1 using "
         "1:6 with lines dt 2 title 'odd, after', '' skip 1 using 1:7 with "

@@ -14,6 +14,7 @@ namespace {
 // with the groove depth:  extra = s c_p depth(x).
 class Ploughing : public Effect {
  public:
+  Parity DirectionParity() const override { return Parity::kOdd; }
   std::string Name() const override { return "ploughing"; }
   std::string Key() const override { return "ploughing"; }
   std::string Formula() const override { return "Q += s c_p depth(x)"; }
@@ -34,6 +35,7 @@ class Ploughing : public Effect {
 //   mu_eff = mu (1 + a exp(-(v / v_s)^2)).
 class Stribeck : public Effect {
  public:
+  Parity DirectionParity() const override { return Parity::kOdd; }
   std::string Name() const override { return "velocity dependence (Stribeck)"; }
   std::string Key() const override { return "stribeck"; }
   std::string Formula() const override {
@@ -53,6 +55,7 @@ class Stribeck : public Effect {
 // Viscous resistance proportional to the sliding speed: extra = s c_v |v|.
 class Viscous : public Effect {
  public:
+  Parity DirectionParity() const override { return Parity::kOdd; }
   std::string Name() const override { return "viscous term"; }
   std::string Key() const override { return "viscous"; }
   std::string Formula() const override { return "Q += s c_v |v|"; }
@@ -71,6 +74,8 @@ class Viscous : public Effect {
 };
 
 // Direction asymmetry: mu_forward = mu (1 + a), mu_reverse = mu (1 - a).
+// mu (1 + s a) adds a mu P through the wear-scar law's denominator
+// 1 - s mu k: mixed (measured odd on the simulator's ratchet law).
 class Asymmetry : public Effect {
  public:
   std::string Name() const override { return "direction asymmetry"; }
@@ -87,6 +92,8 @@ class Asymmetry : public Effect {
 
 // Time lag of the Q channel: the measured Q at t is the force at t - tau,
 // so the model at t is compared with the measurement at t + tau.
+// Its residual -tau d/dt[P (k + s mu)] has an even part, mu P' |v|, and
+// an odd one, (P k)' |v|, which dominates on a wavy track: mixed.
 class TimeLag : public Effect {
  public:
   std::string Name() const override { return "time lag of the Q channel"; }
@@ -149,6 +156,7 @@ class Hook : public Effect {
 // contact tilts by k = k_measured / (1 + beta).
 class ElasticCompliance : public Effect {
  public:
+  Parity DirectionParity() const override { return Parity::kEven; }
   std::string Name() const override {
     return "elastic compliance of the track";
   }
@@ -172,6 +180,7 @@ class ElasticCompliance : public Effect {
 // grew from nothing), and the diagnosis tries the one it supports.
 class SpringStiffness : public Effect {
  public:
+  Parity DirectionParity() const override { return Parity::kEven; }
   std::string Name() const override { return "spring stiffness"; }
   std::string Key() const override { return "spring"; }
   bool ScalesTheSlope() const override { return true; }
@@ -190,6 +199,7 @@ class SpringStiffness : public Effect {
 // linear between equally spaced knots over the stroke.
 class AlongTrack : public Effect {
  public:
+  Parity DirectionParity() const override { return Parity::kOdd; }
   explicit AlongTrack(int knots) : knots_(std::max(3, knots)) {}
   std::string Name() const override {
     return "friction varying along the track";
@@ -256,6 +266,10 @@ class AlongTrack : public Effect {
 };
 
 }  // namespace
+
+const char* ParityName(Parity p) {
+  return p == Parity::kOdd ? "odd" : p == Parity::kEven ? "even" : "mixed";
+}
 
 const std::vector<std::unique_ptr<Effect>>& EffectLibrary() {
   static const std::vector<std::unique_ptr<Effect>> library = [] {

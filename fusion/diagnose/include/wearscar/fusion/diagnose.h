@@ -100,8 +100,8 @@ struct ResidualMap {
   // The cycle-mean signed residual split by the direction of sliding at
   // the same x: odd = (forward - reverse) / 2 (friction along the track is
   // odd: it opposes the motion both ways), even = (forward + reverse) / 2
-  // (a lag of Q, a pick-up, a tilt add the same sign both ways); NaN where
-  // a direction has no samples. Their rms over the bins, N.
+  // (a scale of k adds the same sign both ways; Effect::DirectionParity);
+  // NaN where a direction has no samples. Their rms over the bins, N.
   Eigen::VectorXd odd_n, even_n;
   double odd_rms_n = 0.0, even_rms_n = 0.0;
   // How far the cycle-mean map stands above its own noise: the bins'

@@ -29,6 +29,16 @@ struct EffectContext {
   double time_shift_s = 0;  // compare with the measured Q at time + shift
 };
 
+// How an effect's contribution to Q at one x differs between the two
+// directions of sliding: odd (the same size, opposite sign: it opposes
+// the motion both ways, as friction along the track does), even (the same
+// sign both ways: a scale of the track's slope), or mixed (a lag of Q,
+// whose slope part is odd and friction part even). The
+// residual's split (ResidualMap::odd_rms_n, even_rms_n) shows which the
+// missing effect is.
+enum class Parity { kOdd, kEven, kMixed };
+const char* ParityName(Parity p);  // "odd", "even", "mixed"
+
 // A named physical term with parameters. Adding an effect to wearscar is
 // one new subclass registered in EffectLibrary(); nothing else changes.
 class Effect {
@@ -49,6 +59,7 @@ class Effect {
   // (1 + g) k (an elastic part in phase with the track): with a slope that
   // is one fixed profile (the scan's), it is that profile's depth scale.
   virtual bool ScalesTheSlope() const { return false; }
+  virtual Parity DirectionParity() const { return Parity::kMixed; }
   // The parameter reported as the effect's strength.
   virtual int StrengthIndex() const { return 0; }
   // Whether fitted parameters are the effect's physics (a resistance that

@@ -150,10 +150,12 @@ std::string ParameterText(const fusion::CandidateResult& c) {
 void PrintDiagnosis(const std::string& name,
                     const fusion::Diagnosis& d,
                     bool from_scan) {
-  Say("{}: diagnosis on {} cycles ({}-{}), slope from {}, depth from the "
+  const int span = d.cycles.back() - d.cycles.front() + 1;
+  Say("{}: diagnosis on {} cycles {} {}-{}, slope from {}, depth from the "
       "{}\n",
       name,
       d.cycles.size(),
+      static_cast<int>(d.cycles.size()) == span ? "of" : "spread over",
       d.cycles.front() + 1,
       d.cycles.back() + 1,
       d.slope_source,

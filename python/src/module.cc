@@ -174,6 +174,11 @@ force::ForceRecord ForceOf(const py::object& force,
     py::gil_scoped_release release;
     return force::ReadForceFile(*path, a.read_force);
   }
+  if (!py::isinstance<force::ForceRecord>(force)) {
+    throw py::type_error(
+        "fuse(force=...): expected a path or a ForceRecord; found " +
+        py::str(py::type::of(force).attr("__name__")).cast<std::string>());
+  }
   return force.cast<force::ForceRecord>();
 }
 
@@ -184,6 +189,11 @@ std::optional<scan::HeightMap> ScanOf(const py::object& scan,
     const std::string path = scan.cast<std::string>();
     py::gil_scoped_release release;
     return scan::ReadScan(path, a.read_scan);
+  }
+  if (!py::isinstance<scan::HeightMap>(scan)) {
+    throw py::type_error(
+        "fuse(scan=...): expected a path, a HeightMap or None; found " +
+        py::str(py::type::of(scan).attr("__name__")).cast<std::string>());
   }
   return scan.cast<scan::HeightMap>();
 }
@@ -472,6 +482,21 @@ PYBIND11_MODULE(_wearscar, m) {
       m, "OptionError", PyExc_ValueError);
   static py::exception<report::OutputError> output_error(
       m, "OutputError", PyExc_OSError);
+  // What each error means, for help() and the exception's __doc__.
+  force_error.attr("__doc__") =
+      "A force file that cannot be read: the file, the line or byte, what "
+      "was found and what was expected (a ValueError).";
+  scan_error.attr("__doc__") =
+      "A height map that cannot be read: the file, the byte or field, what "
+      "was found and what was expected (a ValueError).";
+  fusion_error.attr("__doc__") =
+      "A test that cannot be analysed as asked (too few cycles, no track in "
+      "the scan, ...), with why (a ValueError).";
+  option_error.attr("__doc__") =
+      "A keyword argument with a bad value, named as Python writes it: "
+      "\"fuse(spring=...): found 0; expected ...\" (a ValueError).";
+  output_error.attr("__doc__") =
+      "A folder or file that cannot be written (an OSError).";
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);

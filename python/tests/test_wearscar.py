@@ -134,6 +134,18 @@ def test_errors_carry_the_command_lines_messages(tmp_path):
                                 "'sprung'; did you mean 'spring'?")
     with pytest.raises(wearscar.OptionError, match=r"k_estimate=\.\.\."):
         wearscar.fuse(SAMPLES / "B-RT-R.force.csv", k_estimate="median")
+    # Two values for a setting that takes one are refused, not the last
+    # silently used; what is neither a path nor a record is a TypeError.
+    with pytest.raises(wearscar.OptionError) as error:
+        wearscar.fuse(SAMPLES / "B-RT-R.force.csv", running_in=[5, 7])
+    assert str(error.value) == (
+        "fuse(running_in=...): given 2 values (5, 7); it takes one")
+    with pytest.raises(TypeError, match=r"fuse\(force=\.\.\.\): expected a "
+                       r"path or a ForceRecord; found int"):
+        wearscar.fuse(42)
+    with pytest.raises(TypeError, match=r"fuse\(scan=\.\.\.\): .*found list"):
+        wearscar.fuse(SAMPLES / "B-RT-R.force.csv", [1, 2])
+    assert "keyword argument with a bad value" in wearscar.OptionError.__doc__
     if BINARY:
         for args, call in (
                 (["force", str(bad)], lambda: wearscar.read_force(bad)),

@@ -8,9 +8,10 @@ track (wear-scar interaction, Q = P (k + s mu) / (1 - s mu k)).
     result.mu_hat, result.summary["verdict"]["summary"]
 
 Keyword arguments are the command line's options with '_' for '-' and the
-same defaults (``wearscar fuse --help`` lists them): ``spring=10.19``,
-``k_estimate="cycle"``, ``running_in=20``, ``slope="scan"``,
-``no_lugre=True``, ``columns="x=Pos:um,q=Ff,p=Fn"``. Bad values raise
+same defaults (``wearscar fuse --help`` lists them), for example
+``spring=25``, ``k_estimate="cycle"``, ``running_in=20``, ``slope="scan"``,
+``no_lugre=True``, ``columns="x=Pos:um,q=Ff,p=Fn"``; a list gives a
+repeatable option each of its values, and is refused for the others. Bad values raise
 ``OptionError`` (a ValueError) naming the keyword; a keyword that is not
 an option raises TypeError (with the closest one it may have meant); bad
 files raise ``ForceError`` or

@@ -23,7 +23,8 @@ S Repeated(std::string name,
           "TEXT",
           ~0u,
           [list](R* r, const std::string& text) { (r->*list).push_back(text); },
-          [](const R&) { return std::string(); }};
+          [](const R&) { return std::string(); },
+          true};
 }
 
 // An override: a positive number, or nothing (each case's own value).

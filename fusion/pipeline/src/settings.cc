@@ -724,7 +724,8 @@ std::vector<support::Setting<M>> MapAnalysisSettings() {
            start = comma + 1;
          }
        },
-       [](const M&) { return std::string(); }},
+       [](const M&) { return std::string(); },
+       true},
       NumberSetting<M>(
           "section-half-width",
           g,

@@ -45,6 +45,9 @@ struct Setting {
   std::function<void(Target*, const std::string&)> set;
   // The value as text for the help ("" for none).
   std::function<std::string(const Target&)> show;
+  // Whether giving it again adds to it (a list); otherwise a second value
+  // is refused rather than silently replacing the first.
+  bool repeatable = false;
 };
 
 // The whole text as a finite number in [lo, hi] (an integer with
@@ -74,9 +77,21 @@ void ApplySettings(
     const std::vector<std::pair<std::string, std::string>>& given,
     Target* target) {
   for (const auto& [name, text] : given) {
-    bool known = false;
-    for (const Setting<Target>& s : list) known |= s.name == name;
-    if (!known) throw SettingFailed(name, "not a setting");
+    const Setting<Target>* setting = nullptr;
+    for (const Setting<Target>& s : list)
+      if (s.name == name) setting = &s;
+    if (setting == nullptr) throw SettingFailed(name, "not a setting");
+    std::string values;
+    int count = 0;
+    for (const auto& [other, value] : given) {
+      if (other != name) continue;
+      values += (count++ ? ", " : "") + value;
+    }
+    if (count > 1 && !setting->repeatable) {
+      throw SettingFailed(name,
+                          "given " + std::to_string(count) + " values (" +
+                              values + "); it takes one");
+    }
   }
   for (const Setting<Target>& s : list) {
     for (const auto& [name, text] : given) {

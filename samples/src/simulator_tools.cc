@@ -80,4 +80,30 @@ Eigen::VectorXd Texture(const Eigen::VectorXd& x, Rng& rng) {
   return sd > 0 ? Eigen::VectorXd((t.array() - mean) / sd) : t;
 }
 
+Eigen::VectorXd RingPhase(const Eigen::VectorXd& x,
+                          double period,
+                          double width_cv,
+                          double offset_mm,
+                          Rng& widths) {
+  Eigen::VectorXd p(x.size());
+  if (width_cv == 0) {
+    for (Eigen::Index i = 0; i < x.size(); ++i)
+      p[i] = std::fmod(x[i] - offset_mm + 100 * period, period) / period;
+    return p;
+  }
+  auto next = [&] {
+    return period * std::max(0.3, 1 + width_cv * widths.Normal());
+  };
+  double begin = offset_mm - period * std::ceil((offset_mm - x[0]) / period);
+  double width = next();
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    while (x[i] >= begin + width) {
+      begin += width;
+      width = next();
+    }
+    p[i] = std::clamp((x[i] - begin) / width, 0.0, std::nextafter(1.0, 0.0));
+  }
+  return p;
+}
+
 }  // namespace wearscar::samples::internal

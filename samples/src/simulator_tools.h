@@ -72,4 +72,15 @@ void BlurInPlace(scan::HeightMap::Heights* image, double sigma_px);
 // unit standard deviation.
 Eigen::VectorXd Texture(const Eigen::VectorXd& x, Rng& rng);
 
+// Each point's phase within its growth ring, in [0, 1): rings of `period`
+// mm, a boundary `offset_mm` after a multiple of it; with `width_cv` each
+// ring's width varies about the period (sd over the mean, drawn from
+// `widths`), one year's growth unlike the next, so that two specimens of
+// one wood differ in where their rings fall, not only in phase.
+Eigen::VectorXd RingPhase(const Eigen::VectorXd& x,
+                          double period,
+                          double width_cv,
+                          double offset_mm,
+                          Rng& widths);
+
 }  // namespace wearscar::samples::internal

@@ -191,35 +191,6 @@ Eigen::VectorXd FrictionFactor(const SimulationOptions& o,
   return factor / (sum / n);
 }
 
-// Each grid point's phase within its growth ring, in [0, 1). Rings of
-// ring_period_mm, a boundary `offset_mm` after a multiple of it; with
-// ring_width_cv each ring's width varies about that mean (a year's growth
-// differs from the next), drawn from a stream of its own so that nothing
-// else a seed makes changes: two specimens of one wood then differ in
-// where their rings fall, not only in phase.
-Eigen::VectorXd RingPhase(const SimulationOptions& o,
-                          const Eigen::VectorXd& xg,
-                          double offset_mm) {
-  const double period = o.ring_period_mm;
-  Eigen::VectorXd p(xg.size());
-  if (o.ring_width_cv == 0) {
-    for (Eigen::Index i = 0; i < xg.size(); ++i)
-      p[i] = std::fmod(xg[i] - offset_mm + 100 * period, period) / period;
-    return p;
-  }
-  Rng widths(o.seed ^ 0xD1B54A32D192ED03ULL);
-  double begin = offset_mm - period * std::ceil((offset_mm - xg[0]) / period);
-  double width = period * std::max(0.3, 1 + o.ring_width_cv * widths.Normal());
-  for (Eigen::Index i = 0; i < xg.size(); ++i) {
-    while (xg[i] >= begin + width) {
-      begin += width;
-      width = period * std::max(0.3, 1 + o.ring_width_cv * widths.Normal());
-    }
-    p[i] = std::clamp((xg[i] - begin) / width, 0.0, std::nextafter(1.0, 0.0));
-  }
-  return p;
-}
-
 // The fraction of latewood at ring phase p: smooth band edges (logistic,
 // 4% of a ring), the band wrapping around the ring.
 double Latewood(const SimulationOptions& o, double p) {
@@ -256,8 +227,15 @@ Specimen MakeSpecimen(const SimulationOptions& o, Rng& rng, Rng& extra) {
   const double x0 = -(o.amplitude_mm + margin);
   const Eigen::VectorXd xg =
       Eigen::VectorXd::LinSpaced(ng, x0, x0 + (ng - 1) * step);
+  // Each ring's widths from a stream of its own, so that nothing else a
+  // seed makes changes with ring_width_cv.
+  Rng widths(o.seed ^ 0xD1B54A32D192ED03ULL);
   const Eigen::VectorXd ring_phase =
-      RingPhase(o, xg, o.ring_period_mm * rng.Uniform());
+      internal::RingPhase(xg,
+                          o.ring_period_mm,
+                          o.ring_width_cv,
+                          o.ring_period_mm * rng.Uniform(),
+                          widths);
   const Eigen::VectorXd texture = Texture(xg, rng);
   const Eigen::VectorXd texture_e = Texture(xg, rng);
   Eigen::VectorXd hardness(ng), stiffness(ng);

@@ -5,7 +5,7 @@
 // always: the simulator's specimens are look-alikes by chance, see the
 // counts below), and where it does not stand out, the result says that the
 // scan's identity cannot be checked; this specimen's own scan flagged on
-// none. The figures of the closing note come from the printed lines.
+// none. docs/method.md quotes the printed counts.
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>

@@ -3,8 +3,7 @@
 // seeds (120 cycles, full-size scans): said as the stiffness it is, never
 // as an effect the model misses nor as an elastic part; the right spring
 // questioned on no clean run of the 12 cases; the paper's S-RL-R elastic
-// part still named elastic. The figures of the closing note come from the
-// printed lines.
+// part still named elastic. docs/method.md quotes the printed figures.
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>

@@ -189,6 +189,34 @@ TEST_F(LabFolder, CompressedFilesPairByTheNameUnderTheSuffix) {
   EXPECT_EQ(SpecimenName("lab/oak_02_force.csv.gz"), "oak_02");
 }
 
+// Labs name files in their own language, in any case: the role words of
+// German, French and Spanish pair as the English ones do (accented
+// capitals included), and are left out of the specimen's name.
+TEST_F(LabFolder, PairsFilesNamedInGermanFrenchAndSpanish) {
+  Force("Probe 7 Reibung.csv");
+  KeyenceCsv("Probe 7 Oberfläche.csv");
+  Force("PROBE 8 KRAFT.csv");
+  KeyenceCsv("PROBE 8 OBERFLÄCHE.csv");
+  Force("Probe_9_Reibkraft.csv");
+  Gsf("Probe_9_Höhe.gsf");
+  Force("echantillon-3-frottement.csv");
+  KeyenceCsv("echantillon-3-hauteur.csv");
+  Force("muestra_4_fricción.csv");
+  KeyenceCsv("muestra_4_superficie.csv");
+  Force("Muestra_5_Fuerza.csv");
+  KeyenceCsv("Muestra_5_Perfil.csv");
+  const std::map<std::string, std::string> p = Pairs();
+  ASSERT_EQ(p.size(), 6u);
+  EXPECT_EQ(p.at("Probe 7"), "Probe 7 Reibung.csv | Probe 7 Oberfläche.csv | ");
+  EXPECT_EQ(p.at("PROBE 8"), "PROBE 8 KRAFT.csv | PROBE 8 OBERFLÄCHE.csv | ");
+  EXPECT_EQ(p.at("Probe_9"), "Probe_9_Reibkraft.csv | Probe_9_Höhe.gsf | ");
+  EXPECT_EQ(p.at("echantillon-3"),
+            "echantillon-3-frottement.csv | echantillon-3-hauteur.csv | ");
+  EXPECT_EQ(p.at("muestra_4"),
+            "muestra_4_fricción.csv | muestra_4_superficie.csv | ");
+  EXPECT_EQ(p.at("Muestra_5"), "Muestra_5_Fuerza.csv | Muestra_5_Perfil.csv | ");
+}
+
 TEST(SpecimenName, LeavesOutRoleWordsAndTheirSeparators) {
   EXPECT_EQ(SpecimenName("data/B-RT-R.force.csv"), "B-RT-R");
   EXPECT_EQ(SpecimenName("oak_30N_run01_height.csv"), "oak_30N_run01");

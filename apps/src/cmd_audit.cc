@@ -8,6 +8,7 @@
 #include "commands.h"
 #include "output.h"
 #include "setting_flags.h"
+#include "shards.h"
 #include "wearscar/fusion/batch.h"
 #include "wearscar/fusion/settings.h"
 #include "wearscar/report/audit.h"
@@ -22,6 +23,7 @@ struct AuditArgs {
   std::string input;
   std::string out = "audit";
   std::string shard;
+  int shard_base = 1;
   std::string merge;  // --merge OUT
   bool no_figures = false;
   bool dry_run = false;
@@ -122,11 +124,47 @@ void RunMerge(const AuditArgs& a, const fusion::TestSettings& settings) {
   o.read_scan = settings.read_scan;
   o.fuse = settings.fuse;
   o.figures = !a.no_figures;
+  o.break_lock = BreakLock();
   const report::AuditResult r = report::MergeAudit(
       a.merge, fmt::format("wearscar audit merged in {}", a.merge), o);
   PrintSections(r.specimens, r);
   PrintMerged(r, a.merge);
   Say("report: {}\n", fs::absolute(r.report_path).string());
+  // A merge job that ran before every shard had written its part is not
+  // a complete audit (an `afterany` dependency shows it as failed).
+  if (!r.missing_shards.empty()) {
+    fmt::print(stderr,
+               "wearscar: {}: {} of {} shards missing ({}); their "
+               "specimens are not in the summary\n",
+               a.merge,
+               r.missing_shards.size(),
+               r.shard_count,
+               fmt::join(r.missing_shards, ", "));
+    SetExitStatus(kExitSpecimensFailed);
+  }
+}
+
+// The default spring, for the specimens whose file states none.
+void SayDefaultSpring(const report::AuditResult& r,
+                      const fusion::TestSettings& settings) {
+  std::size_t defaulted = 0, analysed = 0;
+  for (const auto& sec : r.specimens) {
+    if (sec.failed) continue;
+    ++analysed;
+    const nlohmann::json said = Dig(sec.row, {"assumptions"});
+    if (said.is_array() && !said.empty() && said[0].is_string() &&
+        said[0].get<std::string>().find("the default") != std::string::npos)
+      ++defaulted;
+  }
+  if (!settings.fuse.spring_given && defaulted > 0) {
+    Say("assumed for {}: spring S = {:g} N/mm, the default (the paper's "
+        "rig), neither given nor stated in the file; each result says the "
+        "stiffness its scan implies (--spring to set it)\n",
+        defaulted == analysed
+            ? std::string("every specimen")
+            : fmt::format("{} of {} specimens", defaulted, analysed),
+        settings.fuse.analysis.friction.slope.spring_n_per_mm);
+  }
 }
 
 void RunAudit(AuditArgs a) {
@@ -139,14 +177,16 @@ void RunAudit(AuditArgs a) {
         "merge the shards written into OUT)");
   }
   fusion::BatchOptions& batch = a.audit.batch;
-  if (!a.shard.empty() &&
-      (std::sscanf(
-           a.shard.c_str(), "%d/%d", &batch.shard_index, &batch.shard_count) !=
-           2 ||
-       batch.shard_count < 1 || batch.shard_index < 1 ||
-       batch.shard_index > batch.shard_count)) {
-    throw UsageError(
-        fmt::format("--shard '{}': expected i/n with 1 <= i <= n", a.shard));
+  a.audit.break_lock = BreakLock();
+  if (!a.shard.empty() && !a.dry_run) {
+    const ShardChoice c = ChooseShard(a.shard, a.shard_base, a.out);
+    batch.shard_index = c.index;
+    batch.shard_count = c.count;
+    // A re-run following the folder's plan is said in every print mode.
+    if (c.follows_plan)
+      fmt::print(stderr, "wearscar: {}\n", c.said);
+    else
+      Say("{}\n", c.said);
   }
   a.audit.read_force = settings.read_force;
   a.audit.read_scan = settings.read_scan;
@@ -172,29 +212,23 @@ void RunAudit(AuditArgs a) {
       mine, a.out, title, a.audit, [&](long done) { progress.Update(done); });
   progress.Finish();
   PrintSections(r.specimens, r);
-  if (batch.shard_count > 1) PrintMerged(r, a.out);
-  // The default spring, for the specimens whose file states none.
-  std::size_t defaulted = 0, analysed = 0;
-  for (const auto& sec : r.specimens) {
-    if (sec.failed) continue;
-    ++analysed;
-    const nlohmann::json said = Dig(sec.row, {"assumptions"});
-    if (said.is_array() && !said.empty() && said[0].is_string() &&
-        said[0].get<std::string>().find("the default") != std::string::npos)
-      ++defaulted;
+  if (mine.empty())
+    Say("no specimens fall to this shard (more shards than specimens): "
+        "wrote an empty part\n");
+  if (batch.shard_count > 1 && a.audit.merge_shards) PrintMerged(r, a.out);
+  if (batch.shard_count > 1 && !a.audit.merge_shards)
+    Say("wrote {}/parts/shard-{}-of-{}.json; `wearscar audit --merge {}` "
+        "merges the parts\n",
+        a.out,
+        batch.shard_index,
+        batch.shard_count,
+        a.out);
+  SayDefaultSpring(r, settings);
+  if (!r.report_path.empty()) {
+    Say("report: {}\n", fs::absolute(r.report_path).string());
+    Say("tables: {} and summary.json\n",
+        (fs::path(a.out) / "summary.csv").string());
   }
-  if (!settings.fuse.spring_given && defaulted > 0) {
-    Say("assumed for {}: spring S = {:g} N/mm, the default (the paper's "
-        "rig), neither given nor stated in the file; each result says the "
-        "stiffness its scan implies (--spring to set it)\n",
-        defaulted == analysed
-            ? std::string("every specimen")
-            : fmt::format("{} of {} specimens", defaulted, analysed),
-        settings.fuse.analysis.friction.slope.spring_n_per_mm);
-  }
-  Say("report: {}\n", fs::absolute(r.report_path).string());
-  Say("tables: {} and summary.json\n",
-      (fs::path(a.out) / "summary.csv").string());
   if (!r.batch_figures.message.empty())
     fmt::print(stderr, "wearscar: {}\n", r.batch_figures.message);
   std::vector<nlohmann::json> rows;
@@ -231,9 +265,23 @@ void AddAuditCommand(CLI::App& app) {
   cmd->add_option("-j,--jobs",
                   args->audit.batch.jobs,
                   "Parallel specimens (default: all cores)");
+  cmd->add_option("--shard-base",
+                  args->shard_base,
+                  "What --shard i/n counts i from: 1 (the default) or 0 "
+                  "(as a Slurm --array=0-15 numbers its tasks)")
+      ->check(CLI::IsMember({0, 1}));
+  cmd->add_flag_callback(
+      "--no-merge",
+      [args] { args->audit.merge_shards = false; },
+      "A shard writes its part only; one `--merge` job merges them all "
+      "(on a cluster: the shards do not queue on the report)");
   cmd->add_option("--shard",
                   args->shard,
-                  "Process shard i of n (1-based), e.g. 2/4; the shards may "
+                  "Process shard i of n (counted from 1, or --shard-base), "
+                  "e.g. 2/4, or 'slurm': the task of a Slurm job array, "
+                  "numbered by the array (the first task records the plan "
+                  "in OUT/parts/plan.json; re-runs of a task follow it). "
+                  "The shards may "
                   "run at once into one --out");
   cmd->add_flag("--dry-run",
                 args->dry_run,
@@ -254,6 +302,7 @@ void AddAuditCommand(CLI::App& app) {
       args->audit.diagnose,
       "Also diagnose each specimen (named missing effects, residual maps)");
   AddPrintModeOptions(cmd);
+  AddBreakLockOption(cmd);
   AddSettingFlags(cmd,
                   fusion::TestSettingList(),
                   fusion::kFuseSettings,

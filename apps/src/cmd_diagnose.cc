@@ -53,7 +53,7 @@ void RunDiagnose(DiagnoseArgs a) {
     }
   }
   if (a.out.empty()) return;
-  const OutputLock lock(a.out);
+  const OutputLock lock(a.out, OutputLock::kExclusive, BreakLock());
   StagedOutput stage(a.out, "diagnose");
   report::WriteDiagnosis(stage.dir(), name, d, !a.no_figures, a.figure_formats);
   stage.Commit();
@@ -106,6 +106,7 @@ void AddDiagnoseCommand(CLI::App& app) {
       ->capture_default_str();
   AddFigureOptions(cmd, &args->no_figures, &args->figure_formats);
   AddPrintModeOptions(cmd);
+  AddBreakLockOption(cmd);
   AddSettingFlags(cmd,
                   fusion::TestSettingList(),
                   fusion::kDiagnoseSettings,

@@ -70,7 +70,7 @@ void RunForce(ForceArgs a) {
         fusion::MakeTestProducts(a.file, record, r, settings.fuse).result);
     return;
   }
-  const OutputLock lock(a.out);
+  const OutputLock lock(a.out, OutputLock::kExclusive, BreakLock());
   StagedOutput stage(a.out, "force");
   const fusion::TestProducts products =
       report::WriteTestResults(stage.dir(), a.file, record, r, settings.fuse);
@@ -115,6 +115,7 @@ void AddForceCommand(CLI::App& app) {
   cmd->add_option("-o,--out", args->out, "Directory for the results");
   AddFigureOptions(cmd, &args->no_figures, &args->figure_formats);
   AddPrintModeOptions(cmd);
+  AddBreakLockOption(cmd);
   AddSettingFlags(cmd,
                   fusion::TestSettingList(),
                   fusion::kForceCommandSettings,

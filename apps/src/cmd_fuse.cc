@@ -62,7 +62,7 @@ void RunFuse(FuseArgs a) {
   }
   // One writer per folder; everything is staged and moved into place only
   // when the whole set is there.
-  const OutputLock lock(a.out);
+  const OutputLock lock(a.out, OutputLock::kExclusive, BreakLock());
   StagedOutput stage(a.out, "fuse");
   const fusion::TestProducts products = report::WriteTestResults(
       stage.dir(), name, record, r, settings.fuse, a.write);
@@ -119,6 +119,7 @@ void AddFuseCommand(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   AddFigureOptions(cmd, &args->no_figures, &args->figure_formats);
   AddPrintModeOptions(cmd);
+  AddBreakLockOption(cmd);
   AddSettingFlags(cmd,
                   fusion::TestSettingList(),
                   fusion::kFuseSettings,

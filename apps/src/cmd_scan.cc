@@ -79,7 +79,7 @@ void RunScan(const ScanArgs& a) {
   }
   // Staged: a run that fails late (a full disk, a map too small for the
   // preview) leaves nothing new in the folder.
-  const OutputLock lock(a.out);
+  const OutputLock lock(a.out, OutputLock::kExclusive, BreakLock());
   StagedOutput stage(a.out, "scan");
   std::vector<std::string> written;
   auto path = [&](const std::string& file) {
@@ -125,6 +125,7 @@ void AddScanCommand(CLI::App& app) {
   AddFigureOptions(
       cmd, &args->no_figures, &args->figure_formats, "Skip the map figure");
   AddPrintModeOptions(cmd);
+  AddBreakLockOption(cmd);
   cmd->footer(
       "Examples:\n"
       "  wearscar scan track.zon -o out/scan\n"

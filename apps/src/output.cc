@@ -12,9 +12,20 @@ namespace wearscar::app {
 namespace {
 int g_exit_status = 0;
 PrintMode g_print_mode = PrintMode::kText;
+bool g_break_lock = false;
 }  // namespace
 
 PrintMode CurrentPrintMode() { return g_print_mode; }
+
+bool BreakLock() { return g_break_lock; }
+
+void AddBreakLockOption(CLI::App* cmd) {
+  cmd->add_flag_callback(
+      "--break-lock",
+      [] { g_break_lock = true; },
+      "Remove a lock file of the output folder left by a wearscar that was "
+      "killed (where the file system has no flock; the message names it)");
+}
 
 void AddPrintModeOptions(CLI::App* cmd) {
   auto* quiet = cmd->add_flag_callback(

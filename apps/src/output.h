@@ -26,6 +26,11 @@ PrintMode CurrentPrintMode();
 // Adds -q,--quiet and --json to a command.
 void AddPrintModeOptions(CLI::App* cmd);
 
+// --break-lock: the output folder's lock files (on a file system without
+// flock) are removed rather than obeyed (report::OutputLock).
+bool BreakLock();
+void AddBreakLockOption(CLI::App* cmd);
+
 // fmt::print to stdout in text mode only.
 template <typename... Args>
 void Say(fmt::format_string<Args...> format, Args&&... args) {

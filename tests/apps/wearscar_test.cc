@@ -932,6 +932,24 @@ TEST(Audit, ManifestPairsFilesAndShardsMergeInOneFolder) {
   EXPECT_NE(Slurp(out + "/report.html")
                 .find("(shard 1 of 2 missing: not in this report)"),
             std::string::npos);
+  // A merge job with a shard missing fails, naming it (an `afterany`
+  // merge shows the audit incomplete).
+  const CommandResult early =
+      Wearscar("audit --merge " + out + " --no-figures");
+  EXPECT_EQ(early.status, 3) << early.output;
+  EXPECT_NE(early.output.find(out + ": 1 of 2 shards missing (1); their "
+                                    "specimens are not in the summary"),
+            std::string::npos)
+      << early.output;
+  // Another split into the same folder is refused before any work.
+  const CommandResult other =
+      Wearscar("audit " + manifest + " --shard 4/4 --no-figures -o " + out);
+  EXPECT_EQ(other.status, 2) << other.output;
+  EXPECT_NE(other.output.find("--shard '4/4' (from 1): " + out +
+                              " holds the parts of an audit split into 2 "
+                              "shards, indices from 1 (--shard; "),
+            std::string::npos)
+      << other.output;
   const CommandResult first = Wearscar("audit " + manifest +
                                        " --shard 1/2 --no-figures "
                                        "--running-in 30 -o " +
@@ -973,10 +991,11 @@ TEST(Audit, TheParallelRecipeMatchesASingleAudit) {
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("12 specimens from 3 of 3 shards"), std::string::npos)
       << r.output;
-  EXPECT_EQ(
-      FilesIn(dir + "/sharded/parts"),
-      (std::set<std::string>{
-          "shard-1-of-3.json", "shard-2-of-3.json", "shard-3-of-3.json"}));
+  EXPECT_EQ(FilesIn(dir + "/sharded/parts"),
+            (std::set<std::string>{"plan.json",
+                                   "shard-1-of-3.json",
+                                   "shard-2-of-3.json",
+                                   "shard-3-of-3.json"}));
   ASSERT_EQ(Wearscar("audit " + samples + " -o " + dir + "/single --no-figures")
                 .status,
             0);

@@ -228,7 +228,7 @@ AuditResult MergeAudit(const std::string& out,
                        const AuditOptions& o) {
   std::string why;
   if (!o.IsValid(&why)) throw fusion::FusionError("audit options: " + why);
-  const OutputLock merge_lock(out, OutputLock::kMerge);
+  const OutputLock merge_lock(out, OutputLock::kMerge, o.break_lock);
   AuditResult result;
   result.specimens = Merge(out, title, o, &result).sections;
   for (const ReportSection& sec : result.specimens) {
@@ -236,6 +236,12 @@ AuditResult MergeAudit(const std::string& out,
     result.flagged += sec.flagged;
   }
   return result;
+}
+
+int ShardPlan::ShardOf(long id) const {
+  if (step < 1 || id < first || (id - first) % step != 0) return 0;
+  const long k = (id - first) / step;
+  return k < count ? static_cast<int>(k) + 1 : 0;
 }
 
 bool AuditOptions::IsValid(std::string* why) const {
@@ -258,7 +264,7 @@ AuditResult Audit(const std::vector<fusion::Specimen>& specimens,
   // writes its own specimens, then its part and the merge in turn.
   const bool sharded = o.batch.shard_count > 1;
   const OutputLock out_lock(
-      out, sharded ? OutputLock::kShard : OutputLock::kExclusive);
+      out, sharded ? OutputLock::kShard : OutputLock::kExclusive, o.break_lock);
   AuditResult result;
   result.specimens.resize(specimens.size());
   std::vector<SpecimenSeries> series(specimens.size());
@@ -290,13 +296,24 @@ AuditResult Audit(const std::vector<fusion::Specimen>& specimens,
   }
   result.figures_missing = figures_missing;
   if (sharded) {
-    const OutputLock merge_lock(out, OutputLock::kMerge);
+    const OutputLock merge_lock(out, OutputLock::kMerge, o.break_lock);
     internal::WritePart(out,
                         o.batch.shard_index,
                         o.batch.shard_count,
                         result.specimens,
                         series);
-    Merge(out, title, o, &result);
+    result.shard_count = o.batch.shard_count;
+    if (o.merge_shards) {
+      Merge(out, title, o, &result);
+    } else {  // what it wrote, for a later unsharded run to replace
+      std::vector<std::string> entries = {
+          "parts/" +
+              internal::PartName(o.batch.shard_index, o.batch.shard_count),
+          "parts/plan.json"};
+      for (const auto& sec : result.specimens)
+        entries.push_back(sec.name + "/");
+      RecordOutputs(out, "audit", entries, false);
+    }
     return result;
   }
   WriteBatch(out, title, o, false, &result.specimens, analysed, {}, &result);

@@ -77,11 +77,11 @@ SpecimenSeries SeriesOf(const std::string& name, const nlohmann::json& j) {
   return s;
 }
 
+}  // namespace
+
 std::string PartName(int index, int count) {
   return fmt::format("shard-{}-of-{}.json", index, count);
 }
-
-}  // namespace
 
 void WritePart(const std::string& out,
                int index,
@@ -178,6 +178,8 @@ Parts ReadParts(const std::string& out) {
     }
     p.files.push_back((fs::path("parts") / path.filename()).string());
   }
+  if (fs::exists(dir / "plan.json", ec))
+    p.files.emplace_back("parts/plan.json");
   std::stable_sort(all.begin(), all.end(), [](const auto& a, const auto& b) {
     return a.first.name < b.first.name;
   });
@@ -189,3 +191,45 @@ Parts ReadParts(const std::string& out) {
 }
 
 }  // namespace wearscar::report::internal
+
+namespace wearscar::report {
+
+std::optional<ShardPlan> ReadShardPlan(const std::string& out) {
+  const fs::path file = fs::path(out) / "parts" / "plan.json";
+  std::error_code ec;
+  if (!fs::exists(file, ec)) return std::nullopt;
+  std::ifstream in(file);
+  try {
+    nlohmann::json j;
+    in >> j;
+    ShardPlan kept;
+    kept.count = j.at("shards").get<int>();
+    kept.first = j.at("first").get<long>();
+    kept.step = j.at("step").get<long>();
+    kept.by = j.at("by").get<std::string>();
+    if (kept.count < 1 || kept.step < 1)
+      throw std::out_of_range("shards and step must be positive");
+    return kept;
+  } catch (const std::exception& e) {
+    throw OutputError(fmt::format(
+        "{}: {}; expected the shard plan wearscar audit --shard wrote "
+        "(remove it to start the split again)",
+        file.string(),
+        e.what()));
+  }
+}
+
+void RecordShardPlan(const std::string& out, const ShardPlan& plan) {
+  const fs::path dir = fs::path(out) / "parts";
+  EnsureDirectory(dir.string());
+  // Tasks starting at once write the same plan: the last rename wins.
+  WriteTextAtomically((dir / "plan.json").string(),
+                      nlohmann::json({{"shards", plan.count},
+                                      {"first", plan.first},
+                                      {"step", plan.step},
+                                      {"by", plan.by}})
+                              .dump() +
+                          "\n");
+}
+
+}  // namespace wearscar::report

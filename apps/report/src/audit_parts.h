@@ -7,10 +7,14 @@
 #include <string>
 #include <vector>
 
+#include "wearscar/report/audit.h"
 #include "wearscar/report/figures.h"
 #include "wearscar/report/html_report.h"
 
 namespace wearscar::report::internal {
+
+// "shard-2-of-3.json"
+std::string PartName(int index, int count);
 
 // `series[k]` belongs to `sections[k]` (ignored for a failed one).
 void WritePart(const std::string& out,

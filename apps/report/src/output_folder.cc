@@ -14,6 +14,7 @@
 #include <random>
 #include <vector>
 
+#include "lock_files.h"
 #include "wearscar/support/atomic_file.h"
 
 namespace wearscar::report {
@@ -150,7 +151,7 @@ std::string StagedOutput::Final(const std::string& staged_path) const {
       .string();
 }
 
-OutputLock::OutputLock(const std::string& out, Mode mode) {
+OutputLock::OutputLock(const std::string& out, Mode mode, bool break_lock) {
   EnsureDirectory(out);
   const std::string path =
       (std::filesystem::path(out) /
@@ -168,6 +169,29 @@ OutputLock::OutputLock(const std::string& out, Mode mode) {
   do {
     rc = ::flock(fd_, how);
   } while (rc != 0 && errno == EINTR && mode == kMerge);
+  if (rc != 0 && (errno == ENOLCK || errno == ENOSYS || errno == EOPNOTSUPP)) {
+    const int refused = errno;
+    ::close(fd_);
+    fd_ = -1;
+    static bool said = false;  // once per process
+    if (!said) {
+      fmt::print(stderr,
+                 "wearscar: warning: {}: the file system refuses flock ({}; "
+                 "a Lustre or NFS mount without locks?): locking with files "
+                 "created with O_EXCL instead (.wearscar.lock.*; "
+                 "--break-lock clears one left by a killed wearscar)\n",
+                 out,
+                 std::strerror(refused));
+      said = true;
+    }
+    lock_file_ = internal::TakeLockFile(
+        out,
+        mode == kMerge   ? internal::LockFileMode::kMerge
+        : mode == kShard ? internal::LockFileMode::kShard
+                         : internal::LockFileMode::kExclusive,
+        break_lock);
+    return;
+  }
   if (rc != 0) {
     ::close(fd_);
     fd_ = -1;
@@ -184,6 +208,8 @@ OutputLock::OutputLock(const std::string& out, Mode mode) {
 
 OutputLock::~OutputLock() {
   if (fd_ >= 0) ::close(fd_);  // releases the lock
+  std::error_code ec;
+  if (!lock_file_.empty()) std::filesystem::remove(lock_file_, ec);
 }
 
 void EnsureDirectory(const std::string& path) {

@@ -264,7 +264,9 @@ std::vector<Specimen> FindSpecimens(const std::string& input,
         scan::ScanExtensionList(),
         options.name_pattern));
   }
-  if (mine.empty())
+  // A shard of more shards than specimens has none (and writes an empty
+  // part); an unsharded run with none found fails.
+  if (mine.empty() && (all.empty() || options.shard_count == 1))
     throw FusionError(fmt::format("{}: no specimens found", input));
   return mine;
 }

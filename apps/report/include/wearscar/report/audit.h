@@ -7,6 +7,7 @@
 
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,11 @@ struct AuditOptions {
   FigureFormats figure_formats;
   bool diagnose = false;  // name the effects a flagged model misses
   fusion::DiagnoseOptions diagnose_options;
+  // A shard also merges every part present when it ends (false: it writes
+  // its part only, and a merge job merges once; see MergeAudit).
+  bool merge_shards = true;
+  // Lock files left by a killed wearscar are removed (OutputLock).
+  bool break_lock = false;
 
   // Every part valid (the batch's, the readers', the analysis's and, when
   // diagnosing, the diagnosis's); `why` names the first that is not.
@@ -74,5 +80,24 @@ AuditResult Audit(const std::vector<fusion::Specimen>& specimens,
 AuditResult MergeAudit(const std::string& out,
                        const std::string& title,
                        const AuditOptions& options);
+
+// How the indices of a scheduler's job array map to the shards of one
+// audit: `count` shards, the first numbered `first`, the next first +
+// step, ... (Slurm's --array=0-15 is {16, 0, 1}; --array=1-31:2 is
+// {16, 1, 2}). `by` says where it came from ("--shard", "Slurm array job
+// 1234").
+struct ShardPlan {
+  int count = 0;
+  long first = 1, step = 1;
+  std::string by;
+  // The 1-based shard of task `id`, or 0 when the plan has no such task.
+  int ShardOf(long id) const;
+};
+// The plan <out>/parts/plan.json holds, which every shard and re-run of
+// the audit follows (none before the first shard has run); the first
+// records its own. Throw OutputError when the file cannot be read or
+// written.
+std::optional<ShardPlan> ReadShardPlan(const std::string& out);
+void RecordShardPlan(const std::string& out, const ShardPlan& plan);
 
 }  // namespace wearscar::report

@@ -59,16 +59,24 @@ class StagedOutput {
 // specimens' folders), and an exclusive writer is refused while they run.
 // kMerge: waits its turn on <out>/.wearscar.merge.lock (the shards' parts,
 // summaries and report are written one shard at a time).
+// Where the file system refuses flock (ENOLCK, ENOSYS, EOPNOTSUPP: Lustre
+// mounted noflock) this is said on stderr and the lock is taken with files
+// created with O_EXCL that name their holder; such a file left by a
+// wearscar that was killed is reported as stale, and `break_lock` removes
+// it (and any lock file in the way).
 class OutputLock {
  public:
   enum Mode { kExclusive, kShard, kMerge };
-  explicit OutputLock(const std::string& out, Mode mode = kExclusive);
+  explicit OutputLock(const std::string& out,
+                      Mode mode = kExclusive,
+                      bool break_lock = false);
   ~OutputLock();
   OutputLock(const OutputLock&) = delete;
   OutputLock& operator=(const OutputLock&) = delete;
 
  private:
   int fd_ = -1;
+  std::string lock_file_;  // the O_EXCL file held, without flock
 };
 
 // Keeps <out>/.wearscar-manifest, the list of what wearscar wrote in a

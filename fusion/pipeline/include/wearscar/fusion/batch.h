@@ -45,8 +45,9 @@ struct BatchOptions {
 // folder (empty, a path separator, a leading dot) or a name given twice.
 std::vector<Specimen> ReadManifest(const std::string& path);
 
-// The specimens of `input` (a folder or a manifest) this shard processes.
-// Throws FusionError when there is nothing to process.
+// The specimens of `input` (a folder or a manifest) this shard processes:
+// none for a shard beyond the specimens' count. Throws FusionError when
+// the input holds none.
 std::vector<Specimen> FindSpecimens(const std::string& input,
                                     const BatchOptions& options);
 

@@ -192,8 +192,16 @@ void RunAudit(AuditArgs a) {
   a.audit.read_scan = settings.read_scan;
   a.audit.fuse = settings.fuse;
   a.audit.figures = !a.no_figures;
+  std::vector<std::string> skipped;
   const std::vector<fusion::Specimen> mine =
-      fusion::FindSpecimens(a.input, batch);
+      fusion::FindSpecimens(a.input, batch, &skipped);
+  if (!skipped.empty()) {
+    Say("skipped {} folder{} wearscar's analyses wrote: {} "
+        "(--include-output-folders searches them)\n",
+        skipped.size(),
+        skipped.size() > 1 ? "s" : "",
+        fmt::join(skipped, ", "));
+  }
   if (a.dry_run) {
     const fs::path root = fs::is_directory(a.input)
                               ? fs::path(a.input)
@@ -295,7 +303,11 @@ void AddAuditCommand(CLI::App& app) {
       "--no-recursive",
       [args] { args->audit.batch.recursive = false; },
       "Look in the folder itself only (by default its sub-folders too, "
-      "skipping folders wearscar wrote)");
+      "skipping hidden ones and the outputs of wearscar's analyses)");
+  cmd->add_flag("--include-output-folders",
+                args->audit.batch.output_folders,
+                "Search the folders wearscar's analyses wrote too (fuse, "
+                "audit, ...; `wearscar simulate`'s are always searched)");
   AddFigureOptions(cmd, &args->no_figures, &args->audit.figure_formats);
   cmd->add_flag(
       "--diagnose",

@@ -386,5 +386,39 @@ TEST(AuditFigures, ManySpecimensAreSmallMultiples) {
   EXPECT_EQ(gp6.find("set multiplot layout"), std::string::npos);
 }
 
+// A batch beyond 30 specimens is one panel of its median per cycle and
+// the band of its middle 80%: the figure's size no longer grows with the
+// batch's square, and no name is written on an axis or beside a point.
+TEST(AuditFigures, ALargeBatchIsItsMedianAndBand) {
+  std::string why;
+  if (!PlotterAvailable(&why)) GTEST_SKIP() << why;
+  const fs::path dir = test_support::FreshFolder("band");
+  std::vector<SpecimenSeries> batch = Batch(101);
+  for (int i = 0; i < 101; ++i) batch[i].wear_rate = 0.1 + 0.001 * i;
+  const FigureSet set = DrawAuditFigures(dir.string(), batch);
+  ASSERT_TRUE(set.missing.empty()) << set.message;
+  std::ifstream in(dir / "figure-data" / "figures.gp");
+  const std::string gp((std::istreambuf_iterator<char>(in)),
+                       std::istreambuf_iterator<char>());
+  EXPECT_EQ(gp.find("set multiplot layout"), std::string::npos);
+  EXPECT_NE(gp.find("the batch's 101 specimens per cycle"), std::string::npos);
+  EXPECT_EQ(gp.find("'oak_"), std::string::npos);  // no names drawn
+  // The percentiles of mu-hat at cycle 1: specimens i give 0.1 + 0.005 i,
+  // so the 10th, 50th and 90th are those of i = 10, 50 and 90.
+  std::ifstream data(dir / "figure-data" / "audit_fig13_mu_hat.csv");
+  std::string line, first;
+  while (std::getline(data, line))
+    if (!line.empty() && line[0] != '#' && first.empty() &&
+        std::isdigit(static_cast<unsigned char>(line[0])))
+      first = line;
+  double cycle = 0, p10 = 0, p90 = 0;
+  ASSERT_EQ(std::sscanf(first.c_str(), "%lf,%lf,%lf", &cycle, &p10, &p90), 3)
+      << first;
+  EXPECT_EQ(cycle, 1);
+  EXPECT_NEAR(p10, 0.15, 1e-9);
+  EXPECT_NEAR(p90, 0.55, 1e-9);
+  EXPECT_LT(fs::file_size(dir / "audit_fig13_mu_hat.svg"), 100000u);
+}
+
 }  // namespace
 }  // namespace wearscar::report

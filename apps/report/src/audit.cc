@@ -178,20 +178,11 @@ void WriteBatch(const std::string& out,
   WarnOfSharedInputs(out, specimens);
   const std::vector<ReportSection>& sections = *specimens;
   WriteSummaries(out, sections);
-  // The specimens' part of the report is rendered while gnuplot draws the
-  // batch figures.
-  std::future<FigureSet> batch_figures;
-  if (o.figures) {
-    batch_figures = std::async(std::launch::async, [&] {
-      return DrawAuditFigures(out, analysed, o.figure_formats);
-    });
-  }
-  const std::string rendered = RenderSpecimenSections(sections);
-  if (o.figures) result->batch_figures = batch_figures.get();
+  if (o.figures)
+    result->batch_figures = DrawAuditFigures(out, analysed, o.figure_formats);
   RecordAuditOutputs(out, sharded, sections, result->batch_figures, parts);
   result->report_path = (fs::path(out) / "report.html").string();
-  WriteReport(
-      result->report_path, title, sections, result->batch_figures, rendered);
+  WriteReport(out, title, sections, result->batch_figures);
 }
 
 // What the shards of a sharded audit wrote, merged (the merge lock held).

@@ -4,7 +4,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 #include <filesystem>
 
 #include "draw.h"
@@ -56,8 +59,67 @@ double NiceStep(double rough) {
 
 // Beyond this many specimens a batch figure is small multiples: a panel
 // per specimen, drawn over the others in grey (no key of a dozen similar
-// colours).
+// colours); beyond kMostPanels, one panel of the batch's median per cycle
+// and the band of its middle 80% (a panel per specimen, each drawing them
+// all, grows as the square of the batch), the specimens' names left to
+// the tables and their pages.
 constexpr std::size_t kMostInOneKey = 6;
+constexpr std::size_t kMostPanels = 30;
+
+// The batch's 10th, 50th and 90th percentiles per cycle of each column
+// of Figs. 13-15 over the specimens that have the cycle.
+fusion::Table CyclePercentiles(const std::vector<SpecimenSeries>& specimens) {
+  const char* const columns[] = {"mu_hat_force", "J_force", "mu_energy_g"};
+  std::vector<std::string> names = {"cycle", "specimens"};
+  for (const char* c : columns)
+    for (const char* p : {"_p10", "_p50", "_p90"})
+      names.push_back(std::string(c) + p);
+  fusion::Table t(names);
+  std::map<double, std::array<std::vector<double>, 3>> by_cycle;
+  for (const SpecimenSeries& sp : specimens) {
+    const int cycle = sp.cycles.ColumnIndex("cycle");
+    if (cycle < 0) continue;
+    for (int k = 0; k < 3; ++k) {
+      const int y = sp.cycles.ColumnIndex(columns[k]);
+      if (y < 0) continue;
+      for (const auto& row : sp.cycles.rows)
+        if (std::isfinite(row[y])) by_cycle[row[cycle]][k].push_back(row[y]);
+    }
+  }
+  const auto quantile = [](std::vector<double> v, double q) {
+    if (v.empty()) return static_cast<double>(NAN);
+    const auto at = static_cast<std::ptrdiff_t>(
+        std::lround(q * static_cast<double>(v.size() - 1)));
+    std::nth_element(v.begin(), v.begin() + at, v.end());
+    return v[static_cast<std::size_t>(at)];
+  };
+  for (const auto& [cycle, values] : by_cycle) {
+    std::vector<double> row = {cycle, static_cast<double>(values[0].size())};
+    for (const auto& v : values)
+      for (double q : {0.1, 0.5, 0.9}) row.push_back(quantile(v, q));
+    t.rows.push_back(std::move(row));
+  }
+  return t;
+}
+
+FigureSpec Band(const char* stem,
+                const char* title,
+                const char* column,
+                const char* ylabel,
+                std::size_t specimens) {
+  const std::string c = column;
+  Series band("cycles_percentiles", "cycle", c + "_p10",
+              "the middle 80% of the specimens", {c + "_p90"});
+  band.style = "filledcurves lc rgb '#c6dbef'";
+  Series median("cycles_percentiles", "cycle", c + "_p50", "their median");
+  median.style = "lines lw 2.5 lc rgb '#1f77b4'";
+  return {stem,
+          fmt::format("{}: the batch's {} specimens per cycle (each on its "
+                      "page)",
+                      title,
+                      specimens),
+          {{"", "cycle", ylabel, "", {}, "", {band, median}}}};
+}
 
 FigureSpec SmallMultiples(const char* stem,
                           const char* title,
@@ -119,6 +181,8 @@ FigureSpec Across(const char* stem,
                   const char* column,
                   const char* ylabel,
                   const std::vector<SpecimenSeries>& specimens) {
+  if (specimens.size() > kMostPanels)
+    return Band(stem, title, column, ylabel, specimens.size());
   if (specimens.size() > kMostInOneKey)
     return SmallMultiples(stem, title, column, ylabel, specimens);
   FigureSpec f{stem, title, {{"", "cycle", ylabel, "", {}, "", {}}}};
@@ -230,6 +294,9 @@ FigureSet DrawAuditFigures(const std::string& dir,
   if (!PlotterAvailable(&why)) return FigureSet{{}, {}, {}, why, {}};
   if (specimens.empty()) return {};
   const fusion::Table cycles = CyclesBySpecimen(specimens);
+  const fusion::Table percentiles = CyclePercentiles(specimens);
+  // Names on the axis and beside the points while they can be read.
+  const bool named = specimens.size() <= kMostPanels;
   const fusion::Table differences = MethodDifferences(specimens);
   const fusion::Table wear = WearAndMu(specimens);
   WriteTextAtomically((fs::path(dir) / "method_differences.csv").string(),
@@ -272,7 +339,10 @@ FigureSet DrawAuditFigures(const std::string& dir,
        {{"",
          "specimen",
          "difference (-)",
-         NameTics(specimens) + "set xrange [-0.5:*]\nset offsets 0,0.5,0,0\n",
+         (named ? NameTics(specimens)
+                : "set xlabel 'specimen (its index in "
+                  "method_differences.csv)'\n") +
+             "set xrange [-0.5:*]\nset offsets 0,0.5,0,0\n",
          {},
          "",
          {dm, de, zero}}}});
@@ -290,12 +360,14 @@ FigureSet DrawAuditFigures(const std::string& dir,
                     {{"",
                       "mu-hat, k from P (-)",
                       "specific wear rate (mm^3/(N m))",
-                      "unset key\n" + PointLabels(specimens, wear),
+                      "unset key\n" +
+                          (named ? PointLabels(specimens, wear) : ""),
                       {},
                       "",
                       {w}}}});
   }
   const internal::TableSet tables = {{"cycles_by_specimen", &cycles},
+                                     {"cycles_percentiles", &percentiles},
                                      {"method_differences.csv", &differences},
                                      {"wear_and_mu.csv", &wear}};
   return internal::Draw(dir, figs, tables, formats);

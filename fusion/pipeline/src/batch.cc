@@ -236,12 +236,18 @@ SpecimenAnalysis AnalyzeSpecimen(const Specimen& s,
 }
 
 std::vector<Specimen> FindSpecimens(const std::string& input,
-                                    const BatchOptions& options) {
+                                    const BatchOptions& options,
+                                    std::vector<std::string>* skipped) {
+  std::vector<std::string> not_searched;
   std::string why;
   if (!options.IsValid(&why)) throw FusionError("batch options: " + why);
   std::vector<Specimen> all;
   if (fs::is_directory(input)) {
-    all = PairFolder(input, options.name_pattern, options.recursive);
+    all = PairFolder(input,
+                     options.name_pattern,
+                     options.recursive,
+                     options.output_folders,
+                     &not_searched);
   } else if (fs::is_regular_file(input)) {
     all = ReadManifest(input);
   } else {
@@ -252,17 +258,33 @@ std::vector<Specimen> FindSpecimens(const std::string& input,
     if (static_cast<int>(i % options.shard_count) == options.shard_index - 1)
       mine.push_back(all[i]);
   }
+  if (skipped != nullptr) *skipped = not_searched;
   if (mine.empty() && all.empty() && fs::is_directory(input)) {
+    std::string skipped_said;
+    if (!not_searched.empty()) {
+      std::vector<std::string> some(
+          not_searched.begin(),
+          not_searched.begin() +
+              static_cast<long>(std::min<size_t>(not_searched.size(), 5)));
+      skipped_said = fmt::format(
+          "; skipped {} folder{}: {}{} (--include-output-folders searches "
+          "them)",
+          not_searched.size(),
+          not_searched.size() > 1 ? "s" : "",
+          fmt::join(some, ", "),
+          not_searched.size() > 5 ? ", ..." : "");
+    }
     throw FusionError(fmt::format(
         "{}: no specimens found: looked{} for force exports ({}) and scans "
         "({}), paired by the name pattern '{}' or by their names without "
-        "role words (force, scan, height, ...); expected at least one "
+        "role words (force, scan, height, ...){}; expected at least one "
         "force file (or give a manifest.csv)",
         input,
         options.recursive ? " in it and its sub-folders" : "",
         fmt::join(force::ForceExtensions(), ", "),
         scan::ScanExtensionList(),
-        options.name_pattern));
+        options.name_pattern,
+        skipped_said));
   }
   // A shard of more shards than specimens has none (and writes an empty
   // part); an unsharded run with none found fails.

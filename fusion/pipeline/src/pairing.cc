@@ -5,9 +5,11 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <optional>
 #include <regex>
+#include <set>
 
 #include "wearscar/force/layouts.h"
 #include "wearscar/scan/formats.h"
@@ -307,16 +309,27 @@ void SayWhyUnpaired(std::vector<Slot>* slots) {
   }
 }
 
-// A folder wearscar wrote (it has a manifest: an earlier --out) or a
-// hidden one is not searched.
-bool SkipFolder(const fs::path& dir) {
-  std::error_code ec;
-  return dir.filename().string().rfind('.', 0) == 0 ||
-         fs::exists(dir / ".wearscar-manifest", ec);
+// Why a folder is not searched ("" when it is): hidden, or the output of
+// a wearscar analysis (its manifest names a command other than simulate,
+// whose folders hold inputs).
+std::string WhySkipped(const fs::path& dir, bool output_folders) {
+  if (dir.filename().string().rfind('.', 0) == 0) return "hidden";
+  if (output_folders) return "";
+  std::ifstream manifest(dir / ".wearscar-manifest");
+  std::set<std::string> commands;
+  std::string line;
+  while (std::getline(manifest, line))
+    commands.insert(line.substr(0, line.find('\t')));
+  commands.erase("simulate");
+  if (commands.empty()) return "";
+  return fmt::format("written by wearscar {}", fmt::join(commands, ", "));
 }
 
-std::map<fs::path, std::vector<fs::path>> FilesByFolder(const std::string& dir,
-                                                        bool recursive) {
+std::map<fs::path, std::vector<fs::path>> FilesByFolder(
+    const std::string& dir,
+    bool recursive,
+    bool output_folders,
+    std::vector<std::string>* skipped) {
   std::map<fs::path, std::vector<fs::path>> by_folder;
   by_folder[fs::path(dir)];
   if (recursive) {
@@ -324,8 +337,15 @@ std::map<fs::path, std::vector<fs::path>> FilesByFolder(const std::string& dir,
     fs::recursive_directory_iterator it(
         dir, fs::directory_options::skip_permission_denied, ec);
     for (; !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
-      if (it->is_directory() && SkipFolder(it->path())) {
+      const std::string why =
+          it->is_directory() ? WhySkipped(it->path(), output_folders) : "";
+      if (!why.empty()) {
         it.disable_recursion_pending();
+        if (skipped != nullptr && why != "hidden")
+          skipped->push_back(fmt::format(
+              "{} ({})",
+              it->path().lexically_relative(dir).generic_string() + "/",
+              why));
       } else if (it->is_regular_file()) {
         by_folder[it->path().parent_path()].push_back(it->path());
       }
@@ -349,10 +369,13 @@ std::string SpecimenName(const std::string& path) {
 
 std::vector<Specimen> PairFolder(const std::string& dir,
                                  const std::string& name_pattern,
-                                 bool recursive) {
+                                 bool recursive,
+                                 bool output_folders,
+                                 std::vector<std::string>* skipped) {
   const std::regex re(name_pattern);
   std::vector<std::pair<Specimen, fs::path>> found;
-  for (auto& [folder, files] : FilesByFolder(dir, recursive)) {
+  for (auto& [folder, files] :
+       FilesByFolder(dir, recursive, output_folders, skipped)) {
     std::vector<Slot> here = GroupByKey(files, re);
     PairByLongerName(&here);
     if (folder != fs::path(dir)) PairByFolder(folder, &here);

@@ -355,6 +355,18 @@ nlohmann::json ResultJson(const std::string& name,
   j["sampling_rate_hz"] = record.metadata.sampling_rate_hz;
   j["cycles"] = r.force.cycles.cycles.size();
   j["stroke_mm"] = r.force.cycles.stroke_mm;
+  // The drive's frequency over the complete cycles, and the mean sliding
+  // speed it gives (two strokes a cycle).
+  const auto& cycles = r.force.cycles.cycles;
+  if (!cycles.empty() && cycles.back().reverse.end - 1 < record.size()) {
+    const double span = record.time_s[cycles.back().reverse.end - 1] -
+                        record.time_s[cycles.front().forward.begin];
+    if (span > 0) {
+      const double hz = static_cast<double>(cycles.size()) / span;
+      j["frequency_hz"] = hz;
+      j["mean_speed_mm_s"] = 2.0 * r.force.cycles.stroke_mm * hz;
+    }
+  }
   j["slip_fallback_half_cycles"] = r.force.slip_fallbacks;
   j["force_file_read"] = ForceFileJson(record.metadata);
   if (!r.scan_file.empty()) j["scan_file"] = r.scan_file;

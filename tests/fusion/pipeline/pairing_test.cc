@@ -217,6 +217,31 @@ TEST_F(LabFolder, PairsFilesNamedInGermanFrenchAndSpanish) {
   EXPECT_EQ(p.at("Muestra_5"), "Muestra_5_Fuerza.csv | Muestra_5_Perfil.csv | ");
 }
 
+// An analysis's output folder is skipped and named with why; a folder of
+// `wearscar simulate` (inputs) is searched, a hidden one skipped quietly;
+// output_folders searches them all.
+TEST_F(LabFolder, SaysWhichFoldersItSkipped) {
+  Force("sim/oak_1_force.csv");
+  Gsf("sim/oak_1.gsf");
+  std::ofstream(dir_ + "/sim/.wearscar-manifest")
+      << "simulate\toak_1_force.csv\nsimulate\toak_1.gsf\n";
+  Force("out/ash_2_force.csv");
+  std::ofstream(dir_ + "/out/.wearscar-manifest")
+      << "fuse\tresult.json\naudit\tsummary.csv\n";
+  Force(".cache/elm_3_force.csv");
+  std::vector<std::string> skipped;
+  std::vector<Specimen> found =
+      PairFolder(dir_, "^$x", true, false, &skipped);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0].name, "oak_1");
+  EXPECT_EQ(skipped,
+            std::vector<std::string>{"out/ (written by wearscar audit, fuse)"});
+  skipped.clear();
+  found = PairFolder(dir_, "^$x", true, true, &skipped);
+  EXPECT_EQ(found.size(), 2u);  // ash_2 too; the hidden folder never
+  EXPECT_TRUE(skipped.empty());
+}
+
 TEST(SpecimenName, LeavesOutRoleWordsAndTheirSeparators) {
   EXPECT_EQ(SpecimenName("data/B-RT-R.force.csv"), "B-RT-R");
   EXPECT_EQ(SpecimenName("oak_30N_run01_height.csv"), "oak_30N_run01");

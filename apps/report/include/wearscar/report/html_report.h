@@ -19,25 +19,24 @@ struct ReportSection {
   std::string viewer;
 };
 
-// A self-contained HTML page (images embedded as data URIs): the summary
-// table with flagged and failed specimens highlighted, the batch figures,
-// then a section per specimen.
-std::string RenderReport(const std::string& title,
-                         const std::vector<ReportSection>& sections,
-                         const FigureSet& batch_figures);
-
-// The page's part after the batch figures: a section per specimen, its
-// figures embedded (most of the page's bytes and of its time to render).
-std::string RenderSpecimenSections(const std::vector<ReportSection>& sections);
-
-// RenderReport's page written to `path` (temporary name, then rename),
-// its specimens' part already rendered (an audit renders it while gnuplot
-// draws the batch figures). OutputError when it cannot be written.
-void WriteReport(const std::string& path,
+// The report of an audit, plain files that open from file:// (no
+// server): <out>/report.html, the index (the summary table with each
+// specimen's test conditions and files, sortable and filterable, and the
+// batch figures), and a page per analysed specimen,
+// <out>/<specimen>/report.html (its verdict, numbers, figures and loop
+// viewer). Figures are the image files beside the pages, loaded as they
+// near the view: the index stays light at any batch size. OutputError
+// when a page cannot be written.
+void WriteReport(const std::string& out,
                  const std::string& title,
                  const std::vector<ReportSection>& sections,
-                 const FigureSet& batch_figures,
-                 const std::string& specimen_sections);
+                 const FigureSet& batch_figures);
+
+// The index's HTML (WriteReport writes it to <out>/report.html).
+std::string RenderIndex(const std::string& out,
+                        const std::string& title,
+                        const std::vector<ReportSection>& sections,
+                        const FigureSet& batch_figures);
 
 // Base64 of bytes (RFC 4648).
 std::string Base64(const std::string& bytes);

@@ -35,6 +35,8 @@ struct BatchOptions {
   // Search the folder's sub-folders too (not hidden ones, not folders
   // wearscar wrote).
   bool recursive = true;
+  // Search the outputs of wearscar's analyses too (skipped by default).
+  bool output_folders = false;
 
   bool IsValid(std::string* why) const;
 };
@@ -48,8 +50,11 @@ std::vector<Specimen> ReadManifest(const std::string& path);
 // The specimens of `input` (a folder or a manifest) this shard processes:
 // none for a shard beyond the specimens' count. Throws FusionError when
 // the input holds none.
+// `skipped`, when given, receives the folders not searched ("path (why)",
+// PairFolder); the error when none is found names them.
 std::vector<Specimen> FindSpecimens(const std::string& input,
-                                    const BatchOptions& options);
+                                    const BatchOptions& options,
+                                    std::vector<std::string>* skipped = nullptr);
 
 // A specimen's files read and analysed.
 struct SpecimenAnalysis {

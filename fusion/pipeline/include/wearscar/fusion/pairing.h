@@ -52,12 +52,17 @@ std::string SpecimenName(const std::string& path);
 //    matches) and leftovers are listed, never guessed: a scan without a
 //    force file is a failed specimen saying why; a force file without a
 //    scan is analysed alone, saying why (Specimen::no_scan).
-//  - With `recursive`, sub-folders too (not hidden ones, not earlier
-//    outputs holding a .wearscar-manifest); a name found in two folders is
-//    prefixed with its folder relative to `dir`.
+//  - With `recursive`, sub-folders too; a name found in two folders is
+//    prefixed with its folder relative to `dir`. Hidden folders and the
+//    outputs of wearscar's analyses (a .wearscar-manifest written by
+//    fuse, audit, ...; not `wearscar simulate`'s, which are inputs) are
+//    not searched unless `output_folders`; each one skipped is added to
+//    `skipped` as "path (why)".
 std::vector<Specimen> PairFolder(const std::string& dir,
                                  const std::string& name_pattern,
-                                 bool recursive = false);
+                                 bool recursive = false,
+                                 bool output_folders = false,
+                                 std::vector<std::string>* skipped = nullptr);
 
 // The pairing as a text table (specimen, force, scan, note), paths
 // relative to `root`: what `wearscar audit --dry-run` prints.

@@ -28,39 +28,83 @@ foreach(module support scan force fusion/estimate fusion/compare fusion/diagnose
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/${module}/include/
           DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} COMPONENT dev)
 endforeach()
-# Debian's place for a package's licence, and the documents for users.
-install(FILES ${PROJECT_SOURCE_DIR}/LICENSE
-        DESTINATION ${CMAKE_INSTALL_DOCDIR} RENAME copyright
-        COMPONENT wearscar)
+# Debian's place for a package's licence and changelog, in each package,
+# and the documents for users. The changelog (Debian's format, native
+# package) says the version and points at CHANGELOG.md; gzip -9n as
+# Debian's tools compress it.
+execute_process(COMMAND git log -1 --format=%aD
+                WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}
+                OUTPUT_VARIABLE commit_date
+                OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
+if(NOT commit_date)
+  string(TIMESTAMP commit_date "%a, %d %b %Y %H:%M:%S +0000" UTC)
+endif()
+find_program(WEARSCAR_GZIP gzip REQUIRED)
+set(doc_packages wearscar libwearscar-dev python3-wearscar)
+set(doc_components wearscar dev python3-wearscar)
+foreach(package component IN ZIP_LISTS doc_packages doc_components)
+  set(changelog ${PROJECT_BINARY_DIR}/debian/${package}/changelog)
+  file(WRITE ${changelog}.in
+"${package} (${PROJECT_VERSION}) unstable; urgency=medium
+
+  * wearscar ${PROJECT_VERSION}; what changed is in
+    /usr/share/doc/wearscar/CHANGELOG.md.
+
+ -- @WEARSCAR_MAINTAINER@  ${commit_date}
+")
+  # (the maintainer is known further down; the file is made at build time)
+  list(APPEND debian_changelogs ${changelog}.gz)
+  install(FILES ${changelog}.gz
+          DESTINATION ${CMAKE_INSTALL_DATADIR}/doc/${package}
+          COMPONENT ${component})
+  install(FILES ${PROJECT_SOURCE_DIR}/LICENSE
+          DESTINATION ${CMAKE_INSTALL_DATADIR}/doc/${package} RENAME copyright
+          COMPONENT ${component})
+endforeach()
 install(FILES ${PROJECT_SOURCE_DIR}/README.md ${PROJECT_SOURCE_DIR}/CHANGELOG.md
               ${PROJECT_SOURCE_DIR}/docs/method.md
               ${PROJECT_SOURCE_DIR}/docs/formats.md
         DESTINATION ${CMAKE_INSTALL_DOCDIR} COMPONENT wearscar)
 
 # Man pages for wearscar and each subcommand, from their own --help by
-# help2man (Debian's help2man; without it, none, and CMake says so). Not in
-# instrumented builds, whose command is not the one installed.
+# help2man (Debian's help2man; without it, none, and CMake says so), each
+# named for its command (NAME "wearscar-audit - ...": whatis finds it) and
+# compressed. Not in instrumented builds, whose command is not the one
+# installed.
 find_program(WEARSCAR_HELP2MAN help2man)
 if(WEARSCAR_HELP2MAN AND wearscar_uninstrumented)
   set(pages)
-  foreach(sub "" simulate force scan fuse diagnose audit)
+  set(subcommands "" simulate force scan fuse diagnose audit)
+  set(summaries
+      "friction coefficient of reciprocating tests from force and scan"
+      "simulate reciprocating friction tests and scans with known truth"
+      "analyse a friction test's force record alone (k from the spring)"
+      "read a profilometer scan of the worn track and its centreline"
+      "friction coefficient of one test from its force record and scan"
+      "name the effect a wear-scar model misses in a friction test"
+      "analyse a batch of specimens into one summary and report")
+  foreach(sub summary IN ZIP_LISTS subcommands summaries)
     if(sub STREQUAL "")
-      set(page wearscar.1)
+      set(name wearscar)
       set(help "--help")
     else()
-      set(page wearscar-${sub}.1)
+      set(name wearscar-${sub})
       set(help "${sub} --help")
     endif()
+    set(page ${PROJECT_BINARY_DIR}/man/${name}.1)
     add_custom_command(
-      OUTPUT ${PROJECT_BINARY_DIR}/man/${page}
+      OUTPUT ${page}.gz
       COMMAND ${CMAKE_COMMAND} -E make_directory ${PROJECT_BINARY_DIR}/man
       COMMAND ${WEARSCAR_HELP2MAN} --no-info --no-discard-stderr
-              "--name=friction coefficient of reciprocating tests from force and scan"
-              "--help-option=${help}" --version-option=--version
-              --output=${PROJECT_BINARY_DIR}/man/${page} $<TARGET_FILE:wearscar>
-      DEPENDS wearscar
+              "--name=${summary}" "--help-option=${help}"
+              --version-option=--version --output=${page}
+              $<TARGET_FILE:wearscar>
+      COMMAND ${CMAKE_COMMAND} -DPAGE=${page} -DNAME=${name}
+              -P ${PROJECT_SOURCE_DIR}/cmake/WearscarManPage.cmake
+      COMMAND ${WEARSCAR_GZIP} -9nf ${page}
+      DEPENDS wearscar ${PROJECT_SOURCE_DIR}/cmake/WearscarManPage.cmake
       VERBATIM)
-    list(APPEND pages ${PROJECT_BINARY_DIR}/man/${page})
+    list(APPEND pages ${page}.gz)
   endforeach()
   add_custom_target(wearscar_man ALL DEPENDS ${pages})
   install(FILES ${pages} DESTINATION ${CMAKE_INSTALL_MANDIR}/man1
@@ -97,6 +141,14 @@ if(NOT commit_author)
 endif()
 set(WEARSCAR_MAINTAINER "${commit_author}" CACHE STRING
     "The Debian packages' maintainer, 'Name <address>'")
+foreach(changelog IN LISTS debian_changelogs)
+  string(REGEX REPLACE "\\.gz$" "" text ${changelog})
+  configure_file(${text}.in ${text} @ONLY)
+  add_custom_command(OUTPUT ${changelog}
+                     COMMAND ${WEARSCAR_GZIP} -9nkf ${text}
+                     DEPENDS ${text} VERBATIM)
+endforeach()
+add_custom_target(wearscar_debian_changelogs ALL DEPENDS ${debian_changelogs})
 set(CPACK_GENERATOR DEB)
 set(CPACK_DEB_COMPONENT_INSTALL ON)
 set(CPACK_COMPONENTS_ALL wearscar dev python3-wearscar)
@@ -105,32 +157,45 @@ set(CPACK_PACKAGE_VERSION ${PROJECT_VERSION})
 set(CPACK_PACKAGE_VENDOR "the wearscar authors")
 set(CPACK_PACKAGE_CONTACT "${WEARSCAR_MAINTAINER}")
 set(CPACK_DEBIAN_PACKAGE_MAINTAINER "${WEARSCAR_MAINTAINER}")
-set(CPACK_PACKAGE_DESCRIPTION_SUMMARY
-    "sliding friction coefficient of reciprocating tests from force and scan")
+# (no CPACK_PACKAGE_DESCRIPTION_SUMMARY: CPack would prepend it to every
+# package's description, whose first line is already its synopsis)
 set(CPACK_RESOURCE_FILE_LICENSE ${PROJECT_SOURCE_DIR}/LICENSE)
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)  # <package>_<version>_amd64.deb
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_LICENSE BSD-3-Clause)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+# Stripped as Debian ships them; a build with debug information
+# (RelWithDebInfo, Debug) keeps it apart in -dbgsym packages.
+set(CPACK_STRIP_FILES ON)
+if(CMAKE_BUILD_TYPE MATCHES "^(RelWithDebInfo|Debug)$")
+  set(CPACK_DEBIAN_DEBUGINFO_PACKAGE ON)
+endif()
 set(CPACK_DEBIAN_WEARSCAR_PACKAGE_NAME wearscar)
 set(CPACK_DEBIAN_WEARSCAR_PACKAGE_DEPENDS "gnuplot-nox")
-set(CPACK_COMPONENT_WEARSCAR_DESCRIPTION
-    "wearscar identifies the sliding friction coefficient of reciprocating \
-friction tests whose loops look non-Coulomb, from the tribometer's force \
-record and a profilometer scan of the worn track (the wear-scar \
-interaction): the command, its man pages and documentation.")
+# Descriptions: lines of at most 80 characters (Debian policy 3.4.1).
+set(CPACK_DEBIAN_WEARSCAR_DESCRIPTION
+    "sliding friction coefficient of reciprocating tests from force and scan
+wearscar identifies the sliding friction coefficient of reciprocating
+friction tests whose loops look non-Coulomb, from the tribometer's force
+record and a profilometer scan of the worn track (the wear-scar
+interaction). This package holds the command, its man pages and the
+documentation.")
 set(CPACK_DEBIAN_DEV_PACKAGE_NAME libwearscar-dev)
 set(CPACK_DEBIAN_DEV_PACKAGE_SECTION libdevel)
 set(CPACK_DEBIAN_DEV_PACKAGE_DEPENDS
     "libeigen3-dev, libceres-dev, libopencv-dev, libpcl-dev, libfmt-dev, nlohmann-json3-dev, libzip-dev, libzstd-dev, zlib1g-dev, libssl-dev, libpugixml-dev, libpng-dev")
-set(CPACK_COMPONENT_DEV_DESCRIPTION
-    "wearscar's C++ libraries: headers, static libraries and the CMake \
-package (find_package(wearscar), then wearscar::fusion and the others).")
+set(CPACK_DEBIAN_DEV_DESCRIPTION
+    "wearscar's C++ libraries (development files)
+The headers, static libraries and CMake package of wearscar, which
+identifies the sliding friction coefficient of reciprocating friction
+tests from the force record and a scan of the worn track:
+find_package(wearscar), then link wearscar::fusion and the others.")
 set(CPACK_DEBIAN_PYTHON3-WEARSCAR_PACKAGE_NAME python3-wearscar)
 set(CPACK_DEBIAN_PYTHON3-WEARSCAR_PACKAGE_SECTION python)
-set(CPACK_DEBIAN_PYTHON3-WEARSCAR_PACKAGE_DEPENDS "python3, python3-numpy")
-set(CPACK_COMPONENT_PYTHON3-WEARSCAR_DESCRIPTION
-    "wearscar's Python module: import wearscar (fuse, audit, simulate, the \
-results as dictionaries and NumPy arrays).")
+set(CPACK_DEBIAN_PYTHON3-WEARSCAR_PACKAGE_DEPENDS "${WEARSCAR_PYTHON_DEPENDS}")
+set(CPACK_DEBIAN_PYTHON3-WEARSCAR_DESCRIPTION
+    "wearscar's Python module
+import wearscar: fuse, audit and simulate reciprocating friction tests
+from Python, the results as dictionaries and NumPy arrays.")
 include(CPack)

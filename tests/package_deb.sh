@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Builds the Debian packages with CPack (wearscar, libwearscar-dev,
-# python3-wearscar), checks what each holds and depends on, unpacks them
-# into a scratch root (dpkg -x) and runs the command and the Python module
-# from there.
+# python3-wearscar), checks what each holds and depends on, runs lintian
+# on them (no error, no warning), unpacks them into a scratch root (dpkg
+# -x) and runs the command and the Python module from there.
 #   package_deb.sh <build dir> <scratch dir> <version>
 set -euo pipefail
 build=$1 scratch=$2 version=$3
@@ -33,12 +33,33 @@ for package in wearscar libwearscar-dev python3-wearscar; do
       if grep -q "usr/bin/wearscar" <<< "$files"; then echo "the command in -dev"; exit 1; fi
       ;;
     python3-wearscar)
-      grep -q "Depends:.*python3-numpy" <<< "$info"
+      grep -q "Depends:.*python3 (>= 3\.[0-9]*), python3 (<< 3\.[0-9]*), python3-numpy" <<< "$info" || {
+        echo "python3-wearscar: no versioned python3 dependency"; echo "$info"; exit 1; }
+      grep -q "usr/lib/python3/dist-packages/wearscar/__init__.py" <<< "$files" || {
+        echo "python3-wearscar: the module is not in usr/lib/python3/dist-packages"; echo "$files"; exit 1; }
       ;;
   esac
+  grep -q "usr/share/doc/$package/copyright" <<< "$files" || { echo "$package: no copyright"; exit 1; }
+  grep -q "usr/share/doc/$package/changelog.gz" <<< "$files" || { echo "$package: no changelog.gz"; exit 1; }
+  if command -v lintian > /dev/null; then
+    # (as root lintian says it should not run as root: not a finding)
+    said=$(lintian --tag-display-limit 0 "$deb" 2>&1 | grep -v "running with root privileges" || true)
+    [ -z "$said" ] || { echo "lintian on $package:"; echo "$said"; exit 1; }
+    echo "lintian on $package: clean"
+  else
+    echo "lintian is not installed (scripts/install-deps test installs it): not run"
+  fi
   echo "$(basename "$deb"): $(du -k "$deb" | cut -f1) KiB"
 done
 test -f "$root/usr/include/wearscar/fusion/products.h"
+# Each command's man page, compressed, names its own command.
+for page in wearscar wearscar-audit wearscar-fuse; do
+  zcat "$root/usr/share/man/man1/$page.1.gz" | grep -A1 '^\.SH NAME' | grep -q "^$page \\\\- " || {
+    echo "$page.1.gz does not name $page"; zcat "$root/usr/share/man/man1/$page.1.gz" | head; exit 1; }
+done
+if readelf -S "$root/usr/bin/wearscar" | grep -q '\.symtab'; then
+  echo "usr/bin/wearscar is not stripped"; exit 1
+fi
 test -f "$root/usr/lib/x86_64-linux-gnu/cmake/wearscar/wearscarConfig.cmake" ||
   test -f "$root/usr/lib/cmake/wearscar/wearscarConfig.cmake"
 printed=$("$root/usr/bin/wearscar" version)

@@ -22,11 +22,11 @@ cd / && PYTHONPATH=$dest$dir "$python" -c "import wearscar, sys; assert wearscar
 [ -f "$dest/usr/local/share/doc/wearscar/copyright" ] || { echo "no copyright"; exit 1; }
 if [ "$with_man" = 1 ]; then
   for page in wearscar wearscar-fuse wearscar-audit wearscar-scan; do
-    f=$dest/usr/local/share/man/man1/$page.1
+    f=$dest/usr/local/share/man/man1/$page.1.gz
     [ -f "$f" ] || { echo "no $f"; exit 1; }
-    grep -q '^\.SH OPTIONS' "$f" || { echo "$f has no OPTIONS section"; exit 1; }
+    zcat "$f" | grep -q '^\.SH OPTIONS' || { echo "$f has no OPTIONS section"; exit 1; }
   done
-  grep -q 'Process shard i of n' "$dest/usr/local/share/man/man1/wearscar-audit.1" ||
-    { echo "wearscar-audit.1 does not document --shard"; exit 1; }
+  zcat "$dest/usr/local/share/man/man1/wearscar-audit.1.gz" | grep -q 'Process shard i of n' ||
+    { echo "wearscar-audit.1.gz does not document --shard"; exit 1; }
 fi
 echo ok

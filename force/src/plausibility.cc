@@ -282,6 +282,21 @@ void CheckPlausible(ForceRecord& r, const std::string& file) {
   }
   double span, median;
   Spread(r.x_mm, &span, &median);
+  const auto radius =
+      std::find_if(r.metadata.stated.begin(),
+                   r.metadata.stated.end(),
+                   [](const StatedFact& f) { return f.what == "radius"; });
+  if (span < 0.01 && radius != r.metadata.stated.end()) {
+    throw ForceError(fmt::format(
+        "{}: a rotary test (pin-on-disk): the position does not reciprocate "
+        "(a stroke of {:.4g} mm) and line {} states the track's radius "
+        "('{}'); expected a reciprocating test, the only kind wearscar "
+        "analyses",
+        file,
+        span,
+        radius->line_number,
+        radius->line));
+  }
   if (!(span >= 0.01 && span <= 100)) {
     throw ForceError(fmt::format(
         "{}: a stroke of {:.4g} mm (robust peak to peak of x); expected 0.05 "
@@ -317,6 +332,26 @@ void CheckPlausible(ForceRecord& r, const std::string& file) {
         n,
         duration,
         rate));
+  }
+}
+
+void CheckFrictionRecorded(const ForceRecord& r, const std::string& file) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (Eigen::Index i = 0; i < r.size(); ++i) {
+    if (!std::isfinite(r.tangential_n[i])) continue;
+    lo = std::min(lo, r.tangential_n[i]);
+    hi = std::max(hi, r.tangential_n[i]);
+  }
+  if (lo == 0 && hi == 0) {
+    const auto& names = r.metadata.channel_names;
+    throw ForceError(fmt::format(
+        "{}: no friction force recorded: the friction channel{} is 0 N in "
+        "every one of the {} samples; expected a friction force that "
+        "reverses with the sliding (check the channel, or name its column "
+        "with --columns q=NAME)",
+        file,
+        names.size() > 2 && !names[2].empty() ? " '" + names[2] + "'" : "",
+        r.size()));
   }
 }
 

@@ -62,4 +62,9 @@ void CheckPlausible(ForceRecord& r, const std::string& file);
 // fix (--columns, or --force-channels-as-given).
 void CheckChannelRoles(const ForceRecord& r, const std::string& file);
 
+// Throws ForceError when the friction channel is zero in every sample: no
+// friction force was recorded (a constant offset is analysed, and said by
+// its figures).
+void CheckFrictionRecorded(const ForceRecord& r, const std::string& file);
+
 }  // namespace wearscar::force::internal

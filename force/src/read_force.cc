@@ -309,6 +309,7 @@ ForceRecord Read(LineSource& source,
     TakeDepth(layout.names[p.column[kDepth]], &data[kDepth], &record);
   SetTime(&record, &data[kTime], layout, options, name);
   CheckPlausible(record, name);
+  internal::CheckFrictionRecorded(record, name);
   MakeCompressionPositive(&record);
   if (!options.channels_as_given) internal::CheckChannelRoles(record, name);
   return record;

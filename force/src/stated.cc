@@ -35,6 +35,9 @@ constexpr Label kLabels[] = {
     {"spring constant", "spring", 1},
     {"spring rate", "spring", 1},
     {"loading spring", "spring", 1},
+    // A rotary (pin-on-disk) test's track radius: not a reciprocating test.
+    {"track radius", "radius", 1},
+    {"radius", "radius", 1},
 };
 
 // The factor of the unit written near the number (before it in brackets,
@@ -53,7 +56,7 @@ double UnitFactor(const std::string& what, const std::string& near) {
     }
     return false;
   };
-  if (what == "stroke") {
+  if (what == "stroke" || what == "radius") {
     if (has("um") || has("\xc2\xb5m") || has("micron")) return 1e-3;
     if (has("cm")) return 10;
     if (has("mm")) return 1;
@@ -84,6 +87,23 @@ size_t FindWord(const std::string& lower, const std::string& words) {
     if (left && right) return at;
   }
   return std::string::npos;
+}
+
+// The unit written right after a number ("" for none), with its space.
+std::string UnitAfter(const std::string& line, size_t after) {
+  size_t from = after;
+  while (from < line.size() && line[from] == ' ') ++from;
+  size_t end = from;
+  while (end < line.size() && line[end] != ' ' && line[end] != ',' &&
+         line[end] != ';' && line[end] != '\t' && line[end] != '\r')
+    ++end;
+  const std::string word = support::Lower(line.substr(from, end - from));
+  static const char* const kUnits[] = {
+      "mm", "um", "\xc2\xb5m", "cm", "m", "n", "mn", "kn", "hz",
+      "khz", "n/mm", "n/m", "kn/m", "n/um", "cycles"};
+  for (const char* u : kUnits)
+    if (word == u) return line.substr(after, end - after);
+  return "";
 }
 
 // The frequency of the drive, not of the sampling.
@@ -129,10 +149,10 @@ std::vector<StatedFact> FindStatedFacts(const std::vector<std::string>& head,
       StatedFact f;
       f.what = l.what;
       f.value = value * l.factor * UnitFactor(f.what, near);
-      std::string line = head[i];
-      line.erase(0, line.find_first_not_of(" \t\"'"));
-      line.erase(line.find_last_not_of(" \t\r\"',;") + 1);
-      f.line = line.size() > 80 ? line.substr(0, 77) + "..." : line;
+      // Quoted as written from its label to its number and the unit after
+      // it (a header line may hold several facts: "Track length [mm]: 5
+      // Cycles: 600").
+      f.line = head[i].substr(at, after - at) + UnitAfter(head[i], after);
       f.line_number = i + 1;
       facts.push_back(f);
     }

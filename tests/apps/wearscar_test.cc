@@ -452,22 +452,36 @@ TEST(Faults, ASecondWriterIntoTheSameFolderIsRefused) {
 }
 
 TEST(Faults, FiguresThatAreNotDrawnAreAWarningAndStatusFour) {
-  // Q all zero: gnuplot cannot draw the J(mu) and mu-hat figures (no
-  // finite value to plot); the numbers are written, the figures that exist
-  // are whole, and the status says that some are missing.
+  // Q all zero is no friction recorded: refused as that, nothing written.
+  // Q zero but in one sample: gnuplot cannot draw the J(mu) and mu-hat
+  // figures (no finite value to plot); the numbers are written, the
+  // figures that exist are whole, and the status says that some are
+  // missing.
   const std::string dir = ::testing::TempDir() + "/faults-figures";
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
-  {
-    std::ofstream f(dir + "/q0.csv");
+  const auto write = [&](const std::string& name, double q_at_100) {
+    std::ofstream f(dir + "/" + name);
     f << "time_s,x_mm,Q_N,P_N\n";
     for (int i = 0; i < 4000; ++i) {
       const double t = i * 0.005;
-      f << t << "," << 2.85 * std::sin(2 * M_PI * t) << ",0,30\n";
+      f << t << "," << 2.85 * std::sin(2 * M_PI * t) << ","
+        << (i == 100 ? q_at_100 : 0.0) << ",30\n";
     }
-  }
+  };
+  write("q0.csv", 0);
+  write("q1.csv", 0.001);
+  const CommandResult zero = Wearscar("fuse --force " + dir +
+                                      "/q0.csv --no-lugre -o " + dir + "/out0");
+  EXPECT_EQ(zero.status, 2) << zero.output;
+  EXPECT_NE(zero.output.find(dir + "/q0.csv: no friction force recorded: the "
+                                   "friction channel 'Q' is 0 N in every one "
+                                   "of the 4000 samples"),
+            std::string::npos)
+      << zero.output;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/out0/result.json"));
   const CommandResult r =
-      Wearscar("fuse --force " + dir + "/q0.csv --no-lugre -o " + dir + "/out");
+      Wearscar("fuse --force " + dir + "/q1.csv --no-lugre -o " + dir + "/out");
   if (r.output.find("gnuplot was not found") != std::string::npos)
     GTEST_SKIP() << "gnuplot is not installed";
   EXPECT_EQ(r.status, 4) << r.output;

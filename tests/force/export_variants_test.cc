@@ -484,7 +484,19 @@ TEST(ExportVariants, StatedTestConditionsAreRead) {
   EXPECT_DOUBLE_EQ(got["cycles"].first, 3000);
   EXPECT_DOUBLE_EQ(got["load"].first, 30);
   EXPECT_DOUBLE_EQ(got["frequency"].first, 1);
-  EXPECT_EQ(r.metadata.stated[0].line, "Track length 5 mm, Cycles 3000");
+  // Each fact quoted as written, not its whole line.
+  EXPECT_EQ(r.metadata.stated[0].line, "Track length 5 mm");
+  EXPECT_EQ(r.metadata.stated[1].line, "Cycles 3000");
+  // A home-built rig's one header line of several facts.
+  const ForceRecord one = ReadForceText(
+      "Sampling fequency [Hz]: 100 x-velocity [mm/s]: 10 Track length [mm]: "
+      "5 Cycles: 600\n" +
+          Text("time_s,x_mm,Q_N,P_N",
+               [](const Row& row, int) { return Plain(row); }),
+      "home.txt");
+  ASSERT_EQ(one.metadata.stated.size(), 2u);
+  EXPECT_EQ(one.metadata.stated[0].line, "Track length [mm]: 5");
+  EXPECT_EQ(one.metadata.stated[1].line, "Cycles: 600");
   EXPECT_EQ(r.metadata.sampling_rate_hz, 2000);
   // The loading spring, in N/mm, N/m, kN/m or N/um.
   for (const auto& [line, n_per_mm] :
@@ -501,6 +513,44 @@ TEST(ExportVariants, StatedTestConditionsAreRead) {
     ASSERT_EQ(s.metadata.stated.size(), 1u) << line;
     EXPECT_EQ(s.metadata.stated[0].what, "spring") << line;
     EXPECT_DOUBLE_EQ(s.metadata.stated[0].value, n_per_mm) << line;
+  }
+}
+
+// A friction channel with no friction in it is refused as what it is,
+// naming the column; a rotary (pin-on-disk) export, whose position does
+// not reciprocate and whose header states a radius, is named a rotary
+// test rather than a stroke of 0 mm with a unit to check.
+TEST(ExportVariants, NoFrictionAndARotaryTestAreSaidForWhatTheyAre) {
+  const std::string zero =
+      Text("time_s,x_mm,Q_N,P_N", [](const Row& r, int) {
+        return fmt::format("{:.6f},{:.6f},0,{:.6f}", r.t, r.x, r.p);
+      });
+  try {
+    ReadForceText(zero, "zero.csv");
+    FAIL() << "a friction channel of zeros was read";
+  } catch (const ForceError& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  "zero.csv: no friction force recorded: the friction "
+                  "channel 'Q' is 0 N in every one of the "),
+              std::string::npos)
+        << e.what();
+  }
+  const std::string rotary =
+      "Created by CETR UMT Data Viewer ver. 1.138.266\nRun # 1\n"
+      "Radius = 3.9493\nVelocity = 240\n\n" +
+      Text("time_s,x_mm,Q_N,P_N", [](const Row& r, int) {
+        return fmt::format("{:.6f},0.00000,{:.6f},{:.6f}", r.t, r.q, r.p);
+      });
+  try {
+    ReadForceText(rotary, "rotary.csv");
+    FAIL() << "a rotary test was read";
+  } catch (const ForceError& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  "rotary.csv: a rotary test (pin-on-disk): the position does "
+                  "not reciprocate (a stroke of 0 mm) and line 3 states the "
+                  "track's radius ('Radius = 3.9493')"),
+              std::string::npos)
+        << e.what();
   }
 }
 

@@ -7,8 +7,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <map>
 #include <filesystem>
+#include <map>
 
 #include "draw.h"
 #include "wearscar/report/figures.h"
@@ -108,8 +108,11 @@ FigureSpec Band(const char* stem,
                 const char* ylabel,
                 std::size_t specimens) {
   const std::string c = column;
-  Series band("cycles_percentiles", "cycle", c + "_p10",
-              "the middle 80% of the specimens", {c + "_p90"});
+  Series band("cycles_percentiles",
+              "cycle",
+              c + "_p10",
+              "the middle 80% of the specimens",
+              {c + "_p90"});
   band.style = "filledcurves lc rgb '#c6dbef'";
   Series median("cycles_percentiles", "cycle", c + "_p50", "their median");
   median.style = "lines lw 2.5 lc rgb '#1f77b4'";
@@ -355,16 +358,16 @@ FigureSet DrawAuditFigures(const std::string& dir,
              "",
              {"mu_hat_low", "mu_hat_high"});
     w.style = "xerrorbars pt 7 lc rgb '#1f77b4'";
-    figs.push_back({"audit_wear_vs_mu",
-                    "specific wear rate against mu-hat, all specimens",
-                    {{"",
-                      "mu-hat, k from P (-)",
-                      "specific wear rate (mm^3/(N m))",
-                      "unset key\n" +
-                          (named ? PointLabels(specimens, wear) : ""),
-                      {},
-                      "",
-                      {w}}}});
+    figs.push_back(
+        {"audit_wear_vs_mu",
+         "specific wear rate against mu-hat, all specimens",
+         {{"",
+           "mu-hat, k from P (-)",
+           "specific wear rate (mm^3/(N m))",
+           "unset key\n" + (named ? PointLabels(specimens, wear) : ""),
+           {},
+           "",
+           {w}}}});
   }
   const internal::TableSet tables = {{"cycles_by_specimen", &cycles},
                                      {"cycles_percentiles", &percentiles},

@@ -75,9 +75,11 @@ const std::vector<Column>& Columns() {
        true},
       {"force file",
        [](const nlohmann::json& r) { return FileName(r["force_file"]); },
+       true,
        true},
       {"scan file",
        [](const nlohmann::json& r) { return FileName(r["scan_file"]); },
+       true,
        true},
       {"load (N)",
        [](const nlohmann::json& r) {
@@ -208,7 +210,9 @@ std::string SummaryRows(const ReportSection& s,
           ? Escape(s.name)
           : "<a href=\"" + Escape(url) + "\">" + Escape(s.name) + "</a>");
   for (const Column* c : columns) {
-    h += c->file ? "<td class=\"text file\">" : c->text ? "<td class=\"text\">" : "<td>";
+    h += c->file   ? "<td class=\"text file\">"
+         : c->text ? "<td class=\"text\">"
+                   : "<td>";
     h += s.failed ? std::string()
                   : (c->text ? Escape(c->cell(s.row)) : c->cell(s.row));
     h += "</td>";
@@ -230,46 +234,68 @@ std::string SummaryRows(const ReportSection& s,
   return h + "</tbody>\n";
 }
 
-// Sorting by a heading's click (numbers as numbers, empty cells last) and
-// filtering by text and by verdict; the body's data-table-rows counts the
-// rows shown.
+// The table's rows wait in a <template> (parsed, not laid out) and are
+// shown a page at a time: a thousand rows laid out at once took Chromium
+// seconds. Sorting by a heading's click (numbers as numbers, empty cells
+// last) and filtering by text and by verdict act on every row; the body's
+// data-table-rows counts the rows that pass the filters, data-page-rows
+// those on the page.
 constexpr const char* kTableScript = R"(<script>
 (function () {
   var table = document.getElementById('summary');
-  var bodies = function () { return Array.prototype.slice.call(table.tBodies); };
+  var rows = Array.prototype.slice.call(document.getElementById('rows').content.children);
   var text = document.getElementById('filter-text'), verdict = document.getElementById('filter-verdict');
-  function count() {
-    var shown = bodies().filter(function (b) { return b.style.display !== 'none'; }).length;
-    document.body.setAttribute('data-table-rows', shown);
-    document.getElementById('shown').textContent = shown + ' of ' + table.tBodies.length + ' shown';
+  var size = document.getElementById('page-size'), shown = document.getElementById('shown');
+  var prev = document.getElementById('page-prev'), next = document.getElementById('page-next');
+  var keys = rows.map(function (b) {
+    return Array.prototype.map.call(b.rows[0].cells, function (c) { return c.textContent.trim(); });
+  });
+  var words = rows.map(function (b) { return b.textContent.toLowerCase(); });
+  var order = rows.map(function (b, i) { return i; }), passing = order, page = 0;
+  function draw() {
+    var n = size.value === 'all' ? passing.length : +size.value;
+    var pages = Math.max(1, Math.ceil(passing.length / n));
+    page = Math.min(Math.max(page, 0), pages - 1);
+    while (table.tBodies.length) table.removeChild(table.tBodies[0]);
+    var from = page * n, to = Math.min(passing.length, from + n);
+    for (var k = from; k < to; ++k) table.appendChild(rows[passing[k]]);
+    shown.textContent = (passing.length ? (from + 1) + '-' + to : '0') + ' of ' + passing.length +
+        (passing.length < rows.length ? ' passing the filter (' + rows.length + ' specimens)' : '');
+    prev.disabled = page === 0;
+    next.disabled = page >= pages - 1;
+    document.body.setAttribute('data-table-rows', passing.length);
+    document.body.setAttribute('data-page-rows', to - from);
   }
   function filter() {
-    var words = text.value.toLowerCase().split(/\s+/).filter(Boolean), v = verdict.value;
-    bodies().forEach(function (b) {
-      var row = b.rows[0], t = b.textContent.toLowerCase();
-      var ok = words.every(function (w) { return t.indexOf(w) >= 0; }) && (v === '' || row.classList.contains(v));
-      b.style.display = ok ? '' : 'none';
+    var want = text.value.toLowerCase().split(/\s+/).filter(Boolean), v = verdict.value;
+    passing = order.filter(function (i) {
+      return want.every(function (w) { return words[i].indexOf(w) >= 0; }) &&
+          (v === '' || rows[i].rows[0].classList.contains(v));
     });
-    count();
+    page = 0;
+    draw();
   }
   var heads = table.tHead.rows[0].cells;
-  for (var c = 0; c < heads.length; ++c) (function (c) {
-    heads[c].addEventListener('click', function () {
-      var up = !heads[c].classList.contains('sorted-up');
-      for (var k = 0; k < heads.length; ++k) heads[k].classList.remove('sorted-up', 'sorted-down');
-      heads[c].classList.add(up ? 'sorted-up' : 'sorted-down');
-      var key = function (b) { return b.rows[0].cells[c].textContent.trim(); };
-      bodies().sort(function (a, b) {
-        var x = key(a), y = key(b), nx = parseFloat(x), ny = parseFloat(y);
+  Array.prototype.forEach.call(heads, function (head, c) {
+    head.addEventListener('click', function () {
+      var up = !head.classList.contains('sorted-up');
+      Array.prototype.forEach.call(heads, function (h) { h.classList.remove('sorted-up', 'sorted-down'); });
+      head.classList.add(up ? 'sorted-up' : 'sorted-down');
+      order.sort(function (a, b) {
+        var x = keys[a][c], y = keys[b][c], nx = parseFloat(x), ny = parseFloat(y);
         if (x === '' || y === '') return x === y ? 0 : x === '' ? 1 : -1;
         var d = !isNaN(nx) && !isNaN(ny) ? nx - ny : x.localeCompare(y);
         return up ? d : -d;
-      }).forEach(function (b) { table.appendChild(b); });
+      });
+      filter();
     });
-  })(c);
+  });
   text.addEventListener('input', filter);
   verdict.addEventListener('change', filter);
-  count();
+  size.addEventListener('change', draw);
+  prev.addEventListener('click', function () { --page; draw(); });
+  next.addEventListener('click', function () { ++page; draw(); });
+  draw();
 })();
 </script>
 )";
@@ -301,16 +327,22 @@ std::string RenderIndex(const std::string& out,
       "aria-label=\"verdict\"><option value=\"\">every verdict</option>"
       "<option value=\"ok\">explained</option><option value=\"flagged\">not "
       "explained</option><option value=\"failed\">failed</option></select> "
-      "<span id=\"shown\"></span></p>\n"
+      "<button id=\"page-prev\" type=\"button\">previous</button> "
+      "<span id=\"shown\"></span> <button id=\"page-next\" "
+      "type=\"button\">next</button> <select id=\"page-size\" "
+      "aria-label=\"rows a page\"><option>100</option><option>500</option>"
+      "<option value=\"all\">all rows</option></select></p>\n"
+      "<noscript><p>The table is shown by the page's script; summary.csv "
+      "holds the same rows.</p></noscript>\n"
       "<div class=\"wide\"><table id=\"summary\"><thead><tr><th>specimen</th>",
       sections.size(),
       flagged,
       failed);
   for (const Column* c : columns)
     h += std::string("<th>") + c->heading + "</th>";
-  h += "<th>verdict</th></tr></thead>\n";
+  h += "<th>verdict</th></tr></thead></table></div>\n<template id=\"rows\">";
   for (const auto& s : sections) h += SummaryRows(s, columns);
-  h += "</table></div>\n";
+  h += "</template>\n";
   if (!batch.shown.empty() || !batch.message.empty()) {
     h += "<h2>All specimens</h2>\n";
     if (!batch.message.empty()) h += "<p>" + Escape(batch.message) + "</p>\n";

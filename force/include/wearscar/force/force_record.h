@@ -21,10 +21,11 @@ class ForceError : public std::runtime_error {
 // "Cycles: 3000"): what, its value in mm (stroke: peak to peak), a count
 // (cycles), N (load) or Hz (frequency), and the line it was read from.
 struct StatedFact {
-  // "stroke" (mm), "cycles", "load" (N), "frequency" (Hz), "spring" (N/mm)
+  // "stroke" (mm), "cycles", "load" (N), "frequency" (Hz), "spring" (N/mm),
+  // "radius" (mm: a rotary test's track)
   std::string what;
   double value = 0.0;
-  std::string line;
+  std::string line;      // as written: its label, number and unit
   int line_number = 0;  // from 1
 };
 

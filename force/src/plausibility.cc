@@ -135,6 +135,28 @@ ForceError NoPlausibleUnit(Channel ch,
       ch == kQ ? "q" : p.option));
 }
 
+// A rotary (pin-on-disk) export: the position does not reciprocate and
+// the header states the track's radius.
+void RefuseARotaryTest(const ForceRecord& r,
+                       const std::string& file,
+                       double span) {
+  const auto radius =
+      std::find_if(r.metadata.stated.begin(),
+                   r.metadata.stated.end(),
+                   [](const StatedFact& f) { return f.what == "radius"; });
+  if (span < 0.01 && radius != r.metadata.stated.end()) {
+    throw ForceError(fmt::format(
+        "{}: a rotary test (pin-on-disk): the position does not reciprocate "
+        "(a stroke of {:.4g} mm) and line {} states the track's radius "
+        "('{}'); expected a reciprocating test, the only kind wearscar "
+        "analyses",
+        file,
+        span,
+        radius->line_number,
+        radius->line));
+  }
+}
+
 }  // namespace
 
 Scale ResolveUnit(Channel channel,
@@ -282,21 +304,7 @@ void CheckPlausible(ForceRecord& r, const std::string& file) {
   }
   double span, median;
   Spread(r.x_mm, &span, &median);
-  const auto radius =
-      std::find_if(r.metadata.stated.begin(),
-                   r.metadata.stated.end(),
-                   [](const StatedFact& f) { return f.what == "radius"; });
-  if (span < 0.01 && radius != r.metadata.stated.end()) {
-    throw ForceError(fmt::format(
-        "{}: a rotary test (pin-on-disk): the position does not reciprocate "
-        "(a stroke of {:.4g} mm) and line {} states the track's radius "
-        "('{}'); expected a reciprocating test, the only kind wearscar "
-        "analyses",
-        file,
-        span,
-        radius->line_number,
-        radius->line));
-  }
+  RefuseARotaryTest(r, file, span);
   if (!(span >= 0.01 && span <= 100)) {
     throw ForceError(fmt::format(
         "{}: a stroke of {:.4g} mm (robust peak to peak of x); expected 0.05 "

@@ -64,120 +64,115 @@ std::string FileName(const nlohmann::json& j) {
 
 // Test conditions, files and results, in the table's order. The
 // frequency and speed are the drive's over the complete cycles.
-const std::vector<Column>& Columns() {
-  static const std::vector<Column> kColumns = {
-      {"species",
-       [](const nlohmann::json& r) { return Text(r["species"]); },
-       true},
-      {"plane", [](const nlohmann::json& r) { return Text(r["plane"]); }, true},
-      {"direction",
-       [](const nlohmann::json& r) { return Text(r["direction"]); },
-       true},
-      {"force file",
-       [](const nlohmann::json& r) { return FileName(r["force_file"]); },
-       true,
-       true},
-      {"scan file",
-       [](const nlohmann::json& r) { return FileName(r["scan_file"]); },
-       true,
-       true},
-      {"load (N)",
-       [](const nlohmann::json& r) {
-         return Number(At(r, {"wear", "normal_load_n"}), "{:.2f}");
-       }},
-      {"frequency (Hz)",
-       [](const nlohmann::json& r) {
-         return Number(r["frequency_hz"], "{:.3g}");
-       }},
-      {"stroke (mm)",
-       [](const nlohmann::json& r) {
-         return Number(r["stroke_mm"], "{:.3f}");
-       }},
-      {"mean speed (mm/s)",
-       [](const nlohmann::json& r) {
-         return Number(r["mean_speed_mm_s"], "{:.3g}");
-       }},
-      {"sampling rate (Hz)",
-       [](const nlohmann::json& r) {
-         return Number(r["sampling_rate_hz"], "{:.6g}");
-       }},
-      {"cycles",
-       [](const nlohmann::json& r) { return Number(r["cycles"], "{:.0f}"); }},
-      {"mu-hat (k from P or depth)",
-       [](const nlohmann::json& r) {
-         return Number(At(r, {"comparison", "mu_hat_force", "mean"}));
-       }},
-      {"its 95% interval",
-       [](const nlohmann::json& r) {
-         const nlohmann::json iv =
-             At(r, {"comparison", "mu_hat_force", "interval95"});
-         return iv.is_array() && iv.size() == 2
-                    ? Number(iv[0]) + "&ndash;" + Number(iv[1])
-                    : std::string();
-       }},
-      {"mu-hat (k from scan)",
-       [](const nlohmann::json& r) {
-         return Number(At(r, {"comparison", "mu_hat_scan", "mean"}));
-       }},
-      {"mu mean",
-       [](const nlohmann::json& r) {
-         return Number(At(r, {"comparison", "mu_mean", "mean"}));
-       }},
-      {"mu energy",
-       [](const nlohmann::json& r) {
-         return Number(At(r, {"comparison", "mu_energy", "mean"}));
-       }},
-      {"J",
-       [](const nlohmann::json& r) {
-         return Number(At(r, {"comparison", "J_force", "mean"}), "{:.3f}");
-       }},
-      {"J noise floor",
-       [](const nlohmann::json& r) {
-         return Number(At(r, {"comparison", "J_force_split", "noise_floor"}),
-                       "{:.3f}");
-       }},
-      {"J excess",
-       [](const nlohmann::json& r) {
-         return Number(At(r, {"comparison", "J_force_split", "excess"}),
-                       "{:.3f}");
-       }},
-      {"J (k from scan)",
-       [](const nlohmann::json& r) {
-         return Number(At(r, {"comparison", "J_scan", "mean"}), "{:.3f}");
-       }},
-      {"its floor",
-       [](const nlohmann::json& r) {
-         return Number(At(r, {"comparison", "J_scan_split", "noise_floor"}),
-                       "{:.3f}");
-       }},
-      {"r profiles",
-       [](const nlohmann::json& r) {
-         return Number(At(r, {"comparison", "profile_correlation"}), "{:.3f}");
-       }},
-      {"amplitude ratio",
-       [](const nlohmann::json& r) {
-         return Number(At(r, {"comparison", "amplitude_ratio"}), "{:.2f}");
-       }},
-      {"wear rate (mm<sup>3</sup>/(N m))",
-       [](const nlohmann::json& r) {
-         return Number(At(r, {"wear", "specific_wear_rate_mm3_per_n_m"}),
-                       "{:.3g}");
-       }},
-      {"warnings",
-       [](const nlohmann::json& r) {
-         return r["warnings"].is_array() ? std::to_string(r["warnings"].size())
-                                         : std::string();
-       }},
-  };
-  return kColumns;
-}
+const Column kColumns[] = {
+    {"species",
+     [](const nlohmann::json& r) { return Text(r["species"]); },
+     true},
+    {"plane", [](const nlohmann::json& r) { return Text(r["plane"]); }, true},
+    {"direction",
+     [](const nlohmann::json& r) { return Text(r["direction"]); },
+     true},
+    {"force file",
+     [](const nlohmann::json& r) { return FileName(r["force_file"]); },
+     true,
+     true},
+    {"scan file",
+     [](const nlohmann::json& r) { return FileName(r["scan_file"]); },
+     true,
+     true},
+    {"load (N)",
+     [](const nlohmann::json& r) {
+       return Number(At(r, {"wear", "normal_load_n"}), "{:.2f}");
+     }},
+    {"frequency (Hz)",
+     [](const nlohmann::json& r) {
+       return Number(r["frequency_hz"], "{:.3g}");
+     }},
+    {"stroke (mm)",
+     [](const nlohmann::json& r) { return Number(r["stroke_mm"], "{:.3f}"); }},
+    {"mean speed (mm/s)",
+     [](const nlohmann::json& r) {
+       return Number(r["mean_speed_mm_s"], "{:.3g}");
+     }},
+    {"sampling rate (Hz)",
+     [](const nlohmann::json& r) {
+       return Number(r["sampling_rate_hz"], "{:.6g}");
+     }},
+    {"cycles",
+     [](const nlohmann::json& r) { return Number(r["cycles"], "{:.0f}"); }},
+    {"mu-hat (k from P or depth)",
+     [](const nlohmann::json& r) {
+       return Number(At(r, {"comparison", "mu_hat_force", "mean"}));
+     }},
+    {"its 95% interval",
+     [](const nlohmann::json& r) {
+       const nlohmann::json iv =
+           At(r, {"comparison", "mu_hat_force", "interval95"});
+       return iv.is_array() && iv.size() == 2
+                  ? Number(iv[0]) + "&ndash;" + Number(iv[1])
+                  : std::string();
+     }},
+    {"mu-hat (k from scan)",
+     [](const nlohmann::json& r) {
+       return Number(At(r, {"comparison", "mu_hat_scan", "mean"}));
+     }},
+    {"mu mean",
+     [](const nlohmann::json& r) {
+       return Number(At(r, {"comparison", "mu_mean", "mean"}));
+     }},
+    {"mu energy",
+     [](const nlohmann::json& r) {
+       return Number(At(r, {"comparison", "mu_energy", "mean"}));
+     }},
+    {"J",
+     [](const nlohmann::json& r) {
+       return Number(At(r, {"comparison", "J_force", "mean"}), "{:.3f}");
+     }},
+    {"J noise floor",
+     [](const nlohmann::json& r) {
+       return Number(At(r, {"comparison", "J_force_split", "noise_floor"}),
+                     "{:.3f}");
+     }},
+    {"J excess",
+     [](const nlohmann::json& r) {
+       return Number(At(r, {"comparison", "J_force_split", "excess"}),
+                     "{:.3f}");
+     }},
+    {"J (k from scan)",
+     [](const nlohmann::json& r) {
+       return Number(At(r, {"comparison", "J_scan", "mean"}), "{:.3f}");
+     }},
+    {"its floor",
+     [](const nlohmann::json& r) {
+       return Number(At(r, {"comparison", "J_scan_split", "noise_floor"}),
+                     "{:.3f}");
+     }},
+    {"r profiles",
+     [](const nlohmann::json& r) {
+       return Number(At(r, {"comparison", "profile_correlation"}), "{:.3f}");
+     }},
+    {"amplitude ratio",
+     [](const nlohmann::json& r) {
+       return Number(At(r, {"comparison", "amplitude_ratio"}), "{:.2f}");
+     }},
+    {"wear rate (mm<sup>3</sup>/(N m))",
+     [](const nlohmann::json& r) {
+       return Number(At(r, {"wear", "specific_wear_rate_mm3_per_n_m"}),
+                     "{:.3g}");
+     }},
+    {"warnings",
+     [](const nlohmann::json& r) {
+       return r["warnings"].is_array() ? std::to_string(r["warnings"].size())
+                                       : std::string();
+     }},
+};
 
 // The columns with a value in some row (species, plane and direction are
 // empty when no name follows the naming pattern).
 std::vector<const Column*> ShownColumns(
     const std::vector<ReportSection>& sections) {
   std::vector<const Column*> shown;
-  for (const Column& c : Columns()) {
+  for (const Column& c : kColumns) {
     for (const auto& s : sections) {
       if (!s.failed && !c.cell(s.row).empty()) {
         shown.push_back(&c);

@@ -49,6 +49,10 @@ def test_fuse_recovers_the_simulated_mu_per_cycle():
     truth = np.array(test.truth["mu_per_cycle"])
     cycles = result.cycles
     assert cycles["cycle"][0] == 1 and cycles["cycle"][-1] == 60
+    # Counts as integers, measures as floats.
+    assert cycles["cycle"].dtype == np.int64
+    assert cycles["running_in"].dtype == np.int64
+    assert cycles["mu_hat_force"].dtype == np.float64
     steady = cycles["cycle"] > 20
     assert np.abs(cycles["mu_hat_force"][steady] - truth[steady]).max() < 0.01
     assert abs(result.mu_hat_scan - truth[steady].mean()) < 0.005

@@ -113,6 +113,21 @@ def read_scan(path, **options):
     return _wearscar._read_scan(_existing(path), _args(options))
 
 
+
+# Columns that count or number things: integers (int64) when every value
+# is a whole number, as the CSV writes them.
+_INTEGER_COLUMNS = {"cycle", "running_in", "direction", "index", "specimen",
+                    "samples", "bin", "effective_cycles", "slip_fallback"}
+
+
+def _typed(column, values):
+    if column in _INTEGER_COLUMNS or column.endswith("_count"):
+        import numpy as np
+        if values.size and np.all(np.isfinite(values)) and \
+                np.all(values == np.round(values)):
+            return values.astype(np.int64)
+    return values
+
 class Result:
     """One analysed test: what `wearscar fuse --no-figures` writes.
 
@@ -132,7 +147,8 @@ class Result:
         self.tables = {}
         for file, columns, values in output.tables():
             key = file[:-4] if file.endswith(".csv") else file
-            self.tables[key] = {c: values[:, i] for i, c in enumerate(columns)}
+            self.tables[key] = {c: _typed(c, values[:, i])
+                                for i, c in enumerate(columns)}
 
     @property
     def cycles(self):

@@ -58,13 +58,42 @@ std::optional<long> ReadCount(std::string_view value) {
   return static_cast<long>(*v);
 }
 
-// One header line ("# Width: 10.00 µm", "pixel size=3.7e-007 m"); keys it
-// does not know are kept for nothing. Returns false for a known key whose
-// value is not what it should be (the line is then refused).
+// A line of several "key=value" words ("h=650 w=650", a Wyko/Vision ASCII
+// export's first line), split into them; the line itself otherwise.
+std::vector<std::string_view> KeyValueWords(std::string_view line) {
+  std::vector<std::string_view> words;
+  std::size_t pos = 0;
+  while (pos < line.size()) {
+    while (pos < line.size() && (line[pos] == ' ' || line[pos] == '\t')) ++pos;
+    std::size_t end = pos;
+    while (end < line.size() && line[end] != ' ' && line[end] != '\t') ++end;
+    const std::string_view word = line.substr(pos, end - pos);
+    if (!word.empty()) {
+      const auto eq = word.find('=');
+      if (eq == 0 || eq == std::string_view::npos ||
+          word.find_first_of(":=", eq + 1) != std::string_view::npos)
+        return {line};
+      words.push_back(word);
+    }
+    pos = end;
+  }
+  return words.size() > 1 ? words : std::vector<std::string_view>{line};
+}
+
+// One header line ("# Width: 10.00 µm", "pixel size=3.7e-007 m", "h=650
+// w=650"); keys it does not know are kept for nothing. Returns false for a
+// known key whose value is not what it should be (the line is then
+// refused).
 bool ReadHeaderLine(std::string_view line, MatrixHeader* h) {
   while (!line.empty() &&
          (line.front() == '#' || line.front() == ' ' || line.front() == '\t'))
     line.remove_prefix(1);
+  const std::vector<std::string_view> words = KeyValueWords(line);
+  if (words.size() > 1) {
+    bool ok = true;
+    for (std::string_view w : words) ok = ReadHeaderLine(w, h) && ok;
+    return ok;
+  }
   const std::size_t at = line.find_first_of(":=");
   if (at == std::string_view::npos) return true;
   const std::string key = support::Lower(Trim(line.substr(0, at)));

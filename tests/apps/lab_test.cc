@@ -736,6 +736,32 @@ TEST(Report, ShowsEachSpecimensNumbersAndWhereTheyCameFrom) {
       << wear;
 }
 
+// On a dead-weight rig with a depth channel, Fig. 8c-d names the profile
+// it draws (the depth channel's), not a spring displacement P/S.
+TEST(Figures, ADeadWeightsProfileIsNamedForItsChannel) {
+  const std::string dir = ::testing::TempDir() + "/lab-dead-weight-figures";
+  fs::remove_all(dir);
+  ASSERT_EQ(Wearscar("simulate --case B-RT-R --rig dead-weight --cycles 30 "
+                     "--rate 500 --scan-cols 256 --scan-rows 192 "
+                     "--scan-pitch 0.03 --formats csv,gsf -o " +
+                     dir)
+                .status,
+            0);
+  const CommandResult r = Wearscar("fuse " + dir + "/B-RT-R.force.csv --scan " +
+                                   dir + "/B-RT-R.scan.gsf -o " + dir + "/out");
+  ASSERT_EQ(r.status, 0) << r.output;
+  const std::string gp = FigureScripts(dir + "/out");
+  EXPECT_NE(gp.find("the depth channel's profile and the aligned scan "
+                    "profile (Fig. 8c-d)"),
+            std::string::npos);
+  EXPECT_NE(gp.find("'depth forward - "), std::string::npos);
+  EXPECT_EQ(gp.find("P/S forward"), std::string::npos);
+  EXPECT_EQ(gp.find("spring displacement"), std::string::npos);
+  // No track history "from the spring" on a rig whose load is a weight.
+  EXPECT_FALSE(fs::exists(dir + "/out/fig_track_history.svg"));
+  EXPECT_EQ(gp.find("from the spring"), std::string::npos);
+}
+
 // An Anton Paar TRB linear export of a dead-weight test (its columns as
 // the instrument writes them: tab separated, decimal commas, the nominal
 // load as the only load, "µ" and "Penetration Depth [µm]" in UTF-8 or in

@@ -77,6 +77,26 @@ TEST(AsciiMatrix, PixelSizeAndHeightConversionFactor) {
       std::string::npos);
 }
 
+// A Wyko/Vision ASCII export: the size as two words of one line, then
+// the pixel, the data unit and the height conversion factor.
+TEST(AsciiMatrix, VisionExportWithTheSizeOnOneLine) {
+  const std::string text =
+      "h=3 w=4\npixel size=3.69862e-007 m\ndata unit=rad\n"
+      "height conversion factor (-> m)=6.30079e-008\n"
+      "10 20 30 40\n50 60 70 80\n90 100 110 120\n";
+  const HeightMap h = ParseAsciiMatrix(text, "vision.txt", {});
+  EXPECT_EQ(h.rows(), 3);
+  EXPECT_EQ(h.cols(), 4);
+  EXPECT_NEAR(h.dx_mm, 3.69862e-4, 1e-12);
+  EXPECT_NEAR(h.height_mm(2, 3), 120 * 6.30079e-8 * 1e3, 1e-9);  // float
+  // Stated the other way round from the data: refused, naming both.
+  EXPECT_NE(
+      MessageOf("h=5 w=4\npixel size=1 um\n" + text.substr(text.find("10 ")))
+          .find("the header states 4 x 5 pixels; found 3 rows of 4 "
+                "values"),
+      std::string::npos);
+}
+
 TEST(AsciiMatrix, AStylusProfileIsRefusedAsALineProfile) {
   // A Dektak CSV: parameters, results, then lateral position and height.
   const std::string dektak =

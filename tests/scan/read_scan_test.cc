@@ -323,6 +323,17 @@ TEST(KeyenceCsv, ACutFileKeepsItsRowsAndSaysHowMany) {
     EXPECT_EQ(std::string(e.what()),
               "short.csv: 3 height rows after line 5; expected 8 (Vertical)");
   }
+  // Cut short with the missing rows written as empty cells: said too.
+  const HeightMap empty_tail = ParseKeyenceCsv(
+      "Horizontal,3\nVertical,4\nXY Calibration,7.413,um\nUnit,um\n"
+      "Height\n1,2,3\n4,5,6\n,,\n,,\n",
+      "empty.csv");
+  EXPECT_EQ(empty_tail.rows(), 4);
+  EXPECT_EQ(empty_tail.ValidCount(), 6);
+  ASSERT_FALSE(empty_tail.metadata.warnings.empty());
+  EXPECT_EQ(empty_tail.metadata.warnings[0],
+            "the last 2 of the 4 rows have no measured point (empty cells): "
+            "the export may be cut short; read as not measured");
 }
 
 TEST(KeyenceCsv, ShiftJisKeysSemicolonsDecimalComma) {

@@ -32,6 +32,14 @@ std::string ForceSideK(const fusion::TestResult& r) {
   return r.profile.SlopeName();
 }
 
+// The force side's profile in a key: "P/S" (the spring), "depth" (the
+// depth channel) or "friction profile" (a dead weight's friction).
+std::string ForceSideProfile(const fusion::TestResult& r) {
+  return r.profile.FromDepth()      ? "depth"
+         : r.profile.FromFriction() ? "friction profile"
+                                    : "P/S";
+}
+
 Series Line(const char* table,
             const char* x,
             const char* y,
@@ -440,10 +448,13 @@ void AddFrictionMap(const std::string& name,
       "fig_friction_map",
       name + ": friction map mu(x, cycle)",
       {{fmt::format("raw: s Q / P (forward); its sd along x after running-in "
-                    "{:.4f}, corrected {:.4f} (noise floor {:.4f})",
+                    "{:.4f}, corrected {:.4f} ({})",
                     m.spatial_sd_raw,
                     m.spatial_sd_corrected,
-                    m.spatial_sd_noise),
+                    std::isfinite(m.spatial_sd_noise)
+                        ? fmt::format("noise floor {:.4f}", m.spatial_sd_noise)
+                        : std::string("too few steady cycles for a noise "
+                                      "floor")),
         "x (mm)",
         "cycle",
         ranges,
@@ -491,6 +502,9 @@ void AddTrackHistory(const std::string& name,
                      std::vector<FigureSpec>* figs) {
   const auto& h = r.track_history;
   if (h.x_mm.size() < 2 || h.cycles < 2) return;
+  // Drawn from P/S: on a rig whose P does not follow the track (a dead
+  // weight: the depth channel or the friction used) it shows noise.
+  if (r.profile.FromDepth() || r.profile.FromFriction()) return;
   figs->push_back(
       {"fig_track_history",
        fmt::format("{}: the track's history from the spring, h = P/S; "
@@ -514,7 +528,9 @@ void AddTrackHistory(const std::string& name,
         {"waviness: the sd of h along the stroke",
          "cycle",
          "waviness (mm)",
-         "set autoscale\nunset colorbox\nunset key\n",
+         // From 0: a waviness that barely changes was autoscaled to a span
+         // below the labels' digits, which then repeated.
+         "set autoscale\nset yrange [0:*]\nunset colorbox\nunset key\n",
          {},
          "",
          {Line(
@@ -545,20 +561,22 @@ FigureSet DrawTestFigures(const std::string& dir,
     FigureSpec map{"fig08ab_scan_map",
                    name + ": levelled scan, detected track (Fig. 8a-b)",
                    {MapPanel(r.scan->levelled, &r.scan->track)}};
-    Series fwd = Line(
-        "profiles.csv",
-        "x_mm",
-        "f_forward_mm",
-        fmt::format("P/S forward - {:.4f} mm", r.scan->alignment.offset_mm),
-        kForceColour);
-    Series rev = Line(
-        "profiles.csv",
-        "x_mm",
-        "f_reverse_mm",
-        fmt::format("P/S reverse - {:.4f} mm", r.scan->alignment.offset_mm),
-        kForceColour,
-        1.5,
-        2);
+    Series fwd = Line("profiles.csv",
+                      "x_mm",
+                      "f_forward_mm",
+                      fmt::format("{} forward - {:.4f} mm",
+                                  ForceSideProfile(r),
+                                  r.scan->alignment.offset_mm),
+                      kForceColour);
+    Series rev = Line("profiles.csv",
+                      "x_mm",
+                      "f_reverse_mm",
+                      fmt::format("{} reverse - {:.4f} mm",
+                                  ForceSideProfile(r),
+                                  r.scan->alignment.offset_mm),
+                      kForceColour,
+                      1.5,
+                      2);
     fwd.y_offset = rev.y_offset = -r.scan->alignment.offset_mm;
     Series h =
         Line("profiles.csv",
@@ -571,8 +589,11 @@ FigureSet DrawTestFigures(const std::string& dir,
     figs.push_back(map);
     figs.push_back(
         {"fig08cd_profiles",
-         name + ": spring displacement P/S and aligned scan profile "
-                "(Fig. 8c-d)",
+         fmt::format("{}: {} and the aligned scan profile (Fig. 8c-d)",
+                     name,
+                     r.profile.FromDepth() || r.profile.FromFriction()
+                         ? r.profile.ProfileName()
+                         : "the spring displacement P/S"),
          {{"", "x (mm)", "height (mm)", "", {}, "", {fwd, rev, h}}}});
   }
   if (!r.scan && r.unused_map) {

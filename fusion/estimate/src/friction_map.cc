@@ -67,6 +67,9 @@ void Accumulate(const SlipSamples& s, int cycle, Bins* b) {
   }
 }
 
+// Blocks of steady cycles the noise floor needs (NaN with fewer).
+constexpr int kFewestBlocks = 4;
+
 // The along-track variation of the steady average of the map values v, and
 // the noise floor of that average. Each cycle and direction is taken about
 // its own mean (the drift of mu over cycles is not along-track variation).
@@ -128,7 +131,11 @@ void SpatialVariation(const FrictionMap& m,
     // Neighbouring blocks still share the ensembles that straddle their
     // boundary (a correlation of about 0.25 for blocks as long as the
     // ensemble): the lag-1 covariance enters the variance of the mean.
-    se2[i] = (var + 2 * lag1) / (bm.size() - 1) / bm.size();
+    // Below kFewestBlocks it is not estimable (of two blocks the lag-1
+    // covariance cancels their variance: a floor of exactly 0).
+    se2[i] = static_cast<int>(bm.size()) >= kFewestBlocks
+                 ? (var + 2 * lag1) / (bm.size() - 1) / bm.size()
+                 : kNaN;
   }
   for (int d = 0; d < 2; ++d) {
     double centre = 0;
@@ -147,7 +154,9 @@ void SpatialVariation(const FrictionMap& m,
     }
   }
   *sd = used > 1 ? std::sqrt(var_x / used) : kNaN;
-  *noise = used > 1 ? std::sqrt(std::max(0.0, var_noise) / used) : kNaN;
+  *noise = used > 1 && std::isfinite(var_noise)
+               ? std::sqrt(std::max(0.0, var_noise) / used)
+               : kNaN;
 }
 
 }  // namespace
@@ -231,9 +240,11 @@ void StoreVariation(int block, FrictionMap* map) {
                    &m.spatial_sd_noise,
                    &m.steady_corrected);
   m.spatial_sd_excess =
-      std::sqrt(std::max(0.0,
-                         m.spatial_sd_corrected * m.spatial_sd_corrected -
-                             m.spatial_sd_noise * m.spatial_sd_noise));
+      std::isfinite(m.spatial_sd_noise)
+          ? std::sqrt(std::max(0.0,
+                               m.spatial_sd_corrected * m.spatial_sd_corrected -
+                                   m.spatial_sd_noise * m.spatial_sd_noise))
+          : kNaN;
 }
 
 }  // namespace

@@ -977,12 +977,12 @@ TEST(StatedConditions, ThatTheDataContradictAreWarnedOf) {
   for (const std::string& w : result.warnings)
     if (w.find("the file states") == 0) said.push_back(w);
   ASSERT_EQ(said.size(), 2u);
-  EXPECT_NE(said[0].find("the file states \"Track length 5 mm, Cycles "
-                         "3000\" (line 1), but the data show a stroke of 4 "
-                         "mm (peak to peak)"),
+  EXPECT_NE(said[0].find("the file states \"Track length 5 mm\" (line 1), "
+                         "but the data show a stroke of 4 mm (peak to peak)"),
             std::string::npos)
       << said[0];
-  EXPECT_NE(said[1].find("but the data show 31 complete cycles"),
+  EXPECT_NE(said[1].find("the file states \"Cycles 3000\" (line 1), but the "
+                         "data show 31 complete cycles"),
             std::string::npos)
       << said[1];
 }

@@ -37,6 +37,23 @@ Mapped Simulate(const std::string& name,
   return m;
 }
 
+// Too few steady cycles for the noise floor (two blocks: their lag-1
+// covariance cancels their variance) give none rather than a floor of 0.
+TEST(FrictionMap, NoNoiseFloorFromTooFewSteadyCycles) {
+  samples::SimulationOptions o = samples::PaperCase("B-RT-R");
+  o.cycles = 20;
+  o.scan_cols = 256;
+  o.scan_rows = 192;
+  o.scan_pitch_mm = 0.03;
+  const sim::SimulatedTest t = sim::Simulate(o);
+  FuseOptions options;
+  options.analysis.running_in_cycles = 10;
+  const TestResult r = AnalyzeTest(t.record, t.scan, options);
+  EXPECT_TRUE(std::isfinite(r.friction_map.spatial_sd_corrected));
+  EXPECT_TRUE(std::isnan(r.friction_map.spatial_sd_noise));
+  EXPECT_TRUE(std::isnan(r.friction_map.spatial_sd_excess));
+}
+
 class CleanCase
     : public ::testing::TestWithParam<std::tuple<const char*, double>> {};
 

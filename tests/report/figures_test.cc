@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -384,6 +385,40 @@ TEST(AuditFigures, ManySpecimensAreSmallMultiples) {
   const std::string gp6((std::istreambuf_iterator<char>(in6)),
                         std::istreambuf_iterator<char>());
   EXPECT_EQ(gp6.find("set multiplot layout"), std::string::npos);
+}
+
+// Five specimens whose points nearly coincide: their names beside the
+// wear figure's points are placed apart (no two at one offset), where one
+// offset stacked them into one unreadable blot.
+TEST(AuditFigures, NamesBesideNearbyPointsDoNotOverlap) {
+  std::string why;
+  if (!PlotterAvailable(&why)) GTEST_SKIP() << why;
+  const fs::path dir = test_support::FreshFolder("labels");
+  std::vector<SpecimenSeries> batch = Batch(5);
+  for (int i = 0; i < 5; ++i) {
+    batch[i].mu_hat.mean = batch[i].mu_hat.low = batch[i].mu_hat.high =
+        0.12 + 0.0001 * i;
+    batch[i].wear_rate = 0.1 + 0.0001 * i;
+  }
+  batch.push_back(batch[0]);  // and one far from them
+  batch.back().name = "far";
+  batch.back().mu_hat.mean = batch.back().mu_hat.low =
+      batch.back().mu_hat.high = 0.2;
+  batch.back().wear_rate = 0.3;
+  ASSERT_TRUE(DrawAuditFigures(dir.string(), batch).missing.empty());
+  std::ifstream in(dir / "figure-data" / "figures.gp");
+  const std::string gp((std::istreambuf_iterator<char>(in)),
+                       std::istreambuf_iterator<char>());
+  std::set<std::string> offsets;
+  int labels = 0;
+  for (size_t at = gp.find("set label "); at != std::string::npos;
+       at = gp.find("set label ", at + 1)) {
+    const size_t o = gp.find(" offset ", at);
+    offsets.insert(gp.substr(o, gp.find(" font", o) - o));
+    ++labels;
+  }
+  EXPECT_EQ(labels, 6);
+  EXPECT_GE(offsets.size(), 5u);  // the five close ones each apart
 }
 
 // A batch beyond 30 specimens is one panel of its median per cycle and

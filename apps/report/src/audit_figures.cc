@@ -257,16 +257,71 @@ std::string NameTics(const std::vector<SpecimenSeries>& specimens) {
   return tics + ")\n";
 }
 
+// Each point's name beside it, placed where it overlaps no name placed
+// before: to the right or left of the point, above or below, tried in turn
+// (a name's box estimated from a 14 px character on the 1200 x 600 figure
+// in units of the data's span), the first free place taken, else the
+// first.
 std::string PointLabels(const std::vector<SpecimenSeries>& specimens,
                         const fusion::Table& wear) {
+  double x_lo = INFINITY, x_hi = -INFINITY, y_lo = INFINITY, y_hi = -INFINITY;
+  for (const auto& row : wear.rows) {
+    x_lo = std::min(x_lo, row[1]), x_hi = std::max(x_hi, row[1]);
+    y_lo = std::min(y_lo, row[3]), y_hi = std::max(y_hi, row[3]);
+  }
+  const double x_span = x_hi > x_lo ? 1.2 * (x_hi - x_lo) : 1,
+               y_span = y_hi > y_lo ? 1.2 * (y_hi - y_lo) : 1;
+  const double char_w = 0.0085, char_h = 0.04;  // of the plot's width, height
+  struct Box {
+    double x0, x1, y0, y1;
+  };
+  std::vector<Box> placed;
+  struct Place {
+    double dx, dy;
+    bool left;
+  };
+  constexpr Place kPlaces[] = {{1, 0.6, true},
+                               {1, -1.0, true},
+                               {-1, 0.6, false},
+                               {-1, -1.0, false},
+                               {1, 1.8, true},
+                               {1, -2.2, true},
+                               {-1, 1.8, false},
+                               {-1, -2.2, false}};
   std::string labels;
   for (const auto& row : wear.rows) {
+    const std::string& name = specimens[static_cast<size_t>(row[0])].name;
+    const double px = (row[1] - x_lo) / x_span, py = (row[3] - y_lo) / y_span;
+    const double width = char_w * static_cast<double>(name.size());
+    const auto box = [&](const Place& p) {
+      const double at = px + p.dx * char_w;
+      const double y = py + p.dy * char_h;
+      return p.left ? Box{at, at + width, y - char_h / 2, y + char_h / 2}
+                    : Box{at - width, at, y - char_h / 2, y + char_h / 2};
+    };
+    const auto free = [&](const Box& b) {
+      return std::none_of(placed.begin(), placed.end(), [&](const Box& o) {
+        return b.x0 < o.x1 && o.x0 < b.x1 && b.y0 < o.y1 && o.y0 < b.y1;
+      });
+    };
+    const Place* chosen = &kPlaces[0];
+    for (const Place& p : kPlaces) {
+      if (free(box(p))) {
+        chosen = &p;
+        break;
+      }
+    }
+    placed.push_back(box(*chosen));
     labels += fmt::format(
-        "set label {} {} at first {}, first {} offset 1,0.6 left font ',14'\n",
+        "set label {} {} at first {}, first {} offset {:g},{:g} {} font "
+        "',14'\n",
         static_cast<int>(row[0]) + 1,
-        internal::Quote(specimens[static_cast<size_t>(row[0])].name),
+        internal::Quote(name),
         row[1],
-        row[3]);
+        row[3],
+        chosen->dx,
+        chosen->dy,
+        chosen->left ? "left" : "right");
   }
   return labels;
 }

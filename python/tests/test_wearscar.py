@@ -150,6 +150,20 @@ def test_errors_carry_the_command_lines_messages(tmp_path):
     with pytest.raises(TypeError, match=r"fuse\(scan=\.\.\.\): .*found list"):
         wearscar.fuse(SAMPLES / "B-RT-R.force.csv", [1, 2])
     assert "keyword argument with a bad value" in wearscar.OptionError.__doc__
+    # Every public function, class and method says what it does.
+    import inspect
+    undocumented = []
+    for name in dir(wearscar):
+        item = getattr(wearscar, name)
+        if name.startswith("_") or inspect.ismodule(item) or not callable(item):
+            continue
+        if not (item.__doc__ or "").strip():
+            undocumented.append(name)
+        if inspect.isclass(item):
+            undocumented += [name + "." + m for m, v in vars(item).items()
+                             if not m.startswith("_") and callable(v)
+                             and not (getattr(v, "__doc__", "") or "").strip()]
+    assert undocumented == []
     if BINARY:
         for args, call in (
                 (["force", str(bad)], lambda: wearscar.read_force(bad)),

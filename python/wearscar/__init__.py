@@ -255,6 +255,7 @@ class Simulation:
         self.case = self.truth["case"]
 
     def to_dict(self):
+        """The force record, the scan and the truth as plain dicts."""
         return {"force": self.force.to_dict(), "scan": self.scan.to_dict(),
                 "truth": self.truth}
 

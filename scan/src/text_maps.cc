@@ -194,6 +194,25 @@ std::vector<std::vector<float>> ReadVrRows(
   return rows;
 }
 
+// Rows at the end with no measured point: an export cut short that wrote
+// the rest as empty cells (or a scan that ends off the specimen), said.
+void SayAnEmptyTail(const std::vector<std::vector<float>>& rows,
+                    long ny,
+                    HeightMap* map) {
+  long empty_tail = 0;
+  while (empty_tail < ny && std::all_of(rows[ny - 1 - empty_tail].begin(),
+                                        rows[ny - 1 - empty_tail].end(),
+                                        [](float v) { return std::isnan(v); }))
+    ++empty_tail;
+  if (empty_tail > 0 && empty_tail < ny) {
+    map->metadata.warnings.push_back(fmt::format(
+        "the last {} of the {} rows have no measured point (empty cells): "
+        "the export may be cut short; read as not measured",
+        empty_tail,
+        ny));
+  }
+}
+
 }  // namespace
 
 HeightMap ParseKeyenceCsv(const std::string& bytes, const std::string& name) {
@@ -251,20 +270,7 @@ HeightMap ParseKeyenceCsv(const std::string& bytes, const std::string& name) {
   }
   HeightMap map;
   if (!cut.empty()) map.metadata.warnings.push_back(cut);
-  // Rows at the end with no measured point: an export cut short that
-  // wrote the rest as empty cells (or a scan that ends off the specimen).
-  long empty_tail = 0;
-  while (empty_tail < ny && std::all_of(rows[ny - 1 - empty_tail].begin(),
-                                        rows[ny - 1 - empty_tail].end(),
-                                        [](float v) { return std::isnan(v); }))
-    ++empty_tail;
-  if (empty_tail > 0 && empty_tail < ny) {
-    map.metadata.warnings.push_back(fmt::format(
-        "the last {} of the {} rows have no measured point (empty cells): "
-        "the export may be cut short; read as not measured",
-        empty_tail,
-        ny));
-  }
+  SayAnEmptyTail(rows, ny, &map);
   if (field_mm < kVrMinField || field_mm > kVrMaxField) {
     map.metadata.warnings.push_back(fmt::format(
         "line {}: a pixel of {:.4g} um makes the map {:.4g} mm wide; a "

@@ -1114,6 +1114,48 @@ TEST(Audit, ReportRendersInHeadlessChromium) {
       dom,
       std::regex("<tr class=\"reason failed\"><td colspan=\"[0-9]+\"><div>"
                  "error: ")));
+  // Filtered and sorted from the page's address: the flagged specimen
+  // alone; every row by mu-hat, highest first (the table's own order is
+  // by name).
+  const std::string flagged =
+      Shell(cmd_at("", "report.html?verdict=flagged")).output;
+  EXPECT_NE(flagged.find("data-table-rows=\"1\""), std::string::npos);
+  EXPECT_NE(flagged.find("1-1 of 1 passing the filter (4 specimens)"),
+            std::string::npos);
+  const std::string by_name = Shell(cmd_at("", "report.html?filter=S-")).output;
+  EXPECT_NE(by_name.find("data-table-rows=\"2\""), std::string::npos);
+  const std::string sorted =
+      Shell(
+          cmd_at("", "report.html?sort=-mu-hat%20(k%20from%20P%20or%20depth)"))
+          .output;
+  std::vector<double> mu_hats;
+  const size_t table_end = sorted.find("<template");
+  const std::string shown_table = sorted.substr(0, table_end);
+  {
+    // mu-hat's column: its index among the headings.
+    const size_t head = shown_table.find("<thead>");
+    const std::string heads =
+        shown_table.substr(head, shown_table.find("</thead>") - head);
+    int column = -1, k = 0;
+    for (size_t at = heads.find("<th"); at != std::string::npos;
+         at = heads.find("<th", at + 1), ++k)
+      if (heads.compare(
+              heads.find('>', at) + 1, 26, "mu-hat (k from P or depth)") == 0)
+        column = k;
+    ASSERT_GT(column, 0);
+    for (size_t at = shown_table.find("<tbody>"); at != std::string::npos;
+         at = shown_table.find("<tbody>", at + 1)) {
+      size_t cell = at;
+      for (int c = 0; c <= column; ++c)
+        cell = shown_table.find("<td", cell + 1);
+      cell = shown_table.find('>', cell) + 1;
+      const std::string text =
+          shown_table.substr(cell, shown_table.find('<', cell) - cell);
+      if (!text.empty()) mu_hats.push_back(std::stod(text));
+    }
+  }
+  ASSERT_EQ(mu_hats.size(), 3u) << shown_table.substr(0, 2000);
+  EXPECT_TRUE(std::is_sorted(mu_hats.rbegin(), mu_hats.rend()));
   // As a reader sees the index and a specimen's page on a laptop's and a
   // desktop's screen: no horizontal scrolling of the page (the wide table
   // scrolls in its box), every figure at least 900 px wide, no text under

@@ -232,7 +232,8 @@ std::string SummaryRows(const ReportSection& s,
 // The table's rows wait in a <template> (parsed, not laid out) and are
 // shown a page at a time: a thousand rows laid out at once took Chromium
 // seconds. Sorting by a heading's click (numbers as numbers, empty cells
-// last) and filtering by text and by verdict act on every row; the body's
+// last) and filtering by text and by verdict act on every row, also from
+// the page's address (?filter=, ?verdict=, ?sort=); the body's
 // data-table-rows counts the rows that pass the filters, data-page-rows
 // those on the page.
 constexpr const char* kTableScript = R"(<script>
@@ -242,10 +243,15 @@ constexpr const char* kTableScript = R"(<script>
   var text = document.getElementById('filter-text'), verdict = document.getElementById('filter-verdict');
   var size = document.getElementById('page-size'), shown = document.getElementById('shown');
   var prev = document.getElementById('page-prev'), next = document.getElementById('page-next');
-  var keys = rows.map(function (b) {
-    return Array.prototype.map.call(b.rows[0].cells, function (c) { return c.textContent.trim(); });
-  });
-  var words = rows.map(function (b) { return b.textContent.toLowerCase(); });
+  // Each row's cells and words, read when first sorted or filtered.
+  var keys = null, words = null;
+  function read() {
+    if (keys) return;
+    keys = rows.map(function (b) {
+      return Array.prototype.map.call(b.rows[0].cells, function (c) { return c.textContent.trim(); });
+    });
+    words = rows.map(function (b) { return b.textContent.toLowerCase(); });
+  }
   var order = rows.map(function (b, i) { return i; }), passing = order, page = 0;
   function draw() {
     var n = size.value === 'all' ? passing.length : +size.value;
@@ -262,6 +268,7 @@ constexpr const char* kTableScript = R"(<script>
     document.body.setAttribute('data-page-rows', to - from);
   }
   function filter() {
+    read();
     var want = text.value.toLowerCase().split(/\s+/).filter(Boolean), v = verdict.value;
     passing = order.filter(function (i) {
       return want.every(function (w) { return words[i].indexOf(w) >= 0; }) &&
@@ -273,6 +280,7 @@ constexpr const char* kTableScript = R"(<script>
   var heads = table.tHead.rows[0].cells;
   Array.prototype.forEach.call(heads, function (head, c) {
     head.addEventListener('click', function () {
+      read();
       var up = !head.classList.contains('sorted-up');
       Array.prototype.forEach.call(heads, function (h) { h.classList.remove('sorted-up', 'sorted-down'); });
       head.classList.add(up ? 'sorted-up' : 'sorted-down');
@@ -290,7 +298,20 @@ constexpr const char* kTableScript = R"(<script>
   size.addEventListener('change', draw);
   prev.addEventListener('click', function () { --page; draw(); });
   next.addEventListener('click', function () { ++page; draw(); });
-  draw();
+  // A view to link to: ?filter=words&verdict=flagged&sort=heading (-heading
+  // descending).
+  var q = new URLSearchParams(window.location.search);
+  if (q.get('filter')) text.value = q.get('filter');
+  if (q.get('verdict')) verdict.value = q.get('verdict');
+  var by = q.get('sort') || '', down = by.charAt(0) === '-';
+  if (down) by = by.slice(1);
+  Array.prototype.forEach.call(heads, function (head) {
+    if (by && head.textContent === by) {
+      head.click();
+      if (down) head.click();
+    }
+  });
+  if (text.value || verdict.value) filter(); else draw();
 })();
 </script>
 )";

@@ -70,6 +70,19 @@ void Accumulate(const SlipSamples& s, int cycle, Bins* b) {
 // Blocks of steady cycles the noise floor needs (NaN with fewer).
 constexpr int kFewestBlocks = 4;
 
+// The variance of the mean of `n` block means from their summed squared
+// deviations and lag-1 products. Neighbouring blocks still share the
+// ensembles that straddle their boundary (a correlation of about 0.25 for
+// blocks as long as the ensemble): the lag-1 covariance enters. Below
+// kFewestBlocks it is not estimable (of two blocks the lag-1 covariance
+// cancels their variance: a floor of exactly 0).
+double VarianceOfTheMean(double var, double lag1, size_t n) {
+  return static_cast<int>(n) >= kFewestBlocks
+             ? (var + 2 * lag1) / static_cast<double>(n - 1) /
+                   static_cast<double>(n)
+             : kNaN;
+}
+
 // The along-track variation of the steady average of the map values v, and
 // the noise floor of that average. Each cycle and direction is taken about
 // its own mean (the drift of mu over cycles is not along-track variation).
@@ -128,14 +141,7 @@ void SpatialVariation(const FrictionMap& m,
       if (k > 0) lag1 += (bm[k] - mean) * (bm[k - 1] - mean);
     }
     means[i] = mean;
-    // Neighbouring blocks still share the ensembles that straddle their
-    // boundary (a correlation of about 0.25 for blocks as long as the
-    // ensemble): the lag-1 covariance enters the variance of the mean.
-    // Below kFewestBlocks it is not estimable (of two blocks the lag-1
-    // covariance cancels their variance: a floor of exactly 0).
-    se2[i] = static_cast<int>(bm.size()) >= kFewestBlocks
-                 ? (var + 2 * lag1) / (bm.size() - 1) / bm.size()
-                 : kNaN;
+    se2[i] = VarianceOfTheMean(var, lag1, bm.size());
   }
   for (int d = 0; d < 2; ++d) {
     double centre = 0;

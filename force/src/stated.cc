@@ -98,9 +98,21 @@ std::string UnitAfter(const std::string& line, size_t after) {
          line[end] != ';' && line[end] != '\t' && line[end] != '\r')
     ++end;
   const std::string word = support::Lower(line.substr(from, end - from));
-  static const char* const kUnits[] = {
-      "mm", "um", "\xc2\xb5m", "cm", "m", "n", "mn", "kn", "hz",
-      "khz", "n/mm", "n/m", "kn/m", "n/um", "cycles"};
+  static const char* const kUnits[] = {"mm",
+                                       "um",
+                                       "\xc2\xb5m",
+                                       "cm",
+                                       "m",
+                                       "n",
+                                       "mn",
+                                       "kn",
+                                       "hz",
+                                       "khz",
+                                       "n/mm",
+                                       "n/m",
+                                       "kn/m",
+                                       "n/um",
+                                       "cycles"};
   for (const char* u : kUnits)
     if (word == u) return line.substr(after, end - after);
   return "";

@@ -9,9 +9,8 @@ std::string Lower(std::string_view s) {
   std::string out(s);
   for (std::size_t i = 0; i < out.size(); ++i) {
     const auto c = static_cast<unsigned char>(out[i]);
-    const auto next = i + 1 < out.size()
-                          ? static_cast<unsigned char>(out[i + 1])
-                          : 0u;
+    const auto next =
+        i + 1 < out.size() ? static_cast<unsigned char>(out[i + 1]) : 0u;
     if (c == 0xC3 && next >= 0x80 && next <= 0x9E && next != 0x97) {
       // The capitals of Latin-1 in UTF-8 (À-Þ but ×): ä for Ä.
       out[i + 1] = static_cast<char>(next + 0x20);

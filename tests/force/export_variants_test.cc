@@ -521,10 +521,9 @@ TEST(ExportVariants, StatedTestConditionsAreRead) {
 // not reciprocate and whose header states a radius, is named a rotary
 // test rather than a stroke of 0 mm with a unit to check.
 TEST(ExportVariants, NoFrictionAndARotaryTestAreSaidForWhatTheyAre) {
-  const std::string zero =
-      Text("time_s,x_mm,Q_N,P_N", [](const Row& r, int) {
-        return fmt::format("{:.6f},{:.6f},0,{:.6f}", r.t, r.x, r.p);
-      });
+  const std::string zero = Text("time_s,x_mm,Q_N,P_N", [](const Row& r, int) {
+    return fmt::format("{:.6f},{:.6f},0,{:.6f}", r.t, r.x, r.p);
+  });
   try {
     ReadForceText(zero, "zero.csv");
     FAIL() << "a friction channel of zeros was read";

@@ -8,8 +8,10 @@ namespace {
 TEST(Lower, AsciiAndLatinCapitalsOtherBytesAsTheyAre) {
   EXPECT_EQ(Lower("Fx (N) Time_S"), "fx (n) time_s");
   EXPECT_EQ(Lower("Weg [\xC2\xB5M]"), "weg [\xC2\xB5m]");
-  EXPECT_EQ(Lower("OBERFL\xC3\x84" "CHE \xC3\x89T\xC3\x89"),
-            "oberfl\xC3\xA4" "che \xC3\xA9t\xC3\xA9");
+  EXPECT_EQ(Lower("OBERFL\xC3\x84"
+                  "CHE \xC3\x89T\xC3\x89"),
+            "oberfl\xC3\xA4"
+            "che \xC3\xA9t\xC3\xA9");
   EXPECT_EQ(Lower("\xC3\x97 \xC3"), "\xC3\x97 \xC3");  // x sign; cut
   EXPECT_EQ(Lower(""), "");
 }

@@ -24,28 +24,59 @@ namespace fs = std::filesystem;
 // Spanish, lower case (names are compared lower-cased, accented capitals
 // too), with and without their accents; docs/formats.md lists them.
 const std::vector<std::string>& ForceRoleWords() {
-  static const std::vector<std::string> kWords = {
-      "force", "forces", "friction", "cof", "tribo", "tribometer",
-      // German
-      "kraft", "kraefte", "kräfte", "reibung", "reibkraft", "reibwert",
-      // French ("force" above)
-      "frottement", "frottements",
-      // Spanish
-      "fuerza", "fuerzas", "fricción", "friccion", "rozamiento"};
+  static const std::vector<std::string> kWords = {"force",
+                                                  "forces",
+                                                  "friction",
+                                                  "cof",
+                                                  "tribo",
+                                                  "tribometer",
+                                                  // German
+                                                  "kraft",
+                                                  "kraefte",
+                                                  "kräfte",
+                                                  "reibung",
+                                                  "reibkraft",
+                                                  "reibwert",
+                                                  // French ("force" above)
+                                                  "frottement",
+                                                  "frottements",
+                                                  // Spanish
+                                                  "fuerza",
+                                                  "fuerzas",
+                                                  "fricción",
+                                                  "friccion",
+                                                  "rozamiento"};
   return kWords;
 }
 
 const std::vector<std::string>& ScanRoleWords() {
   static const std::vector<std::string> kWords = {
-      "scan", "height", "heights", "topo", "topography", "profile", "map",
-      "surface", "keyence",
+      "scan",
+      "height",
+      "heights",
+      "topo",
+      "topography",
+      "profile",
+      "map",
+      "surface",
+      "keyence",
       // German
-      "oberfläche", "oberflaeche", "profil", "höhe", "hoehe", "topographie",
+      "oberfläche",
+      "oberflaeche",
+      "profil",
+      "höhe",
+      "hoehe",
+      "topographie",
       "topografie",
       // French ("surface", "profil", "topographie" above)
-      "hauteur", "hauteurs",
+      "hauteur",
+      "hauteurs",
       // Spanish
-      "superficie", "perfil", "altura", "alturas", "topografía",
+      "superficie",
+      "perfil",
+      "altura",
+      "alturas",
+      "topografía",
       "topografia"};
   return kWords;
 }

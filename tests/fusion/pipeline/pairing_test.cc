@@ -214,7 +214,8 @@ TEST_F(LabFolder, PairsFilesNamedInGermanFrenchAndSpanish) {
             "echantillon-3-frottement.csv | echantillon-3-hauteur.csv | ");
   EXPECT_EQ(p.at("muestra_4"),
             "muestra_4_fricción.csv | muestra_4_superficie.csv | ");
-  EXPECT_EQ(p.at("Muestra_5"), "Muestra_5_Fuerza.csv | Muestra_5_Perfil.csv | ");
+  EXPECT_EQ(p.at("Muestra_5"),
+            "Muestra_5_Fuerza.csv | Muestra_5_Perfil.csv | ");
 }
 
 // An analysis's output folder is skipped and named with why; a folder of
@@ -230,8 +231,7 @@ TEST_F(LabFolder, SaysWhichFoldersItSkipped) {
       << "fuse\tresult.json\naudit\tsummary.csv\n";
   Force(".cache/elm_3_force.csv");
   std::vector<std::string> skipped;
-  std::vector<Specimen> found =
-      PairFolder(dir_, "^$x", true, false, &skipped);
+  std::vector<Specimen> found = PairFolder(dir_, "^$x", true, false, &skipped);
   ASSERT_EQ(found.size(), 1u);
   EXPECT_EQ(found[0].name, "oak_1");
   EXPECT_EQ(skipped,

@@ -25,7 +25,7 @@ struct StatedFact {
   // "radius" (mm: a rotary test's track)
   std::string what;
   double value = 0.0;
-  std::string line;      // as written: its label, number and unit
+  std::string line;     // as written: its label, number and unit
   int line_number = 0;  // from 1
 };
 

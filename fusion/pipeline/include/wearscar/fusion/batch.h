@@ -52,9 +52,10 @@ std::vector<Specimen> ReadManifest(const std::string& path);
 // the input holds none.
 // `skipped`, when given, receives the folders not searched ("path (why)",
 // PairFolder); the error when none is found names them.
-std::vector<Specimen> FindSpecimens(const std::string& input,
-                                    const BatchOptions& options,
-                                    std::vector<std::string>* skipped = nullptr);
+std::vector<Specimen> FindSpecimens(
+    const std::string& input,
+    const BatchOptions& options,
+    std::vector<std::string>* skipped = nullptr);
 
 // A specimen's files read and analysed.
 struct SpecimenAnalysis {

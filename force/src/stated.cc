@@ -118,6 +118,22 @@ std::string UnitAfter(const std::string& line, size_t after) {
   return "";
 }
 
+// A radius of the ball, pin or tip, not of a rotary test's track.
+bool NamesTheCounterpart(const std::string& lower, size_t label_at) {
+  const std::string before = lower.substr(0, label_at);
+  for (const char* w : {"ball",
+                        "sphere",
+                        "pin",
+                        "tip",
+                        "counterbody",
+                        "counterpart",
+                        "indenter",
+                        "probe"}) {
+    if (before.find(w) != std::string::npos) return true;
+  }
+  return false;
+}
+
 // The frequency of the drive, not of the sampling.
 bool NamesTheSampling(const std::string& lower, size_t label_at) {
   const std::string before = lower.substr(0, label_at);
@@ -146,6 +162,9 @@ std::vector<StatedFact> FindStatedFacts(const std::vector<std::string>& head,
         continue;
       if (std::string(l.what) == "load" &&
           lower.find("load cell") != std::string::npos)
+        continue;
+      // The counterpart's radius (a ball's) says nothing of the track.
+      if (std::string(l.what) == "radius" && NamesTheCounterpart(lower, at))
         continue;
       // The first number within 40 characters after the label.
       const size_t from = at + std::string(l.words).size();

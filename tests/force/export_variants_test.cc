@@ -551,6 +551,20 @@ TEST(ExportVariants, NoFrictionAndARotaryTestAreSaidForWhatTheyAre) {
               std::string::npos)
         << e.what();
   }
+  // A ball's radius is no rotary test: a flat position is the stroke's
+  // refusal, naming the x unit.
+  std::string ball = rotary;
+  ball.replace(ball.find("Radius = 3.9493"), 15, "Ball radius = 3 mm");
+  try {
+    ReadForceText(ball, "ball.csv");
+    FAIL() << "a flat position was read";
+  } catch (const ForceError& e) {
+    EXPECT_EQ(std::string(e.what()).find("rotary"), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("ball.csv: a stroke of 0 mm"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 // An export cut in its last row (the file ends inside it): the row is

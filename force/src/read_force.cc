@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "appended_rows.h"
 #include "columns.h"
 #include "encoding.h"
 #include "fields.h"
@@ -250,12 +251,15 @@ void TakeDepth(const std::string& column,
 // `lines`: the file's line count when the caller counted them (0: not);
 // `file_bytes` its size when known; `split`: `source` itself, to be read
 // on two threads (ReadRowsOnTwoThreads).
+// `continues`: the record these rows continue (ReadAppendedRows): the
+// checks of a whole record are its, and P's sign follows its.
 ForceRecord Read(LineSource& source,
                  const std::string& name,
                  std::size_t lines,
                  const ReadForceOptions& options,
                  std::uintmax_t file_bytes = 0,
-                 FileLines* split = nullptr) {
+                 FileLines* split = nullptr,
+                 const ForceMetadata* continues = nullptr) {
   std::string why;
   if (!options.IsValid(&why))
     throw ForceError(fmt::format("{}: invalid read options: {}", name, why));
@@ -263,6 +267,7 @@ ForceRecord Read(LineSource& source,
   ForceMetadata& meta = record.metadata;
   const Plan p = PlanRead(source, name, options, &meta);
   const Layout& layout = p.layout;
+  meta.first_data_line = layout.first_data_line;
   RowReader rows(
       layout,
       layout.header_line >= 0 ? &p.head[layout.header_line] : nullptr,
@@ -308,6 +313,13 @@ ForceRecord Read(LineSource& source,
   if (p.column[kDepth] >= 0)
     TakeDepth(layout.names[p.column[kDepth]], &data[kDepth], &record);
   SetTime(&record, &data[kTime], layout, options, name);
+  if (continues != nullptr) {
+    if (continues->normal_sign_flipped) {
+      record.normal_n = -record.normal_n;
+      meta.normal_sign_flipped = true;
+    }
+    return record;
+  }
   CheckPlausible(record, name);
   internal::CheckFrictionRecorded(record, name);
   MakeCompressionPositive(&record);
@@ -500,4 +512,31 @@ ForceRecord ReadForceText(const std::string& text,
   return Read(source, name, lines, options);
 }
 
+namespace internal {
+
+ForceRecord ReadAppendedRows(const std::string& text,
+                             const std::string& name,
+                             const ReadForceOptions& options,
+                             const ForceMetadata& first) {
+  ReadForceOptions pinned = options;
+  pinned.on_bytes = nullptr;
+  pinned.threads = 1;
+  // The units the first rows were read in (time, x, Q, P, depth): Q and P
+  // share one, P's.
+  std::string* unit[] = {&pinned.time_unit,
+                         &pinned.x_unit,
+                         nullptr,
+                         &pinned.force_unit,
+                         &pinned.depth_unit};
+  for (std::size_t ch = 0; ch < first.channel_units.size() && ch < 5; ++ch) {
+    if (unit[ch] != nullptr && !first.channel_units[ch].empty())
+      *unit[ch] = first.channel_units[ch];
+  }
+  MemoryLines source(text, name, options.max_line_bytes);
+  const std::size_t lines =
+      static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) + 1;
+  return Read(source, name, lines, pinned, 0, nullptr, &first);
+}
+
+}  // namespace internal
 }  // namespace wearscar::force

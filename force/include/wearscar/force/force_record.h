@@ -44,7 +44,10 @@ struct ForceMetadata {
   // The depth channel's sign as read: true when its name says it grows
   // into the specimen (a penetration depth), false for a height (Z).
   bool depth_is_penetration = true;
-  bool time_rebuilt = false;         // no time column; built from a rate
+  bool time_rebuilt = false;  // no time column; built from a rate
+  // The line (from 0) of the first data row: the lines before it are the
+  // header, units and metadata (what rows appended later are read with).
+  int first_data_line = 0;
   bool normal_sign_flipped = false;  // P was negative in compression
   int clock_restarts_joined = 0;     // Rtec RecipeStep, CETR step restarts
   int blocks_joined = 0;             // repeated header blocks (CETR test steps)

@@ -74,7 +74,7 @@ install(FILES ${PROJECT_SOURCE_DIR}/README.md ${PROJECT_SOURCE_DIR}/CHANGELOG.md
 find_program(WEARSCAR_HELP2MAN help2man)
 if(WEARSCAR_HELP2MAN AND wearscar_uninstrumented)
   set(pages)
-  set(subcommands "" simulate force scan fuse diagnose audit)
+  set(subcommands "" simulate force scan fuse diagnose audit watch)
   set(summaries
       "friction coefficient of reciprocating tests from force and scan"
       "simulate reciprocating friction tests and scans with known truth"
@@ -82,7 +82,8 @@ if(WEARSCAR_HELP2MAN AND wearscar_uninstrumented)
       "read a profilometer scan of the worn track and its centreline"
       "friction coefficient of one test from its force record and scan"
       "name the effect a wear-scar model misses in a friction test"
-      "analyse a batch of specimens into one summary and report")
+      "analyse a batch of specimens into one summary and report"
+      "follow a friction test while it runs: mu per cycle, alerts")
   foreach(sub summary IN ZIP_LISTS subcommands summaries)
     if(sub STREQUAL "")
       set(name wearscar)

@@ -53,7 +53,7 @@ for package in wearscar libwearscar-dev python3-wearscar; do
 done
 test -f "$root/usr/include/wearscar/fusion/products.h"
 # Each command's man page, compressed, names its own command.
-for page in wearscar wearscar-audit wearscar-fuse; do
+for page in wearscar wearscar-audit wearscar-fuse wearscar-watch; do
   zcat "$root/usr/share/man/man1/$page.1.gz" | grep -A1 '^\.SH NAME' | grep -q "^$page \\\\- " || {
     echo "$page.1.gz does not name $page"; zcat "$root/usr/share/man/man1/$page.1.gz" | head; exit 1; }
 done

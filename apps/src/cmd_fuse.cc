@@ -1,6 +1,7 @@
 #include <fmt/format.h>
 
 #include "commands.h"
+#include "fuse_run.h"
 #include "output.h"
 #include "setting_flags.h"
 #include "summaries.h"
@@ -11,20 +12,6 @@
 #include "wearscar/scan/formats.h"
 
 namespace wearscar::app {
-namespace {
-
-struct FuseArgs {
-  std::string force_file;
-  std::string scan_file;
-  std::string out;
-  std::string name;
-  fusion::ProductOptions write;
-  int detail_cycle = 0;    // from 1; 0 = the last
-  std::vector<int> loops;  // from 1
-  bool no_figures = false;
-  report::FigureFormats figure_formats;
-  GivenSettings given;  // the settings as written
-};
 
 void RunFuse(FuseArgs a) {
   if (a.force_file.empty()) {
@@ -86,8 +73,6 @@ void RunFuse(FuseArgs a) {
     if (!figs.missing.empty()) SetExitStatus(kExitFiguresMissing);
   }
 }
-
-}  // namespace
 
 void AddFuseCommand(CLI::App& app) {
   auto args = std::make_shared<FuseArgs>();

@@ -11,6 +11,7 @@ void AddFuseCommand(CLI::App& app);
 void AddAuditCommand(CLI::App& app);
 void AddDiagnoseCommand(CLI::App& app);
 void AddScanCommand(CLI::App& app);
+void AddWatchCommand(CLI::App& app);
 
 // A subcommand's wish for the process exit status (0 unless set).
 void SetExitStatus(int status);

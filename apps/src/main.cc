@@ -73,6 +73,7 @@ int main(int argc, char** argv) {
   wearscar::app::AddAuditCommand(app);
   wearscar::app::AddDiagnoseCommand(app);
   wearscar::app::AddScanCommand(app);
+  wearscar::app::AddWatchCommand(app);
   if (argc > 1 && argv[1][0] != '-' && !IsCommand(app, argv[1])) {
     fmt::print(stderr,
                "wearscar: unknown command '{}'; expected one of {} "

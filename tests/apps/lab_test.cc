@@ -67,12 +67,13 @@ TEST(Conventions, AnUnknownCommandSaysSo) {
   EXPECT_EQ(r.status, 2);
   EXPECT_EQ(r.output,
             "wearscar: unknown command 'fusee'; expected one of version, "
-            "simulate, force, fuse, audit, diagnose, scan (wearscar --help)\n");
+            "simulate, force, fuse, audit, diagnose, scan, watch (wearscar "
+            "--help)\n");
 }
 
 TEST(Conventions, HelpShowsTheProgramNameAndEndsWithExamples) {
   for (const std::string cmd :
-       {"simulate", "force", "fuse", "audit", "diagnose", "scan"}) {
+       {"simulate", "force", "fuse", "audit", "diagnose", "scan", "watch"}) {
     const CommandResult h = Wearscar(cmd + " --help");
     EXPECT_EQ(h.status, 0) << cmd;
     EXPECT_NE(h.output.find("Usage: wearscar " + cmd + " "), std::string::npos)

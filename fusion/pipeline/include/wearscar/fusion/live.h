@@ -1,0 +1,152 @@
+#pragma once
+// A test followed while it runs: each cycle analysed once, when it
+// completes, with what is known then (k from P over it and the cycles
+// before it; running-in detected as it ends; the noise split and the
+// verdict over the latest cycles), at a cost per cycle bounded by the
+// window of cycles kept, not by the test's length.
+
+#include <deque>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "wearscar/force/force_record.h"
+#include "wearscar/fusion/analysis.h"
+#include "wearscar/fusion/fuse_options.h"
+
+namespace wearscar::fusion {
+
+struct LiveOptions {
+  // Complete cycles analysed together when one completes: the newest and
+  // those before it (k from P's ensemble, the noise split's template).
+  int window_cycles = 12;
+  // "Steady": over the last steady_cycles cycles mu-hat's straight-line
+  // trend changes by less than steady_band, and its mean differs from the
+  // steady_cycles before them by less than that.
+  int steady_cycles = 30;
+  double steady_band = 0.005;
+  // The verdict over the latest cycles after running-in (at least 10).
+  int verdict_cycles = 30;
+  // The track's depth from the spring (P/S peak to valley along the
+  // stroke, in bins of depth_bin_mm) beyond this raises an alert; NaN: no
+  // limit.
+  double max_depth_mm = std::numeric_limits<double>::quiet_NaN();
+  double depth_bin_mm = 0.1;
+  // The apparent friction |Q|/P along the stroke per cycle, in this many
+  // bins, at most max_map_rows rows (older rows merged in pairs beyond).
+  int map_bins = 60;
+  int max_map_rows = 1000;
+  bool IsValid(std::string* why) const;
+};
+
+// One cycle as reported when it completed.
+struct LiveCycle {
+  int cycle = 0;  // from 1
+  double end_time_s = 0.0;
+  // mu-hat with k from P and its 95% interval (NaN when the fit did not
+  // converge); the classic COFs of the cycle (the mean and energy methods).
+  double mu_hat = 0.0, mu_low = 0.0, mu_high = 0.0;
+  double mu_mean = 0.0, mu_energy = 0.0;
+  // J (Eq. 6) and its split into the noise floor and the excess.
+  double cost = 0.0, cost_floor = 0.0, cost_excess = 0.0;
+  double depth_mm = 0.0;    // the track's depth from the spring
+  bool running_in = false;  // as known when it was reported
+};
+
+// Something a lab wants to hear while the test runs.
+struct LiveEvent {
+  // "running-in" (it has ended), "steady" (the test could stop), "verdict"
+  // (explained or not, and it turning), "depth" (beyond the limit),
+  // "restart" (a new test in the file).
+  std::string kind;
+  int cycle = 0;  // from 1; the cycle it was raised at
+  double time_s = 0.0;
+  std::string message;
+};
+
+// The latest cycle's gross-slip samples against the wear-scar model
+// (Q = P (k + s mu-hat) / (1 - s mu-hat k), k from P).
+struct LiveLoop {
+  int cycle = 0;  // from 1; 0: none yet
+  std::vector<double> x_mm, q_n, q_model_n;
+  std::vector<int> direction;
+};
+
+// |Q|/P along the stroke, a row per cycle (rows merged in pairs once
+// there are max_map_rows): bin centres, and per row its first and last
+// cycle and its values (NaN where no sample fell).
+struct LiveMap {
+  std::vector<double> x_mm;
+  std::vector<int> first_cycle, last_cycle;
+  std::vector<std::vector<double>> rows;
+};
+
+class LiveAnalysis {
+ public:
+  // `options`: the test's (the spring as the file states it:
+  // WithStatedSpring). Throws FusionError for invalid options.
+  LiveAnalysis(FuseOptions options, LiveOptions live = {});
+
+  // Appends the rows that followed the last ones (ForceFollower) and
+  // analyses each cycle that completed; returns them. Throws
+  // force::ForceError for rows that cannot be a test (no reversals in
+  // many strokes' worth of samples).
+  std::vector<LiveCycle> Add(const force::ForceRecord& rows);
+  // A new test: everything known is dropped (an event says so).
+  void Restart(const std::string& why, double time_s);
+  // The events raised since the last call.
+  std::vector<LiveEvent> TakeEvents();
+
+  const std::vector<LiveCycle>& cycles() const { return reported_; }
+  const LiveLoop& loop() const { return loop_; }
+  const LiveMap& map() const { return map_; }
+  // Running-in as detected so far (cycles; 0 before it was), and the
+  // verdict's words so far (empty before it was judged).
+  int running_in_cycles() const { return running_in_; }
+  const std::string& verdict() const { return verdict_text_; }
+  bool steady() const { return steady_; }
+  // Samples held now (bounded by the window).
+  Eigen::Index samples_held() const { return buffer_.size(); }
+
+ private:
+  void Append(const force::ForceRecord& rows);
+  bool CycleCompleted(Eigen::Index from);
+  void Analyse(std::vector<LiveCycle>* out);
+  void Report(const force::ForceRecord& window,
+              const ForceAnalysis& a,
+              int i,
+              std::vector<LiveCycle>* out);
+  void KeepLatestCycles(const ForceAnalysis& a);
+  void UpdateRunningIn();
+  void UpdateSteady();
+  void UpdateVerdict();
+  void UpdateDepth(const LiveCycle& c);
+  void AddMapRow(const force::ForceRecord& window,
+                 const force::Cycle& cycle,
+                 int number);
+  void Raise(const std::string& kind, std::string message);
+
+  FuseOptions options_;
+  LiveOptions live_;
+  force::ForceRecord buffer_;
+  Eigen::Index scanned_ = 0;  // samples the reversal detector has seen
+  Eigen::Index since_try_ = 0;
+  double stroke_mm_ = 0.0;
+  bool seeking_min_ = true;
+  double extreme_ = 0.0;
+  bool extreme_set_ = false;
+  double last_end_s_ = -1e300, period_s_ = 0.0;
+  std::vector<LiveCycle> reported_;
+  std::vector<double> mu_mean_series_;
+  std::deque<MuFit> recent_fits_;
+  std::deque<double> recent_energy_, recent_mean_;
+  int running_in_ = 0, running_in_seen_ = -1, running_in_same_ = 0;
+  bool running_in_ended_ = false, steady_ = false, depth_raised_ = false;
+  int verdict_state_ = -1;  // -1 not judged, 0 not explained, 1 explained
+  std::string verdict_text_;
+  LiveLoop loop_;
+  LiveMap map_;
+  std::vector<LiveEvent> events_;
+};
+
+}  // namespace wearscar::fusion

@@ -1,0 +1,503 @@
+#include "wearscar/fusion/live.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "wearscar/fusion/detail_cycle.h"
+#include "wearscar/fusion/error.h"
+#include "wearscar/fusion/verdict.h"
+
+namespace wearscar::fusion {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Samples held before the first cycles were found, at most: a record that
+// shows no reversal in this many samples is no reciprocating test.
+constexpr Eigen::Index kMaxSamplesBeforeCycles = Eigen::Index{4} << 20;
+
+void AppendVector(Eigen::VectorXd* to, const Eigen::VectorXd& more) {
+  const Eigen::Index n = to->size();
+  to->conservativeResize(n + more.size());
+  to->tail(more.size()) = more;
+}
+
+void DropFront(Eigen::VectorXd* v, Eigen::Index n) {
+  if (v->size() == 0) return;
+  *v = v->tail(v->size() - n).eval();
+}
+
+// Straight-line slope of values[first, last] against their index.
+double TrendPerCycle(const std::vector<double>& v, size_t first, size_t last) {
+  double sx = 0, sy = 0, sxx = 0, sxy = 0, n = 0;
+  for (size_t i = first; i <= last; ++i) {
+    if (!std::isfinite(v[i])) continue;
+    const double x = static_cast<double>(i);
+    sx += x;
+    sy += v[i];
+    sxx += x * x;
+    sxy += x * v[i];
+    n += 1;
+  }
+  const double d = n * sxx - sx * sx;
+  return n >= 3 && d > 0 ? (n * sxy - sx * sy) / d : kNaN;
+}
+
+double MeanOf(const std::vector<double>& v, size_t first, size_t last) {
+  double s = 0;
+  int n = 0;
+  for (size_t i = first; i <= last; ++i) {
+    if (std::isfinite(v[i])) {
+      s += v[i];
+      ++n;
+    }
+  }
+  return n > 0 ? s / n : kNaN;
+}
+
+}  // namespace
+
+bool LiveOptions::IsValid(std::string* why) const {
+  auto fail = [&](const char* m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (window_cycles < 3 || window_cycles > 200)
+    return fail("the live window must be 3 to 200 cycles");
+  if (steady_cycles < 5) return fail("steady needs at least 5 cycles");
+  if (!(steady_band > 0)) return fail("the steady band must be > 0");
+  if (verdict_cycles < 10) return fail("the verdict needs at least 10 cycles");
+  if (!(max_depth_mm > 0) && !std::isnan(max_depth_mm))
+    return fail("the maximum depth must be > 0 mm");
+  if (!(depth_bin_mm > 0)) return fail("the depth bins must be > 0 mm");
+  if (map_bins < 4 || map_bins > 1000)
+    return fail("the friction map needs 4 to 1000 bins");
+  if (max_map_rows < 10) return fail("the friction map needs >= 10 rows");
+  return true;
+}
+
+LiveAnalysis::LiveAnalysis(FuseOptions options, LiveOptions live)
+    : options_(std::move(options)), live_(live) {
+  std::string why;
+  if (!live_.IsValid(&why)) throw FusionError("live options: " + why);
+}
+
+void LiveAnalysis::Append(const force::ForceRecord& rows) {
+  if (buffer_.size() == 0) {
+    buffer_ = rows;
+    return;
+  }
+  if (buffer_.has_depth() != rows.has_depth()) {
+    buffer_.depth_mm.resize(0);  // the depth only where every row has one
+  }
+  AppendVector(&buffer_.time_s, rows.time_s);
+  AppendVector(&buffer_.x_mm, rows.x_mm);
+  AppendVector(&buffer_.tangential_n, rows.tangential_n);
+  AppendVector(&buffer_.normal_n, rows.normal_n);
+  if (buffer_.has_depth()) AppendVector(&buffer_.depth_mm, rows.depth_mm);
+}
+
+// The reversal rule of force::SegmentCycles (a minimum of x counts once x
+// has come back from it by the hysteresis), on the samples not yet seen:
+// true when a minimum, a cycle's end, was passed.
+bool LiveAnalysis::CycleCompleted(Eigen::Index from) {
+  const double h = options_.analysis.segment.hysteresis_fraction * stroke_mm_;
+  bool completed = false;
+  for (Eigen::Index i = from; i < buffer_.size(); ++i) {
+    const double x = buffer_.x_mm[i];
+    if (!std::isfinite(x)) continue;
+    if (!extreme_set_) {
+      extreme_ = x;
+      extreme_set_ = true;
+      continue;
+    }
+    if (seeking_min_) {
+      extreme_ = std::min(extreme_, x);
+      if (x > extreme_ + h) {
+        completed = true;
+        seeking_min_ = false;
+        extreme_ = x;
+      }
+    } else {
+      extreme_ = std::max(extreme_, x);
+      if (x < extreme_ - h) {
+        seeking_min_ = true;
+        extreme_ = x;
+      }
+    }
+  }
+  scanned_ = buffer_.size();
+  return completed;
+}
+
+std::vector<LiveCycle> LiveAnalysis::Add(const force::ForceRecord& rows) {
+  std::vector<LiveCycle> out;
+  if (rows.size() == 0) return out;
+  Append(rows);
+  if (stroke_mm_ <= 0) {
+    since_try_ += rows.size();
+    if (since_try_ < 4096 && buffer_.size() > 4096) return out;
+    since_try_ = 0;
+    Analyse(&out);
+    if (stroke_mm_ <= 0 && buffer_.size() > kMaxSamplesBeforeCycles) {
+      throw force::ForceError(fmt::format(
+          "{}: no two complete cycles in the first {} samples; expected a "
+          "reciprocating test (x going back and forth)",
+          buffer_.metadata.source,
+          buffer_.size()));
+    }
+    return out;
+  }
+  if (CycleCompleted(scanned_)) Analyse(&out);
+  return out;
+}
+
+void LiveAnalysis::Analyse(std::vector<LiveCycle>* out) {
+  AnalysisOptions o = options_.analysis;
+  o.running_in_cycles = 0;  // decided over the whole test (UpdateRunningIn)
+  ForceAnalysis a;
+  try {
+    a = SegmentForce(buffer_, o);
+    if (a.cycles.cycles.empty()) return;
+    FitForceSide(buffer_, o, &a);
+  } catch (const force::ForceError&) {
+    return;  // too few cycles yet
+  } catch (const FusionError&) {
+    return;
+  }
+  const auto& cycles = a.cycles.cycles;
+  const bool first = stroke_mm_ <= 0;
+  stroke_mm_ = a.cycles.stroke_mm;
+  const auto end_time = [&](const force::Cycle& c) {
+    return buffer_.time_s[c.reverse.end - 1];
+  };
+  const auto begin_time = [&](const force::Cycle& c) {
+    return buffer_.time_s[c.forward.begin];
+  };
+  period_s_ = (end_time(cycles.back()) - begin_time(cycles.front())) /
+              static_cast<double>(cycles.size());
+  int newest = -1;
+  for (size_t i = 0; i < cycles.size(); ++i) {
+    if (end_time(cycles[i]) <= last_end_s_ + 0.25 * period_s_) continue;
+    Report(buffer_, a, static_cast<int>(i), out);
+    last_end_s_ = end_time(cycles[i]);
+    newest = static_cast<int>(i);
+  }
+  if (newest >= 0 && a.fit_force[newest].converged) {
+    const DetailCycle d = ComputeDetailCycle(
+        buffer_, a, o.friction, newest, 2, nullptr, nullptr, nullptr);
+    loop_.cycle = reported_.back().cycle;
+    loop_.x_mm.assign(d.x_mm.data(), d.x_mm.data() + d.x_mm.size());
+    loop_.q_n.assign(d.q_n.data(), d.q_n.data() + d.q_n.size());
+    loop_.q_model_n.assign(d.q_model_force_n.data(),
+                           d.q_model_force_n.data() + d.q_model_force_n.size());
+    loop_.direction.clear();
+    for (Eigen::Index i = 0; i < d.direction.size(); ++i)
+      loop_.direction.push_back(d.direction[i] > 0 ? 1 : -1);
+  }
+  KeepLatestCycles(a);
+  if (first) {
+    // The reversal detector starts from the samples kept.
+    seeking_min_ = true;
+    extreme_set_ = false;
+    CycleCompleted(0);
+  }
+}
+
+// Drops the samples before the window's cycles: the next analysis holds
+// window_cycles - 1 complete cycles and the one completing. The cut falls
+// in the middle of a reverse half, so that the first cycle's minimum is
+// found again.
+void LiveAnalysis::KeepLatestCycles(const ForceAnalysis& a) {
+  const auto& cycles = a.cycles.cycles;
+  const int n = static_cast<int>(cycles.size());
+  const int keep_from = n - (live_.window_cycles - 1);
+  if (keep_from < 1) return;
+  const force::HalfCycle& r = cycles[keep_from - 1].reverse;
+  const Eigen::Index cut = r.begin + (r.end - r.begin) / 2;
+  if (cut <= 0) return;
+  DropFront(&buffer_.time_s, cut);
+  DropFront(&buffer_.x_mm, cut);
+  DropFront(&buffer_.tangential_n, cut);
+  DropFront(&buffer_.normal_n, cut);
+  DropFront(&buffer_.depth_mm, cut);
+  scanned_ = std::max<Eigen::Index>(0, scanned_ - cut);
+}
+
+void LiveAnalysis::Report(const force::ForceRecord& window,
+                          const ForceAnalysis& a,
+                          int i,
+                          std::vector<LiveCycle>* out) {
+  const MuFit& f = a.fit_force[i];
+  const force::Cycle& cycle = a.cycles.cycles[i];
+  LiveCycle c;
+  c.cycle = static_cast<int>(reported_.size()) + 1;
+  c.end_time_s = window.time_s[cycle.reverse.end - 1];
+  c.mu_hat = f.converged ? f.mu_hat : kNaN;
+  const double half = 1.959964 * f.standard_error;
+  c.mu_low = c.mu_hat - half;
+  c.mu_high = c.mu_hat + half;
+  c.mu_mean = a.cof[i].mu_mean;
+  c.mu_energy = a.cof[i].mu_energy_g;
+  c.cost = f.converged ? f.cost : kNaN;
+  c.cost_floor = f.cost_floor;
+  c.cost_excess = f.cost_excess;
+  // P/S along the stroke, both directions pooled, in bins: its peak to
+  // valley is the track's depth under load as the spring sees it.
+  const double bin = live_.depth_bin_mm;
+  const double x0 = a.cycles.x_min_mm;
+  const int bins = std::max(
+      1, static_cast<int>(std::ceil((a.cycles.x_max_mm - x0) / bin)) + 1);
+  std::vector<double> sum(bins, 0.0);
+  std::vector<int> count(bins, 0);
+  for (const force::HalfCycle* h : {&cycle.forward, &cycle.reverse}) {
+    for (Eigen::Index s = h->slip_begin; s < h->slip_end; ++s) {
+      const double x = window.x_mm[s], p = window.normal_n[s];
+      if (!std::isfinite(x) || !std::isfinite(p)) continue;
+      const int b = std::clamp(static_cast<int>((x - x0) / bin), 0, bins - 1);
+      sum[b] += p;
+      ++count[b];
+    }
+  }
+  double lo = INFINITY, hi = -INFINITY;
+  for (int b = 0; b < bins; ++b) {
+    if (count[b] < 3) continue;
+    lo = std::min(lo, sum[b] / count[b]);
+    hi = std::max(hi, sum[b] / count[b]);
+  }
+  const double spring = options_.analysis.friction.slope.spring_n_per_mm;
+  c.depth_mm = hi > lo ? (hi - lo) / spring : kNaN;
+  reported_.push_back(c);
+  mu_mean_series_.push_back(c.mu_mean);
+  recent_fits_.push_back(f);
+  recent_energy_.push_back(c.mu_energy);
+  recent_mean_.push_back(c.mu_mean);
+  while (static_cast<int>(recent_fits_.size()) > live_.verdict_cycles) {
+    recent_fits_.pop_front();
+    recent_energy_.pop_front();
+    recent_mean_.pop_front();
+  }
+  AddMapRow(window, cycle, c.cycle);
+  UpdateRunningIn();
+  reported_.back().running_in = !running_in_ended_ || c.cycle <= running_in_;
+  UpdateSteady();
+  UpdateVerdict();
+  UpdateDepth(reported_.back());
+  out->push_back(reported_.back());
+}
+
+void LiveAnalysis::AddMapRow(const force::ForceRecord& window,
+                             const force::Cycle& cycle,
+                             int number) {
+  if (map_.x_mm.empty()) {
+    // The stroke as the first cycles found it, 5% beyond either end.
+    const double lo = -0.55 * stroke_mm_, width = 1.1 * stroke_mm_;
+    const double mid = 0.5 * (window.x_mm.minCoeff() + window.x_mm.maxCoeff());
+    for (int b = 0; b < live_.map_bins; ++b)
+      map_.x_mm.push_back(mid + lo + (b + 0.5) * width / live_.map_bins);
+  }
+  const int bins = live_.map_bins;
+  const double width = map_.x_mm[1] - map_.x_mm[0];
+  const double x0 = map_.x_mm[0] - 0.5 * width;
+  std::vector<double> sum(bins, 0.0);
+  std::vector<int> count(bins, 0);
+  for (const force::HalfCycle* h : {&cycle.forward, &cycle.reverse}) {
+    for (Eigen::Index s = h->slip_begin; s < h->slip_end; ++s) {
+      const double x = window.x_mm[s], q = window.tangential_n[s],
+                   p = window.normal_n[s];
+      const int b = static_cast<int>(std::floor((x - x0) / width));
+      if (b < 0 || b >= bins || !std::isfinite(q) || !(p > 0)) continue;
+      sum[b] += std::abs(q) / p;
+      ++count[b];
+    }
+  }
+  std::vector<double> row(bins, kNaN);
+  for (int b = 0; b < bins; ++b)
+    if (count[b] > 0) row[b] = sum[b] / count[b];
+  map_.rows.push_back(std::move(row));
+  map_.first_cycle.push_back(number);
+  map_.last_cycle.push_back(number);
+  if (static_cast<int>(map_.rows.size()) < live_.max_map_rows) return;
+  // Merge neighbouring rows in pairs: the map keeps the whole test at
+  // half the resolution in cycles.
+  LiveMap merged;
+  merged.x_mm = map_.x_mm;
+  for (size_t r = 0; r + 1 < map_.rows.size(); r += 2) {
+    std::vector<double> m(bins);
+    for (int b = 0; b < bins; ++b) {
+      const double u = map_.rows[r][b], v = map_.rows[r + 1][b];
+      m[b] = std::isnan(u) ? v : std::isnan(v) ? u : 0.5 * (u + v);
+    }
+    merged.rows.push_back(std::move(m));
+    merged.first_cycle.push_back(map_.first_cycle[r]);
+    merged.last_cycle.push_back(map_.last_cycle[r + 1]);
+  }
+  if (map_.rows.size() % 2 == 1) {
+    merged.rows.push_back(map_.rows.back());
+    merged.first_cycle.push_back(map_.first_cycle.back());
+    merged.last_cycle.push_back(map_.last_cycle.back());
+  }
+  map_ = std::move(merged);
+}
+
+void LiveAnalysis::Raise(const std::string& kind, std::string message) {
+  LiveEvent e;
+  e.kind = kind;
+  e.cycle = reported_.empty() ? 0 : reported_.back().cycle;
+  e.time_s = reported_.empty() ? 0.0 : reported_.back().end_time_s;
+  e.message = std::move(message);
+  events_.push_back(std::move(e));
+}
+
+std::vector<LiveEvent> LiveAnalysis::TakeEvents() {
+  std::vector<LiveEvent> e;
+  e.swap(events_);
+  return e;
+}
+
+void LiveAnalysis::UpdateRunningIn() {
+  const int n = static_cast<int>(mu_mean_series_.size());
+  const int given = options_.analysis.running_in_cycles;
+  if (given >= 0) {
+    running_in_ = std::min(given, n);
+    if (!running_in_ended_ && n > given) {
+      running_in_ended_ = true;
+      Raise("running-in",
+            fmt::format("running-in ended: {} cycles (given)", given));
+    }
+    return;
+  }
+  // The whole series so far; beyond 2000 cycles every 50th cycle (the
+  // detection's cost grows with the series).
+  if (n > 2000 && n % 50 != 0) return;
+  const RunningIn ri =
+      DetectRunningIn(mu_mean_series_, options_.analysis.running_in_tolerance);
+  // The detection moves by a cycle or two as cycles come: held when it
+  // stays within 3 cycles.
+  if (running_in_seen_ >= 0 && std::abs(ri.cycles - running_in_seen_) <= 3) {
+    ++running_in_same_;
+  } else {
+    running_in_seen_ = ri.cycles;
+    running_in_same_ = 0;
+  }
+  // Said when the detection has held for 10 cycles, with twice its
+  // running-in after it, on a trend that is itself flat (over the steady
+  // window it changes by less than the steady band: early in a test the
+  // "steady" half is still running in); said again when it moves on by
+  // more than half the steady window.
+  const bool flat =
+      std::abs(ri.steady_slope) * live_.steady_cycles < live_.steady_band;
+  const bool held =
+      flat && running_in_same_ >= 10 && n >= std::max(30, 2 * ri.cycles + 10);
+  if (!held) return;
+  if (!running_in_ended_) {
+    running_in_ended_ = true;
+    running_in_ = ri.cycles;
+    Raise("running-in",
+          fmt::format("running-in ended: {} cycles ({})", ri.cycles, ri.rule));
+  } else if (ri.cycles > running_in_ + live_.steady_cycles / 2) {
+    running_in_ = ri.cycles;
+    Raise(
+        "running-in",
+        fmt::format("running-in revised: {} cycles ({})", ri.cycles, ri.rule));
+  }
+}
+
+void LiveAnalysis::UpdateSteady() {
+  const size_t n = reported_.size();
+  const size_t w = static_cast<size_t>(live_.steady_cycles);
+  // Judged on mu-hat itself: the classic COF's running-in detection moves
+  // as cycles come, and the trend and the shift do not need it.
+  if (n < 2 * w) return;
+  std::vector<double> mu(n);
+  for (size_t i = 0; i < n; ++i) mu[i] = reported_[i].mu_hat;
+  const double trend = TrendPerCycle(mu, n - w, n - 1) * (w - 1);
+  const double shift =
+      MeanOf(mu, n - w, n - 1) - MeanOf(mu, n - 2 * w, n - w - 1);
+  const bool now = std::abs(trend) < live_.steady_band &&
+                   std::abs(shift) < live_.steady_band;
+  if (now == steady_) return;
+  steady_ = now;
+  Raise("steady",
+        now ? fmt::format("mu-hat steady: {:.4f} over the last {} cycles "
+                          "(trend {:+.4f}, shift from the {} before {:+.4f}, "
+                          "both within +-{:.4f}): the test could stop",
+                          MeanOf(mu, n - w, n - 1),
+                          w,
+                          trend,
+                          w,
+                          shift,
+                          live_.steady_band)
+            : fmt::format("mu-hat no longer steady: trend {:+.4f}, shift "
+                          "{:+.4f} over the last {} cycles (band +-{:.4f})",
+                          trend,
+                          shift,
+                          w,
+                          live_.steady_band));
+}
+
+void LiveAnalysis::UpdateVerdict() {
+  const int n = static_cast<int>(reported_.size());
+  const int after = n - running_in_;
+  if (!running_in_ended_ || after < 10) return;
+  const int k = std::min<int>(after, static_cast<int>(recent_fits_.size()));
+  if (k < 10) return;
+  const std::vector<MuFit> fits(recent_fits_.end() - k, recent_fits_.end());
+  std::vector<double> mu, cost, diff, energy, mean;
+  for (int i = 0; i < k; ++i) {
+    const MuFit& f = fits[i];
+    const double e = recent_energy_[recent_energy_.size() - k + i];
+    mu.push_back(f.converged ? f.mu_hat : kNaN);
+    cost.push_back(f.converged ? f.cost : kNaN);
+    diff.push_back(f.converged ? f.mu_hat - e : kNaN);
+    energy.push_back(e);
+    mean.push_back(recent_mean_[recent_mean_.size() - k + i]);
+  }
+  MismatchReport r;
+  r.first_cycle = n - k;
+  r.last_cycle = n - 1;
+  r.mu_force = Summarise(mu, 0);
+  r.cost_force = Summarise(cost, 0);
+  r.mu_energy = Summarise(energy, 0);
+  r.mu_mean = Summarise(mean, 0);
+  r.split_force = SplitCost(fits, 0, k - 1);
+  r.method_difference = MeanInterval(diff, 0, k - 1);
+  const Verdict v = Judge(r, options_.verdict);
+  const int state = v.explained ? 1 : 0;
+  verdict_text_ =
+      fmt::format("over cycles {}-{}: {}", n - k + 1, n, v.Summary());
+  if (state == verdict_state_) return;
+  const bool turned = verdict_state_ >= 0;
+  verdict_state_ = state;
+  Raise(
+      "verdict",
+      fmt::format("{}{}", turned ? "the verdict turned: " : "", verdict_text_));
+}
+
+void LiveAnalysis::UpdateDepth(const LiveCycle& c) {
+  if (std::isnan(live_.max_depth_mm) || depth_raised_ ||
+      !(c.depth_mm > live_.max_depth_mm))
+    return;
+  depth_raised_ = true;
+  Raise("depth",
+        fmt::format("the track is {:.4f} mm deep from the spring (P/S peak to "
+                    "valley), beyond the limit {:.4f} mm",
+                    c.depth_mm,
+                    live_.max_depth_mm));
+}
+
+void LiveAnalysis::Restart(const std::string& why, double time_s) {
+  LiveEvent e;
+  e.kind = "restart";
+  e.cycle = 0;
+  e.time_s = time_s;
+  e.message = why;
+  const LiveOptions live = live_;
+  FuseOptions options = std::move(options_);
+  *this = LiveAnalysis(std::move(options), live);
+  events_.push_back(std::move(e));
+}
+
+}  // namespace wearscar::fusion

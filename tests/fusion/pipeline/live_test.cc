@@ -1,0 +1,183 @@
+#include "wearscar/fusion/live.h"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "common/simulated.h"
+#include "wearscar/fusion/analysis.h"
+
+namespace wearscar::fusion {
+namespace {
+
+sim::SimulatedTest RunningTest(const std::string& name,
+                               int cycles,
+                               double rate) {
+  samples::SimulationOptions o = samples::PaperCase(name);
+  o.cycles = cycles;
+  o.sampling_rate_hz = rate;
+  o.scan_cols = 32;
+  o.scan_rows = 24;
+  o.scan_pitch_mm = 0.25;
+  return sim::Simulate(o);
+}
+
+force::ForceRecord Rows(const force::ForceRecord& r,
+                        Eigen::Index from,
+                        Eigen::Index n) {
+  force::ForceRecord s;
+  s.time_s = r.time_s.segment(from, n);
+  s.x_mm = r.x_mm.segment(from, n);
+  s.tangential_n = r.tangential_n.segment(from, n);
+  s.normal_n = r.normal_n.segment(from, n);
+  s.metadata = r.metadata;
+  return s;
+}
+
+struct Followed {
+  std::vector<LiveCycle> cycles;
+  std::vector<LiveEvent> events;
+  Eigen::Index most_samples_held = 0;
+};
+
+// The record handed over in pieces of `piece` samples, as a follower
+// would.
+Followed Follow(const force::ForceRecord& r,
+                Eigen::Index piece,
+                LiveOptions live = {}) {
+  LiveAnalysis a(FuseOptions{}, live);
+  Followed f;
+  for (Eigen::Index at = 0; at < r.size(); at += piece) {
+    const Eigen::Index n = std::min(piece, r.size() - at);
+    for (const LiveCycle& c : a.Add(Rows(r, at, n))) f.cycles.push_back(c);
+    for (const LiveEvent& e : a.TakeEvents()) f.events.push_back(e);
+    f.most_samples_held = std::max(f.most_samples_held, a.samples_held());
+  }
+  return f;
+}
+
+const LiveEvent* Find(const std::vector<LiveEvent>& events,
+                      const std::string& kind) {
+  for (const LiveEvent& e : events)
+    if (e.kind == kind) return &e;
+  return nullptr;
+}
+
+TEST(LiveAnalysis, EachCycleOnceWithTheWholeTestsNumbers) {
+  const sim::SimulatedTest t = RunningTest("B-RT-R", 80, 1000);
+  const ForceAnalysis whole = AnalyzeForce(t.record, FuseOptions{}.analysis);
+  const Followed f = Follow(t.record, 357);
+  // Every complete cycle, numbered as the whole test numbers them; the last
+  // one completes only with the samples after it.
+  ASSERT_EQ(f.cycles.size(), whole.cycles.cycles.size());
+  for (size_t c = 0; c < f.cycles.size(); ++c) {
+    ASSERT_EQ(f.cycles[c].cycle, static_cast<int>(c) + 1);
+    const auto& cycle = whole.cycles.cycles[c];
+    EXPECT_NEAR(
+        f.cycles[c].end_time_s, t.record.time_s[cycle.reverse.end - 1], 1e-9);
+    // The classic COFs need no other cycle: the same numbers.
+    EXPECT_NEAR(f.cycles[c].mu_mean, whole.cof[c].mu_mean, 1e-12);
+  }
+  // mu-hat with k from P over the cycles before (not the centred ensemble
+  // of the whole test): the mean after running-in within 0.001 of the whole
+  // test's, and the per-cycle values within their own scatter.
+  double sum = 0, diff2 = 0;
+  int n = 0;
+  for (size_t c = whole.running_in.cycles; c < f.cycles.size(); ++c) {
+    sum += f.cycles[c].mu_hat;
+    const double d = f.cycles[c].mu_hat - whole.fit_force[c].mu_hat;
+    diff2 += d * d;
+    ++n;
+  }
+  EXPECT_NEAR(sum / n, whole.mu_hat.mean, 0.001);
+  EXPECT_LT(std::sqrt(diff2 / n), 3 * whole.mu_hat.sd + 1e-4);
+  // The samples held stay within the window, however long the test.
+  EXPECT_LT(f.most_samples_held, (12 + 3) * 1000);
+}
+
+TEST(LiveAnalysis, RunningInThenSteadyThenAVerdict) {
+  const sim::SimulatedTest t = RunningTest("B-RT-R", 200, 1000);
+  const Followed f = Follow(t.record, 500);
+  const LiveEvent* r = Find(f.events, "running-in");
+  const LiveEvent* s = Find(f.events, "steady");
+  const LiveEvent* v = Find(f.events, "verdict");
+  ASSERT_NE(r, nullptr);
+  ASSERT_NE(s, nullptr);
+  ASSERT_NE(v, nullptr);
+  EXPECT_GE(s->cycle, 60);  // two steady windows
+  EXPECT_NE(s->message.find("could stop"), std::string::npos);
+  EXPECT_NE(v->message.find("explained by wear-scar"), std::string::npos);
+}
+
+TEST(LiveAnalysis, AnElasticPartTurnsTheVerdict) {
+  const sim::SimulatedTest t = RunningTest("S-RL-R", 120, 1000);
+  const Followed f = Follow(t.record, 500);
+  const LiveEvent* v = Find(f.events, "verdict");
+  ASSERT_NE(v, nullptr);
+  EXPECT_NE(v->message.find("not explained"), std::string::npos) << v->message;
+}
+
+TEST(LiveAnalysis, ATrackDeeperThanTheLimitRaisesAnAlert) {
+  const sim::SimulatedTest t = RunningTest("S-RL-R", 60, 1000);
+  const Followed all = Follow(t.record, 500);
+  ASSERT_GT(all.cycles.size(), 50u);
+  // A limit the track passes half-way through.
+  const double limit = 0.5 * (all.cycles[5].depth_mm + all.cycles[50].depth_mm);
+  size_t first = 0;
+  while (first < all.cycles.size() && !(all.cycles[first].depth_mm > limit))
+    ++first;
+  ASSERT_GT(first, 5u);
+  ASSERT_LT(first, 50u);
+  LiveOptions o;
+  o.max_depth_mm = limit;
+  const Followed f = Follow(t.record, 500, o);
+  const LiveEvent* d = Find(f.events, "depth");
+  ASSERT_NE(d, nullptr);
+  EXPECT_EQ(d->cycle, static_cast<int>(first) + 1);
+  EXPECT_NE(d->message.find(fmt::format("beyond the limit {:.4f} mm", limit)),
+            std::string::npos)
+      << d->message;
+}
+
+}  // namespace
+}  // namespace wearscar::fusion
+
+namespace wearscar::fusion {
+namespace {
+TEST(LiveStudy, DISABLED_Print) {
+  for (samples::SimulationOptions o : samples::PaperCases()) {
+    o.cycles = 300;
+    o.sampling_rate_hz = 1000;
+    o.scan_cols = 32;
+    o.scan_rows = 24;
+    o.scan_pitch_mm = 0.25;
+    const sim::SimulatedTest t = sim::Simulate(o);
+    const ForceAnalysis whole = AnalyzeForce(t.record, FuseOptions{}.analysis);
+    const Eigen::VectorXd& mu = t.truth.mu_per_cycle;
+    const double last = mu.tail(30).mean();
+    int settle = 0;
+    for (int c = mu.size() - 1; c >= 0; --c)
+      if (std::abs(mu[c] - last) > 0.005) {
+        settle = c + 1;
+        break;
+      }
+    const Followed f = Follow(t.record, 500);
+    std::printf("%s whole running-in %d (%s), truth settles %d:",
+                o.name.c_str(),
+                whole.running_in.cycles,
+                whole.running_in.rule.c_str(),
+                settle);
+    for (const auto& e : f.events)
+      std::printf(" [%s %d %s]",
+                  e.kind.c_str(),
+                  e.cycle,
+                  e.kind == "running-in" ? e.message.c_str() : "");
+    std::printf("\n");
+  }
+}
+}  // namespace
+}  // namespace wearscar::fusion

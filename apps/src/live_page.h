@@ -36,9 +36,11 @@ function setup(c){const r=window.devicePixelRatio||1;const w=c.clientWidth,h=c.c
  g.clearRect(0,0,w,h);g.font='12px sans-serif';return [g,w,h];}
 function range(vs){let lo=Infinity,hi=-Infinity;for(const v of vs){if(v==null)continue;if(v<lo)lo=v;if(v>hi)hi=v;}
  if(!(hi>lo)){lo=(isFinite(lo)?lo:0)-1;hi=lo+2;}const p=0.05*(hi-lo);return [lo-p,hi+p];}
+function tick(v,r){const d=Math.abs(r[1]-r[0]);if(d>=20)return Math.round(v).toString();
+ const p=Math.max(0,Math.ceil(-Math.log10(d))+2);return v.toFixed(p);}
 function axes(g,w,h,xr,yr,xl,yl){const L=56,B=28;g.strokeStyle='#888';g.beginPath();g.moveTo(L,4);g.lineTo(L,h-B);g.lineTo(w-4,h-B);g.stroke();
- g.fillStyle='#333';for(let i=0;i<=4;i++){const y=yr[0]+(yr[1]-yr[0])*i/4;const py=h-B-(h-B-4)*i/4;g.fillText(y.toPrecision(3),2,py+4);
- const x=xr[0]+(xr[1]-xr[0])*i/4;g.fillText(x.toPrecision(3),L+(w-L-4)*i/4-10,h-B+14);}
+ g.fillStyle='#333';for(let i=0;i<=4;i++){const y=yr[0]+(yr[1]-yr[0])*i/4;const py=h-B-(h-B-4)*i/4;g.fillText(tick(y,yr),2,py+4);
+ const x=xr[0]+(xr[1]-xr[0])*i/4;g.fillText(tick(x,xr),L+(w-L-4)*i/4-10,h-B+14);}
  g.fillText(xl,w/2,h-2);g.save();g.translate(10,h/2);g.rotate(-Math.PI/2);g.restore();g.fillText(yl,L+6,14);
  return [x=>L+(x-xr[0])/(xr[1]-xr[0])*(w-L-4),y=>h-B-(y-yr[0])/(yr[1]-yr[0])*(h-B-4)];}
 function line(g,X,Y,xs,ys,color){g.strokeStyle=color;g.beginPath();let on=false;for(let i=0;i<xs.length;i++){
@@ -67,6 +69,7 @@ function drawDepth(){const [g,w,h]=setup(document.getElementById('depth'));const
 async function poll(){try{const r=await fetch('state.json?since='+S.cycles.length,{cache:'no-store'});const st=await r.json();
  if(S.state&&st.restarts!==S.state.restarts)S.cycles=[];
  S.cycles=S.cycles.concat(st.cycles);S.state=st;S.updates++;const last=S.cycles[S.cycles.length-1];
+ const b=document.body.dataset;b.updates=S.updates;b.cyclesSeen=(b.cyclesSeen?b.cyclesSeen+',':'')+S.cycles.length;
  document.getElementById('status').textContent='cycles: '+S.cycles.length+' · updates: '+S.updates+(last?' · mu-hat '+(last[1]==null?'-':last[1].toFixed(4))+' · COF '+last[4].toFixed(4):'')+(st.steady?' · steady':'');
  document.getElementById('verdict').textContent=st.verdict?'verdict '+st.verdict:'';
  const ul=document.getElementById('alerts');ul.innerHTML='';

@@ -384,11 +384,11 @@ void LiveAnalysis::UpdateRunningIn() {
   }
   // Said when the detection has held for 10 cycles, with twice its
   // running-in after it, on a trend that is itself flat (over the steady
-  // window it changes by less than the steady band: early in a test the
+  // window it changes by less than half the steady band: early in a test the
   // "steady" half is still running in); said again when it moves on by
   // more than half the steady window.
   const bool flat =
-      std::abs(ri.steady_slope) * live_.steady_cycles < live_.steady_band;
+      std::abs(ri.steady_slope) * live_.steady_cycles < 0.5 * live_.steady_band;
   const bool held =
       flat && running_in_same_ >= 10 && n >= std::max(30, 2 * ri.cycles + 10);
   if (!held) return;
@@ -405,45 +405,56 @@ void LiveAnalysis::UpdateRunningIn() {
   }
 }
 
+SteadyTest JudgeSteady(const std::vector<double>& mu, int cycles, double band) {
+  SteadyTest t;
+  const size_t n = mu.size(), w = static_cast<size_t>(cycles);
+  if (n < 2 * w) return t;
+  t.trend = TrendPerCycle(mu, n - w, n - 1) * static_cast<double>(w - 1);
+  t.shift = MeanOf(mu, n - w, n - 1) - MeanOf(mu, n - 2 * w, n - w - 1);
+  t.mean = MeanOf(mu, n - w, n - 1);
+  t.steady = std::abs(t.trend) < band && std::abs(t.shift) < band;
+  return t;
+}
+
 void LiveAnalysis::UpdateSteady() {
-  const size_t n = reported_.size();
   const size_t w = static_cast<size_t>(live_.steady_cycles);
-  // Judged on mu-hat itself: the classic COF's running-in detection moves
-  // as cycles come, and the trend and the shift do not need it.
-  if (n < 2 * w) return;
-  std::vector<double> mu(n);
-  for (size_t i = 0; i < n; ++i) mu[i] = reported_[i].mu_hat;
-  const double trend = TrendPerCycle(mu, n - w, n - 1) * (w - 1);
-  const double shift =
-      MeanOf(mu, n - w, n - 1) - MeanOf(mu, n - 2 * w, n - w - 1);
-  const bool now = std::abs(trend) < live_.steady_band &&
-                   std::abs(shift) < live_.steady_band;
-  if (now == steady_) return;
-  steady_ = now;
+  if (reported_.size() < 2 * w) return;
+  mu_hat_series_.resize(reported_.size());
+  for (size_t i = 0; i < reported_.size(); ++i)
+    mu_hat_series_[i] = reported_[i].mu_hat;
+  // Once steady, it stays so until the trend or the shift leaves 1.5x the
+  // band (no alert flickering at the band's edge).
+  const double band = steady_ ? 1.5 * live_.steady_band : live_.steady_band;
+  const SteadyTest t = JudgeSteady(mu_hat_series_, live_.steady_cycles, band);
+  if (t.steady == steady_) return;
+  steady_ = t.steady;
   Raise("steady",
-        now ? fmt::format("mu-hat steady: {:.4f} over the last {} cycles "
-                          "(trend {:+.4f}, shift from the {} before {:+.4f}, "
-                          "both within +-{:.4f}): the test could stop",
-                          MeanOf(mu, n - w, n - 1),
-                          w,
-                          trend,
-                          w,
-                          shift,
-                          live_.steady_band)
-            : fmt::format("mu-hat no longer steady: trend {:+.4f}, shift "
-                          "{:+.4f} over the last {} cycles (band +-{:.4f})",
-                          trend,
-                          shift,
-                          w,
-                          live_.steady_band));
+        steady_ ? fmt::format("mu-hat steady: {:.4f} over the last {} cycles "
+                              "(trend {:+.4f}, shift from the {} before "
+                              "{:+.4f}, both within +-{:.4f}): the test could "
+                              "stop",
+                              t.mean,
+                              w,
+                              t.trend,
+                              w,
+                              t.shift,
+                              band)
+                : fmt::format("mu-hat no longer steady: trend {:+.4f}, shift "
+                              "{:+.4f} over the last {} cycles (beyond "
+                              "+-{:.4f}, 1.5x the band)",
+                              t.trend,
+                              t.shift,
+                              w,
+                              band));
 }
 
 void LiveAnalysis::UpdateVerdict() {
+  // Over the latest cycles, from 20 on: running-in is not waited for (the
+  // wear-scar model holds while the friction settles; its misfit is what
+  // the verdict judges), and the words say when it has not been seen to end.
   const int n = static_cast<int>(reported_.size());
-  const int after = n - running_in_;
-  if (!running_in_ended_ || after < 10) return;
-  const int k = std::min<int>(after, static_cast<int>(recent_fits_.size()));
-  if (k < 10) return;
+  const int k = std::min<int>(n, static_cast<int>(recent_fits_.size()));
+  if (n < std::min(20, live_.verdict_cycles) || k < 10) return;
   const std::vector<MuFit> fits(recent_fits_.end() - k, recent_fits_.end());
   std::vector<double> mu, cost, diff, energy, mean;
   for (int i = 0; i < k; ++i) {
@@ -467,7 +478,11 @@ void LiveAnalysis::UpdateVerdict() {
   const Verdict v = Judge(r, options_.verdict);
   const int state = v.explained ? 1 : 0;
   verdict_text_ =
-      fmt::format("over cycles {}-{}: {}", n - k + 1, n, v.Summary());
+      fmt::format("over cycles {}-{}{}: {}",
+                  n - k + 1,
+                  n,
+                  running_in_ended_ ? "" : " (running-in not seen to end yet)",
+                  v.Summary());
   if (state == verdict_state_) return;
   const bool turned = verdict_state_ >= 0;
   verdict_state_ = state;

@@ -145,39 +145,3 @@ TEST(LiveAnalysis, ATrackDeeperThanTheLimitRaisesAnAlert) {
 
 }  // namespace
 }  // namespace wearscar::fusion
-
-namespace wearscar::fusion {
-namespace {
-TEST(LiveStudy, DISABLED_Print) {
-  for (samples::SimulationOptions o : samples::PaperCases()) {
-    o.cycles = 300;
-    o.sampling_rate_hz = 1000;
-    o.scan_cols = 32;
-    o.scan_rows = 24;
-    o.scan_pitch_mm = 0.25;
-    const sim::SimulatedTest t = sim::Simulate(o);
-    const ForceAnalysis whole = AnalyzeForce(t.record, FuseOptions{}.analysis);
-    const Eigen::VectorXd& mu = t.truth.mu_per_cycle;
-    const double last = mu.tail(30).mean();
-    int settle = 0;
-    for (int c = mu.size() - 1; c >= 0; --c)
-      if (std::abs(mu[c] - last) > 0.005) {
-        settle = c + 1;
-        break;
-      }
-    const Followed f = Follow(t.record, 500);
-    std::printf("%s whole running-in %d (%s), truth settles %d:",
-                o.name.c_str(),
-                whole.running_in.cycles,
-                whole.running_in.rule.c_str(),
-                settle);
-    for (const auto& e : f.events)
-      std::printf(" [%s %d %s]",
-                  e.kind.c_str(),
-                  e.cycle,
-                  e.kind == "running-in" ? e.message.c_str() : "");
-    std::printf("\n");
-  }
-}
-}  // namespace
-}  // namespace wearscar::fusion

@@ -81,6 +81,21 @@ struct LiveMap {
   std::vector<std::vector<double>> rows;
 };
 
+// The steady test on a per-cycle series (LiveOptions::steady_cycles and
+// steady_band): over its last `cycles` values the straight-line trend's
+// change and the mean's shift from the `cycles` before; steady when both
+// are within +-band. Not judged (steady false, NaN) with fewer than
+// 2 x cycles values.
+struct SteadyTest {
+  bool steady = false;
+  double trend = std::numeric_limits<double>::quiet_NaN();
+  double shift = std::numeric_limits<double>::quiet_NaN();
+  double mean = std::numeric_limits<double>::quiet_NaN();
+};
+SteadyTest JudgeSteady(const std::vector<double>& series,
+                       int cycles,
+                       double band);
+
 class LiveAnalysis {
  public:
   // `options`: the test's (the spring as the file states it:
@@ -137,7 +152,7 @@ class LiveAnalysis {
   bool extreme_set_ = false;
   double last_end_s_ = -1e300, period_s_ = 0.0;
   std::vector<LiveCycle> reported_;
-  std::vector<double> mu_mean_series_;
+  std::vector<double> mu_mean_series_, mu_hat_series_;
   std::deque<MuFit> recent_fits_;
   std::deque<double> recent_energy_, recent_mean_;
   int running_in_ = 0, running_in_seen_ = -1, running_in_same_ = 0;

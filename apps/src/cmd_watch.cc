@@ -3,6 +3,7 @@
 // with the products `wearscar fuse` gives of the finished file.
 
 #include <fmt/format.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -195,6 +196,12 @@ class Watch {
       std::this_thread::sleep_for(std::chrono::duration<double>(a_.poll_s));
     }
     if (interrupted) Say("interrupted: the products of what was written\n");
+    struct rusage usage {};
+    getrusage(RUSAGE_SELF, &usage);
+    Say("followed {} cycles in {:.1f} s; peak memory {} MiB\n",
+        live_ ? live_->cycles().size() : 0,
+        Wall(),
+        usage.ru_maxrss / 1024);
     while (waitpid(-1, nullptr, 0) > 0) {
     }
     return writer_stopped ? 0 : follower_.offset();

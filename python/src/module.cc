@@ -17,9 +17,12 @@
 #include <utility>
 #include <vector>
 
+#include "wearscar/force/follow.h"
 #include "wearscar/force/read_force.h"
 #include "wearscar/fusion/batch.h"
 #include "wearscar/fusion/error.h"
+#include "wearscar/fusion/fuse.h"
+#include "wearscar/fusion/live.h"
 #include "wearscar/fusion/logging.h"
 #include "wearscar/fusion/products.h"
 #include "wearscar/fusion/provenance.h"
@@ -433,7 +436,87 @@ void DefineHeightMap(py::module_& m) {
       .def_property_readonly("metadata", &MapMetadata);
 }
 
+// A force file followed as it is written (wearscar.watch): each look
+// returns the cycles completed since the last, as dicts, and the events
+// raised with them.
+class Watcher {
+ public:
+  Watcher(const std::string& path,
+          const Given& given,
+          int steady_cycles,
+          double steady_band,
+          double max_depth_mm)
+      : settings_(Settings(given, fusion::kFuseSettings, "watch")),
+        follower_(path, [&] {
+          force::FollowOptions o;
+          o.read = settings_.read_force;
+          return o;
+        }()) {
+    live_options_.steady_cycles = steady_cycles;
+    live_options_.steady_band = steady_band;
+    live_options_.max_depth_mm = max_depth_mm;
+    std::string why;
+    if (!live_options_.IsValid(&why)) throw OptionError("watch: " + why);
+  }
+
+  // (cycles, events, bytes taken): `idle` when the caller has seen the
+  // file stop growing.
+  py::tuple Poll(bool idle) {
+    std::vector<fusion::LiveCycle> cycles;
+    std::vector<fusion::LiveEvent> events;
+    {
+      py::gil_scoped_release release;
+      const force::FollowedRows got = follower_.Poll(idle);
+      if (got.restarted && live_) live_->Restart(got.note, 0.0);
+      if (!live_ && follower_.started()) {
+        force::ForceRecord head;
+        head.metadata = follower_.metadata();
+        live_ = std::make_unique<fusion::LiveAnalysis>(
+            fusion::WithStatedSpring(settings_.fuse, head), live_options_);
+      }
+      if (live_) {
+        cycles = live_->Add(got.rows);
+        events = live_->TakeEvents();
+      }
+    }
+    py::list c, e;
+    for (const fusion::LiveCycle& x : cycles) {
+      py::dict d;
+      d["cycle"] = x.cycle;
+      d["end_time_s"] = x.end_time_s;
+      d["mu_hat"] = x.mu_hat;
+      d["mu_hat_low"] = x.mu_low;
+      d["mu_hat_high"] = x.mu_high;
+      d["mu_mean"] = x.mu_mean;
+      d["mu_energy"] = x.mu_energy;
+      d["J"] = x.cost;
+      d["J_floor"] = x.cost_floor;
+      d["J_excess"] = x.cost_excess;
+      d["depth_mm"] = x.depth_mm;
+      d["running_in"] = x.running_in;
+      c.append(d);
+    }
+    for (const fusion::LiveEvent& x : events) {
+      py::dict d;
+      d["kind"] = x.kind;
+      d["cycle"] = x.cycle;
+      d["message"] = x.message;
+      e.append(d);
+    }
+    return py::make_tuple(c, e, follower_.offset());
+  }
+
+ private:
+  fusion::TestSettings settings_;
+  force::ForceFollower follower_;
+  fusion::LiveOptions live_options_;
+  std::unique_ptr<fusion::LiveAnalysis> live_;
+};
+
 void DefineFunctions(py::module_& m) {
+  py::class_<Watcher>(m, "_Watcher")
+      .def(py::init<const std::string&, const Given&, int, double, double>())
+      .def("poll", &Watcher::Poll);
   py::class_<TestOutput>(m, "_TestOutput")
       .def_readonly("name", &TestOutput::name)
       .def("summary_json", &TestOutput::SummaryJson)

@@ -344,3 +344,39 @@ def test_result_frame_is_a_dataframe_when_pandas_is_there():
     assert list(frame["cycle"]) == list(range(1, 21))
     assert np.allclose(frame["mu_hat_force"], result.mu_hat_per_cycle,
                        equal_nan=True)
+
+
+def test_watch_yields_each_cycle_of_a_file_being_written(tmp_path):
+    test = small("B-RT-R", cycles=40, rate=500)
+    f = test.force
+    path = tmp_path / "running.csv"
+    rows = np.column_stack([f.time_s, f.x_mm, f.q_n, f.p_n])
+
+    def write():
+        # The software's blocks: a header, then 0.2 s of the test every
+        # 20 ms, each cut inside a row (the rest follows with the next).
+        text = "time_s,x_mm,Q_N,P_N\n" + "".join(
+            "{:.6f},{:.6f},{:.5f},{:.5f}\n".format(*r) for r in rows)
+        with open(path, "w") as out:
+            step = len(text) // 200
+            for at in range(0, len(text), step):
+                out.write(text[at:at + step])
+                out.flush()
+                time.sleep(0.02)
+
+    writer = threading.Thread(target=write)
+    writer.start()
+    seen = list(wearscar.watch(path, poll=0.05, idle=1.5))
+    writer.join()
+    cycles = [c for c in seen if c["cycle"] is not None]
+    assert [c["cycle"] for c in cycles] == list(range(1, len(cycles) + 1))
+    whole = wearscar.fuse(path)
+    assert len(cycles) == len(whole.mu_hat_per_cycle)
+    assert seen[-1]["cycle"] is None
+    assert [e["kind"] for e in seen[-1]["events"]][-1] == "idle"
+    # mu-hat with k from P over each cycle and those before it: the mean
+    # after cycle 10 within 0.002 of the whole test's (centred ensemble).
+    live = np.mean([c["mu_hat"] for c in cycles[10:]])
+    assert abs(live - np.nanmean(whole.mu_hat_per_cycle[10:])) < 0.002
+    events = [e["kind"] for c in seen for e in c["events"]]
+    assert "verdict" in events

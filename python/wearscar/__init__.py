@@ -22,7 +22,9 @@ OSError). Long calls release the GIL.
 
 import errno as _errno
 import json as _json
+import math as _math
 import os as _os
+import time as _time
 import warnings as _warnings
 
 from ._wearscar import (ForceError, ForceRecord, FusionError, HeightMap,
@@ -31,7 +33,7 @@ from ._wearscar import (ForceError, ForceRecord, FusionError, HeightMap,
 from . import _wearscar
 
 __all__ = [
-    "read_force", "read_scan", "fuse", "audit", "simulate", "Result",
+    "read_force", "read_scan", "fuse", "audit", "simulate", "watch", "Result",
     "Simulation", "ForceRecord", "HeightMap", "ForceError", "ScanError",
     "FusionError", "OptionError", "OutputError", "version", "git_commit", "__version__",
 ]
@@ -56,6 +58,14 @@ def _map_to_dict(height_map):
 
 ForceRecord.to_dict = _record_to_dict
 HeightMap.to_dict = _map_to_dict
+
+
+def _existing_or_coming(path):
+    """A path as text: the file may not exist yet (watch waits for it)."""
+    if not isinstance(path, (str, bytes, _os.PathLike)):
+        raise TypeError("watch(path=...): expected a path; found {}".format(
+            type(path).__name__))
+    return _os.fspath(path)
 
 
 def _args(options):
@@ -242,6 +252,45 @@ def audit(folder, out=None, jobs=0, name_pattern=None, recursive=True,
                             _os.fspath(out) if out is not None else "",
                             _figure_formats(figures))
     return _json.loads(rows)
+
+
+def watch(path, poll=0.1, idle=60.0, until_cycles=None, steady_cycles=30,
+          steady_band=0.005, max_depth=None, **options):
+    """Follows a force file the tribometer's software is still writing, as
+    `wearscar watch` does, and yields one dict per cycle as it completes:
+    cycle (from 1), end_time_s, mu_hat with k from P over it and the cycles
+    before it (mu_hat_low, mu_hat_high: its 95% interval), mu_mean,
+    mu_energy, J, J_floor, J_excess, depth_mm (the track's depth from the
+    spring), running_in, and "events": the alerts raised with it (dicts of
+    kind, cycle, message: running-in, steady, verdict, depth, restart).
+    Ends when the file has not grown for `idle` seconds (a last dict with
+    cycle None carries the "idle" event and any other not yet given) or
+    after `until_cycles` cycles; a caller may stop at any time (break). Options are those of `wearscar
+    fuse` (spring=..., columns=...)."""
+    w = _wearscar._Watcher(_existing_or_coming(path), _args(options),
+                           int(steady_cycles), float(steady_band),
+                           _math.nan if max_depth is None else float(max_depth))
+    taken, grew, count, pending = -1, _time.monotonic(), 0, []
+    while True:
+        cycles, events, offset = w.poll(_time.monotonic() - grew > 1.0)
+        pending += events
+        if offset != taken:
+            taken, grew = offset, _time.monotonic()
+        elif _time.monotonic() - grew > idle:
+            pending.append({
+                "kind": "idle", "cycle": count,
+                "message": "{} has not grown for {:g} s: the writer stopped"
+                           .format(_os.fspath(path), idle)})
+        for c in cycles:
+            c["events"], pending = pending, []
+            count = c["cycle"]
+            yield c
+            if until_cycles is not None and count >= until_cycles:
+                return
+        if any(e["kind"] == "idle" for e in pending):
+            yield {"cycle": None, "events": pending}
+            return
+        _time.sleep(poll)
 
 
 class Simulation:

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <optional>
 
 #include "units.h"
@@ -22,8 +23,16 @@ std::optional<double> UnitFactor(Channel channel, const std::string& unit) {
 // the median of its magnitude.
 void Spread(const Eigen::VectorXd& v, double* span, double* median_abs) {
   std::vector<double> s, a;
+  // About 20,000 samples, one from each stretch of `step`, at a place in
+  // it that varies from stretch to stretch: a fixed stride aliases with a
+  // periodic channel (1,000 samples are 5 cycles of a 1 Hz test at
+  // 200 Hz, and x would be seen at one phase only).
   const Eigen::Index step = std::max<Eigen::Index>(1, v.size() / 20000);
-  for (Eigen::Index i = 0; i < v.size(); i += step) {
+  std::uint64_t state = 0x9e3779b97f4a7c15ULL;
+  for (Eigen::Index at = 0; at < v.size(); at += step) {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    const Eigen::Index i = std::min<Eigen::Index>(
+        v.size() - 1, at + static_cast<Eigen::Index>((state >> 33) % step));
     if (!std::isfinite(v[i])) continue;
     s.push_back(v[i]);
     a.push_back(std::abs(v[i]));

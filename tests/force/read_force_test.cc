@@ -467,3 +467,28 @@ TEST(ReadForce, WriteThenReadRoundTrip) {
 
 }  // namespace
 }  // namespace wearscar::force
+
+namespace wearscar::force {
+namespace {
+
+// 20,000 cycles of a 1 Hz test at 20 Hz: the plausibility checks sample
+// about 20,000 of its 400,000 rows, one per cycle; a fixed stride saw x at
+// one phase only and refused the file for "a stroke of 0 mm" (a 100,000
+// cycle test at 200 Hz was refused so).
+TEST(ReadForce, APeriodicChannelInStepWithTheChecksStrideKeepsItsStroke) {
+  std::string text = "time_s,x_mm,Q_N,P_N\n";
+  text.reserve(400000 * 40);
+  for (int i = 0; i < 400000; ++i) {
+    const double t = i / 20.0, phase = 2 * M_PI * t;
+    text += fmt::format("{:.2f},{:.5f},{:.4f},30\n",
+                        t,
+                        -2.0 * std::cos(phase),
+                        std::sin(phase) >= 0 ? 3.0 : -3.0);
+  }
+  const ForceRecord r = ReadForceText(text, "long.csv");
+  EXPECT_EQ(r.size(), 400000);
+  EXPECT_NEAR(r.x_mm.maxCoeff() - r.x_mm.minCoeff(), 4.0, 1e-6);
+}
+
+}  // namespace
+}  // namespace wearscar::force

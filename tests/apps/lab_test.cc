@@ -12,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <set>
@@ -479,6 +480,15 @@ TEST(Figures, AreDrawnInTheFormatsAskedFor) {
   ASSERT_EQ(Wearscar(diagnose + dir + "/svg").status, 0);
   EXPECT_EQ(Slurp(dir + "/svg/diagnosis_residual_map.svg").rfind("<?xml", 0),
             0u);
+  // Each candidate tried says how its contribution differs between the
+  // directions, beside the residual map's odd and even parts.
+  const nlohmann::json d = ParseJson(Slurp(dir + "/svg/diagnosis.json"));
+  ASSERT_FALSE(d["steps"].empty());
+  std::map<std::string, std::string> parity;
+  for (const auto& c : d["steps"][0]["tried"])
+    parity[c["key"].get<std::string>()] = c["direction_parity"];
+  EXPECT_EQ(parity["ploughing"], "odd");
+  EXPECT_EQ(parity["q_lag"], "mixed");
   EXPECT_FALSE(fs::exists(dir + "/svg/diagnosis_residual_map.png"));
   ASSERT_EQ(Wearscar(diagnose + dir + "/png --figure-format png").status, 0);
   EXPECT_EQ(Slurp(dir + "/png/diagnosis_residual_map.png").substr(1, 3), "PNG");

@@ -302,6 +302,10 @@ nlohmann::json CandidateJson(const CandidateResult& c) {
            e                                     ? e->Key()
            : c.effect == "periodic interference" ? "periodic_interference"
                                                  : ""},
+          // What its contribution does between the two directions
+          // (odd, even, mixed), beside the residual map's odd and even
+          // parts.
+          {"direction_parity", e ? ParityName(e->DirectionParity()) : "mixed"},
           {"parameter_names", c.parameter_names},
           {"parameters", c.parameters},
           {"uncertainties", c.uncertainties},

@@ -111,6 +111,10 @@ struct CycleFitter {
   void Fit(int first, int last, const ForceSlopes* slopes) {
     Eigen::VectorXd residual;
     for (int c = first; c < last; ++c) {
+      if (!options.fit_cycle.empty() &&
+          (c >= static_cast<int>(options.fit_cycle.size()) ||
+           !options.fit_cycle[static_cast<std::size_t>(c)]))
+        continue;
       CycleSamples s = slopes ? slopes->Gather(c)
                               : GatherCycle(record,
                                             cycles.cycles[c],

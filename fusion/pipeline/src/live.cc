@@ -161,6 +161,7 @@ void LiveAnalysis::Analyse(std::vector<LiveCycle>* out) {
   try {
     a = SegmentForce(buffer_, o);
     if (a.cycles.cycles.empty()) return;
+    FitOnlyNewCycles(a.cycles, &o.friction);
     FitForceSide(buffer_, o, &a);
   } catch (const force::ForceError&) {
     return;  // too few cycles yet
@@ -203,6 +204,37 @@ void LiveAnalysis::Analyse(std::vector<LiveCycle>* out) {
     seeking_min_ = true;
     extreme_set_ = false;
     CycleCompleted(0);
+  }
+}
+
+// Only the cycles to report are fitted, and the cycles their noise split
+// takes its template from (FitFriction, SplitRepeatable: the nearest
+// template_cycles at least an ensemble's width away, the width as
+// ForceSlopes narrows it for a short record); the others were reported
+// from an earlier window.
+void LiveAnalysis::FitOnlyNewCycles(const force::CycleSet& set,
+                                    FrictionFitOptions* friction) const {
+  const auto& cycles = set.cycles;
+  const int n = static_cast<int>(cycles.size());
+  const double period = (buffer_.time_s[cycles.back().reverse.end - 1] -
+                         buffer_.time_s[cycles.front().forward.begin]) /
+                        static_cast<double>(n);
+  int first_new = 0;
+  while (first_new < n && buffer_.time_s[cycles[first_new].reverse.end - 1] <=
+                              last_end_s_ + 0.25 * period)
+    ++first_new;
+  const int sep =
+      friction->k_estimate == KEstimate::kEnsemble
+          ? std::max(1, std::min(friction->ensemble.cycles, ((n / 3) - 1) | 1))
+          : 1;
+  const int t = friction->repeatability.template_cycles;
+  friction->fit_cycle.assign(static_cast<size_t>(n), 0);
+  for (int c = 0; c < n; ++c) {
+    // A new cycle, or in a new cycle's template: at least sep before one,
+    // and within sep + t - 1 of it.
+    const bool is_new = c >= first_new;
+    const bool in_template = c >= first_new - sep - t + 1 && c <= n - 1 - sep;
+    friction->fit_cycle[static_cast<size_t>(c)] = is_new || in_template;
   }
 }
 

@@ -117,6 +117,11 @@ struct FrictionFitOptions {
   // second half of the cycles beside the first (`wearscar fuse`); the fits
   // are the same with any number.
   int threads = 1;
+  // When not empty, only the cycles c with fit_cycle[c] set are fitted
+  // (the others' MuFit "not run"): a caller that needs the fits of the
+  // last cycles only (a live window) fits those and the cycles their
+  // noise split takes its template from. The fits of those are the same.
+  std::vector<char> fit_cycle;
   // k from the record's depth channel (the ball's vertical position,
   // penetration positive: k = -d depth/dx) instead of P/S; the ensemble
   // estimate only.

@@ -19,7 +19,7 @@ namespace wearscar::fusion {
 struct LiveOptions {
   // Complete cycles analysed together when one completes: the newest and
   // those before it (k from P's ensemble, the noise split's template).
-  int window_cycles = 12;
+  int window_cycles = 36;
   // "Steady": over the last steady_cycles cycles mu-hat's straight-line
   // trend changes by less than steady_band, and its mean differs from the
   // steady_cycles before them by less than that.
@@ -132,6 +132,8 @@ class LiveAnalysis {
               int i,
               std::vector<LiveCycle>* out);
   void KeepLatestCycles(const ForceAnalysis& a);
+  void FitOnlyNewCycles(const force::CycleSet& set,
+                        FrictionFitOptions* friction) const;
   void UpdateRunningIn();
   void UpdateSteady();
   void UpdateVerdict();

@@ -17,7 +17,7 @@ figcaption{font-weight:600;margin-bottom:4px}
 canvas{width:100%;height:300px}
 #alerts li{margin:2px 0}
 .alert-steady{color:#0a6}.alert-verdict{color:#b30}.alert-depth{color:#b30}
-.alert-idle{color:#555}.alert-restart{color:#a60}
+.alert-idle{color:#555}.alert-periodic{color:#b30}.alert-restart{color:#a60}
 </style></head><body>
 <h1>wearscar watch</h1>
 <div id="status">waiting for the first cycle</div>

@@ -75,6 +75,7 @@ bool LiveOptions::IsValid(std::string* why) const {
   if (map_bins < 4 || map_bins > 1000)
     return fail("the friction map needs 4 to 1000 bins");
   if (max_map_rows < 10) return fail("the friction map needs >= 10 rows");
+  if (periodic_every < 1) return fail("periodic_every must be >= 1 cycle");
   return true;
 }
 
@@ -198,6 +199,7 @@ void LiveAnalysis::Analyse(std::vector<LiveCycle>* out) {
     for (Eigen::Index i = 0; i < d.direction.size(); ++i)
       loop_.direction.push_back(d.direction[i] > 0 ? 1 : -1);
   }
+  SeekPeriodicLines(static_cast<int>(cycles.size()));
   KeepLatestCycles(a);
   if (first) {
     // The reversal detector starts from the samples kept.
@@ -521,6 +523,31 @@ void LiveAnalysis::UpdateVerdict() {
   Raise(
       "verdict",
       fmt::format("{}{}", turned ? "the verdict turned: " : "", verdict_text_));
+}
+
+// Over the window (the drive's rate from its cycles), every periodic_every
+// cycles: a line at a frequency not seen before (0.5 Hz apart) is said.
+void LiveAnalysis::SeekPeriodicLines(int cycles_in_window) {
+  const int n = static_cast<int>(reported_.size());
+  if (n - lines_sought_at_ < live_.periodic_every || !(period_s_ > 0) ||
+      cycles_in_window < 10)
+    return;
+  lines_sought_at_ = n;
+  for (const force::PeriodicLine& line :
+       force::FindPeriodicLines(buffer_, 1.0 / period_s_)) {
+    const bool seen = std::any_of(
+        lines_seen_hz_.begin(), lines_seen_hz_.end(), [&](double f) {
+          return std::abs(f - line.frequency_hz) < 0.5;
+        });
+    if (seen) continue;
+    lines_seen_hz_.push_back(line.frequency_hz);
+    Raise("periodic",
+          fmt::format("a periodic line in the forces over the last {} "
+                      "cycles: {} (interference the drive does not make: "
+                      "`wearscar diagnose` notches it)",
+                      cycles_in_window,
+                      line.Describe()));
+  }
 }
 
 void LiveAnalysis::UpdateDepth(const LiveCycle& c) {

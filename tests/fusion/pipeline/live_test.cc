@@ -143,5 +143,26 @@ TEST(LiveAnalysis, ATrackDeeperThanTheLimitRaisesAnAlert) {
       << d->message;
 }
 
+// 0.03 N of mains at 50 Hz on both channels (the diagnosis suite's
+// pick-up) is said as a periodic line once the window has been searched;
+// the same test without it raises none.
+TEST(LiveAnalysis, APickUpIsSaidAsAPeriodicLine) {
+  samples::SimulationOptions o = samples::PaperCase("B-RT-R");
+  o.cycles = 70;
+  o.sampling_rate_hz = 2000;
+  o.scan_cols = 32;
+  o.scan_rows = 24;
+  o.scan_pitch_mm = 0.25;
+  const Followed clean = Follow(sim::Simulate(o).record, 900);
+  EXPECT_EQ(Find(clean.events, "periodic"), nullptr)
+      << Find(clean.events, "periodic")->message;
+  o.effects.pickup_n = 0.03;
+  const Followed f = Follow(sim::Simulate(o).record, 900);
+  const LiveEvent* p = Find(f.events, "periodic");
+  ASSERT_NE(p, nullptr);
+  EXPECT_EQ(p->cycle, 30);
+  EXPECT_NE(p->message.find("50.00 Hz"), std::string::npos) << p->message;
+}
+
 }  // namespace
 }  // namespace wearscar::fusion

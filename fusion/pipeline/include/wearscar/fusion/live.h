@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "wearscar/force/force_record.h"
+#include "wearscar/force/periodic.h"
 #include "wearscar/fusion/analysis.h"
 #include "wearscar/fusion/fuse_options.h"
 
@@ -32,6 +33,10 @@ struct LiveOptions {
   // limit.
   double max_depth_mm = std::numeric_limits<double>::quiet_NaN();
   double depth_bin_mm = 0.1;
+  // Periodic lines in Q and P (mains pick-up, a resonance: force::
+  // FindPeriodicLines) are sought over the window every this many cycles;
+  // a line not seen before raises an alert.
+  int periodic_every = 30;
   // The apparent friction |Q|/P along the stroke per cycle, in this many
   // bins, at most max_map_rows rows (older rows merged in pairs beyond).
   int map_bins = 60;
@@ -56,8 +61,8 @@ struct LiveCycle {
 // Something a lab wants to hear while the test runs.
 struct LiveEvent {
   // "running-in" (it has ended), "steady" (the test could stop), "verdict"
-  // (explained or not, and it turning), "depth" (beyond the limit),
-  // "restart" (a new test in the file).
+  // (explained or not, and it turning), "periodic" (a line appeared),
+  // "depth" (beyond the limit), "restart" (a new test in the file).
   std::string kind;
   int cycle = 0;  // from 1; the cycle it was raised at
   double time_s = 0.0;
@@ -138,6 +143,7 @@ class LiveAnalysis {
   void UpdateSteady();
   void UpdateVerdict();
   void UpdateDepth(const LiveCycle& c);
+  void SeekPeriodicLines(int cycles_in_window);
   void AddMapRow(const force::ForceRecord& window,
                  const force::Cycle& cycle,
                  int number);
@@ -164,6 +170,8 @@ class LiveAnalysis {
   LiveLoop loop_;
   LiveMap map_;
   std::vector<LiveEvent> events_;
+  int lines_sought_at_ = 0;  // reported cycles then
+  std::vector<double> lines_seen_hz_;
 };
 
 }  // namespace wearscar::fusion

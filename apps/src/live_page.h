@@ -27,6 +27,7 @@ canvas{width:100%;height:300px}
 <figure><figcaption>Latest cycle: Q against x, and the wear-scar model Q = P (k + s mu-hat)/(1 - s mu-hat k)</figcaption><canvas id="loop"></canvas></figure>
 <figure><figcaption>Apparent friction |Q|/P along the stroke (x, mm) per cycle (down)</figcaption><canvas id="map"></canvas></figure>
 <figure><figcaption>Track depth from the spring (P/S peak to valley), mm, per cycle</figcaption><canvas id="depth"></canvas></figure>
+<figure><figcaption>The track's history from the spring: P/S along the stroke (x, mm) relative to its mean, per cycle (down)</figcaption><canvas id="track"></canvas></figure>
 </div>
 <h2>Alerts</h2><ul id="alerts"></ul>
 <script>
@@ -56,14 +57,14 @@ function drawLoop(st){const [g,w,h]=setup(document.getElementById('loop'));const
  g.fillStyle='rgba(80,80,80,0.5)';for(let i=0;i<l.x.length;i++)if(l.q[i]!=null)g.fillRect(X(l.x[i])-1,Y(l.q[i])-1,2,2);
  g.fillStyle='#c00';for(let i=0;i<l.x.length;i++)if(l.model[i]!=null)g.fillRect(X(l.x[i])-0.75,Y(l.model[i])-0.75,1.5,1.5);
  g.fillStyle='#555';g.fillText('measured',w-150,16);g.fillStyle='#c00';g.fillText('model',w-80,16);}
-function drawMap(st){const [g,w,h]=setup(document.getElementById('map'));const m=st.map;if(!m||!m.rows.length)return;
- const vs=m.rows.flat().filter(v=>v!=null).sort((a,b)=>a-b);const lo=vs[Math.floor(0.02*vs.length)]||0,hi=vs[Math.floor(0.98*vs.length)]||1;
- const L=56,B=28,cw=(w-L-4)/m.x.length,rh=(h-B-4)/m.rows.length;
- m.rows.forEach((r,j)=>r.forEach((v,i)=>{if(v==null)return;const t=Math.max(0,Math.min(1,(v-lo)/((hi-lo)||1)));
+function drawMap(st,id,key,label,unit){const [g,w,h]=setup(document.getElementById(id));const m=st.map;if(!m||!m[key]||!m[key].length)return;
+ const rows=m[key];const vs=rows.flat().filter(v=>v!=null).sort((a,b)=>a-b);const lo=vs[Math.floor(0.02*vs.length)]||0,hi=vs[Math.floor(0.98*vs.length)]||1;
+ const L=56,B=28,cw=(w-L-4)/m.x.length,rh=(h-B-4)/rows.length;
+ rows.forEach((r,j)=>r.forEach((v,i)=>{if(v==null)return;const t=Math.max(0,Math.min(1,(v-lo)/((hi-lo)||1)));
   g.fillStyle='hsl('+(240-240*t)+',80%,50%)';g.fillRect(L+i*cw,4+j*rh,Math.ceil(cw),Math.ceil(rh));}));
  g.fillStyle='#333';g.fillText(m.x[0].toFixed(2),L,h-B+14);g.fillText(m.x[m.x.length-1].toFixed(2),w-40,h-B+14);
  g.fillText('cycle '+m.first[0],2,14);g.fillText(''+m.last[m.last.length-1],2,h-B);
- g.fillText('|Q|/P '+lo.toFixed(3)+' (blue) to '+hi.toFixed(3)+' (red)',L+4,h-4);}
+ g.fillText(label+' '+lo.toFixed(unit)+' (blue) to '+hi.toFixed(unit)+' (red)',L+4,h-4);}
 function drawDepth(){const [g,w,h]=setup(document.getElementById('depth'));const c=S.cycles;if(!c.length)return;
  const x=c.map(r=>r[0]),y=c.map(r=>r[7]);const [X,Y]=axes(g,w,h,range(x),range(y),'cycle','depth, mm');line(g,X,Y,x,y,'#264');}
 async function poll(){try{const r=await fetch('state.json?since='+S.cycles.length,{cache:'no-store'});const st=await r.json();
@@ -74,7 +75,7 @@ async function poll(){try{const r=await fetch('state.json?since='+S.cycles.lengt
  document.getElementById('verdict').textContent=st.verdict?'verdict '+st.verdict:'';
  const ul=document.getElementById('alerts');ul.innerHTML='';
  st.events.slice().reverse().forEach(e=>{const li=document.createElement('li');li.className='alert-'+e.kind;li.textContent='cycle '+e.cycle+' · '+e.kind+': '+e.message;ul.appendChild(li);});
- drawMu();drawLoop(st);drawMap(st);drawDepth();}catch(e){document.getElementById('status').textContent='the watch has ended or is not reachable ('+e+')';}
+ drawMu();drawLoop(st);drawMap(st,'map','rows','|Q|/P',3);drawDepth();drawMap(st,'track','track','P/S, mm',4);}catch(e){document.getElementById('status').textContent='the watch has ended or is not reachable ('+e+')';}
  setTimeout(poll,500);}
 poll();
 </script></body></html>)HTML";

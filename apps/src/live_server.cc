@@ -128,6 +128,13 @@ nlohmann::json LiveServer::State(int since) const {
     rows_map.push_back(std::move(row));
   }
   map["rows"] = std::move(rows_map);
+  nlohmann::json track = nlohmann::json::array();
+  for (const auto& r : map_.track_rows) {
+    nlohmann::json row = nlohmann::json::array();
+    for (double v : r) row.push_back(Number(v, 1e5));
+    track.push_back(std::move(row));
+  }
+  map["track"] = std::move(track);
   s["map"] = std::move(map);
   return s;
 }

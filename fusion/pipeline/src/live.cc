@@ -322,6 +322,21 @@ void LiveAnalysis::Report(const force::ForceRecord& window,
   out->push_back(reported_.back());
 }
 
+namespace {
+
+// Two rows of a map merged: their mean where both have a value.
+std::vector<double> MergedRow(const std::vector<double>& u,
+                              const std::vector<double>& v) {
+  std::vector<double> m(u.size());
+  for (size_t b = 0; b < u.size(); ++b)
+    m[b] = std::isnan(u[b])   ? v[b]
+           : std::isnan(v[b]) ? u[b]
+                              : 0.5 * (u[b] + v[b]);
+  return m;
+}
+
+}  // namespace
+
 void LiveAnalysis::AddMapRow(const force::ForceRecord& window,
                              const force::Cycle& cycle,
                              int number) {
@@ -335,41 +350,51 @@ void LiveAnalysis::AddMapRow(const force::ForceRecord& window,
   const int bins = live_.map_bins;
   const double width = map_.x_mm[1] - map_.x_mm[0];
   const double x0 = map_.x_mm[0] - 0.5 * width;
-  std::vector<double> sum(bins, 0.0);
+  std::vector<double> mu(bins, 0.0), p_sum(bins, 0.0);
   std::vector<int> count(bins, 0);
+  double p_all = 0;
+  int n_all = 0;
   for (const force::HalfCycle* h : {&cycle.forward, &cycle.reverse}) {
     for (Eigen::Index s = h->slip_begin; s < h->slip_end; ++s) {
       const double x = window.x_mm[s], q = window.tangential_n[s],
                    p = window.normal_n[s];
       const int b = static_cast<int>(std::floor((x - x0) / width));
       if (b < 0 || b >= bins || !std::isfinite(q) || !(p > 0)) continue;
-      sum[b] += std::abs(q) / p;
+      mu[b] += std::abs(q) / p;
+      p_sum[b] += p;
       ++count[b];
+      p_all += p;
+      ++n_all;
     }
   }
-  std::vector<double> row(bins, kNaN);
-  for (int b = 0; b < bins; ++b)
-    if (count[b] > 0) row[b] = sum[b] / count[b];
+  // The track's shape as the spring sees it: P/S relative to the cycle's
+  // mean, mm (negative where the ball sits lower, in the deeper track).
+  const double spring = options_.analysis.friction.slope.spring_n_per_mm;
+  std::vector<double> row(bins, kNaN), track(bins, kNaN);
+  for (int b = 0; b < bins; ++b) {
+    if (count[b] == 0) continue;
+    row[b] = mu[b] / count[b];
+    track[b] = (p_sum[b] / count[b] - p_all / n_all) / spring;
+  }
   map_.rows.push_back(std::move(row));
+  map_.track_rows.push_back(std::move(track));
   map_.first_cycle.push_back(number);
   map_.last_cycle.push_back(number);
   if (static_cast<int>(map_.rows.size()) < live_.max_map_rows) return;
-  // Merge neighbouring rows in pairs: the map keeps the whole test at
+  // Merge neighbouring rows in pairs: the maps keep the whole test at
   // half the resolution in cycles.
   LiveMap merged;
   merged.x_mm = map_.x_mm;
   for (size_t r = 0; r + 1 < map_.rows.size(); r += 2) {
-    std::vector<double> m(bins);
-    for (int b = 0; b < bins; ++b) {
-      const double u = map_.rows[r][b], v = map_.rows[r + 1][b];
-      m[b] = std::isnan(u) ? v : std::isnan(v) ? u : 0.5 * (u + v);
-    }
-    merged.rows.push_back(std::move(m));
+    merged.rows.push_back(MergedRow(map_.rows[r], map_.rows[r + 1]));
+    merged.track_rows.push_back(
+        MergedRow(map_.track_rows[r], map_.track_rows[r + 1]));
     merged.first_cycle.push_back(map_.first_cycle[r]);
     merged.last_cycle.push_back(map_.last_cycle[r + 1]);
   }
   if (map_.rows.size() % 2 == 1) {
     merged.rows.push_back(map_.rows.back());
+    merged.track_rows.push_back(map_.track_rows.back());
     merged.first_cycle.push_back(map_.first_cycle.back());
     merged.last_cycle.push_back(map_.last_cycle.back());
   }

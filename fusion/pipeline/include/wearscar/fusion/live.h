@@ -77,13 +77,15 @@ struct LiveLoop {
   std::vector<int> direction;
 };
 
-// |Q|/P along the stroke, a row per cycle (rows merged in pairs once
-// there are max_map_rows): bin centres, and per row its first and last
-// cycle and its values (NaN where no sample fell).
+// Along the stroke, a row per cycle (rows merged in pairs once there are
+// max_map_rows): bin centres, per row its first and last cycle, the
+// apparent friction |Q|/P (`rows`) and the track's history as the spring
+// sees it, P/S relative to the cycle's mean in mm (`track_rows`); NaN
+// where no sample fell.
 struct LiveMap {
   std::vector<double> x_mm;
   std::vector<int> first_cycle, last_cycle;
-  std::vector<std::vector<double>> rows;
+  std::vector<std::vector<double>> rows, track_rows;
 };
 
 // The steady test on a per-cycle series (LiveOptions::steady_cycles and

@@ -14,6 +14,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <thread>
+#include <vector>
 
 #include "commands.h"
 #include "fuse_run.h"
@@ -118,15 +119,30 @@ class LiveFiles {
 };
 
 // Runs the user's command on an alert (/bin/sh -c) with the alert in its
-// environment; it is not waited for (reaped as the watch goes on).
+// environment; it is not waited for (reaped as the watch goes on). The
+// environment is made before fork: the child of a process with threads
+// (the live page's) only calls execve.
 void RunHook(const std::string& command, const fusion::LiveEvent& e) {
   if (command.empty()) return;
+  std::vector<std::string> env;
+  for (char** v = environ; *v != nullptr; ++v) {
+    const std::string entry = *v;
+    if (entry.rfind("WEARSCAR_ALERT=", 0) != 0 &&
+        entry.rfind("WEARSCAR_CYCLE=", 0) != 0 &&
+        entry.rfind("WEARSCAR_MESSAGE=", 0) != 0)
+      env.push_back(entry);
+  }
+  env.push_back("WEARSCAR_ALERT=" + e.kind);
+  env.push_back("WEARSCAR_CYCLE=" + std::to_string(e.cycle));
+  env.push_back("WEARSCAR_MESSAGE=" + e.message);
+  std::vector<char*> envp;
+  for (std::string& v : env) envp.push_back(v.data());
+  envp.push_back(nullptr);
+  std::string sh = "/bin/sh", dash_c = "-c", cmd = command;
+  char* argv[] = {sh.data(), dash_c.data(), cmd.data(), nullptr};
   const pid_t pid = fork();
   if (pid != 0) return;  // the watch, or fork failed
-  setenv("WEARSCAR_ALERT", e.kind.c_str(), 1);
-  setenv("WEARSCAR_CYCLE", std::to_string(e.cycle).c_str(), 1);
-  setenv("WEARSCAR_MESSAGE", e.message.c_str(), 1);
-  execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+  execve("/bin/sh", argv, envp.data());
   _exit(127);
 }
 

@@ -153,7 +153,7 @@ bool ForceFollower::Reopen(FollowedRows* out) {
   return true;
 }
 
-std::string ForceFollower::TakeCompleteLines(bool idle) {
+std::string ForceFollower::TakeCompleteLines() {
   std::vector<char> block(
       std::min<std::size_t>(options_.max_bytes_per_poll, std::size_t{1} << 20));
   std::size_t taken = 0;
@@ -170,7 +170,6 @@ std::string ForceFollower::TakeCompleteLines(bool idle) {
     taken += got;
     read_ += got;
   }
-  (void)idle;
   const std::size_t end = pending_.rfind('\n');
   std::string text;
   if (end != std::string::npos) {
@@ -235,7 +234,7 @@ void ForceFollower::ReadMoreRows(const std::string& text, FollowedRows* out) {
 FollowedRows ForceFollower::Poll(bool idle) {
   FollowedRows out;
   if (!Reopen(&out)) return out;
-  const std::string text = TakeCompleteLines(idle);
+  const std::string text = TakeCompleteLines();
   lines_ += CountLineBreaks(text);
   if (started_) {
     ReadMoreRows(text, &out);

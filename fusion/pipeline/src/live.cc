@@ -481,8 +481,8 @@ void LiveAnalysis::UpdateSteady() {
   mu_hat_series_.resize(reported_.size());
   for (size_t i = 0; i < reported_.size(); ++i)
     mu_hat_series_[i] = reported_[i].mu_hat;
-  // Once steady, it stays so until the trend or the shift leaves 1.5x the
-  // band (no alert flickering at the band's edge).
+  // Once steady, it stays so until the trend or the shift leaves the band
+  // widened by half (no alert flickering at the band's edge).
   const double band = steady_ ? 1.5 * live_.steady_band : live_.steady_band;
   const SteadyTest t = JudgeSteady(mu_hat_series_, live_.steady_cycles, band);
   if (t.steady == steady_) return;

@@ -50,8 +50,9 @@ class ForceFollower {
 
   // Reads what was appended since the last call. `idle`: the caller has
   // seen the file stop growing, so a short file's first rows are read
-  // without waiting for FollowOptions::first_lines (and a last line
-  // without its line break is taken as complete). Throws ForceError for a
+  // without waiting for FollowOptions::first_lines. A last line without
+  // its line break is never taken (a writer killed mid-row leaves it to
+  // the reader of the whole file, which says so). Throws ForceError for a
   // file that cannot be read as a force export (naming the file and, for
   // appended rows, the line they start at).
   FollowedRows Poll(bool idle = false);
@@ -72,7 +73,7 @@ class ForceFollower {
   };
   void Reset();
   bool Reopen(FollowedRows* out);
-  std::string TakeCompleteLines(bool idle);
+  std::string TakeCompleteLines();
   void ReadFirstRows(const std::string& text, FollowedRows* out);
   void ReadMoreRows(const std::string& text, FollowedRows* out);
 

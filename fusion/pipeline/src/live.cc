@@ -305,6 +305,7 @@ void LiveAnalysis::Report(const force::ForceRecord& window,
   c.depth_mm = hi > lo ? (hi - lo) / spring : kNaN;
   reported_.push_back(c);
   mu_mean_series_.push_back(c.mu_mean);
+  mu_hat_series_.push_back(c.mu_hat);
   recent_fits_.push_back(f);
   recent_energy_.push_back(c.mu_energy);
   recent_mean_.push_back(c.mu_mean);
@@ -478,9 +479,6 @@ SteadyTest JudgeSteady(const std::vector<double>& mu, int cycles, double band) {
 void LiveAnalysis::UpdateSteady() {
   const size_t w = static_cast<size_t>(live_.steady_cycles);
   if (reported_.size() < 2 * w) return;
-  mu_hat_series_.resize(reported_.size());
-  for (size_t i = 0; i < reported_.size(); ++i)
-    mu_hat_series_[i] = reported_[i].mu_hat;
   // Once steady, it stays so until the trend or the shift leaves the band
   // widened by half (no alert flickering at the band's edge).
   const double band = steady_ ? 1.5 * live_.steady_band : live_.steady_band;

@@ -99,6 +99,11 @@ void AddDiagnoseCommand(CLI::App& app) {
                   d.along_track_knots,
                   "Knots of friction along the track over the sliding range")
       ->capture_default_str();
+  cmd->add_option("--edge-knots",
+                  d.edge_knots,
+                  "Knots of the edge-keeping shape tried once the smooth one "
+                  "is named (a band's sharp boundary); 0: none")
+      ->capture_default_str();
   cmd->add_option("--max-effects", d.max_effects, "At most this many effects")
       ->capture_default_str();
   cmd->add_option(

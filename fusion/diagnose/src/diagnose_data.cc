@@ -246,6 +246,8 @@ void Prepare(const force::ForceRecord& record,
   Data& data = p->data;
   data.record = &record;
   data.options = &o;
+  data.x_lo = p->grid.x_lo;
+  data.x_hi = p->grid.x_hi;
   data.dt = record.size() > 1
                 ? (record.time_s[record.size() - 1] - record.time_s[0]) /
                       (record.size() - 1)

@@ -608,6 +608,26 @@ ResidualMap Map(const Data& d,
   return map;
 }
 
+ParitySplit SplitByParity(const Data& d,
+                          const Model& m,
+                          const std::vector<double>& mu) {
+  const int nb = d.options->position_bins;
+  MapSums sums(nb, 1, 1);
+  std::vector<const double*> p;
+  for (const auto& v : m.params) p.push_back(v.data());
+  for (size_t ci = 0; ci < d.cycles.size(); ++ci) {
+    for (const Sample& s : d.cycles[ci].samples) {
+      AddSample(
+          s, Residual(d, s, mu[ci], m.effects, p), 0, d.x_lo, d.x_hi, &sums);
+    }
+  }
+  ResidualMap map;
+  map.mean_n = sums.ss.cwiseQuotient(sums.cnt.cwiseMax(1.0));
+  map.mean_abs_n = sums.cnt;  // only whether a bin has samples
+  OddEven(&map);
+  return {map.odd_rms_n, map.even_rms_n};
+}
+
 // Per-direction binned average of a channel over the diagnosis cycles,
 // over each half's whole stroke: P (and a depth channel) follows the track
 // in stick as in gross slip, and where the slip starts late (a steep wall

@@ -33,6 +33,7 @@ struct Data {
   const force::ForceRecord* record;
   std::vector<DiagCycle> cycles;
   double dt = 0;
+  double x_lo = 0, x_hi = 0;  // the stroke the residual maps bin
   const DiagnoseOptions* options = nullptr;
   // Ceres solves and those that did not converge (fits run one at a time).
   mutable int solves = 0, not_converged = 0;
@@ -94,6 +95,16 @@ ResidualMap Map(const Data& d,
                 const DiagnoseOptions& o,
                 double x_lo,
                 double x_hi);
+
+// The cycle-mean residual along the stroke (options' position_bins) under
+// `m` with each cycle's mu given, split by the direction of sliding at the
+// same x (ResidualMap's odd_rms_n and even_rms_n).
+struct ParitySplit {
+  double odd_rms_n = 0, even_rms_n = 0;
+};
+ParitySplit SplitByParity(const Data& d,
+                          const Model& m,
+                          const std::vector<double>& mu);
 
 // Per-direction binned average of a channel over the diagnosis cycles
 // (each half's whole stroke, stick included).

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "wearscar/fusion/error.h"
 #include "wearscar/fusion/forward_model.h"
 
 namespace wearscar::fusion {
@@ -200,15 +201,17 @@ class SpringStiffness : public Effect {
 class AlongTrack : public Effect {
  public:
   Parity DirectionParity() const override { return Parity::kOdd; }
-  explicit AlongTrack(int knots) : knots_(std::max(3, knots)) {}
+  AlongTrack(std::vector<double> u, bool edges)
+      : u_(std::move(u)), knots_(static_cast<int>(u_.size())), edges_(edges) {}
   std::string Name() const override {
     return "friction varying along the track";
   }
   std::string Key() const override { return "mu_along_track"; }
   std::string Formula() const override {
     return fmt::format(
-        "mu_eff = mu (1 + a(x)), a(x) through {} knots, mean 0, smooth",
-        knots_);
+        "mu_eff = mu (1 + a(x)), a(x) through {} knots, mean 0, {}",
+        knots_,
+        edges_ ? "edges kept (total variation)" : "smooth");
   }
   std::vector<std::string> ParameterNames() const override {
     std::vector<std::string> names;
@@ -230,6 +233,7 @@ class AlongTrack : public Effect {
     Locate(*c, &i, &w);
     c->mu_factor *= 1.0 + (1 - w) * p[i] + w * p[i + 1];
   }
+  std::vector<double> Knots() const override { return u_; }
   bool MuFactorGradient(const double* p,
                         const EffectContext& c,
                         double* grad) const override {
@@ -243,26 +247,43 @@ class AlongTrack : public Effect {
     return true;
   }
   // The knots' mean (held at 0: the level is each cycle's mu) and their
-  // second differences (the roughness).
+  // roughness: the second differences' squares, or (edges kept) the first
+  // differences' absolute values, the total variation, which costs a step
+  // no more than a ramp of the same height. Its residual is
+  // sign(d) sqrt(sqrt(d^2 + eps^2) - eps): squared, |d| beyond eps and
+  // d^2 / (2 eps) within it, smooth for the solver.
   int PenaltyCount() const override { return knots_ - 1; }
   void Penalty(const double* p, double weight, double* r) const override {
     double mean = 0;
     for (int i = 0; i < knots_; ++i) mean += p[i] / knots_;
     r[0] = kMeanWeight * mean;
     const double w = std::sqrt(weight);
-    for (int i = 1; i + 1 < knots_; ++i)
-      r[i] = w * (p[i - 1] - 2 * p[i] + p[i + 1]);
+    for (int i = 1; i + 1 < knots_; ++i) {
+      if (!edges_) {
+        r[i] = w * (p[i - 1] - 2 * p[i] + p[i + 1]);
+        continue;
+      }
+      const double d = p[i + 1] - p[i];
+      r[i] =
+          w *
+          std::copysign(
+              std::sqrt(std::sqrt(d * d + kEdgeEps * kEdgeEps) - kEdgeEps), d);
+    }
   }
 
  private:
   // The knot interval of x and the weight of its upper knot.
   void Locate(const EffectContext& c, int* i, double* w) const {
-    const double u = std::clamp(c.stroke_fraction, 0.0, 1.0) * (knots_ - 1);
-    *i = std::min(knots_ - 2, static_cast<int>(u));
-    *w = u - *i;
+    const double u = std::clamp(c.stroke_fraction, 0.0, 1.0);
+    const auto above = std::upper_bound(u_.begin(), u_.end(), u);
+    *i = std::clamp(static_cast<int>(above - u_.begin()) - 1, 0, knots_ - 2);
+    *w = std::clamp((u - u_[*i]) / (u_[*i + 1] - u_[*i]), 0.0, 1.0);
   }
   static constexpr double kMeanWeight = 10.0;
+  static constexpr double kEdgeEps = 1e-3;  // of a, below any band's step
+  std::vector<double> u_;  // the knots' fractions of the sliding range
   int knots_;
+  bool edges_;
 };
 
 }  // namespace
@@ -283,14 +304,28 @@ const std::vector<std::unique_ptr<Effect>>& EffectLibrary() {
     v.push_back(std::make_unique<Hook>());
     v.push_back(std::make_unique<ElasticCompliance>());
     v.push_back(std::make_unique<SpringStiffness>());
-    v.push_back(std::make_unique<AlongTrack>(12));
+    v.push_back(AlongTrackFriction(12));
     return v;
   }();
   return library;
 }
 
-std::unique_ptr<Effect> AlongTrackFriction(int knots) {
-  return std::make_unique<AlongTrack>(knots);
+std::unique_ptr<Effect> AlongTrackFriction(int knots, bool edges) {
+  const int n = std::max(3, knots);
+  std::vector<double> u(n);
+  for (int i = 0; i < n; ++i) u[i] = static_cast<double>(i) / (n - 1);
+  return std::make_unique<AlongTrack>(std::move(u), edges);
+}
+
+std::unique_ptr<Effect> AlongTrackFrictionAt(std::vector<double> knots,
+                                             bool edges) {
+  if (knots.size() < 3 || knots.front() != 0.0 || knots.back() != 1.0 ||
+      !std::is_sorted(knots.begin(), knots.end()) ||
+      std::adjacent_find(knots.begin(), knots.end()) != knots.end()) {
+    throw FusionError(
+        "a shape's knots must increase strictly from 0 to 1, at least 3");
+  }
+  return std::make_unique<AlongTrack>(std::move(knots), edges);
 }
 
 const Effect* FindEffect(const std::string& name) {

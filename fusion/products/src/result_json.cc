@@ -315,6 +315,11 @@ nlohmann::json CandidateJson(const CandidateResult& c) {
           {"improved_fraction", c.improved_fraction},
           {"delta_bic", c.delta_bic},
           {"plausible", c.plausible},
+          // What it removed of the residual map's odd and even parts, and
+          // whether that is the part dominating the residual.
+          {"removes_direction_odd_rms_N", c.odd_removed_n},
+          {"removes_direction_even_rms_N", c.even_removed_n},
+          {"matches_signature", c.matches_signature},
           {"accepted", c.accepted}};
 }
 

@@ -32,6 +32,13 @@ struct DiagnoseOptions {
   // of min_relative_gain of the initial J (not only of the current one).
   double later_share = 0.25;
   int max_effects = 4;
+  // The residual's signature decides: when one direction parity dominates
+  // the residual (its rms this many times the other's), a candidate that
+  // removes less of that parity than of the other is a look-alike; it is
+  // not named unless its held-out gain is signature_margin times that of
+  // the best candidate that matches.
+  double signature_dominance = 2.0;
+  double signature_margin = 2.0;
   // Look for periodic lines the drive does not make (mains pick-up, a
   // resonance) and try notching the strongest as "periodic interference".
   bool periodic_lines = true;
@@ -75,6 +82,14 @@ struct DiagnoseOptions {
   // its roughness penalty the held-out cycles choose from.
   int along_track_knots = 24;
   std::vector<double> shape_penalties = {0.001, 0.01, 0.1};
+  // Once that smooth shape is named, a finer one that keeps edges is tried
+  // in its place: a band's sharp boundary, which the smooth shape rounds
+  // off over a knot spacing (and a lag of the Q channel then mimics). This
+  // many knots (0: none), half of them gathered where the smooth shape
+  // changes fastest, their total variation weighted by one of these; kept
+  // when its held-out J is lower.
+  int edge_knots = 64;
+  std::vector<double> edge_penalties = {1e-3};
   // mu of one cycle under a model: grid, then Brent, over [mu_min, mu_max]
   // (finer than the per-cycle fit's: the diagnosis compares small gains).
   FitMuOptions mu_fit{0.0, 1.0, 41, 1e-6, 60};
@@ -144,7 +159,36 @@ struct CandidateResult {
   double delta_bic = 0.0;
   bool plausible = true;  // the fitted sign is the effect's physics
   bool accepted = false;
+  // What it removes of the residual's cycle-mean map along the stroke, by
+  // direction parity (ResidualMap: rms before less rms after, N), and
+  // whether that is the parity dominating the residual (false: a
+  // look-alike; DiagnoseOptions::signature_dominance).
+  double odd_removed_n = 0.0, even_removed_n = 0.0;
+  bool matches_signature = true;
 };
+
+// The residual's cycle-mean map split by the direction of sliding (its
+// odd and even parts' rms, N; ResidualMap).
+struct ResidualParity {
+  double odd_rms_n = 0.0, even_rms_n = 0.0;
+};
+
+// The selection rule of one step. Of the candidates `tried`, sorted by
+// held-out J, the one the step keeps (its index) and why, when not the
+// best (words in *note); `before` is the held-out J before the step,
+// `residual` the residual's parts before it. Of candidates that explain
+// nearly as much (o.parsimony of the best one's held-out improvement), the
+// one with the fewest parameters: in a sine drive the speed is a function
+// of x, and a free shape along the track can mimic a speed dependence.
+// Then the residual's signature (sets each one's matches_signature): a
+// look-alike gives way to the best accepted candidate that removes the
+// dominating parity, unless its held-out gain is o.signature_margin times
+// that one's; with none, it is marked not accepted.
+size_t PickCandidate(std::vector<CandidateResult>* tried,
+                     double before,
+                     const ResidualParity& residual,
+                     const DiagnoseOptions& o,
+                     std::string* note);
 
 struct DiagnosisStep {
   CandidateResult chosen;              // the candidate the step kept

@@ -73,6 +73,9 @@ class Effect {
   // For an effect that only multiplies mu_factor by m(p, x): fills grad
   // with dm/dp_j / m (ParameterNames().size() values) and returns true, so
   // that the fit differentiates a many-parameter shape analytically.
+  // A shape's knots as fractions of the sliding range (0 to 1); empty for
+  // an effect that is no shape.
+  virtual std::vector<double> Knots() const { return {}; }
   virtual bool MuFactorGradient(const double* /*p*/,
                                 const EffectContext& /*c*/,
                                 double* /*grad*/) const {
@@ -93,8 +96,14 @@ const std::vector<std::unique_ptr<Effect>>& EffectLibrary();
 // Friction along the track without an assumed shape: mu_eff = mu (1 +
 // a(x)), a(x) linear between `knots` equally spaced values over the stroke,
 // the same in both directions; its mean is held at 0 (the cycle's mu
-// carries the level) and its second differences are the penalty.
-std::unique_ptr<Effect> AlongTrackFriction(int knots);
+// carries the level) and its second differences are the penalty, or with
+// `edges` its first differences' absolute values (total variation: a band's
+// sharp edge is kept where the smooth shape rounds it off).
+std::unique_ptr<Effect> AlongTrackFriction(int knots, bool edges = false);
+// The same through knots at the given fractions of the sliding range
+// (increasing, from 0 to 1): denser where the friction changes fastest.
+std::unique_ptr<Effect> AlongTrackFrictionAt(std::vector<double> knots,
+                                             bool edges);
 
 // Finds an effect by its name or its key; nullptr when unknown.
 const Effect* FindEffect(const std::string& name);

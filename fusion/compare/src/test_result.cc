@@ -58,15 +58,17 @@ std::string Headline(const TestResult& r) {
                 spring.ImpliedStiffness(),
                 spring.used_n_per_mm)
           : std::string("the scan");
-  return fmt::format(
-      "mu = {:.4f}{}: mu-hat, k from {}, cycles {}-{} ({}); explained by "
-      "wear-scar interaction",
-      mu.mean,
-      interval,
-      source,
-      m.first_cycle + 1,
-      m.last_cycle + 1,
-      r.window.why);
+  return fmt::format("mu = {:.4f}{}: mu-hat, k from {}, cycles {}-{} ({}); {}",
+                     mu.mean,
+                     interval,
+                     source,
+                     m.first_cycle + 1,
+                     m.last_cycle + 1,
+                     r.window.why,
+                     r.verdict.screen.empty()
+                         ? "explained by wear-scar interaction"
+                         : "within the verdict's limits, but not settled: " +
+                               r.verdict.screen);
 }
 
 }  // namespace wearscar::fusion

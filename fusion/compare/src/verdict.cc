@@ -22,6 +22,10 @@ bool ParseCostCriterion(const std::string& text, CostCriterion* c) {
 }
 
 bool VerdictOptions::IsValid(std::string* why) const {
+  if (!(screen_excess_to_floor > 0)) {
+    if (why) *why = "screen_excess_to_floor must be > 0";
+    return false;
+  }
   if (!(max_cost > 0) || !(max_cost_excess > 0) || !(max_amplitude_ratio > 0) ||
       !(min_correlation > -1) || !(max_method_difference > 0) ||
       !(min_waviness_to_noise > 0) || !(min_waviness_correlation > -1) ||
@@ -55,7 +59,10 @@ bool DataWarningOptions::IsValid(std::string* why) const {
 }
 
 std::string Verdict::Summary() const {
-  if (explained) return "explained by wear-scar interaction";
+  if (explained) {
+    return screen.empty() ? "explained by wear-scar interaction"
+                          : "explained by wear-scar interaction, but " + screen;
+  }
   if (!not_judged.empty()) return "not judged: " + not_judged;
   std::string s = "not explained by wear-scar interaction: ";
   for (size_t i = 0; i < reasons.size(); ++i) s += (i ? "; " : "") + reasons[i];
@@ -157,6 +164,28 @@ std::vector<std::string> MethodReasons(const MismatchReport& r,
                   r.mu_mean.mean)};
 }
 
+// The screen of an explained test: the loops repeat a misfit above their
+// noise (Verdict::screen), or "".
+std::string Screen(const CostSplit& split, const VerdictOptions& o) {
+  // The lower end of the excess's 95% interval, as the verdict's: a few
+  // cycles' excess is no repeating misfit yet.
+  const double excess =
+      std::isfinite(split.excess_low) ? split.excess_low : split.excess;
+  if (split.cycles == 0 || !(split.floor > 0) ||
+      !(excess >= o.screen_excess_to_floor * split.floor))
+    return "";
+  return fmt::format(
+      "the loops repeat a misfit above their noise (J's excess {:.3f}{}, "
+      "at least {:.2f} of its noise floor {:.3f}; the screen's limit "
+      "{:.2f}): an effect the wear-scar model misses may bias mu-hat; "
+      "`wearscar diagnose` names it",
+      split.excess,
+      IntervalText(split.excess_low, split.excess_high, "{:.3f}"),
+      excess / split.floor,
+      split.floor,
+      o.screen_excess_to_floor);
+}
+
 }  // namespace
 
 Verdict Judge(const MismatchReport& r, const VerdictOptions& o) {
@@ -223,6 +252,9 @@ Verdict Judge(const MismatchReport& r, const VerdictOptions& o) {
   v.reasons.insert(
       v.reasons.end(), method_reasons.begin(), method_reasons.end());
   v.explained = v.reasons.empty();
+  // With the scan's k the excess holds the track's growth over the
+  // compared cycles too (the scan shows the last one's): not screened.
+  if (v.explained && from_force) v.screen = Screen(split, o);
   return v;
 }
 

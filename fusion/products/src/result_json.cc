@@ -79,6 +79,7 @@ nlohmann::json OptionsJson(const force::ForceRecord& record,
           {"mu_interval", {f.fit.mu_min, f.fit.mu_max}},
           {"verdict_cost", CostCriterionName(o.verdict.cost_criterion)},
           {"max_excess", o.verdict.max_cost_excess},
+          {"screen_excess_to_floor", o.verdict.screen_excess_to_floor},
           {"max_cost", o.verdict.max_cost},
           {"max_amplitude_ratio", o.verdict.max_amplitude_ratio},
           {"min_correlation", o.verdict.min_correlation},
@@ -418,7 +419,10 @@ nlohmann::json ResultJson(const std::string& name,
                                      : std::string("k from the scan")},
       {"summary", r.verdict.Summary()},
       {"judged", r.verdict.not_judged.empty()},
-      {"reasons", r.verdict.reasons}};
+      {"reasons", r.verdict.reasons},
+      // An explained test's repeating misfit, when above the screen's
+      // limit ("" otherwise): mu is then quoted as not settled.
+      {"screen", r.verdict.screen}};
   std::vector<std::string> warnings = record.metadata.warnings;
   warnings.insert(warnings.end(), r.warnings.begin(), r.warnings.end());
   j["warnings"] = warnings;

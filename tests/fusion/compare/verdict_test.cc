@@ -17,6 +17,7 @@
 #include <optional>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "common/simulated.h"
@@ -366,6 +367,9 @@ TEST_P(VerdictOnCleanCases, NothingIsFlagged) {
     EXPECT_TRUE(r.verdict.explained)
         << (with_scan ? "with scan: " : "without scan: ")
         << r.verdict.Summary();
+    // ... and settled: no repeating misfit for the screen to point at.
+    EXPECT_EQ(r.verdict.screen, "")
+        << (with_scan ? "with scan" : "without scan");
     // A spring rig's profile is P/S, whatever the track.
     EXPECT_EQ(r.profile.used, ProfileSource::kSpring) << r.profile.reason;
     if (with_scan) {
@@ -384,6 +388,33 @@ INSTANTIATE_TEST_SUITE_P(Twelve,
                          ::testing::Combine(::testing::ValuesIn(TwelveCases()),
                                             ::testing::Values(1.0, 2.0)),
                          CaseAndNoise);
+
+// A library effect the verdict lets pass is screened: the loops repeat a
+// misfit above their noise, the headline says mu is not settled and points
+// to the diagnosis. The lower end of J's excess against its floor: a
+// viscous film 0.73 (the library's faintest at the paper's noise; at twice
+// it, under the limit 0.3), ploughing at twice the noise 0.99.
+TEST(Screen, AnExplainedTestWithALibraryEffectIsNotSettled) {
+  for (const auto& [effect, noise] :
+       {std::pair<const char*, double>{"viscous=0.04", 1.0},
+        std::pair<const char*, double>{"ploughing=8", 2.0}}) {
+    samples::SimulationOptions o = NoisyCase("S-RT-R", noise, 0);
+    samples::ApplyEffectSetting(effect, &o.effects);
+    const sim::SimulatedTest t = sim::Simulate(o);
+    const TestResult r = AnalyzeTest(t.record, std::nullopt, NoLugre());
+    ASSERT_TRUE(r.verdict.explained) << effect << ": " << r.verdict.Summary();
+    EXPECT_NE(r.verdict.screen.find("repeat a misfit above their noise"),
+              std::string::npos)
+        << effect;
+    const std::string headline = Headline(r);
+    EXPECT_NE(headline.find("not settled"), std::string::npos) << headline;
+    EXPECT_NE(headline.find("wearscar diagnose"), std::string::npos)
+        << headline;
+    EXPECT_EQ(headline.find("explained by wear-scar interaction"),
+              std::string::npos)
+        << headline;
+  }
+}
 
 // The same cases on a rig that loads the ball with a dead weight (P
 // constant, the height not in it), at the paper's noise and twice it: auto

@@ -385,17 +385,6 @@ std::vector<S> VerdictSettings() {
           100,
           [verdict](T& t) -> double& { return verdict(t).max_cost_excess; }),
       NumberSetting<T>(
-          "screen-excess",
-          g,
-          "Screen of an explained test: J's excess, as a share of its "
-          "noise floor, from which mu is quoted as not settled (a "
-          "repeating misfit: see wearscar diagnose)",
-          1e-9,
-          100,
-          [verdict](T& t) -> double& {
-            return verdict(t).screen_excess_to_floor;
-          }),
-      NumberSetting<T>(
           "max-cost",
           g,
           "Verdict with --verdict-cost paper: largest J after "

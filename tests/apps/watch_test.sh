@@ -15,6 +15,15 @@ mkdir -p "$scratch"
 cd "$scratch"
 replay() { python3 "$src/tests/apps/replay.py" "$@"; }
 fail() { echo "FAILED: $*"; exit 1; }
+# Waits (up to 60 s) until the watch has reported a cycle into $1: what
+# follows must not race a loaded machine.
+wait_for_a_cycle() {
+  for _ in $(seq 600); do
+    [ "$(wc -l < "$1" 2> /dev/null || echo 0)" -ge 2 ] && return 0
+    sleep 0.1
+  done
+  fail "no cycle reported into $1 within 60 s"
+}
 # The products of a watch (DIR $1) and of fuse (DIR $2): the same files, the
 # same bytes but for result.json's date.
 same_products() {
@@ -58,6 +67,7 @@ writer=$!
 "$wearscar" watch live2.csv -o out2 --idle 3 --no-figures > w2.txt 2> w2.err &
 watcher=$!
 wait $writer
+wait_for_a_cycle out2/live/cycles.csv
 sleep 0.5
 replay sim/S-RL-R.force.csv live2.csv r3.log --speed 50
 wait $watcher || fail "watch after a truncation: $(tail -3 w2.err)"
@@ -86,7 +96,7 @@ replay sim/B-RT-R.force.csv live4.csv r5.log --speed 20 &
 writer=$!
 "$wearscar" watch live4.csv -o out4 --idle 30 --no-figures > w4.txt 2> w4.err &
 watcher=$!
-sleep 2
+wait_for_a_cycle out4/live/cycles.csv
 kill -INT $watcher
 wait $watcher || fail "watch after Ctrl-C: $(tail -3 w4.err)"
 kill $writer 2> /dev/null || true

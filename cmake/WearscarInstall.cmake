@@ -166,12 +166,14 @@ set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)  # <package>_<version>_amd64.deb
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_LICENSE BSD-3-Clause)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-# Stripped as Debian ships them; a build with debug information
-# (RelWithDebInfo, Debug) keeps it apart in -dbgsym packages.
-set(CPACK_STRIP_FILES ON)
-if(CMAKE_BUILD_TYPE MATCHES "^(RelWithDebInfo|Debug)$")
-  set(CPACK_DEBIAN_DEBUGINFO_PACKAGE ON)
-endif()
+# Stripped as Debian ships them, what is stripped kept apart in -dbgsym
+# packages (.ddeb): the symbol table of every build, the debug information
+# of one that has it (RelWithDebInfo, Debug). CPack strips when it splits
+# (CPACK_STRIP_FILES would strip first, leaving nothing to keep);
+# WearscarDebugSymbols.cmake makes the .ddeb files as Debian's tools do.
+set(CPACK_STRIP_FILES OFF)
+set(CPACK_DEBIAN_DEBUGINFO_PACKAGE ON)
+set(CPACK_POST_BUILD_SCRIPTS ${PROJECT_SOURCE_DIR}/cmake/WearscarDebugSymbols.cmake)
 set(CPACK_DEBIAN_WEARSCAR_PACKAGE_NAME wearscar)
 set(CPACK_DEBIAN_WEARSCAR_PACKAGE_DEPENDS "gnuplot-nox")
 # Descriptions: lines of at most 80 characters (Debian policy 3.4.1).

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Builds the Debian packages with CPack (wearscar, libwearscar-dev,
-# python3-wearscar), checks what each holds and depends on, runs lintian
-# on them (no error, no warning), unpacks them into a scratch root (dpkg
-# -x) and runs the command and the Python module from there.
+# python3-wearscar, and the -dbgsym packages of the first and the last),
+# checks what each holds and depends on, runs lintian on them (no error, no
+# warning), unpacks them into a scratch root (dpkg -x) and runs the command
+# and the Python module from there, their symbols read back from the
+# -dbgsym packages.
 #   package_deb.sh <build dir> <scratch dir> <version>
 set -euo pipefail
 build=$1 scratch=$2 version=$3
@@ -60,6 +62,36 @@ done
 if readelf -S "$root/usr/bin/wearscar" | grep -q '\.symtab'; then
   echo "usr/bin/wearscar is not stripped"; exit 1
 fi
+# What was stripped is kept apart: each binary's -dbgsym package holds
+# /usr/lib/debug/.build-id/<its build id>.debug, which the binary names
+# (.gnu_debuglink) and whose symbols name the functions. A build without
+# debug information (Release) keeps the symbol table alone, which lintian
+# calls debug-file-with-no-debug-symbols: accepted for such a build only.
+symbols_only=
+readelf -S "$build/apps/wearscar" | grep -q '\.debug_info' ||
+  symbols_only=--suppress-tags=debug-file-with-no-debug-symbols
+for package in wearscar python3-wearscar; do
+  ddeb="$scratch/${package}-dbgsym_${version}_amd64.ddeb"
+  test -f "$ddeb" || { echo "no $ddeb"; ls "$scratch"; exit 1; }
+  dpkg-deb --info "$ddeb" | grep -q "^ Depends: $package (= $version)" || {
+    echo "$package-dbgsym does not depend on $package $version"; exit 1; }
+  if command -v lintian > /dev/null; then
+    said=$(lintian --tag-display-limit 0 $symbols_only "$ddeb" 2>&1 | grep -v "running with root privileges" || true)
+    [ -z "$said" ] || { echo "lintian on $package-dbgsym:"; echo "$said"; exit 1; }
+    echo "lintian on $package-dbgsym: clean${symbols_only:+ (symbol table only: a build without debug information)}"
+  fi
+  dpkg -x "$ddeb" "$root"
+done
+binary="$root/usr/bin/wearscar"
+id=$(readelf -n "$binary" | awk '/Build ID:/ {print $3}')
+debug="$root/usr/lib/debug/.build-id/${id:0:2}/${id:2}.debug"
+test -f "$debug" || { echo "no $debug for usr/bin/wearscar's build id $id"; exit 1; }
+readelf --string-dump=.gnu_debuglink "$binary" | grep -q "${id:2}.debug" || {
+  echo "usr/bin/wearscar does not name its debug file"; exit 1; }
+symbols=$(nm -C "$debug")
+grep -q " T wearscar::fusion::AnalyzeTest(" <<< "$symbols" || {
+  echo "$debug does not name wearscar::fusion::AnalyzeTest"; exit 1; }
+echo "usr/bin/wearscar's symbols are in wearscar-dbgsym (build id $id)"
 test -f "$root/usr/lib/x86_64-linux-gnu/cmake/wearscar/wearscarConfig.cmake" ||
   test -f "$root/usr/lib/cmake/wearscar/wearscarConfig.cmake"
 printed=$("$root/usr/bin/wearscar" version)

@@ -8,6 +8,7 @@
 #include <png.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -453,6 +454,58 @@ TEST(AuditFigures, ALargeBatchIsItsMedianAndBand) {
   EXPECT_NEAR(p10, 0.15, 1e-9);
   EXPECT_NEAR(p90, 0.55, 1e-9);
   EXPECT_LT(fs::file_size(dir / "audit_fig13_mu_hat.svg"), 100000u);
+}
+
+// Fig. 16 of a batch too large to name draws each specimen's interval and
+// mean as strokes, a few paths in all: a marker per specimen made 4,000
+// SVG elements at 1,000 specimens, which held the report's index in a
+// browser for most of a second. The strokes are the intervals' own ends.
+TEST(AuditFigures, ALargeBatchsDifferencesAreStrokesNotMarkers) {
+  std::string why;
+  if (!PlotterAvailable(&why)) GTEST_SKIP() << why;
+  const fs::path dir = test_support::FreshFolder("difference-strokes");
+  std::vector<SpecimenSeries> batch = Batch(300);
+  for (int i = 0; i < 300; ++i) {
+    batch[i].diff_mean.mean = 0.001 * i;
+    batch[i].diff_mean.low = 0.001 * i - 0.002;
+    batch[i].diff_mean.high = 0.001 * i + 0.003;
+    batch[i].diff_energy.mean = -0.001 * i;
+    batch[i].diff_energy.low = -0.001 * i - 0.001;
+    batch[i].diff_energy.high = -0.001 * i + 0.001;
+  }
+  ASSERT_TRUE(DrawAuditFigures(dir.string(), batch).missing.empty());
+  std::ifstream in(dir / "audit_fig16_differences.svg");
+  const std::string svg((std::istreambuf_iterator<char>(in)),
+                        std::istreambuf_iterator<char>());
+  int markers = 0, paths = 0;
+  for (size_t at = svg.find("<use"); at != std::string::npos;
+       at = svg.find("<use", at + 1))
+    ++markers;
+  for (size_t at = svg.find("<path"); at != std::string::npos;
+       at = svg.find("<path", at + 1))
+    ++paths;
+  EXPECT_LT(markers, 20) << "a marker per specimen";
+  EXPECT_LT(paths, 100);
+  EXPECT_LT(svg.size(), 150000u);
+  // Specimen 7's strokes: its interval from 0.005 up 0.005, its mean 0.007
+  // from x = 6.6 across 0.8; the energy's interval from -0.008 up 0.002.
+  std::ifstream data(dir / "figure-data" / "audit_fig16_differences.csv");
+  const std::vector<std::array<double, 4>> want = {
+      {7, 0.005, 0, 0.005}, {6.6, 0.007, 0.8, 0}, {7, -0.008, 0, 0.002}};
+  std::vector<bool> found(want.size(), false);
+  std::string line;
+  while (std::getline(data, line)) {
+    std::array<double, 4> v{};
+    if (std::sscanf(
+            line.c_str(), "%lf,%lf,%lf,%lf", &v[0], &v[1], &v[2], &v[3]) != 4)
+      continue;
+    for (size_t k = 0; k < want.size(); ++k) {
+      bool same = true;
+      for (int c = 0; c < 4; ++c) same &= std::abs(v[c] - want[k][c]) < 1e-9;
+      found[k] = found[k] || same;
+    }
+  }
+  for (size_t k = 0; k < want.size(); ++k) EXPECT_TRUE(found[k]) << k;
 }
 
 }  // namespace

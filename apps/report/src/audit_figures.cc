@@ -343,25 +343,88 @@ std::string WithNames(const fusion::Table& t,
   return out;
 }
 
+// Fig. 16's marks for a batch too large to name: each specimen's interval
+// a vertical stroke from its low end, its mean a short horizontal one
+// (gnuplot's vectors: a few paths for the whole batch, where a point marker
+// each made an SVG of thousands of elements that held a browser's page
+// for most of a second at 1,000 specimens).
+fusion::Table DifferenceMarks(const fusion::Table& differences) {
+  fusion::Table t({"index",
+                   "left",
+                   "zero",
+                   "width",
+                   "mean_low",
+                   "mean_span",
+                   "mean",
+                   "energy_low",
+                   "energy_span",
+                   "energy"});
+  const auto at = [&](const std::vector<double>& row, const char* column) {
+    return row[static_cast<size_t>(differences.ColumnIndex(column))];
+  };
+  for (const auto& r : differences.rows) {
+    const double lm = at(r, "mu_hat_minus_mu_mean_low");
+    const double le = at(r, "mu_hat_minus_mu_energy_low");
+    t.rows.push_back({r[0],
+                      r[0] - 0.4,
+                      0,
+                      0.8,
+                      lm,
+                      at(r, "mu_hat_minus_mu_mean_high") - lm,
+                      at(r, "mu_hat_minus_mu_mean"),
+                      le,
+                      at(r, "mu_hat_minus_mu_energy_high") - le,
+                      at(r, "mu_hat_minus_mu_energy")});
+  }
+  return t;
+}
+
+// Fig. 16's series: named, a marker and error bar per specimen; else the
+// marks above (the same intervals and means, in the same colours).
+std::vector<Series> DifferenceSeries(bool named) {
+  if (named) {
+    Series dm("method_differences.csv",
+              "index",
+              "mu_hat_minus_mu_mean",
+              "mu-hat - mu mean",
+              {"mu_hat_minus_mu_mean_low", "mu_hat_minus_mu_mean_high"});
+    dm.style = "yerrorbars pt 7 lc 1";
+    Series de("method_differences.csv",
+              "index",
+              "mu_hat_minus_mu_energy",
+              "mu-hat - mu energy",
+              {"mu_hat_minus_mu_energy_low", "mu_hat_minus_mu_energy_high"});
+    de.style = "yerrorbars pt 5 lc 2";
+    return {dm, de};
+  }
+  std::vector<Series> marks;
+  const char* kWhich[][3] = {{"mean", "mu-hat - mu mean", "1"},
+                             {"energy", "mu-hat - mu energy", "2"}};
+  for (const auto& w : kWhich) {
+    const std::string name = w[0];
+    Series interval("difference_marks",
+                    "index",
+                    name + "_low",
+                    "",
+                    {"zero", name + "_span"});
+    interval.style = std::string("vectors nohead lc ") + w[2];
+    Series mean("difference_marks", "left", name, w[1], {"width", "zero"});
+    mean.style = std::string("vectors nohead lw 2 lc ") + w[2];
+    marks.push_back(interval);
+    marks.push_back(mean);
+  }
+  return marks;
+}
+
 // Fig. 16: each specimen's mu-hat minus the classic COFs, named on the
 // axis while the names can be read.
 FigureSpec DifferencesFigure(const std::vector<SpecimenSeries>& specimens,
                              bool named) {
-  Series dm("method_differences.csv",
-            "index",
-            "mu_hat_minus_mu_mean",
-            "mu-hat - mu mean",
-            {"mu_hat_minus_mu_mean_low", "mu_hat_minus_mu_mean_high"});
-  dm.style = "yerrorbars pt 7";
-  Series de("method_differences.csv",
-            "index",
-            "mu_hat_minus_mu_energy",
-            "mu-hat - mu energy",
-            {"mu_hat_minus_mu_energy_low", "mu_hat_minus_mu_energy_high"});
-  de.style = "yerrorbars pt 5";
   Series zero;
   zero.function = "0";
   zero.style = "lines lc rgb 'black'";
+  std::vector<Series> series = DifferenceSeries(named);
+  series.push_back(zero);
   return {"audit_fig16_differences",
           "mu-hat minus mean and energy COF, means over the cycles with their "
           "95% intervals (Fig. 16)",
@@ -374,7 +437,7 @@ FigureSpec DifferencesFigure(const std::vector<SpecimenSeries>& specimens,
                 "set xrange [-0.5:*]\nset offsets 0,0.5,0,0\n",
             {},
             "",
-            {dm, de, zero}}}};
+            series}}};
 }
 
 }  // namespace
@@ -390,6 +453,7 @@ FigureSet DrawAuditFigures(const std::string& dir,
   // Names on the axis and beside the points while they can be read.
   const bool named = specimens.size() <= kMostPanels;
   const fusion::Table differences = MethodDifferences(specimens);
+  const fusion::Table marks = DifferenceMarks(differences);
   const fusion::Table wear = WearAndMu(specimens);
   WriteTextAtomically((fs::path(dir) / "method_differences.csv").string(),
                       WithNames(differences, specimens));
@@ -433,6 +497,7 @@ FigureSet DrawAuditFigures(const std::string& dir,
   const internal::TableSet tables = {{"cycles_by_specimen", &cycles},
                                      {"cycles_percentiles", &percentiles},
                                      {"method_differences.csv", &differences},
+                                     {"difference_marks", &marks},
                                      {"wear_and_mu.csv", &wear}};
   return internal::Draw(dir, figs, tables, formats);
 }

@@ -107,6 +107,8 @@ std::string ImageTag(const std::string& path,
 
 const char* const kImagesScript = R"(<script>
 window.addEventListener('load', function () {
+  var t = performance.timing;
+  document.body.setAttribute('data-load-ms', t.loadEventStart - t.navigationStart);
   var imgs = Array.prototype.slice.call(document.images);
   var all = new URLSearchParams(window.location.search).get('images') === 'all';
   if (all) imgs.forEach(function (i) { i.loading = 'eager'; });

@@ -30,10 +30,11 @@ std::string ImageTag(const std::string& path,
 // '/' separators: what a page's link or image names.
 std::string RelativeUrl(const std::string& path, const std::string& dir);
 
-// Ends a page: on load, the body's data-images-rendered ("decoded/all";
-// with ?images=all every lazy image is loaded first) and data-layout
+// Ends a page: on load, the body's data-load-ms (from the navigation's
+// start to the load event), data-images-rendered ("decoded/all"; with
+// ?images=all every lazy image is loaded first) and data-layout
 // (horizontal overflow, narrowest figure, smallest text; px), read by the
-// browser test and by anyone scripting the report.
+// browser test, scripts/measure-report and anyone scripting the report.
 extern const char* const kImagesScript;
 
 }  // namespace wearscar::report::internal

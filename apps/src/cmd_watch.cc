@@ -21,6 +21,7 @@
 #include "live_server.h"
 #include "output.h"
 #include "setting_flags.h"
+#include "watch_blocks.h"
 #include "wearscar/force/follow.h"
 #include "wearscar/fusion/batch.h"
 #include "wearscar/fusion/fuse.h"
@@ -36,6 +37,9 @@ void OnInterrupt(int) { interrupted = 1; }
 
 struct WatchArgs {
   std::string force_file, scan_file, out, name, on_alert;
+  // A file per block: the blocks' folder (given as the force file), the
+  // files' pattern, and what the watch follows (their joining).
+  std::string folder, pattern;
   double poll_s = 0.1, idle_s = 60.0;
   int until_cycles = 0, every = 1, port = -1;
   fusion::LiveOptions live;
@@ -185,7 +189,11 @@ class Watch {
         server_(server),
         follower_(a.force_file, FollowOptionsOf(settings)),
         files_(a.out),
-        start_(std::chrono::steady_clock::now()) {}
+        start_(std::chrono::steady_clock::now()) {
+    if (!a.pattern.empty())
+      joiner_ =
+          std::make_unique<BlockJoiner>(a.folder, a.pattern, a.force_file);
+  }
 
   // Returns when the writer has been idle, the cycles asked for are done,
   // or the user interrupted: the bytes of the file taken (its complete
@@ -236,8 +244,12 @@ class Watch {
         .count();
   }
 
-  // One look at the file.
+  // One look at the file (with blocks: at the blocks, joined first).
   void Look() {
+    if (joiner_) {
+      const std::string note = joiner_->Update();
+      if (!note.empty()) fmt::print(stderr, "wearscar: {}\n", note);
+    }
     const force::FollowedRows got = follower_.Poll(Wall() - last_growth_ > 1);
     while (waitpid(-1, nullptr, WNOHANG) > 0) {
     }
@@ -281,7 +293,8 @@ class Watch {
         live_ && !live_->cycles().empty() ? live_->cycles().back().cycle : 0;
     e.message = fmt::format(
         "{} has not grown for {:g} s: the writer stopped; the watch ends",
-        a_.force_file,
+        joiner_ ? fmt::format("no block of {} ({})", a_.folder, a_.pattern)
+                : a_.force_file,
         a_.idle_s);
     Raise(e);
   }
@@ -290,6 +303,7 @@ class Watch {
   const fusion::TestSettings& settings_;
   LiveServer* server_;
   force::ForceFollower follower_;
+  std::unique_ptr<BlockJoiner> joiner_;
   std::unique_ptr<fusion::LiveAnalysis> live_;
   LiveFiles files_;
   std::chrono::steady_clock::time_point start_;
@@ -327,13 +341,41 @@ std::string FileAtStop(const WatchArgs& a, std::uintmax_t taken) {
   return copy;
 }
 
+// With --pattern, the force argument is the blocks' folder, and the watch
+// follows their joining, DIR/live/<folder>.joined<the pattern's extension>.
+void JoinBlocks(WatchArgs* a) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const bool folder = fs::is_directory(a->force_file, ec);
+  if (a->pattern.empty()) {
+    if (folder)
+      throw UsageError("watch: " + a->force_file +
+                       " is a folder: give --pattern for a file per block "
+                       "(--pattern 'run_*.csv')");
+    return;
+  }
+  if (!folder)
+    throw UsageError("watch --pattern: " + a->force_file +
+                     " is not a folder (the blocks' folder is expected)");
+  a->folder = a->force_file;
+  std::string ext = fs::path(a->pattern).extension().string();
+  if (ext.find_first_of("*?[") != std::string::npos) ext.clear();
+  const std::string stem =
+      fs::path(a->folder).lexically_normal().filename().string();
+  EnsureDirectory(a->out + "/live");
+  a->force_file = a->out + "/live/" + (stem.empty() ? "blocks" : stem) +
+                  ".joined" + (ext.empty() ? ".txt" : ext);
+  if (a->name.empty()) a->name = stem;
+}
+
 void RunWatch(WatchArgs a) {
   fusion::TestSettings settings =
       WithFlagNames([&] { return fusion::MakeTestSettings(a.given); });
   interrupted = 0;
+  EnsureDirectory(a.out);
+  JoinBlocks(&a);
   std::signal(SIGINT, OnInterrupt);
   std::signal(SIGTERM, OnInterrupt);
-  EnsureDirectory(a.out);
   std::unique_ptr<LiveServer> server;
   if (a.port >= 0) {
     server = std::make_unique<LiveServer>(a.port);
@@ -365,8 +407,15 @@ void AddWatchCommand(CLI::App& app) {
       "page; at the end the products of `wearscar fuse` on the finished file");
   cmd->add_option("force,--force",
                   args->force_file,
-                  "The force export being written (positional or --force)")
+                  "The force export being written (positional or --force); "
+                  "with --pattern, the folder of its blocks")
       ->required();
+  cmd->add_option("--pattern",
+                  args->pattern,
+                  "A file per block: the folder's files matching this pattern "
+                  "('run_*.csv'), in natural order (run_2 before run_10), "
+                  "joined as they are written; a block is finished once a "
+                  "later one exists");
   cmd->add_option("--scan",
                   args->scan_file,
                   "Height map of the worn track, for the final products");
@@ -418,6 +467,7 @@ void AddWatchCommand(CLI::App& app) {
   cmd->footer(
       "Examples:\n"
       "  wearscar watch running.csv -o out/T7 --port 0\n"
+      "  wearscar watch exports/T7 --pattern 'T7_block*.csv' -o out/T7\n"
       "  wearscar watch running.csv -o out/T7 --max-depth 0.3 "
       "--on-alert 'notify-send \"$WEARSCAR_MESSAGE\"'");
   cmd->callback([args] { RunWatch(*args); });

@@ -5,7 +5,8 @@
 # and the hook run for it, the
 # final products those of `wearscar fuse` on the finished file (but for
 # the date), a file truncated for a new test followed from its start, a
-# writer killed mid-row, and Ctrl-C. (How soon each cycle is reported, and
+# writer killed mid-row, Ctrl-C, and a test written as a file per block
+# (--pattern), with its clock continuing or starting again in each. (How soon each cycle is reported, and
 # the watch's CPU and memory: scripts/measure-watch.)
 #   watch_test.sh <wearscar> <source dir> <scratch dir>
 set -euo pipefail
@@ -108,3 +109,40 @@ grep -q 'is still being written: the products are of its' w4.txt ||
 cmp -s out4/live/live4.csv.at-stop <(head -c "$(stat -c %s out4/live/live4.csv.at-stop)" sim/B-RT-R.force.csv) ||
   fail "the copy at the stop is not the file's first bytes"
 echo "Ctrl-C: the products of what was written"
+
+# 5. A file per block (--pattern): B-RT-R (121 s) as thirteen files of 10 s of the
+#    test each, the last 1 s (run_10 after run_9), each starting with the
+#    header; joined, they are the blocks one after the other, and the
+#    cycles those of the test's file. Then with each block's clock starting
+#    at 0: the same cycles at the same times, the same products.
+mkdir blocks restarting
+replay sim/B-RT-R.force.csv 'blocks/run_{}.csv' r6.log --speed 50 --split 10 &
+writer=$!
+"$wearscar" watch blocks --pattern 'run_*.csv' -o out5 --idle 3 --no-figures \
+  > w5.txt 2> w5.err || fail "watch of blocks: $(tail -3 w5.err)"
+wait $writer
+test "$(ls blocks | wc -l)" = 13 || fail "$(ls blocks | wc -l) blocks written, expected 13"
+test "$(tail -n +2 out5/live/cycles.csv | wc -l)" = 120 ||
+  fail "$(tail -n +2 out5/live/cycles.csv | wc -l) cycles reported of the blocks, expected 120"
+cmp -s out5/live/blocks.joined.csv <(for k in $(seq 13); do cat "blocks/run_$k.csv"; done) ||
+  fail "the blocks joined are not the blocks one after the other"
+grep -q 'block run_9.csv finished; block run_10.csv started' w5.err ||
+  fail "the blocks' order is not said: $(grep block w5.err | head -3)"
+grep -q '"kind":"restart"' out5/events.jsonl && fail "a new block taken for a new test"
+"$wearscar" fuse out5/live/blocks.joined.csv --name blocks -o fused5 --no-figures --quiet
+same_products out5 fused5
+"$wearscar" fuse sim/B-RT-R.force.csv -o fused-whole --no-figures --quiet
+cmp -s out5/cycles.csv fused-whole/cycles.csv || fail "the blocks' cycles are not the test's"
+replay sim/B-RT-R.force.csv 'restarting/run_{}.csv' r7.log --speed 50 --split 10 \
+  --restart-clock &
+writer=$!
+"$wearscar" watch restarting --pattern 'run_*.csv' -o out6 --idle 3 --no-figures \
+  > w6.txt 2> w6.err || fail "watch of restarting blocks: $(tail -3 w6.err)"
+wait $writer
+test "$(sed -n 2p restarting/run_2.csv | cut -d, -f1)" = 0.000000 ||
+  fail "block 2's clock does not start at 0: $(sed -n 2p restarting/run_2.csv)"
+# (the cycles and their times; a live mu-hat depends on what had arrived)
+cmp -s <(cut -d, -f1-2 out5/live/cycles.csv) <(cut -d, -f1-2 out6/live/cycles.csv) ||
+  fail "restarting clocks gave other cycles: $(diff out5/live/cycles.csv out6/live/cycles.csv | head -3)"
+cmp -s out5/cycles.csv out6/cycles.csv || fail "restarting clocks gave other products"
+echo "a file per block: joined into the test's file, its clock continuing or restarting"

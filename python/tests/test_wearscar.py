@@ -7,6 +7,7 @@ import pathlib
 import runpy
 import shutil
 import subprocess
+import sys
 import threading
 import time
 
@@ -268,25 +269,33 @@ def test_audit_of_the_bundled_samples(tmp_path):
 
 
 def test_long_calls_release_the_gil():
+    # Deterministic: with a switch interval far longer than the call, a
+    # thread that holds the GIL through fuse lets no other Python run
+    # between its two clock readings around the call; the main thread,
+    # sleeping between its stamps, stamps inside that span only if the
+    # call released the GIL.
     test = small(cycles=300, rate=2000)
-    done = threading.Event()
-    ticks = [0]
+    span = []
 
-    def count():
-        while not done.is_set():
-            ticks[0] += 1
+    def call():
+        t0 = time.perf_counter()
+        wearscar.fuse(test.force, test.scan)
+        span.extend([t0, time.perf_counter()])
 
-    counter = threading.Thread(target=count)
-    counter.start()
-    start = time.perf_counter()
-    wearscar.fuse(test.force, test.scan)
-    elapsed = time.perf_counter() - start
-    done.set()
-    counter.join()
-    # Python ran beside the analysis: with the GIL held the counter would
-    # get at most a few switch intervals.
-    assert elapsed > 0.05
-    assert ticks[0] > 10000, (ticks[0], elapsed)
+    interval = sys.getswitchinterval()
+    sys.setswitchinterval(100.0)
+    try:
+        worker = threading.Thread(target=call)
+        stamps = []
+        worker.start()
+        while worker.is_alive():
+            stamps.append(time.perf_counter())
+            time.sleep(1e-4)
+        worker.join()
+    finally:
+        sys.setswitchinterval(interval)
+    inside = [t for t in stamps if span[0] < t < span[1]]
+    assert inside, (len(stamps), span)
 
 
 def test_simulate_takes_effects_and_lists_of_cases():

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -498,11 +499,33 @@ TEST(Faults, FiguresThatAreNotDrawnAreAWarningAndStatusFour) {
   }
 }
 
+namespace {
+
+// Whether a file named by `seen` is in one of `out`'s staging folders.
+bool InStaging(const std::string& out,
+               const std::function<bool(const std::string&)>& seen) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  for (const auto& d : fs::directory_iterator(out, ec)) {
+    if (d.path().filename().string().rfind(".wearscar-staging-", 0) != 0)
+      continue;
+    for (auto e = fs::recursive_directory_iterator(d.path(), ec);
+         !ec && e != fs::recursive_directory_iterator();
+         e.increment(ec))
+      if (seen(e->path().filename().string())) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
 TEST(Faults, AKilledRunLeavesNoHalfFileAndAQuotedFolderIsJustAName) {
   // fuse with figures into a folder whose name holds a quote and a space
-  // (gnuplot runs without a shell), killed at several moments: whatever it
-  // left under its final names is whole, and a run to the end draws every
-  // figure there.
+  // (gnuplot runs without a shell), killed at two moments it is seen to
+  // reach (not after a delay, which passes when nothing was written yet):
+  // while its tables are written and while gnuplot draws a figure. Each
+  // time the products wait in a staging folder, and nothing is under a
+  // final name; a run to the end draws every figure there.
   const std::string dir = ::testing::TempDir() + "/faults-kill";
   std::filesystem::remove_all(dir);
   ASSERT_EQ(Wearscar("simulate --case S-RT-R --cycles 60 --scan-cols 256 "
@@ -516,7 +539,14 @@ TEST(Faults, AKilledRunLeavesNoHalfFileAndAQuotedFolderIsJustAName) {
       "fuse --force " + dir + "/S-RT-R.force.csv --scan " + dir +
       "/S-RT-R.scan.gsf --no-lugre --figure-format svg,png "
       "-o";
-  for (int delay_ms : {50, 150, 300, 600}) {
+  const std::vector<
+      std::pair<std::string, std::function<bool(const std::string&)>>>
+      moments = {{"a table written",
+                  [](const std::string& f) { return f == "cycles.csv"; }},
+                 {"a figure being drawn", [](const std::string& f) {
+                    return f.size() > 5 && f.substr(f.size() - 5) == ".part";
+                  }}};
+  for (const auto& [moment, seen] : moments) {
     const pid_t pid = fork();
     ASSERT_GE(pid, 0);
     if (pid == 0) {
@@ -536,27 +566,23 @@ TEST(Faults, AKilledRunLeavesNoHalfFileAndAQuotedFolderIsJustAName) {
       execv(bin.c_str(), argv.data());
       _exit(127);
     }
-    usleep(static_cast<useconds_t>(1000 * delay_ms));
-    kill(-pid, SIGKILL);  // the process group: gnuplot too
-    waitpid(pid, nullptr, 0);
-    // Every file, also in figure-data (a run that ended before the kill
-    // has committed it all).
-    if (!std::filesystem::exists(out)) continue;
-    for (auto e = std::filesystem::recursive_directory_iterator(out);
-         e != std::filesystem::recursive_directory_iterator();
-         ++e) {
-      const std::string f = e->path().filename().string();
-      if (f == ".wearscar.lock" || f.rfind(".wearscar-staging-", 0) == 0) {
-        if (e->is_directory()) e.disable_recursion_pending();
-        continue;
+    bool killed = false;
+    for (int k = 0; k < 600000 && !killed; ++k) {
+      if (waitpid(pid, nullptr, WNOHANG) == pid) break;  // ended first
+      if (InStaging(out, seen)) {
+        kill(-pid, SIGKILL);  // the process group: gnuplot too
+        waitpid(pid, nullptr, 0);
+        killed = true;
+      } else {
+        usleep(200);
       }
-      if (e->is_directory()) continue;
-      // A log gnuplot had nothing to say in is empty.
-      if (e->path().extension() != ".log") {
-        EXPECT_GT(e->file_size(), 0u) << f << " after " << delay_ms << " ms";
-      }
-      EXPECT_EQ(f.find(".tmp-"), std::string::npos) << f;
-      EXPECT_EQ(f.find(".part"), std::string::npos) << f;
+    }
+    ASSERT_TRUE(killed) << "the run ended before " << moment;
+    for (const auto& e : std::filesystem::directory_iterator(out)) {
+      const std::string f = e.path().filename().string();
+      EXPECT_TRUE(f == ".wearscar.lock" ||
+                  f.rfind(".wearscar-staging-", 0) == 0)
+          << f << " under its final name, killed at " << moment;
     }
   }
   // To the end: every figure, no staging left.

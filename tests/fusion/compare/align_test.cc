@@ -157,12 +157,13 @@ TEST_P(FullSizeAccuracy, MuHatWithEitherSlopeAndAlignmentMatchTheTruth) {
     std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
     return v[v.size() / 2];
   };
-  EXPECT_LE(median(ef), 0.002) << r.force.running_in.rule;
-  // Target 0.004. At most 0.00045 on 11 cases since the scan slope stops at
-  // the stroke ends (S-RT-R was 0.0026 while the groove's end walls entered
-  // it); S-RL-R 0.0021, the final scan against a track that deepened after
-  // running-in (0.0002 over the last 20 cycles).
-  EXPECT_LE(median(es), 0.003) << r.force.running_in.rule;
+  // About twice the largest median error measured over the 12 cases: k
+  // from P 0.00024; k from the scan 0.00045 on 11 cases, S-RL-R 0.0011 (the
+  // final scan against a track that deepened after running-in; 0.0002 over
+  // the last 20 cycles).
+  EXPECT_LE(median(ef), 0.0005) << r.force.running_in.rule;
+  EXPECT_LE(median(es), GetParam() == "S-RL-R" ? 0.0022 : 0.0009)
+      << r.force.running_in.rule;
   // Alignment: s = flip(x) + shift with s measured from the detected track
   // centre along the detected axis; the truth puts x = 0 at its centre.
   const auto& a = r.scan->alignment;

@@ -374,11 +374,14 @@ TEST_P(VerdictOnCleanCases, NothingIsFlagged) {
     EXPECT_EQ(r.profile.used, ProfileSource::kSpring) << r.profile.reason;
     if (with_scan) {
       EXPECT_EQ(r.scan->alignment.flipped, t.truth.scan_flipped);
-      // mu-hat within 0.002 (k from P) and 0.004 (k from the scan) of the
-      // truth over the compared cycles.
+      // mu-hat against the truth over the compared cycles, at about twice
+      // the largest error measured over the 12 cases (k from P: 0.00022 at
+      // noise 1, 0.00038 at noise 2; k from the scan: 0.00042, 0.00043).
       const auto& m = r.mismatch;
-      EXPECT_NEAR(m.mu_force.mean, TruthOverCompared(t, m), 0.002);
-      EXPECT_NEAR(m.mu_scan.mean, TruthOverCompared(t, m), 0.004);
+      EXPECT_NEAR(m.mu_force.mean,
+                  TruthOverCompared(t, m),
+                  noise < 1.5 ? 0.0005 : 0.0008);
+      EXPECT_NEAR(m.mu_scan.mean, TruthOverCompared(t, m), 0.0009);
     }
   }
 }
@@ -420,10 +423,11 @@ TEST(Screen, AnExplainedTestWithALibraryEffectIsNotSettled) {
 // constant, the height not in it), at the paper's noise and twice it: auto
 // takes the profile from the friction, aligns the scan with it (r above
 // 0.95, the flip right), and the verdict is right with mu-hat from the scan
-// within 0.004 of the truth (measured at 600 cycles, noise 1: within
-// 0.0005 on all 12). The elastic part of S-RL-R moves the sphere without
-// tilting the contact: with P constant it changes no force, so the test is
-// explained (only a depth channel would show it).
+// within 0.001 of the truth (the largest error over the 12 cases and both
+// noises 0.00046; at 600 cycles, noise 1: within 0.0005 on all 12). The elastic
+// part of S-RL-R moves the sphere without tilting the contact: with P constant
+// it changes no force, so the test is explained (only a depth channel would
+// show it).
 class DeadWeightRig
     : public ::testing::TestWithParam<std::tuple<std::string, double>> {};
 
@@ -439,7 +443,7 @@ TEST_P(DeadWeightRig, ProfileFromTheFrictionAlignsTheScanAndTheVerdictIsRight) {
   EXPECT_TRUE(r.verdict.explained) << r.verdict.Summary();
   const auto& m = r.mismatch;
   EXPECT_EQ(m.mu_force.count, 0);  // k from P is not used
-  EXPECT_NEAR(m.mu_scan.mean, TruthOverCompared(t, m), 0.004);
+  EXPECT_NEAR(m.mu_scan.mean, TruthOverCompared(t, m), 0.001);
   EXPECT_NE(r.profile.reason.find("dead-weight or force-controlled rig"),
             std::string::npos)
       << r.profile.reason;
@@ -453,9 +457,10 @@ INSTANTIATE_TEST_SUITE_P(Twelve,
 
 // The same rig logging the ball's penetration (a depth sensor with 0.3 um
 // noise at noise 1, 0.1 um resolution, a 50 um offset and a 2 um drift):
-// auto takes k from the depth channel, and mu-hat with it is within 0.002
-// of the truth, with k from the scan within 0.004 (measured at 600 cycles,
-// noise 1: every case within 0.0005 with either slope).
+// auto takes k from the depth channel, and mu-hat with it is within
+// 0.00015 of the truth, with k from the scan within 0.0009: about twice the
+// largest errors over the 12 cases and both noises (0.00006 and 0.00041;
+// at 600 cycles, noise 1: every case within 0.0005 with either slope).
 class DeadWeightWithDepth
     : public ::testing::TestWithParam<std::tuple<std::string, double>> {};
 
@@ -467,8 +472,8 @@ TEST_P(DeadWeightWithDepth, KFromTheDepthChannelAndTheVerdictIsRight) {
   EXPECT_EQ(r.profile.used, ProfileSource::kDepth) << r.profile.reason;
   EXPECT_TRUE(r.verdict.explained) << r.verdict.Summary();
   const auto& m = r.mismatch;
-  EXPECT_NEAR(m.mu_force.mean, TruthOverCompared(t, m), 0.002);
-  EXPECT_NEAR(m.mu_scan.mean, TruthOverCompared(t, m), 0.004);
+  EXPECT_NEAR(m.mu_force.mean, TruthOverCompared(t, m), 0.00015);
+  EXPECT_NEAR(m.mu_scan.mean, TruthOverCompared(t, m), 0.0009);
   EXPECT_EQ(m.force_slope_name, "the depth");
 }
 

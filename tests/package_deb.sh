@@ -56,10 +56,12 @@ done
 test -f "$root/usr/include/wearscar/fusion/products.h"
 # Each command's man page, compressed, names its own command.
 for page in wearscar wearscar-audit wearscar-fuse wearscar-watch; do
-  zcat "$root/usr/share/man/man1/$page.1.gz" | grep -A1 '^\.SH NAME' | grep -q "^$page \\\\- " || {
+  man=$(zcat "$root/usr/share/man/man1/$page.1.gz")
+  grep -A1 '^\.SH NAME' <<< "$man" | grep -q "^$page \\\\- " || {
     echo "$page.1.gz does not name $page"; zcat "$root/usr/share/man/man1/$page.1.gz" | head; exit 1; }
 done
-if readelf -S "$root/usr/bin/wearscar" | grep -q '\.symtab'; then
+sections=$(readelf -S "$root/usr/bin/wearscar")
+if grep -q '\.symtab' <<< "$sections"; then
   echo "usr/bin/wearscar is not stripped"; exit 1
 fi
 # What was stripped is kept apart: each binary's -dbgsym package holds
@@ -68,12 +70,14 @@ fi
 # debug information (Release) keeps the symbol table alone, which lintian
 # calls debug-file-with-no-debug-symbols: accepted for such a build only.
 symbols_only=
-readelf -S "$build/apps/wearscar" | grep -q '\.debug_info' ||
+built=$(readelf -S "$build/apps/wearscar")
+grep -q '\.debug_info' <<< "$built" ||
   symbols_only=--suppress-tags=debug-file-with-no-debug-symbols
 for package in wearscar python3-wearscar; do
   ddeb="$scratch/${package}-dbgsym_${version}_amd64.ddeb"
   test -f "$ddeb" || { echo "no $ddeb"; ls "$scratch"; exit 1; }
-  dpkg-deb --info "$ddeb" | grep -q "^ Depends: $package (= $version)" || {
+  info=$(dpkg-deb --info "$ddeb")
+  grep -q "^ Depends: $package (= $version)" <<< "$info" || {
     echo "$package-dbgsym does not depend on $package $version"; exit 1; }
   if command -v lintian > /dev/null; then
     said=$(lintian --tag-display-limit 0 $symbols_only "$ddeb" 2>&1 | grep -v "running with root privileges" || true)
@@ -86,7 +90,8 @@ binary="$root/usr/bin/wearscar"
 id=$(readelf -n "$binary" | awk '/Build ID:/ {print $3}')
 debug="$root/usr/lib/debug/.build-id/${id:0:2}/${id:2}.debug"
 test -f "$debug" || { echo "no $debug for usr/bin/wearscar's build id $id"; exit 1; }
-readelf --string-dump=.gnu_debuglink "$binary" | grep -q "${id:2}.debug" || {
+link=$(readelf --string-dump=.gnu_debuglink "$binary")
+grep -q "${id:2}.debug" <<< "$link" || {
   echo "usr/bin/wearscar does not name its debug file"; exit 1; }
 symbols=$(nm -C "$debug")
 grep -q " T wearscar::fusion::AnalyzeTest(" <<< "$symbols" || {

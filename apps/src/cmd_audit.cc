@@ -31,20 +31,17 @@ struct AuditArgs {
   GivenSettings given;  // the settings as written
 };
 
-nlohmann::json Dig(const nlohmann::json& j,
-                   std::initializer_list<const char*> path) {
-  const nlohmann::json* p = &j;
-  for (const char* k : path) {
-    if (!p->is_object() || !p->contains(k)) return nullptr;
-    p = &(*p)[k];
-  }
-  return *p;
+// The value at `pointer` ("/comparison/J_force/mean"), null where a row
+// lacks it.
+nlohmann::json Dig(const nlohmann::json& j, const char* pointer) {
+  const nlohmann::json::json_pointer p(pointer);
+  return j.contains(p) ? j.at(p) : nlohmann::json();
 }
 
 // What a specimen's result rests on beyond the batch's settings: the force
 // file's layout and units (those guessed named) and the running-in.
 std::string ReadBrief(const nlohmann::json& row) {
-  const nlohmann::json read = Dig(row, {"force_file_read"});
+  const nlohmann::json read = Dig(row, "/force_file_read");
   std::string units, guessed;
   static const char* const kChannel[5] = {"time", "x", "Q", "P", "depth"};
   if (read.is_object() && read.contains("units")) {
@@ -61,7 +58,7 @@ std::string ReadBrief(const nlohmann::json& row) {
   }
   if (read.is_object() && read.value("time_rebuilt", false))
     units += ", time from the rate";
-  const nlohmann::json running = Dig(row, {"running_in"});
+  const nlohmann::json running = Dig(row, "/running_in");
   return fmt::format(
       "read as '{}', units {}{}; running-in {} cycles ({})",
       read.is_object() ? read.value("layout", std::string("?")) : "?",
@@ -85,10 +82,9 @@ void PrintSections(const std::vector<report::ReportSection>& sections,
           sec.flagged ? "FLAGGED" : "ok",
           sec.name,
           sec.row.value("pairing", std::string()),
-          Dig(sec.row, {"comparison", "mu_hat_force", "mean"}).get<double>(),
-          Dig(sec.row, {"comparison", "J_force", "mean"}).get<double>(),
-          Dig(sec.row, {"comparison", "J_force_split", "noise_floor"})
-              .get<double>(),
+          Dig(sec.row, "/comparison/mu_hat_force/mean").get<double>(),
+          Dig(sec.row, "/comparison/J_force/mean").get<double>(),
+          Dig(sec.row, "/comparison/J_force_split/noise_floor").get<double>(),
           sec.flagged ? " - " + sec.row["verdict"]["summary"].get<std::string>()
                       : "");
       Say("           {}\n", ReadBrief(sec.row));
@@ -151,7 +147,7 @@ void SayDefaultSpring(const report::AuditResult& r,
   for (const auto& sec : r.specimens) {
     if (sec.failed) continue;
     ++analysed;
-    const nlohmann::json said = Dig(sec.row, {"assumptions"});
+    const nlohmann::json said = Dig(sec.row, "/assumptions");
     if (said.is_array() && !said.empty() && said[0].is_string() &&
         said[0].get<std::string>().find("the default") != std::string::npos)
       ++defaulted;

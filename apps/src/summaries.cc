@@ -212,6 +212,10 @@ void PrintDiagnosis(const std::string& name,
         "wood's bands, or neither)\n",
         a.correlation_depth,
         a.correlation_texture);
+    if (std::isfinite(a.correlation_map))
+      Say("  and the friction map's steady pattern, bin by bin, with r = "
+          "{:.2f}\n",
+          a.correlation_map);
   }
   if (!d.named.empty()) Say("after: {}\n", d.after.where);
 }

@@ -502,6 +502,42 @@ TEST(Figures, AreDrawnInTheFormatsAskedFor) {
       << bad.output;
 }
 
+// Growth-ring bands with a sharp edge (mu_variation 0.2, a triangle drive
+// at 500 Hz): friction along the track is named, and a(x) is shown beside
+// what was measured along the track, fuse's friction map in its 0.5 mm
+// bins, relative to mu-hat: a(x) averaged over each bin follows the map's
+// steady pattern (r = 0.99 here; 0.8 asked), the table and the figure's
+// two panels (a(x) with the map above, the groove depth below) written.
+TEST(Figures, FrictionAlongTheTrackIsShownBesideTheFrictionMap) {
+  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "gnuplot is not installed (scripts/install-deps does)";
+  const std::string dir = ::testing::TempDir() + "/along-track";
+  fs::remove_all(dir);
+  ASSERT_EQ(
+      Wearscar("simulate --case B-RT-R --triangle --rate 500 --cycles "
+               "200 --effect mu_variation=0.2 --seed 1 --formats csv -o " +
+               dir)
+          .status,
+      0);
+  ASSERT_EQ(
+      Wearscar("diagnose " + dir + "/B-RT-R.force.csv -q -o " + dir + "/d")
+          .status,
+      0);
+  const nlohmann::json d = ParseJson(Slurp(dir + "/d/diagnosis.json"));
+  ASSERT_TRUE(d.contains("friction_along_track")) << d["named"].dump();
+  EXPECT_GE(d["friction_along_track"]["r_with_friction_map"].get<double>(),
+            0.8);
+  const std::string map = Slurp(dir + "/d/friction_map_along_track.csv");
+  EXPECT_EQ(map.rfind("x_mm,forward_minus_1,reverse_minus_1\n", 0), 0u);
+  EXPECT_GE(std::count(map.begin(), map.end(), '\n'), 10);
+  const std::string gp = Slurp(dir + "/d/figure-data/diagnosis.gp");
+  EXPECT_NE(gp.find("set multiplot layout 2,1"), std::string::npos);
+  EXPECT_NE(gp.find("'friction_map_along_track.csv'"), std::string::npos);
+  EXPECT_EQ(
+      Slurp(dir + "/d/diagnosis_friction_along_track.svg").rfind("<?xml", 0),
+      0u);
+}
+
 // Figures that say what they show: the running-in marked, the minimum of
 // J(mu) marked at the fitted mu-hat, the offset of P/S stated, labels
 // drawn as written, the force command's and the scan command's figures.

@@ -60,6 +60,46 @@ void AddWarningToResult(const std::string& dir, const std::string& warning) {
   WriteTextAtomically(path, j.dump(2) + "\n");
 }
 
+namespace {
+
+// a(x) beside what was measured along the track: above, the recovered
+// shape with the friction map's steady pattern per direction (the same
+// units); below, the groove's depth, on the same x.
+std::string AlongTrackFigure(const std::string& ext,
+                             const std::string& name,
+                             const fusion::Diagnosis& d) {
+  const auto& a = d.along_track;
+  const bool map = a.map_x_mm.size() > 0;
+  std::string gp = fmt::format(
+      "{}set output 'diagnosis_friction_along_track.{}'\n"
+      "set multiplot layout 2,1 title {} noenhanced\nset xlabel 'x (mm)'\n"
+      "set ylabel 'mu / mean mu - 1 (-)'\nset title {} noenhanced\nplot "
+      "'friction_along_track.csv' skip 1 using 1:2 with lines lw 2 title "
+      "'a(x), recovered'",
+      internal::Terminal(ext, 2),
+      ext,
+      internal::Quote(name + ": friction along the track"),
+      internal::Quote(
+          map ? fmt::format("a(x) recovered and the friction map's pattern "
+                            "(r = {:.2f})",
+                            a.correlation_map)
+              : std::string("a(x) recovered")));
+  if (map) {
+    gp +=
+        ", 'friction_map_along_track.csv' skip 1 using 1:2 with linespoints "
+        "pt 7 ps 0.6 title 'friction map, forward', '' skip 1 using 1:3 with "
+        "linespoints pt 5 ps 0.6 title 'friction map, reverse'";
+  }
+  return gp + fmt::format(
+                  "\nset ylabel 'groove depth (mm)'\nset title 'the groove "
+                  "depth (r = {:.2f} with a(x))'\nplot "
+                  "'friction_along_track.csv' skip 1 using 1:3 with lines lw 2 "
+                  "lc rgb '#555555' notitle\nunset multiplot\nunset output\n",
+                  a.correlation_depth);
+}
+
+}  // namespace
+
 FigureSet WriteDiagnosis(const std::string& dir,
                          const std::string& name,
                          const fusion::Diagnosis& d,
@@ -102,20 +142,7 @@ FigureSet WriteDiagnosis(const std::string& dir,
         "lines dt 2 title 'even, after'\nunset output\n",
         ext,
         name);
-    if (!d.along_track.empty()) {
-      gp += fmt::format(
-          "set output 'diagnosis_friction_along_track.{0}'\nset ylabel "
-          "'mu_eff / mu - 1 (-)'\nset y2label 'groove depth (mm)'\nset "
-          "y2tics\nset title '{1}: friction along the track (r = {2:.2f} "
-          "with the groove depth)' noenhanced\nplot "
-          "'friction_along_track.csv' skip 1 using 1:2 with lines lw 2 title "
-          "'a(x), recovered', '' skip 1 using 1:3 axes x1y2 with lines dt 2 "
-          "title 'groove depth'\nunset y2tics\nunset y2label\nunset "
-          "output\n",
-          ext,
-          name,
-          d.along_track.correlation_depth);
-    }
+    if (!d.along_track.empty()) gp += AlongTrackFigure(ext, name, d);
   }
   WriteTextAtomically(FigureDataPath(dir, "diagnosis.gp"), gp);
   FigureSet shown;

@@ -572,6 +572,60 @@ void SayTheSpring(double used_n_per_mm, Diagnosis* d) {
 
 }  // namespace
 
+namespace {
+
+// The friction map's steady pattern beside a(x) (AlongTrackFrictionShape),
+// relative to the mean mu-hat of the map's steady cycles.
+void AddMapPattern(const TestResult& r, AlongTrackFrictionShape* shape) {
+  const FrictionMap& m = r.friction_map;
+  const size_t bins = m.x_mm.size();
+  if (bins < 3 || m.steady_corrected.size() != 2 * bins) return;
+  double sum = 0;
+  int n = 0;
+  for (size_t c = static_cast<size_t>(m.first_steady_cycle);
+       c < r.force.fit_force.size();
+       ++c) {
+    if (r.force.fit_force[c].converged) sum += r.force.fit_force[c].mu_hat, ++n;
+  }
+  if (n == 0 || !(sum > 0)) return;
+  const double mu = sum / n;
+  const auto b = static_cast<Eigen::Index>(bins);
+  shape->map_x_mm = Eigen::Map<const Eigen::VectorXd>(m.x_mm.data(), b);
+  shape->map_forward =
+      Eigen::Map<const Eigen::VectorXd>(m.steady_corrected.data(), b) / mu;
+  shape->map_reverse =
+      Eigen::Map<const Eigen::VectorXd>(m.steady_corrected.data() + b, b) / mu;
+  // a(x) averaged over each bin (the map's are means over its width),
+  // against the directions' mean where both have one.
+  const PlateProfile a{shape->x_mm, shape->a};
+  const double lo = shape->x_mm[0], hi = shape->x_mm[shape->x_mm.size() - 1];
+  const double w = bins > 1 ? m.x_mm[1] - m.x_mm[0] : 0.0;
+  std::vector<double> av, mv;
+  for (Eigen::Index i = 0; i < b; ++i) {
+    const double f = shape->map_forward[i], v = shape->map_reverse[i];
+    const double x = m.x_mm[static_cast<size_t>(i)];
+    if (!std::isfinite(f) || !std::isfinite(v) || x - w / 2 < lo ||
+        x + w / 2 > hi)
+      continue;
+    double mean_a = 0;
+    for (int k = 0; k <= 10; ++k) mean_a += a.At(x - w / 2 + w * k / 10.0);
+    av.push_back(mean_a / 11);
+    mv.push_back(0.5 * (f + v));
+  }
+  const auto count = static_cast<Eigen::Index>(av.size());
+  if (count < 3) return;
+  const Eigen::ArrayXd da =
+      Eigen::Map<const Eigen::ArrayXd>(av.data(), count) -
+      Eigen::Map<const Eigen::ArrayXd>(av.data(), count).mean();
+  const Eigen::ArrayXd dm =
+      Eigen::Map<const Eigen::ArrayXd>(mv.data(), count) -
+      Eigen::Map<const Eigen::ArrayXd>(mv.data(), count).mean();
+  const double scale = std::sqrt(da.square().sum() * dm.square().sum());
+  if (scale > 0) shape->correlation_map = (da * dm).sum() / scale;
+}
+
+}  // namespace
+
 Diagnosis DiagnoseTest(const force::ForceRecord& record,
                        const TestResult& r,
                        const FuseOptions& fuse,
@@ -616,6 +670,7 @@ Diagnosis DiagnoseTest(const force::ForceRecord& record,
                          slope,
                          WithTheSpringsEvidence(r, options));
   SayTheSpring(friction.slope.spring_n_per_mm, &d);
+  if (!d.along_track.empty()) AddMapPattern(r, &d.along_track);
   return d;
 }
 

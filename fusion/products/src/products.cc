@@ -22,6 +22,9 @@ std::vector<std::pair<std::string, std::string>> DiagnosisFiles(
   if (!d.along_track.empty()) {
     files.emplace_back("friction_along_track.csv",
                        internal::AlongTrackTable(d.along_track).ToCsv());
+    if (d.along_track.map_x_mm.size() > 0)
+      files.emplace_back("friction_map_along_track.csv",
+                         internal::MapPatternTable(d.along_track).ToCsv());
   }
   return files;
 }

@@ -474,7 +474,8 @@ nlohmann::json DiagnosisJson(const std::string& name, const Diagnosis& d) {
         {"a", std::vector<double>(a.a.data(), a.a.data() + a.a.size())},
         {"roughness_penalty", a.penalty},
         {"r_with_groove_depth", a.correlation_depth},
-        {"r_with_depth_texture", a.correlation_texture}};
+        {"r_with_depth_texture", a.correlation_texture},
+        {"r_with_friction_map", a.correlation_map}};
   }
   j["residual_map_before"] = MapJson(d.before);
   j["residual_map_after"] = MapJson(d.after);

@@ -159,6 +159,9 @@ const std::vector<std::string>& TableColumns(std::string_view file) {
   static const std::vector<std::string> kAlong = {
       "x_mm", "mu_factor_minus_1", "groove_depth_mm"};
   if (file == "friction_along_track.csv") return kAlong;
+  static const std::vector<std::string> kMapAlong = {
+      "x_mm", "forward_minus_1", "reverse_minus_1"};
+  if (file == "friction_map_along_track.csv") return kMapAlong;
   return kNone;
 }
 
@@ -338,6 +341,13 @@ Table AlongTrackTable(const AlongTrackFrictionShape& a) {
   for (Eigen::Index i = 0; i < a.depth_x_mm.size(); ++i)
     t.rows.push_back(
         {a.depth_x_mm[i], shape.At(a.depth_x_mm[i]), a.depth_mm[i]});
+  return t;
+}
+
+Table MapPatternTable(const AlongTrackFrictionShape& a) {
+  Table t(TableColumns("friction_map_along_track.csv"));
+  for (Eigen::Index i = 0; i < a.map_x_mm.size(); ++i)
+    t.rows.push_back({a.map_x_mm[i], a.map_forward[i], a.map_reverse[i]});
   return t;
 }
 

@@ -30,6 +30,7 @@ Table CentrelineTable(const scan::WearProfile& profile);
 Table LugreTable(const LugreFit& lugre, const DetailCycle& d);
 Table ResidualMapTable(const ResidualMap& m);
 Table AlongTrackTable(const AlongTrackFrictionShape& a);  // diagnosis
+Table MapPatternTable(const AlongTrackFrictionShape& a);  // diagnosis
 // loop_viewer.json: each cycle's binned loop, the model's Q with its
 // mu-hat and the friction map's row (FrictionMap::loop_*), for the report.
 std::string LoopViewerJson(const TestResult& r);

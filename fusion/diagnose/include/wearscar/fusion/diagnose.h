@@ -138,6 +138,12 @@ struct AlongTrackFrictionShape {
   double penalty = 0;                // the roughness weight chosen
   double correlation_depth = NAN;    // Pearson r with the groove's depth
   double correlation_texture = NAN;  // with the depth's short-wave part
+  // The friction map's steady pattern in its bins (forward, reverse; NaN
+  // where empty), relative to the steady cycles' mean mu-hat: what was
+  // measured along the track, beside a(x); and Pearson r of a(x), averaged
+  // over each bin, with the two directions' mean.
+  Eigen::VectorXd map_x_mm, map_forward, map_reverse;
+  double correlation_map = NAN;
   bool empty() const { return a.size() == 0; }
 };
 

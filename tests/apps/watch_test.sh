@@ -145,4 +145,14 @@ test "$(sed -n 2p restarting/run_2.csv | cut -d, -f1)" = 0.000000 ||
 cmp -s <(cut -d, -f1-2 out5/live/cycles.csv) <(cut -d, -f1-2 out6/live/cycles.csv) ||
   fail "restarting clocks gave other cycles: $(diff out5/live/cycles.csv out6/live/cycles.csv | head -3)"
 cmp -s out5/cycles.csv out6/cycles.csv || fail "restarting clocks gave other products"
+# A folder without --pattern, and --pattern with a file: refused, the fix said.
+status=0
+"$wearscar" watch blocks -o out7 > /dev/null 2> w7.err || status=$?
+test "$status" = 2 || fail "a folder without --pattern: exit $status, expected 2"
+grep -q "blocks is a folder: give --pattern" w7.err || fail "$(cat w7.err)"
+status=0
+"$wearscar" watch sim/B-RT-R.force.csv --pattern 'run_*.csv' -o out8 \
+  > /dev/null 2> w8.err || status=$?
+test "$status" = 2 || fail "--pattern with a file: exit $status, expected 2"
+grep -q "is not a folder (the blocks' folder is expected)" w8.err || fail "$(cat w8.err)"
 echo "a file per block: joined into the test's file, its clock continuing or restarting"

@@ -360,8 +360,10 @@ void JoinBlocks(WatchArgs* a) {
   a->folder = a->force_file;
   std::string ext = fs::path(a->pattern).extension().string();
   if (ext.find_first_of("*?[") != std::string::npos) ext.clear();
-  const std::string stem =
-      fs::path(a->folder).lexically_normal().filename().string();
+  // The folder's own name, also for "." or "run/" (an empty file name).
+  fs::path where = fs::absolute(a->folder, ec).lexically_normal();
+  if (where.filename().empty()) where = where.parent_path();
+  const std::string stem = where.filename().string();
   EnsureDirectory(a->out + "/live");
   a->force_file = a->out + "/live/" + (stem.empty() ? "blocks" : stem) +
                   ".joined" + (ext.empty() ? ".txt" : ext);

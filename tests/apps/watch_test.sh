@@ -145,6 +145,12 @@ test "$(sed -n 2p restarting/run_2.csv | cut -d, -f1)" = 0.000000 ||
 cmp -s <(cut -d, -f1-2 out5/live/cycles.csv) <(cut -d, -f1-2 out6/live/cycles.csv) ||
   fail "restarting clocks gave other cycles: $(diff out5/live/cycles.csv out6/live/cycles.csv | head -3)"
 cmp -s out5/cycles.csv out6/cycles.csv || fail "restarting clocks gave other products"
+# The folder given as "blocks/" (or "."): the joining and the specimen
+# still take its name.
+(cd blocks && "$wearscar" watch ./ --pattern 'run_*.csv' -o ../out9 --idle 1 \
+  --no-figures --quiet > /dev/null 2>&1) || fail "watch ./ of blocks"
+test -f out9/live/blocks.joined.csv || fail "$(ls out9/live)"
+grep -q '"specimen": "blocks"' out9/result.json || fail "the specimen is not named for its folder"
 # A folder without --pattern, and --pattern with a file: refused, the fix said.
 status=0
 "$wearscar" watch blocks -o out7 > /dev/null 2> w7.err || status=$?

@@ -82,12 +82,19 @@ std::vector<std::string> BlockJoiner::Blocks() const {
 }
 
 bool BlockJoiner::Append(bool finished) {
-  std::ifstream in(taken_.back(), std::ios::binary);
-  in.seekg(static_cast<std::streamoff>(offset_));
-  std::string text(kMostBytes, '\0');
-  in.read(text.data(), static_cast<std::streamsize>(text.size()));
-  text.resize(static_cast<size_t>(in.gcount()));
-  const bool to_end = text.size() < kMostBytes;
+  // Only what the block holds beyond offset_ (at most kMostBytes): a look
+  // at a block that has not grown reads and allocates nothing.
+  std::error_code ec;
+  const std::uintmax_t size = fs::file_size(taken_.back(), ec);
+  const std::uintmax_t left = ec || size < offset_ ? 0 : size - offset_;
+  std::string text(static_cast<size_t>(std::min(left, kMostBytes)), '\0');
+  if (!text.empty()) {
+    std::ifstream in(taken_.back(), std::ios::binary);
+    in.seekg(static_cast<std::streamoff>(offset_));
+    in.read(text.data(), static_cast<std::streamsize>(text.size()));
+    text.resize(static_cast<size_t>(in.gcount()));
+  }
+  const bool to_end = left <= kMostBytes;
   size_t take = text.size();
   if (!(finished && to_end)) {
     const size_t eol = text.rfind('\n');

@@ -3,6 +3,7 @@
 #include <ceres/ceres.h>
 #include <fmt/format.h>
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -97,87 +98,70 @@ double FitCycleMu(const Data& d,
 namespace {
 
 // Ceres residuals of one cycle, normalised so that their squared sum is
-// J_forward^2 + J_reverse^2.
-struct CycleCost {
+// J_forward^2 + J_reverse^2. The derivatives in mu and in a shape's
+// parameters are analytic (a shape's many parameters each touch a few
+// samples; numeric differences would evaluate the cycle twice per
+// parameter), central differences for the others as Ceres takes them.
+//
+// A cycle of many samples is handed to Ceres compressed: for the residuals
+// r and their Jacobian J (n samples, P parameters), the P + 1 rows of R
+// with R'R = [J r]'[J r]. They give the solver the same cost r'r, gradient
+// J'r and Gauss-Newton matrix J'J as the n rows, so the same steps, while
+// its elimination of each cycle's mu costs (P + 1) P^2 instead of n P^2
+// (a shape's knots touch two samples' rows each, which the gram below
+// skips: Ceres would take them as dense). Without the Jacobian the first
+// residual is |r| and the others 0.
+class CycleCost : public ceres::CostFunction {
+ public:
   CycleCost(const Data* d,
             const DiagCycle* c,
-            std::vector<const Effect*> effects)
-      : d_(d), c_(c), effects_(std::move(effects)) {}
-  bool operator()(double const* const* params, double* residuals) const {
-    std::vector<const double*> p(params + 1, params + 1 + effects_.size());
-    for (size_t i = 0; i < c_->samples.size(); ++i) {
-      const Sample& s = c_->samples[i];
-      residuals[i] = Residual(*d_, s, params[0][0], effects_, p) /
-                     (s.s > 0 ? c_->norm_forward : c_->norm_reverse);
-    }
-    return true;
-  }
-  const Data* d_;
-  const DiagCycle* c_;
-  std::vector<const Effect*> effects_;
-};
-
-// The same residuals with the derivatives in a shape's parameters
-// analytic (its many parameters each touch a few samples; numeric
-// differences would evaluate the cycle twice per parameter), central
-// differences for the others as Ceres takes them.
-class ShapeCycleCost : public ceres::CostFunction {
- public:
-  ShapeCycleCost(const Data* d,
-                 const DiagCycle* c,
-                 std::vector<const Effect*> effects,
-                 std::vector<bool> analytic)
+            std::vector<const Effect*> effects,
+            std::vector<bool> analytic)
       : d_(d),
         c_(c),
         effects_(std::move(effects)),
         analytic_(std::move(analytic)) {
-    set_num_residuals(static_cast<int>(c->samples.size()));
     mutable_parameter_block_sizes()->push_back(1);
     for (const Effect* e : effects_) {
       mutable_parameter_block_sizes()->push_back(
           static_cast<int>(e->ParameterNames().size()));
     }
+    for (size_t b = 0; b < parameter_block_sizes().size(); ++b) {
+      const int size = parameter_block_sizes()[b];
+      offsets_.push_back(columns_);
+      numeric_offsets_.push_back(IsAnalytic(b) ? -1 : numeric_columns_);
+      columns_ += size;
+      if (!IsAnalytic(b)) numeric_columns_ += size;
+    }
+    const int n = static_cast<int>(c->samples.size());
+    compressed_ = n > 2 * (columns_ + 1);
+    set_num_residuals(compressed_ ? columns_ + 1 : n);
   }
 
   bool Evaluate(double const* const* params,
                 double* residuals,
                 double** jacobians) const override {
     const size_t n = c_->samples.size();
+    std::vector<double> r(n);
     std::vector<ResidualTerms> terms(jacobians ? n : 0);
-    Residuals(params, residuals, jacobians ? terms.data() : nullptr);
-    if (!jacobians) return true;
-    const std::vector<int>& sizes = parameter_block_sizes();
-    std::vector<double> plus(n), minus(n);
-    for (size_t b = 0; b < sizes.size(); ++b) {
-      if (jacobians[b] == nullptr) continue;
-      const int size = sizes[b];
-      double* jac = jacobians[b];
-      if (b > 0 && analytic_[b - 1]) {
-        std::vector<double> grad(size);
-        for (size_t i = 0; i < n; ++i) {
-          effects_[b - 1]->MuFactorGradient(
-              params[b], terms[i].context, grad.data());
-          const double scale = -terms[i].d_model_d_mu_eff * terms[i].mu_eff /
-                               Norm(c_->samples[i]);
-          for (int j = 0; j < size; ++j) jac[i * size + j] = scale * grad[j];
-        }
-        continue;
+    Residuals(params, r.data(), jacobians ? terms.data() : nullptr);
+    if (!jacobians) {
+      if (!compressed_) {
+        std::copy(r.begin(), r.end(), residuals);
+        return true;
       }
-      std::vector<double> x(params[b], params[b] + size);
-      std::vector<const double*> moved(params, params + sizes.size());
-      moved[b] = x.data();
-      for (int j = 0; j < size; ++j) {
-        const double x0 = x[j];
-        const double h = kRelativeStep * (x0 != 0 ? std::abs(x0) : 1.0);
-        x[j] = x0 + h;
-        Residuals(moved.data(), plus.data(), nullptr);
-        x[j] = x0 - h;
-        Residuals(moved.data(), minus.data(), nullptr);
-        x[j] = x0;
-        for (size_t i = 0; i < n; ++i)
-          jac[i * size + j] = (plus[i] - minus[i]) / (2 * h);
-      }
+      std::fill(residuals, residuals + columns_ + 1, 0.0);
+      residuals[0] =
+          Eigen::Map<const Eigen::VectorXd>(r.data(), r.size()).norm();
+      return true;
     }
+    const Eigen::MatrixXd numeric = NumericColumns(params);
+    if (!compressed_) {
+      std::copy(r.begin(), r.end(), residuals);
+      WriteRows(params, terms, numeric, jacobians);
+      return true;
+    }
+    Compress(params, terms, numeric, r, residuals, jacobians);
     return true;
   }
 
@@ -186,6 +170,9 @@ class ShapeCycleCost : public ceres::CostFunction {
   double Norm(const Sample& s) const {
     return s.s > 0 ? c_->norm_forward : c_->norm_reverse;
   }
+  // mu's block is analytic (dQ/dmu = dQ/dmu_eff times mu_factor); so is a
+  // shape's.
+  bool IsAnalytic(size_t b) const { return b == 0 || analytic_[b - 1]; }
   void Residuals(double const* const* params,
                  double* out,
                  ResidualTerms* terms) const {
@@ -199,10 +186,136 @@ class ShapeCycleCost : public ceres::CostFunction {
           Norm(s);
     }
   }
+  // The columns of J taken by central differences: the blocks' but the
+  // analytic ones', in their order.
+  Eigen::MatrixXd NumericColumns(double const* const* params) const {
+    const size_t n = c_->samples.size();
+    const std::vector<int>& sizes = parameter_block_sizes();
+    Eigen::MatrixXd jac(n, numeric_columns_);
+    std::vector<double> plus(n), minus(n);
+    for (size_t b = 0; b < sizes.size(); ++b) {
+      if (IsAnalytic(b)) continue;
+      std::vector<double> x(params[b], params[b] + sizes[b]);
+      std::vector<const double*> moved(params, params + sizes.size());
+      moved[b] = x.data();
+      for (int j = 0; j < sizes[b]; ++j) {
+        const double x0 = x[j];
+        const double h = kRelativeStep * (x0 != 0 ? std::abs(x0) : 1.0);
+        x[j] = x0 + h;
+        Residuals(moved.data(), plus.data(), nullptr);
+        x[j] = x0 - h;
+        Residuals(moved.data(), minus.data(), nullptr);
+        x[j] = x0;
+        for (size_t i = 0; i < n; ++i)
+          jac(i, numeric_offsets_[b] + j) = (plus[i] - minus[i]) / (2 * h);
+      }
+    }
+    return jac;
+  }
+  // An analytic block's derivatives at sample i into grad: its entries
+  // are those of mu_factor's gradient (d ln mu_factor) times this, mu's
+  // the factor itself.
+  double AnalyticScale(size_t b, size_t i, const ResidualTerms& t) const {
+    const double d_mu_eff = -t.d_model_d_mu_eff / Norm(c_->samples[i]);
+    return b == 0 ? d_mu_eff * t.context.mu_factor : d_mu_eff * t.mu_eff;
+  }
+  void AnalyticRow(double const* const* params,
+                   size_t b,
+                   size_t i,
+                   const ResidualTerms& t,
+                   double* grad) const {
+    const double scale = AnalyticScale(b, i, t);
+    if (b == 0) {
+      grad[0] = scale;
+      return;
+    }
+    effects_[b - 1]->MuFactorGradient(params[b], t.context, grad);
+    for (int j = 0; j < parameter_block_sizes()[b]; ++j) grad[j] *= scale;
+  }
+  void WriteRows(double const* const* params,
+                 const std::vector<ResidualTerms>& terms,
+                 const Eigen::MatrixXd& numeric,
+                 double** jacobians) const {
+    const std::vector<int>& sizes = parameter_block_sizes();
+    for (size_t b = 0; b < sizes.size(); ++b) {
+      if (jacobians[b] == nullptr) continue;
+      const int size = sizes[b];
+      for (size_t i = 0; i < terms.size(); ++i) {
+        double* row = jacobians[b] + i * size;
+        if (IsAnalytic(b)) {
+          AnalyticRow(params, b, i, terms[i], row);
+        } else {
+          for (int j = 0; j < size; ++j)
+            row[j] = numeric(i, numeric_offsets_[b] + j);
+        }
+      }
+    }
+  }
+  void Compress(double const* const* params,
+                const std::vector<ResidualTerms>& terms,
+                const Eigen::MatrixXd& numeric,
+                const std::vector<double>& r,
+                double* residuals,
+                double** jacobians) const {
+    const int m = columns_ + 1;
+    const std::vector<int>& sizes = parameter_block_sizes();
+    Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(m, m);
+    std::vector<int> col;
+    std::vector<double> value, grad;
+    for (size_t i = 0; i < terms.size(); ++i) {
+      col.clear();
+      value.clear();
+      for (size_t b = 0; b < sizes.size(); ++b) {
+        if (!IsAnalytic(b)) {
+          for (int j = 0; j < sizes[b]; ++j) {
+            col.push_back(offsets_[b] + j);
+            value.push_back(numeric(i, numeric_offsets_[b] + j));
+          }
+          continue;
+        }
+        grad.resize(sizes[b]);
+        if (b == 0) {
+          grad[0] = 1.0;
+        } else {
+          effects_[b - 1]->MuFactorGradient(
+              params[b], terms[i].context, grad.data());
+        }
+        const double scale = AnalyticScale(b, i, terms[i]);
+        for (int j = 0; j < sizes[b]; ++j) {
+          if (grad[j] == 0) continue;
+          col.push_back(offsets_[b] + j);
+          value.push_back(scale * grad[j]);
+        }
+      }
+      col.push_back(columns_);
+      value.push_back(r[i]);
+      for (size_t a = 0; a < col.size(); ++a)
+        for (size_t c = 0; c < col.size(); ++c)
+          gram(col[a], col[c]) += value[a] * value[c];
+    }
+    // gram = P' L D L' P (LDLT with pivoting), so R = D^(1/2) L' P, D at
+    // least 0 (a gram); Eigen applies P to the right as its transpose.
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(gram);
+    const Eigen::VectorXd root = ldlt.vectorD().cwiseMax(0.0).cwiseSqrt();
+    Eigen::MatrixXd lt = ldlt.matrixU();
+    Eigen::MatrixXd rows = root.asDiagonal() * lt;
+    rows = rows * ldlt.transpositionsP().transpose();
+    for (int k = 0; k < m; ++k) residuals[k] = rows(k, columns_);
+    for (size_t b = 0; b < sizes.size(); ++b) {
+      if (jacobians[b] == nullptr) continue;
+      for (int k = 0; k < m; ++k)
+        for (int j = 0; j < sizes[b]; ++j)
+          jacobians[b][k * sizes[b] + j] = rows(k, offsets_[b] + j);
+    }
+  }
   const Data* d_;
   const DiagCycle* c_;
   std::vector<const Effect*> effects_;
   std::vector<bool> analytic_;
+  // Each block's first column in J and in the numeric columns (-1: none).
+  std::vector<int> offsets_, numeric_offsets_;
+  int columns_ = 0, numeric_columns_ = 0;
+  bool compressed_ = false;
 };
 
 // Whether an effect differentiates itself (a shape on mu_factor).
@@ -303,25 +416,11 @@ std::vector<double> FitModel(const Data& d,
   std::vector<ceres::ResidualBlockId> data_blocks;
   std::vector<bool> analytic;
   for (const Effect* e : m->effects) analytic.push_back(HasAnalyticGradient(e));
-  const bool any_analytic =
-      std::find(analytic.begin(), analytic.end(), true) != analytic.end();
   for (size_t i = 0; i < train.size(); ++i) {
     const DiagCycle& c = d.cycles[train[i]];
     std::vector<double*> blocks = {&mu[i]};
     for (auto& p : m->params) blocks.push_back(p.data());
-    ceres::CostFunction* cost = nullptr;
-    if (any_analytic) {
-      cost = new ShapeCycleCost(&d, &c, m->effects, analytic);
-    } else {
-      auto* numeric =
-          new ceres::DynamicNumericDiffCostFunction<CycleCost, ceres::CENTRAL>(
-              new CycleCost(&d, &c, m->effects));
-      numeric->AddParameterBlock(1);
-      for (auto& p : m->params)
-        numeric->AddParameterBlock(static_cast<int>(p.size()));
-      numeric->SetNumResiduals(static_cast<int>(c.samples.size()));
-      cost = numeric;
-    }
+    auto* cost = new CycleCost(&d, &c, m->effects, analytic);
     data_blocks.push_back(problem.AddResidualBlock(cost, nullptr, blocks));
     problem.SetParameterLowerBound(&mu[i], 0, d.options->mu_fit.mu_min);
     problem.SetParameterUpperBound(&mu[i], 0, d.options->mu_fit.mu_max);
@@ -335,6 +434,11 @@ std::vector<double> FitModel(const Data& d,
     so.linear_solver_type = ceres::DENSE_SCHUR;
   }
   so.max_num_iterations = d.options->solver_iterations;
+  // With bounds Ceres tries each step in a projected line search first. A
+  // cubic interpolation asks the Jacobian at every trial, so at every
+  // step; a quadratic one the cost alone, and gives the same step
+  // whenever the whole step is taken.
+  so.line_search_interpolation_type = ceres::QUADRATIC;
   so.logging_type = ceres::SILENT;
   so.num_threads = 1;
   ceres::Solver::Summary summary;

@@ -154,8 +154,11 @@ bool ForceFollower::Reopen(FollowedRows* out) {
 }
 
 std::string ForceFollower::TakeCompleteLines() {
-  std::vector<char> block(
-      std::min<std::size_t>(options_.max_bytes_per_poll, std::size_t{1} << 20));
+  if (!block_) {
+    block_size_ = std::min<std::size_t>(options_.max_bytes_per_poll,
+                                        std::size_t{1} << 20);
+    block_.reset(new char[block_size_]);
+  }
   std::size_t taken = 0;
   std::clearerr(file_.get());
   if (std::fseek(file_.get(), static_cast<long>(read_), SEEK_SET) != 0) {
@@ -164,9 +167,9 @@ std::string ForceFollower::TakeCompleteLines() {
   }
   while (taken < options_.max_bytes_per_poll) {
     const std::size_t got =
-        std::fread(block.data(), 1, block.size(), file_.get());
+        std::fread(block_.get(), 1, block_size_, file_.get());
     if (got == 0) break;
-    pending_.append(block.data(), got);
+    pending_.append(block_.get(), got);
     taken += got;
     read_ += got;
   }

@@ -104,6 +104,7 @@ struct CycleFitter {
         bias_per_variance(n, 0.0),
         out(fits) {
     out->cycles.resize(static_cast<std::size_t>(n));
+    if (o.keep_samples) out->samples.resize(static_cast<std::size_t>(n));
   }
 
   // The cycles [first, last) with `slopes` (the force side's ensemble,
@@ -132,6 +133,8 @@ struct CycleFitter {
       for (const SlipSamples* h : {&s.forward, &s.reverse})
         AddDirection(c, d++, *h, fit, &residual);
       out->cycles[static_cast<std::size_t>(c)] = std::move(fit);
+      if (options.keep_samples)
+        out->samples[static_cast<std::size_t>(c)] = std::move(s);
     }
   }
 
@@ -237,8 +240,17 @@ FrictionFits FitFriction(const force::ForceRecord& record,
         SplitRepeatable(
             fitter.slope, fitter.k_total, shared, options.repeatability),
         &out);
+    // Probed over the cycles fitted (a live window's new ones).
+    int lo = 0, hi = n - 1;
+    const std::vector<char>& fit = options.fit_cycle;
+    if (!fit.empty()) {
+      while (lo < hi && (lo >= static_cast<int>(fit.size()) || !fit[lo])) ++lo;
+      while (hi > lo && (hi >= static_cast<int>(fit.size()) || !fit[hi])) --hi;
+    }
     out.k_ensemble_noise_rms =
-        std::sqrt(force_slopes->EnsembleNoiseVariance(0, n - 1));
+        std::sqrt(std::isnan(options.k_noise_variance)
+                      ? force_slopes->EnsembleNoiseVariance(lo, hi)
+                      : options.k_noise_variance);
     if (options.correct_k_noise_bias &&
         std::isfinite(out.k_ensemble_noise_rms)) {
       RemoveKNoiseBias(fitter.bias_per_variance, &out);

@@ -278,6 +278,11 @@ bool FrictionFitOptions::IsValid(std::string* why) const {
     if (why) *why = "k from the depth channel needs the ensemble estimate";
     return false;
   }
+  if (!std::isnan(k_noise_variance) &&
+      !(k_noise_variance >= 0 && std::isfinite(k_noise_variance))) {
+    if (why) *why = "the k noise variance must be >= 0 (or NaN: estimated)";
+    return false;
+  }
   return slope.IsValid(why) && ensemble.IsValid(why) && fit.IsValid(why) &&
          repeatability.IsValid(why);
 }
@@ -405,7 +410,8 @@ ForceSlopes::ForceSlopes(const force::ForceRecord& record,
   // A short test keeps room for the noise split's template (cycles whose
   // ensembles share no sample): at most a third of the cycles, odd.
   int& window = options_.ensemble.cycles;
-  window = std::max(1, std::min(window, ((n / 3) - 1) | 1));
+  if (options.narrow_ensemble_to_record)
+    window = std::max(1, std::min(window, ((n / 3) - 1) | 1));
   // Sparse sampling (tens of samples per stroke): the local fit must reach
   // its neighbouring samples, 2.5 steps of x, with 3 of them enough. At the
   // paper's 2 kHz the step is 0.01 mm and the span stays as given.

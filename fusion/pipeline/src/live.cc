@@ -4,15 +4,22 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
-#include "wearscar/fusion/detail_cycle.h"
+#include "wearscar/force/cycles.h"
 #include "wearscar/fusion/error.h"
+#include "wearscar/fusion/forward_model.h"
 #include "wearscar/fusion/verdict.h"
 
 namespace wearscar::fusion {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// The k noise's variance estimated every this many reported cycles; the
+// mean of this many latest estimates is used.
+constexpr int kKNoiseEvery = 5;
+constexpr std::size_t kKNoiseKept = 8;
 
 // Samples held before the first cycles were found, at most: a record that
 // shows no reversal in this many samples is no reciprocating test.
@@ -158,12 +165,41 @@ std::vector<LiveCycle> LiveAnalysis::Add(const force::ForceRecord& rows) {
 void LiveAnalysis::Analyse(std::vector<LiveCycle>* out) {
   AnalysisOptions o = options_.analysis;
   o.running_in_cycles = 0;  // decided over the whole test (UpdateRunningIn)
+  o.friction.narrow_ensemble_to_record = false;  // the template is kept
   ForceAnalysis a;
+  std::vector<CycleSamples> samples;  // per cycle, those fitted
+  std::vector<char> fresh;            // per cycle, not reported before
   try {
-    a = SegmentForce(buffer_, o);
+    // SegmentForce's segmentation and gross slip over the window; the
+    // COFs and fits of the new cycles alone.
+    a.cycles =
+        force::SegmentCycles(buffer_.x_mm, o.segment, buffer_.metadata.source);
+    force::FindGrossSlip(buffer_, &a.cycles, o.slip);
     if (a.cycles.cycles.empty()) return;
-    FitOnlyNewCycles(a.cycles, &o.friction);
-    FitForceSide(buffer_, o, &a);
+    fresh = NewCycles(a.cycles);
+    a.cof = NewCyclesCof(a.cycles, fresh);
+    o.friction.fit_cycle = fresh;
+    o.friction.keep_samples = true;
+    const int n = static_cast<int>(reported_.size());
+    const bool estimate =
+        k_noise_estimates_.empty() || n - k_noise_at_ >= kKNoiseEvery;
+    if (!estimate) {
+      o.friction.k_noise_variance =
+          std::accumulate(
+              k_noise_estimates_.begin(), k_noise_estimates_.end(), 0.0) /
+          static_cast<double>(k_noise_estimates_.size());
+    }
+    FrictionFits fits =
+        FitFriction(buffer_, a.cycles, SlopeSource::kForce, o.friction);
+    if (estimate && std::isfinite(fits.k_ensemble_noise_rms)) {
+      k_noise_estimates_.push_back(fits.k_ensemble_noise_rms *
+                                   fits.k_ensemble_noise_rms);
+      if (k_noise_estimates_.size() > kKNoiseKept)
+        k_noise_estimates_.pop_front();
+      k_noise_at_ = n;
+    }
+    a.fit_force = std::move(fits.cycles);
+    samples = std::move(fits.samples);
   } catch (const force::ForceError&) {
     return;  // too few cycles yet
   } catch (const FusionError&) {
@@ -172,32 +208,16 @@ void LiveAnalysis::Analyse(std::vector<LiveCycle>* out) {
   const auto& cycles = a.cycles.cycles;
   const bool first = stroke_mm_ <= 0;
   stroke_mm_ = a.cycles.stroke_mm;
-  const auto end_time = [&](const force::Cycle& c) {
-    return buffer_.time_s[c.reverse.end - 1];
-  };
-  const auto begin_time = [&](const force::Cycle& c) {
-    return buffer_.time_s[c.forward.begin];
-  };
-  period_s_ = (end_time(cycles.back()) - begin_time(cycles.front())) /
-              static_cast<double>(cycles.size());
-  int newest = -1;
+  period_s_ = WindowPeriod(a.cycles);
   for (size_t i = 0; i < cycles.size(); ++i) {
-    if (end_time(cycles[i]) <= last_end_s_ + 0.25 * period_s_) continue;
+    if (!fresh[i]) continue;
+    MuFit& f = a.fit_force[i];
+    if (f.converged) {
+      SplitNoise(samples[i], o.friction, &f);
+      ShowLoop(samples[i], f.mu_hat, static_cast<int>(reported_.size()) + 1);
+    }
     Report(buffer_, a, static_cast<int>(i), out);
-    last_end_s_ = end_time(cycles[i]);
-    newest = static_cast<int>(i);
-  }
-  if (newest >= 0 && a.fit_force[newest].converged) {
-    const DetailCycle d = ComputeDetailCycle(
-        buffer_, a, o.friction, newest, 2, nullptr, nullptr, nullptr);
-    loop_.cycle = reported_.back().cycle;
-    loop_.x_mm.assign(d.x_mm.data(), d.x_mm.data() + d.x_mm.size());
-    loop_.q_n.assign(d.q_n.data(), d.q_n.data() + d.q_n.size());
-    loop_.q_model_n.assign(d.q_model_force_n.data(),
-                           d.q_model_force_n.data() + d.q_model_force_n.size());
-    loop_.direction.clear();
-    for (Eigen::Index i = 0; i < d.direction.size(); ++i)
-      loop_.direction.push_back(d.direction[i] > 0 ? 1 : -1);
+    last_end_s_ = buffer_.time_s[cycles[i].reverse.end - 1];
   }
   SeekPeriodicLines(static_cast<int>(cycles.size()));
   KeepLatestCycles(a);
@@ -209,35 +229,129 @@ void LiveAnalysis::Analyse(std::vector<LiveCycle>* out) {
   }
 }
 
-// Only the cycles to report are fitted, and the cycles their noise split
-// takes its template from (FitFriction, SplitRepeatable: the nearest
-// template_cycles at least an ensemble's width away, the width as
-// ForceSlopes narrows it for a short record); the others were reported
-// from an earlier window.
-void LiveAnalysis::FitOnlyNewCycles(const force::CycleSet& set,
-                                    FrictionFitOptions* friction) const {
-  const auto& cycles = set.cycles;
-  const int n = static_cast<int>(cycles.size());
-  const double period = (buffer_.time_s[cycles.back().reverse.end - 1] -
-                         buffer_.time_s[cycles.front().forward.begin]) /
-                        static_cast<double>(n);
-  int first_new = 0;
-  while (first_new < n && buffer_.time_s[cycles[first_new].reverse.end - 1] <=
-                              last_end_s_ + 0.25 * period)
-    ++first_new;
-  const int sep =
-      friction->k_estimate == KEstimate::kEnsemble
-          ? std::max(1, std::min(friction->ensemble.cycles, ((n / 3) - 1) | 1))
-          : 1;
-  const int t = friction->repeatability.template_cycles;
-  friction->fit_cycle.assign(static_cast<size_t>(n), 0);
-  for (int c = 0; c < n; ++c) {
-    // A new cycle, or in a new cycle's template: at least sep before one,
-    // and within sep + t - 1 of it.
-    const bool is_new = c >= first_new;
-    const bool in_template = c >= first_new - sep - t + 1 && c <= n - 1 - sep;
-    friction->fit_cycle[static_cast<size_t>(c)] = is_new || in_template;
+// The loop of a new cycle against the wear-scar model with its mu-hat.
+void LiveAnalysis::ShowLoop(const CycleSamples& s, double mu_hat, int cycle) {
+  loop_.cycle = cycle;
+  loop_.x_mm.clear();
+  loop_.q_n.clear();
+  loop_.q_model_n.clear();
+  loop_.direction.clear();
+  for (const SlipSamples* h : {&s.forward, &s.reverse}) {
+    for (Eigen::Index i = 0; i < h->q_n.size(); ++i) {
+      loop_.x_mm.push_back(h->x_mm[i]);
+      loop_.q_n.push_back(h->q_n[i]);
+      loop_.q_model_n.push_back(
+          WearScarTangentialForce(h->p_n[i], h->k[i], mu_hat, h->direction));
+      loop_.direction.push_back(h->direction > 0 ? 1 : -1);
+    }
   }
+}
+
+double LiveAnalysis::WindowPeriod(const force::CycleSet& set) const {
+  const auto& cycles = set.cycles;
+  return (buffer_.time_s[cycles.back().reverse.end - 1] -
+          buffer_.time_s[cycles.front().forward.begin]) /
+         static_cast<double>(cycles.size());
+}
+
+// Per cycle of the window: whether it ends after the last one reported.
+std::vector<char> LiveAnalysis::NewCycles(const force::CycleSet& set) const {
+  const auto& cycles = set.cycles;
+  const double period = WindowPeriod(set);
+  std::vector<char> fresh(cycles.size(), 0);
+  for (size_t c = 0; c < cycles.size(); ++c) {
+    fresh[c] =
+        buffer_.time_s[cycles[c].reverse.end - 1] > last_end_s_ + 0.25 * period;
+  }
+  return fresh;
+}
+
+// The classic COFs of the new cycles (default values for the others).
+std::vector<force::CycleCof> LiveAnalysis::NewCyclesCof(
+    const force::CycleSet& set, const std::vector<char>& fresh) const {
+  force::CycleSet only = set;
+  only.cycles.clear();
+  for (size_t c = 0; c < set.cycles.size(); ++c) {
+    if (fresh[c]) only.cycles.push_back(set.cycles[c]);
+  }
+  const std::vector<force::CycleCof> some =
+      force::ComputeClassicCof(buffer_, only);
+  std::vector<force::CycleCof> all(set.cycles.size());
+  for (size_t c = 0, k = 0; c < set.cycles.size(); ++c) {
+    if (fresh[c]) all[c] = some[k++];
+  }
+  return all;
+}
+
+// J's noise split (SplitRepeatable's) of a new cycle: its misfit along the
+// stroke against the mean misfit at the same x of the template, the
+// template_cycles reported cycles that end an ensemble's width before it
+// (their k shares no P sample with its), as they were when reported. NaN
+// before there is a template.
+void LiveAnalysis::SplitNoise(const CycleSamples& s,
+                              const FrictionFitOptions& friction,
+                              MuFit* f) {
+  const double bin = friction.repeatability.bin_mm;
+  if (misfit_bins_ == 0) {
+    // The stroke as the first cycle covers it, a fifth of it beyond either
+    // end (the track's ends move little).
+    const double lo = s.forward.x_mm.minCoeff(), hi = s.forward.x_mm.maxCoeff();
+    misfit_x0_mm_ = lo - 0.2 * (hi - lo);
+    misfit_bins_ = std::clamp(
+        static_cast<int>(std::ceil(1.4 * (hi - lo) / bin)), 1, 1 << 20);
+  }
+  MisfitRow row;
+  row.cycle = static_cast<int>(reported_.size()) + 1;
+  std::array<double, 2> total{0, 0}, qq{0, 0};
+  for (int k = 0; k < 2; ++k) {
+    const SlipSamples& h = k == 0 ? s.forward : s.reverse;
+    row.sum[k].assign(misfit_bins_, 0.0);
+    row.count[k].assign(misfit_bins_, 0);
+    for (Eigen::Index i = 0; i < h.q_n.size(); ++i) {
+      const double r = h.q_n[i] - WearScarTangentialForce(
+                                      h.p_n[i], h.k[i], f->mu_hat, h.direction);
+      if (!std::isfinite(r)) continue;
+      total[k] += r * r;
+      qq[k] += h.q_n[i] * h.q_n[i];
+      const double b = std::floor((h.x_mm[i] - misfit_x0_mm_) / bin);
+      if (!(b >= 0 && b < misfit_bins_)) continue;
+      row.sum[k][static_cast<size_t>(b)] += r;
+      ++row.count[k][static_cast<size_t>(b)];
+    }
+  }
+  const int sep = friction.k_estimate == KEstimate::kEnsemble
+                      ? std::max(1, friction.ensemble.cycles)
+                      : 1;
+  const int t = friction.repeatability.template_cycles;
+  const int last = row.cycle - sep, first_tpl = last - t + 1;
+  f->cost_floor = f->cost_excess = 0.0;
+  for (int k = 0; k < 2; ++k) {
+    std::vector<double> sum(misfit_bins_, 0.0);
+    std::vector<int> count(misfit_bins_, 0);
+    int rows = 0;
+    for (const MisfitRow& m : misfits_) {
+      if (m.cycle < first_tpl || m.cycle > last) continue;
+      ++rows;
+      for (int b = 0; b < misfit_bins_; ++b) {
+        sum[b] += m.sum[k][b];
+        count[b] += m.count[k][b];
+      }
+    }
+    double repeat = 0.0;
+    for (int b = 0; b < misfit_bins_; ++b) {
+      if (row.count[k][b] > 0 && count[b] > 0)
+        repeat += row.sum[k][b] * (sum[b] / count[b]);
+    }
+    f->misfit_sq[k] = qq[k] > 0 ? total[k] / qq[k] : kNaN;
+    f->repeat_sq[k] = qq[k] > 0 && rows > 0 ? repeat / qq[k] : kNaN;
+    f->cost_floor +=
+        std::sqrt(std::max(0.0, f->misfit_sq[k] - f->repeat_sq[k]));
+    f->cost_excess += std::sqrt(std::max(0.0, f->repeat_sq[k]));
+  }
+  if (std::isnan(f->repeat_sq[0]) || std::isnan(f->repeat_sq[1]))
+    f->cost_floor = f->cost_excess = kNaN;
+  misfits_.push_back(std::move(row));
+  while (static_cast<int>(misfits_.size()) > sep + t) misfits_.pop_front();
 }
 
 // Drops the samples before the window's cycles: the next analysis holds
@@ -553,7 +667,7 @@ void LiveAnalysis::UpdateVerdict() {
 void LiveAnalysis::SeekPeriodicLines(int cycles_in_window) {
   const int n = static_cast<int>(reported_.size());
   if (n - lines_sought_at_ < live_.periodic_every || !(period_s_ > 0) ||
-      cycles_in_window < 10)
+      cycles_in_window < 3)
     return;
   lines_sought_at_ = n;
   for (const force::PeriodicLine& line :

@@ -85,7 +85,11 @@ class ForceFollower {
   std::uintmax_t read_ = 0;    // bytes read (offset_ + pending_)
   long lines_ = 0;
   std::string pending_;  // read, not yet a complete line
-  std::string head_;     // complete lines before the first rows are read
+  // What each read takes from the file (allocated once: at most 1 MiB,
+  // never zeroed).
+  std::unique_ptr<char[]> block_;
+  std::size_t block_size_ = 0;
+  std::string head_;  // complete lines before the first rows are read
   bool started_ = false;
   bool announced_missing_ = false;
   ForceMetadata first_;

@@ -118,10 +118,20 @@ struct FrictionFitOptions {
   // are the same with any number.
   int threads = 1;
   // When not empty, only the cycles c with fit_cycle[c] set are fitted
-  // (the others' MuFit "not run"): a caller that needs the fits of the
-  // last cycles only (a live window) fits those and the cycles their
-  // noise split takes its template from. The fits of those are the same.
+  // (the others' MuFit "not run"): a live window fits its new cycles.
   std::vector<char> fit_cycle;
+  // A record of few cycles narrows the ensemble to a third of them (odd),
+  // leaving the noise split a template of cycles whose k shares no sample
+  // with the cycle judged. false keeps the ensemble's width: a live
+  // window, whose noise split takes its template from earlier windows.
+  bool narrow_ensemble_to_record = true;
+  // The ensemble k's noise variance per sample when it is known (a live
+  // window reuses an earlier window's); NaN: estimated from the cycles
+  // fitted (ForceSlopes::EnsembleNoiseVariance).
+  double k_noise_variance = std::numeric_limits<double>::quiet_NaN();
+  // FrictionFits::samples keeps each fitted cycle's gross-slip samples
+  // with its k (a live window's loop and misfit).
+  bool keep_samples = false;
   // k from the record's depth channel (the ball's vertical position,
   // penetration positive: k = -d depth/dx) instead of P/S; the ensemble
   // estimate only.
@@ -198,7 +208,10 @@ class ForceSlopes {
 // Everything the per-cycle fits of one test give.
 struct FrictionFits {
   std::vector<MuFit> cycles;  // mu-hat per cycle
-  std::string slope;          // how k was obtained (ForceSlopes::Describe)
+  // With FrictionFitOptions::keep_samples, per cycle the samples fitted
+  // (empty for a cycle not fitted); else empty.
+  std::vector<CycleSamples> samples;
+  std::string slope;  // how k was obtained (ForceSlopes::Describe)
   // Successive cycles whose errors are correlated through a shared slope
   // (SummariseWithErrors): ForceSlopes::SharedCycles for the force side,
   // every cycle for the scan's one slope.

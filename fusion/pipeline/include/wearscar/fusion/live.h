@@ -5,22 +5,27 @@
 // verdict over the latest cycles), at a cost per cycle bounded by the
 // window of cycles kept, not by the test's length.
 
+#include <array>
 #include <deque>
 #include <limits>
 #include <string>
 #include <vector>
 
+#include "wearscar/force/cof.h"
 #include "wearscar/force/force_record.h"
 #include "wearscar/force/periodic.h"
 #include "wearscar/fusion/analysis.h"
+#include "wearscar/fusion/fit_mu.h"
 #include "wearscar/fusion/fuse_options.h"
 
 namespace wearscar::fusion {
 
 struct LiveOptions {
   // Complete cycles analysed together when one completes: the newest and
-  // those before it (k from P's ensemble, the noise split's template).
-  int window_cycles = 36;
+  // those before it that k from P's ensemble reaches (its half before the
+  // cycle, and margin). The noise split's template is kept apart: the
+  // misfits of earlier cycles as they were reported.
+  int window_cycles = 8;
   // "Steady": over the last steady_cycles cycles mu-hat's straight-line
   // trend changes by less than steady_band, and its mean differs from the
   // steady_cycles before them by less than that.
@@ -139,8 +144,14 @@ class LiveAnalysis {
               int i,
               std::vector<LiveCycle>* out);
   void KeepLatestCycles(const ForceAnalysis& a);
-  void FitOnlyNewCycles(const force::CycleSet& set,
-                        FrictionFitOptions* friction) const;
+  double WindowPeriod(const force::CycleSet& set) const;
+  std::vector<char> NewCycles(const force::CycleSet& set) const;
+  std::vector<force::CycleCof> NewCyclesCof(
+      const force::CycleSet& set, const std::vector<char>& fresh) const;
+  void SplitNoise(const CycleSamples& s,
+                  const FrictionFitOptions& friction,
+                  MuFit* f);
+  void ShowLoop(const CycleSamples& s, double mu_hat, int cycle);
   void UpdateRunningIn();
   void UpdateSteady();
   void UpdateVerdict();
@@ -172,6 +183,21 @@ class LiveAnalysis {
   LiveLoop loop_;
   LiveMap map_;
   std::vector<LiveEvent> events_;
+  // The misfit (Q less the model) of the latest reported cycles along the
+  // stroke, per direction, in the noise split's bins (from misfit_x0_mm_):
+  // the template of the cycles after them, as they were when reported.
+  struct MisfitRow {
+    int cycle = 0;  // from 1
+    std::array<std::vector<double>, 2> sum;
+    std::array<std::vector<int>, 2> count;
+  };
+  std::deque<MisfitRow> misfits_;
+  // The ensemble k's noise variance, estimated from a new cycle's ensemble
+  // every few reported cycles; the mean of the latest estimates is used.
+  std::deque<double> k_noise_estimates_;
+  int k_noise_at_ = 0;  // reported cycles at the last estimate
+  double misfit_x0_mm_ = 0.0;
+  int misfit_bins_ = 0;
   int lines_sought_at_ = 0;  // reported cycles then
   std::vector<double> lines_seen_hz_;
 };

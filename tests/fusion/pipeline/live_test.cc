@@ -95,8 +95,28 @@ TEST(LiveAnalysis, EachCycleOnceWithTheWholeTestsNumbers) {
   }
   EXPECT_NEAR(sum / n, whole.mu_hat.mean, 0.001);
   EXPECT_LT(std::sqrt(diff2 / n), 3 * whole.mu_hat.sd + 1e-4);
+  // J's split from the cycles' own template (the misfits of earlier cycles
+  // as reported, the ensemble's width and more before), once there is one:
+  // the same share of J in its noise floor as the whole test's (J itself
+  // is larger live: k from the cycle and the 5 before it, not 11 around).
+  const int sep = FrictionFitOptions{}.ensemble.cycles;
+  double live_floor = 0, live_j = 0, whole_floor = 0, whole_j = 0;
+  for (size_t c = 0; c < f.cycles.size(); ++c) {
+    const LiveCycle& l = f.cycles[c];
+    if (static_cast<int>(c) < sep) {
+      EXPECT_TRUE(std::isnan(l.cost_floor)) << "cycle " << c + 1;
+    }
+    if (static_cast<int>(c) < std::max<int>(sep + 2, whole.running_in.cycles))
+      continue;
+    ASSERT_TRUE(std::isfinite(l.cost_floor)) << "cycle " << c + 1;
+    live_floor += l.cost_floor;
+    live_j += l.cost;
+    whole_floor += whole.fit_force[c].cost_floor;
+    whole_j += whole.fit_force[c].cost;
+  }
+  EXPECT_NEAR(live_floor / live_j, whole_floor / whole_j, 0.05);
   // The samples held stay within the window, however long the test.
-  EXPECT_LT(f.most_samples_held, (36 + 3) * 1000);
+  EXPECT_LT(f.most_samples_held, (LiveOptions{}.window_cycles + 3) * 1000);
 }
 
 TEST(LiveAnalysis, RunningInThenSteadyThenAVerdict) {

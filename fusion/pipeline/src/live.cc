@@ -323,27 +323,18 @@ void LiveAnalysis::SplitNoise(const CycleSamples& s,
                       ? std::max(1, friction.ensemble.cycles)
                       : 1;
   const int t = friction.repeatability.template_cycles;
-  const int last = row.cycle - sep, first_tpl = last - t + 1;
+  SlideTemplate(row.cycle - sep - t + 1, row.cycle - sep);
   f->cost_floor = f->cost_excess = 0.0;
   for (int k = 0; k < 2; ++k) {
-    std::vector<double> sum(misfit_bins_, 0.0);
-    std::vector<int> count(misfit_bins_, 0);
-    int rows = 0;
-    for (const MisfitRow& m : misfits_) {
-      if (m.cycle < first_tpl || m.cycle > last) continue;
-      ++rows;
-      for (int b = 0; b < misfit_bins_; ++b) {
-        sum[b] += m.sum[k][b];
-        count[b] += m.count[k][b];
-      }
-    }
+    const std::vector<double>& sum = template_.sum[k];
+    const std::vector<int>& count = template_.count[k];
     double repeat = 0.0;
     for (int b = 0; b < misfit_bins_; ++b) {
       if (row.count[k][b] > 0 && count[b] > 0)
         repeat += row.sum[k][b] * (sum[b] / count[b]);
     }
     f->misfit_sq[k] = qq[k] > 0 ? total[k] / qq[k] : kNaN;
-    f->repeat_sq[k] = qq[k] > 0 && rows > 0 ? repeat / qq[k] : kNaN;
+    f->repeat_sq[k] = qq[k] > 0 && template_.rows > 0 ? repeat / qq[k] : kNaN;
     f->cost_floor +=
         std::sqrt(std::max(0.0, f->misfit_sq[k] - f->repeat_sq[k]));
     f->cost_excess += std::sqrt(std::max(0.0, f->repeat_sq[k]));
@@ -352,6 +343,32 @@ void LiveAnalysis::SplitNoise(const CycleSamples& s,
     f->cost_floor = f->cost_excess = kNaN;
   misfits_.push_back(std::move(row));
   while (static_cast<int>(misfits_.size()) > sep + t) misfits_.pop_front();
+}
+
+// The template's sums moved to the reported cycles [first, last]: rows
+// enter at its end and leave at its start (both only move on).
+void LiveAnalysis::SlideTemplate(int first, int last) {
+  for (int k = 0; k < 2; ++k) {
+    template_.sum[k].resize(misfit_bins_, 0.0);
+    template_.count[k].resize(misfit_bins_, 0);
+  }
+  auto move = [&](int cycle, int sign) {
+    for (const MisfitRow& m : misfits_) {
+      if (m.cycle != cycle) continue;
+      for (int k = 0; k < 2; ++k) {
+        for (int b = 0; b < misfit_bins_; ++b) {
+          template_.sum[k][b] += sign * m.sum[k][b];
+          template_.count[k][b] += sign * m.count[k][b];
+        }
+      }
+      template_.rows += sign;
+    }
+  };
+  while (template_.last < last) move(++template_.last, +1);
+  while (template_.first < first) {
+    if (template_.first <= template_.last) move(template_.first, -1);
+    ++template_.first;
+  }
 }
 
 // Drops the samples before the window's cycles: the next analysis holds

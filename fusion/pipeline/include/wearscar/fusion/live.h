@@ -192,6 +192,14 @@ class LiveAnalysis {
     std::array<std::vector<int>, 2> count;
   };
   std::deque<MisfitRow> misfits_;
+  // Their sums over the template of the cycle being split: the reported
+  // cycles [first, last].
+  struct Template {
+    std::array<std::vector<double>, 2> sum;
+    std::array<std::vector<int>, 2> count;
+    int first = 1, last = 0, rows = 0;
+  } template_;
+  void SlideTemplate(int first, int last);
   // The ensemble k's noise variance, estimated from a new cycle's ensemble
   // every few reported cycles; the mean of the latest estimates is used.
   std::deque<double> k_noise_estimates_;

@@ -59,10 +59,15 @@ TEST_P(LiveCases, SteadyNearTheTruthsSettlingAndTheVerdictFromCycle20) {
     EXPECT_NE(e.kind, "periodic") << e.message;
   }
   ASSERT_NE(steady, nullptr);
-  std::printf("%s: the truth settles at cycle %d, steady said at %d\n",
-              GetParam().c_str(),
-              settled,
-              steady->cycle);
+  const int running_in =
+      AnalyzeForce(t.record, FuseOptions{}.analysis).running_in.cycles;
+  std::printf(
+      "%s: the truth settles at cycle %d, steady said at %d, fuse's "
+      "running-in %d cycles\n",
+      GetParam().c_str(),
+      settled,
+      steady->cycle,
+      running_in);
   EXPECT_NEAR(steady->cycle, settled, 10);
   ASSERT_NE(verdict, nullptr);
   EXPECT_EQ(verdict->cycle, 20);

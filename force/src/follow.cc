@@ -203,7 +203,8 @@ void ForceFollower::ReadFirstRows(const std::string& text, FollowedRows* out) {
   ForceRecord record = ReadForceText(text, path_, options_.read);
   first_ = record.metadata;
   header_ = FirstLines(text, first_.first_data_line);
-  std::tie(last_rows_, last_row_count_) = LastLines({}, text, kOverlapRows);
+  last_rows_ = LastLines({}, text, kOverlapRows).first;
+  last_row_count_ = OverlapRows();
   if (record.size() > 0) last_time_s_ = record.time_s[record.size() - 1];
   started_ = true;
   out->rows = std::move(record);
@@ -224,14 +225,29 @@ void ForceFollower::ReadMoreRows(const std::string& text, FollowedRows* out) {
       header_ + last_rows_ + text, name, options_.read, first_);
   const Eigen::Index old = last_row_count_;
   if (record.size() <= old) return;  // a footer
-  const double shift = last_time_s_ - record.time_s[old - 1];
+  const double shift = old > 0 ? last_time_s_ - record.time_s[old - 1] : 0.0;
   if (shift != 0.0) record.time_s.array() += shift;
   ForceRecord rows = Tail(std::move(record), old);
   rows.metadata = first_;
-  std::tie(last_rows_, last_row_count_) =
-      LastLines(last_rows_, text, kOverlapRows);
+  last_rows_ = LastLines(last_rows_, text, kOverlapRows).first;
+  last_row_count_ = OverlapRows();
   last_time_s_ = rows.time_s[rows.size() - 1];
   out->rows = std::move(rows);
+}
+
+// The data rows among the overlap's lines, as the reader reads them: a
+// repeated block's header line (a CETR step, a block of --pattern) is a
+// line but no row. Counting it made the next look drop its first row and
+// shift its clock by a sample.
+int ForceFollower::OverlapRows() const {
+  try {
+    return static_cast<int>(
+        internal::ReadAppendedRows(
+            header_ + last_rows_, path_, options_.read, first_)
+            .size());
+  } catch (const ForceError&) {
+    return 0;  // header lines alone
+  }
 }
 
 FollowedRows ForceFollower::Poll(bool idle) {

@@ -1,5 +1,6 @@
 #include "wearscar/force/follow.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "wearscar/force/read_force.h"
 
@@ -113,6 +115,52 @@ TEST(ForceFollower, RestartingClocksAreJoinedAsTheWholeFileJoinsThem) {
   o.first_lines = 500;
   const Joined j = FollowInPieces(text, path, 1501, o);
   ExpectSameRows(j, whole);
+}
+
+TEST(ForceFollower, ALookEndingAtARepeatedHeaderLosesNoRow) {
+  // Blocks each with the file's header line (as `watch --pattern` joins
+  // them), the clock continuing and then starting again in each; every
+  // look ends just after a block's header line.
+  for (const bool restart : {false, true}) {
+    const std::string path = TempPath(restart ? "restart.csv" : "joined.csv");
+    WriteForceCsv(MadeTest(6, 500), path);
+    const std::string one = ReadAll(path);
+    const std::size_t header_end = one.find('\n') + 1;
+    const std::string header = one.substr(0, header_end);
+    std::string text = header;
+    std::vector<std::size_t> cuts;
+    std::istringstream rows(one.substr(header_end));
+    std::string line;
+    for (int i = 0; std::getline(rows, line); ++i) {
+      if (i > 0 && i % 1000 == 0) {
+        text += header;
+        cuts.push_back(text.size());
+      }
+      if (restart) {
+        const std::size_t comma = line.find(',');
+        line = fmt::format("{:.6f}{}", (i % 1000) / 500.0, line.substr(comma));
+      }
+      text += line + "\n";
+    }
+    cuts.push_back(text.size());
+    fs::remove(path);
+    std::ofstream(path, std::ios::binary) << text;
+    const ForceRecord whole = ReadForceFile(path);
+    fs::remove(path);
+    FollowOptions o;
+    o.first_lines = 200;
+    ForceFollower follow(path, o);
+    Joined j;
+    std::size_t at = 0;
+    for (std::size_t cut : cuts) {
+      AppendText(path, text.substr(at, cut - at));
+      at = cut;
+      j.Add(follow.Poll().rows);
+    }
+    j.Add(follow.Poll(true).rows);
+    SCOPED_TRACE(restart ? "restarting clock" : "continuing clock");
+    ExpectSameRows(j, whole);
+  }
 }
 
 TEST(ForceFollower, ATruncatedFileIsANewTestReadFromItsStart) {

@@ -96,7 +96,8 @@ class ForceFollower {
   std::string header_;  // the lines before the first data row
   // The last data lines read (the next text's first) and how many.
   std::string last_rows_;
-  int last_row_count_ = 0;
+  int last_row_count_ = 0;  // the data rows among them (OverlapRows)
+  int OverlapRows() const;
   double last_time_s_ = 0.0;
 };
 

@@ -16,27 +16,30 @@ namespace wearscar::fusion {
 using internal::KNoiseBiasPerVariance;
 using internal::Resolved;
 
+void ApplyRepeatSplit(const std::array<RepeatSplit, 2>& split,
+                      const std::array<double, 2>& q_total,
+                      MuFit* f) {
+  double floor = 0, excess = 0;
+  for (int d = 0; d < 2; ++d) {
+    const double qq = q_total[d];
+    f->misfit_sq[d] = qq > 0 ? split[d].total / qq : std::nan("");
+    f->repeat_sq[d] = qq > 0 ? split[d].repeat / qq : std::nan("");
+    floor += std::sqrt(std::max(0.0, f->misfit_sq[d] - f->repeat_sq[d]));
+    excess += std::sqrt(std::max(0.0, f->repeat_sq[d]));
+  }
+  f->cost_floor = floor;
+  f->cost_excess = excess;
+}
+
 namespace {
 
-// Each converged fit's J split into the noise floor and the excess that
-// repeats at the same x (J^2 = floor^2 + excess^2 per direction).
+// Each converged fit's J split (ApplyRepeatSplit).
 void SplitCosts(const std::vector<std::array<RepeatSplit, 2>>& split,
                 const std::vector<std::array<double, 2>>& q_total,
                 std::vector<MuFit>* fits) {
   for (size_t c = 0; c < fits->size(); ++c) {
-    MuFit& f = (*fits)[c];
-    if (!f.converged) continue;
-    double floor = 0, excess = 0;
-    for (int d = 0; d < 2; ++d) {
-      const double qq = q_total[c][d];
-      const RepeatSplit& r = split[c][d];
-      f.misfit_sq[d] = qq > 0 ? r.total / qq : std::nan("");
-      f.repeat_sq[d] = qq > 0 ? r.repeat / qq : std::nan("");
-      floor += std::sqrt(std::max(0.0, f.misfit_sq[d] - f.repeat_sq[d]));
-      excess += std::sqrt(std::max(0.0, f.repeat_sq[d]));
-    }
-    f.cost_floor = floor;
-    f.cost_excess = excess;
+    if ((*fits)[c].converged)
+      ApplyRepeatSplit(split[c], q_total[c], &(*fits)[c]);
   }
 }
 

@@ -324,23 +324,19 @@ void LiveAnalysis::SplitNoise(const CycleSamples& s,
                       : 1;
   const int t = friction.repeatability.template_cycles;
   SlideTemplate(row.cycle - sep - t + 1, row.cycle - sep);
-  f->cost_floor = f->cost_excess = 0.0;
+  std::array<RepeatSplit, 2> split;
   for (int k = 0; k < 2; ++k) {
     const std::vector<double>& sum = template_.sum[k];
     const std::vector<int>& count = template_.count[k];
-    double repeat = 0.0;
+    split[k].total = total[k];
+    split[k].repeat = template_.rows > 0 ? 0.0 : kNaN;
     for (int b = 0; b < misfit_bins_; ++b) {
       if (row.count[k][b] > 0 && count[b] > 0)
-        repeat += row.sum[k][b] * (sum[b] / count[b]);
+        split[k].repeat += row.sum[k][b] * (sum[b] / count[b]);
     }
-    f->misfit_sq[k] = qq[k] > 0 ? total[k] / qq[k] : kNaN;
-    f->repeat_sq[k] = qq[k] > 0 && template_.rows > 0 ? repeat / qq[k] : kNaN;
-    f->cost_floor +=
-        std::sqrt(std::max(0.0, f->misfit_sq[k] - f->repeat_sq[k]));
-    f->cost_excess += std::sqrt(std::max(0.0, f->repeat_sq[k]));
   }
-  if (std::isnan(f->repeat_sq[0]) || std::isnan(f->repeat_sq[1]))
-    f->cost_floor = f->cost_excess = kNaN;
+  ApplyRepeatSplit(split, qq, f);
+  if (template_.rows == 0) f->cost_floor = f->cost_excess = kNaN;
   misfits_.push_back(std::move(row));
   while (static_cast<int>(misfits_.size()) > sep + t) misfits_.pop_front();
 }

@@ -205,6 +205,14 @@ class ForceSlopes {
   mutable int window_first_ = 0, window_last_ = -1;
 };
 
+// A fit's J split into the noise floor and the excess that repeats at the
+// same x (J^2 = floor^2 + excess^2 per direction), from the split of its
+// misfit (SplitRepeatable) and its sum of Q^2, per direction [0] forward,
+// [1] reverse: MuFit's misfit_sq, repeat_sq, cost_floor and cost_excess.
+void ApplyRepeatSplit(const std::array<RepeatSplit, 2>& split,
+                      const std::array<double, 2>& q_total,
+                      MuFit* f);
+
 // Everything the per-cycle fits of one test give.
 struct FrictionFits {
   std::vector<MuFit> cycles;  // mu-hat per cycle

@@ -4,8 +4,9 @@ find_package(Ceres 2.1 REQUIRED)
 # imgcodecs is not linked: it pulls ~140 libraries (GDAL, ...) into every
 # process; PNGs are written with libpng.
 find_package(OpenCV 4.6 REQUIRED COMPONENTS core imgproc photo)
-# Only components that do not pull VTK: Debian's PCL config fails otherwise.
-find_package(PCL 1.13 REQUIRED COMPONENTS common sample_consensus filters kdtree search octree)
+# Only what scan/src/level.cc uses (a component that pulls VTK fails
+# Debian's PCL config).
+find_package(PCL 1.13 REQUIRED COMPONENTS common sample_consensus)
 find_package(fmt REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)
 find_package(CLI11 REQUIRED)
@@ -25,9 +26,15 @@ add_library(wearscar_fast_float INTERFACE)
 target_include_directories(wearscar_fast_float SYSTEM INTERFACE ${FASTFLOAT_INCLUDE_DIR})
 
 # PCL exports include dirs and definitions as variables, not a target.
+# The RANSAC plane is compiled from PCL's headers (PCL_NO_PRECOMPILE in
+# scan/src/level.cc) instead of linking libpcl_sample_consensus: its
+# 16,700 symbol bindings, made at every start of the command, were 10 ms
+# of a 22 ms `wearscar --version` and most of the dynamic loader's work.
+set(wearscar_pcl_libraries ${PCL_LIBRARIES})
+list(FILTER wearscar_pcl_libraries EXCLUDE REGEX "sample_consensus")
 add_library(wearscar_pcl INTERFACE)
 target_include_directories(wearscar_pcl SYSTEM INTERFACE ${PCL_INCLUDE_DIRS})
-target_link_libraries(wearscar_pcl INTERFACE ${PCL_LIBRARIES})
+target_link_libraries(wearscar_pcl INTERFACE ${wearscar_pcl_libraries})
 target_compile_definitions(wearscar_pcl INTERFACE ${PCL_DEFINITIONS})
 
 if(WEARSCAR_BUILD_TESTS)

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "appended_rows.h"
+#include "line_source.h"
 
 namespace wearscar::force {
 namespace {
@@ -19,7 +20,8 @@ namespace {
 constexpr int kOverlapRows = 8;
 
 long CountLineBreaks(const std::string& text) {
-  return static_cast<long>(std::count(text.begin(), text.end(), '\n'));
+  return static_cast<long>(
+      internal::CountLineBreaks(text.data(), text.data() + text.size()));
 }
 
 // The last line of `text` with something on it, without its line break.

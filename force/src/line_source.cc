@@ -111,6 +111,17 @@ void FileLines::SeekTo(std::uintmax_t offset, long lines_before) {
   eof_ = false;
 }
 
+std::size_t CountLineBreaks(const char* begin, const char* end) {
+  std::size_t lines = 0;
+  while (begin < end) {
+    const char* stop = begin + std::min<std::ptrdiff_t>(255, end - begin);
+    unsigned char run = 0;
+    for (; begin < stop; ++begin) run += *begin == '\n';
+    lines += run;
+  }
+  return lines;
+}
+
 LineStart FirstLineAfter(std::FILE* file, std::uintmax_t middle) {
   std::vector<char> block(kBlock);
   LineStart start;
@@ -123,13 +134,13 @@ LineStart FirstLineAfter(std::FILE* file, std::uintmax_t middle) {
     // Lines wholly before the middle are counted a block at a time.
     const char* from = begin;
     if (at + got <= middle) {
-      lines += static_cast<long>(std::count(begin, end, '\n'));
+      lines += static_cast<long>(CountLineBreaks(begin, end));
       at += got;
       continue;
     }
     if (at < middle) {
       from = begin + (middle - at);
-      lines += static_cast<long>(std::count(begin, from, '\n'));
+      lines += static_cast<long>(CountLineBreaks(begin, from));
     }
     if (const char* nl =
             static_cast<const char*>(std::memchr(from, '\n', end - from))) {
@@ -149,8 +160,7 @@ std::size_t CountLines(
   std::size_t lines = 1, got;
   while ((got = std::fread(block.data(), 1, block.size(), file)) > 0) {
     if (on_bytes) on_bytes(block.data(), got);
-    lines += static_cast<std::size_t>(
-        std::count(block.data(), block.data() + got, '\n'));
+    lines += CountLineBreaks(block.data(), block.data() + got);
   }
   std::rewind(file);
   return lines;

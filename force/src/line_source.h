@@ -68,6 +68,11 @@ struct FileCloser {
   void operator()(std::FILE* f) const { std::fclose(f); }
 };
 
+// The line breaks in [begin, end): a byte counter per 255 bytes, which the
+// compiler turns into wide compares (std::count widens every byte to a
+// 64-bit sum: four times slower on a 45 MB export).
+std::size_t CountLineBreaks(const char* begin, const char* end);
+
 // The lines of an open file (line breaks + 1), each byte handed to
 // `on_bytes` when given; the file is rewound after.
 std::size_t CountLines(

@@ -67,7 +67,8 @@ std::array<std::vector<double>, 2> AmplitudeSpectra(const ForceRecord& record,
       fft.fwd(out, in);
       amp[ch].resize(out.size(), 0.0);
       for (size_t k = 0; k < out.size(); ++k)
-        amp[ch][k] += scale * std::abs(out[k]);
+        // (std::abs of a complex is hypot: a quarter of the search.)
+        amp[ch][k] += scale * std::sqrt(std::norm(out[k]));
     }
   }
   return amp;

@@ -508,7 +508,7 @@ ForceRecord ReadForceText(const std::string& text,
   }
   MemoryLines source(text, name, options.max_line_bytes);
   const std::size_t lines =
-      static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) + 1;
+      internal::CountLineBreaks(text.data(), text.data() + text.size()) + 1;
   return Read(source, name, lines, options);
 }
 
@@ -534,7 +534,7 @@ ForceRecord ReadAppendedRows(const std::string& text,
   }
   MemoryLines source(text, name, options.max_line_bytes);
   const std::size_t lines =
-      static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) + 1;
+      internal::CountLineBreaks(text.data(), text.data() + text.size()) + 1;
   return Read(source, name, lines, pinned, 0, nullptr, &first);
 }
 

@@ -1,6 +1,9 @@
 #include "wearscar/scan/level.h"
 
 #include <fmt/format.h>
+// PCL's RANSAC and plane model from its headers, not from
+// libpcl_sample_consensus (see cmake/WearscarDependencies.cmake).
+#define PCL_NO_PRECOMPILE
 #include <pcl/console/print.h>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>

@@ -164,6 +164,15 @@ TEST_P(TwoThreads, ReadWhatOneReadsOfPlainRows) {
                                     plain_,
                                     "read"),
             0);
+  // A run of 600 line breaks (more than a byte counter holds) before the
+  // split: counted, or the second thread's rows would be refused.
+  const std::vector<std::string> run = With([&](auto& l) {
+    for (size_t i = 1000; i < 1600; ++i) l[i] = "";
+  });
+  EXPECT_EQ(ExpectOneThreadsReading(
+                "a run of blank lines", run, "\n", plain_, "read"),
+            static_cast<long>(run.size()) -
+                SplitLineOf(JoinLines(run, "\n"), GetParam()));
 }
 
 TEST_P(TwoThreads, ReadWhatOneReadsOfGapsAndTimeAtTheSplit) {

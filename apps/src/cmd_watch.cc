@@ -21,7 +21,7 @@
 #include "live_server.h"
 #include "output.h"
 #include "setting_flags.h"
-#include "watch_blocks.h"
+#include "wearscar/force/block_joiner.h"
 #include "wearscar/force/follow.h"
 #include "wearscar/fusion/batch.h"
 #include "wearscar/fusion/fuse.h"
@@ -191,8 +191,8 @@ class Watch {
         files_(a.out),
         start_(std::chrono::steady_clock::now()) {
     if (!a.pattern.empty())
-      joiner_ =
-          std::make_unique<BlockJoiner>(a.folder, a.pattern, a.force_file);
+      joiner_ = std::make_unique<force::BlockJoiner>(
+          a.folder, a.pattern, a.force_file);
   }
 
   // Returns when the writer has been idle, the cycles asked for are done,
@@ -303,7 +303,7 @@ class Watch {
   const fusion::TestSettings& settings_;
   LiveServer* server_;
   force::ForceFollower follower_;
-  std::unique_ptr<BlockJoiner> joiner_;
+  std::unique_ptr<force::BlockJoiner> joiner_;
   std::unique_ptr<fusion::LiveAnalysis> live_;
   LiveFiles files_;
   std::chrono::steady_clock::time_point start_;

@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "wearscar/force/block_joiner.h"
 #include "wearscar/force/follow.h"
 #include "wearscar/force/read_force.h"
 #include "wearscar/fusion/batch.h"
@@ -441,13 +442,20 @@ void DefineHeightMap(py::module_& m) {
 // raised with them.
 class Watcher {
  public:
+  // With a `pattern`, `path` is the folder of a file per block, joined
+  // into `joined` as they grow (force::BlockJoiner).
   Watcher(const std::string& path,
           const Given& given,
           int steady_cycles,
           double steady_band,
-          double max_depth_mm)
+          double max_depth_mm,
+          const std::string& pattern,
+          const std::string& joined)
       : settings_(Settings(given, fusion::kFuseSettings, "watch")),
-        follower_(path, [&] {
+        joiner_(pattern.empty() ? nullptr
+                                : std::make_unique<force::BlockJoiner>(
+                                      path, pattern, joined)),
+        follower_(pattern.empty() ? path : joined, [&] {
           force::FollowOptions o;
           o.read = settings_.read_force;
           return o;
@@ -466,6 +474,11 @@ class Watcher {
     std::vector<fusion::LiveEvent> events;
     {
       py::gil_scoped_release release;
+      const std::string block = joiner_ ? joiner_->Update() : std::string();
+      if (!block.empty()) {
+        const int seen = live_ ? static_cast<int>(live_->cycles().size()) : 0;
+        events.push_back({"block", seen, 0.0, block});
+      }
       const force::FollowedRows got = follower_.Poll(idle);
       if (got.restarted && live_) live_->Restart(got.note, 0.0);
       if (!live_ && follower_.started()) {
@@ -476,7 +489,8 @@ class Watcher {
       }
       if (live_) {
         cycles = live_->Add(got.rows);
-        events = live_->TakeEvents();
+        for (fusion::LiveEvent& x : live_->TakeEvents())
+          events.push_back(std::move(x));
       }
     }
     py::list c, e;
@@ -508,6 +522,7 @@ class Watcher {
 
  private:
   fusion::TestSettings settings_;
+  std::unique_ptr<force::BlockJoiner> joiner_;
   force::ForceFollower follower_;
   fusion::LiveOptions live_options_;
   std::unique_ptr<fusion::LiveAnalysis> live_;
@@ -515,7 +530,13 @@ class Watcher {
 
 void DefineFunctions(py::module_& m) {
   py::class_<Watcher>(m, "_Watcher")
-      .def(py::init<const std::string&, const Given&, int, double, double>())
+      .def(py::init<const std::string&,
+                    const Given&,
+                    int,
+                    double,
+                    double,
+                    const std::string&,
+                    const std::string&>())
       .def("poll", &Watcher::Poll);
   py::class_<TestOutput>(m, "_TestOutput")
       .def_readonly("name", &TestOutput::name)

@@ -389,3 +389,46 @@ def test_watch_yields_each_cycle_of_a_file_being_written(tmp_path):
     assert abs(live - np.nanmean(whole.mu_hat_per_cycle[10:])) < 0.002
     events = [e["kind"] for c in seen for e in c["events"]]
     assert "verdict" in events
+
+
+def test_watch_follows_a_file_per_block_as_one_test(tmp_path):
+    # The software starts a file per block (run_1 .. run_4), each with its
+    # header, its clock continuing; watch(folder, pattern=...) reports the
+    # cycles of the whole test and says each block's turn.
+    test = small("B-RT-R", cycles=40, rate=500)
+    f = test.force
+    rows = np.column_stack([f.time_s, f.x_mm, f.q_n, f.p_n])
+    blocks = tmp_path / "blocks"
+    blocks.mkdir()
+    (blocks / "notes.txt").write_text("not a block\n")
+    per = len(rows) // 4 + 1
+
+    def write():
+        for b in range(4):
+            with open(blocks / "run_{}.csv".format(b + 1), "w") as out:
+                out.write("time_s,x_mm,Q_N,P_N\n")
+                for i, r in enumerate(rows[b * per:(b + 1) * per]):
+                    out.write("{:.6f},{:.6f},{:.5f},{:.5f}\n".format(*r))
+                    if i % 500 == 0:
+                        out.flush()
+                        time.sleep(0.02)
+            time.sleep(0.2)
+
+    writer = threading.Thread(target=write)
+    writer.start()
+    seen = list(wearscar.watch(blocks, pattern="run_*.csv", poll=0.05,
+                               idle=1.5))
+    writer.join()
+    whole = tmp_path / "whole.csv"
+    whole.write_text("".join((blocks / "run_{}.csv".format(b + 1)).read_text()
+                             for b in range(4)))
+    cycles = [c for c in seen if c["cycle"] is not None]
+    assert [c["cycle"] for c in cycles] == list(range(1, len(cycles) + 1))
+    assert len(cycles) == len(wearscar.fuse(whole).mu_hat_per_cycle)
+    notes = [e["message"] for c in seen for e in c["events"]
+             if e["kind"] == "block"]
+    assert notes[0] == "block run_1.csv started"
+    assert "block run_3.csv finished; block run_4.csv started" in notes
+    assert not any(e["kind"] == "restart" for c in seen for e in c["events"])
+    with pytest.raises(wearscar.ForceError, match="is not a folder"):
+        next(wearscar.watch(whole, pattern="run_*.csv"))

@@ -1,8 +1,9 @@
 #pragma once
 // A test the tribometer's software writes as a file per block (`wearscar
-// watch DIR --pattern GLOB`): the files of DIR matching GLOB, in their
-// names' natural order (run_2 before run_10), joined into one file as they
-// grow, which the watch follows as it follows one export. A block is
+// watch DIR --pattern GLOB`, wearscar.watch(DIR, pattern=GLOB)): the files
+// of DIR matching GLOB, in their names' natural order (run_2 before
+// run_10), joined into one file as they grow, which a ForceFollower
+// follows as it follows one export. A block is
 // finished once a later one exists. The joining is the blocks one after
 // the other, each with its header: an export of repeated blocks (as a
 // CETR UMT's steps), whose clock may continue or start again in each,
@@ -12,7 +13,7 @@
 #include <string>
 #include <vector>
 
-namespace wearscar::app {
+namespace wearscar::force {
 
 // Whether `a` comes before `b` in natural order: runs of digits compared as
 // numbers ("run_2" < "run_10"), the rest byte by byte.
@@ -20,7 +21,8 @@ bool NaturalLess(const std::string& a, const std::string& b);
 
 class BlockJoiner {
  public:
-  // Refuses (UsageError) a `folder` that is not one or an empty pattern.
+  // Refuses (ForceError) a `folder` that is not one or an empty pattern;
+  // empties `joined`.
   BlockJoiner(std::string folder, std::string pattern, std::string joined);
 
   // Appends to the joined file what the blocks hold beyond what was taken.
@@ -44,4 +46,4 @@ class BlockJoiner {
   std::uintmax_t offset_ = 0;
 };
 
-}  // namespace wearscar::app
+}  // namespace wearscar::force

@@ -1,4 +1,4 @@
-#include "watch_blocks.h"
+#include "wearscar/force/block_joiner.h"
 
 #include <fmt/format.h>
 #include <fnmatch.h>
@@ -8,9 +8,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "usage_error.h"
+#include "wearscar/force/force_record.h"
 
-namespace wearscar::app {
+namespace wearscar::force {
 namespace {
 
 namespace fs = std::filesystem;
@@ -61,9 +61,10 @@ BlockJoiner::BlockJoiner(std::string folder,
       joined_(std::move(joined)) {
   std::error_code ec;
   if (!fs::is_directory(folder_, ec))
-    throw UsageError("watch --pattern: " + folder_ +
+    throw ForceError(folder_ +
                      " is not a folder (the blocks' folder is expected)");
-  if (pattern_.empty()) throw UsageError("watch --pattern: an empty pattern");
+  if (pattern_.empty())
+    throw ForceError(folder_ + ": an empty pattern for its blocks");
   std::ofstream(joined_, std::ios::binary | std::ios::trunc);
 }
 
@@ -104,7 +105,7 @@ bool BlockJoiner::Append(bool finished) {
   std::ofstream out(joined_, std::ios::binary | std::ios::app);
   out.write(text.data(), static_cast<std::streamsize>(take));
   if (take == text.size() && text.back() != '\n') out << '\n';
-  if (!out) throw UsageError("watch: cannot write " + joined_);
+  if (!out) throw ForceError(joined_ + ": cannot write the blocks' joining");
   offset_ += take;
   return finished && to_end && take == text.size();
 }
@@ -137,4 +138,4 @@ std::string BlockJoiner::Update() {
   }
 }
 
-}  // namespace wearscar::app
+}  // namespace wearscar::force

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <string_view>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -38,25 +39,38 @@ std::string LastLine(const std::string& text) {
   return {};
 }
 
+// Adds to `lines` (last first, while it holds fewer than `k`) the lines of
+// `text` with something on them, from its end, without their line breaks.
+void AddLastLines(std::string_view text,
+                  int k,
+                  std::vector<std::string_view>* lines) {
+  std::size_t end = text.size();
+  while (end > 0 && static_cast<int>(lines->size()) < k) {
+    while (end > 0 && (text[end - 1] == '\n' || text[end - 1] == '\r')) --end;
+    if (end == 0) break;
+    const std::size_t nl = text.rfind('\n', end - 1);
+    const std::size_t from = nl == std::string_view::npos ? 0 : nl + 1;
+    const std::string_view line = text.substr(from, end - from);
+    if (line.find_first_not_of(" \t") != std::string_view::npos)
+      lines->push_back(line);
+    end = from;
+  }
+}
+
 // The last `k` lines of `before` + `text` with something on them, each with
-// its line break, and how many.
+// its line break, and how many: read backwards from the end, so that a
+// look's text is not copied (it was, once per line kept).
 std::pair<std::string, int> LastLines(const std::string& before,
                                       const std::string& text,
                                       int k) {
-  // (The rows are short: the last MiB holds them.)
-  const std::size_t tail = std::size_t{1} << 20;
-  const std::string all =
-      before + (text.size() > tail ? text.substr(text.size() - tail) : text);
-  std::vector<std::string> lines;
-  std::string rest = all;
-  while (static_cast<int>(lines.size()) < k) {
-    const std::string line = LastLine(rest);
-    if (line.empty()) break;
-    lines.push_back(line);
-    rest = rest.substr(0, rest.rfind(line));
-  }
+  std::vector<std::string_view> lines;
+  AddLastLines(text, k, &lines);
+  AddLastLines(before, k, &lines);
   std::string out;
-  for (auto it = lines.rbegin(); it != lines.rend(); ++it) out += *it + "\n";
+  for (auto it = lines.rbegin(); it != lines.rend(); ++it) {
+    out.append(it->data(), it->size());
+    out += '\n';
+  }
   return {out, static_cast<int>(lines.size())};
 }
 

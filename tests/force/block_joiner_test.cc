@@ -36,8 +36,8 @@ TEST(NaturalLess, ComparesRunsOfDigitsAsNumbers) {
 
 TEST(BlockJoiner, JoinsCompleteLinesAndFinishesABlockOnceALaterOneExists) {
   const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path dir =
-      fs::path(::testing::TempDir()) / ("wearscar-" + std::string(test->name()));
+  const fs::path dir = fs::path(::testing::TempDir()) /
+                       ("wearscar-" + std::string(test->name()));
   fs::remove_all(dir);
   fs::create_directories(dir / "blocks");
   const std::string blocks = (dir / "blocks").string();
@@ -52,8 +52,7 @@ TEST(BlockJoiner, JoinsCompleteLinesAndFinishesABlockOnceALaterOneExists) {
   // run_10 comes after run_2: run_2 is finished, its last row taken with a
   // line break.
   Append(blocks + "/run_10.csv", "t,x\n0.3,4\n");
-  EXPECT_EQ(j.Update(),
-            "block run_2.csv finished; block run_10.csv started");
+  EXPECT_EQ(j.Update(), "block run_2.csv finished; block run_10.csv started");
   EXPECT_EQ(Read(joined), "t,x\n0,1\n0.1,2\n0.2,3\nt,x\n0.3,4\n");
   EXPECT_EQ(j.blocks().size(), 2u);
   EXPECT_EQ(j.Update(), "");  // nothing new: nothing taken twice

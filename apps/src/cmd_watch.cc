@@ -445,6 +445,11 @@ void AddWatchCommand(CLI::App& app) {
                   args->live.steady_band,
                   "Steady: both within this (0.005)")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--steady-hold",
+                  args->live.steady_hold_cycles,
+                  "Steady: said once both have held on this many successive "
+                  "cycles (5; at most --steady-cycles)")
+      ->check(CLI::Range(1, 100000));
   cmd->add_option("--max-depth",
                   args->live.max_depth_mm,
                   "Alert when the track's depth from the spring (P/S peak to "

@@ -20,9 +20,12 @@ class LiveCases : public ::testing::TestWithParam<std::string> {};
 // 300 cycles at 1 kHz, noise 1: the true friction per cycle is known, and
 // it settles (by the same rule the watch applies to mu-hat: over 30 cycles
 // its trend and its shift from the 30 before within +-0.005) at cycles
-// 80-133. The watch says "steady" within 10 cycles of that (6 at most
-// measured), and judges the verdict from cycle 20 on: explained on every
-// case but S-RL-R's elastic part. No periodic line is said on any.
+// 80-133. The watch says "steady" (that rule held on 5 successive cycles)
+// 0-10 cycles after that (within 15 here, 30 asked of it) and after the
+// running-in `fuse` finds on the whole test (2 cycles after it on S-RT-T
+// and S-RL-R; without the hold, 2 cycles before), and judges the verdict
+// from cycle 20 on: explained on every case but S-RL-R's elastic part. No
+// periodic line is said on any.
 TEST_P(LiveCases, SteadyNearTheTruthsSettlingAndTheVerdictFromCycle20) {
   samples::SimulationOptions o = samples::PaperCase(GetParam());
   o.cycles = 300;
@@ -68,7 +71,8 @@ TEST_P(LiveCases, SteadyNearTheTruthsSettlingAndTheVerdictFromCycle20) {
       settled,
       steady->cycle,
       running_in);
-  EXPECT_NEAR(steady->cycle, settled, 10);
+  EXPECT_NEAR(steady->cycle, settled, 15);
+  EXPECT_GT(steady->cycle, running_in) << "steady during running-in";
   ASSERT_NE(verdict, nullptr);
   EXPECT_EQ(verdict->cycle, 20);
   const bool elastic = GetParam() == "S-RL-R";

@@ -75,6 +75,8 @@ bool LiveOptions::IsValid(std::string* why) const {
     return fail("the live window must be 3 to 200 cycles");
   if (steady_cycles < 5) return fail("steady needs at least 5 cycles");
   if (!(steady_band > 0)) return fail("the steady band must be > 0");
+  if (steady_hold_cycles < 1 || steady_hold_cycles > steady_cycles)
+    return fail("steady's hold must be 1 to steady_cycles cycles");
   if (verdict_cycles < 10) return fail("the verdict needs at least 10 cycles");
   if (!(max_depth_mm > 0) && !std::isnan(max_depth_mm))
     return fail("the maximum depth must be > 0 mm");
@@ -610,19 +612,22 @@ void LiveAnalysis::UpdateSteady() {
   // widened by half (no alert flickering at the band's edge).
   const double band = steady_ ? 1.5 * live_.steady_band : live_.steady_band;
   const SteadyTest t = JudgeSteady(mu_hat_series_, live_.steady_cycles, band);
+  steady_run_ = t.steady ? steady_run_ + 1 : 0;
+  if (!steady_ && steady_run_ < live_.steady_hold_cycles) return;
   if (t.steady == steady_) return;
   steady_ = t.steady;
   Raise("steady",
         steady_ ? fmt::format("mu-hat steady: {:.4f} over the last {} cycles "
                               "(trend {:+.4f}, shift from the {} before "
-                              "{:+.4f}, both within +-{:.4f}): the test could "
-                              "stop",
+                              "{:+.4f}, both within +-{:.4f}, and so for {} "
+                              "cycles): the test could stop",
                               t.mean,
                               w,
                               t.trend,
                               w,
                               t.shift,
-                              band)
+                              band,
+                              steady_run_)
                 : fmt::format("mu-hat no longer steady: trend {:+.4f}, shift "
                               "{:+.4f} over the last {} cycles (beyond "
                               "+-{:.4f}, 1.5x the band)",

@@ -596,6 +596,16 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
   return AnalyzeTest(record, std::move(prepared), scan_file, options);
 }
 
+ProfileDecision DecideForceProfile(const force::ForceRecord& record,
+                                   const FuseOptions& given) {
+  const FuseOptions options = WithStatedSpring(given, record);
+  const AnalysisOptions ao = ForceOptions(options);
+  const ForceAnalysis segmented = SegmentForce(record, ao);
+  PipelineEvidence evidence(
+      record, segmented, ao, options, std::future<ScanAnalysis>());
+  return DecideProfile(&evidence, options);
+}
+
 FuseOptions WithStatedSpring(const FuseOptions& options,
                              const force::ForceRecord& record) {
   FuseOptions o = options;

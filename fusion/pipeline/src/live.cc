@@ -1,6 +1,7 @@
 #include "wearscar/fusion/live.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -9,6 +10,7 @@
 #include "wearscar/force/cycles.h"
 #include "wearscar/fusion/error.h"
 #include "wearscar/fusion/forward_model.h"
+#include "wearscar/fusion/fuse.h"
 #include "wearscar/fusion/verdict.h"
 
 namespace wearscar::fusion {
@@ -36,32 +38,27 @@ void DropFront(Eigen::VectorXd* v, Eigen::Index n) {
   *v = v->tail(v->size() - n).eval();
 }
 
-// Straight-line slope of values[first, last] against their index.
-double TrendPerCycle(const std::vector<double>& v, size_t first, size_t last) {
-  double sx = 0, sy = 0, sxx = 0, sxy = 0, n = 0;
-  for (size_t i = first; i <= last; ++i) {
-    if (!std::isfinite(v[i])) continue;
-    const double x = static_cast<double>(i);
-    sx += x;
-    sy += v[i];
-    sxx += x * x;
-    sxy += x * v[i];
-    n += 1;
+void AppendRows(force::ForceRecord* to, const force::ForceRecord& rows) {
+  if (to->size() == 0) {
+    *to = rows;
+    return;
   }
-  const double d = n * sxx - sx * sx;
-  return n >= 3 && d > 0 ? (n * sxy - sx * sy) / d : kNaN;
+  if (to->has_depth() != rows.has_depth()) {
+    to->depth_mm.resize(0);  // the depth only where every row has one
+  }
+  AppendVector(&to->time_s, rows.time_s);
+  AppendVector(&to->x_mm, rows.x_mm);
+  AppendVector(&to->tangential_n, rows.tangential_n);
+  AppendVector(&to->normal_n, rows.normal_n);
+  if (to->has_depth()) AppendVector(&to->depth_mm, rows.depth_mm);
 }
 
-double MeanOf(const std::vector<double>& v, size_t first, size_t last) {
-  double s = 0;
-  int n = 0;
-  for (size_t i = first; i <= last; ++i) {
-    if (std::isfinite(v[i])) {
-      s += v[i];
-      ++n;
-    }
-  }
-  return n > 0 ? s / n : kNaN;
+void DropFrontRows(force::ForceRecord* r, Eigen::Index cut) {
+  DropFront(&r->time_s, cut);
+  DropFront(&r->x_mm, cut);
+  DropFront(&r->tangential_n, cut);
+  DropFront(&r->normal_n, cut);
+  DropFront(&r->depth_mm, cut);
 }
 
 }  // namespace
@@ -85,6 +82,8 @@ bool LiveOptions::IsValid(std::string* why) const {
     return fail("the friction map needs 4 to 1000 bins");
   if (max_map_rows < 10) return fail("the friction map needs >= 10 rows");
   if (periodic_every < 1) return fail("periodic_every must be >= 1 cycle");
+  if (decision_cycles < 20 || decision_cycles > 10000)
+    return fail("the profile's decision needs 20 to 10000 cycles");
   return true;
 }
 
@@ -95,18 +94,8 @@ LiveAnalysis::LiveAnalysis(FuseOptions options, LiveOptions live)
 }
 
 void LiveAnalysis::Append(const force::ForceRecord& rows) {
-  if (buffer_.size() == 0) {
-    buffer_ = rows;
-    return;
-  }
-  if (buffer_.has_depth() != rows.has_depth()) {
-    buffer_.depth_mm.resize(0);  // the depth only where every row has one
-  }
-  AppendVector(&buffer_.time_s, rows.time_s);
-  AppendVector(&buffer_.x_mm, rows.x_mm);
-  AppendVector(&buffer_.tangential_n, rows.tangential_n);
-  AppendVector(&buffer_.normal_n, rows.normal_n);
-  if (buffer_.has_depth()) AppendVector(&buffer_.depth_mm, rows.depth_mm);
+  AppendRows(&buffer_, rows);
+  AppendRows(&history_, rows);
 }
 
 // The reversal rule of force::SegmentCycles (a minimum of x counts once x
@@ -179,6 +168,18 @@ void LiveAnalysis::Analyse(std::vector<LiveCycle>* out) {
     force::FindGrossSlip(buffer_, &a.cycles, o.slip);
     if (a.cycles.cycles.empty()) return;
     fresh = NewCycles(a.cycles);
+    // Where k comes from, decided before the cycles that reach the first
+    // verdict are fitted, and taken from a depth channel when a later
+    // decision found it gives the slope P does not.
+    const int reach =
+        static_cast<int>(reported_.size()) +
+        static_cast<int>(std::count(fresh.begin(), fresh.end(), 1));
+    if ((decided_at_ < 0 && reach >= std::min(20, live_.verdict_cycles)) ||
+        (depth_decided_ && !options_.analysis.friction.k_from_depth)) {
+      DecideSlope(true);
+      o.friction.k_from_depth = options_.analysis.friction.k_from_depth;
+      o.friction.depth_sign = options_.analysis.friction.depth_sign;
+    }
     a.cof = NewCyclesCof(a.cycles, fresh);
     o.friction.fit_cycle = fresh;
     o.friction.keep_samples = true;
@@ -223,6 +224,7 @@ void LiveAnalysis::Analyse(std::vector<LiveCycle>* out) {
   }
   SeekPeriodicLines(static_cast<int>(cycles.size()));
   KeepLatestCycles(a);
+  KeepHistory();
   if (first) {
     // The reversal detector starts from the samples kept.
     seeking_min_ = true;
@@ -381,12 +383,20 @@ void LiveAnalysis::KeepLatestCycles(const ForceAnalysis& a) {
   const force::HalfCycle& r = cycles[keep_from - 1].reverse;
   const Eigen::Index cut = r.begin + (r.end - r.begin) / 2;
   if (cut <= 0) return;
-  DropFront(&buffer_.time_s, cut);
-  DropFront(&buffer_.x_mm, cut);
-  DropFront(&buffer_.tangential_n, cut);
-  DropFront(&buffer_.normal_n, cut);
-  DropFront(&buffer_.depth_mm, cut);
+  DropFrontRows(&buffer_, cut);
   scanned_ = std::max<Eigen::Index>(0, scanned_ - cut);
+}
+
+// history_ back to about the latest decision_cycles cycles (and 10 more),
+// dropped once a quarter of it is older (each drop copies what is kept).
+void LiveAnalysis::KeepHistory() {
+  const Eigen::Index n = history_.size();
+  if (n == 0 || !(period_s_ > 0)) return;
+  const double keep_from =
+      history_.time_s[n - 1] - (live_.decision_cycles + 10) * period_s_;
+  const double* t = history_.time_s.data();
+  const Eigen::Index cut = std::lower_bound(t, t + n, keep_from) - t;
+  if (cut > n / 4) DropFrontRows(&history_, cut);
 }
 
 void LiveAnalysis::Report(const force::ForceRecord& window,
@@ -415,9 +425,14 @@ void LiveAnalysis::Report(const force::ForceRecord& window,
       1, static_cast<int>(std::ceil((a.cycles.x_max_mm - x0) / bin)) + 1);
   std::vector<double> sum(bins, 0.0);
   std::vector<int> count(bins, 0);
+  // With k from a depth channel, the depth along the stroke instead.
+  const bool depth =
+      options_.analysis.friction.k_from_depth && window.has_depth();
+  const double spring = options_.analysis.friction.slope.spring_n_per_mm;
+  const Eigen::VectorXd& along = depth ? window.depth_mm : window.normal_n;
   for (const force::HalfCycle* h : {&cycle.forward, &cycle.reverse}) {
     for (Eigen::Index s = h->slip_begin; s < h->slip_end; ++s) {
-      const double x = window.x_mm[s], p = window.normal_n[s];
+      const double x = window.x_mm[s], p = along[s];
       if (!std::isfinite(x) || !std::isfinite(p)) continue;
       const int b = std::clamp(static_cast<int>((x - x0) / bin), 0, bins - 1);
       sum[b] += p;
@@ -430,8 +445,7 @@ void LiveAnalysis::Report(const force::ForceRecord& window,
     lo = std::min(lo, sum[b] / count[b]);
     hi = std::max(hi, sum[b] / count[b]);
   }
-  const double spring = options_.analysis.friction.slope.spring_n_per_mm;
-  c.depth_mm = hi > lo ? (hi - lo) / spring : kNaN;
+  c.depth_mm = hi > lo ? (hi - lo) / (depth ? 1.0 : spring) : kNaN;
   reported_.push_back(c);
   mu_mean_series_.push_back(c.mu_mean);
   mu_hat_series_.push_back(c.mu_hat);
@@ -529,192 +543,6 @@ void LiveAnalysis::AddMapRow(const force::ForceRecord& window,
     merged.last_cycle.push_back(map_.last_cycle.back());
   }
   map_ = std::move(merged);
-}
-
-void LiveAnalysis::Raise(const std::string& kind, std::string message) {
-  LiveEvent e;
-  e.kind = kind;
-  e.cycle = reported_.empty() ? 0 : reported_.back().cycle;
-  e.time_s = reported_.empty() ? 0.0 : reported_.back().end_time_s;
-  e.message = std::move(message);
-  events_.push_back(std::move(e));
-}
-
-std::vector<LiveEvent> LiveAnalysis::TakeEvents() {
-  std::vector<LiveEvent> e;
-  e.swap(events_);
-  return e;
-}
-
-void LiveAnalysis::UpdateRunningIn() {
-  const int n = static_cast<int>(mu_mean_series_.size());
-  const int given = options_.analysis.running_in_cycles;
-  if (given >= 0) {
-    running_in_ = std::min(given, n);
-    if (!running_in_ended_ && n > given) {
-      running_in_ended_ = true;
-      Raise("running-in",
-            fmt::format("running-in ended: {} cycles (given)", given));
-    }
-    return;
-  }
-  // The whole series so far; beyond 2000 cycles every 50th cycle (the
-  // detection's cost grows with the series).
-  if (n > 2000 && n % 50 != 0) return;
-  const RunningIn ri =
-      DetectRunningIn(mu_mean_series_, options_.analysis.running_in_tolerance);
-  // The detection moves by a cycle or two as cycles come: held when it
-  // stays within 3 cycles.
-  if (running_in_seen_ >= 0 && std::abs(ri.cycles - running_in_seen_) <= 3) {
-    ++running_in_same_;
-  } else {
-    running_in_seen_ = ri.cycles;
-    running_in_same_ = 0;
-  }
-  // Said when the detection has held for 10 cycles, with twice its
-  // running-in after it, on a trend that is itself flat (over the steady
-  // window it changes by less than half the steady band: early in a test the
-  // "steady" half is still running in); said again when it moves on by
-  // more than half the steady window.
-  const bool flat =
-      std::abs(ri.steady_slope) * live_.steady_cycles < 0.5 * live_.steady_band;
-  const bool held =
-      flat && running_in_same_ >= 10 && n >= std::max(30, 2 * ri.cycles + 10);
-  if (!held) return;
-  if (!running_in_ended_) {
-    running_in_ended_ = true;
-    running_in_ = ri.cycles;
-    Raise("running-in",
-          fmt::format("running-in ended: {} cycles ({})", ri.cycles, ri.rule));
-  } else if (ri.cycles > running_in_ + live_.steady_cycles / 2) {
-    running_in_ = ri.cycles;
-    Raise(
-        "running-in",
-        fmt::format("running-in revised: {} cycles ({})", ri.cycles, ri.rule));
-  }
-}
-
-SteadyTest JudgeSteady(const std::vector<double>& mu, int cycles, double band) {
-  SteadyTest t;
-  const size_t n = mu.size(), w = static_cast<size_t>(cycles);
-  if (n < 2 * w) return t;
-  t.trend = TrendPerCycle(mu, n - w, n - 1) * static_cast<double>(w - 1);
-  t.shift = MeanOf(mu, n - w, n - 1) - MeanOf(mu, n - 2 * w, n - w - 1);
-  t.mean = MeanOf(mu, n - w, n - 1);
-  t.steady = std::abs(t.trend) < band && std::abs(t.shift) < band;
-  return t;
-}
-
-void LiveAnalysis::UpdateSteady() {
-  const size_t w = static_cast<size_t>(live_.steady_cycles);
-  if (reported_.size() < 2 * w) return;
-  // Once steady, it stays so until the trend or the shift leaves the band
-  // widened by half (no alert flickering at the band's edge).
-  const double band = steady_ ? 1.5 * live_.steady_band : live_.steady_band;
-  const SteadyTest t = JudgeSteady(mu_hat_series_, live_.steady_cycles, band);
-  steady_run_ = t.steady ? steady_run_ + 1 : 0;
-  if (!steady_ && steady_run_ < live_.steady_hold_cycles) return;
-  if (t.steady == steady_) return;
-  steady_ = t.steady;
-  Raise("steady",
-        steady_ ? fmt::format("mu-hat steady: {:.4f} over the last {} cycles "
-                              "(trend {:+.4f}, shift from the {} before "
-                              "{:+.4f}, both within +-{:.4f}, and so for {} "
-                              "cycles): the test could stop",
-                              t.mean,
-                              w,
-                              t.trend,
-                              w,
-                              t.shift,
-                              band,
-                              steady_run_)
-                : fmt::format("mu-hat no longer steady: trend {:+.4f}, shift "
-                              "{:+.4f} over the last {} cycles (beyond "
-                              "+-{:.4f}, 1.5x the band)",
-                              t.trend,
-                              t.shift,
-                              w,
-                              band));
-}
-
-void LiveAnalysis::UpdateVerdict() {
-  // Over the latest cycles, from 20 on: running-in is not waited for (the
-  // wear-scar model holds while the friction settles; its misfit is what
-  // the verdict judges), and the words say when it has not been seen to end.
-  const int n = static_cast<int>(reported_.size());
-  const int k = std::min<int>(n, static_cast<int>(recent_fits_.size()));
-  if (n < std::min(20, live_.verdict_cycles) || k < 10) return;
-  const std::vector<MuFit> fits(recent_fits_.end() - k, recent_fits_.end());
-  std::vector<double> mu, cost, diff, energy, mean;
-  for (int i = 0; i < k; ++i) {
-    const MuFit& f = fits[i];
-    const double e = recent_energy_[recent_energy_.size() - k + i];
-    mu.push_back(f.converged ? f.mu_hat : kNaN);
-    cost.push_back(f.converged ? f.cost : kNaN);
-    diff.push_back(f.converged ? f.mu_hat - e : kNaN);
-    energy.push_back(e);
-    mean.push_back(recent_mean_[recent_mean_.size() - k + i]);
-  }
-  MismatchReport r;
-  r.first_cycle = n - k;
-  r.last_cycle = n - 1;
-  r.mu_force = Summarise(mu, 0);
-  r.cost_force = Summarise(cost, 0);
-  r.mu_energy = Summarise(energy, 0);
-  r.mu_mean = Summarise(mean, 0);
-  r.split_force = SplitCost(fits, 0, k - 1);
-  r.method_difference = MeanInterval(diff, 0, k - 1);
-  const Verdict v = Judge(r, options_.verdict);
-  const int state = v.explained ? 1 : 0;
-  verdict_text_ =
-      fmt::format("over cycles {}-{}{}: {}",
-                  n - k + 1,
-                  n,
-                  running_in_ended_ ? "" : " (running-in not seen to end yet)",
-                  v.Summary());
-  if (state == verdict_state_) return;
-  const bool turned = verdict_state_ >= 0;
-  verdict_state_ = state;
-  Raise(
-      "verdict",
-      fmt::format("{}{}", turned ? "the verdict turned: " : "", verdict_text_));
-}
-
-// Over the window (the drive's rate from its cycles), every periodic_every
-// cycles: a line at a frequency not seen before (0.5 Hz apart) is said.
-void LiveAnalysis::SeekPeriodicLines(int cycles_in_window) {
-  const int n = static_cast<int>(reported_.size());
-  if (n - lines_sought_at_ < live_.periodic_every || !(period_s_ > 0) ||
-      cycles_in_window < 3)
-    return;
-  lines_sought_at_ = n;
-  for (const force::PeriodicLine& line :
-       force::FindPeriodicLines(buffer_, 1.0 / period_s_)) {
-    const bool seen = std::any_of(
-        lines_seen_hz_.begin(), lines_seen_hz_.end(), [&](double f) {
-          return std::abs(f - line.frequency_hz) < 0.5;
-        });
-    if (seen) continue;
-    lines_seen_hz_.push_back(line.frequency_hz);
-    Raise("periodic",
-          fmt::format("a periodic line in the forces over the last {} "
-                      "cycles: {} (interference the drive does not make: "
-                      "`wearscar diagnose` notches it)",
-                      cycles_in_window,
-                      line.Describe()));
-  }
-}
-
-void LiveAnalysis::UpdateDepth(const LiveCycle& c) {
-  if (std::isnan(live_.max_depth_mm) || depth_raised_ ||
-      !(c.depth_mm > live_.max_depth_mm))
-    return;
-  depth_raised_ = true;
-  Raise("depth",
-        fmt::format("the track is {:.4f} mm deep from the spring (P/S peak to "
-                    "valley), beyond the limit {:.4f} mm",
-                    c.depth_mm,
-                    live_.max_depth_mm));
 }
 
 void LiveAnalysis::Restart(const std::string& why, double time_s) {

@@ -34,6 +34,7 @@ force::ForceRecord Rows(const force::ForceRecord& r,
   s.x_mm = r.x_mm.segment(from, n);
   s.tangential_n = r.tangential_n.segment(from, n);
   s.normal_n = r.normal_n.segment(from, n);
+  if (r.has_depth()) s.depth_mm = r.depth_mm.segment(from, n);
   s.metadata = r.metadata;
   return s;
 }
@@ -187,6 +188,60 @@ TEST(LiveAnalysis, APickUpIsSaidAsAPeriodicLine) {
   const size_t at = p->message.rfind(' ', hz - 1) + 1;
   EXPECT_NEAR(std::stod(p->message.substr(at, hz - at)), 50.0, 0.06)
       << p->message;
+}
+
+// A dead weight (P constant): k from P is noise. With a depth channel the
+// watch takes k from it as fuse decides (said before the cycles of the
+// first verdict are fitted) and finds the test explained, mu-hat near the
+// truth; without one it says the verdict cannot be judged, never "not
+// explained" (k from P misses the track's tilt: J 0.5 against a floor of
+// 0.3).
+TEST(LiveAnalysis, ADeadWeightTakesTheDepthOrSaysTheVerdictCannotBeJudged) {
+  for (const bool depth : {true, false}) {
+    SCOPED_TRACE(depth ? "a depth channel" : "no depth channel");
+    samples::SimulationOptions o = samples::PaperCase("B-RT-R");
+    o.cycles = 90;
+    o.sampling_rate_hz = 1000;
+    o.scan_cols = 32;
+    o.scan_rows = 24;
+    o.scan_pitch_mm = 0.25;
+    o.rig = samples::Rig::kDeadWeight;
+    o.depth_channel = depth;
+    const sim::SimulatedTest t = sim::Simulate(o);
+    ASSERT_EQ(t.record.has_depth(), depth);
+    const Followed f = Follow(t.record, 500);
+    const LiveEvent* profile = Find(f.events, "profile");
+    bool not_judged = false;
+    for (const LiveEvent& e : f.events) {
+      if (e.kind != "verdict") continue;
+      EXPECT_EQ(e.message.find("not explained"), std::string::npos)
+          << e.message;
+      not_judged |= e.message.find("not judged") != std::string::npos;
+    }
+    if (!depth) {
+      EXPECT_EQ(profile, nullptr);
+      EXPECT_TRUE(not_judged);
+      continue;
+    }
+    ASSERT_NE(profile, nullptr);
+    EXPECT_LE(profile->cycle, 20);
+    EXPECT_NE(profile->message.find("k from the depth channel"),
+              std::string::npos)
+        << profile->message;
+    double live = 0, truth = 0;
+    int n = 0;
+    for (const LiveCycle& c : f.cycles) {
+      if (c.cycle <= 30 || !std::isfinite(c.mu_hat)) continue;
+      live += c.mu_hat;
+      truth += t.truth.mu_per_cycle[c.cycle - 1];
+      ++n;
+    }
+    ASSERT_GT(n, 40);
+    fmt::print("dead weight, depth channel: live mu-hat {:.4f}, truth {:.4f}\n",
+               live / n,
+               truth / n);
+    EXPECT_NEAR(live / n, truth / n, 0.003);
+  }
 }
 
 }  // namespace

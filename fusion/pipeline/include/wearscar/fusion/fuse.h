@@ -46,6 +46,13 @@ class NoTrackInMap : public scan::NoTrackError {
   std::shared_ptr<const scan::HeightMap> levelled;
 };
 
+// The profile's decision AnalyzeTest makes, on the force record alone (no
+// scan): where k comes from (P/S or the depth channel) and P's slope's
+// significance. LiveAnalysis asks it of the latest cycles. Throws what the
+// segmentation throws (force::ForceError: too few cycles).
+ProfileDecision DecideForceProfile(const force::ForceRecord& record,
+                                   const FuseOptions& options);
+
 // The scan's own stages, which need nothing of the force record: levelling,
 // spikes, track, centreline (`levelled` holds the map; the rest of
 // ScanAnalysis is filled by AnalyzeTest). Throws NoTrackInMap when the map

@@ -39,6 +39,11 @@ struct LiveOptions {
   int steady_hold_cycles = 5;
   // The verdict over the latest cycles after running-in (at least 10).
   int verdict_cycles = 30;
+  // Where k comes from is decided as `fuse` decides it (P/S, or a depth
+  // channel where P's slope is insignificant: a dead weight), on the
+  // latest this many cycles: when the verdict is first judged, and again
+  // before it says "not explained" (at most every 10 cycles).
+  int decision_cycles = 40;
   // The track's depth from the spring (P/S peak to valley along the
   // stroke, in bins of depth_bin_mm) beyond this raises an alert; NaN: no
   // limit.
@@ -167,6 +172,8 @@ class LiveAnalysis {
                  const force::Cycle& cycle,
                  int number);
   void Raise(const std::string& kind, std::string message);
+  void DecideSlope(bool may_switch);
+  void KeepHistory();
 
   FuseOptions options_;
   LiveOptions live_;
@@ -185,7 +192,8 @@ class LiveAnalysis {
   int running_in_ = 0, running_in_seen_ = -1, running_in_same_ = 0;
   bool running_in_ended_ = false, steady_ = false, depth_raised_ = false;
   int steady_run_ = 0;      // successive cycles the steady test has held
-  int verdict_state_ = -1;  // -1 not judged, 0 not explained, 1 explained
+  int verdict_state_ = -1;  // -1 none yet, 0 not explained, 1 explained,
+                            // 2 not judged (k from P is noise)
   std::string verdict_text_;
   LiveLoop loop_;
   LiveMap map_;
@@ -215,6 +223,14 @@ class LiveAnalysis {
   int misfit_bins_ = 0;
   int lines_sought_at_ = 0;  // reported cycles then
   std::vector<double> lines_seen_hz_;
+  // The latest decision_cycles cycles' rows (and a few more), for the
+  // profile's decision; P's slope's significance then, and the name of
+  // k's source in the verdict's words.
+  force::ForceRecord history_;
+  int decided_at_ = -1;         // reported cycles at the last decision
+  bool depth_decided_ = false;  // it took the depth channel
+  double p_significance_ = std::numeric_limits<double>::quiet_NaN();
+  std::string slope_name_ = "P";
 };
 
 }  // namespace wearscar::fusion

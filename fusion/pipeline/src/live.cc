@@ -95,7 +95,7 @@ LiveAnalysis::LiveAnalysis(FuseOptions options, LiveOptions live)
 
 void LiveAnalysis::Append(const force::ForceRecord& rows) {
   AppendRows(&buffer_, rows);
-  AppendRows(&history_, rows);
+  history_.push_back(rows);
 }
 
 // The reversal rule of force::SegmentCycles (a minimum of x counts once x
@@ -387,16 +387,22 @@ void LiveAnalysis::KeepLatestCycles(const ForceAnalysis& a) {
   scanned_ = std::max<Eigen::Index>(0, scanned_ - cut);
 }
 
-// history_ back to about the latest decision_cycles cycles (and 10 more),
-// dropped once a quarter of it is older (each drop copies what is kept).
+force::ForceRecord LiveAnalysis::LatestRows() const {
+  force::ForceRecord rows;
+  for (const force::ForceRecord& piece : history_) AppendRows(&rows, piece);
+  return rows;
+}
+
+// history_ back to about the latest decision_cycles cycles (and 10 more):
+// the pieces that ended before them dropped.
 void LiveAnalysis::KeepHistory() {
-  const Eigen::Index n = history_.size();
-  if (n == 0 || !(period_s_ > 0)) return;
+  if (history_.empty() || !(period_s_ > 0)) return;
+  const force::ForceRecord& last = history_.back();
   const double keep_from =
-      history_.time_s[n - 1] - (live_.decision_cycles + 10) * period_s_;
-  const double* t = history_.time_s.data();
-  const Eigen::Index cut = std::lower_bound(t, t + n, keep_from) - t;
-  if (cut > n / 4) DropFrontRows(&history_, cut);
+      last.time_s[last.size() - 1] - (live_.decision_cycles + 10) * period_s_;
+  while (history_.size() > 1 && history_.front().size() > 0 &&
+         history_.front().time_s[history_.front().size() - 1] < keep_from)
+    history_.pop_front();
 }
 
 void LiveAnalysis::Report(const force::ForceRecord& window,

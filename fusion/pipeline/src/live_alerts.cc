@@ -55,7 +55,7 @@ void LiveAnalysis::DecideSlope(bool may_switch) {
   decided_at_ = static_cast<int>(reported_.size());
   ProfileDecision d;
   try {
-    d = DecideForceProfile(history_, options_);
+    d = DecideForceProfile(LatestRows(), options_);
   } catch (const std::exception&) {
     return;
   }

@@ -174,6 +174,7 @@ class LiveAnalysis {
   void Raise(const std::string& kind, std::string message);
   void DecideSlope(bool may_switch);
   void KeepHistory();
+  force::ForceRecord LatestRows() const;  // history_ joined
 
   FuseOptions options_;
   LiveOptions live_;
@@ -226,7 +227,7 @@ class LiveAnalysis {
   // The latest decision_cycles cycles' rows (and a few more), for the
   // profile's decision; P's slope's significance then, and the name of
   // k's source in the verdict's words.
-  force::ForceRecord history_;
+  std::deque<force::ForceRecord> history_;  // the rows as they came
   int decided_at_ = -1;         // reported cycles at the last decision
   bool depth_decided_ = false;  // it took the depth channel
   double p_significance_ = std::numeric_limits<double>::quiet_NaN();

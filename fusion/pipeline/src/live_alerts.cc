@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 
+#include "wearscar/fusion/error.h"
 #include "wearscar/fusion/fuse.h"
 #include "wearscar/fusion/live.h"
 #include "wearscar/fusion/verdict.h"
@@ -56,7 +57,9 @@ void LiveAnalysis::DecideSlope(bool may_switch) {
   ProfileDecision d;
   try {
     d = DecideForceProfile(LatestRows(), options_);
-  } catch (const std::exception&) {
+  } catch (const force::ForceError&) {
+    return;  // too few cycles yet
+  } catch (const FusionError&) {
     return;
   }
   p_significance_ = d.p_slope_significance;

@@ -14,16 +14,22 @@
 namespace wearscar::fusion {
 namespace {
 
-sim::SimulatedTest RunningTest(const std::string& name,
-                               int cycles,
-                               double rate) {
+samples::SimulationOptions RunningOptions(const std::string& name,
+                                          int cycles,
+                                          double rate) {
   samples::SimulationOptions o = samples::PaperCase(name);
   o.cycles = cycles;
   o.sampling_rate_hz = rate;
   o.scan_cols = 32;
   o.scan_rows = 24;
   o.scan_pitch_mm = 0.25;
-  return sim::Simulate(o);
+  return o;
+}
+
+sim::SimulatedTest RunningTest(const std::string& name,
+                               int cycles,
+                               double rate) {
+  return sim::Simulate(RunningOptions(name, cycles, rate));
 }
 
 force::ForceRecord Rows(const force::ForceRecord& r,
@@ -168,12 +174,7 @@ TEST(LiveAnalysis, ATrackDeeperThanTheLimitRaisesAnAlert) {
 // pick-up) is said as a periodic line once the window has been searched;
 // the same test without it raises none.
 TEST(LiveAnalysis, APickUpIsSaidAsAPeriodicLine) {
-  samples::SimulationOptions o = samples::PaperCase("B-RT-R");
-  o.cycles = 70;
-  o.sampling_rate_hz = 2000;
-  o.scan_cols = 32;
-  o.scan_rows = 24;
-  o.scan_pitch_mm = 0.25;
+  samples::SimulationOptions o = RunningOptions("B-RT-R", 70, 2000);
   const Followed clean = Follow(sim::Simulate(o).record, 900);
   EXPECT_EQ(Find(clean.events, "periodic"), nullptr)
       << Find(clean.events, "periodic")->message;
@@ -199,12 +200,7 @@ TEST(LiveAnalysis, APickUpIsSaidAsAPeriodicLine) {
 TEST(LiveAnalysis, ADeadWeightTakesTheDepthOrSaysTheVerdictCannotBeJudged) {
   for (const bool depth : {true, false}) {
     SCOPED_TRACE(depth ? "a depth channel" : "no depth channel");
-    samples::SimulationOptions o = samples::PaperCase("B-RT-R");
-    o.cycles = 90;
-    o.sampling_rate_hz = 1000;
-    o.scan_cols = 32;
-    o.scan_rows = 24;
-    o.scan_pitch_mm = 0.25;
+    samples::SimulationOptions o = RunningOptions("B-RT-R", 90, 1000);
     o.rig = samples::Rig::kDeadWeight;
     o.depth_channel = depth;
     const sim::SimulatedTest t = sim::Simulate(o);

@@ -448,6 +448,7 @@ class Watcher {
           const Given& given,
           int steady_cycles,
           double steady_band,
+          int steady_hold,
           double max_depth_mm,
           const std::string& pattern,
           const std::string& joined)
@@ -462,6 +463,7 @@ class Watcher {
         }()) {
     live_options_.steady_cycles = steady_cycles;
     live_options_.steady_band = steady_band;
+    live_options_.steady_hold_cycles = steady_hold;
     live_options_.max_depth_mm = max_depth_mm;
     std::string why;
     if (!live_options_.IsValid(&why)) throw OptionError("watch: " + why);
@@ -534,6 +536,7 @@ void DefineFunctions(py::module_& m) {
                     const Given&,
                     int,
                     double,
+                    int,
                     double,
                     const std::string&,
                     const std::string&>())

@@ -432,3 +432,5 @@ def test_watch_follows_a_file_per_block_as_one_test(tmp_path):
     assert not any(e["kind"] == "restart" for c in seen for e in c["events"])
     with pytest.raises(wearscar.ForceError, match="is not a folder"):
         next(wearscar.watch(whole, pattern="run_*.csv"))
+    with pytest.raises(wearscar.OptionError, match="steady's hold"):
+        next(wearscar.watch(whole, steady_cycles=10, steady_hold=20))

@@ -256,15 +256,18 @@ def audit(folder, out=None, jobs=0, name_pattern=None, recursive=True,
 
 
 def watch(path, poll=0.1, idle=60.0, until_cycles=None, steady_cycles=30,
-          steady_band=0.005, max_depth=None, pattern=None, **options):
+          steady_band=0.005, steady_hold=5, max_depth=None, pattern=None,
+          **options):
     """Follows a force file the tribometer's software is still writing, as
     `wearscar watch` does, and yields one dict per cycle as it completes:
     cycle (from 1), end_time_s, mu_hat with k from P over it and the cycles
-    before it (mu_hat_low, mu_hat_high: its 95% interval), mu_mean,
+    before it (or from a depth channel, as `fuse` decides: a "profile"
+    event says so; mu_hat_low, mu_hat_high: its 95% interval), mu_mean,
     mu_energy, J, J_floor, J_excess, depth_mm (the track's depth from the
-    spring), running_in, and "events": the alerts raised with it (dicts of
-    kind, cycle, message: running-in, steady, verdict, depth, restart,
-    block).
+    spring, or the depth channel's), running_in, and "events": the alerts
+    raised with it (dicts of kind, cycle, message: running-in, steady,
+    verdict, depth, restart, profile, block). "Steady" is said once its
+    rule (steady_cycles, steady_band) has held on steady_hold cycles.
     Ends when the file has not grown for `idle` seconds (a last dict with
     cycle None carries the "idle" event and any other not yet given) or
     after `until_cycles` cycles; a caller may stop at any time (break).
@@ -274,15 +277,15 @@ def watch(path, poll=0.1, idle=60.0, until_cycles=None, steady_cycles=30,
     finished and the next started), as `wearscar watch DIR --pattern`
     does. Options are those of `wearscar fuse` (spring=..., columns=...)."""
     with _tempfile.TemporaryDirectory(prefix="wearscar-watch-") as work:
-        yield from _watch(path, poll, idle, until_cycles, steady_cycles,
-                          steady_band, max_depth, pattern, work, options)
+        steady = (int(steady_cycles), float(steady_band), int(steady_hold))
+        yield from _watch(path, poll, idle, until_cycles, steady, max_depth,
+                          pattern, work, options)
 
 
-def _watch(path, poll, idle, until_cycles, steady_cycles, steady_band,
-           max_depth, pattern, work, options):
+def _watch(path, poll, idle, until_cycles, steady, max_depth, pattern, work,
+           options):
     joined = _os.path.join(work, "blocks.joined.csv") if pattern else ""
-    w = _wearscar._Watcher(_existing_or_coming(path), _args(options),
-                           int(steady_cycles), float(steady_band),
+    w = _wearscar._Watcher(_existing_or_coming(path), _args(options), *steady,
                            _math.nan if max_depth is None else float(max_depth),
                            pattern or "", joined)
     taken, grew, count, pending = -1, _time.monotonic(), 0, []

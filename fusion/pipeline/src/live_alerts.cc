@@ -68,7 +68,6 @@ void LiveAnalysis::DecideSlope(bool may_switch) {
   if (!may_switch || !d.FromDepth() || friction.k_from_depth) return;
   friction.k_from_depth = true;
   friction.depth_sign = d.depth_sign;
-  slope_name_ = "the depth";
   recent_fits_.clear();
   recent_energy_.clear();
   recent_mean_.clear();
@@ -215,7 +214,8 @@ void LiveAnalysis::UpdateVerdict() {
   r.mu_mean = Summarise(mean, 0);
   r.split_force = SplitCost(fits, 0, k - 1);
   r.method_difference = MeanInterval(diff, 0, k - 1);
-  r.force_slope_name = slope_name_;
+  r.force_slope_name =
+      options_.analysis.friction.k_from_depth ? "the depth" : "P";
   const Verdict v = Judge(r, options_.verdict);
   if (!v.explained && !options_.analysis.friction.k_from_depth) {
     // P's significance now; a depth channel that gives the slope P does

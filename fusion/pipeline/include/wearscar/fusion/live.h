@@ -225,13 +225,11 @@ class LiveAnalysis {
   int lines_sought_at_ = 0;  // reported cycles then
   std::vector<double> lines_seen_hz_;
   // The latest decision_cycles cycles' rows (and a few more), for the
-  // profile's decision; P's slope's significance then, and the name of
-  // k's source in the verdict's words.
+  // profile's decision, and P's slope's significance then.
   std::deque<force::ForceRecord> history_;  // the rows as they came
   int decided_at_ = -1;         // reported cycles at the last decision
   bool depth_decided_ = false;  // it took the depth channel
   double p_significance_ = std::numeric_limits<double>::quiet_NaN();
-  std::string slope_name_ = "P";
 };
 
 }  // namespace wearscar::fusion

@@ -458,4 +458,45 @@ void FindGrossSlip(const ForceRecord& record,
   }
 }
 
+CycleSet ExtendCycles(const ForceRecord& record,
+                      const CycleSet& known,
+                      const SegmentOptions& segment,
+                      const GrossSlipOptions& slip) {
+  if (known.cycles.empty()) return {};
+  const HalfCycle& r = known.cycles.back().reverse;
+  const Eigen::Index from = r.begin + (r.end - r.begin) / 2;
+  if (from >= record.size()) return {};
+  SegmentOptions tail_options = segment;
+  tail_options.min_cycles = 1;
+  CycleSet added;
+  try {
+    added = SegmentCycles(record.x_mm.tail(record.size() - from),
+                          tail_options,
+                          record.metadata.source);
+  } catch (const ForceError&) {
+    return known;  // none completed since
+  }
+  if (added.cycles.front().forward.begin + from != r.end) return {};
+  for (Cycle& c : added.cycles) {
+    for (HalfCycle* h : {&c.forward, &c.reverse}) {
+      h->begin += from;
+      h->end += from;
+    }
+  }
+  FindGrossSlip(record, &added, slip);
+  CycleSet set = known;
+  for (Cycle& c : added.cycles) {
+    c.index = static_cast<int>(set.cycles.size());
+    set.cycles.push_back(c);
+  }
+  set.stroke_mm = added.stroke_mm;
+  set.leading_samples_dropped = set.cycles.front().forward.begin;
+  set.trailing_samples_dropped = record.size() - set.cycles.back().reverse.end;
+  set.notes.clear();
+  set.x_range_of = nullptr;
+  std::tie(set.x_min_mm, set.x_max_mm) = CyclesXRange(record.x_mm, set);
+  set.x_range_of = record.x_mm.data();
+  return set;
+}
+
 }  // namespace wearscar::force

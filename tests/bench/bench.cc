@@ -22,6 +22,7 @@
 #include "wearscar/fusion/forward_model.h"
 #include "wearscar/fusion/friction_map.h"
 #include "wearscar/fusion/fuse.h"
+#include "wearscar/fusion/live.h"
 #include "wearscar/fusion/track_history.h"
 #include "wearscar/scan/gsf.h"
 #include "wearscar/scan/level.h"
@@ -350,6 +351,33 @@ void BM_Fuse600Cycles(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_Fuse600Cycles)->Unit(benchmark::kMillisecond);
+
+// The live analysis of the same test (`wearscar watch`'s work past reading
+// the rows), handed its rows in blocks of 0.05 s as a follower would: its
+// time over BM_Fuse600Cycles' is the live phase's share of the watch's CPU
+// (docs/watch.md).
+void BM_Live600Cycles(benchmark::State& state) {
+  const force::ForceRecord& r = Test600().record;
+  const Eigen::Index block = 100;  // 0.05 s at 2 kHz
+  std::vector<force::ForceRecord> blocks;
+  for (Eigen::Index at = 0; at < r.size(); at += block) {
+    const Eigen::Index n = std::min(block, r.size() - at);
+    force::ForceRecord b;
+    b.time_s = r.time_s.segment(at, n);
+    b.x_mm = r.x_mm.segment(at, n);
+    b.tangential_n = r.tangential_n.segment(at, n);
+    b.normal_n = r.normal_n.segment(at, n);
+    b.metadata = r.metadata;
+    blocks.push_back(std::move(b));
+  }
+  for (auto _ : state) {
+    fusion::LiveAnalysis live(fusion::FuseOptions{});
+    std::size_t reported = 0;
+    for (const force::ForceRecord& b : blocks) reported += live.Add(b).size();
+    if (reported < 590) state.SkipWithError("cycles were not all reported");
+  }
+}
+BENCHMARK(BM_Live600Cycles)->Unit(benchmark::kMillisecond);
 
 // The friction map and the track's history are parts of BM_Fuse600Cycles:
 // their share of it is their time over its (issue: at most 20%).

@@ -157,6 +157,64 @@ TEST(SegmentCycles, FewerThanTwoCyclesIsAnError) {
   }
 }
 
+// A record growing as a follower reads it: the cycles ExtendCycles adds to
+// those of the samples so far are those of the whole record, boundaries
+// and gross slip to the sample; with no new cycle the known come back, and
+// with cycles from another record none (segment afresh).
+TEST(ExtendCycles, GivesTheWholeRecordsCyclesFromTheNewSamplesAlone) {
+  for (const bool triangle : {false, true}) {
+    const ForceRecord whole =
+        triangle ? JenkinsRecord(Triangle, 1000, 9.3, 0.1, 0.02)
+                 : JenkinsRecord(Sine, 2000, 9.3, 0.12, 0.01);
+    CycleSet expected = SegmentCycles(whole.x_mm);
+    FindGrossSlip(whole, &expected);
+    auto first_rows = [&](Eigen::Index n) {
+      ForceRecord r;
+      r.time_s = whole.time_s.head(n);
+      r.x_mm = whole.x_mm.head(n);
+      r.tangential_n = whole.tangential_n.head(n);
+      r.normal_n = whole.normal_n.head(n);
+      return r;
+    };
+    const Eigen::Index per_cycle = whole.size() / 9;
+    ForceRecord grown = first_rows(3 * per_cycle + per_cycle / 3);
+    CycleSet set = SegmentCycles(grown.x_mm);
+    FindGrossSlip(grown, &set);
+    for (const Eigen::Index n : {4 * per_cycle,
+                                 4 * per_cycle + 7,
+                                 6 * per_cycle + per_cycle / 2,
+                                 whole.size()}) {
+      grown = first_rows(n);
+      set = ExtendCycles(grown, set);
+      ASSERT_FALSE(set.cycles.empty()) << n;
+    }
+    ASSERT_EQ(set.cycles.size(), expected.cycles.size());
+    for (size_t c = 0; c < set.cycles.size(); ++c) {
+      EXPECT_EQ(set.cycles[c].index, static_cast<int>(c));
+      for (int d = 0; d < 2; ++d) {
+        const HalfCycle& a = d ? set.cycles[c].reverse : set.cycles[c].forward;
+        const HalfCycle& b =
+            d ? expected.cycles[c].reverse : expected.cycles[c].forward;
+        EXPECT_EQ(a.begin, b.begin) << "cycle " << c;
+        EXPECT_EQ(a.end, b.end) << "cycle " << c;
+        EXPECT_EQ(a.slip_begin, b.slip_begin) << "cycle " << c;
+        EXPECT_EQ(a.slip_end, b.slip_end) << "cycle " << c;
+      }
+    }
+    EXPECT_EQ(set.x_min_mm, expected.x_min_mm);
+    EXPECT_EQ(set.x_max_mm, expected.x_max_mm);
+    EXPECT_EQ(set.trailing_samples_dropped, expected.trailing_samples_dropped);
+    // Nothing new: the known cycles.
+    EXPECT_EQ(ExtendCycles(whole, set).cycles.size(), set.cycles.size());
+  }
+  // Cycles of another record, ending where this one has no minimum.
+  const ForceRecord other = JenkinsRecord(Sine, 1000, 6.4, 0.1);
+  CycleSet shifted = SegmentCycles(other.x_mm);
+  shifted.cycles.resize(2);
+  shifted.cycles.back().reverse.end += 150;
+  EXPECT_TRUE(ExtendCycles(other, shifted).cycles.empty());
+}
+
 TEST(GrossSlip, WindowStartsWhereStickEnds) {
   // Stick lasts 2 mu P / k_t = 0.048 mm of travel after each reversal.
   const ForceRecord r = JenkinsRecord(Sine, 2000, 4.5, 0.12);

@@ -414,24 +414,32 @@ ForceSlopes::ForceSlopes(const force::ForceRecord& record,
     window = std::max(1, std::min(window, ((n / 3) - 1) | 1));
   // Sparse sampling (tens of samples per stroke): the local fit must reach
   // its neighbouring samples, 2.5 steps of x, with 3 of them enough. At the
-  // paper's 2 kHz the step is 0.01 mm and the span stays as given.
+  // paper's 2 kHz the step is 0.01 mm and the span stays as given. The
+  // steps of up to 21 cycles (those fitted when only some are) are
+  // gathered for their 99th percentile only where it could widen the
+  // span: never when even the largest does not (every densely sampled
+  // test).
+  const std::vector<char>& fit = options.fit_cycle;
   std::vector<double> steps;
-  double largest = 0;
-  for (int c = first; c <= last; c += std::max(1, (last - first) / 20)) {
-    for (const force::HalfCycle* h :
-         {&cycles.cycles[c].forward, &cycles.cycles[c].reverse}) {
-      for (Eigen::Index i = h->slip_begin + 1; i < h->slip_end; ++i) {
-        const double dx = std::abs(record.x_mm[i] - record.x_mm[i - 1]);
-        if (std::isfinite(dx)) {
-          steps.push_back(dx);
+  for (const bool gather : {false, true}) {
+    double largest = 0;
+    for (int c = first; c <= last; c += std::max(1, (last - first) / 20)) {
+      if (!fit.empty() && (c >= static_cast<int>(fit.size()) ||
+                           !fit[static_cast<std::size_t>(c)]))
+        continue;
+      for (const force::HalfCycle* h :
+           {&cycles.cycles[c].forward, &cycles.cycles[c].reverse}) {
+        for (Eigen::Index i = h->slip_begin + 1; i < h->slip_end; ++i) {
+          const double dx = std::abs(record.x_mm[i] - record.x_mm[i - 1]);
+          if (!std::isfinite(dx)) continue;
+          if (gather) steps.push_back(dx);
           largest = std::max(largest, dx);
         }
       }
     }
+    if (!(2.5 * largest > options_.ensemble.span_mm)) break;
   }
-  // The 99th percentile only where it could widen the span: never when
-  // even the largest step does not (every densely sampled test).
-  if (!steps.empty() && 2.5 * largest > options_.ensemble.span_mm) {
+  if (!steps.empty()) {
     const std::size_t k = steps.size() * 99 / 100;
     std::nth_element(steps.begin(), steps.begin() + k, steps.end());
     const double needed = 2.5 * steps[k];

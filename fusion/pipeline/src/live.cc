@@ -27,38 +27,39 @@ constexpr std::size_t kKNoiseKept = 8;
 // shows no reversal in this many samples is no reciprocating test.
 constexpr Eigen::Index kMaxSamplesBeforeCycles = Eigen::Index{4} << 20;
 
-void AppendVector(Eigen::VectorXd* to, const Eigen::VectorXd& more) {
-  const Eigen::Index n = to->size();
-  to->conservativeResize(n + more.size());
-  to->tail(more.size()) = more;
-}
-
-void DropFront(Eigen::VectorXd* v, Eigen::Index n) {
-  if (v->size() == 0) return;
-  *v = v->tail(v->size() - n).eval();
-}
-
-void AppendRows(force::ForceRecord* to, const force::ForceRecord& rows) {
-  if (to->size() == 0) {
-    *to = rows;
-    return;
+// Rows [from, end) of `head` and the pieces after them as one record, in
+// one copy (the depth only where every row has one; the metadata the
+// first rows').
+template <typename Pieces>
+force::ForceRecord JoinRows(const force::ForceRecord& head,
+                            Eigen::Index from,
+                            const Pieces& more) {
+  force::ForceRecord out;
+  const Eigen::Index kept = head.size() - from;
+  Eigen::Index n = kept;
+  bool depth = kept == 0 || head.has_depth();
+  for (const force::ForceRecord& p : more) {
+    n += p.size();
+    depth = depth && p.has_depth();
   }
-  if (to->has_depth() != rows.has_depth()) {
-    to->depth_mm.resize(0);  // the depth only where every row has one
-  }
-  AppendVector(&to->time_s, rows.time_s);
-  AppendVector(&to->x_mm, rows.x_mm);
-  AppendVector(&to->tangential_n, rows.tangential_n);
-  AppendVector(&to->normal_n, rows.normal_n);
-  if (to->has_depth()) AppendVector(&to->depth_mm, rows.depth_mm);
-}
-
-void DropFrontRows(force::ForceRecord* r, Eigen::Index cut) {
-  DropFront(&r->time_s, cut);
-  DropFront(&r->x_mm, cut);
-  DropFront(&r->tangential_n, cut);
-  DropFront(&r->normal_n, cut);
-  DropFront(&r->depth_mm, cut);
+  if (n == 0) return out;
+  out.metadata = kept > 0 ? head.metadata : more.front().metadata;
+  const auto join = [&](Eigen::VectorXd force::ForceRecord::*channel) {
+    Eigen::VectorXd v(n);
+    if (kept > 0) v.head(kept) = (head.*channel).tail(kept);
+    Eigen::Index at = kept;
+    for (const force::ForceRecord& p : more) {
+      v.segment(at, p.size()) = p.*channel;
+      at += p.size();
+    }
+    return v;
+  };
+  out.time_s = join(&force::ForceRecord::time_s);
+  out.x_mm = join(&force::ForceRecord::x_mm);
+  out.tangential_n = join(&force::ForceRecord::tangential_n);
+  out.normal_n = join(&force::ForceRecord::normal_n);
+  if (depth) out.depth_mm = join(&force::ForceRecord::depth_mm);
+  return out;
 }
 
 }  // namespace
@@ -93,19 +94,28 @@ LiveAnalysis::LiveAnalysis(FuseOptions options, LiveOptions live)
   if (!live_.IsValid(&why)) throw FusionError("live options: " + why);
 }
 
-void LiveAnalysis::Append(const force::ForceRecord& rows) {
-  AppendRows(&buffer_, rows);
-  history_.push_back(rows);
+// The rows that came since the last analysis joined to those it kept: one
+// copy per analysis, however many pieces the rows came in.
+void LiveAnalysis::Join() {
+  if (pending_.empty() && cut_ == 0) return;
+  buffer_ = JoinRows(buffer_, cut_, pending_);
+  cut_ = 0;
+  pending_.clear();
+  pending_rows_ = 0;
+}
+
+Eigen::Index LiveAnalysis::samples_held() const {
+  return buffer_.size() - cut_ + pending_rows_;
 }
 
 // The reversal rule of force::SegmentCycles (a minimum of x counts once x
-// has come back from it by the hysteresis), on the samples not yet seen:
-// true when a minimum, a cycle's end, was passed.
-bool LiveAnalysis::CycleCompleted(Eigen::Index from) {
+// has come back from it by the hysteresis), on the n samples of x that
+// follow those seen: true when a minimum, a cycle's end, was passed.
+bool LiveAnalysis::CycleCompleted(const double* x_mm, Eigen::Index n) {
   const double h = options_.analysis.segment.hysteresis_fraction * stroke_mm_;
   bool completed = false;
-  for (Eigen::Index i = from; i < buffer_.size(); ++i) {
-    const double x = buffer_.x_mm[i];
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double x = x_mm[i];
     if (!std::isfinite(x)) continue;
     if (!extreme_set_) {
       extreme_ = x;
@@ -127,18 +137,20 @@ bool LiveAnalysis::CycleCompleted(Eigen::Index from) {
       }
     }
   }
-  scanned_ = buffer_.size();
   return completed;
 }
 
 std::vector<LiveCycle> LiveAnalysis::Add(const force::ForceRecord& rows) {
   std::vector<LiveCycle> out;
   if (rows.size() == 0) return out;
-  Append(rows);
+  history_.push_back(rows);
+  pending_.push_back(rows);
+  pending_rows_ += rows.size();
   if (stroke_mm_ <= 0) {
     since_try_ += rows.size();
-    if (since_try_ < 4096 && buffer_.size() > 4096) return out;
+    if (since_try_ < 4096 && samples_held() > 4096) return out;
     since_try_ = 0;
+    Join();
     Analyse(&out);
     if (stroke_mm_ <= 0 && buffer_.size() > kMaxSamplesBeforeCycles) {
       throw force::ForceError(fmt::format(
@@ -149,7 +161,10 @@ std::vector<LiveCycle> LiveAnalysis::Add(const force::ForceRecord& rows) {
     }
     return out;
   }
-  if (CycleCompleted(scanned_)) Analyse(&out);
+  if (CycleCompleted(rows.x_mm.data(), rows.size())) {
+    Join();
+    Analyse(&out);
+  }
   return out;
 }
 
@@ -163,9 +178,7 @@ void LiveAnalysis::Analyse(std::vector<LiveCycle>* out) {
   try {
     // SegmentForce's segmentation and gross slip over the window; the
     // COFs and fits of the new cycles alone.
-    a.cycles =
-        force::SegmentCycles(buffer_.x_mm, o.segment, buffer_.metadata.source);
-    force::FindGrossSlip(buffer_, &a.cycles, o.slip);
+    a.cycles = SegmentWindow(o);
     if (a.cycles.cycles.empty()) return;
     fresh = NewCycles(a.cycles);
     // Where k comes from, decided before the cycles that reach the first
@@ -229,8 +242,19 @@ void LiveAnalysis::Analyse(std::vector<LiveCycle>* out) {
     // The reversal detector starts from the samples kept.
     seeking_min_ = true;
     extreme_set_ = false;
-    CycleCompleted(0);
+    CycleCompleted(buffer_.x_mm.data() + cut_, buffer_.size() - cut_);
   }
+}
+
+// The window's cycles with their gross slip: those of the last analysis
+// and those completed since (force::ExtendCycles), or the whole window's.
+force::CycleSet LiveAnalysis::SegmentWindow(const AnalysisOptions& o) const {
+  force::CycleSet set =
+      force::ExtendCycles(buffer_, segmented_, o.segment, o.slip);
+  if (!set.cycles.empty()) return set;
+  set = force::SegmentCycles(buffer_.x_mm, o.segment, buffer_.metadata.source);
+  force::FindGrossSlip(buffer_, &set, o.slip);
+  return set;
 }
 
 // The loop of a new cycle against the wear-scar model with its mu-hat.
@@ -376,21 +400,31 @@ void LiveAnalysis::SlideTemplate(int first, int last) {
 // in the middle of a reverse half, so that the first cycle's minimum is
 // found again.
 void LiveAnalysis::KeepLatestCycles(const ForceAnalysis& a) {
-  const auto& cycles = a.cycles.cycles;
+  segmented_ = a.cycles;
+  auto& cycles = segmented_.cycles;
   const int n = static_cast<int>(cycles.size());
   const int keep_from = n - (live_.window_cycles - 1);
   if (keep_from < 1) return;
   const force::HalfCycle& r = cycles[keep_from - 1].reverse;
   const Eigen::Index cut = r.begin + (r.end - r.begin) / 2;
   if (cut <= 0) return;
-  DropFrontRows(&buffer_, cut);
-  scanned_ = std::max<Eigen::Index>(0, scanned_ - cut);
+  cut_ = cut;  // dropped when the next rows are joined
+  // The cycles kept, where the rows now are.
+  cycles.erase(cycles.begin(), cycles.begin() + keep_from);
+  for (force::Cycle& c : cycles) {
+    c.index -= keep_from;
+    for (force::HalfCycle* h : {&c.forward, &c.reverse}) {
+      h->begin -= cut;
+      h->end -= cut;
+      h->slip_begin -= cut;
+      h->slip_end -= cut;
+    }
+  }
+  segmented_.x_range_of = nullptr;
 }
 
 force::ForceRecord LiveAnalysis::LatestRows() const {
-  force::ForceRecord rows;
-  for (const force::ForceRecord& piece : history_) AppendRows(&rows, piece);
-  return rows;
+  return JoinRows(force::ForceRecord{}, 0, history_);
 }
 
 // history_ back to about the latest decision_cycles cycles (and 10 more):

@@ -101,4 +101,18 @@ void FindGrossSlip(const ForceRecord& record,
                    CycleSet* cycles,
                    const GrossSlipOptions& options = {});
 
+// A record that grew since `known` was segmented from it (SegmentCycles
+// and FindGrossSlip, its indices the record's): the known cycles as they
+// were, then those completed since, segmented by SegmentCycles' rule from
+// the middle of the last known cycle's reverse half (its end, a minimum, is
+// found again) with their gross slip: the cycles segmenting the whole
+// record gives, for the samples of a few. The stroke is the new samples'.
+// No cycles when none is known or the new ones do not start where the
+// known end (segment the record afresh then); the known ones alone when
+// none has completed since.
+CycleSet ExtendCycles(const ForceRecord& record,
+                      const CycleSet& known,
+                      const SegmentOptions& segment = {},
+                      const GrossSlipOptions& slip = {});
+
 }  // namespace wearscar::force

@@ -144,16 +144,17 @@ class LiveAnalysis {
   const std::string& verdict() const { return verdict_text_; }
   bool steady() const { return steady_; }
   // Samples held now (bounded by the window).
-  Eigen::Index samples_held() const { return buffer_.size(); }
+  Eigen::Index samples_held() const;
 
  private:
-  void Append(const force::ForceRecord& rows);
-  bool CycleCompleted(Eigen::Index from);
+  void Join();
+  bool CycleCompleted(const double* x_mm, Eigen::Index n);
   void Analyse(std::vector<LiveCycle>* out);
   void Report(const force::ForceRecord& window,
               const ForceAnalysis& a,
               int i,
               std::vector<LiveCycle>* out);
+  force::CycleSet SegmentWindow(const AnalysisOptions& o) const;
   void KeepLatestCycles(const ForceAnalysis& a);
   double WindowPeriod(const force::CycleSet& set) const;
   std::vector<char> NewCycles(const force::CycleSet& set) const;
@@ -179,7 +180,12 @@ class LiveAnalysis {
   FuseOptions options_;
   LiveOptions live_;
   force::ForceRecord buffer_;
-  Eigen::Index scanned_ = 0;  // samples the reversal detector has seen
+  // The rows from cut_ on are the window; the last analysis' cycles in
+  // them (where the rows will be once cut); the rows come since.
+  Eigen::Index cut_ = 0;
+  force::CycleSet segmented_;
+  std::vector<force::ForceRecord> pending_;
+  Eigen::Index pending_rows_ = 0;
   Eigen::Index since_try_ = 0;
   double stroke_mm_ = 0.0;
   bool seeking_min_ = true;

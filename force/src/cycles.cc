@@ -462,20 +462,22 @@ CycleSet ExtendCycles(const ForceRecord& record,
                       const CycleSet& known,
                       const SegmentOptions& segment,
                       const GrossSlipOptions& slip) {
-  if (known.cycles.empty()) return {};
+  if (known.cycles.empty() || !(known.stroke_mm > 0)) return {};
   const HalfCycle& r = known.cycles.back().reverse;
   const Eigen::Index from = r.begin + (r.end - r.begin) / 2;
   if (from >= record.size()) return {};
-  SegmentOptions tail_options = segment;
-  tail_options.min_cycles = 1;
+  // The reversal rule with the known cycles' stroke: the new samples'
+  // order statistics are not needed.
+  std::string why;
+  if (!segment.IsValid(&why))
+    throw ForceError("invalid segment options: " + why);
   CycleSet added;
-  try {
-    added = SegmentCycles(record.x_mm.tail(record.size() - from),
-                          tail_options,
-                          record.metadata.source);
-  } catch (const ForceError&) {
-    return known;  // none completed since
-  }
+  CyclesFromReversals(
+      FindReversals(record.x_mm.tail(record.size() - from),
+                    segment.hysteresis_fraction * known.stroke_mm),
+      record.size() - from,
+      &added);
+  if (added.cycles.empty()) return known;  // none completed since
   if (added.cycles.front().forward.begin + from != r.end) return {};
   for (Cycle& c : added.cycles) {
     for (HalfCycle* h : {&c.forward, &c.reverse}) {
@@ -489,7 +491,6 @@ CycleSet ExtendCycles(const ForceRecord& record,
     c.index = static_cast<int>(set.cycles.size());
     set.cycles.push_back(c);
   }
-  set.stroke_mm = added.stroke_mm;
   set.leading_samples_dropped = set.cycles.front().forward.begin;
   set.trailing_samples_dropped = record.size() - set.cycles.back().reverse.end;
   set.notes.clear();

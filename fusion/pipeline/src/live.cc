@@ -20,7 +20,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // The k noise's variance estimated every this many reported cycles; the
 // mean of this many latest estimates is used.
-constexpr int kKNoiseEvery = 5;
+constexpr int kKNoiseEvery = 10;
 constexpr std::size_t kKNoiseKept = 8;
 
 // Samples held before the first cycles were found, at most: a record that

@@ -106,7 +106,8 @@ void FindGrossSlip(const ForceRecord& record,
 // were, then those completed since, segmented by SegmentCycles' rule from
 // the middle of the last known cycle's reverse half (its end, a minimum, is
 // found again) with their gross slip: the cycles segmenting the whole
-// record gives, for the samples of a few. The stroke is the new samples'.
+// record gives, for the samples of a few. The hysteresis is that of the
+// known cycles' stroke.
 // No cycles when none is known or the new ones do not start where the
 // known end (segment the record afresh then); the known ones alone when
 // none has completed since.

@@ -37,13 +37,15 @@ function setup(c){const r=window.devicePixelRatio||1;const w=c.clientWidth,h=c.c
  g.clearRect(0,0,w,h);g.font='12px sans-serif';return [g,w,h];}
 function range(vs){let lo=Infinity,hi=-Infinity;for(const v of vs){if(v==null)continue;if(v<lo)lo=v;if(v>hi)hi=v;}
  if(!(hi>lo)){lo=(isFinite(lo)?lo:0)-1;hi=lo+2;}const p=0.05*(hi-lo);return [lo-p,hi+p];}
-function tick(v,r){const d=Math.abs(r[1]-r[0]);if(d>=20)return Math.round(v).toString();
- const p=Math.max(0,Math.ceil(-Math.log10(d))+2);return v.toFixed(p);}
+function ticks(r){const raw=(r[1]-r[0])/4,m=Math.pow(10,Math.floor(Math.log10(raw))),f=raw/m;
+ const step=(f<1.5?1:f<3.5?2:f<7.5?5:10)*m,p=Math.max(0,-Math.floor(Math.log10(step)+1e-9)),out=[];
+ for(let v=Math.ceil(r[0]/step)*step;v<=r[1]+1e-9*step;v+=step)out.push([v,(Math.abs(v)<step/2?0:v).toFixed(p)]);return out;}
 function axes(g,w,h,xr,yr,xl,yl){const L=56,B=28;g.strokeStyle='#888';g.beginPath();g.moveTo(L,4);g.lineTo(L,h-B);g.lineTo(w-4,h-B);g.stroke();
- g.fillStyle='#333';for(let i=0;i<=4;i++){const y=yr[0]+(yr[1]-yr[0])*i/4;const py=h-B-(h-B-4)*i/4;g.fillText(tick(y,yr),2,py+4);
- const x=xr[0]+(xr[1]-xr[0])*i/4;g.fillText(tick(x,xr),L+(w-L-4)*i/4-10,h-B+14);}
- g.fillText(xl,w/2,h-2);g.save();g.translate(10,h/2);g.rotate(-Math.PI/2);g.restore();g.fillText(yl,L+6,14);
- return [x=>L+(x-xr[0])/(xr[1]-xr[0])*(w-L-4),y=>h-B-(y-yr[0])/(yr[1]-yr[0])*(h-B-4)];}
+ const X=x=>L+(x-xr[0])/(xr[1]-xr[0])*(w-L-4),Y=y=>h-B-(y-yr[0])/(yr[1]-yr[0])*(h-B-4);
+ g.fillStyle='#333';for(const [v,t] of ticks(yr)){const py=Y(v);g.fillText(t,L-6-g.measureText(t).width,py+4);g.fillRect(L-3,py,3,1);}
+ for(const [v,t] of ticks(xr)){const px=X(v),tw=g.measureText(t).width;g.fillText(t,Math.min(Math.max(px-tw/2,L),w-4-tw),h-B+14);g.fillRect(px,h-B,1,3);}
+ g.fillText(xl,w/2-g.measureText(xl).width/2,h-2);g.fillText(yl,L+6,14);
+ return [X,Y];}
 function line(g,X,Y,xs,ys,color){g.strokeStyle=color;g.beginPath();let on=false;for(let i=0;i<xs.length;i++){
  if(ys[i]==null||xs[i]==null){on=false;continue;}const px=X(xs[i]),py=Y(ys[i]);if(on)g.lineTo(px,py);else g.moveTo(px,py);on=true;}g.stroke();}
 function drawMu(){const [g,w,h]=setup(document.getElementById('mu'));const c=S.cycles;if(!c.length)return;

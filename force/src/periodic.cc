@@ -38,7 +38,11 @@ Eigen::Index SmoothLength(Eigen::Index n) {
 std::array<std::vector<double>, 2> AmplitudeSpectra(const ForceRecord& record,
                                                     Eigen::Index length) {
   const Eigen::Index n = record.size();
-  const Eigen::Index windows = (n + length - 1) / length;
+  // A last window that would add under 5% of the record's samples is left
+  // out (they are nearly all in the one before): a record just longer than
+  // a window, as a live window of a few cycles is, takes one, not two.
+  Eigen::Index windows = (n + length - 1) / length;
+  if (windows > 1 && n - (windows - 1) * length < n / 20) --windows;
   std::vector<double> hann(length);
   for (Eigen::Index i = 0; i < length; ++i)
     hann[i] = 0.5 - 0.5 * std::cos(2 * kPi * i / length);

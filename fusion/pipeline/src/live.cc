@@ -147,8 +147,12 @@ std::vector<LiveCycle> LiveAnalysis::Add(const force::ForceRecord& rows) {
   pending_.push_back(rows);
   pending_rows_ += rows.size();
   if (stroke_mm_ <= 0) {
+    // Before the first cycles, tried again once the rows held grew by a
+    // quarter (or by 4096): the tries' cost stays a few times the rows',
+    // and a look's rows are never left untried for the next look's.
     since_try_ += rows.size();
-    if (since_try_ < 4096 && samples_held() > 4096) return out;
+    if (since_try_ < std::min<Eigen::Index>(4096, samples_held() / 4))
+      return out;
     since_try_ = 0;
     Join();
     Analyse(&out);

@@ -222,9 +222,14 @@ class Watch {
     if (interrupted) Say("interrupted: the products of what was written\n");
     struct rusage usage {};
     getrusage(RUSAGE_SELF, &usage);
-    Say("followed {} cycles in {:.1f} s; peak memory {} MiB\n",
+    const auto seconds = [](const timeval& t) {
+      return static_cast<double>(t.tv_sec) + 1e-6 * t.tv_usec;
+    };
+    Say("followed {} cycles in {:.1f} s, {:.2f} s of CPU; peak memory {} "
+        "MiB\n",
         live_ ? live_->cycles().size() : 0,
         Wall(),
+        seconds(usage.ru_utime) + seconds(usage.ru_stime),
         usage.ru_maxrss / 1024);
     while (waitpid(-1, nullptr, 0) > 0) {
     }

@@ -115,6 +115,7 @@ void ForceFollower::Reset() {
   last_rows_.clear();
   last_row_count_ = 0;
   last_time_s_ = 0.0;
+  plan_.reset();
 }
 
 // Opens the file when it is not open, and starts again when it was
@@ -238,7 +239,7 @@ void ForceFollower::ReadMoreRows(const std::string& text, FollowedRows* out) {
   // them, and the last one puts a clock that restarts, or one rebuilt from
   // the rate, on the rows' own.
   ForceRecord record = internal::ReadAppendedRows(
-      header_ + last_rows_ + text, name, options_.read, first_);
+      header_ + last_rows_ + text, name, options_.read, first_, &plan_);
   const Eigen::Index old = last_row_count_;
   if (record.size() <= old) return;  // a footer
   const double shift = old > 0 ? last_time_s_ - record.time_s[old - 1] : 0.0;
@@ -256,10 +257,12 @@ void ForceFollower::ReadMoreRows(const std::string& text, FollowedRows* out) {
 // line but no row. Counting it made the next look drop its first row and
 // shift its clock by a sample.
 int ForceFollower::OverlapRows() const {
+  // The kept plan, never one found on these few lines.
+  std::shared_ptr<internal::ReadPlan> plan = plan_;
   try {
     return static_cast<int>(
         internal::ReadAppendedRows(
-            header_ + last_rows_, path_, options_.read, first_)
+            header_ + last_rows_, path_, options_.read, first_, &plan)
             .size());
   } catch (const ForceError&) {
     return 0;  // header lines alone

@@ -173,7 +173,10 @@ void MakeCompressionPositive(ForceRecord* record) {
 }
 
 // Everything of the head that the rows are read with.
-struct Plan {
+}  // namespace
+
+namespace internal {
+struct ReadPlan {
   std::vector<std::string> head;
   bool more = true;  // lines after the head
   Layout layout;
@@ -181,12 +184,35 @@ struct Plan {
   Clock clock;
   Scale scale[kChannels];
 };
+}  // namespace internal
 
-Plan PlanRead(LineSource& source,
-              const std::string& name,
-              const ReadForceOptions& options,
-              ForceMetadata* meta) {
-  Plan p;
+namespace {
+
+using internal::ReadPlan;
+
+// What the head says: the layout, the columns, the clock, the units. With
+// `known` (rows appended to a file whose head was planned), its plan on
+// this head's lines.
+ReadPlan PlanRead(LineSource& source,
+                  const std::string& name,
+                  const ReadForceOptions& options,
+                  ForceMetadata* meta,
+                  const ReadPlan* known = nullptr) {
+  ReadPlan p;
+  if (known != nullptr) {
+    p.layout = known->layout;
+    p.column = known->column;
+    p.clock = known->clock;
+    std::copy(
+        std::begin(known->scale), std::end(known->scale), std::begin(p.scale));
+    // The header's lines alone: the rows are read as they come.
+    p.head =
+        ReadHead(source, name, std::max(1, p.layout.first_data_line), &p.more);
+    meta->source = name;
+    meta->layout = p.layout.kind->name;
+    meta->stated = p.layout.stated;
+    return p;
+  }
   p.head = ReadHead(source, name, options.head_lines, &p.more);
   p.layout = DetectLayout(p.head, name, options);
   p.column = ChooseColumns(p.layout, options, name);
@@ -251,21 +277,35 @@ void TakeDepth(const std::string& column,
 // `lines`: the file's line count when the caller counted them (0: not);
 // `file_bytes` its size when known; `split`: `source` itself, to be read
 // on two threads (ReadRowsOnTwoThreads).
-// `continues`: the record these rows continue (ReadAppendedRows): the
-// checks of a whole record are its, and P's sign follows its.
+// Rows appended to a record read before (ReadAppendedRows): `first`, that
+// record's (the checks of a whole record are its, and P's sign follows
+// its); `plan`, the head's plan when kept from the last rows appended, or
+// where to keep it.
+struct Continues {
+  const ForceMetadata* first = nullptr;
+  internal::KeptPlan* plan = nullptr;
+};
+
+// `continues`: the record these rows continue (ReadAppendedRows).
 ForceRecord Read(LineSource& source,
                  const std::string& name,
                  std::size_t lines,
                  const ReadForceOptions& options,
                  std::uintmax_t file_bytes = 0,
                  FileLines* split = nullptr,
-                 const ForceMetadata* continues = nullptr) {
+                 Continues continues = {}) {
   std::string why;
   if (!options.IsValid(&why))
     throw ForceError(fmt::format("{}: invalid read options: {}", name, why));
   ForceRecord record;
   ForceMetadata& meta = record.metadata;
-  const Plan p = PlanRead(source, name, options, &meta);
+  internal::KeptPlan* kept = continues.plan;
+  const ReadPlan p = PlanRead(
+      source, name, options, &meta, kept != nullptr ? kept->get() : nullptr);
+  if (kept != nullptr && !*kept) {
+    *kept = std::make_shared<ReadPlan>(p);
+    (*kept)->head.clear();
+  }
   const Layout& layout = p.layout;
   meta.first_data_line = layout.first_data_line;
   RowReader rows(
@@ -313,8 +353,8 @@ ForceRecord Read(LineSource& source,
   if (p.column[kDepth] >= 0)
     TakeDepth(layout.names[p.column[kDepth]], &data[kDepth], &record);
   SetTime(&record, &data[kTime], layout, options, name);
-  if (continues != nullptr) {
-    if (continues->normal_sign_flipped) {
+  if (continues.first != nullptr) {
+    if (continues.first->normal_sign_flipped) {
       record.normal_n = -record.normal_n;
       meta.normal_sign_flipped = true;
     }
@@ -517,7 +557,8 @@ namespace internal {
 ForceRecord ReadAppendedRows(const std::string& text,
                              const std::string& name,
                              const ReadForceOptions& options,
-                             const ForceMetadata& first) {
+                             const ForceMetadata& first,
+                             KeptPlan* plan) {
   ReadForceOptions pinned = options;
   pinned.on_bytes = nullptr;
   pinned.threads = 1;
@@ -535,7 +576,7 @@ ForceRecord ReadAppendedRows(const std::string& text,
   MemoryLines source(text, name, options.max_line_bytes);
   const std::size_t lines =
       internal::CountLineBreaks(text.data(), text.data() + text.size()) + 1;
-  return Read(source, name, lines, pinned, 0, nullptr, &first);
+  return Read(source, name, lines, pinned, 0, nullptr, {&first, plan});
 }
 
 }  // namespace internal

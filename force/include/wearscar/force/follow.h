@@ -13,6 +13,9 @@
 #include "wearscar/force/read_force.h"
 
 namespace wearscar::force {
+namespace internal {
+struct ReadPlan;  // what the header decided (appended_rows.h)
+}
 
 struct FollowOptions {
   ReadForceOptions read;
@@ -99,6 +102,9 @@ class ForceFollower {
   int last_row_count_ = 0;  // the data rows among them (OverlapRows)
   int OverlapRows() const;
   double last_time_s_ = 0.0;
+  // The layout, columns, clock and units, found on the first rows
+  // appended and kept for the next.
+  std::shared_ptr<internal::ReadPlan> plan_;
 };
 
 }  // namespace wearscar::force

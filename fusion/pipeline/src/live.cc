@@ -229,16 +229,19 @@ void LiveAnalysis::Analyse(std::vector<LiveCycle>* out) {
   const bool first = stroke_mm_ <= 0;
   stroke_mm_ = a.cycles.stroke_mm;
   period_s_ = WindowPeriod(a.cycles);
+  int shown = -1;  // the loop shown: the latest new cycle's that converged
   for (size_t i = 0; i < cycles.size(); ++i) {
     if (!fresh[i]) continue;
     MuFit& f = a.fit_force[i];
     if (f.converged) {
       SplitNoise(samples[i], o.friction, &f);
-      ShowLoop(samples[i], f.mu_hat, static_cast<int>(reported_.size()) + 1);
+      shown = static_cast<int>(i);
+      loop_.cycle = static_cast<int>(reported_.size()) + 1;
     }
     Report(buffer_, a, static_cast<int>(i), out);
     last_end_s_ = buffer_.time_s[cycles[i].reverse.end - 1];
   }
+  if (shown >= 0) ShowLoop(samples[shown], a.fit_force[shown].mu_hat);
   SeekPeriodicLines(static_cast<int>(cycles.size()));
   KeepLatestCycles(a);
   KeepHistory();
@@ -262,8 +265,7 @@ force::CycleSet LiveAnalysis::SegmentWindow(const AnalysisOptions& o) const {
 }
 
 // The loop of a new cycle against the wear-scar model with its mu-hat.
-void LiveAnalysis::ShowLoop(const CycleSamples& s, double mu_hat, int cycle) {
-  loop_.cycle = cycle;
+void LiveAnalysis::ShowLoop(const CycleSamples& s, double mu_hat) {
   loop_.x_mm.clear();
   loop_.q_n.clear();
   loop_.q_model_n.clear();

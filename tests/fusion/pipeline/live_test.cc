@@ -126,6 +126,27 @@ TEST(LiveAnalysis, EachCycleOnceWithTheWholeTestsNumbers) {
   EXPECT_LT(f.most_samples_held, (LiveOptions{}.window_cycles + 3) * 1000);
 }
 
+// The loop shown is the latest cycle's, also when a look completes several
+// (the page draws the newest loop, not the first of a look's).
+TEST(LiveAnalysis, TheLoopShownIsTheLatestReportedCycles) {
+  const sim::SimulatedTest t = RunningTest("B-RT-R", 30, 1000);
+  LiveAnalysis a(FuseOptions{});
+  int looks_with_several = 0;
+  for (Eigen::Index at = 0; at < t.record.size(); at += 4000) {
+    const Eigen::Index n = std::min<Eigen::Index>(4000, t.record.size() - at);
+    const std::vector<LiveCycle> got = a.Add(Rows(t.record, at, n));
+    if (got.empty()) continue;
+    looks_with_several += got.size() > 1;
+    ASSERT_TRUE(std::isfinite(got.back().mu_hat));
+    EXPECT_EQ(a.loop().cycle, got.back().cycle);
+    ASSERT_FALSE(a.loop().x_mm.empty());
+    // Its samples end where the cycle's reverse half ends: near the stroke's
+    // start, x falling.
+    EXPECT_EQ(a.loop().direction.back(), -1);
+  }
+  EXPECT_GT(looks_with_several, 3);
+}
+
 // The first cycles are reported by the look whose rows complete the second
 // (the first analysis needs two): looks of 1.95 s of a 2 kHz test, as a
 // watch at 20x real time takes them, left them a look longer.

@@ -163,7 +163,7 @@ class LiveAnalysis {
   void SplitNoise(const CycleSamples& s,
                   const FrictionFitOptions& friction,
                   MuFit* f);
-  void ShowLoop(const CycleSamples& s, double mu_hat, int cycle);
+  void ShowLoop(const CycleSamples& s, double mu_hat);  // into loop_
   void UpdateRunningIn();
   void UpdateSteady();
   void UpdateVerdict();

@@ -202,6 +202,8 @@ void MeasureExtent(const HeightMap& map,
   for (int r = 0; r < labels.rows; ++r) {
     for (int c = 0; c < labels.cols; ++c) {
       if (labels.at<int>(r, c) != k.label) continue;
+      t->reaches_edge = t->reaches_edge || r == 0 || c == 0 ||
+                        r == labels.rows - 1 || c == labels.cols - 1;
       const Eigen::Vector2d d =
           Eigen::Vector2d(c * map.dx_mm, r * map.dy_mm) - k.mean;
       along.push_back(d.dot(a));

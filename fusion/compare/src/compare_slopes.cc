@@ -114,6 +114,13 @@ void CompareScanSide(const ForceAnalysis& force,
   r->waviness_correlation = scan.alignment.waviness_correlation;
   r->waviness_to_noise = scan.alignment.waviness_to_noise;
   r->amplitude_ratio = scan.alignment.amplitude_ratio;
+  const scan::Track& t = scan.track;
+  if (!t.manual && !t.reaches_edge && !t.low_confidence) {
+    r->track_length_mm = t.length_mm;
+    r->track_width_mm = t.width_mm;
+  }
+  r->scan_pixel_mm = std::max(scan.levelled.dx_mm, scan.levelled.dy_mm);
+  r->stroke_mm = force.cycles.stroke_mm;
   r->amplitude_ratio_low = scan.alignment.amplitude_ratio_low;
   r->amplitude_ratio_high = scan.alignment.amplitude_ratio_high;
   const auto& fs = scan.fit_scan;

@@ -29,7 +29,7 @@ bool VerdictOptions::IsValid(std::string* why) const {
   if (!(max_cost > 0) || !(max_cost_excess > 0) || !(max_amplitude_ratio > 0) ||
       !(min_correlation > -1) || !(max_method_difference > 0) ||
       !(min_waviness_to_noise > 0) || !(min_waviness_correlation > -1) ||
-      !(max_waviness_misfit > 0)) {
+      !(max_waviness_misfit > 0) || !(track_length_tolerance >= 0)) {
     if (why) *why = "verdict thresholds must be positive (correlation > -1)";
     return false;
   }
@@ -46,6 +46,16 @@ bool VerdictOptions::ScanIsForeign(const MismatchReport& r) const {
   return IdentityCheckable(r) &&
          (r.waviness_correlation < min_waviness_correlation ||
           r.WavinessMisfit() > max_waviness_misfit);
+}
+
+bool VerdictOptions::TrackLengthDiffers(const MismatchReport& r) const {
+  if (!(r.has_scan && r.track_length_mm > 0 && r.stroke_mm > 0 &&
+        r.track_width_mm >= 0))
+    return false;
+  const double slack =
+      track_length_tolerance * r.stroke_mm + 2 * r.scan_pixel_mm;
+  return r.track_length_mm < r.stroke_mm - slack ||
+         r.track_length_mm > r.stroke_mm + r.track_width_mm + slack;
 }
 
 bool DataWarningOptions::IsValid(std::string* why) const {
@@ -106,6 +116,19 @@ std::string ForeignWaviness(const MismatchReport& r, const VerdictOptions& o) {
       r.correlation);
 }
 
+std::string TrackLengthText(const MismatchReport& r, const VerdictOptions& o) {
+  return fmt::format(
+      "its worn track is {:.2f} mm long, while this test's stroke of {:.2f} "
+      "mm wears one of {:.2f}-{:.2f} mm (the stroke and up to the track's "
+      "width beyond it; tolerance {:g}% of the stroke): another test's "
+      "track, or a wrong pixel size or x unit",
+      r.track_length_mm,
+      r.stroke_mm,
+      r.stroke_mm,
+      r.stroke_mm + r.track_width_mm,
+      100 * o.track_length_tolerance);
+}
+
 // The scan's criteria: the amplitude ratio and the profiles' correlation.
 std::vector<std::string> ScanReasons(const MismatchReport& r,
                                      const VerdictOptions& o) {
@@ -127,6 +150,9 @@ std::vector<std::string> ScanReasons(const MismatchReport& r,
         IntervalText(r.amplitude_ratio_low, r.amplitude_ratio_high, "{:.2f}"),
         o.max_amplitude_ratio));
   }
+  if (o.TrackLengthDiffers(r))
+    reasons.push_back("the scan may be another test's: " +
+                      TrackLengthText(r, o));
   if (o.ScanIsForeign(r)) reasons.push_back(ForeignWaviness(r, o));
   if (r.correlation_noise_corrected < o.min_correlation) {
     reasons.push_back(fmt::format(
@@ -137,6 +163,33 @@ std::vector<std::string> ScanReasons(const MismatchReport& r,
         o.min_correlation));
   }
   return reasons;
+}
+
+// Why the scan may not be this test's, while the force side alone passes:
+// the track's length first (another stroke), then the waviness (another
+// specimen), then the profiles' correlation.
+std::string ScanDoubt(const MismatchReport& r,
+                      const VerdictOptions& o,
+                      bool foreign,
+                      bool other_length) {
+  const char* judged =
+      "; the verdict is judged on the force side (check that the scan is "
+      "this specimen's)";
+  if (other_length)
+    return "the scan may belong to another test: " + TrackLengthText(r, o) +
+           "; the verdict is judged on the force side (check that the scan "
+           "is this test's)";
+  if (foreign && r.correlation_noise_corrected >= o.min_correlation)
+    return "the scan may belong to another specimen: " + ForeignWaviness(r, o) +
+           judged;
+  return fmt::format(
+      "the scan may belong to another test: its profile correlates with P/S "
+      "at r = {:.2f} ({:.2f} corrected) < {:.2f} while the force side alone "
+      "is explained{}",
+      r.correlation,
+      r.correlation_noise_corrected,
+      o.min_correlation,
+      judged);
 }
 
 // mu-hat against the energy method: flagged when the whole interval of
@@ -223,29 +276,15 @@ Verdict Judge(const MismatchReport& r, const VerdictOptions& o) {
   // about the scan (scan_doubt), not a verdict on the physics.
   const std::vector<std::string> scan_reasons = ScanReasons(r, o);
   const bool foreign = o.ScanIsForeign(r);
+  const bool other_length = o.TrackLengthDiffers(r);
   const bool profiles_differ =
-      r.has_scan &&
-      (r.correlation_noise_corrected < o.min_correlation || foreign);
+      r.has_scan && (r.correlation_noise_corrected < o.min_correlation ||
+                     foreign || other_length);
   const std::vector<std::string> method_reasons =
       MethodReasons(r, o, from_force, source.c_str());
   const bool force_side_passes = v.reasons.empty() && method_reasons.empty();
   if (profiles_differ && from_force && force_side_passes) {
-    v.scan_doubt =
-        foreign && r.correlation_noise_corrected >= o.min_correlation
-            ? fmt::format(
-                  "the scan may belong to another specimen: {}; the verdict "
-                  "is judged on the force side (check that the scan is this "
-                  "specimen's)",
-                  ForeignWaviness(r, o))
-            : fmt::format(
-                  "the scan may belong to another test: its profile "
-                  "correlates with P/S at r = {:.2f} ({:.2f} corrected) < "
-                  "{:.2f} while the force side alone is explained; the "
-                  "verdict is judged on the force side (check that the scan "
-                  "is this specimen's)",
-                  r.correlation,
-                  r.correlation_noise_corrected,
-                  o.min_correlation);
+    v.scan_doubt = ScanDoubt(r, o, foreign, other_length);
   } else {
     v.reasons.insert(v.reasons.end(), scan_reasons.begin(), scan_reasons.end());
   }

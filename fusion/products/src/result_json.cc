@@ -340,7 +340,8 @@ nlohmann::json TrackJson(const scan::Track& t) {
           {"depth_to_roughness", t.depth_to_roughness},
           {"low_confidence", t.low_confidence},
           {"message", t.message},
-          {"manual", t.manual}};
+          {"manual", t.manual},
+          {"reaches_edge", t.reaches_edge}};
 }
 
 nlohmann::json LevelJson(const scan::LevelSummary& l) {

@@ -833,6 +833,43 @@ TEST(ScanOfAnotherTest, IsDoubtedNotBlamedOnThePhysics) {
       foreign.mismatch.mu_force.mean, mine.mismatch.mu_force.mean, 1e-12);
 }
 
+// The same specimen's track from a test of another stroke (8 mm, this
+// test's 5.7 mm): its profile matches P/S where they overlap, so only the
+// track's length tells; it is said, and the verdict stands on the force
+// side. A scan whose field ends inside the track is not judged by it.
+TEST(ScanOfAnotherStroke, ItsTracksLengthIsSaid) {
+  samples::SimulationOptions own = NoisyCase("B-RT-R", 1, 0, 60);
+  own.scan_cols = 800;
+  own.scan_rows = 300;
+  own.scan_pitch_mm = 0.015;  // a field of 12 mm
+  samples::SimulationOptions longer = own;
+  longer.amplitude_mm = 4.0;
+  const sim::SimulatedTest a = sim::Simulate(own);
+  const TestResult mine = AnalyzeTest(a.record, a.scan, NoLugre());
+  ASSERT_TRUE(mine.scan.has_value());
+  EXPECT_FALSE(mine.scan->track.reaches_edge);
+  const MismatchReport& m = mine.mismatch;
+  EXPECT_GT(m.track_length_mm, m.stroke_mm);
+  EXPECT_LT(m.track_length_mm, m.stroke_mm + m.track_width_mm);
+  EXPECT_EQ(mine.verdict.scan_doubt, "");
+  const TestResult other =
+      AnalyzeTest(a.record, sim::Simulate(longer).scan, NoLugre());
+  EXPECT_TRUE(other.verdict.explained) << other.verdict.Summary();
+  EXPECT_EQ(other.verdict.scan_doubt.rfind(
+                "the scan may belong to another test: its worn track is ", 0),
+            0u)
+      << other.verdict.scan_doubt;
+  // Scanned over 3.75 mm of its middle only: the track runs off the field.
+  own.scan_cols = 250;
+  const TestResult part =
+      AnalyzeTest(a.record, sim::Simulate(own).scan, NoLugre());
+  ASSERT_TRUE(part.scan.has_value());
+  EXPECT_TRUE(part.scan->track.reaches_edge);
+  EXPECT_TRUE(std::isnan(part.mismatch.track_length_mm));
+  EXPECT_EQ(part.verdict.scan_doubt.find("worn track is"), std::string::npos)
+      << part.verdict.scan_doubt;
+}
+
 // The scan's identity from the waviness: judged where it stands above the
 // noise; a low correlation or a misfit beyond the noise is another
 // specimen's scan, said as a doubt while the force side passes.

@@ -31,6 +31,9 @@ struct Track {
   double depth_to_roughness = 0.0;
   bool low_confidence = false;
   bool manual = false;
+  // Some of its pixels lie on the field's border: the track may run on
+  // beyond the scan, its length and width being the field's.
+  bool reaches_edge = false;
   std::string message = "not run";
   // How it was found (pixels, elongation, threshold, confidence) or placed.
   std::string BriefReport() const { return message; }

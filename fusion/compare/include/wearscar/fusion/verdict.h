@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,13 @@ struct MismatchReport {
     return (1 - waviness_correlation * waviness_correlation) *
            waviness_to_noise;
   }
+  // The worn track's length and width in the scan (NaN: placed by hand,
+  // running off the scanned field, or found with low confidence),
+  // the scan's pixel, and this test's stroke (peak to peak): a sphere
+  // sliding over the stroke wears a track from the stroke's ends to at
+  // most its contact's radius beyond each.
+  double track_length_mm = NAN, track_width_mm = NAN, scan_pixel_mm = 0.0;
+  double stroke_mm = NAN;
   double amplitude_ratio = 0.0;     // std(f) / std(h)
   double k_rms_difference = 0.0;    // RMS of k_force - k_scan over gross slip
   Statistic mu_force, mu_scan;      // mu-hat with each slope
@@ -107,9 +115,17 @@ struct VerdictOptions {
   double min_waviness_to_noise = 4.0;
   double min_waviness_correlation = 0.6;
   double max_waviness_misfit = 8.0;
+  // The worn track's length against the stroke: expected from the stroke
+  // to the stroke plus the track's width (the contact's diameter); the
+  // scan is doubted as another test's beyond either by more than this
+  // fraction of the stroke (and two of the scan's pixels). On the
+  // simulator's cases the track measured the stroke plus 0.6-0.8 of its
+  // width.
+  double track_length_tolerance = 0.1;
   // Whether the scan's identity can be judged, and whether it fails.
   bool IdentityCheckable(const MismatchReport& r) const;
   bool ScanIsForeign(const MismatchReport& r) const;
+  bool TrackLengthDiffers(const MismatchReport& r) const;
   // |mu-hat - mu_energy| (energy method with delta_g). The mean method is
   // not judged: on a strongly wavy track mean|P (k + s mu)| exceeds mu P
   // even when the wear-scar model holds exactly, so its difference is

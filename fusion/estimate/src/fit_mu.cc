@@ -555,9 +555,10 @@ double ForceSlopes::EnsembleNoiseVariance(int first,
           *normal_bins_, halves[0], spring, options_.ensemble);
       const PlateProfile pb = EnsembleSlopeOfSums(
           *normal_bins_, halves[1], spring, options_.ensemble);
+      Eigen::Index hint = 0;  // pa's x rise: pb is walked, not searched
       for (Eigen::Index i = 0; i < pa.x_mm.size(); ++i) {
         if (std::abs(pa.x_mm[i] - centre) > half_range) continue;
-        const double diff = pa.k[i] - pb.At(pa.x_mm[i]);
+        const double diff = pa.k[i] - pb.AtNear(pa.x_mm[i], &hint);
         if (!std::isfinite(diff)) continue;
         sum += scale * diff * diff;
         ++n;

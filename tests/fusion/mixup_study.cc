@@ -1,6 +1,7 @@
 // A scan of another specimen of the same wood and case, on the
 // simulator's 12 cases with growth rings of varying width (each specimen's
-// rings fall elsewhere), at noise 1 and 2 and three seeds (80 cycles):
+// rings fall elsewhere), at noise 1 and 2 and three seeds (80 cycles; the
+// scan's field of 8.9 mm holds the whole track, its centre judged):
 // flagged where the waviness stands above its noise and differs (not
 // always: the simulator's specimens are look-alikes by chance, see the
 // counts below), and where it does not stand out, the result says that the
@@ -23,6 +24,7 @@ bool Doubted(const TestResult& r) {
   if (!r.verdict.scan_doubt.empty()) return true;
   for (const std::string& reason : r.verdict.reasons) {
     if (reason.find("the scan's waviness") != std::string::npos ||
+        reason.find("with its track's centre") != std::string::npos ||
         reason.find("the aligned profiles correlate at") != std::string::npos)
       return true;
   }
@@ -50,6 +52,7 @@ TEST(MixupStudy, AnotherSpecimensScanIsFlaggedOrSaidUncheckable) {
         o.cycles = 80;
         o.noise_scale = noise;
         o.ring_width_cv = 0.25;
+        o.scan_cols = 1200;  // an 8.9 mm field: the whole track
         o.seed = 600 + seed + 10 * static_cast<int>(noise);
         tests.push_back(sim::Simulate(o));
       }
@@ -95,11 +98,12 @@ TEST(MixupStudy, AnotherSpecimensScanIsFlaggedOrSaidUncheckable) {
       checkable,
       missed,
       unsaid);
-  // Measured: 103 of 144 flagged, 17 of 64 checkable missed (chance
+  // Measured: 108 of 144 flagged, 12 of 64 checkable missed (chance
   // look-alikes: the simulator's texture is 8 sinusoids, its rings of one
-  // mean width). Held near that, so that a weaker check fails.
-  EXPECT_GE(caught, 95);
-  EXPECT_LE(missed, 22);
+  // mean width); without the track centre's check, 104 and 16. Held near
+  // that, so that a weaker check fails.
+  EXPECT_GE(caught, 106);
+  EXPECT_LE(missed, 13);
 }
 
 }  // namespace

@@ -118,6 +118,10 @@ void CompareScanSide(const ForceAnalysis& force,
   if (!t.manual && !t.reaches_edge && !t.low_confidence) {
     r->track_length_mm = t.length_mm;
     r->track_width_mm = t.width_mm;
+    const double flip = scan.alignment.flipped ? -1.0 : 1.0;
+    r->centre_offset_mm =
+        scan.alignment.shift_mm +
+        flip * 0.5 * (force.cycles.x_min_mm + force.cycles.x_max_mm);
   }
   r->scan_pixel_mm = std::max(scan.levelled.dx_mm, scan.levelled.dy_mm);
   r->stroke_mm = force.cycles.stroke_mm;

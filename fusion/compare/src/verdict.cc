@@ -29,7 +29,8 @@ bool VerdictOptions::IsValid(std::string* why) const {
   if (!(max_cost > 0) || !(max_cost_excess > 0) || !(max_amplitude_ratio > 0) ||
       !(min_correlation > -1) || !(max_method_difference > 0) ||
       !(min_waviness_to_noise > 0) || !(min_waviness_correlation > -1) ||
-      !(max_waviness_misfit > 0) || !(track_length_tolerance >= 0)) {
+      !(max_waviness_misfit > 0) || !(track_length_tolerance >= 0) ||
+      !(max_centre_offset > 0)) {
     if (why) *why = "verdict thresholds must be positive (correlation > -1)";
     return false;
   }
@@ -56,6 +57,12 @@ bool VerdictOptions::TrackLengthDiffers(const MismatchReport& r) const {
       track_length_tolerance * r.stroke_mm + 2 * r.scan_pixel_mm;
   return r.track_length_mm < r.stroke_mm - slack ||
          r.track_length_mm > r.stroke_mm + r.track_width_mm + slack;
+}
+
+bool VerdictOptions::TrackCentreMoved(const MismatchReport& r) const {
+  return r.has_scan && std::isfinite(r.centre_offset_mm) &&
+         r.track_width_mm > 0 &&
+         std::abs(r.centre_offset_mm) > max_centre_offset * r.track_width_mm;
 }
 
 bool DataWarningOptions::IsValid(std::string* why) const {
@@ -129,6 +136,17 @@ std::string TrackLengthText(const MismatchReport& r, const VerdictOptions& o) {
       100 * o.track_length_tolerance);
 }
 
+std::string CentreText(const MismatchReport& r, const VerdictOptions& o) {
+  return fmt::format(
+      "it matches P/S only with its track's centre {:.2f} mm from the "
+      "stroke's (limit {:g} of the track's width, {:.2f} mm): its waviness "
+      "(r = {:.2f}) lines up elsewhere than where the stroke ran",
+      r.centre_offset_mm,
+      o.max_centre_offset,
+      o.max_centre_offset * r.track_width_mm,
+      r.waviness_correlation);
+}
+
 // The scan's criteria: the amplitude ratio and the profiles' correlation.
 std::vector<std::string> ScanReasons(const MismatchReport& r,
                                      const VerdictOptions& o) {
@@ -153,6 +171,9 @@ std::vector<std::string> ScanReasons(const MismatchReport& r,
   if (o.TrackLengthDiffers(r))
     reasons.push_back("the scan may be another test's: " +
                       TrackLengthText(r, o));
+  if (o.TrackCentreMoved(r))
+    reasons.push_back("the scan may be another specimen's: " +
+                      CentreText(r, o));
   if (o.ScanIsForeign(r)) reasons.push_back(ForeignWaviness(r, o));
   if (r.correlation_noise_corrected < o.min_correlation) {
     reasons.push_back(fmt::format(
@@ -166,8 +187,9 @@ std::vector<std::string> ScanReasons(const MismatchReport& r,
 }
 
 // Why the scan may not be this test's, while the force side alone passes:
-// the track's length first (another stroke), then the waviness (another
-// specimen), then the profiles' correlation.
+// the track's length first (another stroke), then where the track's
+// centre aligned and its waviness (another specimen), then the profiles'
+// correlation.
 std::string ScanDoubt(const MismatchReport& r,
                       const VerdictOptions& o,
                       bool foreign,
@@ -180,7 +202,8 @@ std::string ScanDoubt(const MismatchReport& r,
            "; the verdict is judged on the force side (check that the scan "
            "is this test's)";
   if (foreign && r.correlation_noise_corrected >= o.min_correlation)
-    return "the scan may belong to another specimen: " + ForeignWaviness(r, o) +
+    return "the scan may belong to another specimen: " +
+           (o.TrackCentreMoved(r) ? CentreText(r, o) : ForeignWaviness(r, o)) +
            judged;
   return fmt::format(
       "the scan may belong to another test: its profile correlates with P/S "
@@ -277,14 +300,15 @@ Verdict Judge(const MismatchReport& r, const VerdictOptions& o) {
   const std::vector<std::string> scan_reasons = ScanReasons(r, o);
   const bool foreign = o.ScanIsForeign(r);
   const bool other_length = o.TrackLengthDiffers(r);
+  const bool moved = o.TrackCentreMoved(r);
   const bool profiles_differ =
       r.has_scan && (r.correlation_noise_corrected < o.min_correlation ||
-                     foreign || other_length);
+                     foreign || other_length || moved);
   const std::vector<std::string> method_reasons =
       MethodReasons(r, o, from_force, source.c_str());
   const bool force_side_passes = v.reasons.empty() && method_reasons.empty();
   if (profiles_differ && from_force && force_side_passes) {
-    v.scan_doubt = ScanDoubt(r, o, foreign, other_length);
+    v.scan_doubt = ScanDoubt(r, o, foreign || moved, other_length);
   } else {
     v.reasons.insert(v.reasons.end(), scan_reasons.begin(), scan_reasons.end());
   }

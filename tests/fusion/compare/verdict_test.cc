@@ -908,6 +908,41 @@ TEST(Verdict, AScanWhoseWavinessIsAnotherSpecimensIsDoubted) {
   EXPECT_FALSE(o.ScanIsForeign(r));
 }
 
+// Another specimen's waviness can match P/S's, shifted: the alignment
+// then puts the scan's track centre away from the stroke's, which this
+// specimen's track, worn where the stroke ran, is not.
+TEST(Verdict, AScanMatchedAwayFromWhereTheStrokeRanIsDoubted) {
+  MismatchReport r;
+  r.has_scan = true;
+  r.identity_judged = true;
+  r.correlation = r.correlation_noise_corrected = 0.95;
+  r.amplitude_ratio = 1.0;
+  r.amplitude_ratio_low = 0.98;
+  r.amplitude_ratio_high = 1.02;
+  r.cost_force.count = 10;
+  r.waviness_correlation = 0.99;
+  r.waviness_to_noise = 50;  // the waviness alone passes (misfit 1.0)
+  r.stroke_mm = 5.7;
+  r.track_length_mm = 7.0;
+  r.track_width_mm = 1.6;
+  r.centre_offset_mm = 0.3;  // 0.19 of the width
+  const VerdictOptions o;
+  EXPECT_FALSE(o.TrackCentreMoved(r));
+  EXPECT_EQ(Judge(r, o).scan_doubt, "");
+  r.centre_offset_mm = -0.5;  // 0.31 of the width
+  EXPECT_TRUE(o.TrackCentreMoved(r));
+  const Verdict v = Judge(r, o);
+  EXPECT_TRUE(v.explained);
+  EXPECT_EQ(v.scan_doubt.rfind("the scan may belong to another specimen: it "
+                               "matches P/S only with its track's centre "
+                               "-0.50 mm from the stroke's",
+                               0),
+            0u)
+      << v.scan_doubt;
+  r.centre_offset_mm = NAN;  // the track runs off the field: not judged
+  EXPECT_FALSE(o.TrackCentreMoved(r));
+}
+
 // The bundled samples' tests (20 cycles at 500 Hz, 256 x 192 scans of
 // 29.6 um pixels, the default spring, which is the rig's): P/S varies 0.54-
 // 0.69x as much as the scanned groove because the track is still growing

@@ -41,6 +41,11 @@ struct MismatchReport {
   // most its contact's radius beyond each.
   double track_length_mm = NAN, track_width_mm = NAN, scan_pixel_mm = 0.0;
   double stroke_mm = NAN;
+  // Where the alignment put the track's centre against the stroke's (the
+  // shift less the one that puts one on the other), mm; NaN where the
+  // track's length is not judged. This specimen's track lies where the
+  // stroke ran; another specimen's can match P/S's waviness only shifted.
+  double centre_offset_mm = NAN;
   double amplitude_ratio = 0.0;     // std(f) / std(h)
   double k_rms_difference = 0.0;    // RMS of k_force - k_scan over gross slip
   Statistic mu_force, mu_scan;      // mu-hat with each slope
@@ -122,10 +127,17 @@ struct VerdictOptions {
   // field, four of the simulator's cases measured the stroke plus
   // 0.75-0.95 of the track's width.
   double track_length_tolerance = 0.1;
+  // The aligned track's centre away from the stroke's by more than this
+  // fraction of the track's width (the contact's diameter): another
+  // specimen's scan whose waviness matched elsewhere. On the simulator's
+  // 12 cases (MixupStudy) this specimen's track aligned within 0.14 of
+  // its width of the stroke's centre.
+  double max_centre_offset = 0.25;
   // Whether the scan's identity can be judged, and whether it fails.
   bool IdentityCheckable(const MismatchReport& r) const;
   bool ScanIsForeign(const MismatchReport& r) const;
   bool TrackLengthDiffers(const MismatchReport& r) const;
+  bool TrackCentreMoved(const MismatchReport& r) const;
   // |mu-hat - mu_energy| (energy method with delta_g). The mean method is
   // not judged: on a strongly wavy track mean|P (k + s mu)| exceeds mu P
   // even when the wear-scar model holds exactly, so its difference is

@@ -172,10 +172,10 @@ void MakeCompressionPositive(ForceRecord* record) {
   }
 }
 
-// Everything of the head that the rows are read with.
 }  // namespace
 
 namespace internal {
+// Everything of the head that the rows are read with.
 struct ReadPlan {
   std::vector<std::string> head;
   bool more = true;  // lines after the head

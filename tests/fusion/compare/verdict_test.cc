@@ -870,10 +870,9 @@ TEST(ScanOfAnotherStroke, ItsTracksLengthIsSaid) {
       << part.verdict.scan_doubt;
 }
 
-// The scan's identity from the waviness: judged where it stands above the
-// noise; a low correlation or a misfit beyond the noise is another
-// specimen's scan, said as a doubt while the force side passes.
-TEST(Verdict, AScanWhoseWavinessIsAnotherSpecimensIsDoubted) {
+// A scan that is this test's by every criterion, the force side passing:
+// its waviness correlates at 0.99 (the test sets how far above its noise).
+MismatchReport ScanThatPasses() {
   MismatchReport r;
   r.has_scan = true;
   r.identity_judged = true;
@@ -883,6 +882,14 @@ TEST(Verdict, AScanWhoseWavinessIsAnotherSpecimensIsDoubted) {
   r.amplitude_ratio_high = 1.02;
   r.cost_force.count = 10;
   r.waviness_correlation = 0.99;
+  return r;
+}
+
+// The scan's identity from the waviness: judged where it stands above the
+// noise; a low correlation or a misfit beyond the noise is another
+// specimen's scan, said as a doubt while the force side passes.
+TEST(Verdict, AScanWhoseWavinessIsAnotherSpecimensIsDoubted) {
+  MismatchReport r = ScanThatPasses();
   r.waviness_to_noise = 50;
   const VerdictOptions o;
   EXPECT_TRUE(o.IdentityCheckable(r));
@@ -912,15 +919,7 @@ TEST(Verdict, AScanWhoseWavinessIsAnotherSpecimensIsDoubted) {
 // then puts the scan's track centre away from the stroke's, which this
 // specimen's track, worn where the stroke ran, is not.
 TEST(Verdict, AScanMatchedAwayFromWhereTheStrokeRanIsDoubted) {
-  MismatchReport r;
-  r.has_scan = true;
-  r.identity_judged = true;
-  r.correlation = r.correlation_noise_corrected = 0.95;
-  r.amplitude_ratio = 1.0;
-  r.amplitude_ratio_low = 0.98;
-  r.amplitude_ratio_high = 1.02;
-  r.cost_force.count = 10;
-  r.waviness_correlation = 0.99;
+  MismatchReport r = ScanThatPasses();
   r.waviness_to_noise = 50;  // the waviness alone passes (misfit 1.0)
   r.stroke_mm = 5.7;
   r.track_length_mm = 7.0;

@@ -60,7 +60,9 @@ bool VerdictOptions::TrackLengthDiffers(const MismatchReport& r) const {
 }
 
 bool VerdictOptions::TrackCentreMoved(const MismatchReport& r) const {
-  return r.has_scan && std::isfinite(r.centre_offset_mm) &&
+  // As the waviness, judged against P/S or a depth channel's profile (the
+  // friction's, integrated, aligns less surely).
+  return r.has_scan && r.identity_judged && std::isfinite(r.centre_offset_mm) &&
          r.track_width_mm > 0 &&
          std::abs(r.centre_offset_mm) > max_centre_offset * r.track_width_mm;
 }

@@ -938,6 +938,9 @@ TEST(Verdict, AScanMatchedAwayFromWhereTheStrokeRanIsDoubted) {
                                0),
             0u)
       << v.scan_doubt;
+  r.identity_judged = false;  // the profile from the friction: not judged
+  EXPECT_FALSE(o.TrackCentreMoved(r));
+  r.identity_judged = true;
   r.centre_offset_mm = NAN;  // the track runs off the field: not judged
   EXPECT_FALSE(o.TrackCentreMoved(r));
 }

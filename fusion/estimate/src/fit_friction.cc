@@ -4,6 +4,8 @@
 #include <cmath>
 #include <future>
 #include <optional>
+#include <utility>
+#include <vector>
 
 #include "fit_mu_internal.h"
 #include "wearscar/fusion/error.h"
@@ -90,6 +92,7 @@ struct CycleFitter {
               const FrictionFitOptions& o,
               const PlateProfile* scan,
               const std::vector<double>* scale,
+              bool bin_slope,
               FrictionFits* fits)
       : record(r),
         cycles(c),
@@ -100,7 +103,9 @@ struct CycleFitter {
         n(static_cast<int>(c.cycles.size())),
         grid(PlateGrid::Covering(r, c, o.repeatability.bin_mm)),
         misfit(grid, 0, n - 1, /*with_x=*/false),
-        slope(grid, 0, n - 1, /*with_x=*/false),
+        // (k's bins serve the force side's noise split alone: an empty
+        // range for the scan's k, which AddRange then skips.)
+        slope(grid, 0, bin_slope ? n - 1 : -1, /*with_x=*/false),
         misfit_total(n),
         q_total(n),
         k_total(n),
@@ -183,6 +188,17 @@ struct CycleFitter {
   FrictionFits* out;
 };
 
+// The first and last cycles fitted (a live window's new ones), where the
+// k noise is probed.
+std::pair<int, int> FittedSpan(const std::vector<char>& fit, int n) {
+  int lo = 0, hi = n - 1;
+  if (!fit.empty()) {
+    while (lo < hi && (lo >= static_cast<int>(fit.size()) || !fit[lo])) ++lo;
+    while (hi > lo && (hi >= static_cast<int>(fit.size()) || !fit[hi])) --hi;
+  }
+  return {lo, hi};
+}
+
 }  // namespace
 
 FrictionFits FitFriction(const force::ForceRecord& record,
@@ -215,7 +231,13 @@ FrictionFits FitFriction(const force::ForceRecord& record,
     out.slope = "k = dh/dx of the scan's centreline in plate coordinates";
     out.correlated_cycles = std::max(1, n);
   }
-  CycleFitter fitter(record, cycles, options, scan_slope, slope_scale, &out);
+  CycleFitter fitter(record,
+                     cycles,
+                     options,
+                     scan_slope,
+                     slope_scale,
+                     /*bin_slope=*/source == SlopeSource::kForce,
+                     &out);
   // With threads, the force side's second half of the cycles on a thread
   // of its own, with its own ensemble (its first window summed afresh: the
   // same sums to the bit as slid, float sums of a few cycles being exact in
@@ -243,13 +265,7 @@ FrictionFits FitFriction(const force::ForceRecord& record,
         SplitRepeatable(
             fitter.slope, fitter.k_total, shared, options.repeatability),
         &out);
-    // Probed over the cycles fitted (a live window's new ones).
-    int lo = 0, hi = n - 1;
-    const std::vector<char>& fit = options.fit_cycle;
-    if (!fit.empty()) {
-      while (lo < hi && (lo >= static_cast<int>(fit.size()) || !fit[lo])) ++lo;
-      while (hi > lo && (hi >= static_cast<int>(fit.size()) || !fit[hi])) --hi;
-    }
+    const auto [lo, hi] = FittedSpan(options.fit_cycle, n);
     out.k_ensemble_noise_rms =
         std::sqrt(std::isnan(options.k_noise_variance)
                       ? force_slopes->EnsembleNoiseVariance(lo, hi)

@@ -212,6 +212,8 @@ SpecimenAnalysis AnalyzeSpecimen(const Specimen& s,
   // read (deferred without: where AnalyzeTest asks for it). A scan that
   // cannot be read fails the specimen, as a force file does; one without a
   // usable track is left out by AnalyzeTest with a warning.
+  SpecimenAnalysis a{force::ReadForceFile(s.force, read), {}};
+  if (hash) a.record.metadata.sha256 = hash->Hex();
   std::exception_ptr scan_unreadable;
   std::future<ScanAnalysis> prepared;
   if (!s.scan.empty()) {
@@ -227,8 +229,6 @@ SpecimenAnalysis AnalyzeSpecimen(const Specimen& s,
           return PrepareScan(std::move(map), fuse);
         });
   }
-  SpecimenAnalysis a{force::ReadForceFile(s.force, read), {}};
-  if (hash) a.record.metadata.sha256 = hash->Hex();
   a.result = AnalyzeTest(a.record, std::move(prepared), s.scan, fuse);
   // (AnalyzeTest has waited for the scan.)
   if (scan_unreadable) std::rethrow_exception(scan_unreadable);

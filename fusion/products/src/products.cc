@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <filesystem>
+#include <future>
 
 #include "result_json.h"
 #include "tables.h"
@@ -95,6 +96,10 @@ TestProducts MakeTestProducts(const std::string& name,
           n));
     }
   }
+  // The loop viewer's text (the largest product) beside the tables.
+  std::future<std::string> viewer =
+      std::async(o.parallel ? std::launch::async : std::launch::deferred,
+                 [&r] { return internal::LoopViewerJson(r); });
   TestProducts out;
   auto add = [&out](const char* file, Table t) {
     out.tables.emplace_back(file, std::move(t));
@@ -110,7 +115,7 @@ TestProducts MakeTestProducts(const std::string& name,
     add("centreline.csv", internal::CentrelineTable(r.scan->profile));
   }
   if (r.lugre) add("lugre.csv", internal::LugreTable(*r.lugre, r.detail));
-  out.documents.emplace_back("loop_viewer.json", internal::LoopViewerJson(r));
+  out.documents.emplace_back("loop_viewer.json", viewer.get());
   if (p.provenance) {
     const Provenance prov = TestProvenance(record, r);
     out.result = ResultJson(name, record, r, o, &prov);

@@ -98,12 +98,14 @@ TEST(MixupStudy, AnotherSpecimensScanIsFlaggedOrSaidUncheckable) {
       checkable,
       missed,
       unsaid);
-  // Measured: 108 of 144 flagged, 12 of 64 checkable missed (chance
-  // look-alikes: the simulator's texture is 8 sinusoids, its rings of one
-  // mean width); without the track centre's check, 104 and 16. Held near
-  // that, so that a weaker check fails.
-  EXPECT_GE(caught, 106);
-  EXPECT_LE(missed, 13);
+  // Measured: 118 of 144 flagged, 2 of 64 checkable missed (chance
+  // look-alikes at r 0.89-0.90: the simulator's texture is 8 sinusoids,
+  // its rings of one mean width). With the waviness judged from r 0.6
+  // instead of 0.8, 108 and 12 (the ten more at r 0.63-0.70); without the
+  // track centre's check too, 104 and 16. Held near that, so that a
+  // weaker check fails.
+  EXPECT_GE(caught, 116);
+  EXPECT_LE(missed, 3);
 }
 
 }  // namespace

@@ -905,8 +905,15 @@ TEST(Verdict, AScanWhoseWavinessIsAnotherSpecimensIsDoubted) {
             0u)
       << v.scan_doubt;
   r.waviness_correlation = 0.5;
-  r.waviness_to_noise = 5;  // misfit 3.75, but r below 0.6
+  r.waviness_to_noise = 5;  // misfit 3.75, but r below 0.8
   EXPECT_TRUE(o.ScanIsForeign(r));
+  // The look-alikes of MixupStudy (r 0.63-0.70 at a misfit under 8) are
+  // doubted; this specimen's own scans there gave 0.967 and above.
+  r.waviness_correlation = 0.7;  // misfit 2.55
+  EXPECT_TRUE(o.ScanIsForeign(r));
+  r.waviness_correlation = 0.85;  // misfit 1.39
+  EXPECT_FALSE(o.ScanIsForeign(r));
+  r.waviness_correlation = 0.5;
   r.waviness_to_noise = 3;  // below 4: not judged
   EXPECT_FALSE(o.IdentityCheckable(r));
   EXPECT_FALSE(o.ScanIsForeign(r));

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 #include <mutex>
 #include <utility>
 
@@ -27,47 +28,76 @@ Eigen::Index SmoothLength(Eigen::Index n) {
   return best;
 }
 
-// FFTW's real-to-complex transform of one length. Its planner is not
-// thread-safe (fftw_execute is): a batch analyses specimens on several
-// threads, so plans are made and destroyed under one lock. FFTW_ESTIMATE
-// plans in milliseconds; measuring would take seconds per length.
-class RealTransform {
- public:
-  explicit RealTransform(Eigen::Index n) : n_(n) {
-    in_ = fftw_alloc_real(static_cast<std::size_t>(n));
-    out_ = fftw_alloc_complex(static_cast<std::size_t>(n / 2 + 1));
-    std::lock_guard<std::mutex> lock(Planner());
-    plan_ = fftw_plan_dft_r2c_1d(static_cast<int>(n), in_, out_, FFTW_ESTIMATE);
-  }
-  ~RealTransform() {
+// FFTW's real-to-complex plan of one length and its Hann window. Planning
+// takes milliseconds (a length of 2, 3 and 5 up to 7 ms), the transform of
+// a live window a tenth of one: plans are kept by length for the next
+// search (a live window's every few cycles), at most kKept of them, the
+// others made for the call alone. The planner is not thread-safe
+// (fftw_execute_dft_r2c is): a batch analyses specimens on several
+// threads, so plans are made and destroyed under one lock. FFTW_ESTIMATE:
+// measuring would take seconds per length.
+struct SpectrumPlan {
+  Eigen::Index length = 0;
+  fftw_plan plan = nullptr;
+  std::vector<double> hann;
+};
+
+std::mutex& Planner() {
+  static std::mutex m;
+  return m;
+}
+
+// The kept plans (never destroyed: in use until the process ends).
+std::vector<const SpectrumPlan*>& KeptPlans() {
+  static auto* kept = new std::vector<const SpectrumPlan*>;
+  return *kept;
+}
+
+struct PlanDeleter {
+  void operator()(const SpectrumPlan* p) const {
+    if (p == nullptr) return;
     {
       std::lock_guard<std::mutex> lock(Planner());
-      fftw_destroy_plan(plan_);
+      fftw_destroy_plan(p->plan);
     }
-    fftw_free(in_);
-    fftw_free(out_);
+    delete p;
   }
-  RealTransform(const RealTransform&) = delete;
-  RealTransform& operator=(const RealTransform&) = delete;
-
-  double* input() { return in_; }
-  // The bins 0..n/2 of the input's transform.
-  const fftw_complex* Transform() {
-    fftw_execute(plan_);
-    return out_;
-  }
-  Eigen::Index bins() const { return n_ / 2 + 1; }
-
- private:
-  static std::mutex& Planner() {
-    static std::mutex m;
-    return m;
-  }
-  Eigen::Index n_;
-  double* in_;
-  fftw_complex* out_;
-  fftw_plan plan_;
 };
+using PlanHandle = std::unique_ptr<const SpectrumPlan, PlanDeleter>;
+
+// The plan of `n`: a kept one (*own stays empty), or one made for this
+// call (owned by *own).
+const SpectrumPlan* PlanFor(Eigen::Index n, PlanHandle* own) {
+  constexpr std::size_t kKept = 4;
+  std::lock_guard<std::mutex> lock(Planner());
+  for (const SpectrumPlan* p : KeptPlans()) {
+    if (p->length == n) return p;
+  }
+  auto* made = new SpectrumPlan;
+  made->length = n;
+  double* in = fftw_alloc_real(static_cast<std::size_t>(n));
+  fftw_complex* out = fftw_alloc_complex(static_cast<std::size_t>(n / 2 + 1));
+  made->plan =
+      fftw_plan_dft_r2c_1d(static_cast<int>(n), in, out, FFTW_ESTIMATE);
+  fftw_free(in);
+  fftw_free(out);
+  made->hann.resize(static_cast<std::size_t>(n));
+  for (Eigen::Index i = 0; i < n; ++i)
+    made->hann[i] = 0.5 - 0.5 * std::cos(2 * kPi * i / n);
+  if (KeptPlans().size() < kKept) {
+    KeptPlans().push_back(made);
+  } else {
+    own->reset(made);
+  }
+  return made;
+}
+
+// The largest power of two <= n (n >= 1).
+Eigen::Index PowerOfTwoLength(Eigen::Index n) {
+  Eigen::Index p = 1;
+  while (p * 2 <= n) p *= 2;
+  return p;
+}
 
 // Amplitude spectra (N per bin, a sinusoid's amplitude at its bin) of Q
 // and P, each with its mean removed, under a Hann window of `length`
@@ -85,11 +115,15 @@ std::array<std::vector<double>, 2> AmplitudeSpectra(const ForceRecord& record,
   // a window, as a live window of a few cycles is, takes one, not two.
   Eigen::Index windows = (n + length - 1) / length;
   if (windows > 1 && n - (windows - 1) * length < n / 20) --windows;
-  std::vector<double> hann(length);
-  for (Eigen::Index i = 0; i < length; ++i)
-    hann[i] = 0.5 - 0.5 * std::cos(2 * kPi * i / length);
-  RealTransform fft(length);
-  double* in = fft.input();
+  PlanHandle own;
+  const SpectrumPlan* plan = PlanFor(length, &own);
+  const std::vector<double>& hann = plan->hann;
+  const std::unique_ptr<double, decltype(&fftw_free)> buffer(
+      fftw_alloc_real(static_cast<std::size_t>(length)), &fftw_free);
+  const std::unique_ptr<fftw_complex, decltype(&fftw_free)> spectrum(
+      fftw_alloc_complex(static_cast<std::size_t>(length / 2 + 1)), &fftw_free);
+  double* in = buffer.get();
+  fftw_complex* out = spectrum.get();
   std::array<std::vector<double>, 2> amp;
   const Eigen::VectorXd* channels[2] = {&record.tangential_n, &record.normal_n};
   const double scale = 4.0 / static_cast<double>(length * windows);
@@ -108,8 +142,8 @@ std::array<std::vector<double>, 2> AmplitudeSpectra(const ForceRecord& record,
         const double x = v[begin + i];
         in[i] = std::isfinite(x) ? hann[i] * (x - mean) : 0.0;
       }
-      const fftw_complex* out = fft.Transform();
-      amp[ch].resize(static_cast<std::size_t>(fft.bins()), 0.0);
+      fftw_execute_dft_r2c(plan->plan, in, out);
+      amp[ch].resize(static_cast<std::size_t>(length / 2 + 1), 0.0);
       for (size_t k = 0; k < amp[ch].size(); ++k)
         // (not hypot, which was a quarter of the search)
         amp[ch][k] +=
@@ -245,8 +279,10 @@ std::vector<PeriodicLine> FindPeriodicLines(const ForceRecord& record,
                                             double drive_hz,
                                             const PeriodicLineOptions& o) {
   std::vector<PeriodicLine> lines;
+  const Eigen::Index most =
+      std::min<Eigen::Index>(record.size(), o.window_samples);
   const Eigen::Index n =
-      SmoothLength(std::min<Eigen::Index>(record.size(), o.window_samples));
+      o.power_of_two ? PowerOfTwoLength(most) : SmoothLength(most);
   if (n < 1024 || !(drive_hz > 0)) return lines;
   const Eigen::Index all_n = record.size();
   const double duration = record.time_s[all_n - 1] - record.time_s[0];

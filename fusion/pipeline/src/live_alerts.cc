@@ -258,8 +258,10 @@ void LiveAnalysis::SeekPeriodicLines(int cycles_in_window) {
       cycles_in_window < 3)
     return;
   lines_sought_at_ = n;
+  force::PeriodicLineOptions o;
+  o.power_of_two = true;  // the window's length varies: one plan for all
   for (const force::PeriodicLine& line :
-       force::FindPeriodicLines(buffer_, 1.0 / period_s_)) {
+       force::FindPeriodicLines(buffer_, 1.0 / period_s_, o)) {
     const bool seen = std::any_of(
         lines_seen_hz_.begin(), lines_seen_hz_.end(), [&](double f) {
           return std::abs(f - line.frequency_hz) < 0.5;

@@ -38,6 +38,10 @@ struct PeriodicLineOptions {
   // windows whose amplitudes are averaged. 2^18 resolves 0.008 Hz at 2 kHz,
   // far finer than the drive's harmonics are apart.
   Eigen::Index window_samples = Eigen::Index{1} << 18;
+  // The window rounded down to a power of two instead (a record longer
+  // than it is covered by two or more): records of slightly different
+  // lengths, a live window's, then share one FFT plan.
+  bool power_of_two = false;
 };
 
 // The lines of Q and P over the record (Hann-windowed spectra averaged

@@ -255,7 +255,7 @@ class Watch {
       const std::string note = joiner_->Update();
       if (!note.empty()) fmt::print(stderr, "wearscar: {}\n", note);
     }
-    const force::FollowedRows got = follower_.Poll(Wall() - last_growth_ > 1);
+    force::FollowedRows got = follower_.Poll(Wall() - last_growth_ > 1);
     while (waitpid(-1, nullptr, WNOHANG) > 0) {
     }
     if (!got.note.empty()) fmt::print(stderr, "wearscar: {}\n", got.note);
@@ -271,7 +271,7 @@ class Watch {
     }
     if (!live_) return;
     if (got.rows.size() > 0) {
-      for (const fusion::LiveCycle& c : live_->Add(got.rows)) {
+      for (const fusion::LiveCycle& c : live_->Add(std::move(got.rows))) {
         files_.Cycle(c);
         if (c.cycle % a_.every == 0 || c.cycle == 1) SayCycle(c);
       }

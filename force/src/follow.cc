@@ -193,8 +193,10 @@ std::string ForceFollower::TakeCompleteLines() {
   const std::size_t end = pending_.rfind('\n');
   std::string text;
   if (end != std::string::npos) {
-    text = pending_.substr(0, end + 1);
-    pending_.erase(0, end + 1);
+    // The lines leave without a copy; only the part line after them is.
+    text = std::move(pending_);
+    pending_.assign(text, end + 1, std::string::npos);
+    text.resize(end + 1);
     offset_ += text.size();
   }
   if (pending_.size() > options_.read.max_line_bytes) {

@@ -481,7 +481,7 @@ class Watcher {
         const int seen = live_ ? static_cast<int>(live_->cycles().size()) : 0;
         events.push_back({"block", seen, 0.0, block});
       }
-      const force::FollowedRows got = follower_.Poll(idle);
+      force::FollowedRows got = follower_.Poll(idle);
       if (got.restarted && live_) live_->Restart(got.note, 0.0);
       if (!live_ && follower_.started()) {
         force::ForceRecord head;
@@ -490,7 +490,7 @@ class Watcher {
             fusion::WithStatedSpring(settings_.fuse, head), live_options_);
       }
       if (live_) {
-        cycles = live_->Add(got.rows);
+        cycles = live_->Add(std::move(got.rows));
         for (fusion::LiveEvent& x : live_->TakeEvents())
           events.push_back(std::move(x));
       }

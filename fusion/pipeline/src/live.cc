@@ -38,19 +38,19 @@ force::ForceRecord JoinRows(const force::ForceRecord& head,
   const Eigen::Index kept = head.size() - from;
   Eigen::Index n = kept;
   bool depth = kept == 0 || head.has_depth();
-  for (const force::ForceRecord& p : more) {
-    n += p.size();
-    depth = depth && p.has_depth();
+  for (const auto& p : more) {
+    n += p->size();
+    depth = depth && p->has_depth();
   }
   if (n == 0) return out;
-  out.metadata = kept > 0 ? head.metadata : more.front().metadata;
+  out.metadata = kept > 0 ? head.metadata : more.front()->metadata;
   const auto join = [&](Eigen::VectorXd force::ForceRecord::*channel) {
     Eigen::VectorXd v(n);
     if (kept > 0) v.head(kept) = (head.*channel).tail(kept);
     Eigen::Index at = kept;
-    for (const force::ForceRecord& p : more) {
-      v.segment(at, p.size()) = p.*channel;
-      at += p.size();
+    for (const auto& p : more) {
+      v.segment(at, p->size()) = (*p).*channel;
+      at += p->size();
     }
     return v;
   };
@@ -140,11 +140,14 @@ bool LiveAnalysis::CycleCompleted(const double* x_mm, Eigen::Index n) {
   return completed;
 }
 
-std::vector<LiveCycle> LiveAnalysis::Add(const force::ForceRecord& rows) {
+std::vector<LiveCycle> LiveAnalysis::Add(force::ForceRecord given) {
   std::vector<LiveCycle> out;
-  if (rows.size() == 0) return out;
-  history_.push_back(rows);
-  pending_.push_back(rows);
+  if (given.size() == 0) return out;
+  // The rows held once, by the window's pieces and the history.
+  auto piece = std::make_shared<const force::ForceRecord>(std::move(given));
+  const force::ForceRecord& rows = *piece;
+  history_.push_back(piece);
+  pending_.push_back(std::move(piece));
   pending_rows_ += rows.size();
   if (stroke_mm_ <= 0) {
     // Before the first cycles, tried again once the rows held grew by a
@@ -437,11 +440,11 @@ force::ForceRecord LiveAnalysis::LatestRows() const {
 // the pieces that ended before them dropped.
 void LiveAnalysis::KeepHistory() {
   if (history_.empty() || !(period_s_ > 0)) return;
-  const force::ForceRecord& last = history_.back();
+  const force::ForceRecord& last = *history_.back();
   const double keep_from =
       last.time_s[last.size() - 1] - (live_.decision_cycles + 10) * period_s_;
-  while (history_.size() > 1 && history_.front().size() > 0 &&
-         history_.front().time_s[history_.front().size() - 1] < keep_from)
+  while (history_.size() > 1 && history_.front()->size() > 0 &&
+         history_.front()->time_s[history_.front()->size() - 1] < keep_from)
     history_.pop_front();
 }
 

@@ -8,6 +8,7 @@
 #include <array>
 #include <deque>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -129,7 +130,7 @@ class LiveAnalysis {
   // analyses each cycle that completed; returns them. Throws
   // force::ForceError for rows that cannot be a test (no reversals in
   // many strokes' worth of samples).
-  std::vector<LiveCycle> Add(const force::ForceRecord& rows);
+  std::vector<LiveCycle> Add(force::ForceRecord rows);
   // A new test: everything known is dropped (an event says so).
   void Restart(const std::string& why, double time_s);
   // The events raised since the last call.
@@ -184,7 +185,7 @@ class LiveAnalysis {
   // them (where the rows will be once cut); the rows come since.
   Eigen::Index cut_ = 0;
   force::CycleSet segmented_;
-  std::vector<force::ForceRecord> pending_;
+  std::vector<std::shared_ptr<const force::ForceRecord>> pending_;
   Eigen::Index pending_rows_ = 0;
   Eigen::Index since_try_ = 0;
   double stroke_mm_ = 0.0;
@@ -232,7 +233,8 @@ class LiveAnalysis {
   std::vector<double> lines_seen_hz_;
   // The latest decision_cycles cycles' rows (and a few more), for the
   // profile's decision, and P's slope's significance then.
-  std::deque<force::ForceRecord> history_;  // the rows as they came
+  // The rows as they came.
+  std::deque<std::shared_ptr<const force::ForceRecord>> history_;
   int decided_at_ = -1;         // reported cycles at the last decision
   bool depth_decided_ = false;  // it took the depth channel
   double p_significance_ = std::numeric_limits<double>::quiet_NaN();

@@ -229,9 +229,11 @@ void ForceFollower::ReadFirstRows(const std::string& text, FollowedRows* out) {
   out->rows = std::move(record);
 }
 
-void ForceFollower::ReadMoreRows(const std::string& text, FollowedRows* out) {
+void ForceFollower::ReadMoreRows(const std::string& text,
+                                 long text_lines,
+                                 FollowedRows* out) {
   if (LastLine(text).empty()) return;  // blank lines only
-  const long from_line = lines_ - CountLineBreaks(text) + 1;
+  const long from_line = lines_ - text_lines + 1;
   const std::string name = fmt::format(
       "{} (the rows appended from line {}; lines counted from the "
       "header's end)",
@@ -275,9 +277,10 @@ FollowedRows ForceFollower::Poll(bool idle) {
   FollowedRows out;
   if (!Reopen(&out)) return out;
   const std::string text = TakeCompleteLines();
-  lines_ += CountLineBreaks(text);
+  const long text_lines = static_cast<long>(CountLineBreaks(text));
+  lines_ += text_lines;
   if (started_) {
-    ReadMoreRows(text, &out);
+    ReadMoreRows(text, text_lines, &out);
     return out;
   }
   head_ += text;

@@ -78,7 +78,9 @@ class ForceFollower {
   bool Reopen(FollowedRows* out);
   std::string TakeCompleteLines();
   void ReadFirstRows(const std::string& text, FollowedRows* out);
-  void ReadMoreRows(const std::string& text, FollowedRows* out);
+  void ReadMoreRows(const std::string& text,
+                    long text_lines,
+                    FollowedRows* out);
 
   std::string path_;
   FollowOptions options_;

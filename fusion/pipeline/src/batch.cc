@@ -208,10 +208,11 @@ SpecimenAnalysis AnalyzeSpecimen(const Specimen& s,
       hash->Update(bytes, size);
     };
   }
-  // The scan is read and prepared on a second core while the force file is
-  // read (deferred without: where AnalyzeTest asks for it). A scan that
-  // cannot be read fails the specimen, as a force file does; one without a
-  // usable track is left out by AnalyzeTest with a warning.
+  // The force file first, parsed on both cores; then the scan is read and
+  // prepared on a second core beside the force side's analysis (deferred
+  // without: where AnalyzeTest asks for it). A scan that cannot be read
+  // fails the specimen, as a force file does; one without a usable track
+  // is left out by AnalyzeTest with a warning.
   SpecimenAnalysis a{force::ReadForceFile(s.force, read), {}};
   if (hash) a.record.metadata.sha256 = hash->Hex();
   std::exception_ptr scan_unreadable;

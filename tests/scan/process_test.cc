@@ -33,25 +33,6 @@ TEST(Level, RecoversKnownPlaneUnderTheTrack) {
   EXPECT_LT(s.rms_mm, 1.2 * std::hypot(o.roughness_mm, o.scan_noise_mm));
 }
 
-// RANSAC draws on an even subset of the points (LevelOptions::
-// ransac_points); its plane's inliers are then taken over all of them and
-// trimmed: the plane and the inliers of drawing on every point. (The
-// trimmed fit also grows the subset's own inliers to the same plane.)
-TEST(Level, TheSubsetsPlaneIsEveryPointsPlane) {
-  sim::SimulatedTest subset = Simulated("S-RT-R", 2.5, false);
-  HeightMap every = subset.scan;
-  LevelOptions all;
-  all.ransac_points = all.max_points;
-  const LevelSummary s = LevelHeightMap(&subset.scan);
-  const LevelSummary w = LevelHeightMap(&every, all);
-  EXPECT_NEAR(s.dzdx(), w.dzdx(), 2e-6) << s.message << " / " << w.message;
-  EXPECT_NEAR(s.dzdy(), w.dzdy(), 2e-6);
-  EXPECT_NEAR(s.z0_mm(), w.z0_mm(), 2e-5);
-  EXPECT_NEAR(s.inliers, w.inliers, 0.005 * w.inliers);
-  EXPECT_EQ(s.points_used, w.points_used);
-  EXPECT_GT(s.inliers, s.points_used / 2);
-}
-
 TEST(Level, SecondOrderSurfaceIsRemoved) {
   HeightMap m;
   m.dx_mm = m.dy_mm = 0.01;

@@ -80,7 +80,6 @@ bool LevelOptions::IsValid(std::string* why) const {
     return fail("ransac_threshold_mm must be > 0");
   if (ransac_iterations < 1) return fail("ransac_iterations must be >= 1");
   if (max_points < 10) return fail("max_points must be >= 10");
-  if (ransac_points < 10) return fail("ransac_points must be >= 10");
   return true;
 }
 
@@ -119,26 +118,14 @@ std::vector<int> PlaneInliers(const Cloud::Ptr& cloud,
   // PCL prints to stderr ("Sample points too similar or collinear!", once
   // per failed draw): wearscar reports through LevelSummary instead.
   pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
-  using Model = pcl::SampleConsensusModelPlane<pcl::PointXYZ>;
-  // The draws and their counts on an even subset: each iteration counts
-  // every point it holds, the most of the levelling's time.
-  const std::size_t stride =
-      std::max<std::size_t>(1, cloud->size() / options.ransac_points);
-  pcl::Indices subset;
-  for (std::size_t i = 0; i < cloud->size(); i += stride)
-    subset.push_back(static_cast<pcl::index_t>(i));
-  Model::Ptr model(new Model(cloud, subset));
+  pcl::SampleConsensusModelPlane<pcl::PointXYZ>::Ptr model(
+      new pcl::SampleConsensusModelPlane<pcl::PointXYZ>(cloud));
   pcl::RandomSampleConsensus<pcl::PointXYZ> ransac(model);
   ransac.setDistanceThreshold(options.ransac_threshold_mm);
   ransac.setMaxIterations(options.ransac_iterations);
   std::vector<int> inliers;
-  Eigen::VectorXf plane;
-  if (ransac.computeModel()) {
-    ransac.getModelCoefficients(plane);
-    Model(cloud).selectWithinDistance(
-        plane, options.ransac_threshold_mm, inliers);
-  }
-  if (inliers.size() < 3) {
+  if (!ransac.computeModel() ||
+      (ransac.getInliers(inliers), inliers.size() < 3)) {
     throw ScanError(fmt::format(
         "{}: no plane found on the unworn area (RANSAC, threshold {} mm)",
         source,

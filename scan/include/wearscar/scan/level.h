@@ -15,10 +15,6 @@ struct LevelOptions {
   int ransac_iterations = 500;
   // Points given to RANSAC and the least-squares fit (subsampled evenly).
   int max_points = 60000;
-  // RANSAC draws and counts on every n-th of those points, at most about
-  // this many (its plane is a seed: the inliers are then taken over all of
-  // them, and the least-squares fit trims them).
-  int ransac_points = 6000;
   std::uint64_t seed = 42;
 
   bool IsValid(std::string* why) const;

@@ -102,10 +102,13 @@ struct CycleFitter {
         slope_scale(scale),
         n(static_cast<int>(c.cycles.size())),
         grid(PlateGrid::Covering(r, c, o.repeatability.bin_mm)),
-        misfit(grid, 0, n - 1, /*with_x=*/false),
+        misfit(grid, 0, o.split_noise ? n - 1 : -1, /*with_x=*/false),
         // (k's bins serve the force side's noise split alone: an empty
         // range for the scan's k, which AddRange then skips.)
-        slope(grid, 0, bin_slope ? n - 1 : -1, /*with_x=*/false),
+        slope(grid,
+              0,
+              bin_slope && o.split_noise ? n - 1 : -1,
+              /*with_x=*/false),
         misfit_total(n),
         q_total(n),
         k_total(n),
@@ -137,9 +140,11 @@ struct CycleFitter {
       MuFit fit = FitMu(s, options.fit);
       if (fit.converged)
         bias_per_variance[c] = KNoiseBiasPerVariance(s, fit.mu_hat);
-      int d = 0;
-      for (const SlipSamples* h : {&s.forward, &s.reverse})
-        AddDirection(c, d++, *h, fit, &residual);
+      if (options.split_noise) {
+        int d = 0;
+        for (const SlipSamples* h : {&s.forward, &s.reverse})
+          AddDirection(c, d++, *h, fit, &residual);
+      }
       out->cycles[static_cast<std::size_t>(c)] = std::move(fit);
       if (options.keep_samples)
         out->samples[static_cast<std::size_t>(c)] = std::move(s);
@@ -255,16 +260,20 @@ FrictionFits FitFriction(const force::ForceRecord& record,
   }
   // The split: other cycles at the same x whose k shares no P sample with
   // this cycle's form the template.
-  SplitCosts(
-      SplitRepeatable(
-          fitter.misfit, fitter.misfit_total, shared, options.repeatability),
-      fitter.q_total,
-      &out.cycles);
-  if (source == SlopeSource::kForce) {
-    SplitSlopeNoise(
+  if (options.split_noise) {
+    SplitCosts(
         SplitRepeatable(
-            fitter.slope, fitter.k_total, shared, options.repeatability),
-        &out);
+            fitter.misfit, fitter.misfit_total, shared, options.repeatability),
+        fitter.q_total,
+        &out.cycles);
+  }
+  if (source == SlopeSource::kForce) {
+    if (options.split_noise) {
+      SplitSlopeNoise(
+          SplitRepeatable(
+              fitter.slope, fitter.k_total, shared, options.repeatability),
+          &out);
+    }
     const auto [lo, hi] = FittedSpan(options.fit_cycle, n);
     out.k_ensemble_noise_rms =
         std::sqrt(std::isnan(options.k_noise_variance)

@@ -203,6 +203,7 @@ void LiveAnalysis::Analyse(std::vector<LiveCycle>* out) {
     a.cof = NewCyclesCof(a.cycles, fresh);
     o.friction.fit_cycle = fresh;
     o.friction.keep_samples = true;
+    o.friction.split_noise = false;  // SplitNoise, against earlier windows
     const int n = static_cast<int>(reported_.size());
     const bool estimate =
         k_noise_estimates_.empty() || n - k_noise_at_ >= kKNoiseEvery;

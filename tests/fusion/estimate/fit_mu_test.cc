@@ -17,7 +17,7 @@ CycleSamples ModelSamples(double mu, double noise_n, unsigned seed) {
   std::mt19937 gen(seed);
   std::normal_distribution<double> noise(0.0, noise_n);
   CycleSamples s;
-  for (SlipSamples* d : {&s.forward, &s.reverse}) {
+  for (SlipSamples *d : {&s.forward, &s.reverse}) {
     d->direction = d == &s.forward ? +1 : -1;
     const int n = 800;
     d->q_n.resize(n);
@@ -168,6 +168,42 @@ TEST(FitFriction, TwoThreadsGiveTheFitsOfOne) {
   EXPECT_NE(why.find("threads"), std::string::npos) << why;
 }
 
+// Without the noise split (a live window splits against earlier windows)
+// the fits and the bias correction are those with it, to the bit; only
+// the split's figures are left NaN.
+TEST(FitFriction, WithoutTheNoiseSplitTheFitsAreTheSame) {
+  samples::SimulationOptions o = samples::PaperCase("B-RL-R");
+  o.cycles = 40;
+  const sim::SimulatedTest t = sim::Simulate(o);
+  AnalysisOptions a;
+  force::CycleSet cycles = force::SegmentCycles(t.record.x_mm);
+  force::FindGrossSlip(t.record, &cycles, a.slip);
+  FrictionFitOptions split = a.friction, none = a.friction;
+  none.split_noise = false;
+  const FrictionFits f1 =
+      FitFriction(t.record, cycles, SlopeSource::kForce, split);
+  const FrictionFits f2 =
+      FitFriction(t.record, cycles, SlopeSource::kForce, none);
+  ASSERT_EQ(f1.cycles.size(), f2.cycles.size());
+  int converged = 0;
+  for (size_t c = 0; c < f1.cycles.size(); ++c) {
+    const MuFit &x = f1.cycles[c], &y = f2.cycles[c];
+    EXPECT_EQ(x.converged, y.converged) << c;
+    if (!x.converged) continue;
+    ++converged;
+    EXPECT_EQ(x.mu_hat, y.mu_hat) << c;
+    EXPECT_EQ(x.cost, y.cost) << c;
+    EXPECT_EQ(x.standard_error, y.standard_error) << c;
+    EXPECT_TRUE(std::isfinite(x.cost_floor)) << c;
+    EXPECT_TRUE(std::isnan(y.cost_floor)) << c;
+    EXPECT_TRUE(std::isnan(y.cost_excess)) << c;
+  }
+  EXPECT_GE(converged, 30);
+  EXPECT_NE(f1.k_noise_correction, 0.0);
+  EXPECT_EQ(f1.k_noise_correction, f2.k_noise_correction);
+  EXPECT_TRUE(std::isfinite(f1.k_noise_rms));
+  EXPECT_TRUE(std::isnan(f2.k_noise_rms));
+}
 TEST(RunningIn, EndsWhereTheTransientFallsInsideTheBand) {
   // 0.11 + 0.04 exp(-c / 20) with a slow drift and scatter: the transient
   // drops below the 0.005 band at c = 20 ln 8 = 41.6.

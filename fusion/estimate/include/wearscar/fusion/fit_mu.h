@@ -132,6 +132,11 @@ struct FrictionFitOptions {
   // FrictionFits::samples keeps each fitted cycle's gross-slip samples
   // with its k (a live window's loop and misfit).
   bool keep_samples = false;
+  // The noise split of J and of k over the cycles given (MuFit::cost_floor
+  // and cost_excess, FrictionFits::k_signal_rms and k_noise_rms); false
+  // leaves them NaN: a live window splits each new cycle's J against a
+  // template of earlier windows' cycles, not against its own few.
+  bool split_noise = true;
   // k from the record's depth channel (the ball's vertical position,
   // penetration positive: k = -d depth/dx) instead of P/S; the ensemble
   // estimate only.

@@ -111,7 +111,8 @@ class LiveFiles {
                         {"kind", e.kind},
                         {"cycle", e.cycle},
                         {"test_time_s", e.time_s},
-                        {"message", e.message}};
+                        {"message", e.message},
+                        {"good", e.good}};
     events_ << j.dump() << "\n";
     events_.flush();
   }

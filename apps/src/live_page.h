@@ -16,8 +16,9 @@ figure{margin:0;border:1px solid #ddd;padding:6px}
 figcaption{font-weight:600;margin-bottom:4px}
 canvas{width:100%;height:300px}
 #alerts li{margin:2px 0}
-.alert-steady{color:#0a6}.alert-verdict{color:#b30}.alert-depth{color:#b30}
+.alert-steady{color:#a60}.alert-verdict{color:#b30}.alert-depth{color:#b30}
 .alert-idle{color:#555}.alert-periodic{color:#b30}.alert-restart{color:#a60}
+#alerts li.good{color:#0a6}
 </style></head><body>
 <h1>wearscar watch</h1>
 <div id="status">waiting for the first cycle</div>
@@ -76,7 +77,7 @@ async function poll(){try{const r=await fetch('state.json?since='+S.cycles.lengt
  document.getElementById('status').textContent='cycles: '+S.cycles.length+' · updates: '+S.updates+(last?' · mu-hat '+(last[1]==null?'-':last[1].toFixed(4))+' · COF '+last[4].toFixed(4):'')+(st.steady?' · steady':'');
  document.getElementById('verdict').textContent=st.verdict?'verdict '+st.verdict:'';
  const ul=document.getElementById('alerts');ul.innerHTML='';
- st.events.slice().reverse().forEach(e=>{const li=document.createElement('li');li.className='alert-'+e.kind;li.textContent='cycle '+e.cycle+' · '+e.kind+': '+e.message;ul.appendChild(li);});
+ st.events.slice().reverse().forEach(e=>{const li=document.createElement('li');li.className='alert-'+e.kind+(e.good?' good':'');li.textContent='cycle '+e.cycle+' · '+e.kind+': '+e.message;ul.appendChild(li);});
  drawMu();drawLoop(st);drawMap(st,'map','rows','|Q|/P',3);drawDepth();drawMap(st,'track','track','P/S, mm',4);}catch(e){document.getElementById('status').textContent='the watch has ended or is not reachable ('+e+')';}
  setTimeout(poll,500);}
 poll();

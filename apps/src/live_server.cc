@@ -102,8 +102,10 @@ nlohmann::json LiveServer::State(int since) const {
   s["cycles"] = std::move(rows);
   nlohmann::json events = nlohmann::json::array();
   for (const auto& e : events_)
-    events.push_back(
-        {{"kind", e.kind}, {"cycle", e.cycle}, {"message", e.message}});
+    events.push_back({{"kind", e.kind},
+                      {"cycle", e.cycle},
+                      {"message", e.message},
+                      {"good", e.good}});
   s["events"] = std::move(events);
   nlohmann::json loop = {{"cycle", loop_.cycle}};
   nlohmann::json x = nlohmann::json::array(), q = nlohmann::json::array(),

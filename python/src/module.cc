@@ -517,6 +517,7 @@ class Watcher {
       d["kind"] = x.kind;
       d["cycle"] = x.cycle;
       d["message"] = x.message;
+      d["good"] = x.good;
       e.append(d);
     }
     return py::make_tuple(c, e, follower_.offset());

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <numeric>
 
 #include "wearscar/force/cycles.h"
@@ -60,6 +61,11 @@ force::ForceRecord JoinRows(const force::ForceRecord& head,
   out.normal_n = join(&force::ForceRecord::normal_n);
   if (depth) out.depth_mm = join(&force::ForceRecord::depth_mm);
   return out;
+}
+
+double MeanOf(const std::deque<double>& v) {
+  return std::accumulate(v.begin(), v.end(), 0.0) /
+         static_cast<double>(v.size());
 }
 
 }  // namespace
@@ -207,12 +213,7 @@ void LiveAnalysis::Analyse(std::vector<LiveCycle>* out) {
     const int n = static_cast<int>(reported_.size());
     const bool estimate =
         k_noise_estimates_.empty() || n - k_noise_at_ >= kKNoiseEvery;
-    if (!estimate) {
-      o.friction.k_noise_variance =
-          std::accumulate(
-              k_noise_estimates_.begin(), k_noise_estimates_.end(), 0.0) /
-          static_cast<double>(k_noise_estimates_.size());
-    }
+    if (!estimate) o.friction.k_noise_variance = MeanOf(k_noise_estimates_);
     FrictionFits fits =
         FitFriction(buffer_, a.cycles, SlopeSource::kForce, o.friction);
     if (estimate && std::isfinite(fits.k_ensemble_noise_rms)) {

@@ -81,9 +81,12 @@ void LiveAnalysis::DecideSlope(bool may_switch) {
                     d.reason));
 }
 
-void LiveAnalysis::Raise(const std::string& kind, std::string message) {
+void LiveAnalysis::Raise(const std::string& kind,
+                         std::string message,
+                         bool good) {
   LiveEvent e;
   e.kind = kind;
+  e.good = good;
   e.cycle = reported_.empty() ? 0 : reported_.back().cycle;
   e.time_s = reported_.empty() ? 0.0 : reported_.back().end_time_s;
   e.message = std::move(message);
@@ -184,7 +187,8 @@ void LiveAnalysis::UpdateSteady() {
                               t.trend,
                               t.shift,
                               w,
-                              band));
+                              band),
+        steady_);
 }
 
 void LiveAnalysis::UpdateVerdict() {
@@ -247,7 +251,8 @@ void LiveAnalysis::UpdateVerdict() {
   verdict_state_ = state;
   Raise(
       "verdict",
-      fmt::format("{}{}", turned ? "the verdict turned: " : "", verdict_text_));
+      fmt::format("{}{}", turned ? "the verdict turned: " : "", verdict_text_),
+      state == 1);
 }
 
 // Over the window (the drive's rate from its cycles), every periodic_every

@@ -185,6 +185,8 @@ TEST(LiveAnalysis, RunningInThenSteadyThenAVerdict) {
   EXPECT_GE(s->cycle, 60);  // two steady windows
   EXPECT_NE(s->message.find("could stop"), std::string::npos);
   EXPECT_NE(v->message.find("explained by wear-scar"), std::string::npos);
+  EXPECT_TRUE(s->good);  // good news, shown green
+  EXPECT_TRUE(v->good);
 }
 
 TEST(LiveAnalysis, AnElasticPartTurnsTheVerdict) {
@@ -193,6 +195,7 @@ TEST(LiveAnalysis, AnElasticPartTurnsTheVerdict) {
   const LiveEvent* v = Find(f.events, "verdict");
   ASSERT_NE(v, nullptr);
   EXPECT_NE(v->message.find("not explained"), std::string::npos) << v->message;
+  EXPECT_FALSE(v->good);  // a warning
 }
 
 TEST(LiveAnalysis, ATrackDeeperThanTheLimitRaisesAnAlert) {

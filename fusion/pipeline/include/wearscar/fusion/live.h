@@ -84,6 +84,9 @@ struct LiveEvent {
   int cycle = 0;  // from 1; the cycle it was raised at
   double time_s = 0.0;
   std::string message;
+  // Good news rather than a warning: "steady", and a "verdict" that says
+  // the loops are explained (the page shows it green, not as an alarm).
+  bool good = false;
 };
 
 // The latest cycle's gross-slip samples against the wear-scar model
@@ -173,7 +176,7 @@ class LiveAnalysis {
   void AddMapRow(const force::ForceRecord& window,
                  const force::Cycle& cycle,
                  int number);
-  void Raise(const std::string& kind, std::string message);
+  void Raise(const std::string& kind, std::string message, bool good = false);
   void DecideSlope(bool may_switch);
   void KeepHistory();
   force::ForceRecord LatestRows() const;  // history_ joined

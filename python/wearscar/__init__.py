@@ -265,8 +265,9 @@ def watch(path, poll=0.1, idle=60.0, until_cycles=None, steady_cycles=30,
     event says so; mu_hat_low, mu_hat_high: its 95% interval), mu_mean,
     mu_energy, J, J_floor, J_excess, depth_mm (the track's depth from the
     spring, or the depth channel's), running_in, and "events": the alerts
-    raised with it (dicts of kind, cycle, message and good, true for good
-    news: running-in, steady, verdict, depth, restart, profile, block). "Steady" is said once its
+    raised with it (dicts of kind: running-in, steady, verdict, depth,
+    restart, profile or block; cycle; message; good: true for mu-hat steady
+    and a verdict that the loops are explained). "Steady" is said once its
     rule (steady_cycles, steady_band) has held on steady_hold cycles.
     Ends when the file has not grown for `idle` seconds (a last dict with
     cycle None carries the "idle" event and any other not yet given) or

@@ -389,6 +389,12 @@ def test_watch_yields_each_cycle_of_a_file_being_written(tmp_path):
     assert abs(live - np.nanmean(whole.mu_hat_per_cycle[10:])) < 0.002
     events = [e["kind"] for c in seen for e in c["events"]]
     assert "verdict" in events
+    # B-RT-R is explained: good news, not a warning; the writer stopping
+    # is not good news.
+    verdict = next(e for c in seen for e in c["events"] if e["kind"] == "verdict")
+    assert "not explained" not in verdict["message"]
+    assert verdict["good"] is True
+    assert seen[-1]["events"][-1]["good"] is False
 
 
 def test_watch_follows_a_file_per_block_as_one_test(tmp_path):

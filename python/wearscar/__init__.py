@@ -299,7 +299,8 @@ def _watch(path, poll, idle, until_cycles, steady, max_depth, pattern, work,
             pending.append({
                 "kind": "idle", "cycle": count,
                 "message": "{} has not grown for {:g} s: the writer stopped"
-                           .format(_os.fspath(path), idle)})
+                           .format(_os.fspath(path), idle),
+                "good": False})
         for c in cycles:
             c["events"], pending = pending, []
             count = c["cycle"]

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <random>
+#include <string>
 
 #include "common/simulated.h"
 #include "wearscar/fusion/analysis.h"
@@ -131,22 +132,31 @@ TEST(AnalyzeForce, RecoversSimulatedMuPerCycleOnBeechRtR) {
   EXPECT_LT(r.cost.mean, 0.4);  // explained (paper's threshold)
 }
 
+// A simulated case of `cycles` cycles, segmented with its gross slip, for
+// FitFriction with k from P.
+struct SegmentedCase {
+  SegmentedCase(const std::string &name, int cycles) {
+    samples::SimulationOptions o = samples::PaperCase(name);
+    o.cycles = cycles;
+    test = sim::Simulate(o);
+    set = force::SegmentCycles(test.record.x_mm);
+    force::FindGrossSlip(test.record, &set, AnalysisOptions{}.slip);
+  }
+  FrictionFits Fit(const FrictionFitOptions &o) const {
+    return FitFriction(test.record, set, SlopeSource::kForce, o);
+  }
+  sim::SimulatedTest test;
+  force::CycleSet set;
+};
+
 // On two threads the second half of the cycles is fitted beside the first
 // with an ensemble of its own: every number of every cycle's fit, and the
 // noise split over all of them, the same as on one.
 TEST(FitFriction, TwoThreadsGiveTheFitsOfOne) {
-  samples::SimulationOptions o = samples::PaperCase("S-RT-R");
-  o.cycles = 90;
-  const sim::SimulatedTest t = sim::Simulate(o);
-  AnalysisOptions a;
-  force::CycleSet cycles = force::SegmentCycles(t.record.x_mm);
-  force::FindGrossSlip(t.record, &cycles, a.slip);
-  FrictionFitOptions one = a.friction, two = a.friction;
+  const SegmentedCase t("S-RT-R", 90);
+  FrictionFitOptions one = AnalysisOptions{}.friction, two = one;
   two.threads = 2;
-  const FrictionFits f1 =
-      FitFriction(t.record, cycles, SlopeSource::kForce, one);
-  const FrictionFits f2 =
-      FitFriction(t.record, cycles, SlopeSource::kForce, two);
+  const FrictionFits f1 = t.Fit(one), f2 = t.Fit(two);
   ASSERT_EQ(f1.cycles.size(), 90u);
   ASSERT_EQ(f2.cycles.size(), 90u);
   for (size_t c = 0; c < f1.cycles.size(); ++c) {
@@ -158,7 +168,7 @@ TEST(FitFriction, TwoThreadsGiveTheFitsOfOne) {
     EXPECT_EQ(x.standard_error, y.standard_error) << c;
     EXPECT_EQ(x.cost_floor, y.cost_floor) << c;
     EXPECT_EQ(x.cost_excess, y.cost_excess) << c;
-    EXPECT_NEAR(x.mu_hat, t.truth.mu_per_cycle[c], 0.01) << c;
+    EXPECT_NEAR(x.mu_hat, t.test.truth.mu_per_cycle[c], 0.01) << c;
   }
   EXPECT_EQ(f1.k_ensemble_noise_rms, f2.k_ensemble_noise_rms);
   EXPECT_EQ(f1.k_noise_correction, f2.k_noise_correction);
@@ -172,18 +182,10 @@ TEST(FitFriction, TwoThreadsGiveTheFitsOfOne) {
 // the fits and the bias correction are those with it, to the bit; only
 // the split's figures are left NaN.
 TEST(FitFriction, WithoutTheNoiseSplitTheFitsAreTheSame) {
-  samples::SimulationOptions o = samples::PaperCase("B-RL-R");
-  o.cycles = 40;
-  const sim::SimulatedTest t = sim::Simulate(o);
-  AnalysisOptions a;
-  force::CycleSet cycles = force::SegmentCycles(t.record.x_mm);
-  force::FindGrossSlip(t.record, &cycles, a.slip);
-  FrictionFitOptions split = a.friction, none = a.friction;
+  const SegmentedCase t("B-RL-R", 40);
+  FrictionFitOptions split = AnalysisOptions{}.friction, none = split;
   none.split_noise = false;
-  const FrictionFits f1 =
-      FitFriction(t.record, cycles, SlopeSource::kForce, split);
-  const FrictionFits f2 =
-      FitFriction(t.record, cycles, SlopeSource::kForce, none);
+  const FrictionFits f1 = t.Fit(split), f2 = t.Fit(none);
   ASSERT_EQ(f1.cycles.size(), f2.cycles.size());
   int converged = 0;
   for (size_t c = 0; c < f1.cycles.size(); ++c) {
@@ -204,6 +206,7 @@ TEST(FitFriction, WithoutTheNoiseSplitTheFitsAreTheSame) {
   EXPECT_TRUE(std::isfinite(f1.k_noise_rms));
   EXPECT_TRUE(std::isnan(f2.k_noise_rms));
 }
+
 TEST(RunningIn, EndsWhereTheTransientFallsInsideTheBand) {
   // 0.11 + 0.04 exp(-c / 20) with a slow drift and scatter: the transient
   // drops below the 0.005 band at c = 20 ln 8 = 41.6.

@@ -194,8 +194,9 @@ void PrintDiagnosis(const std::string& name,
         100 * c.improved_fraction,
         c.delta_bic,
         ParameterText(c),
-        c.accepted    ? "NAMED"
-        : c.plausible ? "(rejected: stop)"
+        c.accepted                ? "NAMED"
+        : !c.contradicted.empty() ? "(contradicted by the channels: stop)"
+        : c.plausible             ? "(rejected: stop)"
                       : "(a resistance fitted negative, implausible: stop)");
   }
   for (const auto& step : d.steps) {

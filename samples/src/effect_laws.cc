@@ -18,9 +18,10 @@ double PloughingForce(double depth_mm,
          std::pow(depth_mm / reference_depth_mm, 1.5);
 }
 
-double RatchetMu(double mu, int direction, double asymmetry, double mu_ref) {
+double RatchetMu(
+    double mu, int direction, double asymmetry, double mu_ref, double tooth) {
   const double theta =
-      std::atan(mu_ref * (1.0 + asymmetry)) - std::atan(mu_ref);
+      tooth * (std::atan(mu_ref * (1.0 + asymmetry)) - std::atan(mu_ref));
   return std::tan(std::atan(mu) + direction * theta);
 }
 

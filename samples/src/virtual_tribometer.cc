@@ -133,6 +133,11 @@ struct Specimen {
   // mu_eff / mu along the stroke from the local hardness (mean 1 over the
   // stroke; 1 everywhere without a friction pattern).
   Grid friction;
+  // The fibres' tooth angle relative to its mean over the stroke (the
+  // ratchet's, laws::RatchetMu): the stiff latewood cell walls spring back
+  // upright behind the sphere, the earlywood's stay crushed; the contact
+  // meets the teeth under its footprint.
+  Grid teeth;
 };
 
 // The density across one growth ring at phase p in [0, 1): it rises
@@ -266,6 +271,8 @@ Specimen MakeSpecimen(const SimulationOptions& o, Rng& rng, Rng& extra) {
   s.elastic_shape = Grid{x0, step, elastic};
   s.friction =
       Grid{x0, step, FrictionFactor(o, xg, texture, ring_phase, extra)};
+  const Eigen::VectorXd teeth = GaussianSmooth(stiffness, sigma);
+  s.teeth = Grid{x0, step, teeth / StrokeMoments(o, xg, teeth).first};
   // The sd by the one-pass formula the elastic fraction always used.
   double w1 = 0, w2 = 0;
   for (Eigen::Index i = 0; i < ng; ++i) {
@@ -371,13 +378,14 @@ SlidingBounds ForcesAt(const SimulationOptions& o,
                            : 1.0;
   const double mu_b = mu * boundary * dwell;
   constexpr double kRatchetMu = 0.11;
+  const double teeth = fx.direction_asymmetry != 0 ? s.teeth(x) : 0.0;
   const double mu_f =
       fx.direction_asymmetry != 0
-          ? laws::RatchetMu(mu_b, +1, fx.direction_asymmetry, kRatchetMu)
+          ? laws::RatchetMu(mu_b, +1, fx.direction_asymmetry, kRatchetMu, teeth)
           : mu_b;
   const double mu_r =
       fx.direction_asymmetry != 0
-          ? laws::RatchetMu(mu_b, -1, fx.direction_asymmetry, kRatchetMu)
+          ? laws::RatchetMu(mu_b, -1, fx.direction_asymmetry, kRatchetMu, teeth)
           : mu_b;
   double upper = TiltedContactQ(p, k, mu_f, +1);
   double lower = TiltedContactQ(p, k, mu_r, -1);

@@ -407,6 +407,50 @@ TEST(HiddenEffects, QLagDelaysTheTangentialChannel) {
   EXPECT_EQ(p.on.record.normal_n, p.off.record.normal_n);
 }
 
+// What the diagnosis sees of a first-order sensor: on the loops' gross
+// slip it is a pure delay (the library's "time lag") to within half a
+// percent of Q's range (0.2% measured, 3 ms at 2 kHz), so the diagnosis test of
+// a lag checks that the delay is found where a low-pass stands, not that two
+// laws are told apart. (They differ on a step, which sliding never makes.)
+TEST(HiddenEffects, QLagIsADelayOnTheLoops) {
+  HiddenEffects e;
+  e.q_lag_s = 0.003;
+  Pair p;
+  p.o = Small("S-RT-R");
+  p.o.scan_cols = p.o.scan_rows = 32;
+  p.o.noise_scale = 0;
+  p.o.q_resolution_n = 0;
+  p.off = Simulate(p.o);
+  SimulationOptions with = p.o;
+  with.effects = e;
+  p.on = Simulate(with);
+  const auto& lagged = p.on.record.tangential_n;
+  const auto& clean = p.off.record.tangential_n;
+  std::vector<Eigen::Index> slip = Select(p, +1, 5, 100);
+  for (Eigen::Index i : Select(p, -1, 5, 100)) slip.push_back(i);
+  const double dt = 1.0 / p.o.sampling_rate_hz;
+  double best = INFINITY, best_tau = 0, lo = INFINITY, hi = -INFINITY;
+  for (Eigen::Index i : slip) {
+    lo = std::min(lo, clean[i]);
+    hi = std::max(hi, clean[i]);
+  }
+  for (double tau = 0; tau <= 0.006; tau += 0.00005) {
+    const double steps = tau / dt;
+    const auto whole = static_cast<Eigen::Index>(steps);
+    const double frac = steps - static_cast<double>(whole);
+    double ss = 0;
+    for (Eigen::Index i : slip) {
+      const double delayed =
+          (1 - frac) * clean[i - whole] + frac * clean[i - whole - 1];
+      ss += (lagged[i] - delayed) * (lagged[i] - delayed);
+    }
+    const double rms = std::sqrt(ss / static_cast<double>(slip.size()));
+    if (rms < best) best = rms, best_tau = tau;
+  }
+  EXPECT_NEAR(best_tau, 0.003, 0.0005);
+  EXPECT_LT(best / (hi - lo), 0.004) << best << " N of " << hi - lo;
+}
+
 TEST(HiddenEffects, CrosstalkLeaksTangentialIntoNormal) {
   HiddenEffects e;
   e.crosstalk_q_into_p = 0.05;
@@ -572,7 +616,8 @@ std::vector<double> Range(double lo, double hi) {
 // the library's formula with its best parameters leaves at least 1% of the
 // simulator's law's range unexplained, over the range a test spans. (The
 // crosstalk of Q into P is a load cell's cross-sensitivity in either: the
-// same physics has one form.)
+// same physics has one form. A first-order sensor is a delay on the
+// loops: HiddenEffects.QLagIsADelayOnTheLoops.)
 TEST(EffectLaws, DifferFromTheLibrarysFormulas) {
   // Boundary friction (1 + r / (1 + (v/v_s)^2)) against Stribeck's
   // exp(-(v/v_s)^2), speeds of a 1 Hz, 2.85 mm sine.
@@ -600,13 +645,20 @@ TEST(EffectLaws, DifferFromTheLibrarysFormulas) {
                 [](double v, double c, double) { return c * v; },
                 {0, 0.1}),
             0.01);
-  // The fibres' ratchet against mu (1 + a), over the mu of a test.
+  // The fibres' ratchet against mu (1 + a) along the stroke, at one mu:
+  // the teeth stand 0.8-1.2 of their mean height (the latewood's and the
+  // earlywood's), which one a cannot follow. (At one tooth height the two
+  // agree exactly once mu is fitted per cycle: any forward and reverse
+  // friction is some mu (1 +- a).)
   EXPECT_GT(BestMisfit(
-                Range(0.08, 0.2),
-                [](double mu) { return laws::RatchetMu(mu, 1, 0.1, 0.11); },
-                [](double mu, double a, double) { return mu * (1 + a); },
+                Range(0.8, 1.2),
+                [](double tooth) {
+                  return laws::RatchetMu(0.11, 1, 0.1, 0.11, tooth) -
+                         laws::RatchetMu(0.11, -1, 0.1, 0.11, tooth);
+                },
+                [](double, double a, double) { return 2 * 0.11 * a; },
                 {0, 0.3}),
-            0.01);
+            0.1);
   // The end wall's quadratic overlap against an exponential hook.
   EXPECT_GT(
       BestMisfit(
@@ -615,14 +667,6 @@ TEST(EffectLaws, DifferFromTheLibrarysFormulas) {
           [](double d, double h, double l) { return h * std::exp(-d / l); },
           {0, 2},
           {0.02, 3}),
-      0.01);
-  // A first-order sensor's step response against a delayed step.
-  EXPECT_GT(
-      BestMisfit(
-          Range(0, 0.02),
-          [](double t) { return 1 - std::exp(-t / 0.003); },
-          [](double t, double tau, double) { return t >= tau ? 1.0 : 0.0; },
-          {0, 0.02}),
       0.01);
 }
 

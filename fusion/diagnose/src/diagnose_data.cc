@@ -227,6 +227,45 @@ DiagCycle GatherCycle(const force::ForceRecord& record,
   dc.norm_reverse = std::sqrt(std::max(r2, 1e-12));
   return dc;
 }
+// Crosstalk as the P channel shows it: over the grid's bins where both
+// directions slid, P's difference between the directions regressed on
+// Q's (through zero: P_measured = P + c Q), with the standard error of
+// the slope from the bins' scatter about it.
+DirectEvidence ChannelEvidence(const Data& d, const ProfileGrid& grid) {
+  Eigen::MatrixXd p = Eigen::MatrixXd::Zero(2, grid.bins), q = p, n = p;
+  for (const DiagCycle& dc : d.cycles) {
+    for (const Sample& s : dc.samples) {
+      const auto b =
+          static_cast<Eigen::Index>(std::floor((s.x - grid.x_lo) / grid.bin));
+      if (b < 0 || b >= grid.bins) continue;
+      const int row = s.s > 0 ? 0 : 1;
+      p(row, b) += s.p;
+      q(row, b) += s.q;
+      n(row, b) += 1;
+    }
+  }
+  std::vector<double> dp, dq;
+  for (Eigen::Index b = 0; b < grid.bins; ++b) {
+    if (n(0, b) < 1 || n(1, b) < 1) continue;
+    dp.push_back(p(0, b) / n(0, b) - p(1, b) / n(1, b));
+    dq.push_back(q(0, b) / n(0, b) - q(1, b) / n(1, b));
+  }
+  DirectEvidence e;
+  if (dp.size() < 3) return e;
+  double pq = 0, qq = 0;
+  for (size_t i = 0; i < dp.size(); ++i)
+    pq += dp[i] * dq[i], qq += dq[i] * dq[i];
+  if (!(qq > 0)) return e;
+  const double c = pq / qq;
+  double rr = 0;
+  for (size_t i = 0; i < dp.size(); ++i)
+    rr += (dp[i] - c * dq[i]) * (dp[i] - c * dq[i]);
+  e.crosstalk_from_p = c;
+  e.crosstalk_from_p_se =
+      std::sqrt(rr / static_cast<double>(dp.size() - 1) / qq);
+  return e;
+}
+
 }  // namespace
 
 void Prepare(const force::ForceRecord& record,
@@ -261,6 +300,7 @@ void Prepare(const force::ForceRecord& record,
   if (static_cast<int>(data.cycles.size()) < 2 * o.folds) {
     throw FusionError("too few usable cycles for the diagnosis");
   }
+  data.evidence = ChannelEvidence(data, p->grid);
   // A shape along the track spans where the samples slide.
   for (const DiagCycle& dc : data.cycles) {
     for (const Sample& s : dc.samples) {

@@ -35,6 +35,7 @@ struct Data {
   double dt = 0;
   double x_lo = 0, x_hi = 0;  // the stroke the residual maps bin
   const DiagnoseOptions* options = nullptr;
+  DirectEvidence evidence;
   // Ceres solves and those that did not converge (fits run one at a time).
   mutable int solves = 0, not_converged = 0;
 };

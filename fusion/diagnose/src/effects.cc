@@ -126,6 +126,23 @@ class Crosstalk : public Effect {
     c->p_n -= p[0] * c->q_measured_n;
     c->k -= p[0] * c->q_slope;
   }
+  // P itself must follow the direction of sliding by c times Q's change:
+  // a fit whose c the P channel shows less than half of (by three
+  // standard errors) took another effect's misfit.
+  std::string Contradiction(const double* p,
+                            const DirectEvidence& e) const override {
+    const double c = p[0], seen = e.crosstalk_from_p;
+    const double se = e.crosstalk_from_p_se;
+    if (!std::isfinite(seen) || !std::isfinite(se) || c == 0) return {};
+    const double towards_c = c > 0 ? seen + 3 * se : -(seen - 3 * se);
+    if (towards_c >= 0.5 * std::abs(c)) return {};
+    return fmt::format(
+        "P itself follows the direction of sliding by c = {:.4f} +- {:.4f} "
+        "of Q's change, not the {:.4f} fitted",
+        seen,
+        se,
+        c);
+  }
 };
 
 // End-of-stroke hook: extra resistance approaching the end of the stroke,

@@ -120,8 +120,39 @@ CandidateResult TryEffect(const Data& data,
                          r.improved_fraction >= o.min_improved_fraction &&
                          r.delta_bic < -o.bic_margin;
   r.plausible = e->Plausible(r.parameters.data());
-  r.accepted = r.accepted && r.plausible;
+  r.contradicted = e->Contradiction(r.parameters.data(), data.evidence);
+  r.accepted = r.accepted && r.plausible && r.contradicted.empty();
   return r;
+}
+
+// Appends to *note the candidates that would have lowered the held-out J
+// more than the one kept, had the channels not contradicted them.
+void SayContradicted(const std::vector<CandidateResult>& tried,
+                     size_t kept_index,
+                     std::string* note) {
+  const double kept = tried[kept_index].heldout_after;
+  for (const CandidateResult& c : tried) {
+    if (c.contradicted.empty() || !(c.heldout_after < kept)) continue;
+    *note += fmt::format("{}{} would lower the held-out J by {:.0f}%, but {}",
+                         note->empty() ? "" : "; ",
+                         c.effect,
+                         100 * c.relative_gain,
+                         c.contradicted);
+  }
+}
+
+// The candidates' indices by held-out J, best first; those the channels
+// contradict go last, so that the others are chosen from.
+std::vector<size_t> Ranked(const std::vector<CandidateResult>& results) {
+  std::vector<size_t> order(results.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    const bool ca = !results[a].contradicted.empty(),
+               cb = !results[b].contradicted.empty();
+    if (ca != cb) return cb;
+    return results[a].heldout_after < results[b].heldout_after;
+  });
+  return order;
 }
 
 // The parity dominating the residual's map, kMixed when neither does.
@@ -262,11 +293,7 @@ void SelectEffects(const Data& data,
                                   &heldouts.back()));
     }
     if (results.empty()) break;
-    std::vector<size_t> order(results.size());
-    std::iota(order.begin(), order.end(), 0);
-    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
-      return results[a].heldout_after < results[b].heldout_after;
-    });
+    const std::vector<size_t> order = Ranked(results);
     DiagnosisStep step;
     for (size_t i : order) step.tried.push_back(results[i]);
     const size_t pick = PickCandidate(&step.tried,
@@ -274,6 +301,7 @@ void SelectEffects(const Data& data,
                                       {split.odd_rms_n, split.even_rms_n},
                                       o,
                                       &step.note);
+    SayContradicted(step.tried, pick, &step.note);
     const size_t kept = order[pick];
     std::rotate(step.tried.begin(),
                 step.tried.begin() + pick,

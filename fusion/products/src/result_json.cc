@@ -316,6 +316,7 @@ nlohmann::json CandidateJson(const CandidateResult& c) {
           {"improved_fraction", c.improved_fraction},
           {"delta_bic", c.delta_bic},
           {"plausible", c.plausible},
+          {"contradicted_by", c.contradicted},
           // What it removed of the residual map's odd and even parts, and
           // whether that is the part dominating the residual.
           {"removes_direction_odd_rms_N", c.odd_removed_n},

@@ -4,7 +4,8 @@
 // diagnosis fits (wearscar::fusion::EffectLibrary): a diagnosis that names
 // these effects has found a physical cause, not its own model. A test
 // checks, effect by effect, that the library's formula does not reproduce
-// the law below.
+// the law below, but for two: a load cell's crosstalk has one form, and a
+// first-order sensor is a delay on the loops (HiddenEffects tests say so).
 
 namespace wearscar::samples::laws {
 
@@ -23,9 +24,16 @@ double PloughingForce(double depth_mm,
 
 // Fibres inclined to the surface act as a ratchet: sliding with them the
 // friction angle is atan(mu) - theta, against them atan(mu) + theta. The
-// angle comes from the asymmetry a at the reference mu:
-// theta = atan(mu_ref (1 + a)) - atan(mu_ref).
-double RatchetMu(double mu, int direction, double asymmetry, double mu_ref);
+// mean angle comes from the asymmetry a at the reference mu,
+// atan(mu_ref (1 + a)) - atan(mu_ref); `tooth` scales it where the teeth
+// stand higher or lower than their mean (1). The angle adds to the
+// friction's, so the friction's difference between the directions stays
+// about 2 theta (1 + mu^2) where mu changes, and follows the teeth.
+double RatchetMu(double mu,
+                 int direction,
+                 double asymmetry,
+                 double mu_ref,
+                 double tooth = 1.0);
 
 // A film sheared between the sphere and the wood thins with speed
 // (shear-thinning, flow index 0.8): force = c v_ref (v / v_ref)^0.8, c in

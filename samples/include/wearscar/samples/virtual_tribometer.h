@@ -23,7 +23,9 @@ struct HiddenEffects {
   // mu (1 + rise / (1 + (v/v_s)^2)).
   double stribeck_rise = 0.0;
   double stribeck_speed_mm_s = 8.0;  // the paper's LuGre fit: 8.09 mm/s
-  // Fibres as a ratchet (laws::RatchetMu): relative asymmetry at mu 0.11.
+  // Fibres as a ratchet (laws::RatchetMu): relative asymmetry at mu 0.11
+  // where the teeth stand at their mean angle; the angle follows the
+  // wood's stiffness along the track.
   double direction_asymmetry = 0.0;
   // Q channel behind a first-order sensor of this time constant.
   double q_lag_s = 0.0;

@@ -164,6 +164,9 @@ struct CandidateResult {
   double improved_fraction = 0.0;
   double delta_bic = 0.0;
   bool plausible = true;  // the fitted sign is the effect's physics
+  // What the channels show against the fit (Effect::Contradiction), in
+  // words; empty when nothing does.
+  std::string contradicted;
   bool accepted = false;
   // What it removes of the residual's cycle-mean map along the stroke, by
   // direction parity (ResidualMap: rms before less rms after, N), and

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -39,6 +40,16 @@ struct EffectContext {
 enum class Parity { kOdd, kEven, kMixed };
 const char* ParityName(Parity p);  // "odd", "even", "mixed"
 
+// What the channels show of an effect directly, apart from the joint fit
+// of Q (NaN where not measured): the crosstalk of Q into P as P's own
+// difference between the directions at the same x against Q's (a spring
+// presses the same both ways at the same height, so only crosstalk makes
+// P follow the direction of sliding), with its standard error.
+struct DirectEvidence {
+  double crosstalk_from_p = std::nan("");
+  double crosstalk_from_p_se = std::nan("");
+};
+
 // A named physical term with parameters. Adding an effect to wearscar is
 // one new subclass registered in EffectLibrary(); nothing else changes.
 class Effect {
@@ -66,6 +77,13 @@ class Effect {
   // resists): an implausible fit is not named. The fit itself is left
   // unbounded there (a bound at zero slows it several times).
   virtual bool Plausible(const double* /*p*/) const { return true; }
+  // Words when what the channels show directly contradicts the fitted
+  // parameters (empty when nothing does): such a fit is a look-alike of
+  // what Q's misfit holds, and is not named.
+  virtual std::string Contradiction(const double* /*p*/,
+                                    const DirectEvidence& /*e*/) const {
+    return {};
+  }
   // Effects with many parameters (a shape) are held smooth by penalty
   // residuals added to the fit with a weight the diagnosis chooses by the
   // held-out cycles; `weight` multiplies the roughness terms.

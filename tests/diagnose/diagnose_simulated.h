@@ -6,9 +6,9 @@
 
 namespace wearscar::fusion {
 
-// Simulates a case (200 cycles), runs the force and scan analysis for the
-// cycles (gross slip found with `slip`) and the aligned groove depth, then
-// diagnoses the cycles after the first 100.
+// Simulates a case (200 cycles), runs the force and scan analysis (gross
+// slip found with `slip`), then diagnoses the cycles after the first 100
+// as the command does.
 inline Diagnosis DiagnoseSimulated(samples::SimulationOptions o,
                                    samples::GroundTruth* truth = nullptr,
                                    DiagnoseOptions d = {},
@@ -21,12 +21,11 @@ inline Diagnosis DiagnoseSimulated(samples::SimulationOptions o,
   f.analysis.running_in_cycles = 100;
   f.analysis.slip = slip;
   const TestResult r = AnalyzeTest(t.record, t.scan, f);
-  PlateProfile depth;
-  depth.x_mm = r.scan->force_profile.x_mm;
-  depth.k = -ScanHeightAtPlate(r.scan->profile, r.scan->alignment, depth.x_mm);
   d.running_in_cycles = 100;
-  return Diagnose(
-      t.record, r.force.cycles, f.analysis.friction, &depth, nullptr, d);
+  // As `wearscar diagnose` does: the depth from the scan, k where the
+  // analysis took it, and of the spring's stiffness and an elastic part
+  // the one the track's history supports.
+  return DiagnoseTest(t.record, r, f, d);
 }
 
 }  // namespace wearscar::fusion

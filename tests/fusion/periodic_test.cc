@@ -1,4 +1,4 @@
-// Periodic lines the drive does not make (issue #43): found in Q and P,
+// Periodic lines the drive does not make: found in Q and P,
 // warned about, blamed in a failed verdict, and notched out on request.
 
 #include "wearscar/force/periodic.h"

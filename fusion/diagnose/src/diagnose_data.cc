@@ -300,7 +300,11 @@ void Prepare(const force::ForceRecord& record,
   if (static_cast<int>(data.cycles.size()) < 2 * o.folds) {
     throw FusionError("too few usable cycles for the diagnosis");
   }
-  data.evidence = ChannelEvidence(data, p->grid);
+  // Only where P is the spring's: a load held by a servo (a rig whose k
+  // comes from a depth channel or the scan) holds the measured P, so
+  // there P cannot show a crosstalk.
+  if (slope == nullptr && !friction.k_from_depth)
+    data.evidence = ChannelEvidence(data, p->grid);
   // A shape along the track spans where the samples slide.
   for (const DiagCycle& dc : data.cycles) {
     for (const Sample& s : dc.samples) {

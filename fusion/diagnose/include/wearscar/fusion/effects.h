@@ -44,7 +44,9 @@ const char* ParityName(Parity p);  // "odd", "even", "mixed"
 // of Q (NaN where not measured): the crosstalk of Q into P as P's own
 // difference between the directions at the same x against Q's (a spring
 // presses the same both ways at the same height, so only crosstalk makes
-// P follow the direction of sliding), with its standard error.
+// P follow the direction of sliding), with its standard error; measured
+// only where k comes from P (a servo holding the load would hold the
+// measured P).
 struct DirectEvidence {
   double crosstalk_from_p = std::nan("");
   double crosstalk_from_p_se = std::nan("");

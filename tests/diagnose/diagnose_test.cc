@@ -288,7 +288,7 @@ TEST(Effects, CrosstalkIsContradictedByAPThatDoesNotFollowTheDirection) {
   const double c = 0.002, big = 0.05;
   EXPECT_EQ(crosstalk->Contradiction(&c, none), "");
   DirectEvidence flat{0.0, 0.0003};  // P the same both ways
-  EXPECT_NE(crosstalk->Contradiction(&c, flat).find("not the 0.0020 fitted"),
+  EXPECT_NE(crosstalk->Contradiction(&c, flat).find("not the 0.002 fitted"),
             std::string::npos);
   EXPECT_NE(crosstalk->Contradiction(&big, flat), "");
   // Within three standard errors of half the fitted c: not contradicted.

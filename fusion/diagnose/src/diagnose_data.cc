@@ -227,35 +227,26 @@ DiagCycle GatherCycle(const force::ForceRecord& record,
   dc.norm_reverse = std::sqrt(std::max(r2, 1e-12));
   return dc;
 }
-// Crosstalk as the P channel shows it: over the grid's bins where both
-// directions slid, P's difference between the directions regressed on
-// Q's (through zero: P_measured = P + c Q), with the standard error of
+
+// Crosstalk as the P channel shows it: over the bins where both
+// directions slid (`p` and `q` binned per direction, BinProfile), P's
+// difference between the directions regressed on Q's (through zero:
+// P_measured = P + c Q, sample by sample), with the standard error of
 // the slope from the bins' scatter about it.
-DirectEvidence ChannelEvidence(const Data& d, const ProfileGrid& grid) {
-  Eigen::MatrixXd p = Eigen::MatrixXd::Zero(2, grid.bins), q = p, n = p;
-  for (const DiagCycle& dc : d.cycles) {
-    for (const Sample& s : dc.samples) {
-      const auto b =
-          static_cast<Eigen::Index>(std::floor((s.x - grid.x_lo) / grid.bin));
-      if (b < 0 || b >= grid.bins) continue;
-      const int row = s.s > 0 ? 0 : 1;
-      p(row, b) += s.p;
-      q(row, b) += s.q;
-      n(row, b) += 1;
-    }
-  }
+DirectEvidence ChannelEvidence(const Eigen::MatrixXd& p,
+                               const Eigen::MatrixXd& q) {
   std::vector<double> dp, dq;
-  for (Eigen::Index b = 0; b < grid.bins; ++b) {
-    if (n(0, b) < 1 || n(1, b) < 1) continue;
-    dp.push_back(p(0, b) / n(0, b) - p(1, b) / n(1, b));
-    dq.push_back(q(0, b) / n(0, b) - q(1, b) / n(1, b));
+  for (Eigen::Index b = 0; b < p.cols(); ++b) {
+    const double d_p = p(0, b) - p(1, b), d_q = q(0, b) - q(1, b);
+    if (!std::isfinite(d_p) || !std::isfinite(d_q)) continue;
+    dp.push_back(d_p);
+    dq.push_back(d_q);
   }
   DirectEvidence e;
-  if (dp.size() < 3) return e;
   double pq = 0, qq = 0;
   for (size_t i = 0; i < dp.size(); ++i)
     pq += dp[i] * dq[i], qq += dq[i] * dq[i];
-  if (!(qq > 0)) return e;
+  if (dp.size() < 3 || !(qq > 0)) return e;
   const double c = pq / qq;
   double rr = 0;
   for (size_t i = 0; i < dp.size(); ++i)
@@ -303,8 +294,10 @@ void Prepare(const force::ForceRecord& record,
   // Only where P is the spring's: a load held by a servo (a rig whose k
   // comes from a depth channel or the scan) holds the measured P, so
   // there P cannot show a crosstalk.
-  if (slope == nullptr && !friction.k_from_depth)
-    data.evidence = ChannelEvidence(data, p->grid);
+  if (slope == nullptr && !friction.k_from_depth) {
+    data.evidence = ChannelEvidence(slopes.Bin(chosen, record.normal_n),
+                                    slopes.Bin(chosen, record.tangential_n));
+  }
   // A shape along the track spans where the samples slide.
   for (const DiagCycle& dc : data.cycles) {
     for (const Sample& s : dc.samples) {

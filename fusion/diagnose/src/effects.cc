@@ -137,8 +137,8 @@ class Crosstalk : public Effect {
     const double towards_c = c > 0 ? seen + 3 * se : -(seen - 3 * se);
     if (towards_c >= 0.5 * std::abs(c)) return {};
     return fmt::format(
-        "P itself follows the direction of sliding by c = {:.4f} +- {:.4f} "
-        "of Q's change, not the {:.4f} fitted",
+        "P itself follows the direction of sliding by c = {:.2g} +- {:.2g} "
+        "of Q's change, not the {:.2g} fitted",
         seen,
         se,
         c);

@@ -329,17 +329,17 @@ int Screen(int seeds) {
 int main(int argc, char** argv) {
   if (argc > 1 && std::string(argv[1]) == "lines") return Lines();
   if (argc > 1 && std::string(argv[1]) == "notch") return Notch();
-  if (argc > 1 && std::string(argv[1]) == "screen")
-    return Screen(argc > 3 ? std::atoi(argv[3]) : 3);
+  const bool screen = argc > 1 && std::string(argv[1]) == "screen";
   int seeds = 3, jobs = 2;
   std::string only;
-  for (int i = 1; i + 1 < argc; i += 2) {
+  for (int i = screen ? 2 : 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
     if (a == "--seeds") seeds = std::atoi(argv[i + 1]);
     if (a == "--jobs") jobs = std::atoi(argv[i + 1]);
     if (a == "--only") only = argv[i + 1];
     if (a == "--scale") g_scale = std::atof(argv[i + 1]);
   }
+  if (screen) return Screen(seeds);
   struct Job {
     const Effect* e;
     double noise;

@@ -15,6 +15,7 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/photo.hpp>
 
+#include "plane_count.h"
 #include "wearscar/support/check.h"
 
 namespace wearscar::scan {
@@ -87,6 +88,46 @@ namespace {
 
 using Cloud = pcl::PointCloud<pcl::PointXYZ>;
 
+// PCL's plane model with its inlier count, nearly all of RANSAC's time,
+// over the cloud's coordinates held column by column (CountWithinPlane:
+// PCL's arithmetic to the bit, several points a step; PCL's own count
+// took 24 ns a point). The planes drawn, their counts and the plane kept
+// are PCL's own.
+class ColumnPlaneModel final
+    : public pcl::SampleConsensusModelPlane<pcl::PointXYZ> {
+ public:
+  explicit ColumnPlaneModel(const Cloud::ConstPtr& cloud)
+      : SampleConsensusModelPlane(cloud) {
+    x_.reserve(cloud->size());
+    y_.reserve(cloud->size());
+    z_.reserve(cloud->size());
+    for (const auto& p : *cloud) {
+      x_.push_back(p.x);
+      y_.push_back(p.y);
+      z_.push_back(p.z);
+    }
+  }
+
+  std::size_t countWithinDistance(const Eigen::VectorXf& model_coefficients,
+                                  double threshold) const override {
+    // The columns hold the whole cloud in order: PCL's own count for any
+    // other index list.
+    if (!isModelValid(model_coefficients) || indices_->size() != x_.size()) {
+      return SampleConsensusModelPlane::countWithinDistance(model_coefficients,
+                                                            threshold);
+    }
+    const float plane[4] = {model_coefficients[0],
+                            model_coefficients[1],
+                            model_coefficients[2],
+                            model_coefficients[3]};
+    return CountWithinPlane(
+        x_.data(), y_.data(), z_.data(), x_.size(), plane, threshold);
+  }
+
+ private:
+  std::vector<float> x_, y_, z_;
+};
+
 // Every stride-th valid pixel each way (at most about max_points), as
 // points in mm.
 Cloud::Ptr SampleCloud(const HeightMap& map, int max_points) {
@@ -119,7 +160,7 @@ std::vector<int> PlaneInliers(const Cloud::Ptr& cloud,
   // per failed draw): wearscar reports through LevelSummary instead.
   pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
   pcl::SampleConsensusModelPlane<pcl::PointXYZ>::Ptr model(
-      new pcl::SampleConsensusModelPlane<pcl::PointXYZ>(cloud));
+      new ColumnPlaneModel(cloud));
   pcl::RandomSampleConsensus<pcl::PointXYZ> ransac(model);
   ransac.setDistanceThreshold(options.ransac_threshold_mm);
   ransac.setMaxIterations(options.ransac_iterations);

@@ -390,7 +390,9 @@ INSTANTIATE_TEST_SUITE_P(
 // Every form a number takes in the exports, read to the bit as strtod
 // reads it: blanks about it, a sign, no digit before or after the decimal
 // mark, 15 digits and more (the general parser's), an exponent, and the
-// decimal comma of a semicolon export.
+// decimal comma of a semicolon export. Each is followed by a long field, so
+// that a fraction's digits are also read eight bytes at a time (fewer than
+// eight digits, exactly eight, and more).
 TEST(ReadForce, EveryFormOfANumberReadsAsStrtodReadsIt) {
   const std::vector<std::string> forms = {"1.5",
                                           "  1.5",
@@ -409,12 +411,16 @@ TEST(ReadForce, EveryFormOfANumberReadsAsStrtodReadsIt) {
                                           "-.25",
                                           "0",
                                           "-0",
-                                          "007.50"};
+                                          "007.50",
+                                          "1.23456789",
+                                          "-0.12345678",
+                                          "12.345678901",
+                                          "3.1234567 "};
   for (const char* separators : {",.", ";,"}) {
     SCOPED_TRACE(separators);
     const char delimiter = separators[0], decimal = separators[1];
     std::string text = fmt::format("time_s{0}x_mm{0}Q_N{0}P_N\n", delimiter);
-    std::vector<double> expected;
+    std::vector<double> expected, expected_x;
     for (int i = 0; i < 400; ++i) {
       std::string q = forms[static_cast<size_t>(i) % forms.size()];
       std::string plain = q;
@@ -426,9 +432,11 @@ TEST(ReadForce, EveryFormOfANumberReadsAsStrtodReadsIt) {
       expected.push_back(std::strtod(plain.c_str(), nullptr));
       std::string t = fmt::format("{:.4f}", i / 200.0);
       std::string x = fmt::format("{:.5f}", 2.85 * std::sin(i / 31.8));
+      expected_x.push_back(std::strtod(x.c_str(), nullptr));
       std::replace(t.begin(), t.end(), '.', decimal);
       std::replace(x.begin(), x.end(), '.', decimal);
-      text += fmt::format("{1}{0}{2}{0}{3}{0}30\n", delimiter, t, x, q);
+      text += fmt::format(
+          "{1}{0}{2}{0}{3}{0}30{4}000000\n", delimiter, t, x, q, decimal);
     }
     const ForceRecord r = ReadForceText(text, "forms.csv");
     ASSERT_EQ(r.size(), 400);
@@ -438,6 +446,10 @@ TEST(ReadForce, EveryFormOfANumberReadsAsStrtodReadsIt) {
           << "row " << i << ": '"
           << forms[static_cast<size_t>(i) % forms.size()] << "' read as " << got
           << ", strtod " << expected[static_cast<size_t>(i)];
+      const double x = r.x_mm[i];
+      EXPECT_EQ(std::memcmp(&x, &expected_x[static_cast<size_t>(i)], 8), 0)
+          << "row " << i << ": x read as " << x;
+      EXPECT_EQ(r.normal_n[i], 30.0);
     }
   }
 }

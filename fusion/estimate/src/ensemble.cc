@@ -162,6 +162,28 @@ double PlateProfile::AtNear(double x, Eigen::Index* hint) const {
   return (1 - t) * k[i] + t * k[i + 1];
 }
 
+void PlateProfile::AtEach(const double* x, Eigen::Index n, double* out) const {
+  const Eigen::Index size = x_mm.size();
+  if (size < 2) {
+    std::fill(out, out + n, std::nan(""));
+    return;
+  }
+  const double* const xs = x_mm.data();
+  const double* const ks = k.data();
+  Eigen::Index i = 0;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const double v = x[j];
+    if (!(v >= xs[0] && v <= xs[size - 1])) {
+      out[j] = std::nan("");
+      continue;
+    }
+    while (i > 0 && v < xs[i]) --i;
+    while (i < size - 2 && v >= xs[i + 1]) ++i;
+    const double t = (v - xs[i]) / (xs[i + 1] - xs[i]);
+    out[j] = (1 - t) * ks[i] + t * ks[i + 1];
+  }
+}
+
 bool EnsembleSlopeOptions::IsValid(std::string* why) const {
   auto fail = [&](const char* m) {
     if (why) *why = m;

@@ -47,9 +47,7 @@ void AppendSlip(const force::ForceRecord& r,
     k = force::SlopeFromNormalForce(r.x_mm, r.normal_n, b, e, o.slope);
   } else {
     k.resize(e - b);
-    Eigen::Index hint = 0;
-    for (Eigen::Index i = b; i < e; ++i)
-      k[i - b] = profile->AtNear(r.x_mm[i], &hint);
+    profile->AtEach(r.x_mm.data() + b, e - b, k.data());
   }
   // Keep the samples where everything is finite.
   Eigen::Index n = 0;

@@ -196,13 +196,21 @@ SpecimenAnalysis AnalyzeSpecimen(const Specimen& s,
   if (!s.error.empty()) throw FusionError(s.error);
   // On the caller's thread alone (a batch whose workers fill the cores),
   // the force file's checksum for the provenance is taken as the reader
-  // reads it, not by a third read of the file; otherwise it is taken on a
-  // thread of its own beside the tables' writing, and a large force file
-  // is parsed on two threads.
+  // reads it, not by a second read of the file; otherwise a large force
+  // file is parsed on two threads and the checksum of a regular file is
+  // taken on a third from the start, where the reader's set-up leaves a
+  // core idle (the provenance then has it, TestProvenance).
   std::optional<Sha256> hash;
+  std::future<std::string> force_sum;
   force::ReadForceOptions read = read_force;
-  if (fuse.parallel) read.threads = std::max(read.threads, 2);
-  if (!fuse.parallel) {
+  std::error_code ec;
+  if (fuse.parallel) {
+    read.threads = std::max(read.threads, 2);
+    if (std::filesystem::is_regular_file(s.force, ec)) {
+      force_sum = std::async(std::launch::async,
+                             [path = s.force] { return Sha256OfFile(path); });
+    }
+  } else {
     hash.emplace();
     read.on_bytes = [&hash](const char* bytes, std::size_t size) {
       hash->Update(bytes, size);
@@ -233,6 +241,7 @@ SpecimenAnalysis AnalyzeSpecimen(const Specimen& s,
   a.result = AnalyzeTest(a.record, std::move(prepared), s.scan, fuse);
   // (AnalyzeTest has waited for the scan.)
   if (scan_unreadable) std::rethrow_exception(scan_unreadable);
+  if (force_sum.valid()) a.record.metadata.sha256 = force_sum.get();
   return a;
 }
 

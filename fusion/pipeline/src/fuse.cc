@@ -253,29 +253,6 @@ void RefuseCyclesBeyondTheTest(const FuseOptions& options, int n) {
   }
 }
 
-// What needs only the force side once it is analysed: the friction map
-// and the LuGre fit (on a second core while the scan's slope is fitted).
-struct ForceOnlyProducts {
-  FrictionMap friction_map;
-  std::optional<LugreFit> lugre;
-};
-
-ForceOnlyProducts ComputeForceOnlyProducts(const force::ForceRecord& record,
-                                           const ForceAnalysis& force,
-                                           int detail_cycle,
-                                           const FuseOptions& options) {
-  ForceOnlyProducts p;
-  p.friction_map = ComputeFrictionMap(record,
-                                      force.cycles,
-                                      options.analysis.friction,
-                                      force.running_in.cycles,
-                                      options.friction_map);
-  if (options.fit_lugre) {
-    p.lugre = FitLugre(record, force.cycles, detail_cycle, options.lugre);
-  }
-  return p;
-}
-
 // The scan side aligned with the decided profile, or why it was not used:
 // a scan that cannot serve (no track, no overlap with the stroke) does not
 // lose the test; the force side stands, with a warning that says why
@@ -538,11 +515,25 @@ void AnalyzeDecided(const force::ForceRecord& record,
   RefuseCyclesBeyondTheTest(o, n);
   result->detail_cycle =
       o.detail_cycle >= 0 && o.detail_cycle < n ? o.detail_cycle : n - 1;
-  // Nothing below changes result->force, which this thread reads.
-  std::future<ForceOnlyProducts> force_only = std::async(
-      o.parallel ? std::launch::async : std::launch::deferred,
+  // Nothing below changes result->force, which this thread reads. What
+  // needs only the force side, the friction map and the LuGre fit, each
+  // beside the scan side's fit (three threads: the cores share them out).
+  const std::launch beside =
+      o.parallel ? std::launch::async : std::launch::deferred;
+  std::future<FrictionMap> map =
+      std::async(beside, [&record, &force = result->force, &o] {
+        return ComputeFrictionMap(record,
+                                  force.cycles,
+                                  o.analysis.friction,
+                                  force.running_in.cycles,
+                                  o.friction_map);
+      });
+  std::future<std::optional<LugreFit>> lugre = std::async(
+      beside,
       [&record, &force = result->force, detail = result->detail_cycle, &o] {
-        return ComputeForceOnlyProducts(record, force, detail, o);
+        return o.fit_lugre ? std::optional<LugreFit>(FitLugre(
+                                 record, force.cycles, detail, o.lugre))
+                           : std::nullopt;
       });
   // The track's history from the spring (before the scan: it may scale
   // the scan's slope).
@@ -554,9 +545,8 @@ void AnalyzeDecided(const force::ForceRecord& record,
   if (evidence->HasScan()) AddScanSide(record, evidence, result);
   CompareAndJudge(record, result);
   NoteLines(lines.get(), result);
-  ForceOnlyProducts p = force_only.get();
-  result->friction_map = std::move(p.friction_map);
-  result->lugre = std::move(p.lugre);
+  result->friction_map = map.get();
+  result->lugre = lugre.get();
   const ScanAnalysis* scan = result->scan ? &*result->scan : nullptr;
   const int dc = result->detail_cycle;
   result->detail = ComputeDetailCycle(

@@ -295,28 +295,40 @@ TEST(EnsembleSlope, EachBinsSlopeIsItsOwnWindowsFit) {
   }
 }
 
-// AtNear is At with a search from the last interval: the same values for x
-// that jitter back and forth along a stroke, jump, or leave the profile.
-TEST(PlateProfile, AtNearGivesAtsValues) {
+// AtNear and AtEach are At with a search from the last interval: the same
+// values for x that jitter back and forth along a stroke, jump, or leave
+// the profile.
+TEST(PlateProfile, AtNearAndAtEachGiveAtsValues) {
   PlateProfile p;
   p.x_mm = Eigen::VectorXd::LinSpaced(50, -2.0, 2.0);
   p.k = p.x_mm.array().sin();
   p.x_mm[10] += 0.01;  // unequal steps
+  Eigen::VectorXd xs(4000);
+  for (int i = 0; i < 4000; ++i) {
+    xs[i] = -2.2 + 4.4 * i / 3999.0 + 0.003 * std::sin(7.0 * i);
+    if (i == 2000) xs[i] = -1.9;  // a jump back
+  }
+  Eigen::VectorXd each(xs.size());
+  p.AtEach(xs.data(), xs.size(), each.data());
   Eigen::Index hint = 0;
   int compared = 0;
-  for (int i = 0; i < 4000; ++i) {
-    double x = -2.2 + 4.4 * i / 3999.0 + 0.003 * std::sin(7.0 * i);
-    if (i == 2000) x = -1.9;  // a jump back
-    const double at = p.At(x), near = p.AtNear(x, &hint);
+  for (Eigen::Index i = 0; i < xs.size(); ++i) {
+    const double at = p.At(xs[i]), near = p.AtNear(xs[i], &hint);
     if (std::isnan(at)) {
-      EXPECT_TRUE(std::isnan(near)) << x;
+      EXPECT_TRUE(std::isnan(near)) << xs[i];
+      EXPECT_TRUE(std::isnan(each[i])) << xs[i];
       continue;
     }
-    EXPECT_EQ(at, near) << x;
+    EXPECT_EQ(at, near) << xs[i];
+    EXPECT_EQ(at, each[i]) << xs[i];
     ++compared;
   }
   EXPECT_GT(compared, 3000);
   EXPECT_EQ(p.At(2.0), p.AtNear(2.0, &hint));
+  const double two = 2.0;
+  double at_two = 0;
+  p.AtEach(&two, 1, &at_two);
+  EXPECT_EQ(p.At(2.0), at_two);
 }
 
 TEST(NoiseSplit, FloorFollowsTheNoiseTheExcessDoesNot) {

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <random>
 #include <string>
@@ -15,6 +17,7 @@
 #include "common/simulated.h"
 #include "wearscar/force/read_force.h"
 #include "wearscar/fusion/batch.h"
+#include "wearscar/fusion/error.h"
 #include "wearscar/fusion/provenance.h"
 
 namespace wearscar::fusion {
@@ -73,10 +76,28 @@ TEST(Sha256, PiecesGiveTheDigestOfTheWhole) {
   EXPECT_EQ(pieces.Hex(), whole.Hex());
 }
 
+// A file's checksum, mapped (a file with bytes) or read (an empty one,
+// which cannot be mapped): FIPS 180-2's "abc" and the empty message's.
+TEST(Sha256, OfAFileMappedOrRead) {
+  const std::string dir = ::testing::TempDir();
+  std::FILE* f = std::fopen((dir + "/wearscar-abc.txt").c_str(), "wb");
+  ASSERT_NE(f, nullptr);
+  std::fputs("abc", f);
+  std::fclose(f);
+  f = std::fopen((dir + "/wearscar-empty.txt").c_str(), "wb");
+  ASSERT_NE(f, nullptr);
+  std::fclose(f);
+  EXPECT_EQ(Sha256OfFile(dir + "/wearscar-abc.txt"),
+            "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  EXPECT_EQ(Sha256OfFile(dir + "/wearscar-empty.txt"),
+            "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  EXPECT_THROW(Sha256OfFile(dir + "/wearscar-no-such-file"), FusionError);
+}
+
 // A specimen analysed on the caller's thread alone (a batch whose workers
 // fill the cores) takes its force file's checksum from the reader's first
-// pass; with threads it is taken by TestProvenance. Either way the
-// provenance holds the file's SHA-256.
+// pass; with threads, on a thread of its own beside the read. Either way
+// the record and the provenance hold the file's SHA-256.
 TEST(Provenance, TheChecksumTakenWhileReadingIsTheFilesOwn) {
   samples::SimulationOptions o = samples::PaperCase("B-RT-R", false);
   o.cycles = 20;
@@ -84,7 +105,13 @@ TEST(Provenance, TheChecksumTakenWhileReadingIsTheFilesOwn) {
   const std::string path =
       ::testing::TempDir() + "/wearscar-provenance.force.csv";
   force::WriteForceCsv(t.record, path);
-  const std::string sum = Sha256OfFile(path);
+  std::ifstream in(path, std::ios::binary);
+  const std::string bytes{std::istreambuf_iterator<char>(in),
+                          std::istreambuf_iterator<char>()};
+  Sha256 whole;
+  whole.Update(bytes.data(), bytes.size());
+  const std::string sum = whole.Hex();
+  EXPECT_EQ(Sha256OfFile(path), sum);
   FuseOptions threads, alone;
   alone.parallel = false;
   Specimen s;
@@ -93,7 +120,7 @@ TEST(Provenance, TheChecksumTakenWhileReadingIsTheFilesOwn) {
   const SpecimenAnalysis a = AnalyzeSpecimen(s, {}, {}, alone);
   const SpecimenAnalysis b = AnalyzeSpecimen(s, {}, {}, threads);
   EXPECT_EQ(a.record.metadata.sha256, sum);
-  EXPECT_EQ(b.record.metadata.sha256, "");
+  EXPECT_EQ(b.record.metadata.sha256, sum);
   for (const SpecimenAnalysis* x : {&a, &b}) {
     const Provenance p = TestProvenance(x->record, x->result);
     ASSERT_EQ(p.inputs.size(), 1u);

@@ -113,6 +113,9 @@ struct PlateProfile {
   // The same value, the interval searched from *hint (updated) outwards:
   // for x that moves little from one call to the next, as along a stroke.
   double AtNear(double x, Eigen::Index* hint) const;
+  // AtNear's values at x[0..n) into out, walked from one to the next in one
+  // call (a stroke's samples: millions of calls a test otherwise).
+  void AtEach(const double* x, Eigen::Index n, double* out) const;
 };
 using SlopeProfile = PlateProfile;  // the former name
 

@@ -58,6 +58,13 @@ std::size_t CycleBins::Offset(int cycle, int direction) const {
          static_cast<std::size_t>(grid_.bins);
 }
 
+std::pair<const float*, const std::uint16_t*> CycleBins::Stored(
+    int cycle, int direction) const {
+  if (cycle < first_ || cycle > last_) return {nullptr, nullptr};
+  const std::size_t o = Offset(cycle, direction);
+  return {value_.data() + o, count_.data() + o};
+}
+
 void CycleBins::ClearCycle(int cycle) {
   if (cycle < first_ || cycle > last_) return;
   const std::size_t o = Offset(cycle, +1),
@@ -418,13 +425,16 @@ PlateProfile SlopeOfBinnedProfile(const CycleBins& bins,
   for (int b = 0; b < nb; ++b) {
     if (s.count[b] > 0) used.push_back(b);
   }
-  // Mean x, weight and value of each non-empty bin, once.
-  std::vector<double> mean_x(used.size()), weight(used.size()),
-      value(used.size());
-  for (std::size_t u = 0; u < used.size(); ++u) {
-    mean_x[u] = bins.MeanX(s, used[u]);
-    weight[u] = s.count[used[u]];
-    value[u] = s.value[used[u]];
+  // Mean x, weight and value of each non-empty bin, once (appended: a
+  // sized vector is zeroed first, thousands of times a test).
+  std::vector<double> mean_x, weight, value;
+  mean_x.reserve(used.size());
+  weight.reserve(used.size());
+  value.reserve(used.size());
+  for (const int b : used) {
+    mean_x.push_back(bins.MeanX(s, b));
+    weight.push_back(s.count[b]);
+    value.push_back(s.value[b]);
   }
   PlateProfile p;
   p.x_mm.resize(static_cast<Eigen::Index>(used.size()));
@@ -512,6 +522,41 @@ bool RepeatabilityOptions::IsValid(std::string* why) const {
   return true;
 }
 
+namespace {
+
+// A template's cycles: [lo, hi] without the band (c - sep, c + sep).
+struct TemplateCycles {
+  int lo = 0, hi = -1, band_lo = 0, band_hi = -1;
+  bool Holds(int j) const {
+    return j >= lo && j <= hi && (j < band_lo || j > band_hi);
+  }
+};
+
+// The template of cycle c: the t nearest cycles at distance >= sep, as
+// balanced as the ends of the test allow; empty (hi < lo) when none.
+TemplateCycles TemplateOf(int c, int first, int last, int sep, int t) {
+  int left = t / 2, right = t - t / 2;
+  const int room_left = std::max(0, c - sep - first + 1);
+  const int room_right = std::max(0, last - (c + sep) + 1);
+  if (left > room_left) {
+    right += left - room_left;
+    left = room_left;
+  }
+  if (right > room_right) {
+    left = std::min(room_left, left + right - room_right);
+    right = room_right;
+  }
+  TemplateCycles tc;
+  if (left + right == 0) return tc;
+  tc.lo = std::max(first, c - sep - left + 1);
+  tc.hi = std::min(last, c + sep + right - 1);
+  tc.band_lo = c - sep + 1;
+  tc.band_hi = c + sep - 1;
+  return tc;
+}
+
+}  // namespace
+
 std::vector<std::array<RepeatSplit, 2>> SplitRepeatable(
     const CycleBins& bins,
     const std::vector<std::array<double, 2>>& total,
@@ -522,39 +567,34 @@ std::vector<std::array<RepeatSplit, 2>> SplitRepeatable(
   std::vector<std::array<RepeatSplit, 2>> out(
       static_cast<std::size_t>(std::max(n, 0)));
   const int sep = std::max(1, min_separation);
-  const int t = options.template_cycles;
-  for (int c = first; c <= last; ++c) {
-    // The template: the t nearest cycles at distance >= sep, as balanced as
-    // the ends of the test allow: [lo, hi] without (c - sep, c + sep).
-    int left = t / 2, right = t - t / 2;
-    const int room_left = std::max(0, c - sep - first + 1);
-    const int room_right = std::max(0, last - (c + sep) + 1);
-    if (left > room_left) {
-      right += left - room_left;
-      left = room_left;
-    }
-    if (right > room_right) {
-      left = std::min(room_left, left + right - room_right);
-      right = room_right;
-    }
-    const int lo = c - sep - left + 1, hi = c + sep + right - 1;
-    for (int d = 0; d < 2; ++d) {
-      const int dir = d == 0 ? +1 : -1;
+  for (int d = 0; d < 2; ++d) {
+    const int dir = d == 0 ? +1 : -1;
+    // The template's sums slide along the cycles: the cycles that left it
+    // taken out, those that came added (a few a cycle, not all t).
+    CycleBins::Sums tpl = bins.Window(dir, 1, 0);
+    TemplateCycles held;
+    for (int c = first; c <= last; ++c) {
       RepeatSplit& r = out[static_cast<std::size_t>(c - first)][d];
       r.total = total[static_cast<std::size_t>(c - first)][d];
-      if (left + right == 0) {
+      const TemplateCycles now =
+          TemplateOf(c, first, last, sep, options.template_cycles);
+      if (now.hi < now.lo) {
         r.repeat = std::nan("");
         continue;
       }
-      const CycleBins::Sums own = bins.Cycle(c, dir);
-      const CycleBins::Sums tpl =
-          bins.Window(dir, lo, hi, c - sep + 1, c + sep - 1);
+      for (int j = std::min(held.lo, now.lo); j <= std::max(held.hi, now.hi);
+           ++j) {
+        if (held.Holds(j) != now.Holds(j))
+          bins.Accumulate(&tpl, j, dir, now.Holds(j) ? +1 : -1);
+      }
+      held = now;
+      const auto [value, count] = bins.Stored(c, dir);
       double cross = 0.0;
       int samples = 0;
-      for (std::size_t b = 0; b < own.count.size(); ++b) {
-        if (own.count[b] == 0 || tpl.count[b] == 0) continue;
-        cross += own.value[b] * (tpl.value[b] / tpl.count[b]);
-        samples += own.count[b];
+      for (std::size_t b = 0; b < tpl.count.size(); ++b) {
+        if (count[b] == 0 || tpl.count[b] == 0) continue;
+        cross += static_cast<double>(value[b]) * (tpl.value[b] / tpl.count[b]);
+        samples += count[b];
       }
       r.repeat = cross;
       r.samples = samples;

@@ -88,6 +88,10 @@ class CycleBins {
   Sums Cycle(int cycle, int direction) const {
     return Window(direction, cycle, cycle);
   }
+  // The same, read where they are stored: grid().bins values and counts
+  // (nulls for a cycle outside the range held).
+  std::pair<const float*, const std::uint16_t*> Stored(int cycle,
+                                                       int direction) const;
 
   const PlateGrid& grid() const { return grid_; }
   int first_cycle() const { return first_; }

@@ -24,9 +24,10 @@ fusion::TestProducts WriteTestResults(const std::string& dir,
                                       const fusion::FuseOptions& o,
                                       const fusion::ProductOptions& w) {
   EnsureDirectory(dir);
-  // The inputs' checksums on a second core while the tables are made and
-  // written; result.json takes them as MakeTestProducts would have put them,
-  // under "provenance".
+  // The inputs' checksums (the scan's, and the force file's unless the
+  // record holds it) on a second core while the tables are made and
+  // written; result.json takes them as MakeTestProducts would have put
+  // them, under "provenance".
   std::future<fusion::Provenance> provenance;
   if (w.provenance) {
     provenance =

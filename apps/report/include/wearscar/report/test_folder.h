@@ -15,8 +15,9 @@
 namespace wearscar::report {
 
 // Writes the products of one test (fusion::MakeTestProducts) into `dir`,
-// each atomically, one table's text at a time, the inputs' checksums
-// taken beside the writing; returns them (result.json's contents in
+// each atomically, one table's text at a time on each of two threads (with
+// o.parallel), the inputs' checksums taken beside the writing (those the
+// record does not hold already); returns them (result.json's contents in
 // `result`; the figures draw from the tables).
 fusion::TestProducts WriteTestResults(const std::string& dir,
                                       const std::string& name,

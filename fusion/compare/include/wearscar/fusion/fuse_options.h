@@ -114,7 +114,8 @@ struct FuseOptions {
   int cost_curve_points = 201;
   // The scan's preparation and the products that need only the force side
   // run on threads of their own beside the force analysis (and a test's
-  // folder checksums its inputs beside its tables). False runs all of it
+  // force file is checksummed beside its reading, its tables written on
+  // two threads). False runs all of it
   // on the caller's thread, for callers whose own threads keep every core
   // busy already (an audit's workers). The results are the same.
   bool parallel = true;

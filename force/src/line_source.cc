@@ -11,8 +11,8 @@
 namespace wearscar::force::internal {
 namespace {
 
-// A read's block: 256 KiB (a reader's buffers are new pages the kernel
-// zeroes: at 1 MiB, three of them were 750 page faults a full-size fuse).
+// A read's block, 256 KiB: a reader's buffers are new pages the kernel
+// zeroes (docs/performance.md), and a larger block reads no faster.
 constexpr std::size_t kBlock = std::size_t{1} << 18;
 
 ForceError TooLong(const std::string& name, long line, std::size_t max) {

@@ -90,9 +90,9 @@ using Cloud = pcl::PointCloud<pcl::PointXYZ>;
 
 // PCL's plane model with its inlier count, nearly all of RANSAC's time,
 // over the cloud's coordinates held column by column (CountWithinPlane:
-// PCL's arithmetic to the bit, several points a step; PCL's own count
-// took 24 ns a point). The planes drawn, their counts and the plane kept
-// are PCL's own.
+// PCL's arithmetic to the bit, several points a step, where PCL's own
+// portable count takes one through an index list; docs/performance.md).
+// The planes drawn, their counts and the plane kept are PCL's own.
 class ColumnPlaneModel final
     : public pcl::SampleConsensusModelPlane<pcl::PointXYZ> {
  public:

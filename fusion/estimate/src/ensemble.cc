@@ -524,6 +524,9 @@ bool RepeatabilityOptions::IsValid(std::string* why) const {
 
 namespace {
 
+// A noise split's template is summed afresh after this many slides.
+constexpr int kTemplateSlides = 8;
+
 // A template's cycles: [lo, hi] without the band (c - sep, c + sep).
 struct TemplateCycles {
   int lo = 0, hi = -1, band_lo = 0, band_hi = -1;
@@ -570,9 +573,12 @@ std::vector<std::array<RepeatSplit, 2>> SplitRepeatable(
   for (int d = 0; d < 2; ++d) {
     const int dir = d == 0 ? +1 : -1;
     // The template's sums slide along the cycles: the cycles that left it
-    // taken out, those that came added (a few a cycle, not all t).
+    // taken out, those that came added (a few a cycle, not all t), summed
+    // afresh now and then so that the rounding they carry stays that of a
+    // few slides however long the test.
     CycleBins::Sums tpl = bins.Window(dir, 1, 0);
     TemplateCycles held;
+    int slides = kTemplateSlides;
     for (int c = first; c <= last; ++c) {
       RepeatSplit& r = out[static_cast<std::size_t>(c - first)][d];
       r.total = total[static_cast<std::size_t>(c - first)][d];
@@ -582,10 +588,16 @@ std::vector<std::array<RepeatSplit, 2>> SplitRepeatable(
         r.repeat = std::nan("");
         continue;
       }
-      for (int j = std::min(held.lo, now.lo); j <= std::max(held.hi, now.hi);
-           ++j) {
-        if (held.Holds(j) != now.Holds(j))
-          bins.Accumulate(&tpl, j, dir, now.Holds(j) ? +1 : -1);
+      if (slides >= kTemplateSlides) {
+        tpl = bins.Window(dir, now.lo, now.hi, now.band_lo, now.band_hi);
+        slides = 0;
+      } else {
+        for (int j = std::min(held.lo, now.lo); j <= std::max(held.hi, now.hi);
+             ++j) {
+          if (held.Holds(j) != now.Holds(j))
+            bins.Accumulate(&tpl, j, dir, now.Holds(j) ? +1 : -1);
+        }
+        ++slides;
       }
       held = now;
       const auto [value, count] = bins.Stored(c, dir);

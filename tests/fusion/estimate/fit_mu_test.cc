@@ -8,6 +8,7 @@
 
 #include "common/simulated.h"
 #include "wearscar/fusion/analysis.h"
+#include "wearscar/fusion/ensemble.h"
 #include "wearscar/fusion/forward_model.h"
 
 namespace wearscar::fusion {
@@ -246,6 +247,85 @@ TEST(AnalyzeForce, LargeElasticPartRaisesJAboveThreshold) {
   const ForceAnalysis r =
       AnalyzeForce(sim::Simulate(o).record, AnalysisOptions{});
   EXPECT_GT(r.cost.mean, 0.4);
+}
+
+// The noise split's template, slid along the cycles, is the template summed
+// afresh: for every cycle, the ends of the test included, its repeat is
+// the cycle's sums times the mean of the t nearest cycles at distance sep
+// or more (as balanced as the ends allow), as Window sums them; none where
+// no cycle is that far.
+TEST(SplitRepeatable, TheSlidTemplateIsTheTemplateSummedAfresh) {
+  PlateGrid grid;
+  grid.bin_mm = 0.1;
+  grid.bins = 40;
+  const int first = 3, last = 62;
+  CycleBins bins(grid, first, last, /*with_x=*/false);
+  std::mt19937 gen(5);
+  std::uniform_real_distribution<double> along(0.0, 4.0);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  for (int c = first; c <= last; ++c) {
+    for (int dir : {+1, -1}) {
+      for (int i = 0; i < 200; ++i) {
+        const double x = along(gen);
+        // Magnitudes that differ by orders from cycle to cycle.
+        bins.Add(c,
+                 dir,
+                 x,
+                 std::sin(x) * (1 + 0.01 * c) +
+                     noise(gen) * std::pow(10.0, c % 5 - 2));
+      }
+    }
+  }
+  const int n = last - first + 1;
+  const std::vector<std::array<double, 2>> total(n, {1.0, 2.0});
+  int compared = 0, none = 0;
+  for (int sep : {1, 3, 6, 40}) {
+    for (int t : {2, 10, 25}) {
+      RepeatabilityOptions o;
+      o.template_cycles = t;
+      const auto split = SplitRepeatable(bins, total, sep, o);
+      ASSERT_EQ(static_cast<int>(split.size()), n);
+      for (int c = first; c <= last; ++c) {
+        int left = t / 2, right = t - t / 2;
+        const int room_left = std::max(0, c - sep - first + 1);
+        const int room_right = std::max(0, last - (c + sep) + 1);
+        if (left > room_left) right += left - room_left, left = room_left;
+        if (right > room_right) {
+          left = std::min(room_left, left + right - room_right);
+          right = room_right;
+        }
+        for (int d = 0; d < 2; ++d) {
+          const RepeatSplit &r = split[c - first][d];
+          EXPECT_EQ(r.total, d == 0 ? 1.0 : 2.0);
+          if (left + right == 0) {
+            EXPECT_TRUE(std::isnan(r.repeat)) << c;
+            ++none;
+            continue;
+          }
+          const int dir = d == 0 ? +1 : -1;
+          const CycleBins::Sums own = bins.Cycle(c, dir);
+          const CycleBins::Sums tpl = bins.Window(dir,
+                                                  c - sep - left + 1,
+                                                  c + sep + right - 1,
+                                                  c - sep + 1,
+                                                  c + sep - 1);
+          double cross = 0;
+          int samples = 0;
+          for (int b = 0; b < grid.bins; ++b) {
+            if (own.count[b] == 0 || tpl.count[b] == 0) continue;
+            cross += own.value[b] * (tpl.value[b] / tpl.count[b]);
+            samples += own.count[b];
+          }
+          EXPECT_NEAR(r.repeat, cross, 1e-12 * (1 + std::abs(cross)))
+              << "cycle " << c << " sep " << sep << " t " << t;
+          EXPECT_EQ(r.samples, samples);
+          ++compared;
+        }
+      }
+    }
+  }
+  EXPECT_GT(compared, 500);
+  EXPECT_GT(none, 0);
 }
 
 }  // namespace

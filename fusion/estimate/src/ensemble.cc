@@ -157,16 +157,34 @@ double PlateProfile::At(double x) const {
   return (1 - t) * k[i] + t * k[i + 1];
 }
 
+namespace {
+
+// The linear interpolation at x of `size` >= 2 points (xs increasing), its
+// interval walked from *i (At's i: the last xs[i] <= x, at most size - 2);
+// NaN outside, *i then left as it was.
+inline double Walked(const double* xs,
+                     const double* ks,
+                     Eigen::Index size,
+                     double x,
+                     Eigen::Index* i) {
+  if (!(x >= xs[0] && x <= xs[size - 1])) return std::nan("");
+  Eigen::Index at = *i;
+  while (at > 0 && x < xs[at]) --at;
+  while (at < size - 2 && x >= xs[at + 1]) ++at;
+  *i = at;
+  const double t = (x - xs[at]) / (xs[at + 1] - xs[at]);
+  return (1 - t) * ks[at] + t * ks[at + 1];
+}
+
+}  // namespace
+
 double PlateProfile::AtNear(double x, Eigen::Index* hint) const {
   const Eigen::Index n = x_mm.size();
-  if (n < 2 || !(x >= x_mm[0] && x <= x_mm[n - 1])) return std::nan("");
-  // The i of At: the last x_mm[i] <= x, at most n - 2.
+  if (n < 2) return std::nan("");
   Eigen::Index i = std::clamp<Eigen::Index>(*hint, 0, n - 2);
-  while (i > 0 && x < x_mm[i]) --i;
-  while (i < n - 2 && x >= x_mm[i + 1]) ++i;
-  *hint = i;
-  const double t = (x - x_mm[i]) / (x_mm[i + 1] - x_mm[i]);
-  return (1 - t) * k[i] + t * k[i + 1];
+  const double v = Walked(x_mm.data(), k.data(), n, x, &i);
+  *hint = i;  // (clamped only, where x is outside)
+  return v;
 }
 
 void PlateProfile::AtEach(const double* x, Eigen::Index n, double* out) const {
@@ -178,17 +196,7 @@ void PlateProfile::AtEach(const double* x, Eigen::Index n, double* out) const {
   const double* const xs = x_mm.data();
   const double* const ks = k.data();
   Eigen::Index i = 0;
-  for (Eigen::Index j = 0; j < n; ++j) {
-    const double v = x[j];
-    if (!(v >= xs[0] && v <= xs[size - 1])) {
-      out[j] = std::nan("");
-      continue;
-    }
-    while (i > 0 && v < xs[i]) --i;
-    while (i < size - 2 && v >= xs[i + 1]) ++i;
-    const double t = (v - xs[i]) / (xs[i + 1] - xs[i]);
-    out[j] = (1 - t) * ks[i] + t * ks[i + 1];
-  }
+  for (Eigen::Index j = 0; j < n; ++j) out[j] = Walked(xs, ks, size, x[j], &i);
 }
 
 bool EnsembleSlopeOptions::IsValid(std::string* why) const {

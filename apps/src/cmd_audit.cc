@@ -188,6 +188,7 @@ void RunAudit(AuditArgs a) {
   a.audit.read_scan = settings.read_scan;
   a.audit.fuse = settings.fuse;
   a.audit.figures = !a.no_figures;
+  if (a.no_figures) WithoutFigureData(&a.audit.fuse);
   std::vector<std::string> skipped;
   const std::vector<fusion::Specimen> mine =
       fusion::FindSpecimens(a.input, batch, &skipped);

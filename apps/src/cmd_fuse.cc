@@ -23,6 +23,7 @@ void RunFuse(FuseArgs a) {
       WithFlagNames([&] { return fusion::MakeTestSettings(a.given); });
   // Cycles are numbered from 1 on the command line, from 0 in the library.
   settings.fuse.detail_cycle = a.detail_cycle - 1;
+  if (a.no_figures) WithoutFigureData(&settings.fuse);
   for (int c : a.loops) a.write.loop_cycles.push_back(c - 1);
   if (a.scan_file.empty() &&
       settings.fuse.slopes == fusion::SlopeChoice::kScan) {

@@ -39,6 +39,10 @@ void AddPrintModeOptions(CLI::App* cmd) {
       ->excludes(quiet);
 }
 
+void WithoutFigureData(fusion::FuseOptions* options) {
+  options->friction_map.loop_bins = 0;
+}
+
 void AddFigureOptions(CLI::App* cmd,
                       bool* no_figures,
                       report::FigureFormats* formats,

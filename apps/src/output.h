@@ -7,6 +7,7 @@
 #include <string>
 
 #include "usage_error.h"
+#include "wearscar/fusion/fuse_options.h"
 #include "wearscar/report/figures.h"
 #include "wearscar/report/output_folder.h"
 
@@ -44,6 +45,11 @@ void AddFigureOptions(CLI::App* cmd,
                       bool* no_figures,
                       report::FigureFormats* formats,
                       const std::string& skip_help = "Skip the figures");
+
+// --no-figures: none of what only a figure draws is computed or written
+// either (the friction map's binned loops, loop_viewer.json: the report's
+// cycle slider).
+void WithoutFigureData(fusion::FuseOptions* options);
 
 // "drew 14 figures (SVG) in out/" in text mode.
 void SayFiguresDrawn(const report::FigureSet& figures,

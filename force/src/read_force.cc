@@ -62,6 +62,7 @@ using internal::RequireChannels;
 using internal::RequireNumbers;
 using internal::ResolveUnit;
 using internal::RowReader;
+using internal::RowRoom;
 using internal::Scale;
 using internal::TimeToS;
 using internal::TrimView;
@@ -98,16 +99,19 @@ std::vector<std::string> ReadHead(LineSource& source,
 // Room for the rows: exact when the caller counted the lines; else, for a
 // file of known size, as many rows as its shortest data line in the head
 // allows (untouched memory costs nothing; the columns are trimmed in
-// place), grown should that fall short.
-Eigen::Index RowCapacity(const std::vector<std::string>& head,
-                         const Layout& layout,
-                         std::size_t lines,
-                         std::uintmax_t file_bytes) {
-  if (lines > 0 || file_bytes == 0)
-    return static_cast<Eigen::Index>(std::max<std::size_t>(lines, 16));
+// place), grown should that fall short. Mapped ahead: only the rows its
+// longest data line allows, never pages the file will not fill.
+RowRoom RowCapacity(const std::vector<std::string>& head,
+                    const Layout& layout,
+                    std::size_t lines,
+                    std::uintmax_t file_bytes) {
+  if (lines > 0 || file_bytes == 0) {
+    const auto n = static_cast<Eigen::Index>(std::max<std::size_t>(lines, 16));
+    return {n, n};
+  }
   // (Blank lines are no measure of a row; none is shorter than "1,2".)
   constexpr std::size_t kShortestRow = 4;
-  std::size_t head_bytes = 0, shortest = 0, data_lines = 0;
+  std::size_t head_bytes = 0, shortest = 0, longest = 0, data_lines = 0;
   for (std::size_t i = 0; i < head.size(); ++i) {
     const std::size_t bytes = head[i].size() + 1;  // its line break at least
     head_bytes += bytes;
@@ -115,11 +119,15 @@ Eigen::Index RowCapacity(const std::vector<std::string>& head,
     ++data_lines;
     if (TrimView(head[i]).empty()) continue;
     shortest = shortest == 0 ? bytes : std::min(shortest, bytes);
+    longest = std::max(longest, bytes);
   }
   const std::uintmax_t rest =
       file_bytes > head_bytes ? file_bytes - head_bytes : 0;
-  return static_cast<Eigen::Index>(
-      data_lines + rest / std::max(shortest, kShortestRow) + 16);
+  // (CRLF lines are a byte longer than counted: fewer still.)
+  return {static_cast<Eigen::Index>(
+              data_lines + rest / std::max(shortest, kShortestRow) + 16),
+          static_cast<Eigen::Index>(
+              longest > 0 ? data_lines + rest / (longest + 1) : 0)};
 }
 
 // The time axis: the file's, or rebuilt from the rate in its metadata or

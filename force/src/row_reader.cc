@@ -25,7 +25,7 @@ RowReader::RowReader(const Layout& layout,
                      const Scale* scale,
                      const ReadForceOptions& options,
                      const std::string& name,
-                     Eigen::Index capacity,
+                     const RowRoom& room,
                      ForceMetadata* meta)
     : layout_(layout),
       header_text_(header_text),
@@ -41,9 +41,15 @@ RowReader::RowReader(const Layout& layout,
       slot_of_field_(columns_, -1),
       previous_time_(-std::numeric_limits<double>::infinity()),
       previous_step_(kNaN) {
+  std::vector<support::BackgroundPrefault::Buffer> mapped;
+  const Eigen::Index ahead = std::min(room.mapped, room.capacity);
   for (int ch = 0; ch < kChannels; ++ch) {
-    if (column_[ch] >= 0) data_[ch].resize(capacity);
+    if (column_[ch] < 0) continue;
+    data_[ch].resize(room.capacity);
+    mapped.emplace_back(data_[ch].data(),
+                        sizeof(double) * static_cast<std::size_t>(ahead));
   }
+  prefault_.Start(std::move(mapped));
   // Fast path slots: the four channels, the RecipeStep column, and the
   // first field that holds a number (text there means a footer or a bad
   // row).
@@ -113,6 +119,7 @@ std::array<Eigen::VectorXd, kChannels> RowReader::Finish() {
     }
     meta_->warnings.push_back(fmt::format("dropped {} bad rows", dropped_));
   }
+  prefault_.Stop();
   for (int ch = 0; ch < kChannels; ++ch) {
     if (column_[ch] >= 0) data_[ch].conservativeResize(rows_stored_);
   }
@@ -294,7 +301,10 @@ void RowReader::Store(const double* values, long line_no) {
       nan_run_[ch] = 0;
     }
     Eigen::VectorXd& v = data_[ch];
-    if (rows_stored_ >= v.size()) v.conservativeResize(2 * v.size() + 16);
+    if (rows_stored_ >= v.size()) {
+      prefault_.Stop();
+      v.conservativeResize(2 * v.size() + 16);
+    }
     v[rows_stored_] = x;
   }
   ++total_rows_;

@@ -18,15 +18,22 @@
 #include "plausibility.h"
 #include "wearscar/force/force_record.h"
 #include "wearscar/force/read_force.h"
+#include "wearscar/support/background.h"
 #include "wearscar/support/numbers.h"
 
 namespace wearscar::force::internal {
 
+// The rows the columns have room for before they grow, and how many of
+// them are mapped ahead of the parsing (those the file surely fills).
+struct RowRoom {
+  Eigen::Index capacity = 16;
+  Eigen::Index mapped = 0;
+};
+
 class RowReader {
  public:
   // Everything is borrowed and must outlive the reader; `header_text` is
-  // the header row (null: none), `capacity` the rows the columns have room
-  // for before they grow.
+  // the header row (null: none).
   RowReader(const Layout& layout,
             const std::string* header_text,
             const Columns& column,
@@ -35,7 +42,7 @@ class RowReader {
             const Scale* scale,
             const ReadForceOptions& options,
             const std::string& name,
-            Eigen::Index capacity,
+            const RowRoom& room,
             ForceMetadata* meta);
 
   // One line of the data (1-based `line_no` for messages).
@@ -100,6 +107,9 @@ class RowReader {
   bool fast_possible_ = false;
 
   std::array<Eigen::VectorXd, kChannels> data_;
+  // Maps the columns' pages beside the parsing; stopped before they grow
+  // or are trimmed (and, declared after them, destroyed before them).
+  support::BackgroundPrefault prefault_;
   Eigen::Index rows_stored_ = 0;
   std::vector<std::string_view> cells_;
   std::string pending_error_;

@@ -153,7 +153,8 @@ TEST(Cli, FuseWritesResultsAndFlagsTheElasticCase) {
                            "detail.csv",
                            "cost_curve.csv",
                            "profiles.csv",
-                           "centreline.csv"}) {
+                           "centreline.csv",
+                           "loop_viewer.json"}) {
     EXPECT_TRUE(std::filesystem::exists(dir + "/out/" + file)) << file;
   }
   // No temporary file left behind.
@@ -334,8 +335,12 @@ TEST(Cli, AScanWithoutATrackDoesNotLoseTheTest) {
                           ": no worn track found"),
             std::string::npos)
       << f.output;
-  EXPECT_NE(Slurp(dir + "/fuse/result.json").find("the scan was not used"),
-            std::string::npos);
+  const std::string fused = Slurp(dir + "/fuse/result.json");
+  EXPECT_NE(fused.find("the scan was not used"), std::string::npos);
+  // --no-figures: the loops only the viewer draws are neither binned nor
+  // written, and result.json says so.
+  EXPECT_FALSE(std::filesystem::exists(dir + "/fuse/loop_viewer.json"));
+  EXPECT_NE(fused.find("\"loop_bins\": 0"), std::string::npos);
   const CommandResult only =
       Wearscar("fuse --force " + force + " --scan " + zon + " --slope scan");
   EXPECT_EQ(only.status, 2) << only.output;

@@ -66,7 +66,8 @@ int Fuse(const std::string& force_file,
   namespace ws = wearscar;
   const ws::force::ForceRecord record = ws::force::ReadForceFile(force_file);
   ws::scan::HeightMap map = ws::scan::ReadScan(scan_file);
-  const ws::fusion::FuseOptions options;
+  ws::fusion::FuseOptions options;
+  options.friction_map.loop_bins = 0;  // --no-figures: no loop viewer
   const ws::fusion::TestResult result =
       ws::fusion::AnalyzeTest(record, std::move(map), options);
   for (const auto& [file, text] :
@@ -82,6 +83,7 @@ int Audit(const std::string& input, const std::string& out) {
   namespace ws = wearscar;
   ws::report::AuditOptions options;
   options.figures = false;
+  options.fuse.friction_map.loop_bins = 0;  // --no-figures: no loop viewer
   const auto specimens = ws::fusion::FindSpecimens(input, options.batch);
   const auto audit =
       ws::report::Audit(specimens, out, "wearscar audit of " + input, options);

@@ -193,6 +193,61 @@ struct CycleFitter {
   FrictionFits* out;
 };
 
+// The cycles fitted: with `two`, the second half of the cycles on a thread
+// of its own (the force side's with its own ensemble, its first window
+// summed afresh: the same sums to the bit as slid, float sums of a few
+// cycles being exact in double), so the fits are the same with and
+// without.
+void FitCycles(const force::ForceRecord& record,
+               const force::CycleSet& cycles,
+               const FrictionFitOptions& options,
+               const ForceSlopes* force_slopes,
+               bool two,
+               CycleFitter* fitter) {
+  const int n = static_cast<int>(cycles.cycles.size());
+  if (!two) {
+    fitter->Fit(0, n, force_slopes);
+    return;
+  }
+  const int half = n / 2;
+  std::future<void> done = std::async(std::launch::async, [&] {
+    std::optional<ForceSlopes> second;
+    if (force_slopes) second.emplace(record, cycles, options);
+    fitter->Fit(half, n, second ? &*second : nullptr);
+  });
+  fitter->Fit(0, half, force_slopes);
+  done.get();
+}
+
+// The split: other cycles at the same x whose k shares no P sample with
+// this cycle's form the template. Each fit's J split into out's fits;
+// returns k's split (the force side's), made beside the misfit's with
+// `two`.
+std::vector<std::array<RepeatSplit, 2>> SplitNoise(
+    const CycleFitter& fitter,
+    const FrictionFitOptions& options,
+    int shared,
+    bool force_side,
+    bool two,
+    FrictionFits* out) {
+  std::vector<std::array<RepeatSplit, 2>> split_k;
+  if (!options.split_noise) return split_k;
+  std::future<void> k_split;
+  if (force_side) {
+    k_split = std::async(two ? std::launch::async : std::launch::deferred, [&] {
+      split_k = SplitRepeatable(
+          fitter.slope, fitter.k_total, shared, options.repeatability);
+    });
+  }
+  SplitCosts(
+      SplitRepeatable(
+          fitter.misfit, fitter.misfit_total, shared, options.repeatability),
+      fitter.q_total,
+      &out->cycles);
+  if (k_split.valid()) k_split.get();
+  return split_k;
+}
+
 // The first and last cycles fitted (a live window's new ones), where the
 // k noise is probed.
 std::pair<int, int> FittedSpan(const std::vector<char>& fit, int n) {
@@ -243,37 +298,17 @@ FrictionFits FitFriction(const force::ForceRecord& record,
                      slope_scale,
                      /*bin_slope=*/source == SlopeSource::kForce,
                      &out);
-  // With threads, the force side's second half of the cycles on a thread
-  // of its own, with its own ensemble (its first window summed afresh: the
-  // same sums to the bit as slid, float sums of a few cycles being exact in
-  // double), so the fits are the same with and without.
-  const int half = n / 2;
-  if (force_slopes && options.threads > 1 && half >= 2 * shared) {
-    std::optional<ForceSlopes> second;
-    second.emplace(record, cycles, options);
-    std::future<void> done =
-        std::async(std::launch::async, [&] { fitter.Fit(half, n, &*second); });
-    fitter.Fit(0, half, &*force_slopes);
-    done.get();
-  } else {
-    fitter.Fit(0, n, force_slopes ? &*force_slopes : nullptr);
-  }
-  // The split: other cycles at the same x whose k shares no P sample with
-  // this cycle's form the template.
-  if (options.split_noise) {
-    SplitCosts(
-        SplitRepeatable(
-            fitter.misfit, fitter.misfit_total, shared, options.repeatability),
-        fitter.q_total,
-        &out.cycles);
-  }
+  const bool two = options.threads > 1 && n / 2 >= 2 * shared;
+  FitCycles(record,
+            cycles,
+            options,
+            force_slopes ? &*force_slopes : nullptr,
+            two,
+            &fitter);
+  const std::vector<std::array<RepeatSplit, 2>> split_k =
+      SplitNoise(fitter, options, shared, force_slopes.has_value(), two, &out);
   if (source == SlopeSource::kForce) {
-    if (options.split_noise) {
-      SplitSlopeNoise(
-          SplitRepeatable(
-              fitter.slope, fitter.k_total, shared, options.repeatability),
-          &out);
-    }
+    if (options.split_noise) SplitSlopeNoise(split_k, &out);
     const auto [lo, hi] = FittedSpan(options.fit_cycle, n);
     out.k_ensemble_noise_rms =
         std::sqrt(std::isnan(options.k_noise_variance)

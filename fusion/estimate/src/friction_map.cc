@@ -176,8 +176,8 @@ bool FrictionMapOptions::IsValid(std::string* why) const {
     if (why) *why = "friction map: min_samples must be >= 1";
     return false;
   }
-  if (loop_bins < 2 || loop_bins > 10000) {
-    if (why) *why = "friction map: loop bins must be in [2, 10000]";
+  if ((loop_bins < 2 && loop_bins != 0) || loop_bins > 10000) {
+    if (why) *why = "friction map: loop bins must be 0 (none) or in [2, 10000]";
     return false;
   }
   if (slope_polynomial_order != 0 &&
@@ -286,7 +286,7 @@ FrictionMap ComputeFrictionMap(const force::ForceRecord& record,
   }
   LoopSums loop;
   loop.count = static_cast<size_t>(options.loop_bins);
-  loop.width = (hi - lo) / options.loop_bins;
+  loop.width = loop.count > 0 ? (hi - lo) / options.loop_bins : 0.0;
   loop.lo = lo;
   const size_t loop_cells = static_cast<size_t>(m.cycles) * 2 * loop.count;
   loop.q.assign(loop_cells, 0);
@@ -298,6 +298,7 @@ FrictionMap ComputeFrictionMap(const force::ForceRecord& record,
     const CycleSamples s = slopes.Gather(c);
     Accumulate(s.forward, c, &b);
     Accumulate(s.reverse, c, &b);
+    if (loop.count == 0) continue;  // no loops asked for
     AccumulateLoop(s.forward, c, &loop);
     AccumulateLoop(s.reverse, c, &loop);
   }

@@ -109,10 +109,13 @@ void FitScanSide(const force::ForceRecord& record,
     return;
   }
   if (history != nullptr) s->slope_scale = ScanSlopeScale(*history, options);
+  // On both cores where the test has them (halves of the cycles).
+  FrictionFitOptions friction = options.analysis.friction;
+  if (options.parallel) friction.threads = std::max(friction.threads, 2);
   s->fit_scan = FitFrictionPerCycle(record,
                                     force.cycles,
                                     SlopeSource::kScan,
-                                    options.analysis.friction,
+                                    friction,
                                     &s->slope,
                                     history ? &s->slope_scale : nullptr);
 }
@@ -120,7 +123,9 @@ void FitScanSide(const force::ForceRecord& record,
 // The pipeline's figures for DecideProfile, each computed when first asked
 // for, and what the decision needed kept for the analysis after it: the
 // fit with k from P/S, the scan (prepared on another thread) and its
-// alignment with P/S.
+// alignment with P/S. Where the decision will ask for that alignment
+// whatever it finds (a scan, no depth channel, the profile from the spring
+// or auto), it is made on the scan's thread as soon as the scan is ready.
 class PipelineEvidence : public ProfileEvidence {
  public:
   PipelineEvidence(const force::ForceRecord& record,
@@ -132,8 +137,30 @@ class PipelineEvidence : public ProfileEvidence {
         segmented_(segmented),
         analysis_(analysis),
         options_(options),
-        has_scan_(prepared.valid()),
-        prepared_(std::move(prepared)) {}
+        has_scan_(prepared.valid()) {
+    // (The scan's thread holds `this`.)
+    if (!has_scan_) return;
+    const bool spring_sure =
+        !record.has_depth() && (options.profile_from == ProfileSource::kAuto ||
+                                options.profile_from == ProfileSource::kSpring);
+    scan_side_ = std::async(
+        spring_sure && options.parallel ? std::launch::async
+                                        : std::launch::deferred,
+        [this, spring_sure, o = options, p = std::move(prepared)]() mutable {
+          ScanSide side;
+          try {
+            side.prepared = p.get();
+          } catch (...) {
+            side.scan_error = std::current_exception();
+            return side;
+          }
+          if (spring_sure) AlignWithSpring(o, &side);
+          return side;
+        });
+  }
+
+  PipelineEvidence(const PipelineEvidence&) = delete;
+  PipelineEvidence& operator=(const PipelineEvidence&) = delete;
 
   bool HasDepthChannel() const override { return record_.has_depth(); }
   std::string DepthColumn() const override {
@@ -160,8 +187,8 @@ class PipelineEvidence : public ProfileEvidence {
     return fusion::DepthAgreement(record_, segmented_);
   }
   double SpringAmplitudeRatio() override {
-    AlignWithSpring();
-    return aligned_spring_ ? aligned_spring_->alignment.amplitude_ratio : NAN;
+    const ScanSide& side = AlignedWithSpring();
+    return side.spring ? side.spring->alignment.amplitude_ratio : NAN;
   }
 
   // The force side fitted with k where the decision put it.
@@ -178,15 +205,24 @@ class PipelineEvidence : public ProfileEvidence {
   // or its alignment threw. Requires HasScan().
   ScanAnalysis TakeAlignedScan(const ProfileDecision& d) {
     if (d.FromSpring()) {
-      AlignWithSpring();
-      if (align_error_) std::rethrow_exception(align_error_);
-      return std::move(*aligned_spring_);
+      ScanSide& side = AlignedWithSpring();
+      if (side.align_error) std::rethrow_exception(side.align_error);
+      return std::move(*side.spring);
     }
     return AlignScan(
         record_, segmented_, Prepared(), options_, d.used, d.depth_sign);
   }
 
  private:
+  // The prepared scan, or what its reading or preparation threw; its
+  // alignment with P/S once made, or what that threw.
+  struct ScanSide {
+    std::optional<ScanAnalysis> prepared;
+    std::exception_ptr scan_error;
+    std::optional<ScanAnalysis> spring;
+    std::exception_ptr align_error;
+  };
+
   ForceAnalysis& SpringFit() {
     if (!spring_fit_) {
       spring_fit_ = segmented_;
@@ -196,29 +232,35 @@ class PipelineEvidence : public ProfileEvidence {
     }
     return *spring_fit_;
   }
-  const ScanAnalysis& Prepared() {
-    if (!prepared_scan_ && !scan_error_) {
-      try {
-        prepared_scan_ = prepared_.get();
-      } catch (...) {
-        scan_error_ = std::current_exception();
-      }
-    }
-    if (scan_error_) std::rethrow_exception(scan_error_);
-    return *prepared_scan_;
+  ScanSide& Side() {
+    if (!side_) side_ = scan_side_.get();
+    return *side_;
   }
-  void AlignWithSpring() {
-    if (aligned_spring_ || align_error_) return;
+  const ScanAnalysis& Prepared() {
+    const ScanSide& side = Side();
+    if (side.scan_error) std::rethrow_exception(side.scan_error);
+    return *side.prepared;
+  }
+  // (`options` the pipeline's as they were before the decision: the
+  // decision writes its choice into them while this may run.)
+  void AlignWithSpring(const FuseOptions& options, ScanSide* side) const {
+    if (side->spring || side->align_error) return;
     try {
-      aligned_spring_ = AlignScan(record_,
-                                  segmented_,
-                                  Prepared(),
-                                  options_,
-                                  ProfileSource::kSpring,
-                                  1.0);
+      if (side->scan_error) std::rethrow_exception(side->scan_error);
+      side->spring = AlignScan(record_,
+                               segmented_,
+                               *side->prepared,
+                               options,
+                               ProfileSource::kSpring,
+                               1.0);
     } catch (...) {
-      align_error_ = std::current_exception();
+      side->align_error = std::current_exception();
     }
+  }
+  ScanSide& AlignedWithSpring() {
+    ScanSide& side = Side();
+    AlignWithSpring(options_, &side);
+    return side;
   }
 
   const force::ForceRecord& record_;
@@ -226,12 +268,9 @@ class PipelineEvidence : public ProfileEvidence {
   const AnalysisOptions& analysis_;
   const FuseOptions& options_;
   const bool has_scan_;
-  std::future<ScanAnalysis> prepared_;
   std::optional<ForceAnalysis> spring_fit_;
-  std::optional<ScanAnalysis> prepared_scan_;
-  std::exception_ptr scan_error_;
-  std::optional<ScanAnalysis> aligned_spring_;
-  std::exception_ptr align_error_;
+  std::future<ScanSide> scan_side_;
+  std::optional<ScanSide> side_;
 };
 
 // A cycle asked for beyond the test's n complete cycles is refused, not
@@ -499,6 +538,23 @@ AnalysisOptions ForceOptions(const FuseOptions& options) {
   return ao;
 }
 
+// The friction map on a thread of its own where the test has cores. Its k
+// is P/S's or the depth's: `options` by value, since the decision writes
+// its choice into the result's while a map made beside it runs.
+std::future<FrictionMap> StartFrictionMap(const force::ForceRecord& record,
+                                          const ForceAnalysis& force,
+                                          FuseOptions options) {
+  return std::async(
+      options.parallel ? std::launch::async : std::launch::deferred,
+      [&record, &force, o = std::move(options)] {
+        return ComputeFrictionMap(record,
+                                  force.cycles,
+                                  o.analysis.friction,
+                                  force.running_in.cycles,
+                                  o.friction_map);
+      });
+}
+
 // After the profile's decision: the force side, then the scan side beside
 // the products that need only the force side, the comparison and verdict,
 // the lines and the detail cycle.
@@ -506,6 +562,7 @@ void AnalyzeDecided(const force::ForceRecord& record,
                     PipelineEvidence* evidence,
                     AnalysisOptions ao,
                     std::future<std::vector<force::PeriodicLine>> lines,
+                    std::future<FrictionMap> map,
                     TestResult* result) {
   const FuseOptions& o = result->options;
   ao.friction.k_from_depth = o.analysis.friction.k_from_depth;
@@ -516,18 +573,12 @@ void AnalyzeDecided(const force::ForceRecord& record,
   result->detail_cycle =
       o.detail_cycle >= 0 && o.detail_cycle < n ? o.detail_cycle : n - 1;
   // Nothing below changes result->force, which this thread reads. What
-  // needs only the force side, the friction map and the LuGre fit, each
-  // beside the scan side's fit (three threads: the cores share them out).
+  // needs only the force side, the friction map (unless it runs already)
+  // and the LuGre fit, each beside the scan side's fit (the cores share the
+  // threads out).
   const std::launch beside =
       o.parallel ? std::launch::async : std::launch::deferred;
-  std::future<FrictionMap> map =
-      std::async(beside, [&record, &force = result->force, &o] {
-        return ComputeFrictionMap(record,
-                                  force.cycles,
-                                  o.analysis.friction,
-                                  force.running_in.cycles,
-                                  o.friction_map);
-      });
+  if (!map.valid()) map = StartFrictionMap(record, result->force, o);
   std::future<std::optional<LugreFit>> lugre = std::async(
       beside,
       [&record, &force = result->force, detail = result->detail_cycle, &o] {
@@ -641,6 +692,11 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
         return find ? FindLines(record, segmented.cycles)
                     : std::vector<force::PeriodicLine>();
       });
+  // The map's k is P/S's unless the decision puts it on a depth channel:
+  // without one, the map is made beside the decision.
+  std::future<FrictionMap> map;
+  if (!record.has_depth())
+    map = StartFrictionMap(record, segmented, result.options);
   PipelineEvidence evidence(
       record, segmented, ao, result.options, std::move(prepared_scan));
   result.profile = DecideProfile(&evidence, result.options);
@@ -648,7 +704,8 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
   friction.k_from_depth = result.profile.FromDepth();
   friction.depth_sign = result.profile.FromDepth() ? result.profile.depth_sign
                                                    : friction.depth_sign;
-  AnalyzeDecided(record, &evidence, ao, std::move(lines), &result);
+  AnalyzeDecided(
+      record, &evidence, ao, std::move(lines), std::move(map), &result);
   return result;
 }
 

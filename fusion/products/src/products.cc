@@ -96,10 +96,13 @@ TestProducts MakeTestProducts(const std::string& name,
           n));
     }
   }
-  // The loop viewer's text (the largest product) beside the tables.
-  std::future<std::string> viewer =
-      std::async(o.parallel ? std::launch::async : std::launch::deferred,
-                 [&r] { return internal::LoopViewerJson(r); });
+  // The loop viewer's text (the largest product) beside the tables, where
+  // the friction map holds the loops it draws.
+  std::future<std::string> viewer;
+  if (!r.friction_map.loop_x_mm.empty()) {
+    viewer = std::async(o.parallel ? std::launch::async : std::launch::deferred,
+                        [&r] { return internal::LoopViewerJson(r); });
+  }
   TestProducts out;
   auto add = [&out](const char* file, Table t) {
     out.tables.emplace_back(file, std::move(t));
@@ -115,7 +118,8 @@ TestProducts MakeTestProducts(const std::string& name,
     add("centreline.csv", internal::CentrelineTable(r.scan->profile));
   }
   if (r.lugre) add("lugre.csv", internal::LugreTable(*r.lugre, r.detail));
-  out.documents.emplace_back("loop_viewer.json", viewer.get());
+  if (viewer.valid())
+    out.documents.emplace_back("loop_viewer.json", viewer.get());
   if (p.provenance) {
     const Provenance prov = TestProvenance(record, r);
     out.result = ResultJson(name, record, r, o, &prov);

@@ -241,6 +241,7 @@ nlohmann::json FrictionMapJson(const TestResult& r, const FuseOptions& o) {
        o.friction_map.slope_span_mm > 0 ? o.friction_map.slope_span_mm
                                         : o.analysis.friction.ensemble.span_mm},
       {"bins", r.friction_map.x_mm.size()},
+      {"loop_bins", r.friction_map.loop_x_mm.size()},
       {"first_steady_cycle", r.friction_map.first_steady_cycle + 1},
       {"spatial_sd_raw", r.friction_map.spatial_sd_raw},
       {"spatial_sd_corrected", r.friction_map.spatial_sd_corrected},

@@ -173,6 +173,31 @@ TEST(FitFriction, TwoThreadsGiveTheFitsOfOne) {
   }
   EXPECT_EQ(f1.k_ensemble_noise_rms, f2.k_ensemble_noise_rms);
   EXPECT_EQ(f1.k_noise_correction, f2.k_noise_correction);
+  // (k's split runs beside the misfit's with two threads.)
+  EXPECT_EQ(f1.k_signal_rms, f2.k_signal_rms);
+  EXPECT_EQ(f1.k_noise_rms, f2.k_noise_rms);
+  EXPECT_TRUE(std::isfinite(f2.k_signal_rms) && f2.k_signal_rms > 0);
+  // The scan's slope (here a wavy track of the stroke's length): its
+  // halves on two threads give every fit of one.
+  PlateProfile scan;
+  scan.x_mm = Eigen::VectorXd::LinSpaced(2001, -5, 5);
+  scan.k = (2 * scan.x_mm.array()).sin() * 0.01;
+  const FrictionFits s1 =
+      FitFriction(t.test.record, t.set, SlopeSource::kScan, one, &scan);
+  const FrictionFits s2 =
+      FitFriction(t.test.record, t.set, SlopeSource::kScan, two, &scan);
+  ASSERT_EQ(s2.cycles.size(), 90u);
+  int converged = 0;
+  for (size_t c = 0; c < s1.cycles.size(); ++c) {
+    const MuFit &x = s1.cycles[c], &y = s2.cycles[c];
+    EXPECT_EQ(x.converged, y.converged) << c;
+    converged += y.converged;
+    if (!x.converged) continue;
+    EXPECT_EQ(x.mu_hat, y.mu_hat) << c;
+    EXPECT_EQ(x.cost, y.cost) << c;
+    EXPECT_EQ(x.cost_floor, y.cost_floor) << c;
+  }
+  EXPECT_GT(converged, 80);
   one.threads = 0;
   std::string why;
   EXPECT_FALSE(one.IsValid(&why));

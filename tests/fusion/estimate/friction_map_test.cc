@@ -218,12 +218,46 @@ TEST(FrictionMap, EachCyclesBinnedLoopMeetsTheModelWithItsMu) {
   }
 }
 
+// Without loops (--no-figures: loop_bins 0) the map is the same map, with
+// no loops for the viewer.
+TEST(FrictionMap, WithoutLoopsTheMapIsTheSame) {
+  const Mapped m = Simulate("B-RT-R", 1);
+  const TestResult& r = m.result;
+  FrictionMapOptions o;
+  o.loop_bins = 0;
+  const FrictionMap none = ComputeFrictionMap(m.test.record,
+                                              r.force.cycles,
+                                              r.options.analysis.friction,
+                                              r.force.running_in.cycles,
+                                              o);
+  const FrictionMap& with = r.friction_map;
+  ASSERT_FALSE(with.loop_q_n.empty());
+  EXPECT_TRUE(none.loop_x_mm.empty());
+  EXPECT_TRUE(none.loop_q_n.empty() && none.loop_p_n.empty() &&
+              none.loop_k.empty());
+  ASSERT_EQ(none.mu_raw.size(), with.mu_raw.size());
+  for (size_t i = 0; i < with.mu_raw.size(); ++i) {
+    EXPECT_TRUE(none.mu_raw[i] == with.mu_raw[i] ||
+                (std::isnan(none.mu_raw[i]) && std::isnan(with.mu_raw[i])));
+    EXPECT_TRUE(
+        none.mu_corrected[i] == with.mu_corrected[i] ||
+        (std::isnan(none.mu_corrected[i]) && std::isnan(with.mu_corrected[i])));
+  }
+  EXPECT_EQ(none.spatial_sd_corrected, with.spatial_sd_corrected);
+}
+
 TEST(FrictionMap, BadOptionsAreRefused) {
   FrictionMapOptions o;
   o.bin_mm = 0;
   std::string why;
   EXPECT_FALSE(o.IsValid(&why));
   EXPECT_NE(why.find("bin_mm"), std::string::npos);
+  o = FrictionMapOptions{};
+  o.loop_bins = 1;
+  EXPECT_FALSE(o.IsValid(&why));
+  EXPECT_NE(why.find("loop bins"), std::string::npos);
+  o.loop_bins = 0;
+  EXPECT_TRUE(o.IsValid(&why)) << why;
   FuseOptions fo;
   fo.friction_map.bin_mm = -1;
   EXPECT_FALSE(fo.IsValid(&why));

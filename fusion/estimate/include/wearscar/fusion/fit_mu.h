@@ -113,9 +113,9 @@ struct FrictionFitOptions {
   // k noise the split estimates (FrictionFits::k_ensemble_noise_rms). Ensemble
   // only: the paper's k per cycle is left as the paper has it.
   bool correct_k_noise_bias = true;
-  // Threads FitFriction fits the cycles of the force side on: 2 fit the
-  // second half of the cycles beside the first (`wearscar fuse`); the fits
-  // are the same with any number.
+  // Threads FitFriction fits the cycles on: 2 fit the second half of the
+  // cycles beside the first, and split k's noise beside the misfit's
+  // (`wearscar fuse`); the fits are the same with any number.
   int threads = 1;
   // When not empty, only the cycles c with fit_cycle[c] set are fitted
   // (the others' MuFit "not run"): a live window fits its new cycles.

@@ -22,8 +22,9 @@ struct FrictionMapOptions {
   // bin by bin; a cubic removes that term (0 keeps the fit's).
   int slope_polynomial_order = 3;
   double slope_span_mm = 0.1;
-  // Each cycle's loop, binned this many times finer than the stroke
-  // (FrictionMap::loop_*): what the report's loop viewer draws.
+  // Each cycle's loop, binned this many times along the stroke
+  // (FrictionMap::loop_*): what the report's loop viewer draws. 0: none
+  // (and no viewer).
   int loop_bins = 100;
 
   bool IsValid(std::string* why) const;

@@ -35,7 +35,7 @@ struct ProductOptions {
 struct TestProducts {
   std::vector<std::pair<std::string, Table>> tables;  // file name, table
   // Other files, name and text: loop_viewer.json (the report's loop
-  // viewer reads it).
+  // viewer reads it), where the friction map holds loops.
   std::vector<std::pair<std::string, std::string>> documents;
   nlohmann::json result;  // result.json (scan.json for a map alone)
   std::string result_name = "result.json";

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <optional>
 
 #include "units.h"
@@ -284,12 +285,42 @@ void InferUnits(Eigen::VectorXd* data,
   }
 }
 
+namespace {
+
+// The first sample whose force or x is beyond the bounds, or r.size(): a
+// block is searched only when a pass that can run on vectors found one in
+// it (the file has millions of samples, and a search ends at one).
+Eigen::Index FirstBeyond(const ForceRecord& r, double max_n, double max_mm) {
+  constexpr Eigen::Index kStretch = 4096;
+  const Eigen::Index n = r.size();
+  const double *q = r.tangential_n.data(), *p = r.normal_n.data(),
+               *x = r.x_mm.data();
+  for (Eigen::Index b = 0; b < n; b += kStretch) {
+    const Eigen::Index e = std::min(n, b + kStretch);
+    bool any = false;
+    for (Eigen::Index i = b; i < e; ++i) {
+      any |= (std::abs(q[i]) > max_n) | (std::abs(p[i]) > max_n) |
+             (std::abs(x[i]) > max_mm);
+    }
+    if (!any) continue;
+    for (Eigen::Index i = b; i < e; ++i) {
+      if (std::abs(q[i]) > max_n || std::abs(p[i]) > max_n ||
+          std::abs(x[i]) > max_mm)
+        return i;
+    }
+  }
+  return n;
+}
+
+}  // namespace
+
 void CheckPlausible(ForceRecord& r, const std::string& file) {
   constexpr double kMaxForceN = 1e5, kMaxAbsXMm = 1e4;
   auto where = [&](Eigen::Index i) {
     return fmt::format("sample {} (t = {:.6g} s)", i + 1, r.time_s[i]);
   };
-  for (Eigen::Index i = 0; i < r.size(); ++i) {
+  if (const Eigen::Index i = FirstBeyond(r, kMaxForceN, kMaxAbsXMm);
+      i < r.size()) {
     if (std::abs(r.tangential_n[i]) > kMaxForceN ||
         std::abs(r.normal_n[i]) > kMaxForceN) {
       throw ForceError(fmt::format(
@@ -353,13 +384,15 @@ void CheckPlausible(ForceRecord& r, const std::string& file) {
 }
 
 void CheckFrictionRecorded(const ForceRecord& r, const std::string& file) {
-  double lo = INFINITY, hi = -INFINITY;
+  // (|q| <= DBL_MAX: finite, in a form that runs on vectors.)
+  bool finite = false, nonzero = false;
+  const double* q = r.tangential_n.data();
   for (Eigen::Index i = 0; i < r.size(); ++i) {
-    if (!std::isfinite(r.tangential_n[i])) continue;
-    lo = std::min(lo, r.tangential_n[i]);
-    hi = std::max(hi, r.tangential_n[i]);
+    const bool f = std::abs(q[i]) <= std::numeric_limits<double>::max();
+    finite |= f;
+    nonzero |= f & (q[i] != 0);
   }
-  if (lo == 0 && hi == 0) {
+  if (finite && !nonzero) {
     const auto& names = r.metadata.channel_names;
     throw ForceError(fmt::format(
         "{}: no friction force recorded: the friction channel{} is 0 N in "
@@ -376,12 +409,14 @@ void CheckChannelRoles(const ForceRecord& r, const std::string& file) {
   long both = 0, q_above = 0, p_negative = 0;
   double span, median_p;
   Spread(r.normal_n, &span, &median_p);
+  const double negative_below = -0.25 * median_p;
   for (Eigen::Index i = 0; i < r.size(); ++i) {
     const double q = r.tangential_n[i], p = r.normal_n[i];
-    if (!std::isfinite(q) || !std::isfinite(p)) continue;
-    ++both;
-    if (std::abs(q) > std::abs(p)) ++q_above;
-    if (p < -0.25 * median_p) ++p_negative;
+    const bool ok = std::abs(q) <= std::numeric_limits<double>::max() &&
+                    std::abs(p) <= std::numeric_limits<double>::max();
+    both += ok;
+    q_above += ok & (std::abs(q) > std::abs(p));
+    p_negative += ok & (p < negative_below);
   }
   if (both == 0) return;
   auto name = [&](size_t ch) {

@@ -516,6 +516,39 @@ TEST(ExportVariants, StatedTestConditionsAreRead) {
   }
 }
 
+// The first sample beyond the bounds is the one named, however far into
+// the file (past the first stretches searched together), a force before an
+// x on the same row; a friction channel of zeros with gaps is still zeros.
+TEST(ExportVariants, TheFirstSampleBeyondTheBoundsIsNamed) {
+  const auto with = [](int at, const char* q, const char* x) {
+    return Text(
+        "time_s,x_mm,Q_N,P_N",
+        [=](const Row& r, int i) {
+          return i == at ? fmt::format("{:.6f},{},{},{:.6f}", r.t, x, q, r.p)
+                 : i == at + 3
+                     ? fmt::format("{:.6f},{:.6f},2e5,{:.6f}", r.t, r.x, r.p)
+                     : Plain(r);
+        },
+        12000);
+  };
+  EXPECT_NE(ErrorOf([&] {
+              ReadForceText(with(9001, "1", "20000"), "far.csv");
+            }).find("far.csv: sample 9002 (t = 4.5005 s): x = 2e+04 mm"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([&] {
+              ReadForceText(with(9001, "-3e5", "20000"), "both.csv");
+            }).find("both.csv: sample 9002 (t = 4.5005 s): a force of -3e+05 N"),
+            std::string::npos);
+  const std::string gaps = Text("time_s,x_mm,Q_N,P_N", [](const Row& r, int i) {
+    return fmt::format(
+        "{:.6f},{:.6f},{},{:.6f}", r.t, r.x, i % 7 == 3 ? "" : "0", r.p);
+  });
+  EXPECT_NE(ErrorOf([&] {
+              ReadForceText(gaps, "gaps.csv");
+            }).find("gaps.csv: no friction force recorded"),
+            std::string::npos);
+}
+
 // A friction channel with no friction in it is refused as what it is,
 // naming the column; a rotary (pin-on-disk) export, whose position does
 // not reciprocate and whose header states a radius, is named a rotary

@@ -18,7 +18,7 @@
 #include "plausibility.h"
 #include "wearscar/force/force_record.h"
 #include "wearscar/force/read_force.h"
-#include "wearscar/support/background.h"
+#include "wearscar/support/prefault.h"
 #include "wearscar/support/numbers.h"
 
 namespace wearscar::force::internal {

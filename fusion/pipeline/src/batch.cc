@@ -21,7 +21,6 @@
 #include "wearscar/fusion/error.h"
 #include "wearscar/fusion/provenance.h"
 #include "wearscar/scan/formats.h"
-#include "wearscar/support/background.h"
 #include "wearscar/support/text.h"
 
 namespace wearscar::fusion {
@@ -199,8 +198,8 @@ SpecimenAnalysis AnalyzeSpecimen(const Specimen& s,
   // the force file's checksum for the provenance is taken as the reader
   // reads it, not by a second read of the file; otherwise a large force
   // file is parsed on two threads and the checksum of a regular file is
-  // taken on a third from the start, wherever a core would be idle (the
-  // provenance then has it, TestProvenance).
+  // taken on a third from the start, where the reader's set-up leaves a
+  // core idle (the provenance then has it, TestProvenance).
   std::optional<Sha256> hash;
   std::future<std::string> force_sum;
   force::ReadForceOptions read = read_force;
@@ -209,7 +208,6 @@ SpecimenAnalysis AnalyzeSpecimen(const Specimen& s,
     read.threads = std::max(read.threads, 2);
     if (std::filesystem::is_regular_file(s.force, ec)) {
       force_sum = std::async(std::launch::async, [path = s.force] {
-        support::RunWhenACoreIsIdle();
         return Sha256OfFile(path);
       });
     }

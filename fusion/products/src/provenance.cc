@@ -1,11 +1,7 @@
 #include "wearscar/fusion/provenance.h"
 
-#include <fcntl.h>
 #include <fmt/format.h>
 #include <openssl/evp.h>
-#include <sys/mman.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <cerrno>
 #include <cstdio>
@@ -65,44 +61,17 @@ std::string Sha256::Hex() {
   return hex;
 }
 
-namespace {
-
-// A regular file's bytes hashed where the page cache holds them (mapped,
-// not copied: a 45 MB force file is otherwise read a second time through a
-// buffer); false where it cannot be mapped (empty, a pipe), for the
-// reading loop.
-bool HashMapped(const std::string& path, Sha256* hash) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) return false;
-  struct stat st;
-  void* map = MAP_FAILED;
-  if (::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > 0) {
-    map = ::mmap(nullptr,
-                 static_cast<std::size_t>(st.st_size),
-                 PROT_READ,
-                 MAP_PRIVATE | MAP_POPULATE,
-                 fd,
-                 0);
-  }
-  ::close(fd);
-  if (map == MAP_FAILED) return false;
-  hash->Update(static_cast<const char*>(map),
-               static_cast<std::size_t>(st.st_size));
-  ::munmap(map, static_cast<std::size_t>(st.st_size));
-  return true;
-}
-
-}  // namespace
-
 std::string Sha256OfFile(const std::string& path) {
   Sha256 hash;
-  if (HashMapped(path, &hash)) return hash.Hex();
   std::unique_ptr<std::FILE, FileCloser> f(std::fopen(path.c_str(), "rb"));
   if (!f) {
     throw FusionError(fmt::format(
         "{}: cannot read for its checksum: {}", path, std::strerror(errno)));
   }
-  std::vector<char> buffer(1 << 20);
+  // Read through a buffer that stays in the cache: mapped instead, a large
+  // force file's pages would count in the process's memory for as long as
+  // the checksum takes, which runs only where a core is idle.
+  std::vector<char> buffer(256 << 10);
   size_t got = 0;
   while ((got = std::fread(buffer.data(), 1, buffer.size(), f.get())) > 0)
     hash.Update(buffer.data(), got);

@@ -78,7 +78,7 @@ TEST(Sha256, PiecesGiveTheDigestOfTheWhole) {
 
 // A file's checksum, mapped (a file with bytes) or read (an empty one,
 // which cannot be mapped): FIPS 180-2's "abc" and the empty message's.
-TEST(Sha256, OfAFileMappedOrRead) {
+TEST(Sha256, OfAFileAndOfAnEmptyOne) {
   const std::string dir = ::testing::TempDir();
   std::FILE* f = std::fopen((dir + "/wearscar-abc.txt").c_str(), "wb");
   ASSERT_NE(f, nullptr);

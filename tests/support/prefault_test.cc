@@ -1,4 +1,4 @@
-#include "wearscar/support/background.h"
+#include "wearscar/support/prefault.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,6 @@
 #include <vector>
 
 #if defined(__linux__)
-#include <sched.h>
 #include <sys/mman.h>
 #include <unistd.h>
 #endif
@@ -93,18 +92,6 @@ TEST(BackgroundPrefault, MapsEveryWholePageOfAFreshBuffer) {
   for (std::size_t i = 1; i < resident.size(); ++i) after += resident[i] & 1;
   EXPECT_EQ(after, resident.size() - 1);
   munmap(map, bytes);
-}
-#endif
-
-#if defined(__linux__) && defined(SCHED_IDLE)
-TEST(RunWhenACoreIsIdle, LowersTheCallingThreadOnly) {
-  int policy = -1;
-  std::thread([&] {
-    RunWhenACoreIsIdle();
-    policy = sched_getscheduler(0);
-  }).join();
-  EXPECT_EQ(policy, SCHED_IDLE);
-  EXPECT_NE(sched_getscheduler(0), SCHED_IDLE);
 }
 #endif
 

@@ -1,7 +1,6 @@
 #pragma once
 
-// Work beside the analysis: large fresh buffers mapped ahead of the code
-// that fills them, and threads whose result is wanted only later.
+// Large fresh buffers mapped ahead of the code that fills them.
 
 #include <atomic>
 #include <cstddef>
@@ -21,13 +20,6 @@ namespace wearscar::support {
 // and nothing happens where the kernel does not offer it (before Linux
 // 5.14) or for buffers under 4 MiB in all. Stop() before a buffer is freed
 // or moved.
-// Lowers the calling thread to run only where a core would otherwise be
-// idle (Linux's SCHED_IDLE; elsewhere nothing): for work whose result is
-// wanted only at the end, such as a checksum, so that it takes no core
-// from the work that is waited for. It still runs when the others wait
-// for it.
-void RunWhenACoreIsIdle();
-
 class BackgroundPrefault {
  public:
   // A buffer: its first byte and its size in bytes.

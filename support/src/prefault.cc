@@ -1,11 +1,9 @@
-#include "wearscar/support/background.h"
+#include "wearscar/support/prefault.h"
 
 #include <algorithm>
 #include <cstdint>
 
 #if defined(__linux__)
-#include <pthread.h>
-#include <sched.h>
 #include <sys/mman.h>
 #endif
 
@@ -22,13 +20,6 @@ std::uintptr_t Down(std::uintptr_t a, std::uintptr_t to) {
 }
 
 }  // namespace
-
-void RunWhenACoreIsIdle() {
-#if defined(__linux__) && defined(SCHED_IDLE)
-  const sched_param none{};
-  pthread_setschedparam(pthread_self(), SCHED_IDLE, &none);
-#endif
-}
 
 void BackgroundPrefault::Start(std::vector<Buffer> buffers) {
   Stop();

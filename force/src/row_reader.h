@@ -18,8 +18,8 @@
 #include "plausibility.h"
 #include "wearscar/force/force_record.h"
 #include "wearscar/force/read_force.h"
-#include "wearscar/support/prefault.h"
 #include "wearscar/support/numbers.h"
+#include "wearscar/support/prefault.h"
 
 namespace wearscar::force::internal {
 

@@ -535,10 +535,11 @@ TEST(ExportVariants, TheFirstSampleBeyondTheBoundsIsNamed) {
               ReadForceText(with(9001, "1", "20000"), "far.csv");
             }).find("far.csv: sample 9002 (t = 4.5005 s): x = 2e+04 mm"),
             std::string::npos);
-  EXPECT_NE(ErrorOf([&] {
-              ReadForceText(with(9001, "-3e5", "20000"), "both.csv");
-            }).find("both.csv: sample 9002 (t = 4.5005 s): a force of -3e+05 N"),
-            std::string::npos);
+  EXPECT_NE(
+      ErrorOf([&] {
+        ReadForceText(with(9001, "-3e5", "20000"), "both.csv");
+      }).find("both.csv: sample 9002 (t = 4.5005 s): a force of -3e+05 N"),
+      std::string::npos);
   const std::string gaps = Text("time_s,x_mm,Q_N,P_N", [](const Row& r, int i) {
     return fmt::format(
         "{:.6f},{:.6f},{},{:.6f}", r.t, r.x, i % 7 == 3 ? "" : "0", r.p);

@@ -207,9 +207,8 @@ SpecimenAnalysis AnalyzeSpecimen(const Specimen& s,
   if (fuse.parallel) {
     read.threads = std::max(read.threads, 2);
     if (std::filesystem::is_regular_file(s.force, ec)) {
-      force_sum = std::async(std::launch::async, [path = s.force] {
-        return Sha256OfFile(path);
-      });
+      force_sum = std::async(std::launch::async,
+                             [path = s.force] { return Sha256OfFile(path); });
     }
   } else {
     hash.emplace();

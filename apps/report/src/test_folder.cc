@@ -8,6 +8,10 @@
 #include <filesystem>
 #include <fstream>
 #include <future>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "draw.h"
 #include "wearscar/report/figures.h"
@@ -16,6 +20,66 @@
 namespace wearscar::report {
 
 namespace fs = std::filesystem;
+
+namespace {
+
+// The tables' files, on two threads when `parallel`: each table's text in
+// pieces of at most kPieceRows rows, the largest tables' first, formatted
+// by whichever thread takes each; the thread that formats a table's last
+// piece joins them and writes the file (only the tables in progress are
+// held as text: 6000 cycles' tables are tens of MB).
+void WriteTables(const std::string& dir,
+                 const std::vector<std::pair<std::string, fusion::Table>>& t,
+                 bool parallel) {
+  constexpr std::size_t kPieceRows = 8192;
+  std::vector<std::size_t> order(t.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  auto cells = [&t](std::size_t i) {
+    return t[i].second.rows.size() * t[i].second.columns.size();
+  };
+  std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) {
+    return cells(a) > cells(b);
+  });
+  struct Piece {
+    std::size_t table, index, first, last;
+  };
+  std::vector<Piece> pieces;
+  std::vector<std::vector<std::string>> text(t.size());
+  const auto left = std::make_unique<std::atomic<std::size_t>[]>(t.size());
+  for (const std::size_t i : order) {
+    const std::size_t rows = t[i].second.rows.size();
+    const std::size_t n =
+        std::max<std::size_t>(1, (rows + kPieceRows - 1) / kPieceRows);
+    text[i].resize(n);
+    left[i] = n;
+    for (std::size_t j = 0; j < n; ++j)
+      pieces.push_back(
+          {i, j, j * kPieceRows, std::min(rows, (j + 1) * kPieceRows)});
+  }
+  std::atomic<std::size_t> next{0};
+  auto work = [&] {
+    for (std::size_t k; (k = next++) < pieces.size();) {
+      const Piece& p = pieces[k];
+      text[p.table][p.index] = t[p.table].second.ToCsv(p.first, p.last);
+      if (--left[p.table] > 0) continue;
+      std::size_t bytes = 0;
+      for (const std::string& part : text[p.table]) bytes += part.size();
+      std::string whole;
+      whole.reserve(bytes);
+      for (std::string& part : text[p.table]) {
+        whole += part;
+        std::string().swap(part);
+      }
+      WriteTextAtomically((fs::path(dir) / t[p.table].first).string(), whole);
+    }
+  };
+  std::future<void> beside =
+      std::async(parallel ? std::launch::async : std::launch::deferred, work);
+  work();
+  beside.get();
+}
+
+}  // namespace
 
 fusion::TestProducts WriteTestResults(const std::string& dir,
                                       const std::string& name,
@@ -38,30 +102,7 @@ fusion::TestProducts WriteTestResults(const std::string& dir,
   without_provenance.provenance = false;
   fusion::TestProducts products =
       fusion::MakeTestProducts(name, record, r, o, without_provenance);
-  // One table's text at a time per thread (TestProducts::Files would hold
-  // them all: 6000 cycles' tables are tens of MB), the largest first, on
-  // two threads when the options allow.
-  std::vector<std::size_t> order(products.tables.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  auto cells = [&products](std::size_t i) {
-    const fusion::Table& t = products.tables[i].second;
-    return t.rows.size() * t.columns.size();
-  };
-  std::stable_sort(
-      order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-        return cells(a) > cells(b);
-      });
-  std::atomic<std::size_t> next{0};
-  auto write_tables = [&] {
-    for (std::size_t i; (i = next++) < order.size();) {
-      const auto& [file, table] = products.tables[order[i]];
-      WriteTextAtomically((fs::path(dir) / file).string(), table.ToCsv());
-    }
-  };
-  std::future<void> beside = std::async(
-      o.parallel ? std::launch::async : std::launch::deferred, write_tables);
-  write_tables();
-  beside.get();
+  WriteTables(dir, products.tables, o.parallel);
   for (const auto& [file, text] : products.documents)
     WriteTextAtomically((fs::path(dir) / file).string(), text);
   if (provenance.valid()) {

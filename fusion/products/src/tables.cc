@@ -24,20 +24,25 @@ double Number(int v) { return static_cast<double>(v); }
 
 }  // namespace
 
-std::string Table::ToCsv() const {
+std::string Table::ToCsv() const { return ToCsv(0, rows.size()); }
+
+std::string Table::ToCsv(std::size_t first, std::size_t last) const {
+  last = std::min(last, rows.size());
+  first = std::min(first, last);
   std::string buf;
   // About a dozen characters a cell, held once: growing by doubling wrote
   // a large table's text several times into fresh pages.
-  buf.reserve(12 * columns.size() * (rows.size() + 1));
-  for (size_t c = 0; c < columns.size(); ++c) {
+  buf.reserve(12 * columns.size() * (last - first + (first == 0)));
+  for (size_t c = 0; first == 0 && c < columns.size(); ++c) {
     if (c) buf.push_back(',');
     buf += columns[c];
   }
-  buf.push_back('\n');
+  if (first == 0) buf.push_back('\n');
   // printf's %.8g, by std::to_chars (Ryu), the same characters; whole
   // numbers below 10^8 (cycles, directions, counts) as integers.
   char cell[32];
-  for (const auto& row : rows) {
+  for (std::size_t i = first; i < last; ++i) {
+    const std::vector<double>& row = rows[i];
     for (size_t c = 0; c < row.size(); ++c) {
       if (c) buf.push_back(',');
       const double v = row[c];

@@ -56,6 +56,13 @@ TEST(Table, EveryCellIsPrintfsEightSignificantDigits) {
     expected += PrintfCell(values[i]) + "," + PrintfCell(values[i + 1]) + "\n";
   }
   EXPECT_EQ(t.ToCsv(), expected);
+  // In pieces (a large table's, formatted apart): the header with the
+  // first, joined they are the whole; a range past the end is empty.
+  const std::size_t n = t.rows.size();
+  EXPECT_EQ(t.ToCsv(0, 7) + t.ToCsv(7, 700) + t.ToCsv(700, n), expected);
+  EXPECT_EQ(t.ToCsv(3, 3), "");
+  EXPECT_EQ(t.ToCsv(n, n + 5), "");
+  EXPECT_EQ(t.ToCsv(0, 0), "a_mm,b_N\n");
 }
 
 // FIPS 180-2's "abc", and 3 MB given in uneven pieces against the whole

@@ -16,6 +16,9 @@ struct Table {
   std::vector<std::vector<double>> rows;
 
   std::string ToCsv() const;
+  // Rows [first, last) of ToCsv's text, with the header when first is 0:
+  // the pieces of a large table, formatted apart, joined give ToCsv().
+  std::string ToCsv(std::size_t first, std::size_t last) const;
   // The index of `name` among the columns, -1 when it is not one.
   int ColumnIndex(std::string_view name) const;
 };

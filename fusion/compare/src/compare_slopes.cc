@@ -3,33 +3,74 @@
 #include "wearscar/fusion/compare_slopes.h"
 
 #include <cmath>
+#include <future>
+#include <utility>
 #include <vector>
 
 namespace wearscar::fusion {
 namespace {
 
-// RMS of k_force - k_scan over the gross-slip samples of cycles [first,
-// last].
-double KRmsDifference(const force::ForceRecord& record,
-                      const ForceAnalysis& force,
-                      const ScanAnalysis& scan,
-                      const FrictionFitOptions& friction,
-                      int first,
-                      int last) {
-  double sum2 = 0;
-  long n = 0;
-  const ForceSlopes force_slopes(record, force.cycles, friction, first, last);
-  for (int c = first; c <= last; ++c) {
+// (k_force - k_scan)^2 at each gross-slip sample of cycles [from, to)
+// where the scan has a slope, in order, each handed to `add`; the force
+// side's slopes those of the compared cycles [first, last].
+template <typename Add>
+void KDifferences(const force::ForceRecord& record,
+                  const ForceAnalysis& force,
+                  const ScanAnalysis& scan,
+                  const FrictionFitOptions& friction,
+                  std::pair<int, int> compared,
+                  int from,
+                  int to,
+                  Add add) {
+  const ForceSlopes force_slopes(
+      record, force.cycles, friction, compared.first, compared.second);
+  for (int c = from; c < to; ++c) {
     const CycleSamples kf = force_slopes.Gather(c);
     for (const SlipSamples* s : {&kf.forward, &kf.reverse}) {
       for (Eigen::Index i = 0; i < s->k.size(); ++i) {
         const double ks = scan.slope.At(s->x_mm[i]);
         if (!std::isfinite(ks)) continue;
-        sum2 += (s->k[i] - ks) * (s->k[i] - ks);
-        ++n;
+        add((s->k[i] - ks) * (s->k[i] - ks));
       }
     }
   }
+}
+
+// RMS of k_force - k_scan over the gross-slip samples of cycles [first,
+// last]; with `parallel` the second half of the cycles on a thread of its
+// own (its own ensemble, as the fit's), its terms added after the first
+// half's in the order one thread adds them.
+double KRmsDifference(const force::ForceRecord& record,
+                      const ForceAnalysis& force,
+                      const ScanAnalysis& scan,
+                      const FrictionFitOptions& friction,
+                      int first,
+                      int last,
+                      bool parallel) {
+  const int half =
+      parallel && last - first >= 8 ? (first + last + 1) / 2 : last + 1;
+  std::vector<double> second;
+  std::future<void> beside;
+  if (half <= last) {
+    beside = std::async(std::launch::async, [&] {
+      KDifferences(record,
+                   force,
+                   scan,
+                   friction,
+                   {first, last},
+                   half,
+                   last + 1,
+                   [&](double d) { second.push_back(d); });
+    });
+  }
+  double sum2 = 0;
+  long n = 0;
+  KDifferences(
+      record, force, scan, friction, {first, last}, first, half, [&](double d) {
+        sum2 += d, ++n;
+      });
+  if (beside.valid()) beside.get();
+  for (const double d : second) sum2 += d, ++n;
   return n > 0 ? std::sqrt(sum2 / n) : std::nan("");
 }
 
@@ -166,11 +207,15 @@ MismatchReport CompareSlopes(const force::ForceRecord& record,
   if (scan == nullptr) return r;
   CompareScanSide(force, *scan, range, &r);
   r.identity_judged = !profile.FromFriction();
-  r.k_rms_difference =
-      profile.ForceSlopeJudged()
-          ? KRmsDifference(
-                record, force, *scan, options.analysis.friction, first, last)
-          : std::nan("");
+  r.k_rms_difference = profile.ForceSlopeJudged()
+                           ? KRmsDifference(record,
+                                            force,
+                                            *scan,
+                                            options.analysis.friction,
+                                            first,
+                                            last,
+                                            options.parallel)
+                           : std::nan("");
   return r;
 }
 

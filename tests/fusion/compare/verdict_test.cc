@@ -769,6 +769,11 @@ TEST(AnalyzeTest, OnTheCallersThreadAloneGivesTheSameResult) {
   EXPECT_EQ(a.lugre->cost, b.lugre->cost);
   EXPECT_EQ(a.verdict.Summary(), b.verdict.Summary());
   EXPECT_EQ(a.track_history.waviness_sd_mm, b.track_history.waviness_sd_mm);
+  // k's rms difference, its second half of the compared cycles on a
+  // thread of its own, summed in one thread's order.
+  ASSERT_GE(a.mismatch.last_cycle - a.mismatch.first_cycle, 8);
+  EXPECT_TRUE(std::isfinite(a.mismatch.k_rms_difference));
+  EXPECT_EQ(a.mismatch.k_rms_difference, b.mismatch.k_rms_difference);
   // The scan's error surfaces where the threads' would: the same warning.
   t.scan.dx_mm /= 10;
   t.scan.dy_mm /= 10;

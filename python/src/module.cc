@@ -261,8 +261,10 @@ std::string Audit(const std::string& input,
                   int jobs,
                   const std::string& out,
                   const std::string& figures) {
-  const fusion::TestSettings a =
-      Settings(given, fusion::kFuseSettings, "audit");
+  fusion::TestSettings a = Settings(given, fusion::kFuseSettings, "audit");
+  // Without figures, as `wearscar audit --no-figures`: no loops binned for
+  // the report's cycle slider, no loop_viewer.json.
+  if (figures.empty()) a.fuse.friction_map.loop_bins = 0;
   report::AuditOptions o;
   fusion::BatchOptions& batch = o.batch;
   if (!name_pattern.empty()) batch.name_pattern = name_pattern;

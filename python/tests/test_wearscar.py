@@ -266,6 +266,7 @@ def test_audit_of_the_bundled_samples(tmp_path):
     assert report.count('<tr class="flagged">') == 1
     assert "data:image/png" not in report
     assert not (tmp_path / "B-RT-R" / "fig13_mu_hat.png").exists()
+    assert not (tmp_path / "B-RT-R" / "loop_viewer.json").exists()
     # Without `out`, the same rows and nothing written.
     again = wearscar.audit(SAMPLES, jobs=2, running_in=5, compare_cycles=15)
     assert [r["comparison"]["mu_hat_force"]["mean"] for r in again] == \

@@ -2,9 +2,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace wearscar::force {
 namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// (|v| <= DBL_MAX: finite, in a form without a branch.)
+bool Finite(double v) {
+  return std::abs(v) <= std::numeric_limits<double>::max();
+}
 
 // x where Q crosses zero in the stick transition after the reversal (the
 // loop opening at Q = 0); NaN when Q does not change sign there (a wavy track
@@ -33,13 +41,13 @@ double QpCorrelation(const ForceRecord& r, const HalfCycle& h) {
   long n = 0;
   for (Eigen::Index i = h.slip_begin; i < h.slip_end; ++i) {
     const double q = std::abs(r.tangential_n[i]), p = r.normal_n[i];
-    if (!std::isfinite(q) || !std::isfinite(p)) continue;
-    sq += q;
-    sp += p;
-    sqq += q * q;
-    spp += p * p;
-    sqp += q * p;
-    ++n;
+    const bool both = Finite(q) & Finite(p);
+    sq += both ? q : -0.0;
+    sp += both ? p : -0.0;
+    sqq += both ? q * q : -0.0;
+    spp += both ? p * p : -0.0;
+    sqp += both ? q * p : -0.0;
+    n += both;
   }
   if (n < 3) return std::nan("");
   const double cov = sqp - sq * sp / n;
@@ -63,10 +71,10 @@ std::vector<CycleCof> ComputeClassicCof(const ForceRecord& record,
     long n = 0;
     for (const HalfCycle* h : {&c.forward, &c.reverse}) {
       for (Eigen::Index i = h->slip_begin; i < h->slip_end; ++i) {
-        if (!std::isfinite(q[i]) || !std::isfinite(p[i])) continue;
-        sum_q += std::abs(q[i]);
-        sum_p += p[i];
-        ++n;
+        const bool both = Finite(q[i]) & Finite(p[i]);
+        sum_q += both ? std::abs(q[i]) : -0.0;
+        sum_p += both ? p[i] : -0.0;
+        n += both;
       }
     }
     r.mean_normal_n = n > 0 ? sum_p / n : std::nan("");
@@ -78,23 +86,24 @@ std::vector<CycleCof> ComputeClassicCof(const ForceRecord& record,
     r.q_min_n = INFINITY;
     r.p_max_n = -INFINITY;
     r.p_min_n = INFINITY;
-    for (Eigen::Index i = c.forward.begin; i < c.reverse.end; ++i) {
-      if (i + 1 < c.reverse.end + 1 && i + 1 < record.size() &&
-          std::isfinite(q[i]) && std::isfinite(q[i + 1])) {
-        area += 0.5 * (q[i] + q[i + 1]) * (x[i + 1] - x[i]);
-      }
-      if (std::isfinite(x[i])) {
-        xmin = std::min(xmin, x[i]);
-        xmax = std::max(xmax, x[i]);
-      }
-      if (std::isfinite(q[i])) {
-        r.q_max_n = std::max(r.q_max_n, q[i]);
-        r.q_min_n = std::min(r.q_min_n, q[i]);
-      }
-      if (std::isfinite(p[i])) {
-        r.p_max_n = std::max(r.p_max_n, p[i]);
-        r.p_min_n = std::min(r.p_min_n, p[i]);
-      }
+    // (Without branches: NaN in place of a value that is not finite is
+    // passed over by min and max, -0.0 adds nothing to a sum, not even to
+    // a -0.0.)
+    const Eigen::Index end = c.reverse.end, last = record.size() - 1;
+    for (Eigen::Index i = c.forward.begin; i < end; ++i) {
+      const double term =
+          0.5 * (q[i] + q[i + (i < last)]) * (x[i + (i < last)] - x[i]);
+      area +=
+          (i < last) & Finite(q[i]) & Finite(q[i + (i < last)]) ? term : -0.0;
+      const double xi = Finite(x[i]) ? x[i] : kNaN;
+      const double qi = Finite(q[i]) ? q[i] : kNaN;
+      const double pi = Finite(p[i]) ? p[i] : kNaN;
+      xmin = std::min(xmin, xi);
+      xmax = std::max(xmax, xi);
+      r.q_max_n = std::max(r.q_max_n, qi);
+      r.q_min_n = std::min(r.q_min_n, qi);
+      r.p_max_n = std::max(r.p_max_n, pi);
+      r.p_min_n = std::min(r.p_min_n, pi);
     }
     r.p_range_n = r.p_max_n - r.p_min_n;
     {

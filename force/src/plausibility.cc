@@ -285,42 +285,62 @@ void InferUnits(Eigen::VectorXd* data,
   }
 }
 
-namespace {
-
-// The first sample whose force or x is beyond the bounds, or r.size(): a
-// block is searched only when a pass that can run on vectors found one in
-// it (the file has millions of samples, and a search ends at one).
-Eigen::Index FirstBeyond(const ForceRecord& r, double max_n, double max_mm) {
+SampleCensus TakeCensus(const ForceRecord& r) {
   constexpr Eigen::Index kStretch = 4096;
+  SampleCensus c;
+  double span;
+  Spread(r.normal_n, &span, &c.median_abs_p);
+  // (NaN without a finite P: no sample counts as beyond it.)
+  const double quarter = 0.25 * c.median_abs_p;
+  // (|v| <= DBL_MAX: finite, in a form that runs on vectors.)
+  constexpr double kFinite = std::numeric_limits<double>::max();
   const Eigen::Index n = r.size();
   const double *q = r.tangential_n.data(), *p = r.normal_n.data(),
                *x = r.x_mm.data();
+  c.first_beyond = n;
   for (Eigen::Index b = 0; b < n; b += kStretch) {
     const Eigen::Index e = std::min(n, b + kStretch);
-    bool any = false;
+    long beyond = 0, q_finite = 0, q_nonzero = 0, pairs = 0, above = 0,
+         below = 0, over = 0;
     for (Eigen::Index i = b; i < e; ++i) {
-      any |= (std::abs(q[i]) > max_n) | (std::abs(p[i]) > max_n) |
-             (std::abs(x[i]) > max_mm);
+      const double aq = std::abs(q[i]), ap = std::abs(p[i]);
+      beyond += static_cast<long>((aq > SampleCensus::kMaxForceN) |
+                                  (ap > SampleCensus::kMaxForceN) |
+                                  (std::abs(x[i]) > SampleCensus::kMaxAbsXMm));
+      const bool fq = aq <= kFinite, ok = fq & (ap <= kFinite);
+      q_finite += static_cast<long>(fq);
+      q_nonzero += static_cast<long>(fq & (q[i] != 0));
+      pairs += static_cast<long>(ok);
+      above += static_cast<long>(ok & (aq > ap));
+      below += static_cast<long>(ok & (p[i] < -quarter));
+      over += static_cast<long>(ok & (p[i] > quarter));
     }
-    if (!any) continue;
-    for (Eigen::Index i = b; i < e; ++i) {
-      if (std::abs(q[i]) > max_n || std::abs(p[i]) > max_n ||
-          std::abs(x[i]) > max_mm)
-        return i;
+    c.q_finite += q_finite;
+    c.q_nonzero += q_nonzero;
+    c.pairs += pairs;
+    c.q_above_p += above;
+    c.p_below += below;
+    c.p_above += over;
+    if (beyond == 0 || c.first_beyond < n) continue;
+    for (Eigen::Index i = b; i < e && c.first_beyond == n; ++i) {
+      if (std::abs(q[i]) > SampleCensus::kMaxForceN ||
+          std::abs(p[i]) > SampleCensus::kMaxForceN ||
+          std::abs(x[i]) > SampleCensus::kMaxAbsXMm)
+        c.first_beyond = i;
     }
   }
-  return n;
+  return c;
 }
 
-}  // namespace
-
-void CheckPlausible(ForceRecord& r, const std::string& file) {
-  constexpr double kMaxForceN = 1e5, kMaxAbsXMm = 1e4;
+void CheckPlausible(ForceRecord& r,
+                    const SampleCensus& census,
+                    const std::string& file) {
+  constexpr double kMaxForceN = SampleCensus::kMaxForceN;
+  constexpr double kMaxAbsXMm = SampleCensus::kMaxAbsXMm;
   auto where = [&](Eigen::Index i) {
     return fmt::format("sample {} (t = {:.6g} s)", i + 1, r.time_s[i]);
   };
-  if (const Eigen::Index i = FirstBeyond(r, kMaxForceN, kMaxAbsXMm);
-      i < r.size()) {
+  if (const Eigen::Index i = census.first_beyond; i < r.size()) {
     if (std::abs(r.tangential_n[i]) > kMaxForceN ||
         std::abs(r.normal_n[i]) > kMaxForceN) {
       throw ForceError(fmt::format(
@@ -332,15 +352,13 @@ void CheckPlausible(ForceRecord& r, const std::string& file) {
                                                    : r.normal_n[i],
           kMaxForceN));
     }
-    if (std::abs(r.x_mm[i]) > kMaxAbsXMm) {
-      throw ForceError(fmt::format(
-          "{}: {}: x = {:.4g} mm; expected a position within +-{:.0e} mm "
-          "(check the x unit)",
-          file,
-          where(i),
-          r.x_mm[i],
-          kMaxAbsXMm));
-    }
+    throw ForceError(fmt::format(
+        "{}: {}: x = {:.4g} mm; expected a position within +-{:.0e} mm "
+        "(check the x unit)",
+        file,
+        where(i),
+        r.x_mm[i],
+        kMaxAbsXMm));
   }
   double span, median;
   Spread(r.x_mm, &span, &median);
@@ -356,7 +374,7 @@ void CheckPlausible(ForceRecord& r, const std::string& file) {
     r.metadata.warnings.push_back(fmt::format(
         "a stroke of {:.4g} mm, outside the usual 0.05-50 mm", span));
   }
-  Spread(r.normal_n, &span, &median);
+  median = census.median_abs_p;
   if (!(median >= 1e-3)) {
     throw ForceError(fmt::format(
         "{}: the normal force is {:.3g} N at the median; expected a load (the "
@@ -383,16 +401,10 @@ void CheckPlausible(ForceRecord& r, const std::string& file) {
   }
 }
 
-void CheckFrictionRecorded(const ForceRecord& r, const std::string& file) {
-  // (|q| <= DBL_MAX: finite, in a form that runs on vectors.)
-  bool finite = false, nonzero = false;
-  const double* q = r.tangential_n.data();
-  for (Eigen::Index i = 0; i < r.size(); ++i) {
-    const bool f = std::abs(q[i]) <= std::numeric_limits<double>::max();
-    finite |= f;
-    nonzero |= f & (q[i] != 0);
-  }
-  if (finite && !nonzero) {
+void CheckFrictionRecorded(const ForceRecord& r,
+                           const SampleCensus& census,
+                           const std::string& file) {
+  if (census.q_finite > 0 && census.q_nonzero == 0) {
     const auto& names = r.metadata.channel_names;
     throw ForceError(fmt::format(
         "{}: no friction force recorded: the friction channel{} is 0 N in "
@@ -405,20 +417,14 @@ void CheckFrictionRecorded(const ForceRecord& r, const std::string& file) {
   }
 }
 
-void CheckChannelRoles(const ForceRecord& r, const std::string& file) {
-  long both = 0, q_above = 0, p_negative = 0;
-  double span, median_p;
-  Spread(r.normal_n, &span, &median_p);
-  const double negative_below = -0.25 * median_p;
-  for (Eigen::Index i = 0; i < r.size(); ++i) {
-    const double q = r.tangential_n[i], p = r.normal_n[i];
-    const bool ok = std::abs(q) <= std::numeric_limits<double>::max() &&
-                    std::abs(p) <= std::numeric_limits<double>::max();
-    both += ok;
-    q_above += ok & (std::abs(q) > std::abs(p));
-    p_negative += ok & (p < negative_below);
-  }
+void CheckChannelRoles(const ForceRecord& r,
+                       const SampleCensus& census,
+                       const std::string& file) {
+  const long both = census.pairs;
   if (both == 0) return;
+  // P as it now stands: negated when it was negative in compression.
+  const long p_negative =
+      r.metadata.normal_sign_flipped ? census.p_above : census.p_below;
   auto name = [&](size_t ch) {
     const auto& names = r.metadata.channel_names;
     return ch < names.size() && !names[ch].empty() ? "'" + names[ch] + "'"
@@ -427,7 +433,7 @@ void CheckChannelRoles(const ForceRecord& r, const std::string& file) {
   const std::string fix =
       "name the columns with --columns q=NAME,p=NAME, or give "
       "--force-channels-as-given to read them as they are";
-  const double above = static_cast<double>(q_above) / both;
+  const double above = static_cast<double>(census.q_above_p) / both;
   if (above > 0.5) {
     throw ForceError(fmt::format(
         "{}: the friction force Q {} exceeds the normal force P {} in "

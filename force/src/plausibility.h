@@ -52,19 +52,40 @@ void InferUnits(Eigen::VectorXd* data,
 // position (Z, "Fz position", "Height").
 bool NamesAPenetration(const std::string& column_name);
 
+// What the checks below need of the samples, from one pass over them
+// (millions in a long test): counts of comparisons, which run on vectors.
+struct SampleCensus {
+  static constexpr double kMaxForceN = 1e5, kMaxAbsXMm = 1e4;
+  // The first sample with a force or x beyond these limits; size() if none.
+  Eigen::Index first_beyond = 0;
+  double median_abs_p = 0;           // P's median magnitude (a subsample's)
+  long q_finite = 0, q_nonzero = 0;  // finite Q samples; those not 0
+  // Samples with Q and P finite; of them, |Q| above |P|, and P below minus
+  // or above plus a quarter of its median magnitude.
+  long pairs = 0, q_above_p = 0, p_below = 0, p_above = 0;
+};
+SampleCensus TakeCensus(const ForceRecord& r);
+
 // What a reciprocating tribometer can have measured: refused outside the
 // hard limits (a unit or file error), warned of outside the usual ranges.
-void CheckPlausible(ForceRecord& r, const std::string& file);
+void CheckPlausible(ForceRecord& r,
+                    const SampleCensus& census,
+                    const std::string& file);
 
 // Refuses channels that cannot be a friction force and a load: |Q| above
 // |P| on most samples (swapped channels, or mu above 1), or a "load" that
-// changes sign with the motion. The message names both columns and the
-// fix (--columns, or --force-channels-as-given).
-void CheckChannelRoles(const ForceRecord& r, const std::string& file);
+// changes sign with the motion (P as it stands after a negative load was
+// negated). The message names both columns and the fix (--columns, or
+// --force-channels-as-given).
+void CheckChannelRoles(const ForceRecord& r,
+                       const SampleCensus& census,
+                       const std::string& file);
 
 // Throws ForceError when the friction channel is zero in every sample: no
 // friction force was recorded (a constant offset is analysed, and said by
 // its figures).
-void CheckFrictionRecorded(const ForceRecord& r, const std::string& file);
+void CheckFrictionRecorded(const ForceRecord& r,
+                           const SampleCensus& census,
+                           const std::string& file);
 
 }  // namespace wearscar::force::internal

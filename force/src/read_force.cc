@@ -180,6 +180,20 @@ void MakeCompressionPositive(ForceRecord* record) {
   }
 }
 
+// The checks of a whole record, from one pass over its samples: values no
+// tribometer measured, no friction recorded, channels in each other's
+// roles; P made positive in compression.
+void CheckRecord(const ReadForceOptions& options,
+                 const std::string& name,
+                 ForceRecord* record) {
+  const internal::SampleCensus census = internal::TakeCensus(*record);
+  CheckPlausible(*record, census, name);
+  internal::CheckFrictionRecorded(*record, census, name);
+  MakeCompressionPositive(record);
+  if (!options.channels_as_given)
+    internal::CheckChannelRoles(*record, census, name);
+}
+
 }  // namespace
 
 namespace internal {
@@ -368,10 +382,7 @@ ForceRecord Read(LineSource& source,
     }
     return record;
   }
-  CheckPlausible(record, name);
-  internal::CheckFrictionRecorded(record, name);
-  MakeCompressionPositive(&record);
-  if (!options.channels_as_given) internal::CheckChannelRoles(record, name);
+  CheckRecord(options, name, &record);
   return record;
 }
 

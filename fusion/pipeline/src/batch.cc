@@ -189,6 +189,27 @@ std::vector<Specimen> ReadManifest(const std::string& path) {
   return out;
 }
 
+namespace {
+
+// The scan read and prepared; a scan that cannot be read is kept in
+// `unreadable` (it fails the specimen, as a force file does, after the
+// force file's own errors) and rethrown.
+ScanAnalysis ReadAndPrepareScan(const std::string& path,
+                                const scan::ReadScanOptions& read_scan,
+                                const FuseOptions& fuse,
+                                std::exception_ptr* unreadable) {
+  scan::HeightMap map;
+  try {
+    map = scan::ReadScan(path, read_scan);
+  } catch (...) {
+    *unreadable = std::current_exception();
+    throw;
+  }
+  return PrepareScan(std::move(map), fuse);
+}
+
+}  // namespace
+
 SpecimenAnalysis AnalyzeSpecimen(const Specimen& s,
                                  const force::ReadForceOptions& read_force,
                                  const scan::ReadScanOptions& read_scan,
@@ -196,48 +217,52 @@ SpecimenAnalysis AnalyzeSpecimen(const Specimen& s,
   if (!s.error.empty()) throw FusionError(s.error);
   // On the caller's thread alone (a batch whose workers fill the cores),
   // the force file's checksum for the provenance is taken as the reader
-  // reads it, not by a second read of the file; otherwise a large force
-  // file is parsed on two threads and the checksum of a regular file is
-  // taken on a third from the start, where the reader's set-up leaves a
-  // core idle (the provenance then has it, TestProvenance).
+  // reads it, not by a second read of the file, and the scan is read where
+  // AnalyzeTest asks for it. Otherwise a large force file is parsed on two
+  // threads while a third takes the checksum of a regular file, where the
+  // reader's set-up leaves a core idle (the provenance then has it,
+  // TestProvenance), and then reads and prepares the scan: the parse's
+  // last rows, the force record's checks and its cycles leave a core idle
+  // after the checksum, and the scan needs nothing of the force record.
   std::optional<Sha256> hash;
+  std::promise<std::string> sum;
   std::future<std::string> force_sum;
   force::ReadForceOptions read = read_force;
   std::error_code ec;
+  const bool sum_aside =
+      fuse.parallel && std::filesystem::is_regular_file(s.force, ec);
   if (fuse.parallel) {
     read.threads = std::max(read.threads, 2);
-    if (std::filesystem::is_regular_file(s.force, ec)) {
-      force_sum = std::async(std::launch::async,
-                             [path = s.force] { return Sha256OfFile(path); });
-    }
   } else {
     hash.emplace();
     read.on_bytes = [&hash](const char* bytes, std::size_t size) {
       hash->Update(bytes, size);
     };
   }
-  // The force file first, parsed on both cores; then the scan is read and
-  // prepared on a second core beside the force side's analysis (deferred
-  // without: where AnalyzeTest asks for it). A scan that cannot be read
-  // fails the specimen, as a force file does; one without a usable track
-  // is left out by AnalyzeTest with a warning.
-  SpecimenAnalysis a{force::ReadForceFile(s.force, read), {}};
-  if (hash) a.record.metadata.sha256 = hash->Hex();
+  auto take_sum = [&sum, path = s.force] {
+    try {
+      sum.set_value(Sha256OfFile(path));
+    } catch (...) {
+      sum.set_exception(std::current_exception());
+    }
+  };
+  if (sum_aside) force_sum = sum.get_future();
   std::exception_ptr scan_unreadable;
   std::future<ScanAnalysis> prepared;
+  std::future<void> sum_alone;
   if (!s.scan.empty()) {
+    // (Deferred without the cores: run where AnalyzeTest asks for it.)
     prepared = std::async(
-        fuse.parallel ? std::launch::async : std::launch::deferred, [&] {
-          scan::HeightMap map;
-          try {
-            map = scan::ReadScan(s.scan, read_scan);
-          } catch (...) {
-            scan_unreadable = std::current_exception();
-            throw;
-          }
-          return PrepareScan(std::move(map), fuse);
+        fuse.parallel ? std::launch::async : std::launch::deferred,
+        [&, sum_aside] {
+          if (sum_aside) take_sum();
+          return ReadAndPrepareScan(s.scan, read_scan, fuse, &scan_unreadable);
         });
+  } else if (sum_aside) {
+    sum_alone = std::async(std::launch::async, take_sum);
   }
+  SpecimenAnalysis a{force::ReadForceFile(s.force, read), {}};
+  if (hash) a.record.metadata.sha256 = hash->Hex();
   a.result = AnalyzeTest(a.record, std::move(prepared), s.scan, fuse);
   // (AnalyzeTest has waited for the scan.)
   if (scan_unreadable) std::rethrow_exception(scan_unreadable);

@@ -19,6 +19,7 @@
 #include "wearscar/fusion/batch.h"
 #include "wearscar/fusion/error.h"
 #include "wearscar/fusion/provenance.h"
+#include "wearscar/scan/gsf.h"
 
 namespace wearscar::fusion {
 namespace {
@@ -136,6 +137,58 @@ TEST(Provenance, TheChecksumTakenWhileReadingIsTheFilesOwn) {
   }
   EXPECT_EQ(a.result.force.mu_hat.mean, b.result.force.mu_hat.mean);
   std::remove(path.c_str());
+}
+
+// With threads and a scan, the scan is read on the checksum's thread once
+// the checksum is taken: the checksum is still the file's, the scan's
+// analysis the one made on the caller's thread, an unreadable scan fails
+// the specimen, and a bad force file is said before a bad scan.
+TEST(Provenance, AScanReadAfterTheChecksumChangesNothing) {
+  samples::SimulationOptions o = samples::PaperCase("B-RT-R", false);
+  o.cycles = 20;
+  o.scan_cols = 256;
+  o.scan_rows = 192;
+  o.scan_pitch_mm = 4 * 0.007413;
+  const sim::SimulatedTest t = sim::Simulate(o);
+  const std::string dir = ::testing::TempDir();
+  Specimen s;
+  s.name = "B-RT-R";
+  s.force = dir + "/wearscar-scan-after-sum.force.csv";
+  s.scan = dir + "/wearscar-scan-after-sum.gsf";
+  force::WriteForceCsv(t.record, s.force);
+  scan::WriteGsf(t.scan, s.scan);
+  FuseOptions threads, alone;
+  alone.parallel = false;
+  const SpecimenAnalysis a = AnalyzeSpecimen(s, {}, {}, alone);
+  const SpecimenAnalysis b = AnalyzeSpecimen(s, {}, {}, threads);
+  EXPECT_EQ(b.record.metadata.sha256, Sha256OfFile(s.force));
+  EXPECT_EQ(a.record.metadata.sha256, b.record.metadata.sha256);
+  ASSERT_TRUE(a.result.scan.has_value());
+  ASSERT_TRUE(b.result.scan.has_value());
+  ASSERT_EQ(a.result.scan->fit_scan.size(), b.result.scan->fit_scan.size());
+  for (size_t c = 0; c < a.result.scan->fit_scan.size(); ++c)
+    EXPECT_EQ(a.result.scan->fit_scan[c].mu_hat,
+              b.result.scan->fit_scan[c].mu_hat);
+  auto error_of = [&](const Specimen& x) {
+    try {
+      AnalyzeSpecimen(x, {}, {}, threads);
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  Specimen bad_scan = s;
+  bad_scan.scan = dir + "/wearscar-no-such-scan.gsf";
+  EXPECT_NE(error_of(bad_scan).find("wearscar-no-such-scan.gsf"),
+            std::string::npos)
+      << error_of(bad_scan);
+  Specimen both_bad = bad_scan;
+  both_bad.force = dir + "/wearscar-no-such-force.csv";
+  EXPECT_NE(error_of(both_bad).find("wearscar-no-such-force.csv"),
+            std::string::npos)
+      << error_of(both_bad);
+  std::remove(s.force.c_str());
+  std::remove(s.scan.c_str());
 }
 
 }  // namespace

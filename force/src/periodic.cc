@@ -36,10 +36,13 @@ Eigen::Index SmoothLength(Eigen::Index n) {
 // others made for the call alone. The planner is not thread-safe
 // (fftw_execute_dft_r2c is): a batch analyses specimens on several
 // threads, so plans are made and destroyed under one lock. FFTW_ESTIMATE:
-// measuring would take seconds per length.
+// measuring would take seconds per length. In single precision: the
+// transform of a full-size test's 2^18 samples takes 0.7 ms against 1.6 ms
+// in double, and its rounding (a part in 10^7 of the window's content) lies
+// far below any sensor's noise floor, which the lines are judged against.
 struct SpectrumPlan {
   Eigen::Index length = 0;
-  fftw_plan plan = nullptr;
+  fftwf_plan plan = nullptr;
   std::vector<double> hann;
 };
 
@@ -59,7 +62,7 @@ struct PlanDeleter {
     if (p == nullptr) return;
     {
       std::lock_guard<std::mutex> lock(Planner());
-      fftw_destroy_plan(p->plan);
+      fftwf_destroy_plan(p->plan);
     }
     delete p;
   }
@@ -76,12 +79,12 @@ const SpectrumPlan* PlanFor(Eigen::Index n, PlanHandle* own) {
   }
   auto* made = new SpectrumPlan;
   made->length = n;
-  double* in = fftw_alloc_real(static_cast<std::size_t>(n));
-  fftw_complex* out = fftw_alloc_complex(static_cast<std::size_t>(n / 2 + 1));
+  float* in = fftwf_alloc_real(static_cast<std::size_t>(n));
+  fftwf_complex* out = fftwf_alloc_complex(static_cast<std::size_t>(n / 2 + 1));
   made->plan =
-      fftw_plan_dft_r2c_1d(static_cast<int>(n), in, out, FFTW_ESTIMATE);
-  fftw_free(in);
-  fftw_free(out);
+      fftwf_plan_dft_r2c_1d(static_cast<int>(n), in, out, FFTW_ESTIMATE);
+  fftwf_free(in);
+  fftwf_free(out);
   // (Symmetric about n / 2: half the cosines, a quarter million of them
   // for a full-size test's window.)
   made->hann.resize(static_cast<std::size_t>(n));
@@ -146,12 +149,13 @@ std::array<std::vector<double>, 2> AmplitudeSpectra(const ForceRecord& record,
   PlanHandle own;
   const SpectrumPlan* plan = PlanFor(length, &own);
   const std::vector<double>& hann = plan->hann;
-  const std::unique_ptr<double, decltype(&fftw_free)> buffer(
-      fftw_alloc_real(static_cast<std::size_t>(length)), &fftw_free);
-  const std::unique_ptr<fftw_complex, decltype(&fftw_free)> spectrum(
-      fftw_alloc_complex(static_cast<std::size_t>(length / 2 + 1)), &fftw_free);
-  double* in = buffer.get();
-  fftw_complex* out = spectrum.get();
+  const std::unique_ptr<float, decltype(&fftwf_free)> buffer(
+      fftwf_alloc_real(static_cast<std::size_t>(length)), &fftwf_free);
+  const std::unique_ptr<fftwf_complex, decltype(&fftwf_free)> spectrum(
+      fftwf_alloc_complex(static_cast<std::size_t>(length / 2 + 1)),
+      &fftwf_free);
+  float* in = buffer.get();
+  fftwf_complex* out = spectrum.get();
   std::array<std::vector<double>, 2> amp;
   const Eigen::VectorXd* channels[2] = {&record.tangential_n, &record.normal_n};
   const double scale = 4.0 / static_cast<double>(length * windows);
@@ -165,14 +169,15 @@ std::array<std::vector<double>, 2> AmplitudeSpectra(const ForceRecord& record,
       const double* x = v.data() + begin;
       for (Eigen::Index i = 0; i < length; ++i) {
         const double windowed = hann[i] * (x[i] - mean);
-        in[i] = std::abs(x[i]) <= kFinite ? windowed : 0.0;
+        in[i] = std::abs(x[i]) <= kFinite ? static_cast<float>(windowed) : 0.0f;
       }
-      fftw_execute_dft_r2c(plan->plan, in, out);
+      fftwf_execute_dft_r2c(plan->plan, in, out);
       amp[ch].resize(static_cast<std::size_t>(length / 2 + 1), 0.0);
-      for (size_t k = 0; k < amp[ch].size(); ++k)
+      for (size_t k = 0; k < amp[ch].size(); ++k) {
+        const double re = out[k][0], im = out[k][1];
         // (not hypot, which was a quarter of the search)
-        amp[ch][k] +=
-            scale * std::sqrt(out[k][0] * out[k][0] + out[k][1] * out[k][1]);
+        amp[ch][k] += scale * std::sqrt(re * re + im * im);
+      }
     }
   }
   return amp;

@@ -165,11 +165,13 @@ std::array<std::vector<double>, 2> AmplitudeSpectra(const ForceRecord& record,
       const Eigen::Index begin =
           windows > 1 ? (n - length) * w / (windows - 1) : 0;
       const double mean = FiniteMean(v.data() + begin, length);
-      // (|x| <= DBL_MAX: finite, in a form that runs on vectors.)
+      // (|x| <= DBL_MAX: finite. A value that is not is replaced by the
+      // mean before the arithmetic, not its product after: the compiler
+      // may then choose between two values without a branch.)
       const double* x = v.data() + begin;
       for (Eigen::Index i = 0; i < length; ++i) {
-        const double windowed = hann[i] * (x[i] - mean);
-        in[i] = std::abs(x[i]) <= kFinite ? static_cast<float>(windowed) : 0.0f;
+        const double xi = std::abs(x[i]) <= kFinite ? x[i] : mean;
+        in[i] = static_cast<float>(hann[i] * (xi - mean));
       }
       fftwf_execute_dft_r2c(plan->plan, in, out);
       amp[ch].resize(static_cast<std::size_t>(length / 2 + 1), 0.0);

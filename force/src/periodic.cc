@@ -34,7 +34,7 @@ Eigen::Index SmoothLength(Eigen::Index n) {
 // a live window a tenth of one: plans are kept by length for the next
 // search (a live window's every few cycles), at most kKept of them, the
 // others made for the call alone. The planner is not thread-safe
-// (fftw_execute_dft_r2c is): a batch analyses specimens on several
+// (fftwf_execute_dft_r2c is): a batch analyses specimens on several
 // threads, so plans are made and destroyed under one lock. FFTW_ESTIMATE:
 // measuring would take seconds per length. In single precision: the
 // transform of a full-size test's 2^18 samples takes 0.7 ms against 1.6 ms

@@ -193,7 +193,8 @@ namespace {
 
 // The scan read and prepared; a scan that cannot be read is kept in
 // `unreadable` (it fails the specimen, as a force file does, after the
-// force file's own errors) and rethrown.
+// force file's own errors) and rethrown. One without a usable track is
+// left out by AnalyzeTest with a warning.
 ScanAnalysis ReadAndPrepareScan(const std::string& path,
                                 const scan::ReadScanOptions& read_scan,
                                 const FuseOptions& fuse,

@@ -4,10 +4,12 @@
 #include <cmath>
 #include <limits>
 
+#include "wearscar/support/numbers.h"
+
 namespace wearscar::force {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using support::kNaN;
 
 // (|v| <= DBL_MAX: finite, in a form without a branch.)
 bool Finite(double v) {

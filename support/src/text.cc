@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
 
 namespace wearscar::support {
 
@@ -71,6 +74,109 @@ std::string Printable(std::string_view text, std::size_t max) {
   }
   if (i < text.size()) out += "...";
   return out;
+}
+
+namespace {
+
+// 10^k, exact as doubles for k <= 22.
+constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                             1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+                             1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+
+// a 10^s, rounded once (|s| <= 22: the power is exact).
+double Scaled(double a, int s) {
+  return s >= 0 ? a * kPow10[s] : a / kPow10[-s];
+}
+
+// The `precision` significant digits of a > 0 as an integer in
+// [10^(precision - 1), 10^precision) and the decimal exponent of the
+// first; false where one rounding of the scaled value might round the
+// other way than the exact value would.
+bool SignificantDigits(double a,
+                       int precision,
+                       std::uint64_t* digits,
+                       int* exponent) {
+  // floor(log10 a) is e or e + 1, from the binary exponent b:
+  // floor(b log10 2) by a multiply and a shift.
+  std::uint64_t bits;
+  std::memcpy(&bits, &a, sizeof bits);
+  const int b = static_cast<int>((bits >> 52) & 0x7ff) - 1023;
+  int e = (b * 78913) >> 18;
+  const double top = kPow10[precision];
+  int s = precision - 1 - e;
+  if (s < -22 || s > 22) return false;
+  double m = Scaled(a, s);
+  if (m >= top) {
+    ++e;
+    if (--s < -22) return false;
+    m = Scaled(a, s);
+  }
+  if (m < kPow10[precision - 1]) return false;
+  // m is the exact a 10^s within half its ulp (m 2^-53): the rounding to
+  // an integer is the exact value's unless m lies that close to a half.
+  // (m < 10^15: the conversion truncates, as floor for m > 0.)
+  std::uint64_t d = static_cast<std::uint64_t>(m);
+  const double fraction = m - static_cast<double>(d);  // exact
+  if (std::abs(fraction - 0.5) <= m * 0x1p-51) return false;
+  d += fraction > 0.5 ? 1 : 0;
+  if (static_cast<double>(d) >= top) {  // 99.99..5 rounded up: 10^p
+    d /= 10;
+    ++e;
+  }
+  *digits = d;
+  *exponent = e;
+  return true;
+}
+
+}  // namespace
+
+std::to_chars_result ToCharsGeneral(char* first,
+                                    char* last,
+                                    double value,
+                                    int precision) {
+  const double a = std::abs(value);
+  std::uint64_t d = 0;
+  int e = 0;
+  if (precision < 1 || precision > 15 || last - first < 32 ||
+      !(a >= 1e-15 && a < 1e15) || !SignificantDigits(a, precision, &d, &e))
+    return std::to_chars(
+        first, last, value, std::chars_format::general, precision);
+  char digits[16];
+  for (int i = precision - 1; i >= 0; --i, d /= 10)
+    digits[i] = static_cast<char>('0' + d % 10);
+  int n = precision;  // without the trailing zeros %g drops
+  while (n > 1 && digits[n - 1] == '0') --n;
+  char* out = first;
+  if (value < 0) *out++ = '-';
+  if (e >= -4 && e < precision) {
+    if (e < 0) {
+      *out++ = '0';
+      *out++ = '.';
+      for (int i = 0; i < -e - 1; ++i) *out++ = '0';
+      std::memcpy(out, digits, static_cast<std::size_t>(n));
+      out += n;
+    } else {
+      for (int i = 0; i <= e; ++i) *out++ = i < n ? digits[i] : '0';
+      if (n > e + 1) {
+        *out++ = '.';
+        std::memcpy(out, digits + e + 1, static_cast<std::size_t>(n - e - 1));
+        out += n - e - 1;
+      }
+    }
+  } else {
+    *out++ = digits[0];
+    if (n > 1) {
+      *out++ = '.';
+      std::memcpy(out, digits + 1, static_cast<std::size_t>(n - 1));
+      out += n - 1;
+    }
+    *out++ = 'e';
+    *out++ = e < 0 ? '-' : '+';
+    const int x = std::abs(e);  // < 16: two digits
+    *out++ = static_cast<char>('0' + x / 10);
+    *out++ = static_cast<char>('0' + x % 10);
+  }
+  return {out, std::errc()};
 }
 
 }  // namespace wearscar::support

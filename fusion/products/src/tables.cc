@@ -10,6 +10,7 @@
 #include "wearscar/fusion/align.h"
 #include "wearscar/support/check.h"
 #include "wearscar/support/numbers.h"
+#include "wearscar/support/text.h"
 
 namespace wearscar::fusion {
 namespace {
@@ -38,8 +39,9 @@ std::string Table::ToCsv(std::size_t first, std::size_t last) const {
     buf += columns[c];
   }
   if (first == 0) buf.push_back('\n');
-  // printf's %.8g, by std::to_chars (Ryu), the same characters; whole
-  // numbers below 10^8 (cycles, directions, counts) as integers.
+  // printf's %.8g (ToCharsGeneral: the characters std::to_chars writes,
+  // faster); whole numbers below 10^8 (cycles, directions, counts) as
+  // integers.
   char cell[32];
   for (std::size_t i = first; i < last; ++i) {
     const std::vector<double>& row = rows[i];
@@ -50,10 +52,8 @@ std::string Table::ToCsv(std::size_t first, std::size_t last) const {
       const bool whole = std::abs(v) < 1e8 && v == std::trunc(v) &&
                          !(v == 0 && std::signbit(v));
       const auto r =
-          whole
-              ? std::to_chars(cell, cell + sizeof cell, static_cast<long>(v))
-              : std::to_chars(
-                    cell, cell + sizeof cell, v, std::chars_format::general, 8);
+          whole ? std::to_chars(cell, cell + sizeof cell, static_cast<long>(v))
+                : support::ToCharsGeneral(cell, cell + sizeof cell, v, 8);
       buf.append(cell, r.ptr);
     }
     buf.push_back('\n');

@@ -2,6 +2,7 @@
 
 // Small text helpers shared by the readers and the command line.
 
+#include <charconv>
 #include <cstddef>
 #include <string>
 #include <string_view>
@@ -22,5 +23,17 @@ std::size_t PrintableUtf8Length(std::string_view text, std::size_t i);
 // ASCII and well-formed UTF-8 as they are ("Weg [µm]"), any other byte (a
 // control, Latin-1's 0xB5, binary) as \xNN, and "..." after a cut.
 std::string Printable(std::string_view text, std::size_t max = 40);
+
+// `value` as printf's %.{precision}g writes it (std::to_chars with
+// chars_format::general and the precision: the same characters), for the
+// tables' numbers: most values by one scaling and one rounding, exact
+// where that rounding is unambiguous; near a tie of the last digit, at
+// exponents beyond +-15, zero and what is not finite, by std::to_chars
+// (Ryu), which takes longer. [first, last) should hold 32 characters (with
+// fewer, std::to_chars writes what fits).
+std::to_chars_result ToCharsGeneral(char* first,
+                                    char* last,
+                                    double value,
+                                    int precision);
 
 }  // namespace wearscar::support

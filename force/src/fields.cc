@@ -64,22 +64,6 @@ int EightDigits(const char* p, std::uint64_t* mantissa) {
 // long mantissa, nan, inf, text), which FastRow then takes the general way.
 const char* PlainField(
     const char* p, const char* end, char delim, char decimal, double* out) {
-  static constexpr double kPow10[] = {1e0,
-                                      1e1,
-                                      1e2,
-                                      1e3,
-                                      1e4,
-                                      1e5,
-                                      1e6,
-                                      1e7,
-                                      1e8,
-                                      1e9,
-                                      1e10,
-                                      1e11,
-                                      1e12,
-                                      1e13,
-                                      1e14,
-                                      1e15};
   const char* a = p;
   while (a < end && IsBlank(*a)) ++a;
   if (a < end && *a == '+') ++a;
@@ -110,7 +94,8 @@ const char* PlainField(
   if (digits == 0 || digits > 15) return nullptr;
   while (a < end && IsBlank(*a)) ++a;
   if (a < end && *a != delim) return nullptr;
-  const double v = static_cast<double>(mantissa) / kPow10[fraction];
+  const double v =
+      static_cast<double>(mantissa) / support::kExactPowersOf10[fraction];
   *out = negative ? -v : v;
   return a;
 }

@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <cstring>
 
+#include "wearscar/support/numbers.h"
+
 namespace wearscar::support {
 
 std::string Lower(std::string_view s) {
@@ -78,14 +80,9 @@ std::string Printable(std::string_view text, std::size_t max) {
 
 namespace {
 
-// 10^k, exact as doubles for k <= 22.
-constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
-                             1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
-                             1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
-
 // a 10^s, rounded once (|s| <= 22: the power is exact).
 double Scaled(double a, int s) {
-  return s >= 0 ? a * kPow10[s] : a / kPow10[-s];
+  return s >= 0 ? a * kExactPowersOf10[s] : a / kExactPowersOf10[-s];
 }
 
 // The `precision` significant digits of a > 0 as an integer in
@@ -102,7 +99,7 @@ bool SignificantDigits(double a,
   std::memcpy(&bits, &a, sizeof bits);
   const int b = static_cast<int>((bits >> 52) & 0x7ff) - 1023;
   int e = (b * 78913) >> 18;
-  const double top = kPow10[precision];
+  const double top = kExactPowersOf10[precision];
   int s = precision - 1 - e;
   if (s < -22 || s > 22) return false;
   double m = Scaled(a, s);
@@ -111,7 +108,7 @@ bool SignificantDigits(double a,
     if (--s < -22) return false;
     m = Scaled(a, s);
   }
-  if (m < kPow10[precision - 1]) return false;
+  if (m < kExactPowersOf10[precision - 1]) return false;
   // m is the exact a 10^s within half its ulp (m 2^-53): the rounding to
   // an integer is the exact value's unless m lies that close to a half.
   // (m < 10^15: the conversion truncates, as floor for m > 0.)

@@ -2,19 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include "wearscar/support/numbers.h"
 
 namespace wearscar::force {
 namespace {
 
+using support::Finite;
 using support::kNaN;
-
-// (|v| <= DBL_MAX: finite, in a form without a branch.)
-bool Finite(double v) {
-  return std::abs(v) <= std::numeric_limits<double>::max();
-}
 
 // x where Q crosses zero in the stick transition after the reversal (the
 // loop opening at Q = 0); NaN when Q does not change sign there (a wavy track

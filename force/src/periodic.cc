@@ -7,10 +7,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
 #include <memory>
 #include <mutex>
 #include <utility>
+
+#include "wearscar/support/numbers.h"
 
 namespace wearscar::force {
 namespace {
@@ -107,8 +108,6 @@ Eigen::Index PowerOfTwoLength(Eigen::Index n) {
   return p;
 }
 
-constexpr double kFinite = std::numeric_limits<double>::max();
-
 // The mean of the finite values of x[0, n) (0 if none), summed in four
 // running sums: one waits on each addition's latency, and the window's
 // quarter million samples are summed ten times in a full-size test.
@@ -117,13 +116,13 @@ double FiniteMean(const double* x, Eigen::Index n) {
   Eigen::Index finite = 0, i = 0;
   for (; i + 4 <= n; i += 4) {
     for (int j = 0; j < 4; ++j) {
-      const bool f = std::abs(x[i + j]) <= kFinite;
+      const bool f = support::Finite(x[i + j]);
       sum[j] += f ? x[i + j] : 0.0;
       finite += f;
     }
   }
   for (; i < n; ++i) {
-    const bool f = std::abs(x[i]) <= kFinite;
+    const bool f = support::Finite(x[i]);
     sum[0] += f ? x[i] : 0.0;
     finite += f;
   }
@@ -165,12 +164,12 @@ std::array<std::vector<double>, 2> AmplitudeSpectra(const ForceRecord& record,
       const Eigen::Index begin =
           windows > 1 ? (n - length) * w / (windows - 1) : 0;
       const double mean = FiniteMean(v.data() + begin, length);
-      // (|x| <= DBL_MAX: finite. A value that is not is replaced by the
-      // mean before the arithmetic, not its product after: the compiler
-      // may then choose between two values without a branch.)
+      // (A value that is not finite is replaced by the mean before the
+      // arithmetic, not its product after: the compiler may then choose
+      // between two values without a branch.)
       const double* x = v.data() + begin;
       for (Eigen::Index i = 0; i < length; ++i) {
-        const double xi = std::abs(x[i]) <= kFinite ? x[i] : mean;
+        const double xi = support::Finite(x[i]) ? x[i] : mean;
         in[i] = static_cast<float>(hann[i] * (xi - mean));
       }
       fftwf_execute_dft_r2c(plan->plan, in, out);

@@ -5,10 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <optional>
 
 #include "units.h"
+#include "wearscar/support/numbers.h"
 #include "wearscar/support/text.h"
 
 namespace wearscar::force::internal {
@@ -292,8 +292,6 @@ SampleCensus TakeCensus(const ForceRecord& r) {
   Spread(r.normal_n, &span, &c.median_abs_p);
   // (NaN without a finite P: no sample counts as beyond it.)
   const double quarter = 0.25 * c.median_abs_p;
-  // (|v| <= DBL_MAX: finite, in a form that runs on vectors.)
-  constexpr double kFinite = std::numeric_limits<double>::max();
   const Eigen::Index n = r.size();
   const double *q = r.tangential_n.data(), *p = r.normal_n.data(),
                *x = r.x_mm.data();
@@ -307,7 +305,7 @@ SampleCensus TakeCensus(const ForceRecord& r) {
       beyond += static_cast<long>((aq > SampleCensus::kMaxForceN) |
                                   (ap > SampleCensus::kMaxForceN) |
                                   (std::abs(x[i]) > SampleCensus::kMaxAbsXMm));
-      const bool fq = aq <= kFinite, ok = fq & (ap <= kFinite);
+      const bool fq = support::Finite(q[i]), ok = fq & support::Finite(p[i]);
       q_finite += static_cast<long>(fq);
       q_nonzero += static_cast<long>(fq & (q[i] != 0));
       pairs += static_cast<long>(ok);

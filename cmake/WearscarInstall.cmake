@@ -63,7 +63,9 @@ foreach(package component IN ZIP_LISTS doc_packages doc_components)
 endforeach()
 install(FILES ${PROJECT_SOURCE_DIR}/README.md ${PROJECT_SOURCE_DIR}/CHANGELOG.md
               ${PROJECT_SOURCE_DIR}/docs/method.md
+              ${PROJECT_SOURCE_DIR}/docs/results.md
               ${PROJECT_SOURCE_DIR}/docs/formats.md
+              ${PROJECT_SOURCE_DIR}/docs/watch.md
         DESTINATION ${CMAKE_INSTALL_DOCDIR} COMPONENT wearscar)
 
 # Man pages for wearscar and each subcommand, from their own --help by

@@ -1,6 +1,7 @@
 #pragma once
 
-// Constants every module spells the same way.
+// Constants, and the test of a finite value, that every module spells the
+// same way.
 
 #include <cmath>
 #include <limits>

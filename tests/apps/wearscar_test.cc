@@ -438,6 +438,57 @@ TEST(Faults, AFullDiskLeavesNothingNewAndSaysWhy) {
   EXPECT_EQ(FilesIn(dir + "/out"), std::set<std::string>{".wearscar.lock"});
 }
 
+TEST(Faults, ARunAgainIntoTheFolderReplacesEachFileAndNothingElse) {
+  // The second run's files take the first's places (exchanged, or renamed
+  // where there was none); what the first left in the staging folder goes
+  // with it. A file of the user's, and a link where a product goes, are
+  // left as they were.
+  const std::string dir = ::testing::TempDir() + "/faults-again";
+  std::filesystem::remove_all(dir);
+  ASSERT_EQ(Wearscar("simulate --case B-RT-R --cycles 30 --scan-cols 64 "
+                     "--scan-rows 48 --formats csv -o " +
+                     dir)
+                .status,
+            0);
+  const std::string out = dir + "/out";
+  const std::string run = "fuse " + dir +
+                          "/B-RT-R.force.csv --no-lugre --no-figures -o " +
+                          out + " --detail-cycle ";
+  ASSERT_EQ(Wearscar(run + "5").status, 0);
+  const std::string first = Slurp(out + "/detail.csv");
+  const std::set<std::string> files = FilesIn(out);
+  std::ofstream(out + "/notes.txt") << "mine\n";
+  std::filesystem::remove(out + "/cycles.csv");
+  std::filesystem::create_symlink("notes.txt", out + "/cycles.csv");
+  const CommandResult again = Wearscar(run + "9");
+  ASSERT_EQ(again.status, 0) << again.output;
+  const std::string second = Slurp(out + "/detail.csv");
+  EXPECT_NE(second, first);
+  ASSERT_EQ(
+      Wearscar("fuse " + dir + "/B-RT-R.force.csv --no-lugre --no-figures -o " +
+               dir + "/fresh --detail-cycle 9")
+          .status,
+      0);
+  EXPECT_EQ(second, Slurp(dir + "/fresh/detail.csv"));
+  std::set<std::string> expected = files;
+  expected.insert("notes.txt");
+  EXPECT_EQ(FilesIn(out), expected);
+  EXPECT_EQ(Slurp(out + "/notes.txt"), "mine\n");
+  // The link was replaced by the product, as a rename replaces it.
+  EXPECT_FALSE(std::filesystem::is_symlink(out + "/cycles.csv"));
+  EXPECT_EQ(Slurp(out + "/cycles.csv"), Slurp(dir + "/fresh/cycles.csv"));
+  // A folder where a product goes is refused, and kept with what it holds.
+  std::filesystem::remove(out + "/loops.csv");
+  std::filesystem::create_directory(out + "/loops.csv");
+  std::ofstream(out + "/loops.csv/kept.txt") << "kept\n";
+  const CommandResult refused = Wearscar(run + "9");
+  EXPECT_EQ(refused.status, 2) << refused.output;
+  EXPECT_NE(refused.output.find("loops.csv: cannot move into place"),
+            std::string::npos)
+      << refused.output;
+  EXPECT_EQ(Slurp(out + "/loops.csv/kept.txt"), "kept\n");
+}
+
 TEST(Faults, ASecondWriterIntoTheSameFolderIsRefused) {
   const std::string dir = ::testing::TempDir() + "/faults-lock";
   std::filesystem::remove_all(dir);

@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
+#include <stdio.h>
 #include <sys/file.h>
 #include <unistd.h>
 
@@ -97,6 +98,22 @@ void RemoveStale(const std::string& out, const std::string& old) {
   }
 }
 
+// An earlier run's regular file at `to` exchanged with the new one at
+// `from` (readers see one or the other, as with a rename); the earlier
+// one leaves with the staging folder. A rename over it makes ext4 start
+// writing the new file out first (auto_da_alloc), 0.3-2 ms a file. False
+// where there is none, or where the file system cannot exchange (a
+// rename then moves the file).
+bool ExchangedWithEarlier(const std::string& from, const std::string& to) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(
+          std::filesystem::symlink_status(to, ec)))
+    return false;
+  return ::renameat2(
+             AT_FDCWD, from.c_str(), AT_FDCWD, to.c_str(), RENAME_EXCHANGE) ==
+         0;
+}
+
 }  // namespace
 
 void RecordOutputs(const std::string& out,
@@ -137,7 +154,9 @@ size_t StagedOutput::Commit() {
   for (const std::string& f : fresh) {
     const fs::path to = fs::path(out_) / f;
     EnsureDirectory(to.parent_path().string());
-    if (std::rename((fs::path(staging_) / f).c_str(), to.c_str()) != 0) {
+    const std::string from = (fs::path(staging_) / f).string();
+    if (ExchangedWithEarlier(from, to)) continue;
+    if (std::rename(from.c_str(), to.c_str()) != 0) {
       throw OutputError(fmt::format(
           "{}: cannot move into place: {}", to.string(), std::strerror(errno)));
     }

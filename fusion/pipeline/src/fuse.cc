@@ -555,6 +555,13 @@ std::future<FrictionMap> StartFrictionMap(const force::ForceRecord& record,
       });
 }
 
+// The cycle detailed: the one asked for, else the last.
+int DetailedCycle(const FuseOptions& options, int cycles) {
+  return options.detail_cycle >= 0 && options.detail_cycle < cycles
+             ? options.detail_cycle
+             : cycles - 1;
+}
+
 // After the profile's decision: the force side, then the scan side beside
 // the products that need only the force side, the comparison and verdict,
 // the lines and the detail cycle.
@@ -563,6 +570,8 @@ void AnalyzeDecided(const force::ForceRecord& record,
                     AnalysisOptions ao,
                     std::future<std::vector<force::PeriodicLine>> lines,
                     std::future<FrictionMap> map,
+                    std::future<TrackHistory> history,
+                    std::future<std::optional<LugreFit>> lugre,
                     TestResult* result) {
   const FuseOptions& o = result->options;
   ao.friction.k_from_depth = o.analysis.friction.k_from_depth;
@@ -570,29 +579,13 @@ void AnalyzeDecided(const force::ForceRecord& record,
   result->force = evidence->TakeForce(ao);
   const int n = static_cast<int>(result->force.cycles.cycles.size());
   RefuseCyclesBeyondTheTest(o, n);
-  result->detail_cycle =
-      o.detail_cycle >= 0 && o.detail_cycle < n ? o.detail_cycle : n - 1;
-  // Nothing below changes result->force, which this thread reads. What
-  // needs only the force side, the friction map (unless it runs already)
-  // and the LuGre fit, each beside the scan side's fit (the cores share the
-  // threads out).
-  const std::launch beside =
-      o.parallel ? std::launch::async : std::launch::deferred;
+  result->detail_cycle = DetailedCycle(o, n);
+  // Nothing below changes result->force, which this thread reads. The
+  // friction map, unless it runs already, beside the scan side's fit (the
+  // cores share the threads out).
   if (!map.valid()) map = StartFrictionMap(record, result->force, o);
-  std::future<std::optional<LugreFit>> lugre = std::async(
-      beside,
-      [&record, &force = result->force, detail = result->detail_cycle, &o] {
-        return o.fit_lugre ? std::optional<LugreFit>(FitLugre(
-                                 record, force.cycles, detail, o.lugre))
-                           : std::nullopt;
-      });
-  // The track's history from the spring (before the scan: it may scale
-  // the scan's slope).
-  result->track_history =
-      ComputeTrackHistory(record,
-                          result->force.cycles,
-                          o.analysis.friction.slope.spring_n_per_mm,
-                          o.track_history);
+  // The track's history (before the scan: it may scale the scan's slope).
+  result->track_history = history.get();
   if (evidence->HasScan()) AddScanSide(record, evidence, result);
   CompareAndJudge(record, result);
   NoteLines(lines.get(), result);
@@ -692,6 +685,31 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
         return find ? FindLines(record, segmented.cycles)
                     : std::vector<force::PeriodicLine>();
       });
+  // The track's history from the spring and the LuGre fit of the detail
+  // cycle need only the cycles and their options, which the decision does
+  // not change: beside it too.
+  const std::launch beside =
+      result.options.parallel ? std::launch::async : std::launch::deferred;
+  std::future<TrackHistory> history = std::async(
+      beside,
+      [&record,
+       &segmented,
+       spring = result.options.analysis.friction.slope.spring_n_per_mm,
+       options = result.options.track_history] {
+        return ComputeTrackHistory(record, segmented.cycles, spring, options);
+      });
+  std::future<std::optional<LugreFit>> lugre = std::async(
+      beside,
+      [&record,
+       &segmented,
+       detail = DetailedCycle(result.options,
+                              static_cast<int>(segmented.cycles.cycles.size())),
+       fit = result.options.fit_lugre,
+       options = result.options.lugre] {
+        return fit ? std::optional<LugreFit>(
+                         FitLugre(record, segmented.cycles, detail, options))
+                   : std::nullopt;
+      });
   // The map's k is P/S's unless the decision puts it on a depth channel:
   // without one, the map is made beside the decision.
   std::future<FrictionMap> map;
@@ -704,8 +722,14 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
   friction.k_from_depth = result.profile.FromDepth();
   friction.depth_sign = result.profile.FromDepth() ? result.profile.depth_sign
                                                    : friction.depth_sign;
-  AnalyzeDecided(
-      record, &evidence, ao, std::move(lines), std::move(map), &result);
+  AnalyzeDecided(record,
+                 &evidence,
+                 ao,
+                 std::move(lines),
+                 std::move(map),
+                 std::move(history),
+                 std::move(lugre),
+                 &result);
   return result;
 }
 

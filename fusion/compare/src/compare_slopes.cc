@@ -16,7 +16,7 @@ namespace {
 template <typename Add>
 void KDifferences(const force::ForceRecord& record,
                   const ForceAnalysis& force,
-                  const ScanAnalysis& scan,
+                  const PlateProfile& scan_slope,
                   const FrictionFitOptions& friction,
                   std::pair<int, int> compared,
                   int from,
@@ -28,50 +28,12 @@ void KDifferences(const force::ForceRecord& record,
     const CycleSamples kf = force_slopes.Gather(c);
     for (const SlipSamples* s : {&kf.forward, &kf.reverse}) {
       for (Eigen::Index i = 0; i < s->k.size(); ++i) {
-        const double ks = scan.slope.At(s->x_mm[i]);
+        const double ks = scan_slope.At(s->x_mm[i]);
         if (!std::isfinite(ks)) continue;
         add((s->k[i] - ks) * (s->k[i] - ks));
       }
     }
   }
-}
-
-// RMS of k_force - k_scan over the gross-slip samples of cycles [first,
-// last]; with `parallel` the second half of the cycles on a thread of its
-// own (its own ensemble, as the fit's), its terms added after the first
-// half's in the order one thread adds them.
-double KRmsDifference(const force::ForceRecord& record,
-                      const ForceAnalysis& force,
-                      const ScanAnalysis& scan,
-                      const FrictionFitOptions& friction,
-                      int first,
-                      int last,
-                      bool parallel) {
-  const int half =
-      parallel && last - first >= 8 ? (first + last + 1) / 2 : last + 1;
-  std::vector<double> second;
-  std::future<void> beside;
-  if (half <= last) {
-    beside = std::async(std::launch::async, [&] {
-      KDifferences(record,
-                   force,
-                   scan,
-                   friction,
-                   {first, last},
-                   half,
-                   last + 1,
-                   [&](double d) { second.push_back(d); });
-    });
-  }
-  double sum2 = 0;
-  long n = 0;
-  KDifferences(
-      record, force, scan, friction, {first, last}, first, half, [&](double d) {
-        sum2 += d, ++n;
-      });
-  if (beside.valid()) beside.get();
-  for (const double d : second) sum2 += d, ++n;
-  return n > 0 ? std::sqrt(sum2 / n) : std::nan("");
 }
 
 // Per-cycle values over [first, last] in the summaries the report uses.
@@ -182,13 +144,55 @@ void CompareScanSide(const ForceAnalysis& force,
 
 }  // namespace
 
+// With `parallel` the second half of the cycles on a thread of its own
+// (its own ensemble, as the fit's), its terms added after the first half's
+// in the order one thread adds them.
+double KRmsDifference(const force::ForceRecord& record,
+                      const ForceAnalysis& force,
+                      const PlateProfile& scan_slope,
+                      const FrictionFitOptions& friction,
+                      int first,
+                      int last,
+                      bool parallel) {
+  const int half =
+      parallel && last - first >= 8 ? (first + last + 1) / 2 : last + 1;
+  std::vector<double> second;
+  std::future<void> beside;
+  if (half <= last) {
+    beside = std::async(std::launch::async, [&] {
+      KDifferences(record,
+                   force,
+                   scan_slope,
+                   friction,
+                   {first, last},
+                   half,
+                   last + 1,
+                   [&](double d) { second.push_back(d); });
+    });
+  }
+  double sum2 = 0;
+  long n = 0;
+  KDifferences(record,
+               force,
+               scan_slope,
+               friction,
+               {first, last},
+               first,
+               half,
+               [&](double d) { sum2 += d, ++n; });
+  if (beside.valid()) beside.get();
+  for (const double d : second) sum2 += d, ++n;
+  return n > 0 ? std::sqrt(sum2 / n) : std::nan("");
+}
+
 MismatchReport CompareSlopes(const force::ForceRecord& record,
                              const ForceAnalysis& force,
                              const ScanAnalysis* scan,
                              const ProfileDecision& profile,
                              int first,
                              int last,
-                             const FuseOptions& options) {
+                             const FuseOptions& options,
+                             std::optional<double> k_rms_difference) {
   MismatchReport r;
   r.first_cycle = first;
   r.last_cycle = last;
@@ -207,15 +211,19 @@ MismatchReport CompareSlopes(const force::ForceRecord& record,
   if (scan == nullptr) return r;
   CompareScanSide(force, *scan, range, &r);
   r.identity_judged = !profile.FromFriction();
-  r.k_rms_difference = profile.ForceSlopeJudged()
-                           ? KRmsDifference(record,
-                                            force,
-                                            *scan,
-                                            options.analysis.friction,
-                                            first,
-                                            last,
-                                            options.parallel)
-                           : std::nan("");
+  if (!profile.ForceSlopeJudged()) {
+    r.k_rms_difference = std::nan("");
+  } else if (k_rms_difference) {
+    r.k_rms_difference = *k_rms_difference;
+  } else {
+    r.k_rms_difference = KRmsDifference(record,
+                                        force,
+                                        scan->slope,
+                                        options.analysis.friction,
+                                        first,
+                                        last,
+                                        options.parallel);
+  }
   return r;
 }
 

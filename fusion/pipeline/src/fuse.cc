@@ -84,14 +84,11 @@ ScanAnalysis AlignScan(const force::ForceRecord& record,
   return s;
 }
 
-// The scan's slope in plate coordinates over the stroke and mu-hat with it
-// (unless the force slope alone was asked for). `history` (null unless
-// options.scan_slope_history) scales the scan's slope per cycle.
-void FitScanSide(const force::ForceRecord& record,
-                 const ForceAnalysis& force,
-                 const FuseOptions& options,
-                 const TrackHistory* history,
-                 ScanAnalysis* s) {
+// The scan's slope in plate coordinates over the stroke.
+PlateProfile ScanSlopeOverTheStroke(const force::ForceRecord& record,
+                                    const ForceAnalysis& force,
+                                    const FuseOptions& options,
+                                    const ScanAnalysis& s) {
   // The sphere's excursion over the complete cycles bounds the sliding
   // path: the scan beyond it is the groove's end walls.
   double stroke_min = -std::numeric_limits<double>::infinity();
@@ -101,8 +98,18 @@ void FitScanSide(const force::ForceRecord& record,
     std::tie(stroke_min, stroke_max) =
         force::CyclesXRange(record.x_mm, force.cycles);
   }
-  s->slope = ScanSlopeInPlate(
-      s->profile, s->alignment, options.scan_slope, stroke_min, stroke_max);
+  return ScanSlopeInPlate(
+      s.profile, s.alignment, options.scan_slope, stroke_min, stroke_max);
+}
+
+// mu-hat with the scan's slope (unless the force slope alone was asked
+// for). `history` (null unless options.scan_slope_history) scales the
+// scan's slope per cycle.
+void FitScanSide(const force::ForceRecord& record,
+                 const ForceAnalysis& force,
+                 const FuseOptions& options,
+                 const TrackHistory* history,
+                 ScanAnalysis* s) {
   if (options.slopes == SlopeChoice::kForce) {
     s->fit_scan.assign(force.cycles.cycles.size(), MuFit{});
     for (auto& f : s->fit_scan) f.message = "not fitted (force slope only)";
@@ -292,17 +299,74 @@ void RefuseCyclesBeyondTheTest(const FuseOptions& options, int n) {
   }
 }
 
+// The cycles quoted and compared: a range given; with a scan the force
+// profile's (the last cycles after running-in: the scan shows the track
+// after the last cycle, so the cycles nearest it); else every cycle after
+// running-in.
+CycleWindow QuotedWindow(const TestResult& r, const ScanAnalysis* scan) {
+  const int n = static_cast<int>(r.force.cycles.cycles.size());
+  const ForceProfileOptions& given = r.options.force_profile;
+  const int running_in = r.force.running_in.cycles;
+  CycleWindow w{running_in, n - 1, ""};
+  if (given.first_cycle >= 0) {
+    w.first = given.first_cycle;
+    w.last = given.last_cycle >= 0 ? given.last_cycle : n - 1;
+    w.why = "as given";
+  } else {
+    if (scan) {
+      w.first = scan->force_profile.first_cycle;
+      w.last = scan->force_profile.last_cycle;
+    }
+    w.why = w.first > running_in ? fmt::format("the last {} after running-in",
+                                               w.last - w.first + 1)
+            : running_in > 0     ? "every cycle after running-in"
+                                 : "every cycle: no running-in";
+    if (scan) w.why += ", whose track the scan shows";
+  }
+  return w;
+}
+
+// What the comparison and the wear take of the scan, made beside its fit:
+// k's RMS difference over the quoted cycles (where the force side's k is
+// judged) and the wear.
+struct ScanSideBeside {
+  std::optional<double> k_rms_difference;
+  std::optional<Wear> wear;
+};
+
 // The scan side aligned with the decided profile, or why it was not used:
 // a scan that cannot serve (no track, no overlap with the stroke) does not
 // lose the test; the force side stands, with a warning that says why
 // (unless the scan's slope alone was asked for).
-void AddScanSide(const force::ForceRecord& record,
-                 PipelineEvidence* evidence,
-                 TestResult* result) {
+ScanSideBeside AddScanSide(const force::ForceRecord& record,
+                           PipelineEvidence* evidence,
+                           TestResult* result) {
   const FuseOptions& o = result->options;
   const ProfileDecision& d = result->profile;
+  ScanSideBeside beside;
+  std::exception_ptr beside_error;
   try {
     ScanAnalysis s = evidence->TakeAlignedScan(d);
+    s.slope = ScanSlopeOverTheStroke(record, result->force, o, s);
+    // What needs the scan's slope and track, not its fit: beside the fit
+    // (which reads the slope, and writes only its fits and scale).
+    std::future<ScanSideBeside> made = std::async(
+        o.parallel ? std::launch::async : std::launch::deferred,
+        [&record, result, &s, &o] {
+          const CycleWindow w = QuotedWindow(*result, &s);
+          ScanSideBeside b;
+          if (result->profile.ForceSlopeJudged()) {
+            b.k_rms_difference = KRmsDifference(record,
+                                                result->force,
+                                                s.slope,
+                                                o.analysis.friction,
+                                                w.first,
+                                                w.last,
+                                                o.parallel);
+          }
+          b.wear = MeasureWear(record, result->force.cycles, s.track);
+          return b;
+        });
     // The spring's history scales the scan's slope only where P is the
     // profile.
     FitScanSide(record,
@@ -311,6 +375,11 @@ void AddScanSide(const force::ForceRecord& record,
                 o.scan_slope_history && d.FromSpring() ? &result->track_history
                                                        : nullptr,
                 &s);
+    try {
+      beside = made.get();
+    } catch (...) {
+      beside_error = std::current_exception();  // not the scan's failing
+    }
     result->scan = std::move(s);
   } catch (const std::exception& e) {
     if (o.slopes == SlopeChoice::kScan) throw;
@@ -324,6 +393,8 @@ void AddScanSide(const force::ForceRecord& record,
             ? ", which is noise where P carries no profile (a dead weight)"
             : "");
   }
+  if (beside_error) std::rethrow_exception(beside_error);
+  return beside;
 }
 
 // Without a scan, on a rig whose P may carry no profile (auto): what fails
@@ -386,33 +457,6 @@ void Warn(const force::ForceRecord& record, TestResult* result) {
   }
 }
 
-// The cycles quoted and compared: a range given; with a scan the force
-// profile's (the last cycles after running-in: the scan shows the track
-// after the last cycle, so the cycles nearest it); else every cycle after
-// running-in.
-CycleWindow QuotedWindow(const TestResult& r) {
-  const int n = static_cast<int>(r.force.cycles.cycles.size());
-  const ForceProfileOptions& given = r.options.force_profile;
-  const int running_in = r.force.running_in.cycles;
-  CycleWindow w{running_in, n - 1, ""};
-  if (given.first_cycle >= 0) {
-    w.first = given.first_cycle;
-    w.last = given.last_cycle >= 0 ? given.last_cycle : n - 1;
-    w.why = "as given";
-  } else {
-    if (r.scan) {
-      w.first = r.scan->force_profile.first_cycle;
-      w.last = r.scan->force_profile.last_cycle;
-    }
-    w.why = w.first > running_in ? fmt::format("the last {} after running-in",
-                                               w.last - w.first + 1)
-            : running_in > 0     ? "every cycle after running-in"
-                                 : "every cycle: no running-in";
-    if (r.scan) w.why += ", whose track the scan shows";
-  }
-  return w;
-}
-
 // P/S against the track: its elastic part from the track's history, and
 // with a scan that can be this test's the stiffness it implies. Only where
 // k comes from P/S.
@@ -434,24 +478,26 @@ SpringCheck CheckTheSpring(const TestResult& r) {
 
 // The comparison of the slopes, the verdict, the warnings and the wear,
 // once both sides are analysed.
-void CompareAndJudge(const force::ForceRecord& record, TestResult* result) {
-  result->window = QuotedWindow(*result);
-  const int first = result->window.first, last = result->window.last;
+void CompareAndJudge(const force::ForceRecord& record,
+                     const ScanSideBeside& beside,
+                     TestResult* result) {
   const ScanAnalysis* scan = result->scan ? &*result->scan : nullptr;
+  result->window = QuotedWindow(*result, scan);
+  const int first = result->window.first, last = result->window.last;
   result->mismatch = CompareSlopes(record,
                                    result->force,
                                    scan,
                                    result->profile,
                                    first,
                                    last,
-                                   result->options);
+                                   result->options,
+                                   beside.k_rms_difference);
   result->mismatch.spring = CheckTheSpring(*result);
   result->verdict = Judge(result->mismatch, result->options.verdict);
   Warn(record, result);
-  result->wear = MeasureWear(
-      record,
-      result->force.cycles,
-      scan ? std::optional<scan::Track>(scan->track) : std::nullopt);
+  result->wear = scan && beside.wear
+                     ? *beside.wear
+                     : MeasureWear(record, result->force.cycles, std::nullopt);
 }
 
 }  // namespace
@@ -586,8 +632,9 @@ void AnalyzeDecided(const force::ForceRecord& record,
   if (!map.valid()) map = StartFrictionMap(record, result->force, o);
   // The track's history (before the scan: it may scale the scan's slope).
   result->track_history = history.get();
-  if (evidence->HasScan()) AddScanSide(record, evidence, result);
-  CompareAndJudge(record, result);
+  ScanSideBeside beside;
+  if (evidence->HasScan()) beside = AddScanSide(record, evidence, result);
+  CompareAndJudge(record, beside, result);
   NoteLines(lines.get(), result);
   result->friction_map = map.get();
   result->lugre = lugre.get();

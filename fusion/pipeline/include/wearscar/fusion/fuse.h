@@ -67,12 +67,4 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
                        const std::string& scan_file,
                        const FuseOptions& options = {});
 
-// The mismatch over cycles [first, last] (after running-in by default).
-MismatchReport CompareSlopes(const force::ForceRecord& record,
-                             const ForceAnalysis& force,
-                             const ScanAnalysis* scan,
-                             int first_cycle,
-                             int last_cycle,
-                             const FuseOptions& options);
-
 }  // namespace wearscar::fusion

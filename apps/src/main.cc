@@ -6,6 +6,7 @@
 #if WEARSCAR_MIMALLOC
 #include <mimalloc.h>
 #endif
+#include <cstring>
 #include <exception>
 
 #include "commands.h"
@@ -20,22 +21,40 @@ std::string VersionText() {
                      wearscar::fusion::GitCommit());
 }
 
-// The subcommands' names, for the message about an unknown one.
-std::string CommandNames(const CLI::App& app) {
-  std::string names;
-  for (const CLI::App* sub :
-       app.get_subcommands([](const CLI::App*) { return true; }))
-    names += (names.empty() ? "" : ", ") + sub->get_name();
-  return names;
+void AddVersionCommand(CLI::App& app) {
+  app.add_subcommand("version", "Print the version and git commit")
+      ->callback([] { fmt::print("{}\n", VersionText()); });
 }
 
-bool IsCommand(CLI::App& app, const std::string& name) {
-  try {
-    app.get_subcommand(name);
-    return true;
-  } catch (const CLI::OptionNotFound&) {
-    return false;
+// The subcommands, in the order --help lists them.
+struct Command {
+  const char* name;
+  void (*add)(CLI::App&);
+};
+constexpr Command kCommands[] = {
+    {"version", AddVersionCommand},
+    {"simulate", wearscar::app::AddSimulateCommand},
+    {"force", wearscar::app::AddForceCommand},
+    {"fuse", wearscar::app::AddFuseCommand},
+    {"audit", wearscar::app::AddAuditCommand},
+    {"diagnose", wearscar::app::AddDiagnoseCommand},
+    {"scan", wearscar::app::AddScanCommand},
+    {"watch", wearscar::app::AddWatchCommand},
+};
+
+const Command* FindCommand(const char* name) {
+  for (const Command& c : kCommands) {
+    if (std::strcmp(c.name, name) == 0) return &c;
   }
+  return nullptr;
+}
+
+// The subcommands' names, for the message about an unknown one.
+std::string CommandNames() {
+  std::string names;
+  for (const Command& c : kCommands)
+    names += (names.empty() ? "" : ", ") + std::string(c.name);
+  return names;
 }
 
 }  // namespace
@@ -64,23 +83,20 @@ int main(int argc, char** argv) {
       "Every command's options: wearscar COMMAND --help");
   // One line on stderr for an error, nothing from the solvers' own logs.
   wearscar::fusion::QuietSolverLogging();
-  auto* version =
-      app.add_subcommand("version", "Print the version and git commit");
-  version->callback([] { fmt::print("{}\n", VersionText()); });
-  wearscar::app::AddSimulateCommand(app);
-  wearscar::app::AddForceCommand(app);
-  wearscar::app::AddFuseCommand(app);
-  wearscar::app::AddAuditCommand(app);
-  wearscar::app::AddDiagnoseCommand(app);
-  wearscar::app::AddScanCommand(app);
-  wearscar::app::AddWatchCommand(app);
-  if (argc > 1 && argv[1][0] != '-' && !IsCommand(app, argv[1])) {
+  // A command named first is the only one made (the others' options are
+  // a millisecond of every start); otherwise all, for --help.
+  const Command* named = argc > 1 ? FindCommand(argv[1]) : nullptr;
+  if (named != nullptr) {
+    named->add(app);
+  } else if (argc > 1 && argv[1][0] != '-') {
     fmt::print(stderr,
                "wearscar: unknown command '{}'; expected one of {} "
                "(wearscar --help)\n",
                argv[1],
-               CommandNames(app));
+               CommandNames());
     return 2;
+  } else {
+    for (const Command& c : kCommands) c.add(app);
   }
   try {
     app.parse(argc, argv);

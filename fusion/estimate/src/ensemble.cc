@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <limits>
 
 #include "wearscar/fusion/error.h"
@@ -572,13 +573,14 @@ std::vector<std::array<RepeatSplit, 2>> SplitRepeatable(
     const CycleBins& bins,
     const std::vector<std::array<double, 2>>& total,
     int min_separation,
-    const RepeatabilityOptions& options) {
+    const RepeatabilityOptions& options,
+    bool two_threads) {
   const int first = bins.first_cycle(), last = bins.last_cycle();
   const int n = last - first + 1;
   std::vector<std::array<RepeatSplit, 2>> out(
       static_cast<std::size_t>(std::max(n, 0)));
   const int sep = std::max(1, min_separation);
-  for (int d = 0; d < 2; ++d) {
+  const auto split = [&](int d) {
     const int dir = d == 0 ? +1 : -1;
     // The template's sums slide along the cycles: the cycles that left it
     // taken out, those that came added (a few a cycle, not all t), summed
@@ -619,7 +621,12 @@ std::vector<std::array<RepeatSplit, 2>> SplitRepeatable(
       r.repeat = cross;
       r.samples = samples;
     }
-  }
+  };
+  // (The directions share nothing but `out`'s disjoint halves.)
+  std::future<void> reverse = std::async(
+      two_threads ? std::launch::async : std::launch::deferred, split, 1);
+  split(0);
+  reverse.get();
   return out;
 }
 

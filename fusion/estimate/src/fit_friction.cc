@@ -236,14 +236,16 @@ std::vector<std::array<RepeatSplit, 2>> SplitNoise(
   if (force_side) {
     k_split = std::async(two ? std::launch::async : std::launch::deferred, [&] {
       split_k = SplitRepeatable(
-          fitter.slope, fitter.k_total, shared, options.repeatability);
+          fitter.slope, fitter.k_total, shared, options.repeatability, two);
     });
   }
-  SplitCosts(
-      SplitRepeatable(
-          fitter.misfit, fitter.misfit_total, shared, options.repeatability),
-      fitter.q_total,
-      &out->cycles);
+  SplitCosts(SplitRepeatable(fitter.misfit,
+                             fitter.misfit_total,
+                             shared,
+                             options.repeatability,
+                             two),
+             fitter.q_total,
+             &out->cycles);
   if (k_split.valid()) k_split.get();
   return split_k;
 }

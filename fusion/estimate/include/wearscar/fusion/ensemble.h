@@ -205,10 +205,13 @@ struct RepeatSplit {
 // `total` given per cycle and direction (sum of v^2 over the cycle's
 // samples), returns the split. Cycles within `min_separation` - 1 of the
 // cycle judged are not in its template (min_separation 1: all others).
+// With `two_threads` the reverse direction on a thread of its own (the
+// same split).
 std::vector<std::array<RepeatSplit, 2>> SplitRepeatable(
     const CycleBins& bins,
     const std::vector<std::array<double, 2>>& total,
     int min_separation,
-    const RepeatabilityOptions& options);
+    const RepeatabilityOptions& options,
+    bool two_threads = false);
 
 }  // namespace wearscar::fusion

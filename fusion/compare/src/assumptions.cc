@@ -50,7 +50,13 @@ std::vector<std::string> Assumptions(const force::ForceRecord& record,
                                      const FuseOptions& o) {
   const double s = o.analysis.friction.slope.spring_n_per_mm;
   std::string spring =
-      !o.spring_stated.empty()
+      !o.spring_from_friction.empty()
+          ? fmt::format(
+                "spring S = {:.3g} N/mm, the stiffness that carries P/S onto "
+                "the path the friction shows (no scan to quote k from: {})",
+                s,
+                o.spring_from_friction)
+      : !o.spring_stated.empty()
           ? fmt::format("spring S = {:g} N/mm, as the force file states ({})",
                         s,
                         o.spring_stated)
@@ -61,23 +67,44 @@ std::vector<std::string> Assumptions(const force::ForceRecord& record,
                 "rig), not given; k from P and the verdict depend on "
                 "it",
                 s);
-  // What P/S against the scan says of S (SpringCheck).
+  // What P/S against the friction's path says of S (SpringCheck).
   const SpringCheck& c = r.mismatch.spring;
-  if (r.verdict.scan_doubt.empty() && std::isfinite(c.stiffness_ratio)) {
-    spring += c.contradicted
-                  ? fmt::format(
-                        "; the scan contradicts it: {:.3g} N/mm "
-                        "(95%: {:.3g}-{:.3g}; see the warnings)",
-                        c.ImpliedStiffness(),
-                        c.ImpliedLow(),
-                        c.ImpliedHigh())
-                  : fmt::format(
-                        "; the scan agrees: P/S's worn part is the "
-                        "scanned track times {:.2f} after its growth "
-                        "(95%: {:.2f}-{:.2f})",
-                        c.stiffness_ratio,
-                        c.stiffness_ratio_low,
-                        c.stiffness_ratio_high);
+  if (!o.spring_from_friction.empty()) {
+  } else if (c.contradicted) {
+    spring += fmt::format(
+        "; the friction's path contradicts it: {}{:.3g} N/mm (95%: "
+        "{:.3g}-{:.3g}; see the warnings)",
+        c.changing_groove.Held() ? "" : "at most ",
+        c.ImpliedStiffness(),
+        c.ImpliedLow(),
+        c.ImpliedHigh());
+  } else if (c.undecided) {
+    spring += fmt::format(
+        "; P/S is the friction's path times {:.2f}: a spring of {:.3g} "
+        "N/mm or an elastic part, which the data cannot tell apart (see "
+        "the warnings)",
+        c.path_ratio,
+        c.ImpliedStiffness());
+  } else if (c.changing_groove.Held()) {
+    spring += fmt::format(
+        "; the friction's path agrees: P/S is the path times {:.2f} (95%: "
+        "{:.2f}-{:.2f}), and the groove's growth splits off an elastic part "
+        "of {:.0f}% of the worn track's profile (95%: {:.0f} to {:.0f}%)",
+        c.StiffnessRatio(),
+        c.ImpliedLow() / c.used_n_per_mm,
+        c.ImpliedHigh() / c.used_n_per_mm,
+        100 * c.elastic_share,
+        100 * c.elastic_share_low,
+        100 * c.elastic_share_high);
+  } else if (c.judged) {
+    spring += fmt::format(
+        "; the friction's path agrees: P/S is the path times {:.2f} (95%: "
+        "{:.2f}-{:.2f}; the groove did not change during the record, so "
+        "an elastic part of up to {:.0f}% is not told from the stiffness)",
+        c.path_ratio,
+        c.path_ratio_low,
+        c.path_ratio_high,
+        100 * std::max(0.0, 1 - 1 / c.path_ratio_high));
   }
   if (!r.profile.FromSpring()) spring = r.profile.reason;
   std::string slope =
@@ -90,8 +117,12 @@ std::vector<std::string> Assumptions(const force::ForceRecord& record,
             "profile from the friction; k from P is not used"
       : o.slopes == SlopeChoice::kScan ? "mu-hat with k from the scan alone"
       : r.scan && !r.mismatch.JudgesForceSlope()
-          ? "the verdict judges mu-hat with k from the scan: the scan "
-            "contradicts the spring that k from P is divided by"
+          ? (c.undecided ? "the verdict judges mu-hat with k from the scan: "
+                           "P/S's amplitude is a spring's or an elastic "
+                           "part's, which k from the scan needs neither of"
+                         : "the verdict judges mu-hat with k from the scan: "
+                           "the friction's path contradicts the spring that "
+                           "k from P is divided by")
       : r.scan ? "the verdict judges mu-hat with k from P; the scan's k is "
                  "compared with it"
       : r.scan_file.empty() ? "k from P alone (no scan)"

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <vector>
 
 #include "wearscar/support/student_t.h"
@@ -11,40 +13,98 @@
 namespace wearscar::fusion {
 
 bool SpringCheckOptions::IsValid(std::string* why) const {
-  if (early_cycles < 3 || !(max_stiffness_ratio > 1) ||
-      !(min_elastic_share > 0 && min_elastic_share < 1)) {
+  if (!(max_stiffness_ratio > 1) ||
+      !(min_elastic_share > 0 && min_elastic_share < 1) ||
+      !(max_split_width > 0 && max_split_width < 1) ||
+      !(min_growth_to_noise > 1)) {
     if (why) {
       *why =
-          "spring check: early_cycles must be >= 3, max_stiffness_ratio > 1 "
-          "and min_elastic_share in (0, 1)";
+          "spring check: max_stiffness_ratio must be > 1, min_elastic_share "
+          "and max_split_width in (0, 1), min_growth_to_noise > 1";
     }
     return false;
   }
   return true;
 }
 
+double SpringCheck::StiffnessRatio() const {
+  return elastic ? stiffness_ratio : path_ratio;
+}
+double SpringCheck::ImpliedStiffness() const {
+  return used_n_per_mm * StiffnessRatio();
+}
+double SpringCheck::ImpliedLow() const {
+  return used_n_per_mm * (elastic ? stiffness_ratio_low : path_ratio_low);
+}
+double SpringCheck::ImpliedHigh() const {
+  return used_n_per_mm * (elastic ? stiffness_ratio_high : path_ratio_high);
+}
+
 std::string SpringCheck::Describe(const std::string& how) const {
+  const bool split = changing_groove.Held();
   return fmt::format(
-      "the spring's stiffness appears to be {:.3g} N/mm (95%: {:.3g}-{:.3g}), "
-      "not the {:g} N/mm {}: P/S is the scanned track times {:.2f} after its "
-      "growth, and it grew from nothing (an elastic part would be there "
-      "from the first cycle: {:.0f}% of the profile is); mu-hat is quoted "
-      "with k from the scan, which needs no spring; give --spring if the "
-      "rig's is known",
+      "the spring's stiffness appears to be {}{:.3g} N/mm (95%: "
+      "{:.3g}-{:.3g}), not the {:g} N/mm {}: P/S is the path the friction "
+      "shows times {:.2f}{}; give --spring if the rig's is known",
+      split ? "" : "at most ",
       ImpliedStiffness(),
       ImpliedLow(),
       ImpliedHigh(),
       used_n_per_mm,
       how,
-      stiffness_ratio,
-      100 * std::max(0.0, elastic_share));
+      StiffnessRatio(),
+      !split ? " (the groove did not change during the record, so an "
+               "elastic part is not split off; one would make the rig's "
+               "stiffness lower still)"
+      : elastic
+          ? fmt::format(" as the groove grew, beside an elastic part that "
+                        "does not follow the growth ({:.0f}% of the worn "
+                        "track's profile)",
+                        100 * elastic_share)
+          : fmt::format(" over the compared cycles; the groove's growth "
+                        "shows no elastic part beside it ({:.0f}%, 95% "
+                        "{:.0f} to {:.0f}%)",
+                        100 * elastic_share,
+                        100 * elastic_share_low,
+                        100 * elastic_share_high));
+}
+
+std::string SpringCheck::DescribeUndecided(const std::string& how) const {
+  return fmt::format(
+      "cannot tell a spring of {:.3g} N/mm from an elastic part: P/S is the "
+      "path the friction shows times {:.2f} (95%: {:.2f}-{:.2f}), which "
+      "either a spring of that stiffness (not the {:g} N/mm {}) or an "
+      "elastic part of {:.0f}% of the worn track's profile (the sphere "
+      "sinking further into softer wood) explains, and the groove did not "
+      "change during the record to split them ({}); give --spring, or "
+      "record from the first contact",
+      ImpliedStiffness(),
+      path_ratio,
+      path_ratio_low,
+      path_ratio_high,
+      used_n_per_mm,
+      how,
+      100 * (path_ratio - 1),
+      changing_groove.evidence);
+}
+
+std::string SpringCheck::DescribeElastic(
+    const std::string& profile_name) const {
+  return fmt::format(
+      "{} carries an elastic part: {:.0f}% of the worn track's profile at "
+      "the end (95% interval {:.0f}-{:.0f}%), which does not follow the "
+      "path's growth that the friction shows (it was there without wear)",
+      profile_name,
+      100 * elastic_share,
+      100 * elastic_share_low,
+      100 * elastic_share_high);
 }
 
 namespace {
 
-// One cycle's profile: the two directions' heights averaged per bin (NaN
-// where neither has one).
-std::vector<double> CycleProfile(const TrackHistory& h, int cycle) {
+// One cycle's P/S profile, the two directions averaged per bin (NaN where
+// neither has one).
+std::vector<double> SpringRow(const TrackHistory& h, int cycle) {
   const size_t bins = h.x_mm.size();
   std::vector<double> p(bins, NAN);
   for (size_t b = 0; b < bins; ++b) {
@@ -59,125 +119,289 @@ std::vector<double> CycleProfile(const TrackHistory& h, int cycle) {
   return p;
 }
 
-// The mean profile of cycles [first, last].
-std::vector<double> MeanProfile(const TrackHistory& h, int first, int last) {
-  const size_t bins = h.x_mm.size();
-  std::vector<double> sum(bins, 0.0), mean(bins, NAN);
-  std::vector<int> n(bins, 0);
+std::vector<double> FrictionRow(const TrackHistory& h, int cycle) {
+  const auto from = h.friction_height_mm.begin() +
+                    static_cast<std::ptrdiff_t>(h.FrictionIndex(cycle, 0));
+  return std::vector<double>(from,
+                             from + static_cast<std::ptrdiff_t>(h.x_mm.size()));
+}
+
+// The mean of rows [first, last] per bin, where every row has the bin.
+template <typename Row>
+std::vector<double> MeanRow(const TrackHistory& h,
+                            int first,
+                            int last,
+                            Row row) {
+  std::vector<double> mean(h.x_mm.size(), 0.0);
   for (int c = first; c <= last; ++c) {
-    const std::vector<double> p = CycleProfile(h, c);
-    for (size_t b = 0; b < bins; ++b) {
-      if (std::isfinite(p[b])) sum[b] += p[b], ++n[b];
-    }
+    const std::vector<double> r = row(h, c);
+    for (size_t b = 0; b < r.size(); ++b) mean[b] += r[b];
   }
-  for (size_t b = 0; b < bins; ++b) {
-    if (n[b] > 0) mean[b] = sum[b] / n[b];
-  }
+  for (double& m : mean) m /= (last - first + 1);
   return mean;
 }
 
-// The projection of p on `late` (both less their means over the bins both
-// hold): how much of late's shape p carries. NaN when late is flat.
-double Projection(const std::vector<double>& p,
-                  const std::vector<double>& late) {
-  double sp = 0, sl = 0;
-  int n = 0;
-  for (size_t b = 0; b < p.size(); ++b) {
-    if (std::isfinite(p[b]) && std::isfinite(late[b])) {
-      sp += p[b], sl += late[b], ++n;
-    }
+// v less its least-squares line in x over the bins in `use`.
+std::vector<double> Detrended(const std::vector<double>& v,
+                              const std::vector<double>& x,
+                              const std::vector<size_t>& use) {
+  double mx = 0, mv = 0;
+  for (size_t b : use) mx += x[b], mv += v[b];
+  mx /= use.size(), mv /= use.size();
+  double sxx = 0, sxv = 0;
+  for (size_t b : use) {
+    sxx += (x[b] - mx) * (x[b] - mx);
+    sxv += (x[b] - mx) * (v[b] - mv);
   }
-  if (n < 3) return NAN;
-  sp /= n, sl /= n;
-  double pl = 0, ll = 0;
-  for (size_t b = 0; b < p.size(); ++b) {
-    if (std::isfinite(p[b]) && std::isfinite(late[b])) {
-      pl += (p[b] - sp) * (late[b] - sl);
-      ll += (late[b] - sl) * (late[b] - sl);
-    }
-  }
-  return ll > 0 ? pl / ll : NAN;
+  const double slope = sxx > 0 ? sxv / sxx : 0;
+  std::vector<double> d(use.size());
+  for (size_t i = 0; i < use.size(); ++i)
+    d[i] = v[use[i]] - mv - slope * (x[use[i]] - mx);
+  return d;
 }
 
-// How far the compared cycles' track had grown towards the final one the
-// scan shows: their mean profile projected on the last cycles' (the last
-// tenth, at least 3), which the scan's track is closest to.
-double Growth(const TrackHistory& h, int first, int last) {
-  const int n = h.cycles;
-  const int tail = std::min(n, std::max(3, n / 10));
-  const double g =
-      Projection(MeanProfile(h, first, last), MeanProfile(h, n - tail, n - 1));
-  return std::isfinite(g) && g > 0 ? g : 1.0;
+// How much of the shape `w` the row `v` carries over the bins in `use`
+// (each less its line in x: an offset in Q, integrated, is a line in the
+// friction's path): sum v w / sum w w.
+double Projection(const std::vector<double>& v,
+                  const std::vector<double>& w,
+                  const std::vector<double>& x,
+                  const std::vector<size_t>& use) {
+  const std::vector<double> dv = Detrended(v, x, use),
+                            dw = Detrended(w, x, use);
+  double vw = 0, ww = 0;
+  for (size_t i = 0; i < dv.size(); ++i)
+    vw += dv[i] * dw[i], ww += dw[i] * dw[i];
+  return ww > 0 ? vw / ww : NAN;
+}
+
+// The projections p_c (P/S) and f_c (the friction's path) of the cycles
+// that hold at least 80% of the bins both hold over the compared cycles.
+struct Projections {
+  std::vector<int> cycle;
+  std::vector<double> p, f;
+  double shape_correlation = NAN;  // P/S's and the friction's compared shapes
+};
+
+Projections Project(const TrackHistory& h,
+                    int steady_from,
+                    int first,
+                    int last) {
+  Projections out;
+  const std::vector<double> w = MeanRow(h, first, last, SpringRow);
+  const std::vector<double> fw = MeanRow(h, first, last, FrictionRow);
+  std::vector<size_t> common;
+  for (size_t b = 0; b < w.size(); ++b) {
+    if (std::isfinite(w[b]) && std::isfinite(fw[b])) common.push_back(b);
+  }
+  if (common.size() < 8) return out;
+  const std::vector<double> dw = Detrended(w, h.x_mm, common),
+                            df = Detrended(fw, h.x_mm, common);
+  double wf = 0, ww = 0, ff = 0;
+  for (size_t i = 0; i < dw.size(); ++i)
+    wf += dw[i] * df[i], ww += dw[i] * dw[i], ff += df[i] * df[i];
+  out.shape_correlation = ww > 0 && ff > 0 ? wf / std::sqrt(ww * ff) : NAN;
+  for (int c = steady_from; c < h.cycles; ++c) {
+    const std::vector<double> p = SpringRow(h, c), f = FrictionRow(h, c);
+    std::vector<size_t> use;
+    for (size_t b : common) {
+      if (std::isfinite(p[b]) && std::isfinite(f[b])) use.push_back(b);
+    }
+    if (use.size() < 0.8 * common.size()) continue;
+    const double pc = Projection(p, w, h.x_mm, use);
+    const double fc = Projection(f, w, h.x_mm, use);
+    if (!std::isfinite(pc) || !std::isfinite(fc)) continue;
+    out.cycle.push_back(c), out.p.push_back(pc), out.f.push_back(fc);
+  }
+  return out;
+}
+
+double Mean(const std::vector<double>& v) {
+  double s = 0;
+  for (double x : v) s += x;
+  return v.empty() ? NAN : s / v.size();
+}
+
+// The white noise of a slowly changing per-cycle series: its second
+// differences over successive cycles, var = mean(d2^2) / 6.
+double NoiseVariance(const std::vector<int>& cycle,
+                     const std::vector<double>& v) {
+  double sum = 0;
+  int n = 0;
+  for (size_t i = 1; i + 1 < v.size(); ++i) {
+    if (cycle[i] - cycle[i - 1] != 1 || cycle[i + 1] - cycle[i] != 1) continue;
+    const double d2 = v[i + 1] - 2 * v[i] + v[i - 1];
+    sum += d2 * d2, ++n;
+  }
+  return n > 0 ? sum / n / 6 : NAN;
+}
+
+// Successive residuals' lag-1 correlation counted as AR(1): the effective
+// number of independent cycles, at least 3.
+double EffectiveCount(const std::vector<double>& r) {
+  const double n = static_cast<double>(r.size());
+  double r0 = 0, r1 = 0;
+  for (size_t i = 0; i < r.size(); ++i) {
+    r0 += r[i] * r[i];
+    if (i > 0) r1 += r[i] * r[i - 1];
+  }
+  const double rho = r0 > 0 ? std::clamp(r1 / r0, 0.0, 0.95) : 0.0;
+  return std::max(3.0, n * (1 - rho) / (1 + rho));
+}
+
+double T975(double effective) {
+  return support::StudentT975(std::max(1, static_cast<int>(effective) - 2));
+}
+
+// The mean of `v` over the cycles [first, last] and its 95% half-width.
+std::pair<double, double> MeanWithin(const Projections& s,
+                                     const std::vector<double>& v,
+                                     int first,
+                                     int last) {
+  std::vector<double> in;
+  for (size_t i = 0; i < v.size(); ++i) {
+    if (s.cycle[i] >= first && s.cycle[i] <= last) in.push_back(v[i]);
+  }
+  const double m = Mean(in);
+  if (in.size() < 3) return {m, NAN};
+  std::vector<double> r;
+  double ss = 0;
+  for (double x : in) r.push_back(x - m), ss += (x - m) * (x - m);
+  const double n_eff = EffectiveCount(r);
+  return {m, T975(n_eff) * std::sqrt(ss / (in.size() - 1) / n_eff)};
+}
+
+// The split p_c = r f_c + e over every cycle, f_c's noise removed from its
+// variance (errors in variables), with the premise's check.
+void Split(const Projections& s, const SpringCheckOptions& o, SpringCheck* c) {
+  const double n = static_cast<double>(s.p.size());
+  const double mp = Mean(s.p), mf = Mean(s.f);
+  double vf = 0, cov = 0;
+  for (size_t i = 0; i < s.p.size(); ++i) {
+    vf += (s.f[i] - mf) * (s.f[i] - mf) / (n - 1);
+    cov += (s.p[i] - mp) * (s.f[i] - mf) / (n - 1);
+  }
+  const double noise = NoiseVariance(s.cycle, s.f);
+  c->growth_to_noise = noise > 0 ? vf / noise : INFINITY;
+  Premise& premise = c->changing_groove;
+  const double signal = vf - (std::isfinite(noise) ? noise : 0.0);
+  double beta = NAN, half = INFINITY, se_beta = NAN, se_resid = NAN;
+  double n_eff = 0;
+  if (signal > 0) {
+    beta = cov / signal;
+    std::vector<double> r;
+    double ss = 0;
+    for (size_t i = 0; i < s.p.size(); ++i) {
+      r.push_back(s.p[i] - mp - beta * (s.f[i] - mf));
+      ss += r.back() * r.back();
+    }
+    n_eff = EffectiveCount(r);
+    se_resid = std::sqrt(ss / (n - 2) / n_eff);
+    se_beta = std::sqrt(ss / (n - 2) / (n_eff * signal));
+    half = T975(n_eff) * se_beta;
+  }
+  const bool decides = c->growth_to_noise >= o.min_growth_to_noise &&
+                       std::abs(half / beta) < o.max_split_width;
+  premise.state = decides ? Premise::State::kHeld : Premise::State::kFailed;
+  premise.evidence = fmt::format(
+      "the friction's path changed over the cycles {:.1f}x its noise in "
+      "variance (at least {:g}){}",
+      c->growth_to_noise,
+      o.min_growth_to_noise,
+      std::isfinite(beta) && beta != 0
+          ? fmt::format(", deciding the stiffness ratio to +-{:.0f}% (at most "
+                        "{:.0f}%)",
+                        100 * std::abs(half / beta),
+                        100 * o.max_split_width)
+          : "");
+  if (!decides) return;
+  c->stiffness_ratio = beta;
+  c->stiffness_ratio_low = beta - half;
+  c->stiffness_ratio_high = beta + half;
+  // The intercept at f = 0 is the elastic part's projection; its share of
+  // the worn track at the end (the last tenth of the cycles' path, what
+  // the scan shows), r f_end: the elastic part against the waviness it
+  // would tilt the contact by, whatever the compared cycles' growth.
+  const int n_cycles = s.cycle.back() + 1;
+  const double f_end =
+      MeanWithin(s, s.f, n_cycles - std::max(3, n_cycles / 10), n_cycles - 1)
+          .first;
+  const double a = mp - beta * mf;
+  const double se_a = std::hypot(se_resid, mf * se_beta);
+  const double worn = beta * f_end;
+  c->elastic_share = a / worn;
+  const double se_share =
+      std::hypot(se_a / worn, c->elastic_share * se_beta / beta);
+  c->elastic_share_low = c->elastic_share - T975(n_eff) * se_share;
+  c->elastic_share_high = c->elastic_share + T975(n_eff) * se_share;
 }
 
 }  // namespace
 
-void EstimateElasticShare(const TrackHistory& history,
-                          int first,
-                          int last,
-                          const SpringCheckOptions& o,
-                          SpringCheck* check) {
-  const int m = o.early_cycles;
-  if (history.cycles < m || history.x_mm.empty() || first < 0 ||
-      last >= history.cycles || last < first)
-    return;
-  const std::vector<double> late = MeanProfile(history, first, last);
-  // Least squares p = a + b t over t = 1..m (the cycle's number): a is
-  // the projection before the first cycle.
-  std::vector<double> t, p;
-  for (int c = 0; c < m; ++c) {
-    const double v = Projection(CycleProfile(history, c), late);
-    if (std::isfinite(v)) t.push_back(c + 1.0), p.push_back(v);
-  }
-  const int n = static_cast<int>(t.size());
-  if (n < 3) return;
-  double mt = 0, mp = 0;
-  for (int i = 0; i < n; ++i) mt += t[i] / n, mp += p[i] / n;
-  double stt = 0, stp = 0;
-  for (int i = 0; i < n; ++i) {
-    stt += (t[i] - mt) * (t[i] - mt);
-    stp += (t[i] - mt) * (p[i] - mp);
-  }
-  const double b = stp / stt, a = mp - b * mt;
-  double ss = 0;
-  for (int i = 0; i < n; ++i) ss += std::pow(p[i] - a - b * t[i], 2);
-  const double se = std::sqrt(ss / (n - 2) * (1.0 / n + mt * mt / stt));
-  const double half = support::StudentT975(n - 2) * se;
-  check->judged = true;
-  check->elastic_share = a;
-  check->elastic_share_low = a - half;
-  check->elastic_share_high = a + half;
-  check->elastic = a - half > o.min_elastic_share;
-}
-
-SpringCheck CheckSpring(const TrackHistory& history,
-                        const Alignment* alignment,
+SpringCheck CheckSpring(const TrackHistory& h,
+                        int steady_from,
                         int first,
                         int last,
                         double spring_n_per_mm,
                         const SpringCheckOptions& o) {
   SpringCheck c;
   c.used_n_per_mm = spring_n_per_mm;
-  EstimateElasticShare(history, first, last, o, &c);
-  if (!c.judged || alignment == nullptr ||
-      !std::isfinite(alignment->amplitude_ratio_low) ||
-      !std::isfinite(alignment->amplitude_ratio_high))
+  Premise& premise = c.changing_groove;
+  premise.rule = "spring check";
+  premise.statement = "the groove changes during the record";
+  premise.otherwise =
+      "the stiffness and an elastic part are not split: P/S against the "
+      "path is judged alone; recording from the first contact splits them";
+  if (h.cycles < 6 || h.x_mm.empty() || h.friction_height_mm.empty() ||
+      first < 0 || last >= h.cycles || last - first < 2)
     return c;
-  // The worn part's share of P/S, within [0, 1], its interval's ends
-  // taken where they widen the ratio's; all of it where no elastic part
-  // stands out of the share's noise (a noisy share would only bias it).
-  auto worn = [&](double share) {
-    return c.elastic ? std::clamp(1.0 - share, 0.0, 1.0) : 1.0;
-  };
-  c.growth = Growth(history, first, last);
-  c.stiffness_ratio =
-      alignment->amplitude_ratio * worn(c.elastic_share) / c.growth;
-  c.stiffness_ratio_low =
-      alignment->amplitude_ratio_low * worn(c.elastic_share_high) / c.growth;
-  c.stiffness_ratio_high =
-      alignment->amplitude_ratio_high * worn(c.elastic_share_low) / c.growth;
-  c.contradicted = c.stiffness_ratio_low > o.max_stiffness_ratio ||
-                   c.stiffness_ratio_high < 1.0 / o.max_stiffness_ratio;
+  const Projections s =
+      Project(h, std::clamp(steady_from, 0, first), first, last);
+  if (s.p.size() < 6 || !(s.shape_correlation > 0.5)) {
+    premise.evidence = fmt::format(
+        "not judged: P/S and the path the friction shows share no shape "
+        "(r = {:.2f})",
+        s.shape_correlation);
+    return c;
+  }
+  c.judged = true;
+  std::vector<double> ratio(s.p.size());
+  for (size_t i = 0; i < s.p.size(); ++i) ratio[i] = s.p[i] / s.f[i];
+  const auto [rho, rho_half] = MeanWithin(s, ratio, first, last);
+  c.path_ratio = rho;
+  c.path_ratio_low = rho - rho_half;
+  c.path_ratio_high = rho + rho_half;
+  const int tail_first = std::max(0, h.cycles - std::max(3, h.cycles / 10));
+  c.growth = MeanWithin(s, s.f, first, last).first /
+             MeanWithin(s, s.f, tail_first, h.cycles - 1).first;
+  Split(s, o, &c);
+  if (std::getenv("WEARSCAR_DEBUG_SPRING")) {
+    for (size_t i = 0; i < s.p.size(); ++i)
+      std::fprintf(stderr, "%d %.5f %.5f\n", s.cycle[i], s.p[i], s.f[i]);
+    std::fprintf(stderr, "shape r %.3f\n", s.shape_correlation);
+    for (int cc : {1, 5, 20, h.cycles - 2}) {
+      const std::vector<double> p = SpringRow(h, cc), f = FrictionRow(h, cc);
+      std::fprintf(stderr, "P/S %d:", cc);
+      for (size_t b = 0; b < p.size(); b += 4)
+        std::fprintf(stderr, " %.1f", 1000 * p[b]);
+      std::fprintf(stderr, "\nfri %d:", cc);
+      for (size_t b = 0; b < p.size(); b += 4)
+        std::fprintf(stderr, " %.1f", 1000 * f[b]);
+      std::fprintf(stderr, "\n");
+    }
+  }
+  const double limit = o.max_stiffness_ratio;
+  if (premise.Held()) {
+    // Without an elastic part the growth resolves, the compared cycles'
+    // path ratio is the stiffness's (the split's slope is the noisier).
+    c.elastic = c.elastic_share_low > o.min_elastic_share;
+    const double low = c.elastic ? c.stiffness_ratio_low : c.path_ratio_low;
+    const double high = c.elastic ? c.stiffness_ratio_high : c.path_ratio_high;
+    c.contradicted = low > limit || high < 1.0 / limit;
+  } else {
+    c.contradicted = c.path_ratio_high < 1.0 / limit;
+    c.undecided = c.path_ratio_low > limit;
+  }
   return c;
 }
 

@@ -50,13 +50,29 @@ std::string Headline(const TestResult& r) {
   // A spring the scan contradicts is why the scan's k is quoted: said here.
   const SpringCheck& spring = m.spring;
   const std::string source =
-      from_p ? m.force_slope_name
+      from_p && !r.options.spring_from_friction.empty()
+          ? fmt::format(
+                "{} at S = {:.3g} N/mm, the stiffness the friction's path "
+                "implies{}",
+                m.force_slope_name,
+                spring.used_n_per_mm,
+                r.options.spring_from_friction.rfind("cannot tell", 0) == 0
+                    ? " (or an elastic part: the data cannot tell)"
+                    : "")
+      : from_p ? m.force_slope_name
       : spring.contradicted && m.cost_force.count > 0
           ? fmt::format(
-                "the scan (the spring's stiffness appears to be {:.3g} N/mm, "
-                "not the {:g} used)",
+                "the scan (the spring's stiffness appears to be {}{:.3g} "
+                "N/mm, not the {:g} used)",
+                spring.changing_groove.Held() ? "" : "at most ",
                 spring.ImpliedStiffness(),
                 spring.used_n_per_mm)
+      : spring.undecided && m.cost_force.count > 0
+          ? fmt::format(
+                "the scan (cannot tell a spring of {:.3g} N/mm from an "
+                "elastic part: give --spring, or record from the first "
+                "contact)",
+                spring.ImpliedStiffness())
           : std::string("the scan");
   return fmt::format("mu = {:.4f}{}: mu-hat, k from {}, cycles {}-{} ({}); {}",
                      mu.mean,

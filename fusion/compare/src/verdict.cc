@@ -70,7 +70,7 @@ bool VerdictOptions::TrackCentreMoved(const MismatchReport& r) const {
 bool DataWarningOptions::IsValid(std::string* why) const {
   if (min_samples_per_stroke < 0 ||
       !(max_fallback_fraction >= 0 && max_fallback_fraction <= 1) ||
-      !(elastic_ratio > 0)) {
+      !(elastic_share > 0 && elastic_share < 1)) {
     if (why) *why = "data warning limits out of range";
     return false;
   }
@@ -97,17 +97,6 @@ std::string IntervalText(double low, double high, const char* format) {
                                   " to " + format + ")"),
                      low,
                      high);
-}
-
-// P/S's elastic part from its share before any wear (SpringCheck).
-std::string ElasticShareReason(const MismatchReport& r) {
-  return fmt::format(
-      "{} carries an elastic part: {:.0f}% of its profile (95% interval "
-      "{:.0f}-{:.0f}%) was there before any wear",
-      r.force_profile_name,
-      100 * r.spring.elastic_share,
-      100 * r.spring.elastic_share_low,
-      100 * r.spring.elastic_share_high);
 }
 
 // The waviness of another specimen's track.
@@ -157,11 +146,11 @@ std::vector<std::string> ScanReasons(const MismatchReport& r,
   const bool has_interval = std::isfinite(r.amplitude_ratio_low);
   const double ratio_low =
       has_interval ? r.amplitude_ratio_low : r.amplitude_ratio;
-  if (r.spring.contradicted) {
-    // The ratio is the stiffness's; only an elastic part beside it is a
-    // finding about the physics.
-    if (r.spring.elastic) reasons.push_back(ElasticShareReason(r));
-  } else if (ratio_low > o.max_amplitude_ratio) {
+  // Where the spring check judged P/S against the friction's path, it
+  // says what P/S's amplitude is (a stiffness, an elastic part or either);
+  // the scan's amplitude against P/S is a finding only without it (the
+  // depth channel's profile).
+  if (!r.spring.judged && ratio_low > o.max_amplitude_ratio) {
     reasons.push_back(fmt::format(
         "{} varies {:.2f}x as much as the scanned profile{} (limit {:.2f}): "
         "part of the normal displacement is not worn geometry",
@@ -242,23 +231,31 @@ std::vector<std::string> MethodReasons(const MismatchReport& r,
                   r.mu_mean.mean)};
 }
 
-// The screen of an explained test: the loops repeat a misfit above their
-// noise (Verdict::screen), or "".
+// The screen of an explained test: the loops repeat a misfit that acts as
+// friction does (changing sign with the motion) above their noise
+// (Verdict::screen), or "". Its premise: only such a misfit biases mu-hat;
+// one that acts as a slope does (the same in both directions: an elastic
+// part, a groove deepening over the compared cycles, a scaled k) cancels
+// between the directions, and the spring check and the scan judge it.
 std::string Screen(const CostSplit& split, const VerdictOptions& o) {
   // The lower end of the excess's 95% interval, as the verdict's: a few
   // cycles' excess is no repeating misfit yet.
-  const double excess =
-      std::isfinite(split.excess_low) ? split.excess_low : split.excess;
+  const bool odd = std::isfinite(split.odd_excess);
+  const double value = odd ? split.odd_excess : split.excess;
+  const double low = odd ? split.odd_excess_low : split.excess_low;
+  const double high = odd ? split.odd_excess_high : split.excess_high;
+  const double excess = std::isfinite(low) ? low : value;
   if (split.cycles == 0 || !(split.floor > 0) ||
       !(excess >= o.screen_excess_to_floor * split.floor))
     return "";
   return fmt::format(
-      "the loops repeat a misfit above their noise (J's excess {:.3f}{}, "
-      "at least {:.2f} of its noise floor {:.3f}; the screen's limit "
-      "{:.2f}): an effect the wear-scar model misses may bias mu-hat; "
-      "`wearscar diagnose` names it",
-      split.excess,
-      IntervalText(split.excess_low, split.excess_high, "{:.3f}"),
+      "the loops repeat a misfit above their noise that acts as friction "
+      "does, changing sign with the motion (J's excess {:.3f}{}, at least "
+      "{:.2f} of its noise floor {:.3f}; the screen's limit {:.2f}): an "
+      "effect the wear-scar model misses may bias mu-hat; `wearscar "
+      "diagnose` names it",
+      value,
+      IntervalText(low, high, "{:.3f}"),
       excess / split.floor,
       split.floor,
       o.screen_excess_to_floor);
@@ -296,6 +293,10 @@ Verdict Judge(const MismatchReport& r, const VerdictOptions& o) {
         IntervalText(split.excess_low, split.excess_high, "{:.3f}"),
         o.max_cost_excess));
   }
+  // An elastic part the track's growth splits off P/S: the physics, with
+  // or without a scan.
+  if (r.spring.elastic)
+    v.reasons.push_back(r.spring.DescribeElastic(r.force_profile_name));
   // The scan's criteria are judged only when the scan can be this test's:
   // a profile unlike P/S's while the force side alone passes is a doubt
   // about the scan (scan_doubt), not a verdict on the physics.
@@ -366,7 +367,20 @@ std::vector<std::string> DataWarnings(const ForceAnalysis& force,
   const double ratio_low = std::isfinite(r.amplitude_ratio_low)
                                ? r.amplitude_ratio_low
                                : r.amplitude_ratio;
-  if (r.has_scan && ratio_low > o.elastic_ratio && !r.spring.contradicted) {
+  const SpringCheck& spring = r.spring;
+  if (spring.judged && !spring.elastic &&
+      spring.elastic_share_low > o.elastic_share) {
+    w.push_back(fmt::format(
+        "{} carries a small elastic part, below the verdict's limit: {:.0f}% "
+        "of the worn track's profile at the end (95% interval {:.0f}-{:.0f}%) "
+        "does not follow the path's growth that the friction shows; it moves "
+        "the sphere without tilting the contact",
+        r.force_profile_name,
+        100 * spring.elastic_share,
+        100 * spring.elastic_share_low,
+        100 * spring.elastic_share_high));
+  }
+  if (r.has_scan && ratio_low > 1 + o.elastic_share && !spring.judged) {
     w.push_back(fmt::format(
         "{} varies {:.2f}x as much as the scanned profile: an elastic part "
         "of about {:.0f}% of the profile moves the sphere without tilting "

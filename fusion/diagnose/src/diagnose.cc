@@ -529,14 +529,27 @@ Diagnosis Diagnose(const force::ForceRecord& record,
 namespace {
 
 // Of the two effects that scale k (one formula), the one the test's track
-// history supports: an elastic part is there from the first cycle, a
-// stiffness other than the one used scales a track grown from nothing.
+// history supports (SpringCheck): an elastic part does not follow the
+// groove's growth, a stiffness other than the one used scales it. Where
+// the groove did not change, neither is tried: the data cannot tell them
+// apart.
 DiagnoseOptions WithTheSpringsEvidence(const TestResult& r, DiagnoseOptions o) {
   const SpringCheck& c = r.mismatch.spring;
   if (!c.judged) return o;
+  if (!c.changing_groove.Held()) {
+    o.ruled_out.push_back("spring");
+    o.ruled_out.push_back("elastic");
+    o.ruled_out_why = fmt::format(
+        "a scale of k is not tried: P/S is the path the friction shows "
+        "times {:.2f}, a spring's or an elastic part's alike, and {} (the "
+        "groove did not change during the record to tell them apart)",
+        c.path_ratio,
+        c.changing_groove.evidence);
+    return o;
+  }
   const std::string share = fmt::format(
-      "{:.0f}% of P/S's profile (95%: {:.0f} to {:.0f}%) was there "
-      "before any wear",
+      "an elastic part of {:.0f}% of the worn track's profile (95%: {:.0f} "
+      "to {:.0f}%) does not follow the path's growth",
       100 * c.elastic_share,
       100 * c.elastic_share_low,
       100 * c.elastic_share_high);

@@ -165,10 +165,11 @@ Statistic SummariseSeries(const std::vector<double>& values,
 
 CostSplit SplitCost(const std::vector<MuFit>& fits, int first, int last) {
   CostSplit s;
-  std::vector<double> j, noise[2], repeat[2];
+  std::vector<double> j, noise[2], repeat[2], odd;
   for (const MuFit& f : fits) {
     const bool ok = f.converged;
     j.push_back(ok ? f.cost : std::nan(""));
+    odd.push_back(ok ? f.repeat_odd_sq : std::nan(""));
     for (int d = 0; d < 2; ++d) {
       repeat[d].push_back(ok ? f.repeat_sq[d] : std::nan(""));
       noise[d].push_back(ok ? f.misfit_sq[d] - f.repeat_sq[d] : std::nan(""));
@@ -189,6 +190,15 @@ CostSplit SplitCost(const std::vector<MuFit>& fits, int first, int last) {
     s.excess += root(rep.mean);
     s.excess_low += root(rep.low);
     s.excess_high += root(rep.high);
+  }
+  const Interval o = MeanInterval(odd, first, last);
+  if (o.count > 0) {
+    auto twice_root = [](double v) {
+      return std::isfinite(v) ? 2 * std::sqrt(std::max(0.0, v)) : std::nan("");
+    };
+    s.odd_excess = twice_root(o.mean);
+    s.odd_excess_low = twice_root(o.low);
+    s.odd_excess_high = twice_root(o.high);
   }
   return s;
 }

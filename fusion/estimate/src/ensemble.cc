@@ -569,12 +569,17 @@ TemplateCycles TemplateOf(int c, int first, int last, int sep, int t) {
 
 }  // namespace
 
-std::vector<std::array<RepeatSplit, 2>> SplitRepeatable(
+namespace {
+
+// SplitRepeatable, or with `cross` each direction's template against the
+// other direction's values (CrossRepeatable).
+std::vector<std::array<RepeatSplit, 2>> Repeatable(
     const CycleBins& bins,
-    const std::vector<std::array<double, 2>>& total,
+    const std::vector<std::array<double, 2>>* total,
     int min_separation,
     const RepeatabilityOptions& options,
-    bool two_threads) {
+    bool two_threads,
+    bool cross) {
   const int first = bins.first_cycle(), last = bins.last_cycle();
   const int n = last - first + 1;
   std::vector<std::array<RepeatSplit, 2>> out(
@@ -591,7 +596,7 @@ std::vector<std::array<RepeatSplit, 2>> SplitRepeatable(
     int slides = kTemplateSlides;
     for (int c = first; c <= last; ++c) {
       RepeatSplit& r = out[static_cast<std::size_t>(c - first)][d];
-      r.total = total[static_cast<std::size_t>(c - first)][d];
+      if (total) r.total = (*total)[static_cast<std::size_t>(c - first)][d];
       const TemplateCycles now =
           TemplateOf(c, first, last, sep, options.template_cycles);
       if (now.hi < now.lo) {
@@ -610,15 +615,16 @@ std::vector<std::array<RepeatSplit, 2>> SplitRepeatable(
         ++slides;
       }
       held = now;
-      const auto [value, count] = bins.Stored(c, dir);
-      double cross = 0.0;
+      const auto [value, count] = bins.Stored(c, cross ? -dir : dir);
+      double product = 0.0;
       int samples = 0;
       for (std::size_t b = 0; b < tpl.count.size(); ++b) {
         if (count[b] == 0 || tpl.count[b] == 0) continue;
-        cross += static_cast<double>(value[b]) * (tpl.value[b] / tpl.count[b]);
+        product +=
+            static_cast<double>(value[b]) * (tpl.value[b] / tpl.count[b]);
         samples += count[b];
       }
-      r.repeat = cross;
+      r.repeat = product;
       r.samples = samples;
     }
   };
@@ -628,6 +634,27 @@ std::vector<std::array<RepeatSplit, 2>> SplitRepeatable(
   split(0);
   reverse.get();
   return out;
+}
+
+}  // namespace
+
+std::vector<std::array<RepeatSplit, 2>> SplitRepeatable(
+    const CycleBins& bins,
+    const std::vector<std::array<double, 2>>& total,
+    int min_separation,
+    const RepeatabilityOptions& options,
+    bool two_threads) {
+  return Repeatable(
+      bins, &total, min_separation, options, two_threads, /*cross=*/false);
+}
+
+std::vector<std::array<RepeatSplit, 2>> CrossRepeatable(
+    const CycleBins& bins,
+    int min_separation,
+    const RepeatabilityOptions& options,
+    bool two_threads) {
+  return Repeatable(
+      bins, nullptr, min_separation, options, two_threads, /*cross=*/true);
 }
 
 }  // namespace wearscar::fusion

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "wearscar/fusion/error.h"
 #include "wearscar/support/check.h"
@@ -134,6 +135,114 @@ double HeightRow(
   return noisy > 0 ? noise / noisy : 0;
 }
 
+// One cycle's atan(Q/P) over each direction's gross slip per bin, and the
+// samples' times: sums and counts, [0] forward, [1] reverse.
+struct FrictionBins {
+  std::vector<double> angle[2], time[2];
+  std::vector<int> count[2];
+  // The friction's angle atan(mu) over the cycle (half the two directions'
+  // difference, over the bins both slid) and the cycle's mean time.
+  double friction = kNaN, time_s = kNaN;
+};
+
+FrictionBins BinFriction(const force::ForceRecord& record,
+                         const force::Cycle& cycle,
+                         double start,
+                         double bin_mm,
+                         size_t bins) {
+  FrictionBins f;
+  for (int d = 0; d < 2; ++d) {
+    f.angle[d].assign(bins, 0.0), f.time[d].assign(bins, 0.0);
+    f.count[d].assign(bins, 0);
+  }
+  for (const force::HalfCycle* half : {&cycle.forward, &cycle.reverse}) {
+    const int d = half->direction > 0 ? 0 : 1;
+    for (Eigen::Index i = half->slip_begin; i < half->slip_end; ++i) {
+      const double x = record.x_mm[i], q = record.tangential_n[i],
+                   p = record.normal_n[i];
+      if (!std::isfinite(x) || !std::isfinite(q) || !(p > 0)) continue;
+      const auto k = static_cast<long>(std::floor((x - start) / bin_mm));
+      if (k < 0 || k >= static_cast<long>(bins)) continue;
+      f.angle[d][k] += std::atan(q / p);
+      f.time[d][k] += record.time_s[i];
+      ++f.count[d][k];
+    }
+  }
+  double friction = 0, time = 0;
+  int both = 0;
+  for (size_t k = 0; k < bins; ++k) {
+    if (f.count[0][k] == 0 || f.count[1][k] == 0) continue;
+    friction +=
+        0.5 * (f.angle[0][k] / f.count[0][k] - f.angle[1][k] / f.count[1][k]);
+    time += 0.5 * (f.time[0][k] / f.count[0][k] + f.time[1][k] / f.count[1][k]);
+    ++both;
+  }
+  if (both > 0) f.friction = friction / both, f.time_s = time / both;
+  return f;
+}
+
+// One cycle's height from the friction (TrackHistory::friction_height_mm)
+// into h: the two directions' mean atan(Q/P) per bin where both slid,
+// less what the friction's drift between the two passes over the bin
+// adds (rate: `drift` per s, from the neighbouring cycles; a running-in
+// otherwise tilts the path by half the change between the passes), tan of
+// it integrated along x by trapezoids (a bin between two that slid takes
+// their mean), about its mean.
+void FrictionRow(const FrictionBins& f,
+                 double drift,
+                 int c,
+                 double bin_mm,
+                 TrackHistory* h) {
+  const size_t bins = h->x_mm.size();
+  std::vector<double> slope(bins, kNaN);
+  for (size_t k = 0; k < bins; ++k) {
+    if (f.count[0][k] == 0 || f.count[1][k] == 0) continue;
+    const double between =
+        f.time[0][k] / f.count[0][k] - f.time[1][k] / f.count[1][k];
+    slope[k] = std::tan(
+        0.5 * (f.angle[0][k] / f.count[0][k] + f.angle[1][k] / f.count[1][k]) -
+        0.5 * drift * between);
+  }
+  size_t first = 0, last = bins;
+  while (first < bins && !std::isfinite(slope[first])) ++first;
+  while (last > first && !std::isfinite(slope[last - 1])) --last;
+  if (last - first < 3) return;
+  double height = 0, previous = slope[first], mean = 0;
+  std::vector<double> row(bins, kNaN);
+  row[first] = 0;
+  for (size_t k = first + 1; k < last; ++k) {
+    double here = slope[k];
+    if (!std::isfinite(here)) {
+      size_t next = k + 1;
+      while (!std::isfinite(slope[next])) ++next;  // slope[last - 1] is
+      here = 0.5 * (previous + slope[next]);
+    }
+    height += 0.5 * (previous + here) * bin_mm;
+    row[k] = height;
+    previous = here;
+  }
+  for (size_t k = first; k < last; ++k) mean += row[k];
+  mean /= static_cast<double>(last - first);
+  for (size_t k = first; k < last; ++k)
+    h->friction_height_mm[h->FrictionIndex(c, k)] = row[k] - mean;
+}
+
+// Every cycle's friction row, the drift of cycle c from cycles c - 1 and
+// c + 1 (one-sided at the test's ends).
+void FrictionRows(const std::vector<FrictionBins>& f,
+                  double bin_mm,
+                  TrackHistory* h) {
+  const int n = static_cast<int>(f.size());
+  for (int c = 0; c < n; ++c) {
+    const int a = std::max(0, c - 1), b = std::min(n - 1, c + 1);
+    double drift = 0;
+    if (b > a && std::isfinite(f[a].friction) && std::isfinite(f[b].friction) &&
+        f[b].time_s > f[a].time_s)
+      drift = (f[b].friction - f[a].friction) / (f[b].time_s - f[a].time_s);
+    FrictionRow(f[c], drift, c, bin_mm, h);
+  }
+}
+
 // The waviness per cycle: the noise-corrected variances pooled over the
 // cycles about each, centred, shifted inwards at the ends of the test so
 // that every cycle pools as many.
@@ -174,13 +283,17 @@ TrackHistory ComputeTrackHistory(const force::ForceRecord& record,
     h.x_mm.push_back(start + (b + 0.5) * options.bin_mm);
   h.height_mm.assign(static_cast<size_t>(h.cycles) * 2 * bins, kNaN);
   h.waviness_sd_mm.assign(h.cycles, kNaN);
+  h.friction_height_mm.assign(static_cast<size_t>(h.cycles) * bins, kNaN);
   HalfBins b{std::vector<double>(bins),
              std::vector<double>(bins),
              std::vector<double>(bins)};
   // Per cycle, the noise-corrected variance of h summed over directions.
   std::vector<double> variance(static_cast<size_t>(h.cycles), 0.0);
   std::vector<int> variances(static_cast<size_t>(h.cycles), 0);
+  std::vector<FrictionBins> friction;
   for (int c = 0; c < h.cycles; ++c) {
+    friction.push_back(
+        BinFriction(record, cycles.cycles[c], start, options.bin_mm, bins));
     for (const force::HalfCycle* half :
          {&cycles.cycles[c].forward, &cycles.cycles[c].reverse}) {
       const int d = half->direction > 0 ? 0 : 1;
@@ -193,6 +306,7 @@ TrackHistory ComputeTrackHistory(const force::ForceRecord& record,
       ++variances[c];
     }
   }
+  FrictionRows(friction, options.bin_mm, &h);
   PoolWaviness(variance, variances, options.pool_cycles, &h);
   FindSteady(&h, options.steady_tolerance);
   return h;

@@ -449,27 +449,25 @@ void Warn(const force::ForceRecord& record, TestResult* result) {
   if (scan != nullptr && scan->track.low_confidence)
     result->warnings.push_back("the scan's track: " + scan->track.message);
   result->assumptions = Assumptions(record, *result, options);
-  // A spring the data contradict is said first: it changes what is quoted.
+  // A spring the data contradict, or one they cannot tell from an elastic
+  // part, is said first: it changes what is quoted.
   const SpringCheck& spring = result->mismatch.spring;
-  if (spring.contradicted && !scan_doubted) {
+  if (spring.contradicted) {
     result->warnings.insert(result->warnings.begin(),
                             spring.Describe(SpringOrigin(options)));
+  } else if (spring.undecided) {
+    result->warnings.insert(result->warnings.begin(),
+                            spring.DescribeUndecided(SpringOrigin(options)));
   }
 }
 
-// P/S against the track: its elastic part from the track's history, and
-// with a scan that can be this test's the stiffness it implies. Only where
-// k comes from P/S.
+// P/S against the path the friction shows (SpringCheck): the stiffness
+// and an elastic part. Only where k comes from P/S.
 SpringCheck CheckTheSpring(const TestResult& r) {
   if (!r.profile.FromSpring()) return {};
   const FuseOptions& o = r.options;
-  // A scan that may be another test's says nothing of this spring.
-  const Alignment* a = r.scan ? &r.scan->alignment : nullptr;
-  if (a && (a->correlation_noise_corrected < o.verdict.min_correlation ||
-            o.verdict.ScanIsForeign(r.mismatch)))
-    a = nullptr;
   return CheckSpring(r.track_history,
-                     a,
+                     r.force.running_in.cycles,
                      r.window.first,
                      r.window.last,
                      o.analysis.friction.slope.spring_n_per_mm,
@@ -703,6 +701,33 @@ FuseOptions WithStatedSpring(const FuseOptions& options,
   return o;
 }
 
+namespace {
+
+// A test without a scan whose P/S the friction's path scales by a spring
+// other than the one used (or by one it cannot tell from an elastic part):
+// k from P, the only slope, is taken at the stiffness that carries P/S
+// onto the path (both readings leave the path the friction shows), the
+// first pass's finding said first.
+TestResult AtTheFrictionsSpring(const force::ForceRecord& record,
+                                TestResult first) {
+  const SpringCheck& c = first.mismatch.spring;
+  if (!(c.contradicted || c.undecided) ||
+      !first.options.spring_from_friction.empty() ||
+      !(c.ImpliedStiffness() > 0))
+    return first;
+  const std::string how = SpringOrigin(first.options);
+  FuseOptions again = first.options;
+  again.analysis.friction.slope.spring_n_per_mm = c.ImpliedStiffness();
+  again.spring_from_friction =
+      c.contradicted ? c.Describe(how) : c.DescribeUndecided(how);
+  TestResult r =
+      AnalyzeTest(record, std::future<ScanAnalysis>(), first.scan_file, again);
+  r.warnings.insert(r.warnings.begin(), again.spring_from_friction);
+  return r;
+}
+
+}  // namespace
+
 TestResult AnalyzeTest(const force::ForceRecord& record,
                        std::future<ScanAnalysis> prepared_scan,
                        const std::string& scan_file,
@@ -777,6 +802,8 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
                  std::move(history),
                  std::move(lugre),
                  &result);
+  if (!evidence.HasScan())
+    return AtTheFrictionsSpring(record, std::move(result));
   return result;
 }
 

@@ -142,21 +142,27 @@ nlohmann::json ForceFileJson(const force::ForceMetadata& m) {
           {"normal_sign_flipped", m.normal_sign_flipped}};
 }
 
-// P/S against the track (SpringCheck): its elastic share, and with a scan
-// the stiffness it implies (null without one).
+// P/S against the friction's path (SpringCheck): the path ratio, and
+// where the groove's change decides them the stiffness and the elastic
+// share; its premise.
 nlohmann::json SpringJson(const SpringCheck& c) {
   return {
+      {"judged", c.judged},
+      {"path_ratio", c.path_ratio},
+      {"path_ratio_interval", {c.path_ratio_low, c.path_ratio_high}},
+      {"growth", c.growth},
+      {"growth_to_noise", c.growth_to_noise},
       {"elastic_share", c.elastic_share},
       {"elastic_share_interval", {c.elastic_share_low, c.elastic_share_high}},
       {"elastic", c.elastic},
-      {"growth", c.growth},
       {"stiffness_ratio", c.stiffness_ratio},
       {"stiffness_ratio_interval",
        {c.stiffness_ratio_low, c.stiffness_ratio_high}},
       {"used_n_per_mm", c.used_n_per_mm},
       {"implied_n_per_mm", c.ImpliedStiffness()},
       {"implied_interval_n_per_mm", {c.ImpliedLow(), c.ImpliedHigh()}},
-      {"contradicted", c.contradicted}};
+      {"contradicted", c.contradicted},
+      {"undecided", c.undecided}};
 }
 
 // The comparison of the slopes over the compared cycles.
@@ -187,6 +193,7 @@ nlohmann::json ComparisonJson(const TestResult& r) {
   if (r.scan) {
     j["waviness_correlation"] = r.scan->alignment.waviness_correlation;
     j["waviness_to_noise"] = r.scan->alignment.waviness_to_noise;
+    j["track_centre_offset_mm"] = m.centre_offset_mm;
   }
   return j;
 }

@@ -71,6 +71,10 @@ struct FuseOptions {
   // Where the force file states the spring's stiffness and it was not
   // given ("line 3: 'Spring stiffness [N/mm]: 25'"; WithStatedSpring).
   std::string spring_stated;
+  // Set by the pipeline when a test without a scan was analysed again at
+  // the stiffness the friction's path implies (SpringCheck), the first
+  // pass's finding in words; the spring used is then that stiffness.
+  std::string spring_from_friction;
   // mu(x, cycle) along the stroke, raw and corrected for the slope.
   FrictionMapOptions friction_map;
   // h(x, cycle) from P/S: the track's shape under load as it wears.

@@ -1,79 +1,112 @@
 #pragma once
-// Whether the spring displacement P/S is the worn track at the stiffness
-// used. Two things make P/S vary otherwise than the scanned track, and
-// they leave different traces:
-// - a stiffness other than the one used scales every height alike. P/S is
-//   then the worn track times a factor, and, like the worn track, it
-//   starts from nothing: a fresh surface has no groove.
-// - an elastic part (the sphere sinking further into softer wood) needs no
-//   wear: it is there at the first cycle already, and stays.
-// So the P/S profiles of the first cycles, projected on the compared
-// cycles' profile and extrapolated back to the test's start, give the
-// elastic share; what is left of the amplitude ratio against the scan,
-// after the track's growth, is the stiffness's.
+// Whether the spring displacement P/S is the sliding path at the stiffness
+// used. Two things besides the path set P/S's amplitude:
+// - the stiffness: P/S is the path times the rig's stiffness over the one
+//   used;
+// - an elastic part (the sphere sinking further into softer wood): it
+//   moves P without tilting the contact, and needs no wear.
+// The friction tells the path apart from P: on the wear-scar model the
+// two directions at the same x see atan(Q/P) = theta + s atan(mu), so
+// their mean is the contact's inclination whatever the spring and any
+// elastic part (TrackHistory::friction_height_mm). Per cycle c, P/S's
+// profile and the friction's are projected on the compared cycles' P/S
+// profile: p_c = r f_c + e, with r the stiffness ratio and e the elastic
+// part's projection.
+//
+// The split into r and e rests on a premise the data must show: the
+// groove changes during the record (it grows from the first contact; a
+// pre-worn specimen, a resumed test, a record that starts after
+// running-in or a later block of a long test carry theirs from the first
+// cycle). Where f_c's spread does not decide r, only the path ratio
+// rho = p / f over the compared cycles is known, r (1 + elastic part over
+// the worn part). An elastic part is deeper where the wood is softer, as
+// the wear is, so it only adds: rho below 1 is a stiffness (the rig's at
+// most rho S); rho above 1 is a stiffness or an elastic part, and the data
+// cannot tell which (both leave the path the friction and the scan show,
+// so mu-hat with k from the scan stands either way).
 
 #include <cmath>
 #include <string>
+#include <vector>
 
-#include "wearscar/fusion/align.h"
+#include "wearscar/fusion/premise.h"
 #include "wearscar/fusion/track_history.h"
 
 namespace wearscar::fusion {
 
 struct SpringCheckOptions {
-  // The first cycles whose P/S profiles are extrapolated back to the
-  // test's start (a straight line through their projections).
-  int early_cycles = 6;
   // The spring used is contradicted when the 95% interval of the stiffness
-  // ratio lies wholly beyond this factor, either way.
+  // ratio (or of the path ratio, where the growth does not decide) lies
+  // wholly beyond this factor, either way.
   double max_stiffness_ratio = 1.15;
   // P/S carries an elastic part when the lower end of the elastic share's
-  // 95% interval exceeds this.
-  double min_elastic_share = 0.1;
+  // 95% interval exceeds this (the share of the worn track's profile at
+  // the end; the amplitude ratio against the scan's 1.15 before).
+  double min_elastic_share = 0.15;
+  // The growth decides the split when the stiffness ratio's 95% interval
+  // is narrower than this fraction of it on either side, and the friction
+  // profile's change over the cycles stands this many times (in variance)
+  // above its noise.
+  double max_split_width = 0.1;
+  double min_growth_to_noise = 10.0;
   bool IsValid(std::string* why) const;
 };
 
 struct SpringCheck {
-  bool judged = false;  // a spring's profile with enough cycles
-  // The share of the compared cycles' P/S profile already there before any
-  // wear (0: none; 1: all of it), with its 95% interval.
-  double elastic_share = NAN, elastic_share_low = NAN, elastic_share_high = NAN;
-  bool elastic = false;  // the share's lower end above the limit
-  // With a scan: the compared cycles' waviness over the final track's (the
-  // scan shows the track after the last cycle) ...
+  bool judged = false;  // P/S and the friction's profile over enough cycles
+  double used_n_per_mm = NAN;
+  // P/S over the friction's path, projected, over the compared cycles:
+  // r (1 + elastic part / worn part), with its 95% interval.
+  double path_ratio = NAN, path_ratio_low = NAN, path_ratio_high = NAN;
+  // The friction's path over the compared cycles against the last tenth's
+  // (the track the scan shows): how far the groove had grown by them.
   double growth = NAN;
-  // ... and P/S's worn part against the scanned track after that growth:
-  // the rig's stiffness over the one used, with its 95% interval.
+  // The premise of the split (the groove changes during the record), its
+  // check and the figure: the friction profile's variance over the cycles
+  // in its noise's.
+  Premise changing_groove;
+  double growth_to_noise = NAN;
+  // With the premise held: the rig's stiffness over the one used, and the
+  // part of P/S that does not follow the path's growth (the elastic part)
+  // as a share of the worn track's profile at the end (0: none), each with
+  // its 95% interval. NaN otherwise.
   double stiffness_ratio = NAN, stiffness_ratio_low = NAN,
          stiffness_ratio_high = NAN;
-  double used_n_per_mm = NAN;
-  bool contradicted = false;  // the interval wholly beyond the limit
-  double ImpliedStiffness() const { return used_n_per_mm * stiffness_ratio; }
-  double ImpliedLow() const { return used_n_per_mm * stiffness_ratio_low; }
-  double ImpliedHigh() const { return used_n_per_mm * stiffness_ratio_high; }
+  double elastic_share = NAN, elastic_share_low = NAN, elastic_share_high = NAN;
+  // The findings: the stiffness contradicted (the split's ratio, or a path
+  // ratio below the limit where the growth does not decide); an elastic
+  // part; a path ratio above the limit that a stiffness and an elastic part
+  // explain alike (undecided).
+  bool contradicted = false;
+  bool elastic = false;
+  bool undecided = false;
+
+  // The rig's stiffness over the one used: the split's r beside an elastic
+  // part, else the compared cycles' path ratio rho (at most the stiffness's
+  // where the growth does not decide; all of rho when undecided).
+  double StiffnessRatio() const;
+  double ImpliedStiffness() const;
+  double ImpliedLow() const;
+  double ImpliedHigh() const;
   // "the spring's stiffness appears to be 24.6 N/mm (95%: ...), not the
-  // 10.19 N/mm assumed (the default): ..."; `how` names where the used
-  // stiffness came from ("given", "assumed (the default)", "the force file
-  // states").
+  // 10.19 N/mm assumed (the default: not given): ..."; `how` names where
+  // the used stiffness came from.
   std::string Describe(const std::string& how) const;
+  // "cannot tell a spring of 17.3 N/mm from an elastic part of 41% of
+  // P/S: ...; give --spring, or record from the first contact".
+  std::string DescribeUndecided(const std::string& how) const;
+  // "P/S carries an elastic part: 38% of its profile (95% ...) does not
+  // follow the path's growth".
+  std::string DescribeElastic(const std::string& profile_name) const;
 };
 
-// The elastic share alone, from the track's history: the P/S profile of
-// each of the first `early_cycles` cycles (both directions averaged)
-// projected on the mean profile of cycles [first, last] (0-based), a
-// straight line through the projections against the cycle's number,
-// extrapolated to cycle 0. Sets `check` 's elastic fields and `judged`.
-void EstimateElasticShare(const TrackHistory& history,
-                          int first,
-                          int last,
-                          const SpringCheckOptions& options,
-                          SpringCheck* check);
-
-// The whole check: the elastic share, and with an alignment of P/S
-// against the scan (null: none) the stiffness ratio, the amplitude ratio
-// times the worn share over the growth.
+// The check over the compared cycles [first, last] (0-based) of a history
+// that holds the friction's profile, split over the cycles from
+// `steady_from` on (after the running-in: the friction's path needs the
+// same friction on the two passes over a bin, and a running-in changes it
+// between them faster than the cycles' drift tells).
 SpringCheck CheckSpring(const TrackHistory& history,
-                        const Alignment* alignment,
+                        int steady_from,
                         int first,
                         int last,
                         double spring_n_per_mm,

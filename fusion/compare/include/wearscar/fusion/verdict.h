@@ -62,16 +62,17 @@ struct MismatchReport {
   Interval method_difference;
   // The amplitude ratio's 95% interval (Alignment).
   double amplitude_ratio_low = 0.0, amplitude_ratio_high = 0.0;
-  // Whether P/S is the worn track at the stiffness used (k from P only):
-  // an elastic part, there before any wear, or a stiffness the scan
-  // contradicts.
+  // Whether P/S is the path the friction shows at the stiffness used (k
+  // from P only): an elastic part, a stiffness the data contradict, or
+  // one they cannot tell from an elastic part.
   SpringCheck spring;
   // mu-hat with the force side's k is what the verdict judges and the
-  // headline quotes: fitted, and not scaled by a spring the scan
-  // contradicts (then the scan's k is).
+  // headline quotes: fitted, and not scaled by a spring the data
+  // contradict or cannot tell from an elastic part (then the scan's k is,
+  // which needs neither).
   bool JudgesForceSlope() const {
     return cost_force.count > 0 &&
-           !(spring.contradicted && cost_scan.count > 0);
+           !((spring.contradicted || spring.undecided) && cost_scan.count > 0);
   }
 };
 
@@ -154,9 +155,11 @@ struct VerdictOptions {
 struct DataWarningOptions {
   int min_samples_per_stroke = 100;    // per half cycle, for the slope
   double max_fallback_fraction = 0.5;  // half cycles on the central fallback
-  // Warn of an elastic part when the lower end of the amplitude ratio's 95%
-  // interval exceeds this (below the verdict's margin).
-  double elastic_ratio = 1.05;
+  // Warn of an elastic part below the verdict's margin: the lower end of
+  // the share the spring check splits off P/S above this; where it did not
+  // judge P/S (a depth channel's profile), the lower end of the amplitude
+  // ratio against the scan above 1 + this.
+  double elastic_share = 0.05;
   bool IsValid(std::string* why) const;
 };
 

@@ -95,6 +95,12 @@ struct CostSplit {
   // parts); equal to excess when there are too few cycles for it.
   double excess_low = std::numeric_limits<double>::quiet_NaN();
   double excess_high = std::numeric_limits<double>::quiet_NaN();
+  // The excess's part that changes sign with the motion, as friction does
+  // (MuFit::repeat_odd_sq, both directions), with its 95% interval: what
+  // can bias mu-hat. NaN where not split.
+  double odd_excess = std::numeric_limits<double>::quiet_NaN();
+  double odd_excess_low = std::numeric_limits<double>::quiet_NaN();
+  double odd_excess_high = std::numeric_limits<double>::quiet_NaN();
   int cycles = 0;
 };
 CostSplit SplitCost(const std::vector<MuFit>& fits, int first, int last);

@@ -214,4 +214,17 @@ std::vector<std::array<RepeatSplit, 2>> SplitRepeatable(
     const RepeatabilityOptions& options,
     bool two_threads = false);
 
+// The same templates against the other direction's values: [d].repeat is
+// the other direction's values times direction d's template (total 0).
+// With a quantity v = e(x) + s o(x) (e the same in both directions, o
+// changing sign with the motion), SplitRepeatable's repeats less these,
+// over both directions, are 4 sum o^2 and their sum 4 sum e^2 (equal counts
+// per direction): what repeats splits into the part that acts as friction
+// does and the part that acts as a slope does.
+std::vector<std::array<RepeatSplit, 2>> CrossRepeatable(
+    const CycleBins& bins,
+    int min_separation,
+    const RepeatabilityOptions& options,
+    bool two_threads = false);
+
 }  // namespace wearscar::fusion

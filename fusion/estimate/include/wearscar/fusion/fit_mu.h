@@ -74,6 +74,11 @@ struct MuFit {
   // cost^2 ~ floor^2 + excess^2 per direction.
   double cost_floor = kNotComputed;
   double cost_excess = kNotComputed;
+  // Of repeat_sq (per direction, the two averaged), the part that changes
+  // sign with the motion, as friction does (CrossRepeatable): the part
+  // that can bias mu-hat; the rest acts as a slope does and cancels
+  // between the directions.
+  double repeat_odd_sq = kNotComputed;
   // Standard error of mu-hat from the cycle's own residuals (sandwich: J's
   // first-order condition linearised about mu-hat, the scores r dQw/dmu
   // summed in blocks along the stroke with the neighbouring blocks'

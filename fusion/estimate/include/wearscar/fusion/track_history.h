@@ -37,12 +37,22 @@ struct TrackHistory {
   // root of the noise-corrected variance over the two directions and over
   // TrackHistoryOptions::pool_cycles cycles about this one.
   std::vector<double> waviness_sd_mm;
+  // Per cycle: the sliding path's height from the friction alone, at
+  // cycle * bins + bin. On the wear-scar model the two directions at the
+  // same x see atan(Q/P) = theta + s atan(mu), so their mean is the
+  // path's inclination whatever the spring and any elastic part (which
+  // move P, not the contact's tilt); tan(theta) integrated along x, about
+  // its mean. NaN where the two directions did not both slide.
+  std::vector<double> friction_height_mm;
   int steady_cycle = 0;               // 0-based
   double final_waviness_sd_mm = 0.0;  // over the last tenth of the cycles
   double growth_per_cycle_mm = 0.0;   // of the late trend
 
   size_t Index(int cycle, int direction, size_t bin) const {
     return (static_cast<size_t>(cycle) * 2 + direction) * x_mm.size() + bin;
+  }
+  size_t FrictionIndex(int cycle, size_t bin) const {
+    return static_cast<size_t>(cycle) * x_mm.size() + bin;
   }
 };
 

@@ -125,6 +125,12 @@ std::vector<S> ScanAndRigSettings() {
                      "Simulation",
                      "Triangular drive instead of sine",
                      [](R& r) -> bool& { return r.triangle; }),
+      FlagSetting<R>("rigid-sphere",
+                     "Simulation",
+                     "The sphere rides the worn track as a rigid ball (its "
+                     "path bridges what curves tighter than its radius; the "
+                     "scan shows the worn profile)",
+                     [](R& r) -> bool& { return r.rigid_sphere; }),
       {"rig",
        "Simulation",
        "How the ball is loaded: spring (the paper's; P follows the track) or "
@@ -214,6 +220,7 @@ void Override(const SimulationRequest& r,
   if (r.scan_rows > 0) o->scan_rows = r.scan_rows;
   if (r.scan_pitch_mm > 0) o->scan_pitch_mm = r.scan_pitch_mm;
   if (r.triangle) o->drive = Drive::kTriangle;
+  if (r.rigid_sphere) o->rigid_sphere = true;
   if (r.dead_weight) o->rig = Rig::kDeadWeight;
   o->depth_channel =
       r.depth_channel >= 0 ? r.depth_channel == 1 : r.dead_weight;

@@ -106,4 +106,19 @@ Eigen::VectorXd RingPhase(const Eigen::VectorXd& x,
   return p;
 }
 
+std::pair<double, double> StrokeMoments(double amplitude_mm,
+                                        const Eigen::VectorXd& x,
+                                        const Eigen::VectorXd& v) {
+  double m = 0, s2 = 0;
+  int n = 0;
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    if (std::abs(x[i]) <= amplitude_mm) m += v[i], ++n;
+  }
+  m /= n;
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    if (std::abs(x[i]) <= amplitude_mm) s2 += (v[i] - m) * (v[i] - m);
+  }
+  return {m, std::sqrt(s2 / n)};
+}
+
 }  // namespace wearscar::samples::internal

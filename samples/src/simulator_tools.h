@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <random>
+#include <utility>
 
 #include "wearscar/scan/height_map.h"
 #include "wearscar/support/interpolate.h"
@@ -82,5 +83,10 @@ Eigen::VectorXd RingPhase(const Eigen::VectorXd& x,
                           double width_cv,
                           double offset_mm,
                           Rng& widths);
+
+// Mean and sd of v over the stroke (|x| <= amplitude_mm).
+std::pair<double, double> StrokeMoments(double amplitude_mm,
+                                        const Eigen::VectorXd& x,
+                                        const Eigen::VectorXd& v);
 
 }  // namespace wearscar::samples::internal

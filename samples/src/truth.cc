@@ -87,51 +87,13 @@ void ApplyEffectSetting(const std::string& setting, HiddenEffects* effects) {
                   HiddenEffectNames()));
 }
 
-nlohmann::json TruthJson(const SimulationOptions& o, const SimulatedTest& t) {
-  nlohmann::json j;
-  j["case"] = o.name;
-  j["seed"] = o.seed;
-  j["mu_per_cycle"] = std::vector<double>(
-      t.truth.mu_per_cycle.data(),
-      t.truth.mu_per_cycle.data() + t.truth.mu_per_cycle.size());
-  j["explained_by_wear_scar"] = t.truth.explained_by_wear_scar;
-  j["elastic_mm"] = o.elastic_mm;
-  j["elastic_fraction"] =
-      o.elastic_fraction >= 0 ? nlohmann::json(o.elastic_fraction) : nullptr;
-  j["noise"] = {{"scale", o.noise_scale},
-                {"p_noise_n", o.noise_scale * o.p_noise_n},
-                {"q_noise_n", o.noise_scale * o.q_noise_n},
-                {"p_resolution_n", o.p_resolution_n},
-                {"q_resolution_n", o.q_resolution_n}};
-  j["spring_n_per_mm"] = o.spring_n_per_mm;
-  j["rig"] = o.rig == Rig::kSpring ? "spring" : "dead-weight";
-  j["amplitudes"] = {{"force_profile_sd_mm", t.truth.force_profile_sd_mm},
-                     {"force_profile_range_mm", t.truth.force_profile_range_mm},
-                     {"force_profile_range_n",
-                      t.truth.force_profile_range_mm * o.spring_n_per_mm},
-                     {"scan_profile_sd_mm", t.truth.scan_profile_sd_mm},
-                     {"scan_profile_range_mm", t.truth.scan_profile_range_mm}};
-  j["plate_to_pixel"] = {
-      {"note",
-       "col = origin_col + col_per_mm * x, row = origin_row + "
-       "row_per_mm * x; pixel centres at index * pitch"},
-      {"origin_col", t.truth.origin_col},
-      {"origin_row", t.truth.origin_row},
-      {"col_per_mm", t.truth.col_per_mm},
-      {"row_per_mm", t.truth.row_per_mm},
-      {"angle_deg", t.truth.scan_angle_deg},
-      {"flipped", t.truth.scan_flipped}};
-  j["scan"] = {{"pitch_mm", t.truth.scan_pitch_mm},
-               {"cols", o.scan_cols},
-               {"rows", o.scan_rows},
-               {"center_x_mm", t.truth.scan_centre_x_mm},
-               {"center_y_mm", t.truth.scan_centre_y_mm},
-               {"angle_deg", t.truth.scan_angle_deg},
-               {"flipped", t.truth.scan_flipped},
-               {"plane_dzdx", t.truth.plane_dzdx},
-               {"plane_dzdy", t.truth.plane_dzdy},
-               {"plane_z0_mm", t.truth.plane_z0_mm}};
-  const auto& e = o.effects;
+namespace {
+
+// The hidden effects and, with a friction pattern, mu along the track.
+void AddEffects(const HiddenEffects& e,
+                const SimulatedTest& t,
+                nlohmann::json* out) {
+  nlohmann::json& j = *out;
   j["effects"] = {{"ploughing_n_per_mm", e.ploughing_n_per_mm},
                   {"stribeck_rise", e.stribeck_rise},
                   {"stribeck_speed_mm_s", e.stribeck_speed_mm_s},
@@ -165,6 +127,56 @@ nlohmann::json TruthJson(const SimulationOptions& o, const SimulatedTest& t) {
     }
     j["mu_along_track"] = {{"x_mm", x}, {"mu_factor", factor}};
   }
+}
+
+}  // namespace
+
+nlohmann::json TruthJson(const SimulationOptions& o, const SimulatedTest& t) {
+  nlohmann::json j;
+  j["case"] = o.name;
+  j["seed"] = o.seed;
+  j["mu_per_cycle"] = std::vector<double>(
+      t.truth.mu_per_cycle.data(),
+      t.truth.mu_per_cycle.data() + t.truth.mu_per_cycle.size());
+  j["explained_by_wear_scar"] = t.truth.explained_by_wear_scar;
+  j["elastic_mm"] = o.elastic_mm;
+  j["elastic_fraction"] =
+      o.elastic_fraction >= 0 ? nlohmann::json(o.elastic_fraction) : nullptr;
+  j["noise"] = {{"scale", o.noise_scale},
+                {"p_noise_n", o.noise_scale * o.p_noise_n},
+                {"q_noise_n", o.noise_scale * o.q_noise_n},
+                {"p_resolution_n", o.p_resolution_n},
+                {"q_resolution_n", o.q_resolution_n}};
+  j["spring_n_per_mm"] = o.spring_n_per_mm;
+  j["rig"] = o.rig == Rig::kSpring ? "spring" : "dead-weight";
+  if (o.rigid_sphere) j["sphere"] = "rigid";
+  j["amplitudes"] = {{"force_profile_sd_mm", t.truth.force_profile_sd_mm},
+                     {"force_profile_range_mm", t.truth.force_profile_range_mm},
+                     {"force_profile_range_n",
+                      t.truth.force_profile_range_mm * o.spring_n_per_mm},
+                     {"scan_profile_sd_mm", t.truth.scan_profile_sd_mm},
+                     {"scan_profile_range_mm", t.truth.scan_profile_range_mm}};
+  j["plate_to_pixel"] = {
+      {"note",
+       "col = origin_col + col_per_mm * x, row = origin_row + "
+       "row_per_mm * x; pixel centres at index * pitch"},
+      {"origin_col", t.truth.origin_col},
+      {"origin_row", t.truth.origin_row},
+      {"col_per_mm", t.truth.col_per_mm},
+      {"row_per_mm", t.truth.row_per_mm},
+      {"angle_deg", t.truth.scan_angle_deg},
+      {"flipped", t.truth.scan_flipped}};
+  j["scan"] = {{"pitch_mm", t.truth.scan_pitch_mm},
+               {"cols", o.scan_cols},
+               {"rows", o.scan_rows},
+               {"center_x_mm", t.truth.scan_centre_x_mm},
+               {"center_y_mm", t.truth.scan_centre_y_mm},
+               {"angle_deg", t.truth.scan_angle_deg},
+               {"flipped", t.truth.scan_flipped},
+               {"plane_dzdx", t.truth.plane_dzdx},
+               {"plane_dzdy", t.truth.plane_dzdy},
+               {"plane_z0_mm", t.truth.plane_z0_mm}};
+  AddEffects(o.effects, t, &j);
   return j;
 }
 

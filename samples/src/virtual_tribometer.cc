@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <random>
 #include <stdexcept>
 #include <vector>
 
+#include "riding_path.h"
 #include "simulator_tools.h"
 #include "wearscar/samples/effect_laws.h"
 #include "wearscar/support/interpolate.h"
@@ -207,22 +209,6 @@ double Latewood(const SimulationOptions& o, double p) {
              (1.0 / (1.0 + std::exp(p / edge)));
 }
 
-// Mean and sd of v over the stroke (|x| <= amplitude).
-std::pair<double, double> StrokeMoments(const SimulationOptions& o,
-                                        const Eigen::VectorXd& x,
-                                        const Eigen::VectorXd& v) {
-  double m = 0, s2 = 0;
-  int n = 0;
-  for (Eigen::Index i = 0; i < x.size(); ++i) {
-    if (std::abs(x[i]) <= o.amplitude_mm) m += v[i], ++n;
-  }
-  m /= n;
-  for (Eigen::Index i = 0; i < x.size(); ++i) {
-    if (std::abs(x[i]) <= o.amplitude_mm) s2 += (v[i] - m) * (v[i] - m);
-  }
-  return {m, std::sqrt(s2 / n)};
-}
-
 Specimen MakeSpecimen(const SimulationOptions& o, Rng& rng, Rng& extra) {
   const double margin = o.sphere_radius_mm;
   const double step = 0.002;
@@ -262,7 +248,7 @@ Specimen MakeSpecimen(const SimulationOptions& o, Rng& rng, Rng& extra) {
   wear /= wear_sum / nin;
   Eigen::VectorXd elastic =
       GaussianSmooth(stiffness.cwiseInverse(), 1.6 * sigma);
-  const auto [m, sd] = StrokeMoments(o, xg, elastic);
+  const auto [m, sd] = internal::StrokeMoments(o.amplitude_mm, xg, elastic);
   elastic = sd > 0 ? Eigen::VectorXd((elastic.array() - m) / sd)
                    : Eigen::VectorXd::Zero(ng);
   Specimen s;
@@ -272,7 +258,10 @@ Specimen MakeSpecimen(const SimulationOptions& o, Rng& rng, Rng& extra) {
   s.friction =
       Grid{x0, step, FrictionFactor(o, xg, texture, ring_phase, extra)};
   const Eigen::VectorXd teeth = GaussianSmooth(stiffness, sigma);
-  s.teeth = Grid{x0, step, teeth / StrokeMoments(o, xg, teeth).first};
+  s.teeth =
+      Grid{x0,
+           step,
+           teeth / internal::StrokeMoments(o.amplitude_mm, xg, teeth).first};
   // The sd by the one-pass formula the elastic fraction always used.
   double w1 = 0, w2 = 0;
   for (Eigen::Index i = 0; i < ng; ++i) {
@@ -291,8 +280,11 @@ Specimen MakeSpecimen(const SimulationOptions& o, Rng& rng, Rng& extra) {
 struct Schedule {
   const SimulationOptions& o;
   double depth_scale = 0, elastic_sd_mm = 0;
+  // A rigid sphere's path on the worn profile (rigid_sphere only).
+  std::optional<internal::RidingPath> riding;
 
   Schedule(const SimulationOptions& options, const Specimen& s) : o(options) {
+    if (o.rigid_sphere) riding.emplace(o, s.wear_shape);
     depth_scale = o.final_depth_mm / Growth(o.cycles - 1);
     elastic_sd_mm = o.elastic_fraction >= 0
                         ? o.elastic_fraction * depth_scale *
@@ -356,12 +348,15 @@ SlidingBounds ForcesAt(const SimulationOptions& o,
   // Sphere height f = -(worn depth + elastic penetration); the spring turns
   // it into P. The contact tilt k follows the worn (geometric) path only:
   // the elastic part moves the sphere, not the contact plane.
-  const double f = -(depth + schedule.elastic_sd_mm * s.elastic_shape(x));
+  const double elastic = schedule.elastic_sd_mm * s.elastic_shape(x);
+  const auto* path =
+      schedule.riding ? &schedule.riding->At(depth_amp) : nullptr;
+  const double f = path ? path->first(x) - elastic : -(depth + elastic);
   // A dead weight presses with its weight wherever the sphere is.
   const double p =
       o.rig == Rig::kSpring ? pc + o.spring_n_per_mm * f : o.target_normal_n;
   // A wobbling counter-face adds its own tilt to the contact's.
-  const double k = -depth_amp * s.wear_slope(x) +
+  const double k = (path ? path->second(x) : -depth_amp * s.wear_slope(x)) +
                    fx.wobble_rad * std::sin(2 * kPi * fx.wobble_hz * state.t +
                                             state.wobble_phase);
   const double speed = std::abs(v);

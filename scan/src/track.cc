@@ -356,10 +356,12 @@ WearProfile SampleLine(const HeightMap& map,
   const double th = t.angle_deg * kPi / 180.0;
   const double ax = std::cos(th), ay = std::sin(th);
   const int m = band > 0 ? std::max(1, static_cast<int>(across)) : 0;
+  Eigen::VectorXd halves[2] = {Eigen::VectorXd::Constant(n, std::nan("")),
+                               Eigen::VectorXd::Constant(n, std::nan(""))};
   for (int i = 0; i < n; ++i) {
     const double s = s0 + i * step;
-    double sum = 0;
-    int k = 0;
+    double sum = 0, half_sum[2] = {0, 0};
+    int k = 0, half_k[2] = {0, 0};
     for (int j = -m; j <= m; ++j) {
       const double w = m > 0 ? (0.5 * band) * j / m : 0.0;
       const double u = along ? s : fixed, v = along ? fixed + w : s;
@@ -369,16 +371,33 @@ WearProfile SampleLine(const HeightMap& map,
       if (std::isfinite(h)) {
         sum += h;
         ++k;
+        if (j != 0) half_sum[j > 0] += h, ++half_k[j > 0];
       }
     }
     p.s_mm[i] = s;
     p.height_mm[i] = k > 0 ? sum / k : std::nan("");
     p.valid_samples[i] = k;
+    for (int e = 0; e < 2; ++e) {
+      if (half_k[e] > 0) halves[e][i] = half_sum[e] / half_k[e];
+    }
   }
+  if (m > 0) p.noise_variance_mm2 = HalvesNoiseVariance(halves[0], halves[1]);
   return p;
 }
 
 }  // namespace
+
+double HalvesNoiseVariance(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  double sum = 0, sum2 = 0;
+  int n = 0;
+  for (Eigen::Index i = 0; i < std::min(a.size(), b.size()); ++i) {
+    const double d = a[i] - b[i];
+    if (!std::isfinite(d)) continue;
+    sum += d, sum2 += d * d, ++n;
+  }
+  if (n < 2) return 0.0;
+  return std::max(0.0, sum2 / n - (sum / n) * (sum / n)) / 4;
+}
 
 WearProfile ExtractCentreline(const HeightMap& map,
                               const Track& track,

@@ -8,7 +8,7 @@ set -euo pipefail
 wearscar=$1 src=$2 scratch=$3
 if ! command -v chromium > /dev/null 2>&1; then
   echo "skipped: Debian's chromium is not installed (scripts/install-deps test)"
-  exit 0
+  exit 77
 fi
 rm -rf "$scratch"
 mkdir -p "$scratch"

@@ -75,10 +75,10 @@ TEST(MixupStudy, AnotherSpecimensScanIsFlaggedOrSaidUncheckable) {
           checkable += can;
           if (can && !doubted) {
             ++missed;
-            fmt::print("missed: {}: waviness r {:.2f}, misfit {:.1f}\n",
+            fmt::print("missed: {}: waviness r {:.2f}, {:.1f}x its noise\n",
                        what,
                        r.mismatch.waviness_correlation,
-                       r.mismatch.WavinessMisfit());
+                       r.mismatch.waviness_to_noise);
           } else if (!doubted) {
             unsaid += !SaysUncheckable(r);
             EXPECT_TRUE(SaysUncheckable(r)) << what;

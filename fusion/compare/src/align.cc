@@ -78,8 +78,13 @@ bool AlignOptions::IsValid(std::string* why) const {
     if (why) *why = "min_overlap_fraction must be in (0, 1]";
     return false;
   }
-  if (!(waviness_window_mm > 0)) {
-    if (why) *why = "waviness_window_mm must be > 0";
+  if (!(waviness_window_mm > 0) ||
+      !(waviness_shortest_mm >= 0 &&
+        waviness_shortest_mm < waviness_window_mm)) {
+    if (why)
+      *why =
+          "waviness_window_mm must be > 0 and waviness_shortest_mm in [0, "
+          "waviness_window_mm)";
     return false;
   }
   if (ratio_blocks < 3 || ratio_blocks > 100) {
@@ -106,9 +111,11 @@ void ChooseCycles(int n, const ForceProfileOptions& options, ForceProfile* p) {
 }
 
 // P/S binned along x per direction over the compared cycles' gross slip:
-// sums, sums of squares and counts.
+// sums, sums of squares and counts; with `per_cycle`, each cycle's sums
+// and counts too (rows: cycles), whose noise ProfilesFromBins reads.
 struct DirectionBins {
   Eigen::VectorXd sum[2], sum2[2], count[2];
+  Eigen::MatrixXd cycle_sum[2], cycle_count[2];
 };
 
 // `values` / `per_mm` is the height: P and S, or the depth and -1.
@@ -120,9 +127,11 @@ DirectionBins BinHeight(const force::ForceRecord& record,
                         const Eigen::VectorXd& values,
                         double per_mm) {
   const Eigen::Index bins = p.x_mm.size();
+  const Eigen::Index n = p.last_cycle - p.first_cycle + 1;
   DirectionBins b;
   for (int d = 0; d < 2; ++d) {
     b.sum[d] = b.sum2[d] = b.count[d] = Eigen::VectorXd::Zero(bins);
+    b.cycle_sum[d] = b.cycle_count[d] = Eigen::MatrixXd::Zero(n, bins);
   }
   for (int c = p.first_cycle; c <= p.last_cycle; ++c) {
     for (const force::HalfCycle* h :
@@ -137,10 +146,35 @@ DirectionBins BinHeight(const force::ForceRecord& record,
         b.sum[d][k] += f;
         b.sum2[d][k] += f * f;
         b.count[d][k] += 1;
+        b.cycle_sum[d](c - p.first_cycle, k) += f;
+        b.cycle_count[d](c - p.first_cycle, k) += 1;
       }
     }
   }
   return b;
+}
+
+// The noise variance of one bin's mean over the cycles in one direction:
+// the cycles' means' second differences (the track's change over the
+// cycles, linear over three, drops out; a scatter of the samples about
+// their mean would hold it), var = mean(d2^2) / 6, over the cycles that
+// slid through the bin; NaN with fewer than three in a row.
+double BinNoise(const Eigen::MatrixXd& sum,
+                const Eigen::MatrixXd& count,
+                int k) {
+  double s = 0;
+  int triples = 0, cycles = 0;
+  for (Eigen::Index c = 0; c < sum.rows(); ++c) {
+    cycles += count(c, k) > 0;
+    if (c < 2 || count(c, k) == 0 || count(c - 1, k) == 0 ||
+        count(c - 2, k) == 0)
+      continue;
+    const double d2 = sum(c, k) / count(c, k) -
+                      2 * sum(c - 1, k) / count(c - 1, k) +
+                      sum(c - 2, k) / count(c - 2, k);
+    s += d2 * d2, ++triples;
+  }
+  return triples > 0 ? s / triples / 6 / cycles : NAN;
 }
 
 // The profiles per direction and their mean from the bins, and the noise
@@ -152,13 +186,20 @@ void ProfilesFromBins(const DirectionBins& b, ForceProfile* p) {
   p->mean_mm.resize(bins);
   double noise = 0;
   int noise_bins = 0;
+  const bool over_cycles = b.cycle_sum[0].rows() >= 3;
   for (Eigen::Index k = 0; k < bins; ++k) {
     if (b.count[0][k] > 1 && b.count[1][k] > 1) {
       double v = 0;
       for (int d = 0; d < 2; ++d) {
         const double count = b.count[d][k], mean = b.sum[d][k] / count;
-        v += 0.25 * std::max(0.0, b.sum2[d][k] - count * mean * mean) /
-             (count - 1) / count;
+        const double cycles = over_cycles ? BinNoise(b.cycle_sum[d],
+                                                     b.cycle_count[d],
+                                                     static_cast<int>(k))
+                                          : NAN;
+        v += 0.25 * (std::isfinite(cycles)
+                         ? cycles
+                         : std::max(0.0, b.sum2[d][k] - count * mean * mean) /
+                               (count - 1) / count);
       }
       noise += v;
       ++noise_bins;
@@ -330,11 +371,13 @@ namespace {
 struct ScanGrid {
   Eigen::VectorXd h;
   double s0 = 0, step = 0, length = 0;
+  double noise_variance_mm2 = 0;  // the profile's (WearProfile's)
 };
 
 ScanGrid ResampleScan(const scan::WearProfile& sp, double step) {
   ScanGrid g;
   g.step = step;
+  g.noise_variance_mm2 = sp.noise_variance_mm2;
   g.s0 = sp.s_mm[0];
   const double s1 = sp.s_mm[sp.s_mm.size() - 1];
   g.length = s1 - g.s0;
@@ -441,26 +484,63 @@ std::vector<double> HighPass(const std::vector<double>& v, int window) {
   return out;
 }
 
+// v's centred running mean over `window` points (the ends dropped).
+std::vector<double> LowPass(const std::vector<double>& v, int window) {
+  const std::vector<double> high = HighPass(v, window);
+  const int half = window / 2;
+  std::vector<double> out(high.size());
+  for (size_t i = 0; i < high.size(); ++i) out[i] = v[i + half] - high[i];
+  return out;
+}
+
+// The share of white noise's variance a running mean over `smooth` points,
+// less its running mean over `window`, keeps: the sum of the squared
+// weights of that filter.
+double BandNoiseShare(int smooth, int window) {
+  const int hs = smooth / 2, hw = window / 2;
+  std::vector<double> k(2 * (hs + hw) + 1, 0.0);
+  for (int i = -hs; i <= hs; ++i) k[i + hs + hw] += 1.0 / (2 * hs + 1);
+  for (int j = -hw; j <= hw; ++j) {
+    for (int i = -hs; i <= hs; ++i)
+      k[i + j + hs + hw] -= 1.0 / (2 * hs + 1) / (2 * hw + 1);
+  }
+  double sum = 0;
+  for (double w : k) sum += w * w;
+  return sum;
+}
+
 // The waviness's noise-corrected correlation and its variance over the
-// noise's (Alignment::waviness_*): the running mean takes 1 / window of
-// the noise's variance with it.
+// noise's (Alignment::waviness_*), in the band a sphere's contact follows:
+// features shorter than `smooth` points are a sensor's (a P resolution's
+// pattern over the sampled positions, repeated every cycle), those longer
+// than `window` the groove's envelope.
 void Waviness(const std::vector<double>& fs,
               const std::vector<double>& hs,
               double noise_variance,
+              double scan_noise_variance,
+              int smooth,
               int window,
               Alignment* best) {
-  const std::vector<double> f = HighPass(fs, window), h = HighPass(hs, window);
+  const std::vector<double> f = HighPass(LowPass(fs, smooth), window),
+                            h = HighPass(LowPass(hs, smooth), window);
   const int n = static_cast<int>(f.size());
   if (n < 4 * window) return;
   const Moments m = OverlapMoments(f, h, 0, 0);
   if (!(m.vf > 0 && m.vh > 0)) return;
-  const double noise =
-      n * noise_variance * (1.0 - 1.0 / (2 * (window / 2) + 1));
+  const double share = BandNoiseShare(smooth, window);
+  const double noise = n * noise_variance * share;
   const double signal = std::max(0.0, m.vf - noise);
+  // The scan's texture across the track (its band's halves disagree) is
+  // its noise: corrected for as the force profile's is, so a faint
+  // waviness under a rough surface is not taken for another track's.
+  const double scan_signal =
+      std::max(0.0, m.vh - n * scan_noise_variance * share);
   best->waviness_to_noise = noise > 0 ? signal / noise : INFINITY;
   const double r = m.cfh / std::sqrt(m.vf * m.vh);
   best->waviness_correlation =
-      signal > 0 ? std::min(1.0, r * std::sqrt(m.vf / signal)) : NAN;
+      signal > 0 && scan_signal > 0
+          ? std::min(1.0, r * std::sqrt(m.vf / signal * m.vh / scan_signal))
+          : NAN;
 }
 
 // Least-squares scale and offset, the amplitude ratio std(f) / std(h) with
@@ -474,7 +554,10 @@ void ScaleAndRatio(const ForceProfile& fp,
                    const AlignOptions& options,
                    Alignment* best) {
   const int blocks = options.ratio_blocks;
-  std::vector<double> fs, hs;
+  // (The waviness over the bins both directions slid: where one alone
+  // did, near the ends, its mean holds P's drift over the half cycle, a
+  // spring's preload relaxing as the groove deepens, which no scan shows.)
+  std::vector<double> fs, hs, fs_both, hs_both;
   for (Eigen::Index j = 0; j < fp.x_mm.size(); ++j) {
     const double f = fp.mean_mm[j];
     const double hv =
@@ -482,6 +565,8 @@ void ScaleAndRatio(const ForceProfile& fp,
     if (!std::isfinite(f) || !std::isfinite(hv)) continue;
     fs.push_back(f);
     hs.push_back(hv);
+    if (std::isfinite(fp.forward_mm[j]) && std::isfinite(fp.reverse_mm[j]))
+      fs_both.push_back(f), hs_both.push_back(hv);
   }
   const int n = static_cast<int>(fs.size());
   auto ratio = [&](double vf, double vh, int points) {
@@ -501,12 +586,15 @@ void ScaleAndRatio(const ForceProfile& fp,
   best->overlap_samples = n;
   const Eigen::Index bins = fp.x_mm.size();
   const double bin_mm = (fp.x_mm[bins - 1] - fp.x_mm[0]) / (bins - 1);
-  Waviness(fs,
-           hs,
+  auto points = [bin_mm](double mm) {
+    return std::max(1, static_cast<int>(std::lround(mm / bin_mm)) | 1);
+  };
+  Waviness(fs_both,
+           hs_both,
            fp.noise_variance_mm2,
-           std::max(3,
-                    static_cast<int>(
-                        std::lround(options.waviness_window_mm / bin_mm))),
+           g.noise_variance_mm2,
+           points(options.waviness_shortest_mm),
+           std::max(3, points(options.waviness_window_mm)),
            best);
   if (n < 4 * blocks || !(all.vh > 0)) return;
   std::vector<double> r(blocks);

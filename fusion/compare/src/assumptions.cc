@@ -43,11 +43,9 @@ std::string ReadAssumption(const force::ForceMetadata& m) {
                      units.empty() ? "none read" : units);
 }
 
-}  // namespace
-
-std::vector<std::string> Assumptions(const force::ForceRecord& record,
-                                     const TestResult& r,
-                                     const FuseOptions& o) {
+// The spring's stiffness, where it came from, and what P/S against the
+// friction's path says of it (SpringCheck).
+std::string SpringAssumption(const TestResult& r, const FuseOptions& o) {
   const double s = o.analysis.friction.slope.spring_n_per_mm;
   std::string spring =
       !o.spring_from_friction.empty()
@@ -106,7 +104,37 @@ std::vector<std::string> Assumptions(const force::ForceRecord& record,
         c.path_ratio_high,
         100 * std::max(0.0, 1 - 1 / c.path_ratio_high));
   }
-  if (!r.profile.FromSpring()) spring = r.profile.reason;
+  return spring;
+}
+
+// Which of the scan's profiles k from the scan is the slope of, and why.
+std::string ScanPathAssumption(const TestResult& r, const FuseOptions& o) {
+  const Premise& sphere = r.scan->rigid_sphere;
+  if (!r.scan->centreline_used) {
+    return fmt::format(
+        "k from the scan is the slope of the path of a sphere of radius {:g} "
+        "mm riding the scanned track (--sphere-radius); {}",
+        o.sphere.radius_mm,
+        sphere.evidence);
+  }
+  if (!sphere.Failed()) {
+    return "k from the scan is the track centreline's slope (--sphere-radius "
+           "0)";
+  }
+  return fmt::format(
+      "k from the scan is the track centreline's slope, not the path of a "
+      "rigid sphere of radius {:g} mm (the sphere conforms to the track): {}",
+      o.sphere.radius_mm,
+      sphere.evidence);
+}
+
+}  // namespace
+
+std::vector<std::string> Assumptions(const force::ForceRecord& record,
+                                     const TestResult& r,
+                                     const FuseOptions& o) {
+  const std::string spring =
+      r.profile.FromSpring() ? SpringAssumption(r, o) : r.profile.reason;
   std::string slope =
       r.profile.FromDepth()
           ? (r.scan ? "the verdict judges mu-hat with k from the depth "
@@ -117,18 +145,20 @@ std::vector<std::string> Assumptions(const force::ForceRecord& record,
             "profile from the friction; k from P is not used"
       : o.slopes == SlopeChoice::kScan ? "mu-hat with k from the scan alone"
       : r.scan && !r.mismatch.JudgesForceSlope()
-          ? (c.undecided ? "the verdict judges mu-hat with k from the scan: "
-                           "P/S's amplitude is a spring's or an elastic "
-                           "part's, which k from the scan needs neither of"
-                         : "the verdict judges mu-hat with k from the scan: "
-                           "the friction's path contradicts the spring that "
-                           "k from P is divided by")
+          ? (r.mismatch.spring.undecided
+                 ? "the verdict judges mu-hat with k from the scan: "
+                   "P/S's amplitude is a spring's or an elastic "
+                   "part's, which k from the scan needs neither of"
+                 : "the verdict judges mu-hat with k from the scan: "
+                   "the friction's path contradicts the spring that "
+                   "k from P is divided by")
       : r.scan ? "the verdict judges mu-hat with k from P; the scan's k is "
                  "compared with it"
       : r.scan_file.empty() ? "k from P alone (no scan)"
                             : "k from P alone (the scan was not used)";
   std::vector<std::string> said = {
       spring, slope, ReadAssumption(record.metadata), r.force.running_in.rule};
+  if (r.scan) said.push_back(ScanPathAssumption(r, o));
   if (r.scan && r.mismatch.has_scan && !r.mismatch.identity_judged) {
     said.push_back(
         "the scan's identity is not checked against the profile from the "

@@ -40,11 +40,11 @@ bool FuseOptions::IsValid(std::string* why) const {
     return false;
   }
   return analysis.IsValid(why) && level.IsValid(why) && track.IsValid(why) &&
-         profile.IsValid(why) && force_profile.IsValid(why) &&
-         align.IsValid(why) && scan_slope.IsValid(why) &&
-         verdict.IsValid(why) && warnings.IsValid(why) &&
-         spring_check.IsValid(why) && friction_map.IsValid(why) &&
-         track_history.IsValid(why) &&
+         profile.IsValid(why) && sphere.IsValid(why) &&
+         force_profile.IsValid(why) && align.IsValid(why) &&
+         scan_slope.IsValid(why) && verdict.IsValid(why) &&
+         warnings.IsValid(why) && spring_check.IsValid(why) &&
+         friction_map.IsValid(why) && track_history.IsValid(why) &&
          CheckScanSlopeScale(max_scan_slope_scale, why) &&
          CheckAgreements(*this, why);
 }

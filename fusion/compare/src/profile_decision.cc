@@ -172,10 +172,12 @@ std::string FrictionReason(const ProfileDecision& d,
   const std::string why =
       d.given == ProfileSource::kAuto
           ? fmt::format(
-                "{} and P/S varies {:.2f}x the scanned profile (below "
-                "{:.2f}): a dead-weight or force-controlled rig",
+                "{} and P/S varies {:.2f}x {} (below {:.2f}): a "
+                "dead-weight or force-controlled rig",
                 p_says,
                 d.spring_amplitude_ratio,
+                d.ratio_against_friction ? "the path the friction shows"
+                                         : "the scanned profile",
                 o.dead_weight_ratio)
           : std::string("--profile-from friction");
   return fmt::format(
@@ -203,7 +205,10 @@ ProfileSource AutoSource(ProfileEvidence* e,
   }
   if (!e->HasScan() || !std::isfinite(sig) || p_varies)
     return ProfileSource::kSpring;
-  d->spring_amplitude_ratio = e->SpringAmplitudeRatio();
+  d->spring_amplitude_ratio = e->SpringPathRatio();
+  d->ratio_against_friction = std::isfinite(d->spring_amplitude_ratio);
+  if (!d->ratio_against_friction)
+    d->spring_amplitude_ratio = e->SpringAmplitudeRatio();
   return d->spring_amplitude_ratio < o.dead_weight_ratio
              ? ProfileSource::kFriction
              : ProfileSource::kSpring;

@@ -27,17 +27,22 @@ bool SpringCheckOptions::IsValid(std::string* why) const {
   return true;
 }
 
+bool SpringCheck::SplitsTheStiffness() const {
+  return changing_groove.Held() && elastic_share_low > 0;
+}
 double SpringCheck::StiffnessRatio() const {
-  return elastic ? stiffness_ratio : path_ratio;
+  return SplitsTheStiffness() ? stiffness_ratio : path_ratio;
 }
 double SpringCheck::ImpliedStiffness() const {
   return used_n_per_mm * StiffnessRatio();
 }
 double SpringCheck::ImpliedLow() const {
-  return used_n_per_mm * (elastic ? stiffness_ratio_low : path_ratio_low);
+  return used_n_per_mm *
+         (SplitsTheStiffness() ? stiffness_ratio_low : path_ratio_low);
 }
 double SpringCheck::ImpliedHigh() const {
-  return used_n_per_mm * (elastic ? stiffness_ratio_high : path_ratio_high);
+  return used_n_per_mm *
+         (SplitsTheStiffness() ? stiffness_ratio_high : path_ratio_high);
 }
 
 std::string SpringCheck::Describe(const std::string& how) const {
@@ -56,7 +61,7 @@ std::string SpringCheck::Describe(const std::string& how) const {
       !split ? " (the groove did not change during the record, so an "
                "elastic part is not split off; one would make the rig's "
                "stiffness lower still)"
-      : elastic
+      : SplitsTheStiffness()
           ? fmt::format(" as the groove grew, beside an elastic part that "
                         "does not follow the growth ({:.0f}% of the worn "
                         "track's profile)",
@@ -338,6 +343,36 @@ void Split(const Projections& s, const SpringCheckOptions& o, SpringCheck* c) {
 
 }  // namespace
 
+double SpringOverFrictionPath(const TrackHistory& h, int first, int last) {
+  if (h.x_mm.empty() || h.friction_height_mm.empty() || first < 0 ||
+      last >= h.cycles || last - first < 2)
+    return NAN;
+  const std::vector<double> w = MeanRow(h, first, last, SpringRow);
+  const std::vector<double> f = MeanRow(h, first, last, FrictionRow);
+  std::vector<size_t> use;
+  for (size_t b = 0; b < w.size(); ++b) {
+    if (std::isfinite(w[b]) && std::isfinite(f[b])) use.push_back(b);
+  }
+  if (use.size() < 8) return NAN;
+  // The mean path's noise: each bin's scatter over the cycles.
+  const int n = last - first + 1;
+  double noise = 0;
+  for (size_t b : use) {
+    double sum = 0, sum2 = 0;
+    for (int c = first; c <= last; ++c) {
+      const double v = h.friction_height_mm[h.FrictionIndex(c, b)];
+      sum += v, sum2 += v * v;
+    }
+    noise += std::max(0.0, sum2 / n - sum * sum / n / n) / (n - 1);
+  }
+  noise /= use.size();
+  const std::vector<double> df = Detrended(f, h.x_mm, use);
+  double ff = 0;
+  for (double v : df) ff += v * v;
+  if (!(ff / use.size() > 4 * noise)) return NAN;
+  return Projection(w, f, h.x_mm, use);
+}
+
 SpringCheck CheckSpring(const TrackHistory& h,
                         int steady_from,
                         int first,
@@ -392,12 +427,15 @@ SpringCheck CheckSpring(const TrackHistory& h,
   }
   const double limit = o.max_stiffness_ratio;
   if (premise.Held()) {
-    // Without an elastic part the growth resolves, the compared cycles'
-    // path ratio is the stiffness's (the split's slope is the noisier).
+    // The stiffness is contradicted when the split's ratio and the path
+    // ratio both lie beyond the limit: an elastic part below the verdict's
+    // limit raises the path ratio, not the split's.
     c.elastic = c.elastic_share_low > o.min_elastic_share;
-    const double low = c.elastic ? c.stiffness_ratio_low : c.path_ratio_low;
-    const double high = c.elastic ? c.stiffness_ratio_high : c.path_ratio_high;
-    c.contradicted = low > limit || high < 1.0 / limit;
+    auto beyond = [limit](double low, double high) {
+      return low > limit || high < 1.0 / limit;
+    };
+    c.contradicted = beyond(c.stiffness_ratio_low, c.stiffness_ratio_high) &&
+                     beyond(c.path_ratio_low, c.path_ratio_high);
   } else {
     c.contradicted = c.path_ratio_high < 1.0 / limit;
     c.undecided = c.path_ratio_low > limit;

@@ -23,6 +23,73 @@ std::string ProfileDecision::ProfileName() const {
                           : "the spring displacement";
 }
 
+std::vector<Premise> Premises(const TestResult& r) {
+  std::vector<Premise> out;
+  const ProfileDecision& d = r.profile;
+  Premise p;
+  p.rule = "the profile's source";
+  p.statement = "P follows the sphere's height through the loading spring";
+  p.state = d.FromSpring() ? Premise::State::kHeld : Premise::State::kFailed;
+  p.evidence = d.reason;
+  p.otherwise =
+      "the profile is taken from the depth channel or the friction, and k "
+      "from the scan is quoted";
+  out.push_back(p);
+  const SpringCheck& c = r.mismatch.spring;
+  if (d.FromSpring() && !c.changing_groove.statement.empty())
+    out.push_back(c.changing_groove);
+  if (r.scan) {
+    out.push_back(r.scan->rigid_sphere);
+    const MismatchReport& m = r.mismatch;
+    const VerdictOptions& v = r.options.verdict;
+    Premise id;
+    id.rule = "the scan's identity";
+    id.statement =
+        "the track's waviness (its rings and texture) stands above the "
+        "force profile's noise, so another specimen's track would not fit "
+        "as well";
+    id.state = !m.identity_judged       ? Premise::State::kNotChecked
+               : v.IdentityCheckable(m) ? Premise::State::kHeld
+                                        : Premise::State::kFailed;
+    id.evidence = m.identity_judged
+                      ? fmt::format(
+                            "the waviness stands {:.1f}x above its noise in "
+                            "variance (at least {:g}); it correlates at r = "
+                            "{:.2f} (at least {:.2f} for this specimen's scan)",
+                            m.waviness_to_noise,
+                            v.min_waviness_to_noise,
+                            m.waviness_correlation,
+                            v.min_waviness_correlation)
+                      : "not checked against the profile from the friction";
+    id.otherwise =
+        "the scan's identity is not checked (the track's length and centre "
+        "still are)";
+    out.push_back(id);
+  }
+  const CostSplit& split = r.mismatch.JudgesForceSlope()
+                               ? r.mismatch.split_force
+                               : r.mismatch.split_scan;
+  Premise screen;
+  screen.rule = "the screen";
+  screen.statement =
+      "only a repeating misfit that changes sign with the motion biases "
+      "mu-hat; one the same in both directions acts as a slope and cancels";
+  screen.state = std::isfinite(split.odd_excess) ? Premise::State::kHeld
+                                                 : Premise::State::kNotChecked;
+  screen.evidence =
+      std::isfinite(split.odd_excess)
+          ? fmt::format(
+                "of J's excess {:.3f}, {:.3f} changes sign with the "
+                "motion (noise floor {:.3f})",
+                split.excess,
+                split.odd_excess,
+                split.floor)
+          : "the misfit was not split by direction";
+  screen.otherwise = "the whole excess is screened";
+  out.push_back(screen);
+  return out;
+}
+
 std::string Headline(const TestResult& r) {
   const MismatchReport& m = r.mismatch;
   const bool from_p = m.JudgesForceSlope();

@@ -29,8 +29,7 @@ bool VerdictOptions::IsValid(std::string* why) const {
   if (!(max_cost > 0) || !(max_cost_excess > 0) || !(max_amplitude_ratio > 0) ||
       !(min_correlation > -1) || !(max_method_difference > 0) ||
       !(min_waviness_to_noise > 0) || !(min_waviness_correlation > -1) ||
-      !(max_waviness_misfit > 0) || !(track_length_tolerance >= 0) ||
-      !(max_centre_offset > 0)) {
+      !(track_length_tolerance >= 0) || !(max_centre_offset > 0)) {
     if (why) *why = "verdict thresholds must be positive (correlation > -1)";
     return false;
   }
@@ -45,8 +44,7 @@ bool VerdictOptions::IdentityCheckable(const MismatchReport& r) const {
 
 bool VerdictOptions::ScanIsForeign(const MismatchReport& r) const {
   return IdentityCheckable(r) &&
-         (r.waviness_correlation < min_waviness_correlation ||
-          r.WavinessMisfit() > max_waviness_misfit);
+         r.waviness_correlation < min_waviness_correlation;
 }
 
 bool VerdictOptions::TrackLengthDiffers(const MismatchReport& r) const {
@@ -104,13 +102,11 @@ std::string ForeignWaviness(const MismatchReport& r, const VerdictOptions& o) {
   return fmt::format(
       "the scan's waviness (its rings and texture, the groove's shape "
       "removed) correlates with P/S's at r = {:.2f} (corrected for noise; "
-      "limit {:.2f}), leaving {:.1f}x P/S's noise (limit {:g}), although the "
-      "whole profiles correlate at r = {:.2f} (the groove's shape, common to "
-      "every track of a case)",
+      "limit {:.2f}: this specimen's own scan leaves only what the model "
+      "misses of the sphere's path), although the whole profiles correlate "
+      "at r = {:.2f} (the groove's shape, common to every track of a case)",
       r.waviness_correlation,
       o.min_waviness_correlation,
-      r.WavinessMisfit(),
-      o.max_waviness_misfit,
       r.correlation);
 }
 

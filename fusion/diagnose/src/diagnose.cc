@@ -528,10 +528,11 @@ Diagnosis Diagnose(const force::ForceRecord& record,
 
 namespace {
 
-// Of the two effects that scale k (one formula), the one the test's track
-// history supports (SpringCheck): an elastic part does not follow the
-// groove's growth, a stiffness other than the one used scales it. Where
-// the groove did not change, neither is tried: the data cannot tell them
+// Of the two effects that scale k (one formula), the ones the test's
+// track history leaves open (SpringCheck): where the groove's growth splits
+// P/S, the stiffness it measured is tried only when it contradicts the one
+// used, and an elastic part only when the split resolves one; where the
+// groove did not change, neither is tried: the data cannot tell them
 // apart.
 DiagnoseOptions WithTheSpringsEvidence(const TestResult& r, DiagnoseOptions o) {
   const SpringCheck& c = r.mismatch.spring;
@@ -547,22 +548,27 @@ DiagnoseOptions WithTheSpringsEvidence(const TestResult& r, DiagnoseOptions o) {
         c.changing_groove.evidence);
     return o;
   }
-  const std::string share = fmt::format(
-      "an elastic part of {:.0f}% of the worn track's profile (95%: {:.0f} "
-      "to {:.0f}%) does not follow the path's growth",
-      100 * c.elastic_share,
-      100 * c.elastic_share_low,
-      100 * c.elastic_share_high);
-  if (c.elastic) {
+  std::vector<std::string> why;
+  if (!c.contradicted) {
     o.ruled_out.push_back("spring");
-    o.ruled_out_why = "a scale of k is tried as elastic compliance: " + share;
-  } else {
-    o.ruled_out.push_back("elastic");
-    o.ruled_out_why =
-        "a scale of k is tried as the spring's stiffness, not as elastic "
-        "compliance: " +
-        share;
+    why.push_back(fmt::format(
+        "the spring's stiffness is not tried: the groove's growth measures it "
+        "at {:.2f} (95%: {:.2f}-{:.2f}) times the one used",
+        c.stiffness_ratio,
+        c.stiffness_ratio_low,
+        c.stiffness_ratio_high));
   }
+  if (!(c.elastic_share_low > 0)) {
+    o.ruled_out.push_back("elastic");
+    why.push_back(fmt::format(
+        "elastic compliance is not tried: the groove's growth leaves none "
+        "of P/S beside the path (an elastic part of {:.0f}% of the worn "
+        "track's profile, 95%: {:.0f} to {:.0f}%)",
+        100 * c.elastic_share,
+        100 * c.elastic_share_low,
+        100 * c.elastic_share_high));
+  }
+  o.ruled_out_why = fmt::format("{}", fmt::join(why, "; "));
   return o;
 }
 

@@ -36,6 +36,14 @@ struct Prepared {
   double slip_lo = INFINITY, slip_hi = -INFINITY;
 };
 
+// The delay of Q's turn at the chosen cycles' reversals behind x's
+// (DirectEvidence::q_delay_s): the median over the turns, with its
+// standard error; left NaN with fewer than four turns whose stick tells.
+void ReversalDelay(const force::ForceRecord& record,
+                   const force::CycleSet& cycles,
+                   const std::vector<int>& chosen,
+                   DirectEvidence* evidence);
+
 // Fills `p` from the chosen cycles: `depth` (the scan's) or the force
 // side's profile, k per cycle from `friction` or the fixed `slope`.
 void Prepare(const force::ForceRecord& record,

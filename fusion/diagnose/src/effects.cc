@@ -107,6 +107,24 @@ class TimeLag : public Effect {
   void Apply(const double* p, EffectContext* c) const override {
     c->time_shift_s += p[0];
   }
+  // Q must turn late at the reversals by the lag: a fit whose tau the
+  // turns show less than half of (by three standard errors) took another
+  // effect's misfit (sharp friction bands shift the loops as a lag does,
+  // but not the turns).
+  std::string Contradiction(const double* p,
+                            const DirectEvidence& e) const override {
+    const double tau = p[0], seen = e.q_delay_s, se = e.q_delay_se_s;
+    if (!std::isfinite(seen) || !std::isfinite(se) || tau == 0) return {};
+    const double towards = tau > 0 ? seen + 3 * se : -(seen - 3 * se);
+    if (towards >= 0.5 * std::abs(tau)) return {};
+    return fmt::format(
+        "Q turns at the reversals {:.2f} +- {:.2f} ms behind x (the median "
+        "over {} turns), not the {:.2f} ms fitted",
+        1e3 * seen,
+        1e3 * se,
+        e.reversals,
+        1e3 * tau);
+  }
 };
 
 // Crosstalk of Q into the P channel: P_measured = P + c Q, which also

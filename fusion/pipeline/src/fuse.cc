@@ -34,10 +34,70 @@ std::vector<double> ScanSlopeScale(const TrackHistory& history,
   return scale;
 }
 
+// How closely an alignment's scan profile follows the force side's: the
+// waviness's correlation where it stands above its noise (what tells one
+// track from another), else the whole profiles'.
+double Follows(const Alignment& a, const VerdictOptions& v) {
+  return a.waviness_to_noise >= v.min_waviness_to_noise &&
+                 std::isfinite(a.waviness_correlation)
+             ? a.waviness_correlation
+             : a.correlation_noise_corrected;
+}
+
+// The premise that a rigid sphere of the radius given rides the scanned
+// track, checked on which path the force side follows: the sphere's (kept
+// unless the centreline follows it closer by more than `margin`) or the
+// centreline's (a sphere that conforms to the track: k from the
+// centreline, said).
+void ChoosePath(const FuseOptions& options, ScanAnalysis* s) {
+  Premise& p = s->rigid_sphere;
+  p.rule = "k from the scan";
+  p.statement = fmt::format(
+      "a rigid sphere of radius {:g} mm rides the scanned track (its path, "
+      "not the centreline, tilts the contact)",
+      options.sphere.radius_mm);
+  p.otherwise =
+      "k from the scan is the centreline's slope: the force side's path "
+      "follows the centreline, as a sphere that conforms to the track does";
+  if (options.sphere.radius_mm <= 0) {
+    p.evidence = "not checked: --sphere-radius 0 takes the centreline";
+    s->centreline_used = true;
+    return;
+  }
+  Alignment centre;
+  try {
+    centre = AlignProfiles(s->force_profile, s->centreline, options.align);
+  } catch (const FusionError&) {
+    p.state = Premise::State::kHeld;
+    p.evidence = "the centreline could not be aligned";
+    return;
+  }
+  constexpr double kMargin = 0.02;
+  const double sphere = Follows(s->alignment, options.verdict);
+  const double line = Follows(centre, options.verdict);
+  p.evidence = fmt::format(
+      "the force side's path follows the sphere's at r = {:.3f}, the "
+      "centreline at r = {:.3f} ({})",
+      sphere,
+      line,
+      s->alignment.waviness_to_noise >= options.verdict.min_waviness_to_noise
+          ? "the waviness, corrected for noise"
+          : "the whole profiles: the waviness is within its noise");
+  if (line > sphere + kMargin) {
+    p.state = Premise::State::kFailed;
+    s->profile = s->centreline;
+    s->alignment = centre;
+    s->centreline_used = true;
+  } else {
+    p.state = Premise::State::kHeld;
+    if (line > sphere - kMargin) s->centreline_alignment = centre;
+  }
+}
+
 // The force side's profile over the compared cycles (the last N, none of
 // the running-in) from `source`, aligned with the prepared scan's
-// centreline. Throws FusionError naming both files when they cannot be
-// aligned.
+// sphere path or centreline (ChoosePath). Throws FusionError naming both
+// files when they cannot be aligned.
 ScanAnalysis AlignScan(const force::ForceRecord& record,
                        const ForceAnalysis& force,
                        ScanAnalysis s,
@@ -62,6 +122,7 @@ ScanAnalysis AlignScan(const force::ForceRecord& record,
                                 fpo);
   try {
     s.alignment = AlignProfiles(s.force_profile, s.profile, options.align);
+    ChoosePath(options, &s);
   } catch (const FusionError& e) {
     // Name both files and the figures that decide the overlap: a wrong
     // pixel size shrinks the scan, a wrong x unit stretches the stroke.
@@ -139,12 +200,14 @@ class PipelineEvidence : public ProfileEvidence {
                    const ForceAnalysis& segmented,
                    const AnalysisOptions& analysis,
                    const FuseOptions& options,
-                   std::future<ScanAnalysis> prepared)
+                   std::future<ScanAnalysis> prepared,
+                   std::shared_future<TrackHistory> history = {})
       : record_(record),
         segmented_(segmented),
         analysis_(analysis),
         options_(options),
-        has_scan_(prepared.valid()) {
+        has_scan_(prepared.valid()),
+        history_(std::move(history)) {
     // (The scan's thread holds `this`.)
     if (!has_scan_) return;
     const bool spring_sure =
@@ -193,6 +256,12 @@ class PipelineEvidence : public ProfileEvidence {
   double DepthAgreement() override {
     return fusion::DepthAgreement(record_, segmented_);
   }
+  double SpringPathRatio() override {
+    if (!history_.valid()) return NAN;
+    const ForceProfileOptions last = LastCycles();
+    return SpringOverFrictionPath(
+        history_.get(), last.first_cycle, last.last_cycle);
+  }
   double SpringAmplitudeRatio() override {
     const ScanSide& side = AlignedWithSpring();
     return side.spring ? side.spring->alignment.amplitude_ratio : NAN;
@@ -230,6 +299,18 @@ class PipelineEvidence : public ProfileEvidence {
     std::exception_ptr align_error;
   };
 
+  // The last cycles after running-in, as AlignScan compares (at most
+  // ForceProfileOptions::cycles).
+  ForceProfileOptions LastCycles() const {
+    ForceProfileOptions o = options_.force_profile;
+    const int n = static_cast<int>(segmented_.cycles.cycles.size());
+    if (o.first_cycle < 0 && n > 0) {
+      o.first_cycle =
+          std::max(n - o.cycles, std::min(segmented_.running_in.cycles, n - 1));
+      o.last_cycle = n - 1;
+    }
+    return o;
+  }
   ForceAnalysis& SpringFit() {
     if (!spring_fit_) {
       spring_fit_ = segmented_;
@@ -275,6 +356,7 @@ class PipelineEvidence : public ProfileEvidence {
   const AnalysisOptions& analysis_;
   const FuseOptions& options_;
   const bool has_scan_;
+  std::shared_future<TrackHistory> history_;
   std::optional<ForceAnalysis> spring_fit_;
   std::future<ScanSide> scan_side_;
   std::optional<ScanSide> side_;
@@ -334,6 +416,48 @@ struct ScanSideBeside {
   std::optional<Wear> wear;
 };
 
+// Where the profiles follow both paths alike (ChoosePath), the loops
+// decide: mu-hat is fitted with each path's slope, and the one whose J
+// over the quoted cycles is the lower kept (the tilt that reproduces Q).
+void LetTheLoopsChoose(const force::ForceRecord& record,
+                       const TestResult& result,
+                       const TrackHistory* history,
+                       ScanAnalysis* s) {
+  const FuseOptions& o = result.options;
+  ScanAnalysis c;
+  c.profile = s->centreline;
+  c.alignment = *s->centreline_alignment;
+  c.slope = ScanSlopeOverTheStroke(record, result.force, o, c);
+  FitScanSide(record, result.force, o, history, s);
+  FitScanSide(record, result.force, o, history, &c);
+  const CycleWindow w = QuotedWindow(result, s);
+  auto mean_j = [&w](const std::vector<MuFit>& fits) {
+    double sum = 0;
+    int n = 0;
+    for (int k = w.first; k <= w.last && k < static_cast<int>(fits.size());
+         ++k) {
+      if (fits[k].converged) sum += fits[k].cost, ++n;
+    }
+    return n > 0 ? sum / n : INFINITY;
+  };
+  const double sphere = mean_j(s->fit_scan), line = mean_j(c.fit_scan);
+  Premise& p = s->rigid_sphere;
+  p.evidence += fmt::format(
+      "; the profiles follow both alike, so the loops decide: J {:.3f} with "
+      "the sphere's path, {:.3f} with the centreline",
+      sphere,
+      line);
+  s->centreline_alignment.reset();
+  if (!(line < sphere)) return;
+  p.state = Premise::State::kFailed;
+  s->profile = s->centreline;
+  s->alignment = c.alignment;
+  s->slope = std::move(c.slope);
+  s->fit_scan = std::move(c.fit_scan);
+  s->slope_scale = std::move(c.slope_scale);
+  s->centreline_used = true;
+}
+
 // The scan side aligned with the decided profile, or why it was not used:
 // a scan that cannot serve (no track, no overlap with the stroke) does not
 // lose the test; the force side stands, with a warning that says why
@@ -348,6 +472,14 @@ ScanSideBeside AddScanSide(const force::ForceRecord& record,
   try {
     ScanAnalysis s = evidence->TakeAlignedScan(d);
     s.slope = ScanSlopeOverTheStroke(record, result->force, o, s);
+    // The spring's history scales the scan's slope only where P is the
+    // profile.
+    const TrackHistory* history = o.scan_slope_history && d.FromSpring()
+                                      ? &result->track_history
+                                      : nullptr;
+    const bool fitted =
+        s.centreline_alignment.has_value() && o.slopes != SlopeChoice::kForce;
+    if (fitted) LetTheLoopsChoose(record, *result, history, &s);
     // What needs the scan's slope and track, not its fit: beside the fit
     // (which reads the slope, and writes only its fits and scale).
     std::future<ScanSideBeside> made = std::async(
@@ -367,14 +499,7 @@ ScanSideBeside AddScanSide(const force::ForceRecord& record,
           b.wear = MeasureWear(record, result->force.cycles, s.track);
           return b;
         });
-    // The spring's history scales the scan's slope only where P is the
-    // profile.
-    FitScanSide(record,
-                result->force,
-                o,
-                o.scan_slope_history && d.FromSpring() ? &result->track_history
-                                                       : nullptr,
-                &s);
+    if (!fitted) FitScanSide(record, result->force, o, history, &s);
     try {
       beside = made.get();
     } catch (...) {
@@ -509,7 +634,14 @@ ScanAnalysis PrepareScan(scan::HeightMap map, const FuseOptions& options) {
   } catch (const scan::NoTrackError& e) {
     throw NoTrackInMap(e, std::move(map));
   }
-  s.profile = scan::ExtractCentreline(map, s.track, options.profile);
+  s.centreline = scan::ExtractCentreline(map, s.track, options.profile);
+  if (options.sphere.radius_mm > 0) {
+    scan::SpherePathOptions sphere = options.sphere;
+    sphere.extend_mm = options.profile.extend_mm;
+    s.profile = scan::SpherePath(map, s.track, sphere);
+  } else {
+    s.profile = s.centreline;
+  }
   s.levelled = std::move(map);
   return s;
 }
@@ -614,7 +746,7 @@ void AnalyzeDecided(const force::ForceRecord& record,
                     AnalysisOptions ao,
                     std::future<std::vector<force::PeriodicLine>> lines,
                     std::future<FrictionMap> map,
-                    std::future<TrackHistory> history,
+                    std::shared_future<TrackHistory> history,
                     std::future<std::optional<LugreFit>> lugre,
                     TestResult* result) {
   const FuseOptions& o = result->options;
@@ -717,6 +849,8 @@ TestResult AtTheFrictionsSpring(const force::ForceRecord& record,
     return first;
   const std::string how = SpringOrigin(first.options);
   FuseOptions again = first.options;
+  again.spring_before_friction_n_per_mm =
+      first.options.analysis.friction.slope.spring_n_per_mm;
   again.analysis.friction.slope.spring_n_per_mm = c.ImpliedStiffness();
   again.spring_from_friction =
       c.contradicted ? c.Describe(how) : c.DescribeUndecided(how);
@@ -762,7 +896,7 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
   // not change: beside it too.
   const std::launch beside =
       result.options.parallel ? std::launch::async : std::launch::deferred;
-  std::future<TrackHistory> history = std::async(
+  std::shared_future<TrackHistory> history = std::async(
       beside,
       [&record,
        &segmented,
@@ -788,7 +922,7 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
   if (!record.has_depth())
     map = StartFrictionMap(record, segmented, result.options);
   PipelineEvidence evidence(
-      record, segmented, ao, result.options, std::move(prepared_scan));
+      record, segmented, ao, result.options, std::move(prepared_scan), history);
   result.profile = DecideProfile(&evidence, result.options);
   FrictionFitOptions& friction = result.options.analysis.friction;
   friction.k_from_depth = result.profile.FromDepth();
@@ -799,7 +933,7 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
                  ao,
                  std::move(lines),
                  std::move(map),
-                 std::move(history),
+                 history,
                  std::move(lugre),
                  &result);
   if (!evidence.HasScan())

@@ -535,6 +535,14 @@ std::vector<S> LevelSettings() {
           0,
           100,
           [](T& t) -> double& { return t.fuse.profile.band_width_mm; }),
+      NumberSetting<T>(
+          "sphere-radius",
+          g,
+          "Radius of the sphere that rides the track, mm: k from the scan is "
+          "the slope of its path on the scanned surface (0: the centreline's)",
+          0,
+          999,
+          [](T& t) -> double& { return t.fuse.sphere.radius_mm; }),
       ChoiceSetting(
           "scan-derivative",
           g,

@@ -115,7 +115,7 @@ TestProducts MakeTestProducts(const std::string& name,
   add("cost_curve.csv", internal::CostCurveTable(r.detail));
   if (r.scan) {
     add("profiles.csv", internal::ProfileTable(*r.scan));
-    add("centreline.csv", internal::CentrelineTable(r.scan->profile));
+    add("centreline.csv", internal::CentrelineTable(r.scan->centreline));
   }
   if (r.lugre) add("lugre.csv", internal::LugreTable(*r.lugre, r.detail));
   if (viewer.valid())

@@ -58,7 +58,13 @@ nlohmann::json ScanOptionsJson(const FuseOptions& o);
 nlohmann::json OptionsJson(const force::ForceRecord& record,
                            const FuseOptions& o) {
   const auto& f = o.analysis.friction;
-  return {{"spring_n_per_mm", f.slope.spring_n_per_mm},
+  // The spring as given (or the default), and as used: the stiffness the
+  // friction's path implies when a test without a scan was analysed again
+  // at it.
+  const bool again = o.spring_before_friction_n_per_mm > 0;
+  return {{"spring_n_per_mm",
+           again ? o.spring_before_friction_n_per_mm : f.slope.spring_n_per_mm},
+          {"spring_used_n_per_mm", f.slope.spring_n_per_mm},
           {"k_estimate", KEstimateName(f.k_estimate)},
           {"ensemble_cycles", f.ensemble.cycles},
           {"ensemble_bin_mm", f.ensemble.bin_mm},
@@ -109,6 +115,7 @@ nlohmann::json ScanOptionsJson(const FuseOptions& o) {
           {"spike_kernel_px", o.spikes.kernel},
           {"track", track},
           {"band_mm", o.profile.band_width_mm},
+          {"sphere_radius_mm", o.sphere.radius_mm},
           {"centreline_extend_mm", o.profile.extend_mm},
           {"scan_derivative", force::DerivativeMethodName(o.scan_slope.method)},
           {"scan_window_samples", o.scan_slope.window},
@@ -163,6 +170,33 @@ nlohmann::json SpringJson(const SpringCheck& c) {
       {"implied_interval_n_per_mm", {c.ImpliedLow(), c.ImpliedHigh()}},
       {"contradicted", c.contradicted},
       {"undecided", c.undecided}};
+}
+
+// Where the force side's profile came from, given and used, and why.
+nlohmann::json ProfileJson(const ProfileDecision& d) {
+  return {{"given", ProfileSourceName(d.given)},
+          {"source", ProfileSourceName(d.used)},
+          {"why", d.reason},
+          {"depth_sign", d.depth_sign},
+          {"p_slope_significance", d.p_slope_significance},
+          {"depth_against_friction", d.depth_agreement},
+          {"spring_against_depth", d.spring_depth_agreement},
+          {d.ratio_against_friction ? "spring_against_friction_path"
+                                    : "spring_against_scan",
+           d.spring_amplitude_ratio}};
+}
+
+// What each rule rested on and how it fared on the data (Premises).
+nlohmann::json PremisesJson(const TestResult& r) {
+  nlohmann::json premises = nlohmann::json::array();
+  for (const Premise& p : Premises(r)) {
+    premises.push_back({{"rule", p.rule},
+                        {"premise", p.statement},
+                        {"state", p.StateName()},
+                        {"evidence", p.evidence},
+                        {"otherwise", p.otherwise}});
+  }
+  return premises;
 }
 
 // The comparison of the slopes over the compared cycles.
@@ -410,17 +444,11 @@ nlohmann::json ResultJson(const std::string& name,
   j["wear"] = WearJson(r.wear);
   j["friction_map"] = FrictionMapJson(r, o);
   j["track_history"] = TrackHistoryJson(r, o);
+  j["premises"] = PremisesJson(r);
   if (r.scan) j["scan"] = ScanJson(*r.scan);
   if (r.lugre) j["lugre"] = LugreJson(r);
   j["headline"] = Headline(r);
-  j["profile"] = {{"given", ProfileSourceName(r.profile.given)},
-                  {"source", ProfileSourceName(r.profile.used)},
-                  {"why", r.profile.reason},
-                  {"depth_sign", r.profile.depth_sign},
-                  {"p_slope_significance", r.profile.p_slope_significance},
-                  {"depth_against_friction", r.profile.depth_agreement},
-                  {"spring_against_depth", r.profile.spring_depth_agreement},
-                  {"spring_against_scan", r.profile.spring_amplitude_ratio}};
+  j["profile"] = ProfileJson(r.profile);
   if (r.mismatch.spring.judged) j["spring"] = SpringJson(r.mismatch.spring);
   j["verdict"] = {
       {"explained", r.verdict.explained},

@@ -15,7 +15,7 @@ namespace {
 struct FakeEvidence : ProfileEvidence {
   bool depth = false, scan = false, fitted = true;
   double significance = 20, spring_depth = NAN, depth_friction = NAN,
-         ratio = NAN;
+         ratio = NAN, path_ratio = NAN;
   std::set<std::string> asked;
 
   bool HasDepthChannel() const override { return depth; }
@@ -36,6 +36,10 @@ struct FakeEvidence : ProfileEvidence {
   double DepthAgreement() override {
     asked.insert("depth-friction");
     return depth_friction;
+  }
+  double SpringPathRatio() override {
+    asked.insert("path ratio");
+    return path_ratio;
   }
   double SpringAmplitudeRatio() override {
     asked.insert("ratio");
@@ -90,6 +94,30 @@ TEST(DecideProfile, ADeadWeightWithAScanTakesTheFriction) {
   EXPECT_EQ(DecideProfile(&e, o).used, ProfileSource::kSpring);
   o.dead_weight_significance = 10;
   EXPECT_EQ(DecideProfile(&e, o).used, ProfileSource::kFriction);
+}
+
+// Where the friction shows the path, P/S is judged against it, not
+// against the scan (whose ratio rests on its alignment): a spring rig on a
+// faint track keeps its spring whatever a scan of another specimen says,
+// and a dead weight is told by P/S against the friction's path alone.
+TEST(DecideProfile, TheFrictionsPathDecidesADeadWeightBeforeTheScan) {
+  FakeEvidence e;
+  e.scan = true;
+  e.significance = 2.3;
+  e.ratio = 0.08;  // a misaligned scan
+  e.path_ratio = 1.02;
+  ProfileDecision d = DecideProfile(&e, FuseOptions{});
+  EXPECT_EQ(d.used, ProfileSource::kSpring);
+  EXPECT_EQ(d.spring_amplitude_ratio, 1.02);
+  EXPECT_TRUE(d.ratio_against_friction);
+  EXPECT_EQ(e.asked.count("ratio"), 0u);
+  e.path_ratio = 0.03;
+  d = DecideProfile(&e, FuseOptions{});
+  EXPECT_EQ(d.used, ProfileSource::kFriction);
+  EXPECT_TRUE(Has(d.reason,
+                  "P/S varies 0.03x the path the friction shows (below "
+                  "0.20): a dead-weight"))
+      << d.reason;
 }
 
 // A depth channel: taken when P is noise, or when P varies but not with

@@ -25,8 +25,9 @@ struct SimulationRequest {
   double ring_width_cv = -1;         // rings of varying width (sd / mean)
   std::vector<std::string> effects;  // name=value
   bool triangle = false;
-  bool dead_weight = false;  // --rig dead-weight
-  int depth_channel = -1;    // --depth-channel on|off; -1: on a dead weight
+  bool rigid_sphere = false;  // the sphere rides the track as a rigid ball
+  bool dead_weight = false;   // --rig dead-weight
+  int depth_channel = -1;     // --depth-channel on|off; -1: on a dead weight
   long seed = -1;
 };
 

@@ -102,6 +102,11 @@ struct SimulationOptions {
   double control_gain = 0.5;  // fraction of the mean error removed per cycle
   double contact_stiffness_n_per_mm = 150.0;  // tangential (Jenkins element)
   double sphere_radius_mm = 3.25;
+  // The sphere rides the worn track as a rigid ball: its path is the worn
+  // profile dilated by the sphere (it bridges what curves tighter than
+  // 1/R), and P/S and the contact's tilt follow that path while the scan
+  // shows the worn profile. false: the sphere follows the worn profile.
+  bool rigid_sphere = false;
   // Specimen along the stroke.
   bool across_rings = true;  // R sliding crosses earlywood/latewood
   double ring_period_mm = 1.6;

@@ -83,7 +83,16 @@ struct WearProfile {
   Eigen::VectorXi valid_samples;  // samples behind each point
   double band_width_mm = 0.0;
   double step_mm = 0.0;
+  // The variance of height_mm that the surface's texture across the band
+  // leaves (the band's two halves' difference over the profile, a
+  // quarter of its variance): 0 without a band.
+  double noise_variance_mm2 = 0.0;
 };
+
+// A quarter of the variance of the two halves' difference, per point (NaN
+// where a half is missing): the noise variance of their mean.
+double HalvesNoiseVariance(const Eigen::VectorXd& first_half,
+                           const Eigen::VectorXd& second_half);
 
 struct ProfileOptions {
   double step_mm = 0.0;        // 0 = the scan pitch

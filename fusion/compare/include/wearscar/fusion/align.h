@@ -22,8 +22,9 @@ struct ForceProfile {
   Eigen::VectorXd
       mean_mm;  // mean of the two directions (either when one is NaN)
   int first_cycle = 0, last_cycle = 0;  // inclusive range used
-  // Variance of mean_mm that the noise leaves (the scatter of the samples
-  // in a bin over their count), averaged over the bins, mm^2.
+  // Variance of mean_mm that the noise leaves, averaged over the bins: per
+  // bin and direction, from the second differences of the cycles' means
+  // (the track's change over the cycles is no noise), over the cycles.
   double noise_variance_mm2 = 0.0;
 };
 
@@ -111,6 +112,11 @@ struct AlignOptions {
   bool allow_flip = true;
   int ratio_blocks = 10;  // jackknife blocks for the amplitude ratio's interval
   double waviness_window_mm = 0.4;  // Alignment::waviness_correlation
+  // The waviness's shortest wavelength: P/S's features shorter than a
+  // twentieth of a millimetre are no track's (a sphere's contact spans a
+  // millimetre) but a sensor's resolution over positions each cycle
+  // samples alike.
+  double waviness_shortest_mm = 0.05;
   bool IsValid(std::string* why) const;
 };
 

@@ -14,6 +14,7 @@
 #include "wearscar/fusion/track_history.h"
 #include "wearscar/fusion/verdict.h"
 #include "wearscar/scan/level.h"
+#include "wearscar/scan/sphere_path.h"
 #include "wearscar/scan/track.h"
 
 namespace wearscar::fusion {
@@ -50,6 +51,10 @@ struct FuseOptions {
     p.extend_mm = 0.5;
     return p;
   }();
+  // The sphere's path along the track from the scan (SpherePath): what
+  // the scan's side aligns and takes k from; radius 0 takes the
+  // centreline instead.
+  scan::SpherePathOptions sphere;
   ForceProfileOptions force_profile;
   AlignOptions align;
   // Derivative of the scan profile (window in scan samples): quadratic
@@ -75,6 +80,7 @@ struct FuseOptions {
   // the stiffness the friction's path implies (SpringCheck), the first
   // pass's finding in words; the spring used is then that stiffness.
   std::string spring_from_friction;
+  double spring_before_friction_n_per_mm = 0.0;  // the one used before that
   // mu(x, cycle) along the stroke, raw and corrected for the slope.
   FrictionMapOptions friction_map;
   // h(x, cycle) from P/S: the track's shape under load as it wears.

@@ -36,8 +36,11 @@ class ProfileEvidence {
   // SpringDepthAgreement and DepthAgreement of the record.
   virtual double SpringDepthAgreement() = 0;
   virtual double DepthAgreement() = 0;
-  // P/S's amplitude against the scanned profile once aligned
-  // (Alignment::amplitude_ratio; NaN when the scan cannot be aligned).
+  // P/S's amplitude against the path the friction shows over the last
+  // cycles after running-in (SpringOverFrictionPath; NaN on a flat track),
+  // and against the scanned profile once aligned (Alignment::
+  // amplitude_ratio; NaN when the scan cannot be aligned).
+  virtual double SpringPathRatio() = 0;
   virtual double SpringAmplitudeRatio() = 0;
 };
 
@@ -49,7 +52,9 @@ class ProfileEvidence {
 //   profile follows the depth's by less than spring_depth_agreement (Q's
 //   crosstalk into P on a dead weight).
 // - auto with a scan: the friction when P's slope is insignificant and P/S
-//   varies less than dead_weight_ratio of the scanned profile.
+//   varies less than dead_weight_ratio of the path the friction shows (of
+//   the scanned profile where the friction's path is flat: the scan's
+//   ratio rests on its alignment, which another specimen's scan upsets).
 // - the depth is turned over (depth_sign -1) when its profile runs against
 //   the friction's by more than depth_turn_agreement.
 // Throws FusionError for a source given that the data cannot give.

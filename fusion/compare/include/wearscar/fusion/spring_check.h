@@ -81,9 +81,12 @@ struct SpringCheck {
   bool elastic = false;
   bool undecided = false;
 
-  // The rig's stiffness over the one used: the split's r beside an elastic
-  // part, else the compared cycles' path ratio rho (at most the stiffness's
-  // where the growth does not decide; all of rho when undecided).
+  // The rig's stiffness over the one used: the split's r where the split
+  // resolves an elastic part (its share's interval above 0), else the
+  // compared cycles' path ratio rho (the split's slope is the noisier; at
+  // most the stiffness where the growth does not decide; all of rho when
+  // undecided).
+  bool SplitsTheStiffness() const;
   double StiffnessRatio() const;
   double ImpliedStiffness() const;
   double ImpliedLow() const;
@@ -111,5 +114,12 @@ SpringCheck CheckSpring(const TrackHistory& history,
                         int last,
                         double spring_n_per_mm,
                         const SpringCheckOptions& options);
+
+// P/S's mean profile over cycles [first, last] against the path the
+// friction shows over them, projected on the latter (each less its line in
+// x): about 1 on a spring rig at its stiffness, about 0 on a dead weight
+// (P constant, the height not in it). NaN where the friction's path does
+// not stand out of its noise four times in variance (a flat track).
+double SpringOverFrictionPath(const TrackHistory& history, int first, int last);
 
 }  // namespace wearscar::fusion

@@ -17,6 +17,7 @@
 #include "wearscar/fusion/friction_map.h"
 #include "wearscar/fusion/fuse_options.h"
 #include "wearscar/fusion/lugre.h"
+#include "wearscar/fusion/premise.h"
 #include "wearscar/fusion/track_history.h"
 #include "wearscar/fusion/verdict.h"
 #include "wearscar/fusion/wear.h"
@@ -43,11 +44,14 @@ struct ProfileDecision {
   // The figures the choice read (NaN where it did not need them): P's
   // repeatable slope in its standard errors; the depth's profile against
   // the friction's; P/S's profile against the depth's; P/S's amplitude
-  // against the scanned profile.
+  // against the friction's path or the scanned profile.
   double p_slope_significance = std::numeric_limits<double>::quiet_NaN();
   double depth_agreement = std::numeric_limits<double>::quiet_NaN();
   double spring_depth_agreement = std::numeric_limits<double>::quiet_NaN();
   double spring_amplitude_ratio = std::numeric_limits<double>::quiet_NaN();
+  // Whether that ratio is against the path the friction shows (else the
+  // scanned profile).
+  bool ratio_against_friction = false;
   // Why, in words (result.json profile.why, the assumptions).
   std::string reason;
 
@@ -74,7 +78,19 @@ struct ScanAnalysis {
   scan::LevelSummary level;
   int spikes_removed = 0;
   scan::Track track;
+  // The sphere's path along the track (SpherePath; the centreline with
+  // FuseOptions::sphere.radius_mm 0): what is aligned and gives k_scan.
   scan::WearProfile profile;
+  scan::WearProfile centreline;
+  // Whether the force side's path follows a rigid sphere's path on the
+  // scanned surface or the centreline (a sphere that conforms to the
+  // track), judged on the waviness (ChoosePath); `profile` is the one
+  // followed.
+  Premise rigid_sphere;
+  bool centreline_used = false;
+  // Where the profiles leave the choice open (both followed alike), the
+  // centreline's alignment, for the loops to decide (AddScanSide).
+  std::optional<Alignment> centreline_alignment;
   // P/S, the depth channel's or the friction's (TestResult::profile.used).
   ForceProfile force_profile;
   Alignment alignment;
@@ -136,6 +152,11 @@ struct TestResult {
   // model beside LuGre (paper Figs. 10-12, 17).
   DetailCycle detail;
 };
+
+// What the test's rules rested on and how each premise fared on its data
+// (result.json premises): the profile's source, the spring check's split,
+// the sphere's path, the scan's identity, the screen.
+std::vector<Premise> Premises(const TestResult& result);
 
 // The one line to read first: the coefficient to quote, how it was got
 // and the verdict ("mu = 0.1443 (95%: 0.1436-0.1449): mu-hat, k from P,

@@ -47,9 +47,17 @@ const char* ParityName(Parity p);  // "odd", "even", "mixed"
 // P follow the direction of sliding), with its standard error; measured
 // only where k comes from P (a servo holding the load would hold the
 // measured P).
+// And the delay of Q's turn at the reversals behind x's (ReversalDelay):
+// in the stick that follows a reversal Q follows x through the contact's
+// tangential stiffness, so a lag of the Q channel shows there as Q
+// following x of that much earlier, while friction varying along the
+// track changes nothing there.
 struct DirectEvidence {
   double crosstalk_from_p = std::nan("");
   double crosstalk_from_p_se = std::nan("");
+  double q_delay_s = std::nan("");
+  double q_delay_se_s = std::nan("");
+  int reversals = 0;  // the turns q_delay_s is the median of
 };
 
 // A named physical term with parameters. Adding an effect to wearscar is

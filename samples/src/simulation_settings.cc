@@ -125,6 +125,13 @@ std::vector<S> ScanAndRigSettings() {
                      "Simulation",
                      "Triangular drive instead of sine",
                      [](R& r) -> bool& { return r.triangle; }),
+      IntOverride("record-from",
+                  "The record starts at this cycle of the test (a pre-worn "
+                  "or resumed specimen, a later block of a long test; "
+                  "default 0: from the first contact)",
+                  0,
+                  100000,
+                  &R::record_from),
       FlagSetting<R>("rigid-sphere",
                      "Simulation",
                      "The sphere rides the worn track as a rigid ball (its "
@@ -221,6 +228,7 @@ void Override(const SimulationRequest& r,
   if (r.scan_pitch_mm > 0) o->scan_pitch_mm = r.scan_pitch_mm;
   if (r.triangle) o->drive = Drive::kTriangle;
   if (r.rigid_sphere) o->rigid_sphere = true;
+  if (r.record_from >= 0) o->record_from_cycle = r.record_from;
   if (r.dead_weight) o->rig = Rig::kDeadWeight;
   o->depth_channel =
       r.depth_channel >= 0 ? r.depth_channel == 1 : r.dead_weight;

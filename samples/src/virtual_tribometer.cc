@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "record_from.h"
 #include "riding_path.h"
 #include "simulator_tools.h"
 #include "wearscar/samples/effect_laws.h"
@@ -65,6 +66,8 @@ bool SimulationOptions::IsValid(std::string* why) const {
   }
   if (cycles < 2 || cycles > 100000)
     return fail("cycles must be in [2, 100000]");
+  if (record_from_cycle < 0 || record_from_cycle > 100000)
+    return fail("record_from_cycle must be in [0, 100000]");
   if (static_cast<double>(cycles + 1) * sampling_rate_hz / frequency_hz > 2e8) {
     return fail("more than 2e8 samples requested");
   }
@@ -763,6 +766,7 @@ SimulatedTest Simulate(const SimulationOptions& o) {
   std::string why;
   if (!o.IsValid(&why))
     throw std::invalid_argument("simulation options: " + why);
+  if (o.record_from_cycle > 0) return internal::SimulateFrom(o);
   // The random numbers are drawn in this order (specimen, sensors, scanner):
   // the committed samples depend on it.
   Rng rng(o.seed);

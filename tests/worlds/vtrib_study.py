@@ -48,7 +48,7 @@ class World:
     def test(self, case, seed, noise, history, extra=()):
         """The folder of one simulated test (made once, kept in the cache)."""
         args = ["--case", case, "--cycles", str(self.cycles), "--seed", str(seed),
-                "--noise", str(noise)] + HISTORIES[history] + list(extra)
+                "--noise", str(noise)] + HISTORIES[history] + list(extra)  # (a later --cycles in extra wins)
         key = hashlib.sha1(" ".join(args).encode()).hexdigest()[:16]
         folder = os.path.join(self.cache, key)
         with self.lock:
@@ -168,6 +168,66 @@ def foreign(world, cases, seeds, noises, tally):
     return [(c, h, n, s) for c in cases for h in HISTORIES for n in noises for s in seeds], one
 
 
+def cut(world, seeds, noises, tally):
+    """A test of 80 cycles cut after cycle 30 (its force file's rows from
+    t = 30 s on, a resumed test's or a later block's), the second part
+    analysed alone with the scan: explained, its mu-hat within the whole
+    test's 95% interval."""
+    def one(job):
+        case, history, noise, seed = job
+        folder = world.test(case, seed, noise, history, ["--cycles", "80"])
+        whole = world.fuse(folder, case, os.path.join(folder, case + "_Height.csv"))
+        part_dir = os.path.join(folder, "second-part")
+        os.makedirs(part_dir, exist_ok=True)
+        with open(os.path.join(folder, case + "_force.csv")) as src, \
+                open(os.path.join(part_dir, case + "_force.csv"), "w") as dst:
+            dst.write(src.readline())
+            for line in src:
+                if float(line.split(",", 1)[0]) >= 30.0:
+                    dst.write(line)
+        for name in (case + "_truth.json",):
+            with open(os.path.join(folder, name)) as a, open(os.path.join(part_dir, name), "w") as b:
+                truth = json.load(a)
+                truth["mu_per_cycle"] = truth["mu_per_cycle"][30:]
+                json.dump(truth, b)
+        part = world.fuse(part_dir, case, os.path.join(folder, case + "_Height.csv"))
+        low, high = whole["comparison"]["mu_hat_force"]["interval95"]
+        mu = part["mu"]
+        what = f"{case} {history} noise {noise}: whole {whole['headline'][:60]} | part {part['headline'][:90]}"
+        tally.add("cut after cycle 30: the second part explained, within the whole's interval",
+                  part["verdict"]["explained"] and mu is not None and low - 1e-4 <= mu <= high + 1e-4, what)
+    return [(c, h, n, s) for c in ["B-RT-R", "S-RT-T"] for h in HISTORIES for n in noises for s in seeds], one
+
+
+def diagnoses(world, full, tally):
+    """`wearscar diagnose` on friction that follows the wood's hardness
+    (sharp latewood bands) and on a lag of the Q channel (12 ms)."""
+    rates = ["500", "2000"]
+    drives = ["sine", "triangle"]
+    jobs = [("muvar", d, fs) for d in drives for fs in rates] + [("lag", "sine", "2000"), ("lag", "triangle", "2000")]
+    def one(job):
+        effect, drive, fs = job
+        folder = world.test("B-RT-R", 1, 1, "start", ["--effect", effect, "--drive", drive, "--fs", fs])
+        out = os.path.join(folder, "diagnosis")
+        done = subprocess.run([world.binary, "diagnose", os.path.join(folder, "B-RT-R_force.csv"),
+                               "--quiet", "-o", out], capture_output=True, text=True)
+        if done.returncode != 0:
+            raise RuntimeError(done.stderr)
+        with open(os.path.join(out, "diagnosis.json")) as f:
+            d = json.load(f)
+        named = d.get("named", [])
+        what = f"B-RT-R {effect} {drive} {fs} Hz: named {named}"
+        if effect == "muvar":
+            tally.add("bands: friction along the track named first",
+                      bool(named) and named[0] == "friction varying along the track", what)
+            tally.add("bands: never a time lag", "time lag of the Q channel" not in named, what)
+        else:
+            taus = [m["parameters"][0] for m in d.get("model", []) if m.get("effect") == "time lag of the Q channel"]
+            ok = bool(taus) and abs(taus[0] / 0.012 - 1) <= 0.25
+            tally.add("lag: named, tau within 25% of 12 ms", ok, f"{what}, tau {taus}")
+    return jobs, one
+
+
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -194,7 +254,9 @@ def main():
     studies = [clean(world, cases, seeds, noises, tally, errors),
                springs(world, ["B-RT-R", "S-RT-T"], seeds, noises if a.full else [1], tally, errors),
                elastic(world, seeds, noises if a.full else [1], tally),
-               foreign(world, cases, seeds, noises, tally)]
+               foreign(world, cases, seeds, noises, tally),
+               cut(world, seeds, noises if a.full else [1], tally),
+               diagnoses(world, a.full, tally)]
     with ThreadPoolExecutor(a.jobs) as pool:
         for jobs, one in studies:
             list(pool.map(one, jobs))

@@ -16,11 +16,12 @@ bool SpringCheckOptions::IsValid(std::string* why) const {
   if (!(max_stiffness_ratio > 1) ||
       !(min_elastic_share > 0 && min_elastic_share < 1) ||
       !(max_split_width > 0 && max_split_width < 1) ||
-      !(min_growth_to_noise > 1)) {
+      !(min_growth_to_noise > 1) || !(max_q_delay_s > 0)) {
     if (why) {
       *why =
           "spring check: max_stiffness_ratio must be > 1, min_elastic_share "
-          "and max_split_width in (0, 1), min_growth_to_noise > 1";
+          "and max_split_width in (0, 1), min_growth_to_noise > 1, "
+          "max_q_delay_s > 0";
     }
     return false;
   }
@@ -390,6 +391,29 @@ SpringCheck CheckSpring(const TrackHistory& h,
   if (h.cycles < 6 || h.x_mm.empty() || h.friction_height_mm.empty() ||
       first < 0 || last >= h.cycles || last - first < 2)
     return c;
+  Premise& in_time = c.q_in_time;
+  in_time.rule = "spring check";
+  in_time.statement =
+      "Q is in time with x and P (the friction's path averages the two "
+      "directions at the same x)";
+  in_time.otherwise =
+      "the spring and an elastic part are not judged: a lag of the Q channel "
+      "shifts the two directions' friction apart; `wearscar diagnose` "
+      "measures it";
+  const force::TurnDelay& turn = h.q_turn;
+  if (std::isfinite(turn.delay_s)) {
+    in_time.evidence = fmt::format(
+        "Q turns at the reversals {:.2f} ms (+-{:.2f}) behind x, the median "
+        "over {} turns (at most {:g} ms)",
+        1e3 * turn.delay_s,
+        1e3 * turn.delay_se_s,
+        turn.turns,
+        1e3 * o.max_q_delay_s);
+    const bool late =
+        std::abs(turn.delay_s) - 2 * turn.delay_se_s > o.max_q_delay_s;
+    in_time.state = late ? Premise::State::kFailed : Premise::State::kHeld;
+    if (late) return c;
+  }
   const Projections s =
       Project(h, std::clamp(steady_from, 0, first), first, last);
   if (s.p.size() < 6 || !(s.shape_correlation > 0.5)) {

@@ -36,6 +36,8 @@ std::vector<Premise> Premises(const TestResult& r) {
       "from the scan is quoted";
   out.push_back(p);
   const SpringCheck& c = r.mismatch.spring;
+  if (d.FromSpring() && !c.q_in_time.statement.empty())
+    out.push_back(c.q_in_time);
   if (d.FromSpring() && !c.changing_groove.statement.empty())
     out.push_back(c.changing_groove);
   if (r.scan) {

@@ -536,6 +536,15 @@ namespace {
 // apart.
 DiagnoseOptions WithTheSpringsEvidence(const TestResult& r, DiagnoseOptions o) {
   const SpringCheck& c = r.mismatch.spring;
+  if (!c.judged && c.q_in_time.Failed()) {
+    o.ruled_out.push_back("spring");
+    o.ruled_out.push_back("elastic");
+    o.ruled_out_why =
+        "a scale of k is not tried: the spring check could not "
+        "judge P/S against the friction's path, " +
+        c.q_in_time.evidence;
+    return o;
+  }
   if (!c.judged) return o;
   if (!c.changing_groove.Held()) {
     o.ruled_out.push_back("spring");

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "wearscar/force/slope.h"
+#include "wearscar/force/turn_delay.h"
 #include "wearscar/fusion/error.h"
 
 namespace wearscar::fusion::internal {
@@ -257,65 +258,18 @@ DirectEvidence ChannelEvidence(const Eigen::MatrixXd& p,
   return e;
 }
 
-// One reversal's delay: over the stick after it (the half's first
-// samples, to its gross slip), the shift d (samples, within +-reach) for
-// which Q = a + b x(t - d) fits best, refined by a parabola; NaN where the
-// stick is too short to tell.
-double TurnDelay(const force::ForceRecord& r,
-                 Eigen::Index begin,
-                 Eigen::Index end,
-                 int reach) {
-  const Eigen::Index n = end - begin;
-  if (n < 5 || begin - reach < 0 || end + reach > r.size()) return NAN;
-  std::vector<double> cost(2 * reach + 1, INFINITY);
-  for (int d = -reach; d <= reach; ++d) {
-    double sx = 0, sq = 0, sxx = 0, sxq = 0, sqq = 0;
-    for (Eigen::Index i = begin; i < end; ++i) {
-      const double x = r.x_mm[i - d], q = r.tangential_n[i];
-      sx += x, sq += q, sxx += x * x, sxq += x * q, sqq += q * q;
-    }
-    const double vx = sxx - sx * sx / n, cxq = sxq - sx * sq / n;
-    const double vq = sqq - sq * sq / n;
-    if (vx > 0) cost[d + reach] = vq - cxq * cxq / vx;
-  }
-  const int best = static_cast<int>(std::min_element(cost.begin(), cost.end()) -
-                                    cost.begin());
-  if (best == 0 || best == 2 * reach || !std::isfinite(cost[best])) return NAN;
-  const double a = cost[best - 1], b = cost[best], c = cost[best + 1];
-  const double denominator = a - 2 * b + c;
-  const double frac = denominator > 0 ? 0.5 * (a - c) / denominator : 0.0;
-  return best - reach + frac;
-}
-
 }  // namespace
 
 void ReversalDelay(const force::ForceRecord& record,
                    const force::CycleSet& cycles,
                    const std::vector<int>& chosen,
                    DirectEvidence* e) {
-  if (record.size() < 2) return;
-  const double dt = (record.time_s[record.size() - 1] - record.time_s[0]) /
-                    static_cast<double>(record.size() - 1);
-  if (!(dt > 0)) return;
-  const int reach = std::clamp(static_cast<int>(0.03 / dt), 2, 400);
-  std::vector<double> delays;
-  for (int c : chosen) {
-    for (const force::HalfCycle* h :
-         {&cycles.cycles[c].forward, &cycles.cycles[c].reverse}) {
-      const double d = TurnDelay(record, h->begin, h->slip_begin, reach);
-      if (std::isfinite(d)) delays.push_back(d * dt);
-    }
-  }
-  if (delays.size() < 4) return;
-  std::sort(delays.begin(), delays.end());
-  const size_t n = delays.size();
-  const double median = delays[n / 2];
-  double ss = 0;
-  for (double d : delays) ss += (d - median) * (d - median);
-  e->q_delay_s = median;
-  // The median's standard error, 1.2533 sd / sqrt(n) for a normal scatter.
-  e->q_delay_se_s = 1.2533 * std::sqrt(ss / (n - 1)) / std::sqrt(double(n));
-  e->reversals = static_cast<int>(n);
+  if (chosen.empty()) return;
+  const auto [lo, hi] = std::minmax_element(chosen.begin(), chosen.end());
+  const force::TurnDelay t = force::MeasureTurnDelay(record, cycles, *lo, *hi);
+  e->q_delay_s = t.delay_s;
+  e->q_delay_se_s = t.delay_se_s;
+  e->reversals = t.turns;
 }
 
 void Prepare(const force::ForceRecord& record,

@@ -307,6 +307,7 @@ TrackHistory ComputeTrackHistory(const force::ForceRecord& record,
     }
   }
   FrictionRows(friction, options.bin_mm, &h);
+  h.q_turn = force::MeasureTurnDelay(record, cycles, 0, h.cycles - 1);
   PoolWaviness(variance, variances, options.pool_cycles, &h);
   FindSteady(&h, options.steady_tolerance);
   return h;

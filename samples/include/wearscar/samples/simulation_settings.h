@@ -26,6 +26,7 @@ struct SimulationRequest {
   std::vector<std::string> effects;  // name=value
   bool triangle = false;
   bool rigid_sphere = false;  // the sphere rides the track as a rigid ball
+  int record_from = -1;       // the record starts at this cycle of the test
   bool dead_weight = false;   // --rig dead-weight
   int depth_channel = -1;     // --depth-channel on|off; -1: on a dead weight
   long seed = -1;

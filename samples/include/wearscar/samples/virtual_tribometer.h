@@ -88,6 +88,11 @@ struct SimulationOptions {
   double frequency_hz = 1.0;
   double sampling_rate_hz = 2000.0;
   int cycles = 600;
+  // The record starts at this cycle of the test (0: at its first contact):
+  // a pre-worn specimen, a resumed test, a record that starts after
+  // running-in or a later block of a long test. The groove and friction
+  // are the recorded cycles', the scan the test's end; time restarts at 0.
+  int record_from_cycle = 0;
   double target_normal_n = 30.0;   // cycle mean held by a slow control
   double spring_n_per_mm = 10.19;  // S
   Rig rig = Rig::kSpring;          // kDeadWeight: P = target_normal_n

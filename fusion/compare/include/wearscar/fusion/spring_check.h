@@ -49,6 +49,10 @@ struct SpringCheckOptions {
   // above its noise.
   double max_split_width = 0.1;
   double min_growth_to_noise = 10.0;
+  // The friction's path needs Q in time with x: judged only where Q turns
+  // at the reversals within this of x (the lower end of the delay's 95%
+  // interval; 1 ms shifts the passes by 2 x 18 um at the paper's speed).
+  double max_q_delay_s = 0.001;
   bool IsValid(std::string* why) const;
 };
 
@@ -65,6 +69,8 @@ struct SpringCheck {
   // check and the figure: the friction profile's variance over the cycles
   // in its noise's.
   Premise changing_groove;
+  // Q in time with x (TrackHistory::q_turn): failed, nothing is judged.
+  Premise q_in_time;
   double growth_to_noise = NAN;
   // With the premise held: the rig's stiffness over the one used, and the
   // part of P/S that does not follow the path's growth (the elastic part)

@@ -5,6 +5,7 @@
 
 #include "wearscar/force/cycles.h"
 #include "wearscar/force/force_record.h"
+#include "wearscar/force/turn_delay.h"
 
 namespace wearscar::fusion {
 
@@ -44,6 +45,9 @@ struct TrackHistory {
   // move P, not the contact's tilt); tan(theta) integrated along x, about
   // its mean. NaN where the two directions did not both slide.
   std::vector<double> friction_height_mm;
+  // How late Q turns at the reversals behind x (a lag of the Q channel),
+  // over every cycle: the friction's path needs Q in time with x.
+  force::TurnDelay q_turn;
   int steady_cycle = 0;               // 0-based
   double final_waviness_sd_mm = 0.0;  // over the last tenth of the cycles
   double growth_per_cycle_mm = 0.0;   // of the late trend

@@ -4,8 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <vector>
 
 #include "wearscar/support/student_t.h"
@@ -342,6 +340,33 @@ void Split(const Projections& s, const SpringCheckOptions& o, SpringCheck* c) {
   c->elastic_share_high = c->elastic_share + T975(n_eff) * se_share;
 }
 
+// The premise that Q is in time with x: false (and the premise failed)
+// where Q turns at the reversals later than the options allow.
+bool QInTime(const force::TurnDelay& turn,
+             const SpringCheckOptions& o,
+             Premise* in_time) {
+  in_time->rule = "spring check";
+  in_time->statement =
+      "Q is in time with x and P (the friction's path averages the two "
+      "directions at the same x)";
+  in_time->otherwise =
+      "the spring and an elastic part are not judged: a lag of the Q channel "
+      "shifts the two directions' friction apart; `wearscar diagnose` "
+      "measures it";
+  if (!std::isfinite(turn.delay_s)) return true;
+  in_time->evidence = fmt::format(
+      "Q turns at the reversals {:.2f} ms (+-{:.2f}) behind x, the median "
+      "over {} turns (at most {:g} ms)",
+      1e3 * turn.delay_s,
+      1e3 * turn.delay_se_s,
+      turn.turns,
+      1e3 * o.max_q_delay_s);
+  const bool late =
+      std::abs(turn.delay_s) - 2 * turn.delay_se_s > o.max_q_delay_s;
+  in_time->state = late ? Premise::State::kFailed : Premise::State::kHeld;
+  return !late;
+}
+
 }  // namespace
 
 double SpringOverFrictionPath(const TrackHistory& h, int first, int last) {
@@ -391,29 +416,7 @@ SpringCheck CheckSpring(const TrackHistory& h,
   if (h.cycles < 6 || h.x_mm.empty() || h.friction_height_mm.empty() ||
       first < 0 || last >= h.cycles || last - first < 2)
     return c;
-  Premise& in_time = c.q_in_time;
-  in_time.rule = "spring check";
-  in_time.statement =
-      "Q is in time with x and P (the friction's path averages the two "
-      "directions at the same x)";
-  in_time.otherwise =
-      "the spring and an elastic part are not judged: a lag of the Q channel "
-      "shifts the two directions' friction apart; `wearscar diagnose` "
-      "measures it";
-  const force::TurnDelay& turn = h.q_turn;
-  if (std::isfinite(turn.delay_s)) {
-    in_time.evidence = fmt::format(
-        "Q turns at the reversals {:.2f} ms (+-{:.2f}) behind x, the median "
-        "over {} turns (at most {:g} ms)",
-        1e3 * turn.delay_s,
-        1e3 * turn.delay_se_s,
-        turn.turns,
-        1e3 * o.max_q_delay_s);
-    const bool late =
-        std::abs(turn.delay_s) - 2 * turn.delay_se_s > o.max_q_delay_s;
-    in_time.state = late ? Premise::State::kFailed : Premise::State::kHeld;
-    if (late) return c;
-  }
+  if (!QInTime(h.q_turn, o, &c.q_in_time)) return c;
   const Projections s =
       Project(h, std::clamp(steady_from, 0, first), first, last);
   if (s.p.size() < 6 || !(s.shape_correlation > 0.5)) {
@@ -434,21 +437,6 @@ SpringCheck CheckSpring(const TrackHistory& h,
   c.growth = MeanWithin(s, s.f, first, last).first /
              MeanWithin(s, s.f, tail_first, h.cycles - 1).first;
   Split(s, o, &c);
-  if (std::getenv("WEARSCAR_DEBUG_SPRING")) {
-    for (size_t i = 0; i < s.p.size(); ++i)
-      std::fprintf(stderr, "%d %.5f %.5f\n", s.cycle[i], s.p[i], s.f[i]);
-    std::fprintf(stderr, "shape r %.3f\n", s.shape_correlation);
-    for (int cc : {1, 5, 20, h.cycles - 2}) {
-      const std::vector<double> p = SpringRow(h, cc), f = FrictionRow(h, cc);
-      std::fprintf(stderr, "P/S %d:", cc);
-      for (size_t b = 0; b < p.size(); b += 4)
-        std::fprintf(stderr, " %.1f", 1000 * p[b]);
-      std::fprintf(stderr, "\nfri %d:", cc);
-      for (size_t b = 0; b < p.size(); b += 4)
-        std::fprintf(stderr, " %.1f", 1000 * f[b]);
-      std::fprintf(stderr, "\n");
-    }
-  }
   const double limit = o.max_stiffness_ratio;
   if (premise.Held()) {
     // The stiffness is contradicted when the split's ratio and the path

@@ -267,8 +267,11 @@ class Watch {
     if (!live_ && follower_.started()) {
       force::ForceRecord head;
       head.metadata = follower_.metadata();
+      fusion::LiveOptions live = a_.live;
+      // A test that ends after --until-cycles is planned that long.
+      if (live.planned_cycles == 0) live.planned_cycles = a_.until_cycles;
       live_ = std::make_unique<fusion::LiveAnalysis>(
-          fusion::WithStatedSpring(settings_.fuse, head), a_.live);
+          fusion::WithStatedSpring(settings_.fuse, head), live);
     }
     if (!live_) return;
     if (got.rows.size() > 0) {
@@ -456,6 +459,12 @@ void AddWatchCommand(CLI::App& app) {
                   "Steady: said once both have held on this many successive "
                   "cycles (5; at most --steady-cycles)")
       ->check(CLI::Range(1, 100000));
+  cmd->add_option("--planned-cycles",
+                  args->live.planned_cycles,
+                  "Steady: the test's planned length; the trend since the "
+                  "running-in over the cycles left must stay within the band "
+                  "(default: as many cycles again as have run)")
+      ->check(CLI::Range(0, 100000000));
   cmd->add_option("--max-depth",
                   args->live.max_depth_mm,
                   "Alert when the track's depth from the spring (P/S peak to "

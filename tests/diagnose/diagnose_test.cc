@@ -110,12 +110,14 @@ INSTANTIATE_TEST_SUITE_P(
                    false,
                    true},
             // A first-order sensor, which on the loops is the library's
-            // delay (HiddenEffects.QLagIsADelayOnTheLoops): this checks the
-            // delay is found, not that the two are told apart.
+            // delay (HiddenEffects.QLagIsADelayOnTheLoops): its time
+            // constant is the delay fitted (within 25%, as docs/method.md
+            // says), and the reversals' turns show it.
             Hidden{"lag_first_order_sensor",
                    "time lag of the Q channel",
                    0.003,
-                   [](samples::HiddenEffects* e, double v) { e->q_lag_s = v; }},
+                   [](samples::HiddenEffects* e, double v) { e->q_lag_s = v; },
+                   true},
             Hidden{"crosstalk",
                    "crosstalk of Q into P",
                    0.05,
@@ -334,23 +336,33 @@ TEST_P(DiagnoseNoEffect, NamesNothing) {
   EXPECT_TRUE(d.lines.empty()) << d.lines.front().Describe();
 }
 
-// Effects outside the library end in "none of these" or in nothing named,
-// never in a wrong name: adhesion grown at each reversal's dwell, a
-// counter-face wobbling at its own rate, mu drifting as the specimen warms.
+// Effects outside the library are never given a wrong name. Adhesion grown
+// at each reversal's dwell repeats at the same x every cycle: the
+// diagnosis sees it and says none of these. A counter-face wobbling at its
+// own rate (0.73 Hz against the drive's 1 Hz) and mu drifting as the
+// specimen warms leave no residual that repeats at the same x (the wobble
+// averages over the cycles, the drift is each cycle's mu-hat): the
+// diagnosis says the residual does not repeat, and names nothing.
 class DiagnoseOutsideTheLibrary
     : public ::testing::TestWithParam<std::tuple<const char*, double>> {};
 
 TEST_P(DiagnoseOutsideTheLibrary, NamesNothingWrong) {
   samples::SimulationOptions o = samples::PaperCase("S-RT-R");
   o.noise_scale = std::get<1>(GetParam());
-  samples::ApplyEffectSetting(std::get<0>(GetParam()), &o.effects);
+  const std::string setting = std::get<0>(GetParam());
+  samples::ApplyEffectSetting(setting, &o.effects);
   const Diagnosis d = DiagnoseSimulated(o);
   EXPECT_TRUE(d.named.empty()) << d.message;
-  if (d.unexplained) {
+  if (setting.rfind("dwell", 0) == 0) {
+    EXPECT_TRUE(d.unexplained) << d.message;
     EXPECT_NE(d.message.find("none of these: a repeatable residual that no "
                              "effect in the library explains"),
               std::string::npos)
         << d.message;
+  } else {
+    EXPECT_FALSE(d.unexplained) << d.message;
+    EXPECT_LT(d.after.repeatable_z, DiagnoseOptions{}.unexplained_z)
+        << d.after.where;
   }
 }
 

@@ -71,16 +71,18 @@ TEST(Audit, OneBadSpecimenIsReportedAndTheOtherIsComplete) {
     ASSERT_FALSE(s.failed) << s.row.dump();
     EXPECT_EQ(s.row["species"], "beech");
     // mu-hat against the simulator's truth over the compared cycles, at
-    // the sensor noise calibrated to the paper (errors 0.0001 and 0.0011).
+    // the sensor noise calibrated to the paper (errors 0.0001 and 0.0011):
+    // within about three and two times those.
     const int first = s.row["comparison"]["first_cycle"].get<int>() - 1,
               last_cycle = s.row["comparison"]["last_cycle"].get<int>() - 1;
     const double truth =
         test.truth.mu_per_cycle.segment(first, last_cycle - first + 1).mean();
     EXPECT_NEAR(s.row["comparison"]["mu_hat_force"]["mean"].get<double>(),
                 truth,
-                0.002);
-    EXPECT_NEAR(
-        s.row["comparison"]["mu_hat_scan"]["mean"].get<double>(), truth, 0.005);
+                0.0003);
+    EXPECT_NEAR(s.row["comparison"]["mu_hat_scan"]["mean"].get<double>(),
+                truth,
+                0.0025);
     EXPECT_TRUE(fs::exists(out / "B-RT-R" / "result.json"));
     EXPECT_TRUE(fs::exists(out / "B-RT-R" / "cycles.csv"));
   }

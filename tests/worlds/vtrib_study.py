@@ -199,6 +199,32 @@ def cut(world, seeds, noises, tally):
     return [(c, h, n, s) for c in ["B-RT-R", "S-RT-T"] for h in HISTORIES for n in noises for s in seeds], one
 
 
+def watch(world, tally):
+    """`wearscar watch` on a test of 300 cycles whose friction keeps rising
+    (vtrib's 0.02 over the test): no "could stop" while the window's trend
+    over the cycles left exceeds the steady band, and the trend said."""
+    def one(_):
+        folder = world.test("B-RT-R", 3, 1, "start", ["--cycles", "300"])
+        out = os.path.join(folder, "watch")
+        done = subprocess.run([world.binary, "watch", os.path.join(folder, "B-RT-R_force.csv"),
+                               "-o", out, "--every", "1000", "--planned-cycles", "300",
+                               "--no-figures"], capture_output=True, text=True)
+        if done.returncode != 0:
+            raise RuntimeError(done.stderr)
+        rise = 0.02 / 300  # vtrib's slow rise of mu a cycle (its law)
+        steady = []
+        with open(os.path.join(out, "events.jsonl")) as f:
+            for line in f:
+                e = json.loads(line)
+                if e["kind"] == "steady" and e["good"]:
+                    steady.append(e)
+        early = [e for e in steady if rise * (300 - e["cycle"]) > 1.2 * 0.005]
+        what = f"steady said at cycles {[e['cycle'] for e in steady]}: {steady[0]['message'][:160] if steady else ''}"
+        tally.add("watch: no 'could stop' while the rise over the cycles left exceeds the band",
+                  not early and all("a cycle" in e["message"] for e in steady), what)
+    return [0], one
+
+
 def diagnoses(world, full, tally):
     """`wearscar diagnose` on friction that follows the wood's hardness
     (sharp latewood bands) and on a lag of the Q channel (12 ms)."""
@@ -256,7 +282,8 @@ def main():
                elastic(world, seeds, noises if a.full else [1], tally),
                foreign(world, cases, seeds, noises, tally),
                cut(world, seeds, noises if a.full else [1], tally),
-               diagnoses(world, a.full, tally)]
+               diagnoses(world, a.full, tally),
+               watch(world, tally)]
     with ThreadPoolExecutor(a.jobs) as pool:
         for jobs, one in studies:
             list(pool.map(one, jobs))

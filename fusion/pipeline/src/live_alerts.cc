@@ -164,30 +164,52 @@ void LiveAnalysis::UpdateSteady() {
   // Once steady, it stays so until the trend or the shift leaves the band
   // widened by half (no alert flickering at the band's edge).
   const double band = steady_ ? 1.5 * live_.steady_band : live_.steady_band;
-  const SteadyTest t = JudgeSteady(mu_hat_series_, live_.steady_cycles, band);
+  SteadyTest t = JudgeSteady(mu_hat_series_, live_.steady_cycles, band);
+  // The premise that friction no longer changes: the window's trend, over
+  // the cycles left, stays within the band too (a slow rise passes the
+  // window's test and not this one).
+  const size_t n = mu_hat_series_.size();
+  const double long_trend = t.trend / static_cast<double>(w - 1);
+  const int left = live_.planned_cycles > static_cast<int>(n)
+                       ? live_.planned_cycles - static_cast<int>(n)
+                       : static_cast<int>(n);
+  const double drift = long_trend * left;
+  if (std::isfinite(drift) && std::abs(drift) >= band) t.steady = false;
   steady_run_ = t.steady ? steady_run_ + 1 : 0;
   if (!steady_ && steady_run_ < live_.steady_hold_cycles) return;
   if (t.steady == steady_) return;
   steady_ = t.steady;
   Raise("steady",
-        steady_ ? fmt::format("mu-hat steady: {:.4f} over the last {} cycles "
-                              "(trend {:+.4f}, shift from the {} before "
-                              "{:+.4f}, both within +-{:.4f}, and so for {} "
-                              "cycles): the test could stop",
-                              t.mean,
-                              w,
-                              t.trend,
-                              w,
-                              t.shift,
-                              band,
-                              steady_run_)
-                : fmt::format("mu-hat no longer steady: trend {:+.4f}, shift "
-                              "{:+.4f} over the last {} cycles (beyond "
-                              "+-{:.4f}, 1.5x the band)",
-                              t.trend,
-                              t.shift,
-                              w,
-                              band),
+        steady_
+            ? fmt::format("mu-hat steady: {:.4f} over the last {} cycles "
+                          "(trend {:+.4f}, shift from the {} before "
+                          "{:+.4f}, both within +-{:.4f}, and so for {} "
+                          "cycles; {:+.6f} a cycle, "
+                          "{:+.4f} over the {} cycles {}): the test could "
+                          "stop",
+                          t.mean,
+                          w,
+                          t.trend,
+                          w,
+                          t.shift,
+                          band,
+                          steady_run_,
+                          long_trend,
+                          drift,
+                          left,
+                          live_.planned_cycles > 0 ? "left of those planned"
+                                                   : "as many again")
+            : fmt::format("mu-hat no longer steady: trend {:+.4f}, shift "
+                          "{:+.4f} over the last {} cycles, {:+.4f} over "
+                          "the {} cycles {} at that trend (beyond "
+                          "+-{:.4f})",
+                          t.trend,
+                          t.shift,
+                          w,
+                          drift,
+                          left,
+                          live_.planned_cycles > 0 ? "left" : "as many again",
+                          band),
         steady_);
 }
 

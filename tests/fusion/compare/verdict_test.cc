@@ -851,6 +851,34 @@ TEST(ScanOfAnotherTest, IsDoubtedNotBlamedOnThePhysics) {
       foreign.mismatch.mu_force.mean, mine.mismatch.mu_force.mean, 1e-12);
 }
 
+// Another specimen of the same wood and case (B-RT-R, another seed, rings
+// of varying width): the whole profiles correlate above the verdict's
+// limit (the groove's shape is every B-RT-R track's), but the waviness,
+// the specimen's own rings and texture, does not: said as another
+// specimen's scan, the verdict on the force side; the own scan's waviness
+// passes.
+TEST(ScanOfAnotherSpecimen, ItsWavinessIsSaid) {
+  samples::SimulationOptions own = NoisyCase("B-RT-R", 1, 0, 80);
+  own.ring_width_cv = 0.25;
+  own.scan_cols = 1200;
+  samples::SimulationOptions other = own;
+  other.seed = own.seed + 17;
+  const sim::SimulatedTest a = sim::Simulate(own);
+  const sim::SimulatedTest b = sim::Simulate(other);
+  const TestResult mine = AnalyzeTest(a.record, a.scan, NoLugre());
+  EXPECT_EQ(mine.verdict.scan_doubt, "") << mine.verdict.scan_doubt;
+  EXPECT_GT(mine.mismatch.waviness_correlation, 0.92);
+  const TestResult foreign = AnalyzeTest(a.record, b.scan, NoLugre());
+  EXPECT_GT(foreign.mismatch.correlation_noise_corrected, 0.7);
+  EXPECT_LT(foreign.mismatch.waviness_correlation, 0.92);
+  EXPECT_TRUE(foreign.verdict.explained) << foreign.verdict.Summary();
+  ASSERT_FALSE(foreign.warnings.empty());
+  EXPECT_EQ(foreign.warnings.front().rfind(
+                "the scan may belong to another specimen: ", 0),
+            0u)
+      << foreign.warnings.front();
+}
+
 // The same specimen's track from a test of another stroke (8 mm, this
 // test's 5.7 mm): its profile matches P/S where they overlap, so only the
 // track's length tells; it is said, and the verdict stands on the force

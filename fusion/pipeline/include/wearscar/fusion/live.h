@@ -38,6 +38,11 @@ struct LiveOptions {
   // running-in that `fuse` finds on the whole test on two of them; after
   // it on all with 5.)
   int steady_hold_cycles = 5;
+  // The steady alert's premise, checked: friction no longer changes over
+  // the cycles left. mu-hat's trend over the cycles after running-in,
+  // times the cycles left (the planned length less those run; 0: unknown,
+  // as many again as have run), must stay within the band.
+  int planned_cycles = 0;
   // The verdict over the latest cycles after running-in (at least 10).
   int verdict_cycles = 30;
   // Where k comes from is decided as `fuse` decides it (P/S, or a depth

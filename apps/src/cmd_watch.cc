@@ -407,6 +407,29 @@ void RunWatch(WatchArgs a) {
   RunFuse(f);
 }
 
+// The steady alert's options.
+void AddSteadyOptions(CLI::App* cmd, fusion::LiveOptions* live) {
+  cmd->add_option("--steady-cycles",
+                  live->steady_cycles,
+                  "Steady: mu-hat's trend and shift over this many cycles "
+                  "(30)")
+      ->check(CLI::Range(5, 100000));
+  cmd->add_option(
+         "--steady-band", live->steady_band, "Steady: both within this (0.005)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--steady-hold",
+                  live->steady_hold_cycles,
+                  "Steady: said once both have held on this many successive "
+                  "cycles (5; at most --steady-cycles)")
+      ->check(CLI::Range(1, 100000));
+  cmd->add_option("--planned-cycles",
+                  live->planned_cycles,
+                  "Steady: the test's planned length; the last cycles' trend "
+                  "over the cycles left must stay within the band (default: "
+                  "--until-cycles; without either it is not checked)")
+      ->check(CLI::Range(0, 100000000));
+}
+
 }  // namespace
 
 void AddWatchCommand(CLI::App& app) {
@@ -445,26 +468,7 @@ void AddWatchCommand(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--every", args->every, "Print every N-th cycle (1)")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--steady-cycles",
-                  args->live.steady_cycles,
-                  "Steady: mu-hat's trend and shift over this many cycles "
-                  "(30)")
-      ->check(CLI::Range(5, 100000));
-  cmd->add_option("--steady-band",
-                  args->live.steady_band,
-                  "Steady: both within this (0.005)")
-      ->check(CLI::PositiveNumber);
-  cmd->add_option("--steady-hold",
-                  args->live.steady_hold_cycles,
-                  "Steady: said once both have held on this many successive "
-                  "cycles (5; at most --steady-cycles)")
-      ->check(CLI::Range(1, 100000));
-  cmd->add_option("--planned-cycles",
-                  args->live.planned_cycles,
-                  "Steady: the test's planned length; the trend since the "
-                  "running-in over the cycles left must stay within the band "
-                  "(default: as many cycles again as have run)")
-      ->check(CLI::Range(0, 100000000));
+  AddSteadyOptions(cmd, &args->live);
   cmd->add_option("--max-depth",
                   args->live.max_depth_mm,
                   "Alert when the track's depth from the spring (P/S peak to "

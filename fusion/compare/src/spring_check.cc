@@ -30,18 +30,22 @@ bool SpringCheck::SplitsTheStiffness() const {
   return changing_groove.Held() && elastic_share_low > 0;
 }
 double SpringCheck::StiffnessRatio() const {
-  return SplitsTheStiffness() ? stiffness_ratio : path_ratio;
+  return SplitsTheStiffness()     ? stiffness_ratio
+         : changing_groove.Held() ? end_ratio
+                                  : path_ratio;
 }
 double SpringCheck::ImpliedStiffness() const {
   return used_n_per_mm * StiffnessRatio();
 }
 double SpringCheck::ImpliedLow() const {
-  return used_n_per_mm *
-         (SplitsTheStiffness() ? stiffness_ratio_low : path_ratio_low);
+  return used_n_per_mm * (SplitsTheStiffness()     ? stiffness_ratio_low
+                          : changing_groove.Held() ? end_ratio_low
+                                                   : path_ratio_low);
 }
 double SpringCheck::ImpliedHigh() const {
-  return used_n_per_mm *
-         (SplitsTheStiffness() ? stiffness_ratio_high : path_ratio_high);
+  return used_n_per_mm * (SplitsTheStiffness()     ? stiffness_ratio_high
+                          : changing_groove.Held() ? end_ratio_high
+                                                   : path_ratio_high);
 }
 
 std::string SpringCheck::Describe(const std::string& how) const {
@@ -65,7 +69,7 @@ std::string SpringCheck::Describe(const std::string& how) const {
                         "does not follow the growth ({:.0f}% of the worn "
                         "track's profile)",
                         100 * elastic_share)
-          : fmt::format(" over the compared cycles; the groove's growth "
+          : fmt::format(" at the end of the record; the groove's growth "
                         "shows no elastic part beside it ({:.0f}%, 95% "
                         "{:.0f} to {:.0f}%)",
                         100 * elastic_share,
@@ -338,6 +342,13 @@ void Split(const Projections& s, const SpringCheckOptions& o, SpringCheck* c) {
       std::hypot(se_a / worn, c->elastic_share * se_beta / beta);
   c->elastic_share_low = c->elastic_share - T975(n_eff) * se_share;
   c->elastic_share_high = c->elastic_share + T975(n_eff) * se_share;
+  // The path ratio the fitted line gives at the end, where the groove is
+  // the deepest (an elastic part weighs least there).
+  const double p_end = mp + beta * (f_end - mf);
+  const double se_end = std::hypot(se_resid, (f_end - mf) * se_beta) / f_end;
+  c->end_ratio = p_end / f_end;
+  c->end_ratio_low = c->end_ratio - T975(n_eff) * se_end;
+  c->end_ratio_high = c->end_ratio + T975(n_eff) * se_end;
 }
 
 // The premise that Q is in time with x: false (and the premise failed)
@@ -447,7 +458,7 @@ SpringCheck CheckSpring(const TrackHistory& h,
       return low > limit || high < 1.0 / limit;
     };
     c.contradicted = beyond(c.stiffness_ratio_low, c.stiffness_ratio_high) &&
-                     beyond(c.path_ratio_low, c.path_ratio_high);
+                     beyond(c.end_ratio_low, c.end_ratio_high);
   } else {
     c.contradicted = c.path_ratio_high < 1.0 / limit;
     c.undecided = c.path_ratio_low > limit;

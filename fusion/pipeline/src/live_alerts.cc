@@ -147,14 +147,22 @@ void LiveAnalysis::UpdateRunningIn() {
   }
 }
 
-SteadyTest JudgeSteady(const std::vector<double>& mu, int cycles, double band) {
+SteadyTest JudgeSteady(const std::vector<double>& mu,
+                       int cycles,
+                       double band,
+                       int planned_cycles) {
   SteadyTest t;
   const size_t n = mu.size(), w = static_cast<size_t>(cycles);
   if (n < 2 * w) return t;
-  t.trend = TrendPerCycle(mu, n - w, n - 1) * static_cast<double>(w - 1);
+  const double per_cycle = TrendPerCycle(mu, n - w, n - 1);
+  t.trend = per_cycle * static_cast<double>(w - 1);
   t.shift = MeanOf(mu, n - w, n - 1) - MeanOf(mu, n - 2 * w, n - w - 1);
   t.mean = MeanOf(mu, n - w, n - 1);
-  t.steady = std::abs(t.trend) < band && std::abs(t.shift) < band;
+  const int done = static_cast<int>(n);
+  t.cycles_left = std::max(0, planned_cycles - done);
+  t.drift = per_cycle * t.cycles_left;
+  t.steady = std::abs(t.trend) < band && std::abs(t.shift) < band &&
+             !(std::abs(t.drift) >= band);
   return t;
 }
 
@@ -164,29 +172,32 @@ void LiveAnalysis::UpdateSteady() {
   // Once steady, it stays so until the trend or the shift leaves the band
   // widened by half (no alert flickering at the band's edge).
   const double band = steady_ ? 1.5 * live_.steady_band : live_.steady_band;
-  SteadyTest t = JudgeSteady(mu_hat_series_, live_.steady_cycles, band);
-  // The premise that friction no longer changes: the window's trend, over
-  // the cycles left, stays within the band too (a slow rise passes the
-  // window's test and not this one).
-  const size_t n = mu_hat_series_.size();
-  const double long_trend = t.trend / static_cast<double>(w - 1);
-  const int left = live_.planned_cycles > static_cast<int>(n)
-                       ? live_.planned_cycles - static_cast<int>(n)
-                       : static_cast<int>(n);
-  const double drift = long_trend * left;
-  if (std::isfinite(drift) && std::abs(drift) >= band) t.steady = false;
+  const SteadyTest t = JudgeSteady(
+      mu_hat_series_, live_.steady_cycles, band, live_.planned_cycles);
+  const double per_cycle = t.trend / static_cast<double>(w - 1);
   steady_run_ = t.steady ? steady_run_ + 1 : 0;
   if (!steady_ && steady_run_ < live_.steady_hold_cycles) return;
   if (t.steady == steady_) return;
   steady_ = t.steady;
+  // Its premise over the cycles left, said.
+  const std::string premise =
+      live_.planned_cycles > 0
+          ? fmt::format(
+                "{:+.6f} a cycle, {:+.4f} over the {} cycles left of "
+                "those planned",
+                per_cycle,
+                t.drift,
+                t.cycles_left)
+          : fmt::format(
+                "{:+.6f} a cycle; over the cycles left unknown: give "
+                "--planned-cycles for that to be checked",
+                per_cycle);
   Raise("steady",
         steady_
             ? fmt::format("mu-hat steady: {:.4f} over the last {} cycles "
                           "(trend {:+.4f}, shift from the {} before "
                           "{:+.4f}, both within +-{:.4f}, and so for {} "
-                          "cycles; {:+.6f} a cycle, "
-                          "{:+.4f} over the {} cycles {}): the test could "
-                          "stop",
+                          "cycles; {}): the test could stop",
                           t.mean,
                           w,
                           t.trend,
@@ -194,11 +205,7 @@ void LiveAnalysis::UpdateSteady() {
                           t.shift,
                           band,
                           steady_run_,
-                          long_trend,
-                          drift,
-                          left,
-                          live_.planned_cycles > 0 ? "left of those planned"
-                                                   : "as many again")
+                          premise)
             : fmt::format("mu-hat no longer steady: trend {:+.4f}, shift "
                           "{:+.4f} over the last {} cycles, {:+.4f} over "
                           "the {} cycles {} at that trend (beyond "
@@ -206,9 +213,9 @@ void LiveAnalysis::UpdateSteady() {
                           t.trend,
                           t.shift,
                           w,
-                          drift,
-                          left,
-                          live_.planned_cycles > 0 ? "left" : "as many again",
+                          t.drift,
+                          t.cycles_left,
+                          live_.planned_cycles > 0 ? "left" : "left (unknown)",
                           band),
         steady_);
 }

@@ -79,6 +79,10 @@ struct SpringCheck {
   double stiffness_ratio = NAN, stiffness_ratio_low = NAN,
          stiffness_ratio_high = NAN;
   double elastic_share = NAN, elastic_share_low = NAN, elastic_share_high = NAN;
+  // With the premise held: the path ratio the split's line gives at the
+  // end of the record (the last tenth's path), where an elastic part
+  // weighs least, with its 95% interval.
+  double end_ratio = NAN, end_ratio_low = NAN, end_ratio_high = NAN;
   // The findings: the stiffness contradicted (the split's ratio, or a path
   // ratio below the limit where the growth does not decide); an elastic
   // part; a path ratio above the limit that a stiffness and an elastic part
@@ -89,9 +93,9 @@ struct SpringCheck {
 
   // The rig's stiffness over the one used: the split's r where the split
   // resolves an elastic part (its share's interval above 0), else the
-  // compared cycles' path ratio rho (the split's slope is the noisier; at
-  // most the stiffness where the growth does not decide; all of rho when
-  // undecided).
+  // path ratio at the end of the record where the groove's growth decides
+  // (the split's slope is the noisier), else the compared cycles' path
+  // ratio rho (at most the stiffness; all of rho when undecided).
   bool SplitsTheStiffness() const;
   double StiffnessRatio() const;
   double ImpliedStiffness() const;

@@ -38,10 +38,9 @@ struct LiveOptions {
   // running-in that `fuse` finds on the whole test on two of them; after
   // it on all with 5.)
   int steady_hold_cycles = 5;
-  // The steady alert's premise, checked: friction no longer changes over
-  // the cycles left. mu-hat's trend over the cycles after running-in,
-  // times the cycles left (the planned length less those run; 0: unknown,
-  // as many again as have run), must stay within the band.
+  // The steady alert's premise, checked where the planned length is given
+  // (0: unknown, not checked, said): friction no longer changes over the
+  // cycles left, the window's trend a cycle times those within the band.
   int planned_cycles = 0;
   // The verdict over the latest cycles after running-in (at least 10).
   int verdict_cycles = 30;
@@ -118,15 +117,22 @@ struct LiveMap {
 // change and the mean's shift from the `cycles` before; steady when both
 // are within +-band. Not judged (steady false, NaN) with fewer than
 // 2 x cycles values.
+// With its premise, checked where the test's planned length is known:
+// friction no longer changes over the cycles left, the window's trend a
+// cycle times those (the planned length less the series' cycles) within
+// the band too.
 struct SteadyTest {
   bool steady = false;
   double trend = std::numeric_limits<double>::quiet_NaN();
   double shift = std::numeric_limits<double>::quiet_NaN();
   double mean = std::numeric_limits<double>::quiet_NaN();
+  int cycles_left = 0;
+  double drift = std::numeric_limits<double>::quiet_NaN();  // over them
 };
 SteadyTest JudgeSteady(const std::vector<double>& series,
                        int cycles,
-                       double band);
+                       double band,
+                       int planned_cycles = 0);
 
 class LiveAnalysis {
  public:

@@ -93,6 +93,15 @@ bool IsIn(const std::vector<std::string>& words, const std::string& w) {
   return std::find(words.begin(), words.end(), w) != words.end();
 }
 
+// Words that name the instrument a force export came from ("B-RT-R.rtec"
+// beside "B-RT-R.force"): left out of the specimen's name, without making
+// the file a force file any more than its content does.
+bool NamesAnInstrument(const std::string& lower) {
+  static const std::vector<std::string> kWords = {
+      "rtec", "cetr", "umt", "bruker", "trb", "antonpaar"};
+  return IsIn(kWords, lower);
+}
+
 // A file name's words: the stem split at _ - . and space.
 struct NameWords {
   std::vector<std::string> key;  // lower case, role words left out
@@ -114,6 +123,7 @@ NameWords SplitName(const std::string& stem) {
       out.says_force = true;
     } else if (IsIn(ScanRoleWords(), lower)) {
       out.says_scan = true;
+    } else if (NamesAnInstrument(lower)) {
     } else {
       if (!out.name.empty() && separator != 0) out.name += separator;
       out.name += word;
@@ -139,6 +149,9 @@ struct Candidate {
   std::string key;                 // words joined; unique when it has none
   std::vector<std::string> words;  // for the prefix match
   std::string name, path;
+  // The name pattern's match ("B-RT-R"; "" without one): files left
+  // unpaired by their whole names pair by it.
+  std::string pattern_name, pattern_key;
   bool is_scan = false;
   int rank = 0;
 };
@@ -163,13 +176,15 @@ std::optional<Candidate> Classify(const fs::path& found, const std::regex& re) {
               (!w.says_force &&
                scan::ScanFormatOf(c.path, scan::kDetectText) != nullptr);
   c.rank = c.is_scan ? (binary_scan ? 2 : 1) : (w.says_force ? 2 : 1);
+  // The whole name less its role words is the specimen's, so that
+  // replicates ("B-RT-R_rep1_force", "B-RT-R_rep2_force") stay apart.
+  c.name = w.name.empty() ? p.stem().string() : w.name;
+  c.words = std::move(w.key);
   std::smatch m;
   if (std::regex_search(file, m, re)) {
-    c.name = m.str(0);
-    c.words = SplitName(c.name).key;
-  } else {
-    c.name = w.name.empty() ? p.stem().string() : w.name;
-    c.words = std::move(w.key);
+    c.pattern_name = m.str(0);
+    c.pattern_key =
+        fmt::format("{}", fmt::join(SplitName(c.pattern_name).key, "-"));
   }
   c.key = c.words.empty() ? "\x01" + found.filename().string()
                           : fmt::format("{}", fmt::join(c.words, "-"));
@@ -179,6 +194,7 @@ std::optional<Candidate> Classify(const fs::path& found, const std::regex& re) {
 struct Slot {
   Specimen s;
   std::vector<std::string> words;
+  std::string pattern_name, pattern_key;
   int force_rank = 0, scan_rank = 0;
   bool ForceOnly() const {
     return s.error.empty() && !s.force.empty() && s.scan.empty();
@@ -208,6 +224,8 @@ std::vector<Slot> GroupByKey(std::vector<fs::path> files,
     if (!c) continue;
     Slot& slot = by_key[c->key];
     slot.words = c->words;
+    slot.pattern_name = c->pattern_name;
+    slot.pattern_key = c->pattern_key;
     std::string& role = c->is_scan ? slot.s.scan : slot.s.force;
     int& role_rank = c->is_scan ? slot.scan_rank : slot.force_rank;
     if (!c->is_scan || slot.s.name.empty()) slot.s.name = c->name;
@@ -228,6 +246,34 @@ std::vector<Slot> GroupByKey(std::vector<fs::path> files,
   std::vector<Slot> out;
   for (auto& [key, slot] : by_key) out.push_back(std::move(slot));
   return out;
+}
+
+// A force file and a scan left over pair by the name pattern's match
+// ("run07_B-RT-R_force.csv" with "B-RT-R_height.csv") when they are the
+// only two left with it, named by it.
+void PairByPattern(std::vector<Slot>* slots) {
+  std::map<std::string, std::vector<size_t>> forces, scans;
+  for (size_t i = 0; i < slots->size(); ++i) {
+    const Slot& s = (*slots)[i];
+    if (s.pattern_key.empty()) continue;
+    if (s.ForceOnly()) forces[s.pattern_key].push_back(i);
+    if (s.ScanOnly()) scans[s.pattern_key].push_back(i);
+  }
+  std::vector<bool> absorbed(slots->size(), false);
+  for (const auto& [key, f] : forces) {
+    const auto found = scans.find(key);
+    if (f.size() != 1 || found == scans.end() || found->second.size() != 1)
+      continue;
+    Slot& force = (*slots)[f[0]];
+    force.s.scan = (*slots)[found->second[0]].s.scan;
+    force.s.name = force.pattern_name;
+    absorbed[found->second[0]] = true;
+  }
+  std::vector<Slot> kept;
+  for (size_t i = 0; i < slots->size(); ++i) {
+    if (!absorbed[i]) kept.push_back(std::move((*slots)[i]));
+  }
+  *slots = std::move(kept);
 }
 
 // One key extends the other ("oak-1" and "oak-1-20x").
@@ -409,6 +455,7 @@ std::vector<Specimen> PairFolder(const std::string& dir,
        FilesByFolder(dir, recursive, output_folders, skipped)) {
     std::vector<Slot> here = GroupByKey(files, re);
     PairByLongerName(&here);
+    PairByPattern(&here);
     if (folder != fs::path(dir)) PairByFolder(folder, &here);
     SayWhyUnpaired(&here);
     for (Slot& s : here) found.emplace_back(std::move(s.s), folder);

@@ -64,6 +64,30 @@ class LabFolder : public ::testing::Test {
 // Seven naming styles, sub-folders with repeated names, a force-only and a
 // scan-only test, and a tie: each pairs as README says, and what is left
 // is said, never guessed.
+// Replicates in the paper's own naming pair by their whole names (the
+// name pattern matches all of them alike); a force file and a scan whose
+// names share only the pattern's match still pair by it; an instrument's
+// name in a second export of the same test is no specimen of its own.
+TEST_F(LabFolder, ReplicatesInThePapersNamingPair) {
+  for (const char* rep : {"rep1", "rep2"}) {
+    Force(std::string("B-RT-R_") + rep + "_force.csv");
+    Gsf(std::string("B-RT-R_") + rep + "_scan.gsf");
+  }
+  Force("run07_S-TL-L_force.csv");
+  Gsf("S-TL-L_height.gsf");
+  Force("B-RL-L.force.csv");
+  Force("B-RL-L.rtec.csv");
+  Gsf("B-RL-L.scan.gsf");
+  const std::map<std::string, std::string> p = Pairs();
+  ASSERT_EQ(p.size(), 4u);
+  EXPECT_EQ(p.at("B-RT-R_rep1"),
+            "B-RT-R_rep1_force.csv | B-RT-R_rep1_scan.gsf | ");
+  EXPECT_EQ(p.at("B-RT-R_rep2"),
+            "B-RT-R_rep2_force.csv | B-RT-R_rep2_scan.gsf | ");
+  EXPECT_EQ(p.at("S-TL-L"), "run07_S-TL-L_force.csv | S-TL-L_height.gsf | ");
+  EXPECT_EQ(p.at("B-RL-L"), "B-RL-L.force.csv | B-RL-L.scan.gsf | ");
+}
+
 TEST_F(LabFolder, PairsHowLabsNameFiles) {
   Force("oak_30N_run01.csv");  // no role word: the other file says height
   KeyenceCsv("oak_30N_run01_height.csv");

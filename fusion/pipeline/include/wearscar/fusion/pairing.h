@@ -41,11 +41,13 @@ std::string SpecimenName(const std::string& path);
 //    registry); a text file by its name's role words (ScanRoleWords,
 //    ForceRoleWords), else as a scan when a text height-map layout
 //    recognises it (a Keyence VR CSV), else as a force record.
-//  - Its key: `name_pattern`'s match in the file name when there is one,
-//    else the name's words without role words, in lower case.
+//  - Its key: the name's words without role words, in lower case
+//    (replicates "B-RT-R_rep1_force" and "B-RT-R_rep2_force" stay two).
 //  - Within a folder, files with one key are one specimen; a scan and a
 //    force file left over pair when one's key extends the other's
-//    ("oak_1" with "oak_1_20x_height") and neither has another such match;
+//    ("oak_1" with "oak_1_20x_height") and neither has another such match,
+//    else by `name_pattern`'s match in their names when they are the only
+//    two left with it (named by it);
 //    a sub-folder whose files are one force file and one scan that pair by
 //    none of these is one specimen named after the folder.
 //  - Ties (two files of one role and rank for a key, two equally good

@@ -95,6 +95,17 @@ void PrintSections(const std::vector<report::ReportSection>& sections,
       sections.size() - r.flagged - r.failed,
       r.flagged,
       r.failed);
+  if (!r.kept.empty()) {
+    Say("kept from the earlier audit in this folder: {} specimen{} ({}); the "
+        "tables and report hold them beside this run's (--replace makes the "
+        "batch this run's alone)\n",
+        r.kept.size(),
+        r.kept.size() > 1 ? "s" : "",
+        r.kept.size() > 6
+            ? fmt::format("{}, ...",
+                          fmt::join(r.kept.begin(), r.kept.begin() + 5, ", "))
+            : fmt::format("{}", fmt::join(r.kept, ", ")));
+  }
 }
 
 // A shard's or a merge's line on the merged summary.
@@ -244,6 +255,28 @@ void RunAudit(AuditArgs a) {
                                     : 0);
 }
 
+// --shard, --shard-base and --no-merge.
+void AddShardOptions(CLI::App* cmd, AuditArgs* args) {
+  cmd->add_option("--shard-base",
+                  args->shard_base,
+                  "What --shard i/n counts i from: 1 (the default) or 0 "
+                  "(as a Slurm --array=0-15 numbers its tasks)")
+      ->check(CLI::IsMember({0, 1}));
+  cmd->add_flag_callback(
+      "--no-merge",
+      [args] { args->audit.merge_shards = false; },
+      "A shard writes its part only; one `--merge` job merges them all "
+      "(on a cluster: the shards do not queue on the report)");
+  cmd->add_option("--shard",
+                  args->shard,
+                  "Process shard i of n (counted from 1, or --shard-base), "
+                  "e.g. 2/4, or 'slurm': the task of a Slurm job array, "
+                  "numbered by the array (the first task records the plan "
+                  "in OUT/parts/plan.json; re-runs of a task follow it). "
+                  "The shards may "
+                  "run at once into one --out");
+}
+
 }  // namespace
 
 void AddAuditCommand(CLI::App& app) {
@@ -270,24 +303,13 @@ void AddAuditCommand(CLI::App& app) {
   cmd->add_option("-j,--jobs",
                   args->audit.batch.jobs,
                   "Parallel specimens (default: all cores)");
-  cmd->add_option("--shard-base",
-                  args->shard_base,
-                  "What --shard i/n counts i from: 1 (the default) or 0 "
-                  "(as a Slurm --array=0-15 numbers its tasks)")
-      ->check(CLI::IsMember({0, 1}));
-  cmd->add_flag_callback(
-      "--no-merge",
-      [args] { args->audit.merge_shards = false; },
-      "A shard writes its part only; one `--merge` job merges them all "
-      "(on a cluster: the shards do not queue on the report)");
-  cmd->add_option("--shard",
-                  args->shard,
-                  "Process shard i of n (counted from 1, or --shard-base), "
-                  "e.g. 2/4, or 'slurm': the task of a Slurm job array, "
-                  "numbered by the array (the first task records the plan "
-                  "in OUT/parts/plan.json; re-runs of a task follow it). "
-                  "The shards may "
-                  "run at once into one --out");
+  AddShardOptions(cmd, args.get());
+  cmd->add_flag("--replace",
+                args->audit.replace_batch,
+                "The batch is this run's specimens alone: what an earlier "
+                "audit wrote into --out for other specimens is removed (by "
+                "default they are kept, and a re-run of some specimens "
+                "updates their folders and the batch's tables)");
   cmd->add_flag("--dry-run",
                 args->dry_run,
                 "Print how the files pair (specimen, force, scan, note) and "

@@ -83,6 +83,13 @@ def test_a_coulomb_test_made_of_numpy_arrays_gives_its_mu():
     assert len(record) == t.size
     result = wearscar.fuse(record, running_in=2, no_lugre=True)
     assert result.mu_hat == pytest.approx(0.23, abs=1e-3)
+    # The headline's mu, quoted with k from P.
+    assert result.mu_to_quote == pytest.approx(0.23, abs=1e-3)
+    assert result.summary["headline"].startswith(
+        "mu = {:.4f}".format(result.mu_to_quote))
+    assert result.no_mu_to_quote_because == ""
+    with pytest.raises(KeyError, match="no table .summary.*it has .*cycles"):
+        result.frame("summary")
     with pytest.raises(wearscar.OptionError, match="one length"):
         wearscar.ForceRecord(t, x[:-1], q, p)
 
@@ -257,6 +264,24 @@ def test_audit_of_the_bundled_samples(tmp_path):
     assert by_name["B-RT-R"]["species"] == "beech"
     assert not by_name["S-RL-R"]["verdict"]["explained"]
     assert by_name["B-RT-R"]["verdict"]["explained"]
+    # The number to quote: none for the flagged case, with the reason; the
+    # explained one's is its headline's mu.
+    flagged = by_name["S-RL-R"]["quote"]
+    assert flagged["status"] == "not explained" and flagged["mu"] is None
+    assert "not explained" in flagged["reason"]
+    quoted = by_name["B-RT-R"]["quote"]
+    assert quoted["status"] in ("explained", "not settled")
+    assert "mu = {:.4f}".format(quoted["mu"]) in by_name["B-RT-R"]["headline"]
+    summary = (tmp_path / "summary.csv").read_text().splitlines()
+    header = summary[0].split(",")
+    at = header.index("mu_to_quote")
+    assert header[at - 1] == "status"
+    cells = {line.split(",")[0]: line.split(",") for line in summary[1:]}
+    assert cells["S-RL-R"][at] == "" and cells["S-RL-R"][at - 1] == \
+        "not explained"
+    assert float(cells["B-RT-R"][at]) == pytest.approx(quoted["mu"], abs=1e-6)
+    # Integers as integers: a file's size in bytes.
+    assert cells["B-RT-R"][header.index("force_bytes")].isdigit()
     assert (tmp_path / "summary.csv").read_text().count("\n") == 13
     assert (tmp_path / "summary.jsonl").read_text().count("\n") == 12
     assert (tmp_path / "B-RT-R" / "cycles.csv").exists()

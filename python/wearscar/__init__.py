@@ -5,7 +5,7 @@ track (wear-scar interaction, Q = P (k + s mu) / (1 - s mu k)).
     import wearscar
     test = wearscar.simulate("B-RT-R", cycles=60, seed=3)
     result = wearscar.fuse(test.force, test.scan, running_in=20)
-    result.mu_hat, result.summary["verdict"]["summary"]
+    result.mu_to_quote, result.status, result.summary["headline"]
 
 Keyword arguments are the command line's options with '_' for '-' and the
 same defaults (``wearscar fuse --help`` lists them), for example
@@ -146,9 +146,13 @@ class Result:
       verdict, wear, provenance, every option).
     tables: {"cycles": {"cycle": array, "mu_hat_force": array, ...},
       "loops": ..., "detail": ..., "cost_curve": ..., "profiles": ...}.
-    mu_hat: mean mu-hat (k from P) over the compared cycles, the value to
-      quote; mu_hat_per_cycle: each cycle's (from cycle 1, running-in
-      included); frame("cycles"): a table as a pandas DataFrame.
+    mu_to_quote: the value to quote (the headline's mu), None where the
+      status gives none, and no_mu_to_quote_because then says why; status:
+      "explained", "not settled", "not explained", "not judged" or "not
+      fitted". mu_hat: mean mu-hat with k from P over the compared cycles (a
+      comparison where the scan's k is quoted); mu_hat_per_cycle: each
+      cycle's (from cycle 1, running-in included); frame("cycles"): a table
+      as a pandas DataFrame.
     """
 
     def __init__(self, output):
@@ -171,6 +175,21 @@ class Result:
         return self.summary["comparison"]["mu_hat_force"]["mean"]
 
     @property
+    def mu_to_quote(self):
+        """The coefficient to quote, None where there is none (see
+        no_mu_to_quote_because)."""
+        return self.summary["quote"]["mu"]
+
+    @property
+    def status(self):
+        return self.summary["quote"]["status"]
+
+    @property
+    def no_mu_to_quote_because(self):
+        """Why there is no mu to quote ("" where there is one)."""
+        return self.summary["quote"]["reason"]
+
+    @property
     def mu_hat_per_cycle(self):
         """mu-hat (k from P) of each cycle, from cycle 1 (NumPy array)."""
         return self.cycles["mu_hat_force"]
@@ -178,6 +197,9 @@ class Result:
     def frame(self, table="cycles"):
         """A table ("cycles", "loops", "detail", ...) as a pandas DataFrame
         (pandas is optional: the tables are dicts of NumPy arrays)."""
+        if table not in self.tables:
+            raise KeyError("wearscar: no table {!r} in this result; it has {}"
+                           .format(table, ", ".join(sorted(self.tables))))
         try:
             import pandas
         except ImportError as e:
@@ -215,8 +237,11 @@ class Result:
         return written
 
     def __repr__(self):
-        return "<wearscar.Result {}: mu-hat {:.4f}, {}>".format(
-            self.name, self.mu_hat, self.summary["verdict"]["summary"][:60])
+        quoted = self.mu_to_quote
+        return "<wearscar.Result {}: {}, {}>".format(
+            self.name,
+            self.status if quoted is None else "mu {:.4f}".format(quoted),
+            self.summary["verdict"]["summary"][:60])
 
 
 def _figure_formats(figures):

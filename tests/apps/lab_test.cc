@@ -361,21 +361,94 @@ TEST(Outputs, ASimulateRerunDropsWhatItNoLongerWrites) {
   EXPECT_TRUE(fs::exists(dir + "/notes.txt"));
 }
 
-TEST(Outputs, AnAuditRerunDropsSpecimensNoLongerThereButNotOtherFolders) {
+// Every file under `dir` with its bytes, by path relative to it.
+std::map<std::string, std::string> FilesUnder(const std::string& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    if (e.is_regular_file())
+      files[fs::relative(e.path(), dir).string()] = Slurp(e.path().string());
+  }
+  return files;
+}
+
+// The row of `specimen` in summary.csv, by column name.
+std::map<std::string, std::string> SummaryRow(const std::string& out,
+                                              const std::string& specimen) {
+  std::istringstream csv(Slurp(out + "/summary.csv"));
+  std::string header, line;
+  std::getline(csv, header);
+  std::vector<std::string> names;
+  std::istringstream h(header);
+  for (std::string c; std::getline(h, c, ',');) names.push_back(c);
+  while (std::getline(csv, line)) {
+    if (line.rfind(specimen + ",", 0) != 0) continue;
+    std::map<std::string, std::string> row;
+    std::istringstream cells(line);  // the leading columns hold no comma
+    std::string c;
+    for (size_t i = 0; i < names.size() && std::getline(cells, c, ','); ++i)
+      row[names[i]] = c;
+    return row;
+  }
+  return {};
+}
+
+TEST(Outputs, AnAuditRerunOfOneSpecimenKeepsTheRestAndReplaceDropsThem) {
   const std::string dir =
-      Simulated("rerun-audit", "--case B-RT-R --case S-TL-L");
+      Simulated("rerun-audit", "--case B-RT-R --case S-TL-L --case B-TL-T");
   const std::string out = dir + "-audit";
   fs::remove_all(out);
   ASSERT_EQ(Wearscar("audit " + dir + " --no-figures -o " + out).status, 0);
   ASSERT_TRUE(fs::exists(out + "/S-TL-L/result.json"));
   fs::create_directories(out + "/my-notes");
   std::ofstream(out + "/my-notes/a.txt") << "mine\n";
-  fs::remove(dir + "/S-TL-L.force.csv");
-  fs::remove(dir + "/S-TL-L.scan.gsf");
-  ASSERT_EQ(Wearscar("audit " + dir + " --no-figures -o " + out).status, 0);
+  const auto before = FilesUnder(out);
+  const auto b_rt_r = SummaryRow(out, "B-RT-R");
+  // One specimen again, with another spring, from a folder of its own.
+  const std::string one = dir + "-one";
+  fs::remove_all(one);
+  fs::create_directories(one);
+  for (const char* f : {"B-RT-R.force.csv", "B-RT-R.scan.gsf"})
+    fs::copy_file(dir + "/" + f, one + "/" + f);
+  const CommandResult again =
+      Wearscar("audit " + one + " --spring 14 --no-figures -o " + out);
+  ASSERT_EQ(again.status, 0) << again.output;
+  EXPECT_NE(again.output.find("kept from the earlier audit in this folder: 2 "
+                              "specimens (B-TL-T, S-TL-L)"),
+            std::string::npos)
+      << again.output;
+  // Its folder and row changed; no other specimen's file did.
+  const auto after = FilesUnder(out);
+  for (const auto& [path, bytes] : before) {
+    if (path.rfind("B-TL-T/", 0) == 0 || path.rfind("S-TL-L/", 0) == 0 ||
+        path.rfind("my-notes/", 0) == 0) {
+      ASSERT_TRUE(after.count(path)) << path;
+      EXPECT_EQ(after.at(path), bytes) << path;
+    }
+  }
+  EXPECT_NE(after.at("B-RT-R/result.json"), before.at("B-RT-R/result.json"));
+  EXPECT_NE(Slurp(out + "/B-RT-R/result.json")
+                .find("\"spring_used_n_per_mm\": "
+                      "14.0"),
+            std::string::npos);
+  const auto rerun = SummaryRow(out, "B-RT-R");
+  EXPECT_NE(rerun.at("mu_hat_mean"), b_rt_r.at("mu_hat_mean"));
+  EXPECT_EQ(CountLines(Slurp(out + "/summary.csv")), 4);
+  for (const char* kept : {"B-TL-T", "S-TL-L"}) {
+    EXPECT_FALSE(SummaryRow(out, kept).empty()) << kept;
+    EXPECT_NE(
+        Slurp(out + "/report.html").find(std::string(kept) + "/report.html"),
+        std::string::npos)
+        << kept;
+  }
+  // --replace: the batch is this run's alone; a folder wearscar did not
+  // write stays.
+  ASSERT_EQ(
+      Wearscar("audit " + one + " --replace --no-figures -o " + out).status, 0);
   EXPECT_FALSE(fs::exists(out + "/S-TL-L"));
+  EXPECT_FALSE(fs::exists(out + "/B-TL-T"));
   EXPECT_TRUE(fs::exists(out + "/B-RT-R/result.json"));
   EXPECT_TRUE(fs::exists(out + "/my-notes/a.txt"));
+  EXPECT_EQ(CountLines(Slurp(out + "/summary.csv")), 2);
 }
 
 TEST(Audit, FindsSpecimensInSubFoldersAndSaysWhatItLookedFor) {

@@ -1010,7 +1010,8 @@ TEST(Audit, OneBadSpecimenIsReportedAndTheRestComplete) {
       << r.output;
   const std::string csv = Slurp(out + "/summary.csv");
   EXPECT_EQ(CountLines(csv), 5);
-  EXPECT_NE(csv.find("B-RT-R,beech,RT,R,60,0.1"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("B-RT-R,beech,RT,R,60,explained,0.1"), std::string::npos)
+      << csv;
   EXPECT_NE(csv.find("line 22, column 3 ('Q'): found 'abc'"), std::string::npos)
       << csv;
   for (const char* f : {"B-RT-R/result.json",

@@ -7,6 +7,9 @@
 #include <atomic>
 #include <filesystem>
 #include <future>
+#include <map>
+#include <optional>
+#include <set>
 #include <vector>
 
 #include "audit_parts.h"
@@ -104,12 +107,16 @@ void AuditSpecimen(const AuditOptions& o,
     sec->failed = true;
     sec->flagged = false;
     sec->row["error"] = e.what();
+    sec->row["quote"] = {{"status", "failed"},
+                         {"reason", "the specimen could not be analysed"}};
   }
 }
 
 // The audit folder's manifest: the tables, the report, the batch figures
-// and their data, one folder per specimen. An unsharded run removes what
-// an earlier audit wrote there and this one did not; a shard adds to it.
+// and their data, one folder per specimen of the batch. An unsharded run
+// removes what an earlier audit wrote there and the batch does not hold
+// (the batch keeps the earlier specimens unless replace_batch); a shard
+// adds to it.
 void RecordAuditOutputs(const std::string& out,
                         bool sharded,
                         const std::vector<ReportSection>& sections,
@@ -183,6 +190,93 @@ void WriteBatch(const std::string& out,
   RecordAuditOutputs(out, sharded, sections, result->batch_figures, parts);
   result->report_path = (fs::path(out) / "report.html").string();
   WriteReport(out, title, sections, result->batch_figures);
+}
+
+// The batch an unsharded run writes: the earlier audit's specimens (its
+// record, parts/audit.json, or its shards' parts) with this run's in their
+// place and the new ones after them; an earlier specimen this run does not
+// analyse is kept while its folder holds its result.json. `series[k]`
+// belongs to `sections[k]` (empty for a failed one).
+struct Batch {
+  std::vector<ReportSection> sections;
+  std::vector<SpecimenSeries> series;
+  std::vector<std::string> kept;
+  std::vector<SpecimenSeries> Analysed() const {
+    std::vector<SpecimenSeries> out;
+    for (size_t k = 0; k < sections.size(); ++k)
+      if (!sections[k].failed) out.push_back(series[k]);
+    return out;
+  }
+};
+
+Batch WithEarlierSpecimens(const std::string& out,
+                           const std::vector<ReportSection>& now,
+                           const std::vector<SpecimenSeries>& now_series) {
+  Batch b;
+  std::optional<internal::Parts> earlier = internal::ReadBatchRecord(out);
+  std::error_code ec;
+  if (!earlier && fs::exists(fs::path(out) / "parts", ec)) {
+    try {
+      earlier = internal::ReadParts(out);
+    } catch (const OutputError&) {  // no shard's part there either
+    }
+  }
+  std::map<std::string, size_t> in_run;
+  for (size_t i = 0; i < now.size(); ++i) in_run[now[i].name] = i;
+  std::set<std::string> placed;
+  if (earlier) {
+    size_t next_series = 0;
+    for (const ReportSection& sec : earlier->sections) {
+      SpecimenSeries series;
+      if (!sec.failed && next_series < earlier->analysed.size())
+        series = earlier->analysed[next_series++];
+      const auto again = in_run.find(sec.name);
+      if (again != in_run.end()) {
+        b.sections.push_back(now[again->second]);
+        b.series.push_back(now_series[again->second]);
+        placed.insert(sec.name);
+      } else if (fs::exists(fs::path(out) / sec.name / "result.json", ec) ||
+                 sec.failed) {
+        b.sections.push_back(sec);
+        b.series.push_back(std::move(series));
+        b.kept.push_back(sec.name);
+      }
+    }
+  }
+  for (size_t i = 0; i < now.size(); ++i) {
+    if (placed.count(now[i].name)) continue;
+    b.sections.push_back(now[i]);
+    b.series.push_back(now_series[i]);
+  }
+  return b;
+}
+
+// An unsharded run's batch (WithEarlierSpecimens, or this run's alone
+// with replace_batch): its record, tables, figures and report; this run's
+// rows as the batch holds them (with the warnings of inputs shared with
+// any specimen of it).
+void WriteUnshardedBatch(const std::string& out,
+                         const std::string& title,
+                         const AuditOptions& o,
+                         const std::vector<SpecimenSeries>& series,
+                         AuditResult* result) {
+  Batch batch = o.replace_batch
+                    ? Batch{result->specimens, series, {}}
+                    : WithEarlierSpecimens(out, result->specimens, series);
+  result->kept = batch.kept;
+  internal::WriteBatchRecord(out, batch.sections, batch.series);
+  WriteBatch(out,
+             title,
+             o,
+             false,
+             &batch.sections,
+             batch.Analysed(),
+             {std::string("parts/") + internal::kBatchRecord},
+             result);
+  for (ReportSection& mine : result->specimens) {
+    for (const ReportSection& sec : batch.sections)
+      if (sec.name == mine.name) mine.row = sec.row;
+  }
 }
 
 // What the shards of a sharded audit wrote, merged (the merge lock held).
@@ -279,11 +373,9 @@ AuditResult Audit(const std::vector<fusion::Specimen>& specimens,
       [&](long done) {
         if (progress) progress(done);
       });
-  std::vector<SpecimenSeries> analysed;
   for (size_t i = 0; i < specimens.size(); ++i) {
     result.failed += result.specimens[i].failed;
     result.flagged += result.specimens[i].flagged;
-    if (!result.specimens[i].failed) analysed.push_back(series[i]);
   }
   result.figures_missing = figures_missing;
   if (sharded) {
@@ -307,7 +399,7 @@ AuditResult Audit(const std::vector<fusion::Specimen>& specimens,
     }
     return result;
   }
-  WriteBatch(out, title, o, false, &result.specimens, analysed, {}, &result);
+  WriteUnshardedBatch(out, title, o, series, &result);
   return result;
 }
 

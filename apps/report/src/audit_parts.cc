@@ -83,11 +83,11 @@ std::string PartName(int index, int count) {
   return fmt::format("shard-{}-of-{}.json", index, count);
 }
 
-void WritePart(const std::string& out,
-               int index,
-               int count,
-               const std::vector<ReportSection>& sections,
-               const std::vector<SpecimenSeries>& series) {
+namespace {
+
+nlohmann::json SpecimensJson(const std::string& out,
+                             const std::vector<ReportSection>& sections,
+                             const std::vector<SpecimenSeries>& series) {
   nlohmann::json specimens = nlohmann::json::array();
   for (std::size_t k = 0; k < sections.size(); ++k) {
     const ReportSection& sec = sections[k];
@@ -107,14 +107,90 @@ void WritePart(const std::string& out,
     if (!sec.failed && k < series.size()) one["series"] = SeriesJson(series[k]);
     specimens.push_back(std::move(one));
   }
+  return specimens;
+}
+
+using Entry = std::pair<ReportSection, std::optional<SpecimenSeries>>;
+
+// The specimens of one part file, appended to `all`; OutputError naming
+// the file when it cannot be read.
+void ReadSpecimens(const std::string& out,
+                   const fs::path& path,
+                   const char* expected,
+                   std::vector<Entry>* all) {
+  std::ifstream in(path);
+  nlohmann::json j;
+  try {
+    in >> j;
+    for (const auto& s : j.at("specimens")) {
+      ReportSection sec;
+      sec.name = s.at("name").get<std::string>();
+      sec.row = s.at("row");
+      sec.failed = s.at("failed").get<bool>();
+      sec.flagged = s.at("flagged").get<bool>();
+      for (const auto& f : s.at("figures"))
+        sec.figures.shown.push_back(
+            (fs::path(out) / f.get<std::string>()).string());
+      sec.figures.titles = s.at("titles").get<std::vector<std::string>>();
+      const std::string viewer = s.value("viewer", std::string());
+      if (!viewer.empty()) sec.viewer = (fs::path(out) / viewer).string();
+      std::optional<SpecimenSeries> series;
+      if (s.contains("series")) series = SeriesOf(sec.name, s["series"]);
+      all->emplace_back(std::move(sec), std::move(series));
+    }
+  } catch (const std::exception& e) {
+    throw OutputError(
+        fmt::format("{}: {}; expected {}", path.string(), e.what(), expected));
+  }
+}
+
+void Split(std::vector<Entry>* all, Parts* p) {
+  for (auto& [sec, series] : *all) {
+    if (series) p->analysed.push_back(std::move(*series));
+    p->sections.push_back(std::move(sec));
+  }
+}
+
+}  // namespace
+
+void WritePart(const std::string& out,
+               int index,
+               int count,
+               const std::vector<ReportSection>& sections,
+               const std::vector<SpecimenSeries>& series) {
   const fs::path dir = fs::path(out) / "parts";
   EnsureDirectory(dir.string());
   WriteTextAtomically(
       (dir / PartName(index, count)).string(),
-      nlohmann::json(
-          {{"shard", index}, {"of", count}, {"specimens", specimens}})
+      nlohmann::json({{"shard", index},
+                      {"of", count},
+                      {"specimens", SpecimensJson(out, sections, series)}})
               .dump() +
           "\n");
+}
+
+void WriteBatchRecord(const std::string& out,
+                      const std::vector<ReportSection>& sections,
+                      const std::vector<SpecimenSeries>& series) {
+  const fs::path dir = fs::path(out) / "parts";
+  EnsureDirectory(dir.string());
+  WriteTextAtomically(
+      (dir / kBatchRecord).string(),
+      nlohmann::json({{"specimens", SpecimensJson(out, sections, series)}})
+              .dump() +
+          "\n");
+}
+
+std::optional<Parts> ReadBatchRecord(const std::string& out) {
+  const fs::path file = fs::path(out) / "parts" / kBatchRecord;
+  std::error_code ec;
+  if (!fs::exists(file, ec)) return std::nullopt;
+  std::vector<Entry> all;
+  ReadSpecimens(out, file, "the batch record wearscar audit wrote", &all);
+  Parts p;
+  p.files.push_back((fs::path("parts") / kBatchRecord).string());
+  Split(&all, &p);
+  return p;
 }
 
 Parts ReadParts(const std::string& out) {
@@ -148,34 +224,9 @@ Parts ReadParts(const std::string& out) {
   }
   for (int i = 1; i <= p.count; ++i)
     if (!found.count(i)) p.missing.push_back(i);
-  std::vector<std::pair<ReportSection, std::optional<SpecimenSeries>>> all;
+  std::vector<Entry> all;
   for (const auto& [index, path] : found) {
-    std::ifstream in(path);
-    nlohmann::json j;
-    try {
-      in >> j;
-      for (const auto& s : j.at("specimens")) {
-        ReportSection sec;
-        sec.name = s.at("name").get<std::string>();
-        sec.row = s.at("row");
-        sec.failed = s.at("failed").get<bool>();
-        sec.flagged = s.at("flagged").get<bool>();
-        for (const auto& f : s.at("figures"))
-          sec.figures.shown.push_back(
-              (fs::path(out) / f.get<std::string>()).string());
-        sec.figures.titles = s.at("titles").get<std::vector<std::string>>();
-        const std::string viewer = s.value("viewer", std::string());
-        if (!viewer.empty()) sec.viewer = (fs::path(out) / viewer).string();
-        std::optional<SpecimenSeries> series;
-        if (s.contains("series")) series = SeriesOf(sec.name, s["series"]);
-        all.emplace_back(std::move(sec), std::move(series));
-      }
-    } catch (const std::exception& e) {
-      throw OutputError(fmt::format(
-          "{}: {}; expected a part written by wearscar audit --shard",
-          path.string(),
-          e.what()));
-    }
+    ReadSpecimens(out, path, "a part written by wearscar audit --shard", &all);
     p.files.push_back((fs::path("parts") / path.filename()).string());
   }
   if (fs::exists(dir / "plan.json", ec))
@@ -183,10 +234,7 @@ Parts ReadParts(const std::string& out) {
   std::stable_sort(all.begin(), all.end(), [](const auto& a, const auto& b) {
     return a.first.name < b.first.name;
   });
-  for (auto& [sec, series] : all) {
-    if (series) p.analysed.push_back(std::move(*series));
-    p.sections.push_back(std::move(sec));
-  }
+  Split(&all, &p);
   return p;
 }
 

@@ -4,6 +4,7 @@
 // every part present and writes the summaries, batch figures and report of
 // them all.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,16 @@ struct Parts {
   int count = 0;                         // shards of the audit
   std::vector<std::string> files;        // "parts/shard-1-of-3.json"
 };
+
+// An unsharded audit's record of its whole batch (parts/audit.json, the
+// same form as a shard's part): a later run into the folder keeps the
+// specimens it does not analyse again from it. ReadBatchRecord gives none
+// when the folder holds no record; OutputError when it cannot be read.
+constexpr const char* kBatchRecord = "audit.json";
+void WriteBatchRecord(const std::string& out,
+                      const std::vector<ReportSection>& sections,
+                      const std::vector<SpecimenSeries>& series);
+std::optional<Parts> ReadBatchRecord(const std::string& out);
 
 // Every part in <out>/parts. Throws OutputError when there is none, when
 // parts of audits with different shard counts are mixed, or when a part

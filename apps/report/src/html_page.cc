@@ -59,10 +59,12 @@ table {{ border-collapse: collapse; font-size: 0.9em; }}
 th, td {{ border: 1px solid #bbb; padding: 0.3em 0.5em; text-align: right; }}
 th {{ background: #eee; }} td.name, td.text {{ text-align: left; }}
 tr.flagged td {{ background: #ffe3b3; }} tr.failed td {{ background: #ffc4c4; }}
+tr.unsettled td, tr.unjudged td {{ background: #fff6cc; }}
 div.wide {{ overflow-x: auto; max-width: 100%; }}
 #summary thead th {{ position: sticky; top: 0; z-index: 1; cursor: pointer; }}
 #summary td.name {{ position: sticky; left: 0; background: #fff; white-space: nowrap; }}
 #summary tr.flagged td.name {{ background: #ffe3b3; }} #summary tr.failed td.name {{ background: #ffc4c4; }}
+#summary tr.unsettled td.name, #summary tr.unjudged td.name {{ background: #fff6cc; }}
 #summary td.file {{ white-space: nowrap; }}
 #summary th.sorted-up::after {{ content: ' \25B2'; }} #summary th.sorted-down::after {{ content: ' \25BC'; }}
 tr.reason td {{ text-align: left; border-top: none; }}

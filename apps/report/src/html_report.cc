@@ -100,6 +100,17 @@ const Column kColumns[] = {
      }},
     {"cycles",
      [](const nlohmann::json& r) { return Number(r["cycles"], "{:.0f}"); }},
+    {"mu to quote",
+     [](const nlohmann::json& r) {
+       return Number(At(r, {"quote", "mu"}));
+     }},
+    {"its 95% interval",
+     [](const nlohmann::json& r) {
+       const nlohmann::json iv = At(r, {"quote", "interval95"});
+       return iv.is_array() && iv.size() == 2 && iv[0].is_number()
+                  ? Number(iv[0]) + "&ndash;" + Number(iv[1])
+                  : std::string();
+     }},
     {"mu-hat (k from P or depth)",
      [](const nlohmann::json& r) {
        return Number(At(r, {"comparison", "mu_hat_force", "mean"}));
@@ -194,7 +205,15 @@ std::string PageUrl(const ReportSection& s) {
 // (one <tbody> each: sorted and filtered together).
 std::string SummaryRows(const ReportSection& s,
                         const std::vector<const Column*>& columns) {
-  const std::string cls = s.failed ? "failed" : s.flagged ? "flagged" : "ok";
+  // The status fusion::QuoteOf gave (an older row without one: its verdict).
+  std::string status = Text(At(s.row, {"quote", "status"}));
+  if (s.failed) status = "failed";
+  if (status.empty()) status = s.flagged ? "not explained" : "explained";
+  const std::string cls = status == "failed"          ? "failed"
+                          : status == "not explained" ? "flagged"
+                          : status == "not settled"   ? "unsettled"
+                          : status == "explained"     ? "ok"
+                                                      : "unjudged";
   const std::string full = s.failed ? "error: " + Text(s.row["error"])
                                     : Text(At(s.row, {"verdict", "summary"}));
   const std::string url = PageUrl(s);
@@ -215,16 +234,15 @@ std::string SummaryRows(const ReportSection& s,
   h +=
       fmt::format("<td class=\"text\"><span title=\"{}\">{}</span></td></tr>\n",
                   Escape(full),
-                  s.failed                           ? "failed"
-                  : full.rfind("not judged", 0) == 0 ? "not judged"
-                  : s.flagged                        ? "not explained"
-                                                     : "explained");
-  if (s.failed || s.flagged) {
+                  Escape(status));
+  if (cls != "ok") {
     h += fmt::format(
         "<tr class=\"reason {}\"><td colspan=\"{}\"><div>{}</div></td></tr>\n",
         cls,
         columns.size() + 2,
-        Escape(full));
+        Escape(status == "not settled"
+                   ? "not settled: " + Text(At(s.row, {"verdict", "screen"}))
+                   : full));
   }
   return h + "</tbody>\n";
 }
@@ -341,8 +359,10 @@ std::string RenderIndex(const std::string& out,
       "type=\"search\" placeholder=\"filter: words in any column\" "
       "aria-label=\"filter the specimens\"> <select id=\"filter-verdict\" "
       "aria-label=\"verdict\"><option value=\"\">every verdict</option>"
-      "<option value=\"ok\">explained</option><option value=\"flagged\">not "
-      "explained</option><option value=\"failed\">failed</option></select> "
+      "<option value=\"ok\">explained</option><option value=\"unsettled\">"
+      "not settled</option><option value=\"flagged\">not explained</option>"
+      "<option value=\"unjudged\">not judged</option><option "
+      "value=\"failed\">failed</option></select> "
       "<button id=\"page-prev\" type=\"button\">previous</button> "
       "<span id=\"shown\"></span> <button id=\"page-next\" "
       "type=\"button\">next</button> <select id=\"page-size\" "
@@ -356,7 +376,7 @@ std::string RenderIndex(const std::string& out,
       failed);
   for (const Column* c : columns)
     h += std::string("<th>") + c->heading + "</th>";
-  h += "<th>verdict</th></tr></thead></table></div>\n<template id=\"rows\">";
+  h += "<th>status</th></tr></thead></table></div>\n<template id=\"rows\">";
   for (const auto& s : sections) h += SummaryRows(s, columns);
   h += "</template>\n";
   if (!batch.shown.empty() || !batch.message.empty()) {

@@ -92,26 +92,49 @@ std::vector<Premise> Premises(const TestResult& r) {
   return out;
 }
 
+Quote QuoteOf(const TestResult& r) {
+  const MismatchReport& m = r.mismatch;
+  const bool from_p = m.JudgesForceSlope();
+  const Statistic& mu = from_p ? m.mu_force : m.mu_scan;
+  Quote q;
+  q.k_from = from_p ? r.profile.ChannelName() : "the scan";
+  if (mu.count == 0) {
+    q.status = "not fitted";
+    q.reason =
+        "no mu-hat was fitted (too few sliding samples per cycle; see the "
+        "warnings)";
+  } else if (!r.verdict.not_judged.empty()) {
+    q.status = "not judged";
+    q.reason =
+        "not judged, P carries no profile and nothing else gives the slope "
+        "(no scan, no depth channel)";
+  } else if (!r.verdict.explained) {
+    q.status = "not explained";
+    q.reason =
+        "not explained by wear-scar interaction, the model misses an effect";
+  } else {
+    q.status = r.verdict.screen.empty() ? "explained" : "not settled";
+    q.mu = mu.mean;
+    q.low = mu.low;
+    q.high = mu.high;
+  }
+  return q;
+}
+
 std::string Headline(const TestResult& r) {
   const MismatchReport& m = r.mismatch;
   const bool from_p = m.JudgesForceSlope();
   const Statistic& mu = from_p ? m.mu_force : m.mu_scan;
-  if (mu.count == 0) {
-    return "no mu to quote: no mu-hat was fitted (too few sliding samples "
-           "per cycle; see the warnings)";
-  }
-  if (!r.verdict.not_judged.empty()) {
-    return "no mu to quote: not judged, P carries no profile and nothing "
-           "else gives the slope (no scan, no depth channel)";
-  }
-  if (!r.verdict.explained) {
+  const Quote q = QuoteOf(r);
+  if (q.status == "not explained") {
     return fmt::format(
-        "no mu to quote: not explained by wear-scar interaction, the model "
-        "misses an effect (reasons below; `wearscar diagnose` names it); "
+        "no mu to quote: {} (reasons below; `wearscar diagnose` names it); "
         "mu-hat {:.4f} and mu energy {:.4f} are for comparison only",
+        q.reason,
         mu.mean,
         m.mu_energy.mean);
   }
+  if (!q.Quoted()) return "no mu to quote: " + q.reason;
   const std::string interval =
       std::isfinite(mu.low)
           ? fmt::format(" (95%: {:.4f}-{:.4f})", mu.low, mu.high)

@@ -102,6 +102,7 @@ std::string CsvCell(const nlohmann::json& j) {
     }
     return CsvCell(nlohmann::json(joined));
   }
+  if (j.is_number_integer()) return fmt::format("{}", j.dump());
   if (j.is_number()) {
     const double v = j.get<double>();
     return std::isfinite(v) ? fmt::format("{:.6g}", v) : "";
@@ -377,81 +378,89 @@ void ForEachSpecimen(size_t n,
   for (auto& t : threads) t.join();
 }
 
+namespace {
+
+using Columns = std::vector<std::pair<std::string, std::vector<std::string>>>;
+
+// name, name_low and name_high: a comparison's mean and 95% interval.
+void AddInterval(Columns* c, const std::string& name, const std::string& key) {
+  c->push_back({name, {"comparison", key, "mean"}});
+  c->push_back({name + "_low", {"comparison", key, "interval95", "0"}});
+  c->push_back({name + "_high", {"comparison", key, "interval95", "1"}});
+}
+
+Columns MakeSummaryColumns() {
+  Columns c = {
+      {"specimen", {"specimen"}},
+      {"species", {"species"}},
+      {"plane", {"plane"}},
+      {"direction", {"direction"}},
+      {"cycles", {"cycles"}},
+      {"status", {"quote", "status"}},
+      {"mu_to_quote", {"quote", "mu"}},
+      {"mu_to_quote_low", {"quote", "interval95", "0"}},
+      {"mu_to_quote_high", {"quote", "interval95", "1"}},
+      {"mu_to_quote_k_from", {"quote", "k_from"}},
+      {"no_mu_to_quote_because", {"quote", "reason"}},
+      {"mu_hat_mean", {"comparison", "mu_hat_force", "mean"}},
+      {"mu_hat_sd", {"comparison", "mu_hat_force", "sd"}},
+      {"mu_hat_scan_mean", {"comparison", "mu_hat_scan", "mean"}},
+      {"mu_hat_scan_sd", {"comparison", "mu_hat_scan", "sd"}},
+      {"mu_hat_low", {"comparison", "mu_hat_force", "interval95", "0"}},
+      {"mu_hat_high", {"comparison", "mu_hat_force", "interval95", "1"}},
+      {"mu_hat_effective_cycles",
+       {"comparison", "mu_hat_force", "effective_cycles"}},
+      {"mu_hat_scan_low", {"comparison", "mu_hat_scan", "interval95", "0"}},
+      {"mu_hat_scan_high", {"comparison", "mu_hat_scan", "interval95", "1"}}};
+  AddInterval(&c, "mu_mean", "mu_mean");
+  AddInterval(&c, "mu_energy", "mu_energy");
+  AddInterval(&c, "mu_hat_minus_mu_mean", "mu_hat_minus_mu_mean");
+  AddInterval(&c, "mu_hat_minus_mu_energy", "mu_hat_minus_mu_energy");
+  const Columns rest = {
+      {"J", {"comparison", "J_force", "mean"}},
+      {"J_noise_floor", {"comparison", "J_force_split", "noise_floor"}},
+      {"J_excess", {"comparison", "J_force_split", "excess"}},
+      {"J_scan", {"comparison", "J_scan", "mean"}},
+      {"J_scan_excess", {"comparison", "J_scan_split", "excess"}},
+      {"profile_correlation", {"comparison", "profile_correlation"}},
+      {"amplitude_ratio", {"comparison", "amplitude_ratio"}},
+      {"k_rms_difference", {"comparison", "k_rms_difference"}},
+      {"track_mean_depth_mm", {"scan", "track", "mean_depth_mm"}},
+      {"track_max_depth_mm", {"scan", "track", "max_depth_mm"}},
+      {"track_width_mm", {"scan", "track", "width_mm"}},
+      {"wear_volume_mm3", {"wear", "volume_mm3"}},
+      {"normal_load_N", {"wear", "normal_load_n"}},
+      {"sliding_distance_m", {"wear", "sliding_distance_m"}},
+      {"specific_wear_rate_mm3_per_N_m",
+       {"wear", "specific_wear_rate_mm3_per_n_m"}},
+      {"mu_spatial_sd", {"friction_map", "spatial_sd_corrected"}},
+      {"mu_spatial_sd_noise_floor", {"friction_map", "spatial_sd_noise_floor"}},
+      {"mu_spatial_sd_raw", {"friction_map", "spatial_sd_raw"}},
+      {"explained", {"verdict", "explained"}},
+      {"verdict", {"verdict", "summary"}},
+      {"warnings", {"warnings"}},
+      {"diagnosis", {"diagnosis"}},
+      {"error", {"error"}},
+      {"force_file", {"provenance", "inputs", "0", "path"}},
+      {"force_bytes", {"provenance", "inputs", "0", "bytes"}},
+      {"force_sha256", {"provenance", "inputs", "0", "sha256"}},
+      {"scan_file", {"provenance", "inputs", "1", "path"}},
+      {"scan_bytes", {"provenance", "inputs", "1", "bytes"}},
+      {"scan_sha256", {"provenance", "inputs", "1", "sha256"}},
+      {"pairing", {"pairing"}},
+      {"assumptions", {"assumptions"}},
+      {"wearscar_version", {"provenance", "wearscar_version"}},
+      {"git_commit", {"provenance", "git_commit"}},
+      {"date_utc", {"provenance", "date_utc"}}};
+  c.insert(c.end(), rest.begin(), rest.end());
+  return c;
+}
+
+}  // namespace
+
 const std::vector<std::pair<std::string, std::vector<std::string>>>&
 SummaryColumns() {
-  static const std::vector<std::pair<std::string, std::vector<std::string>>>
-      kColumns = {
-          {"specimen", {"specimen"}},
-          {"species", {"species"}},
-          {"plane", {"plane"}},
-          {"direction", {"direction"}},
-          {"cycles", {"cycles"}},
-          {"mu_hat_mean", {"comparison", "mu_hat_force", "mean"}},
-          {"mu_hat_sd", {"comparison", "mu_hat_force", "sd"}},
-          {"mu_hat_scan_mean", {"comparison", "mu_hat_scan", "mean"}},
-          {"mu_hat_scan_sd", {"comparison", "mu_hat_scan", "sd"}},
-          {"mu_hat_low", {"comparison", "mu_hat_force", "interval95", "0"}},
-          {"mu_hat_high", {"comparison", "mu_hat_force", "interval95", "1"}},
-          {"mu_hat_effective_cycles",
-           {"comparison", "mu_hat_force", "effective_cycles"}},
-          {"mu_hat_scan_low", {"comparison", "mu_hat_scan", "interval95", "0"}},
-          {"mu_hat_scan_high",
-           {"comparison", "mu_hat_scan", "interval95", "1"}},
-          {"mu_mean", {"comparison", "mu_mean", "mean"}},
-          {"mu_mean_low", {"comparison", "mu_mean", "interval95", "0"}},
-          {"mu_mean_high", {"comparison", "mu_mean", "interval95", "1"}},
-          {"mu_energy", {"comparison", "mu_energy", "mean"}},
-          {"mu_energy_low", {"comparison", "mu_energy", "interval95", "0"}},
-          {"mu_energy_high", {"comparison", "mu_energy", "interval95", "1"}},
-          {"mu_hat_minus_mu_mean",
-           {"comparison", "mu_hat_minus_mu_mean", "mean"}},
-          {"mu_hat_minus_mu_mean_low",
-           {"comparison", "mu_hat_minus_mu_mean", "interval95", "0"}},
-          {"mu_hat_minus_mu_mean_high",
-           {"comparison", "mu_hat_minus_mu_mean", "interval95", "1"}},
-          {"mu_hat_minus_mu_energy",
-           {"comparison", "mu_hat_minus_mu_energy", "mean"}},
-          {"mu_hat_minus_mu_energy_low",
-           {"comparison", "mu_hat_minus_mu_energy", "interval95", "0"}},
-          {"mu_hat_minus_mu_energy_high",
-           {"comparison", "mu_hat_minus_mu_energy", "interval95", "1"}},
-          {"J", {"comparison", "J_force", "mean"}},
-          {"J_noise_floor", {"comparison", "J_force_split", "noise_floor"}},
-          {"J_excess", {"comparison", "J_force_split", "excess"}},
-          {"J_scan", {"comparison", "J_scan", "mean"}},
-          {"J_scan_excess", {"comparison", "J_scan_split", "excess"}},
-          {"profile_correlation", {"comparison", "profile_correlation"}},
-          {"amplitude_ratio", {"comparison", "amplitude_ratio"}},
-          {"k_rms_difference", {"comparison", "k_rms_difference"}},
-          {"track_mean_depth_mm", {"scan", "track", "mean_depth_mm"}},
-          {"track_max_depth_mm", {"scan", "track", "max_depth_mm"}},
-          {"track_width_mm", {"scan", "track", "width_mm"}},
-          {"wear_volume_mm3", {"wear", "volume_mm3"}},
-          {"normal_load_N", {"wear", "normal_load_n"}},
-          {"sliding_distance_m", {"wear", "sliding_distance_m"}},
-          {"specific_wear_rate_mm3_per_N_m",
-           {"wear", "specific_wear_rate_mm3_per_n_m"}},
-          {"mu_spatial_sd", {"friction_map", "spatial_sd_corrected"}},
-          {"mu_spatial_sd_noise_floor",
-           {"friction_map", "spatial_sd_noise_floor"}},
-          {"mu_spatial_sd_raw", {"friction_map", "spatial_sd_raw"}},
-          {"explained", {"verdict", "explained"}},
-          {"verdict", {"verdict", "summary"}},
-          {"warnings", {"warnings"}},
-          {"diagnosis", {"diagnosis"}},
-          {"error", {"error"}},
-          {"force_file", {"provenance", "inputs", "0", "path"}},
-          {"force_bytes", {"provenance", "inputs", "0", "bytes"}},
-          {"force_sha256", {"provenance", "inputs", "0", "sha256"}},
-          {"scan_file", {"provenance", "inputs", "1", "path"}},
-          {"scan_bytes", {"provenance", "inputs", "1", "bytes"}},
-          {"scan_sha256", {"provenance", "inputs", "1", "sha256"}},
-          {"pairing", {"pairing"}},
-          {"assumptions", {"assumptions"}},
-          {"wearscar_version", {"provenance", "wearscar_version"}},
-          {"git_commit", {"provenance", "git_commit"}},
-          {"date_utc", {"provenance", "date_utc"}},
-      };
+  static const Columns kColumns = MakeSummaryColumns();
   return kColumns;
 }
 

@@ -448,6 +448,12 @@ nlohmann::json ResultJson(const std::string& name,
   if (r.scan) j["scan"] = ScanJson(*r.scan);
   if (r.lugre) j["lugre"] = LugreJson(r);
   j["headline"] = Headline(r);
+  const Quote quote = QuoteOf(r);
+  j["quote"] = {{"status", quote.status},
+                {"mu", quote.mu},
+                {"interval95", {quote.low, quote.high}},
+                {"k_from", quote.k_from},
+                {"reason", quote.reason}};
   j["profile"] = ProfileJson(r.profile);
   if (r.mismatch.spring.judged) j["spring"] = SpringJson(r.mismatch.spring);
   j["verdict"] = {

@@ -35,6 +35,12 @@ struct AuditOptions {
   bool merge_shards = true;
   // Lock files left by a killed wearscar are removed (OutputLock).
   bool break_lock = false;
+  // An unsharded run into a folder an earlier audit wrote: false keeps the
+  // earlier specimens this run does not analyse (their folders, rows and
+  // figures stay in the batch's tables and report); true makes the batch
+  // this run's alone and removes what the earlier audit wrote for the
+  // others.
+  bool replace_batch = false;
 
   // Every part valid (the batch's, the readers', the analysis's and, when
   // diagnosing, the diagnosis's); `why` names the first that is not.
@@ -56,6 +62,9 @@ struct AuditResult {
   int shard_count = 1;
   std::vector<int> missing_shards;
   int merged = 0;
+  // An unsharded run: the earlier audit's specimens kept beside this run's
+  // (replace_batch false), by name.
+  std::vector<std::string> kept;
 };
 
 // Audits `specimens` (fusion::FindSpecimens) into `out`, which it locks

@@ -1,4 +1,6 @@
 #pragma once
+
+#include <cmath>
 // What one test's analysis yields (AnalyzeTest): every number, table and
 // reconstruction a user can see, each decision recorded once as given and
 // as used. Below the pipeline: the products, the summaries, the figures and
@@ -157,6 +159,20 @@ struct TestResult {
 // (result.json premises): the profile's source, the spring check's split,
 // the sphere's path, the scan's identity, the screen.
 std::vector<Premise> Premises(const TestResult& result);
+
+// The number to quote and its status, one home for every table (summary
+// rows, result.json "quote", the report's filter, Python's Result): the
+// status is "explained", "not settled" (explained, but a repeating misfit
+// above the screen's limit), "not explained", "not judged" or "not fitted";
+// mu is NaN where the status gives none to quote, and `reason` says why.
+struct Quote {
+  std::string status;
+  double mu = NAN, low = NAN, high = NAN;
+  std::string k_from;  // "P", "the depth" or "the scan"
+  std::string reason;  // why there is none ("" when mu is quoted)
+  bool Quoted() const { return std::isfinite(mu); }
+};
+Quote QuoteOf(const TestResult& result);
 
 // The one line to read first: the coefficient to quote, how it was got
 // and the verdict ("mu = 0.1443 (95%: 0.1436-0.1449): mu-hat, k from P,

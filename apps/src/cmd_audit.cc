@@ -310,6 +310,22 @@ void AddAuditCommand(CLI::App& app) {
                 "audit wrote into --out for other specimens is removed (by "
                 "default they are kept, and a re-run of some specimens "
                 "updates their folders and the batch's tables)");
+  cmd->add_option("--factors",
+                  args->audit.groups.factors,
+                  "The factors the groups are compared by (comma-separated: "
+                  "species,plane,direction, a name pattern's named groups "
+                  "'(?<load>...)', a manifest's extra columns); default: "
+                  "every factor with two levels or more")
+      ->delimiter(',');
+  cmd->add_option("--plan-difference",
+                  args->audit.groups.plan_difference,
+                  "The difference in mu the planning line sizes the next "
+                  "batch for (replicates per group)")
+      ->capture_default_str();
+  cmd->add_option("--plan-power",
+                  args->audit.groups.plan_power,
+                  "The power to find it with (two-sided, 5% level)")
+      ->capture_default_str();
   cmd->add_flag("--dry-run",
                 args->dry_run,
                 "Print how the files pair (specimen, force, scan, note) and "

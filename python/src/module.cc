@@ -238,7 +238,7 @@ TestOutput Fuse(const py::object& force,
 nlohmann::json AuditOne(const fusion::Specimen& s,
                         const fusion::TestSettings& a,
                         const fusion::BatchOptions& batch) {
-  nlohmann::json row = fusion::SpecimenIdentity(s.name, batch.naming);
+  nlohmann::json row = fusion::SpecimenIdentity(s, batch);
   try {
     const fusion::SpecimenAnalysis an =
         fusion::AnalyzeSpecimen(s, a.read_force, a.read_scan, a.fuse);

@@ -60,7 +60,7 @@ void AuditSpecimen(const AuditOptions& o,
                    SpecimenSeries* series,
                    std::atomic<bool>* figures_missing) {
   sec->name = s.name;
-  sec->row = fusion::SpecimenIdentity(s.name, o.batch.naming);
+  sec->row = fusion::SpecimenIdentity(s, o.batch);
   const std::string final_dir = (fs::path(out) / s.name).string();
   try {
     StagedOutput stage(final_dir, "audit");
@@ -122,8 +122,14 @@ void RecordAuditOutputs(const std::string& out,
                         const std::vector<ReportSection>& sections,
                         const FigureSet& batch,
                         const std::vector<std::string>& parts) {
-  std::vector<std::string> entries = {
-      "summary.csv", "summary.jsonl", "summary.json", "report.html"};
+  std::vector<std::string> entries = {"summary.csv",
+                                      "summary.jsonl",
+                                      "summary.json",
+                                      "groups.csv",
+                                      "group_differences.csv",
+                                      "groups.tex",
+                                      "groups.json",
+                                      "report.html"};
   entries.insert(entries.end(), parts.begin(), parts.end());
   for (const auto& sec : sections) entries.push_back(sec.name + "/");
   for (const std::string& file : batch.files)
@@ -137,9 +143,13 @@ void RecordAuditOutputs(const std::string& out,
   RecordOutputs(out, "audit", entries, !sharded);
 }
 
-// summary.csv, summary.jsonl (one row per line) and summary.json.
-void WriteSummaries(const std::string& out,
-                    const std::vector<ReportSection>& sections) {
+// summary.csv, summary.jsonl (one row per line) and summary.json; the
+// groups compared (groups.csv, group_differences.csv, groups.tex and
+// groups.json), which it returns.
+std::vector<fusion::GroupComparison> WriteSummaries(
+    const std::string& out,
+    const std::vector<ReportSection>& sections,
+    const fusion::GroupOptions& group_options) {
   std::vector<nlohmann::json> rows;
   std::string jsonl;
   for (const auto& sec : sections) {
@@ -151,6 +161,16 @@ void WriteSummaries(const std::string& out,
   WriteTextAtomically((fs::path(out) / "summary.jsonl").string(), jsonl);
   WriteTextAtomically((fs::path(out) / "summary.json").string(),
                       nlohmann::json(rows).dump(2) + "\n");
+  auto groups = fusion::CompareGroups(rows, group_options);
+  WriteTextAtomically((fs::path(out) / "groups.csv").string(),
+                      fusion::GroupsCsv(groups));
+  WriteTextAtomically((fs::path(out) / "group_differences.csv").string(),
+                      fusion::GroupDifferencesCsv(groups));
+  WriteTextAtomically((fs::path(out) / "groups.tex").string(),
+                      fusion::GroupsLatex(groups));
+  WriteTextAtomically((fs::path(out) / "groups.json").string(),
+                      fusion::GroupsJson(groups).dump(2) + "\n");
+  return groups;
 }
 
 // Inputs shared by specimens (the same SHA-256): a warning in each one's
@@ -184,12 +204,12 @@ void WriteBatch(const std::string& out,
                 AuditResult* result) {
   WarnOfSharedInputs(out, specimens);
   const std::vector<ReportSection>& sections = *specimens;
-  WriteSummaries(out, sections);
+  const auto groups = WriteSummaries(out, sections, o.groups);
   if (o.figures)
     result->batch_figures = DrawAuditFigures(out, analysed, o.figure_formats);
   RecordAuditOutputs(out, sharded, sections, result->batch_figures, parts);
   result->report_path = (fs::path(out) / "report.html").string();
-  WriteReport(out, title, sections, result->batch_figures);
+  WriteReport(out, title, sections, result->batch_figures, groups);
 }
 
 // The batch an unsharded run writes: the earlier audit's specimens (its
@@ -333,7 +353,7 @@ bool AuditOptions::IsValid(std::string* why) const {
   return batch.IsValid(why) && read_force.IsValid(why) &&
          read_scan.IsValid(why) && fuse.IsValid(why) &&
          (!figures || figure_formats.IsValid(why)) &&
-         (!diagnose || diagnose_options.IsValid(why));
+         (!diagnose || diagnose_options.IsValid(why)) && groups.IsValid(why);
 }
 
 AuditResult Audit(const std::vector<fusion::Specimen>& specimens,

@@ -49,8 +49,10 @@ nlohmann::json At(const nlohmann::json& j,
   return *p;
 }
 
-std::string PageHead(const std::string& title) {
-  return fmt::format(R"(<!DOCTYPE html>
+std::string PageHead(const std::string& title,
+                     const nlohmann::json& provenance) {
+  return fmt::format(
+      R"(<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>{0}</title>
 <meta name="viewport" content="width=device-width, initial-scale=1">
 <style>
@@ -82,10 +84,13 @@ input.filter {{ width: 24em; font-size: 1em; }} p.filters {{ margin: 0.5em 0; }}
 <h1>{0}</h1>
 <p class="made">made by wearscar {1} (commit {2}) on {3}</p>
 )",
-                     Escape(title),
-                     fusion::Version(),
-                     fusion::GitCommit(),
-                     fusion::CurrentProvenance().date_utc);
+      Escape(title),
+      provenance.is_object() ? Escape(provenance.value("wearscar_version", ""))
+                             : fusion::Version(),
+      provenance.is_object() ? Escape(provenance.value("git_commit", ""))
+                             : fusion::GitCommit(),
+      provenance.is_object() ? Escape(provenance.value("date_utc", ""))
+                             : fusion::CurrentProvenance().date_utc);
 }
 
 std::string RelativeUrl(const std::string& path, const std::string& dir) {

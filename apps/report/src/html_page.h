@@ -18,7 +18,11 @@ nlohmann::json At(const nlohmann::json& j,
                   std::initializer_list<const char*> path);
 
 // <!DOCTYPE html> to <body>, titled, with the report's style.
-std::string PageHead(const std::string& title);
+// The "made by" line names the build and date of `provenance` (a result's
+// provenance: a specimen's page says when its analysis was made, and stays
+// the same bytes while it is not analysed again), else this run's.
+std::string PageHead(const std::string& title,
+                     const nlohmann::json& provenance = nullptr);
 
 // A figure: the image file at `path` shown from a page in `page_dir` by
 // its relative path, loaded as it nears the view, with its caption.

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "group_section.h"
 #include "html_page.h"
 #include "specimen_page.h"
 #include "wearscar/report/output_folder.h"
@@ -339,7 +340,8 @@ constexpr const char* kTableScript = R"(<script>
 std::string RenderIndex(const std::string& out,
                         const std::string& title,
                         const std::vector<ReportSection>& sections,
-                        const FigureSet& batch) {
+                        const FigureSet& batch,
+                        const std::vector<fusion::GroupComparison>& groups) {
   int flagged = 0, failed = 0;
   for (const auto& s : sections) {
     flagged += s.flagged;
@@ -379,6 +381,7 @@ std::string RenderIndex(const std::string& out,
   h += "<th>status</th></tr></thead></table></div>\n<template id=\"rows\">";
   for (const auto& s : sections) h += SummaryRows(s, columns);
   h += "</template>\n";
+  h += internal::GroupSection(groups);
   if (!batch.shown.empty() || !batch.message.empty()) {
     h += "<h2>All specimens</h2>\n";
     if (!batch.message.empty()) h += "<p>" + Escape(batch.message) + "</p>\n";
@@ -393,7 +396,8 @@ std::string RenderIndex(const std::string& out,
 void WriteReport(const std::string& out,
                  const std::string& title,
                  const std::vector<ReportSection>& sections,
-                 const FigureSet& batch) {
+                 const FigureSet& batch,
+                 const std::vector<fusion::GroupComparison>& groups) {
   std::vector<size_t> pages;
   for (size_t i = 0; i < sections.size(); ++i)
     if (!sections[i].failed) pages.push_back(i);
@@ -420,7 +424,7 @@ void WriteReport(const std::string& out,
   }
   support::WriteFileAtomically<OutputError>(
       (fs::path(out) / "report.html").string(),
-      RenderIndex(out, title, sections, batch));
+      RenderIndex(out, title, sections, batch, groups));
 }
 
 }  // namespace wearscar::report

@@ -350,7 +350,7 @@ const char* const kViewerScript = R"(<script>
 std::string RenderSpecimenPage(const ReportSection& s,
                                const std::string& page_dir,
                                const SpecimenLinks& links) {
-  std::string h = PageHead(s.name);
+  std::string h = PageHead(s.name, At(s.row, {"provenance"}));
   h += "<nav><a href=\"" + Escape(links.index) + "\">all specimens</a>";
   if (!links.previous.empty())
     h += "<a href=\"" + Escape(links.previous) +

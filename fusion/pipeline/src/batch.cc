@@ -71,6 +71,8 @@ std::string NameProblem(const std::string& name) {
 
 struct ManifestColumns {
   int specimen = -1, force = -1, scan = -1;
+  // Any other column: a factor of the test (load, lubricant, operator).
+  std::vector<std::pair<int, std::string>> factors;
 };
 
 ManifestColumns FindManifestColumns(const std::string& path,
@@ -82,6 +84,9 @@ ManifestColumns FindManifestColumns(const std::string& path,
     if (h == "specimen" || h == "name") c.specimen = i;
     if (h == "force" || h == "force_file") c.force = i;
     if (h == "scan" || h == "scan_file") c.scan = i;
+    if (h != "specimen" && h != "name" && h != "force" && h != "force_file" &&
+        h != "scan" && h != "scan_file" && !header[i].empty())
+      c.factors.emplace_back(i, header[i]);
   }
   if (c.force < 0) {
     throw FusionError(
@@ -131,7 +136,8 @@ bool BatchOptions::IsValid(std::string* why) const {
   if (shard_count < 1 || shard_index < 1 || shard_index > shard_count)
     return fail("the shard must be i of n with 1 <= i <= n");
   try {
-    const std::regex key(name_pattern), identity(naming.pattern);
+    const std::regex key(ParseNamedPattern(name_pattern).regex),
+        identity(ParseNamedPattern(naming.pattern).regex);
   } catch (const std::regex_error& e) {
     return fail(std::string("the name pattern is not a regular expression: ") +
                 e.what());
@@ -161,6 +167,8 @@ std::vector<Specimen> ReadManifest(const std::string& path) {
     Specimen s;
     s.force = resolve(cell(col.force));
     s.scan = resolve(cell(col.scan));
+    for (const auto& [at, factor] : col.factors)
+      s.factors.emplace_back(factor, cell(at));
     s.name =
         cell(col.specimen).empty() ? SpecimenName(s.force) : cell(col.specimen);
     if (const std::string bad = NameProblem(s.name); !bad.empty()) {
@@ -330,19 +338,35 @@ std::vector<Specimen> FindSpecimens(const std::string& input,
   return mine;
 }
 
-nlohmann::json SpecimenIdentity(const std::string& name,
-                                const SpecimenNaming& naming) {
-  const std::regex re(naming.pattern);
+nlohmann::json SpecimenIdentity(const Specimen& specimen,
+                                const BatchOptions& options) {
+  const NamedPattern own = ParseNamedPattern(options.name_pattern);
+  const NamedPattern pattern =
+      own.HasNames() ? own : ParseNamedPattern(options.naming.pattern);
+  const std::regex re(pattern.regex,
+                      own.HasNames()
+                          ? std::regex::ECMAScript
+                          : std::regex::ECMAScript | std::regex::icase);
+  nlohmann::json factors = nlohmann::json::object();
+  for (const char* f : {"species", "plane", "direction"}) factors[f] = "";
   std::smatch m;
-  nlohmann::json j = {{"specimen", name}};
-  j["species"] = j["plane"] = j["direction"] = "";
-  if (std::regex_search(name, m, re) && m.size() >= 4) {
-    const auto material = naming.materials.find(m.str(1));
-    j["species"] =
-        material != naming.materials.end() ? material->second : m.str(1);
-    j["plane"] = m.str(2);
-    j["direction"] = m.str(3);
+  if (std::regex_search(specimen.name, m, re)) {
+    for (size_t g = 0; g < pattern.names.size() && g + 1 < m.size(); ++g) {
+      if (pattern.names[g].empty()) continue;
+      std::string value = m.str(g + 1);
+      if (!own.HasNames() && pattern.names[g] != "species")
+        value = support::Upper(value);
+      factors[pattern.names[g]] = value;
+    }
   }
+  const auto material = options.naming.materials.find(
+      support::Lower(factors["species"].get<std::string>()));
+  if (material != options.naming.materials.end())
+    factors["species"] = material->second;
+  for (const auto& [name, value] : specimen.factors) factors[name] = value;
+  nlohmann::json j = {{"specimen", specimen.name}};
+  for (const char* f : {"species", "plane", "direction"}) j[f] = factors[f];
+  j["factors"] = factors;
   return j;
 }
 
@@ -497,9 +521,34 @@ std::vector<std::vector<std::string>> SharedInputWarnings(
   return out;
 }
 
+std::vector<std::string> ExtraFactors(const std::vector<nlohmann::json>& rows) {
+  std::vector<std::string> names;
+  for (const nlohmann::json& row : rows) {
+    if (!row.contains("factors") || !row["factors"].is_object()) continue;
+    for (const auto& [name, level] : row["factors"].items()) {
+      if (name == "species" || name == "plane" || name == "direction") continue;
+      if (std::find(names.begin(), names.end(), name) == names.end())
+        names.push_back(name);
+    }
+  }
+  return names;
+}
+
 std::string SummaryCsv(const std::vector<nlohmann::json>& rows, bool header) {
   std::string csv;
-  const auto& columns = SummaryColumns();
+  // The lab's own factors after the paper's three (a name that is already
+  // a column's gets "factor_" before it).
+  Columns columns = SummaryColumns();
+  auto at = columns.begin() + 4;
+  for (const std::string& name : ExtraFactors(rows)) {
+    const bool taken =
+        std::any_of(columns.begin(), columns.end(), [&](const auto& c) {
+          return c.first == name;
+        });
+    at = columns.insert(at,
+                        {taken ? "factor_" + name : name, {"factors", name}}) +
+         1;
+  }
   if (header) {
     for (size_t c = 0; c < columns.size(); ++c) {
       csv += (c ? "," : "") + columns[c].first;

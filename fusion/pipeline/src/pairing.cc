@@ -437,6 +437,46 @@ std::map<fs::path, std::vector<fs::path>> FilesByFolder(
 
 }  // namespace
 
+bool NamedPattern::HasNames() const {
+  for (const std::string& n : names)
+    if (!n.empty()) return true;
+  return false;
+}
+
+NamedPattern ParseNamedPattern(const std::string& pattern) {
+  NamedPattern out;
+  bool in_class = false;
+  for (size_t i = 0; i < pattern.size(); ++i) {
+    const char c = pattern[i];
+    if (c == '\\') {  // an escaped character, whatever it is
+      out.regex += c;
+      if (i + 1 < pattern.size()) out.regex += pattern[++i];
+      continue;
+    }
+    if (in_class) {
+      in_class = c != ']';
+      out.regex += c;
+      continue;
+    }
+    if (c == '[') in_class = true;
+    if (c == '(' && pattern.compare(i, 3, "(?<") == 0 &&
+        i + 3 < pattern.size() && pattern[i + 3] != '=' &&
+        pattern[i + 3] != '!') {
+      const size_t end = pattern.find('>', i + 3);
+      if (end != std::string::npos) {
+        out.names.push_back(pattern.substr(i + 3, end - i - 3));
+        out.regex += '(';
+        i = end;
+        continue;
+      }
+    }
+    if (c == '(' && (i + 1 >= pattern.size() || pattern[i + 1] != '?'))
+      out.names.emplace_back();
+    out.regex += c;
+  }
+  return out;
+}
+
 std::string SpecimenName(const std::string& path) {
   const std::string stem =
       fs::path(support::WithoutCompressionSuffix(path)).stem().string();
@@ -449,7 +489,7 @@ std::vector<Specimen> PairFolder(const std::string& dir,
                                  bool recursive,
                                  bool output_folders,
                                  std::vector<std::string>* skipped) {
-  const std::regex re(name_pattern);
+  const std::regex re(ParseNamedPattern(name_pattern).regex);
   std::vector<std::pair<Specimen, fs::path>> found;
   for (auto& [folder, files] :
        FilesByFolder(dir, recursive, output_folders, skipped)) {

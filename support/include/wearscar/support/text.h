@@ -11,6 +11,8 @@ namespace wearscar::support {
 
 // ASCII lower case.
 std::string Lower(std::string_view s);
+// ASCII letters in upper case ("rt" -> "RT"); other bytes as they are.
+std::string Upper(std::string_view s);
 
 // Without leading and trailing white space.
 std::string_view Trim(std::string_view s);

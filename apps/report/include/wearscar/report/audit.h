@@ -15,6 +15,7 @@
 #include "wearscar/fusion/batch.h"
 #include "wearscar/fusion/diagnose.h"
 #include "wearscar/fusion/fuse.h"
+#include "wearscar/fusion/groups.h"
 #include "wearscar/report/figures.h"
 #include "wearscar/report/html_report.h"
 #include "wearscar/scan/read_scan.h"
@@ -26,6 +27,9 @@ struct AuditOptions {
   force::ReadForceOptions read_force;
   scan::ReadScanOptions read_scan;
   fusion::FuseOptions fuse;
+  // The batch's groups and factors compared (groups.csv, the report's
+  // section), with the specimen as the unit.
+  fusion::GroupOptions groups;
   bool figures = true;  // each specimen's and the batch's (gnuplot)
   FigureFormats figure_formats;
   bool diagnose = false;  // name the effects a flagged model misses

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "wearscar/fusion/groups.h"
 #include "wearscar/report/figures.h"
 
 namespace wearscar::report {
@@ -30,13 +31,16 @@ struct ReportSection {
 void WriteReport(const std::string& out,
                  const std::string& title,
                  const std::vector<ReportSection>& sections,
-                 const FigureSet& batch_figures);
+                 const FigureSet& batch_figures,
+                 const std::vector<fusion::GroupComparison>& groups = {});
 
 // The index's HTML (WriteReport writes it to <out>/report.html).
-std::string RenderIndex(const std::string& out,
-                        const std::string& title,
-                        const std::vector<ReportSection>& sections,
-                        const FigureSet& batch_figures);
+std::string RenderIndex(
+    const std::string& out,
+    const std::string& title,
+    const std::vector<ReportSection>& sections,
+    const FigureSet& batch_figures,
+    const std::vector<fusion::GroupComparison>& groups = {});
 
 // Base64 of bytes (RFC 4648).
 std::string Base64(const std::string& bytes);

@@ -18,10 +18,21 @@ namespace wearscar::fusion {
 // (looked up in `materials`), the plane and the direction. The defaults are
 // the paper's names (B-RT-R: beech, radial-tangential plane, radial
 // sliding).
+// What a specimen's name says of its test conditions when the name
+// pattern (BatchOptions::name_pattern) names no groups: the paper's
+// naming, "B-RT-R" (species, plane, direction) and the same in words
+// ("Buche_RT-R", "spruce-TL-L"), case aside; `materials` maps the species
+// as written (lower case) to its name.
 struct SpecimenNaming {
-  std::string pattern = "([BS])-(RT|RL|TL)-([RTL])";
-  std::map<std::string, std::string> materials = {{"B", "beech"},
-                                                  {"S", "spruce"}};
+  std::string pattern =
+      "(?<species>[BS]|beech|spruce|buche|fichte)[-_ ](?<plane>RT|RL|TL)[-_ ]"
+      "(?<direction>[RTL])(?![a-z])";
+  std::map<std::string, std::string> materials = {{"b", "beech"},
+                                                  {"beech", "beech"},
+                                                  {"buche", "beech"},
+                                                  {"s", "spruce"},
+                                                  {"spruce", "spruce"},
+                                                  {"fichte", "spruce"}};
 };
 
 struct BatchOptions {
@@ -69,10 +80,14 @@ SpecimenAnalysis AnalyzeSpecimen(const Specimen& specimen,
                                  const scan::ReadScanOptions& read_scan,
                                  const FuseOptions& fuse);
 
-// {"specimen", "species", "plane", "direction"} from the name (empty
-// strings where the pattern does not match).
-nlohmann::json SpecimenIdentity(const std::string& name,
-                                const SpecimenNaming& naming);
+// A specimen's identity: {"specimen", "species", "plane", "direction",
+// "factors": {name: level}}. The factors are the named groups of
+// options.name_pattern where it names any ("(?<load>\\d+N)"), else the
+// default naming's (SpecimenNaming); a manifest's extra columns
+// (Specimen::factors) add to them and win. Empty strings where nothing
+// matches.
+nlohmann::json SpecimenIdentity(const Specimen& specimen,
+                                const BatchOptions& options);
 
 // The threads ForEachSpecimen runs for n specimens: `jobs` (0 = one per
 // core), at most n.
@@ -101,6 +116,10 @@ std::vector<std::vector<std::string>> SharedInputWarnings(
 // with SpecimenIdentity, "error" when it failed), columns by path.
 const std::vector<std::pair<std::string, std::vector<std::string>>>&
 SummaryColumns();
+// The factors some row names beyond species, plane and direction (a name
+// pattern's named groups, a manifest's extra columns), in order of first
+// appearance: summary.csv's columns after direction.
+std::vector<std::string> ExtraFactors(const std::vector<nlohmann::json>& rows);
 // summary.csv's text: the header (when asked; shards after the first leave
 // it out so that their files concatenate) and one line per row.
 std::string SummaryCsv(const std::vector<nlohmann::json>& rows, bool header);

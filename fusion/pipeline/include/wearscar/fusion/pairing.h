@@ -20,6 +20,10 @@ struct Specimen {
   // warning in the summary, the table and the report.
   bool scan_expected = false;
 
+  // Factors a manifest's extra columns give (column name, value), in the
+  // manifest's order: "load" -> "30 N".
+  std::vector<std::pair<std::string, std::string>> factors;
+
   // "force + scan" or "force only (no scan: <why>)": what the audit's line
   // and the summary's pairing column say.
   std::string Pairing() const;
@@ -29,6 +33,17 @@ struct Specimen {
 // compared (with the separators _ - . and space, and case).
 const std::vector<std::string>& ForceRoleWords();  // force, friction, cof, ...
 const std::vector<std::string>& ScanRoleWords();   // scan, height, topo, ...
+
+// A name pattern with named groups, "(?<species>[BS])_(?<load>\\d+N)": the
+// pattern std::regex reads (the names taken out, each group still
+// capturing) and the names by group number (1-based; "" for an unnamed
+// group). A pattern without names is itself.
+struct NamedPattern {
+  std::string regex;
+  std::vector<std::string> names;  // names[i]: the name of group i + 1
+  bool HasNames() const;
+};
+NamedPattern ParseNamedPattern(const std::string& pattern);
 
 // A specimen name from a file name: the stem without its role words and
 // their separators: "data/B-RT-R.force.csv" -> "B-RT-R",

@@ -189,7 +189,7 @@ documentation.")
 set(CPACK_DEBIAN_DEV_PACKAGE_NAME libwearscar-dev)
 set(CPACK_DEBIAN_DEV_PACKAGE_SECTION libdevel)
 set(CPACK_DEBIAN_DEV_PACKAGE_DEPENDS
-    "libeigen3-dev, libceres-dev, libopencv-dev, libpcl-dev, libfmt-dev, nlohmann-json3-dev, libzip-dev, libzstd-dev, zlib1g-dev, libssl-dev, libpugixml-dev, libpng-dev, libfftw3-dev")
+    "libeigen3-dev, libceres-dev, libopencv-dev, libpcl-dev, libfmt-dev, nlohmann-json3-dev, libzip-dev, libzstd-dev, zlib1g-dev, libssl-dev, libpugixml-dev, libpng-dev, libfftw3-dev, libxlsxwriter-dev")
 set(CPACK_DEBIAN_DEV_DESCRIPTION
     "wearscar's C++ libraries (development files)
 The headers, static libraries and CMake package of wearscar, which

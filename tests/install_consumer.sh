@@ -29,7 +29,11 @@ force="$scratch/sim/S-RL-R.force.csv" scan="$scratch/sim/S-RL-R.scan.gsf"
   -o "$scratch/by-command" > /dev/null
 mkdir -p "$scratch/by-library"
 "$scratch/consumer/consumer" "$force" "$scan" S-RL-R "$scratch/by-library"
-diff -r --exclude=.wearscar.lock --exclude=.wearscar-manifest "$scratch/by-command" "$scratch/by-library"
+# The command also writes the test's page (report.html), which the
+# library's WriteTestResults leaves to report::WriteTestPage.
+diff -r --exclude=.wearscar.lock --exclude=.wearscar-manifest \
+  --exclude=report.html "$scratch/by-command" "$scratch/by-library"
+grep -q "S-RL-R" "$scratch/by-command/report.html"
 # With the scan used: its profiles are among them.
 test -f "$scratch/by-library/profiles.csv"
 echo "the library wrote what the command wrote: $(ls "$scratch/by-library" | tr '\n' ' ')"

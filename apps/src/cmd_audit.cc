@@ -277,6 +277,34 @@ void AddShardOptions(CLI::App* cmd, AuditArgs* args) {
                   "run at once into one --out");
 }
 
+// --factors, --plan-difference, --plan-power and --csv-locale.
+void AddGroupOptions(CLI::App* cmd, report::AuditOptions* audit) {
+  fusion::GroupOptions* groups = &audit->groups;
+  cmd->add_option("--factors",
+                  groups->factors,
+                  "The factors the groups are compared by (comma-separated: "
+                  "species,plane,direction, a name pattern's named groups "
+                  "'(?<load>...)', a manifest's extra columns); default: "
+                  "every factor with two levels or more")
+      ->delimiter(',');
+  cmd->add_option("--plan-difference",
+                  groups->plan_difference,
+                  "The difference in mu the planning line sizes the next "
+                  "batch for (replicates per group)")
+      ->capture_default_str();
+  cmd->add_option("--csv-locale",
+                  audit->csv_locale,
+                  "The CSV tables' convention: 'de' for semicolons and "
+                  "decimal commas (a German Excel); default commas and "
+                  "decimal points (summary.json and the .xlsx are the same "
+                  "either way)")
+      ->check(CLI::IsMember({"", "c", "de"}));
+  cmd->add_option("--plan-power",
+                  groups->plan_power,
+                  "The power to find it with (two-sided, 5% level)")
+      ->capture_default_str();
+}
+
 }  // namespace
 
 void AddAuditCommand(CLI::App& app) {
@@ -310,22 +338,7 @@ void AddAuditCommand(CLI::App& app) {
                 "audit wrote into --out for other specimens is removed (by "
                 "default they are kept, and a re-run of some specimens "
                 "updates their folders and the batch's tables)");
-  cmd->add_option("--factors",
-                  args->audit.groups.factors,
-                  "The factors the groups are compared by (comma-separated: "
-                  "species,plane,direction, a name pattern's named groups "
-                  "'(?<load>...)', a manifest's extra columns); default: "
-                  "every factor with two levels or more")
-      ->delimiter(',');
-  cmd->add_option("--plan-difference",
-                  args->audit.groups.plan_difference,
-                  "The difference in mu the planning line sizes the next "
-                  "batch for (replicates per group)")
-      ->capture_default_str();
-  cmd->add_option("--plan-power",
-                  args->audit.groups.plan_power,
-                  "The power to find it with (two-sided, 5% level)")
-      ->capture_default_str();
+  AddGroupOptions(cmd, &args->audit);
   cmd->add_flag("--dry-run",
                 args->dry_run,
                 "Print how the files pair (specimen, force, scan, note) and "

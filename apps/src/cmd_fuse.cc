@@ -64,8 +64,10 @@ void RunFuse(FuseArgs a) {
       summary["warnings"].push_back(figs.message);
     }
   }
+  // The page an audit writes for a specimen, for this test alone.
+  report::WriteTestPage(stage.dir(), name, summary, figs);
   const size_t written = stage.Commit();
-  Say("wrote {} files to {}/\n", written, a.out);
+  Say("wrote {} files to {}/ (report.html: its page)\n", written, a.out);
   PrintJsonSummary(summary);
   if (!a.no_figures) {
     if (!figs.message.empty())

@@ -23,6 +23,7 @@
 #include "wearscar/fusion/batch.h"
 #include "wearscar/fusion/error.h"
 #include "wearscar/fusion/fuse.h"
+#include "wearscar/fusion/groups.h"
 #include "wearscar/fusion/live.h"
 #include "wearscar/fusion/logging.h"
 #include "wearscar/fusion/products.h"
@@ -260,7 +261,8 @@ std::string Audit(const std::string& input,
                   bool recursive,
                   int jobs,
                   const std::string& out,
-                  const std::string& figures) {
+                  const std::string& figures,
+                  const std::vector<std::string>& factors) {
   fusion::TestSettings a = Settings(given, fusion::kFuseSettings, "audit");
   // Without figures, as `wearscar audit --no-figures`: no loops binned for
   // the report's cycle slider, no loop_viewer.json.
@@ -285,8 +287,15 @@ std::string Audit(const std::string& input,
         batch.jobs,
         [&](size_t i) { rows[i] = AuditOne(specimens[i], worker_args, batch); },
         [](long) {});
-    return nlohmann::json(rows).dump();
+    fusion::GroupOptions g;
+    g.factors = factors;
+    return nlohmann::json(
+               {{"rows", rows},
+                {"summary_csv", fusion::SummaryCsv(rows, true)},
+                {"groups", fusion::GroupsJson(fusion::CompareGroups(rows, g))}})
+        .dump();
   }
+  o.groups.factors = factors;
   o.read_force = a.read_force;
   o.read_scan = a.read_scan;
   o.fuse = a.fuse;
@@ -300,7 +309,7 @@ std::string Audit(const std::string& input,
   const report::AuditResult r =
       report::Audit(specimens, out, "wearscar audit of " + input, o);
   for (size_t i = 0; i < rows.size(); ++i) rows[i] = r.specimens[i].row;
-  return nlohmann::json(rows).dump();
+  return nlohmann::json({{"rows", rows}}).dump();
 }
 
 struct Simulated {

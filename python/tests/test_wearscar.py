@@ -282,6 +282,38 @@ def test_audit_of_the_bundled_samples(tmp_path):
     assert float(cells["B-RT-R"][at]) == pytest.approx(quoted["mu"], abs=1e-6)
     # Integers as integers: a file's size in bytes.
     assert cells["B-RT-R"][header.index("force_bytes")].isdigit()
+    # The groups over the specimens with a mu to quote: the species' means
+    # are their specimens' means; S-RL-R, not explained, is left out.
+    mu = [g for g in rows.groups if g["quantity"] == "mu_to_quote"][0]
+    spruce = [lv for lv in mu["levels"] if lv["factor"] == "species" and
+              lv["level"] == "spruce"][0]
+    spruce_mus = [r["quote"]["mu"] for r in rows
+                  if r["species"] == "spruce" and r["quote"]["mu"] is not None]
+    assert spruce["specimens"] == len(spruce_mus) == 5
+    assert spruce["mean"] == pytest.approx(sum(spruce_mus) / 5, abs=1e-12)
+    assert any(item.startswith("S-RL-R") for item in mu["left_out"])
+    with pytest.raises(KeyError, match="it has summary, groups, differences"):
+        rows.frame("summery")
+    # The workbooks read back: the summary's header and numbers as numbers.
+    openpyxl = pytest.importorskip("openpyxl")
+    book = openpyxl.load_workbook(tmp_path / "summary.xlsx", read_only=True)
+    sheet = list(book["summary"].iter_rows(values_only=True))
+    assert list(sheet[0]) == header
+    by_row = {r[0]: r for r in sheet[1:]}
+    assert by_row["B-RT-R"][at] == pytest.approx(quoted["mu"], abs=1e-6)
+    assert by_row["S-RL-R"][at] is None
+    assert isinstance(by_row["B-RT-R"][header.index("force_bytes")], int)
+    groups = openpyxl.load_workbook(tmp_path / "groups.xlsx", read_only=True)
+    assert groups.sheetnames == ["groups", "differences"]
+    levels = list(groups["groups"].iter_rows(values_only=True))
+    row = [r for r in levels if r[:3] == ("mu_to_quote", "species", "spruce")]
+    assert row and row[0][3] == 5 and row[0][4] == pytest.approx(
+        spruce["mean"], abs=1e-6)
+    # The tables as frames (pandas).
+    pytest.importorskip("pandas")
+    frame = rows.frame("summary")
+    assert list(frame["specimen"]) == [r["specimen"] for r in rows]
+    assert set(rows.frame("groups")["factor"]) >= {"species", "plane"}
     assert (tmp_path / "summary.csv").read_text().count("\n") == 13
     assert (tmp_path / "summary.jsonl").read_text().count("\n") == 12
     assert (tmp_path / "B-RT-R" / "cycles.csv").exists()

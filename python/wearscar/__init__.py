@@ -35,6 +35,7 @@ from . import _wearscar
 
 __all__ = [
     "read_force", "read_scan", "fuse", "audit", "simulate", "watch", "Result",
+    "AuditRows",
     "Simulation", "ForceRecord", "HeightMap", "ForceError", "ScanError",
     "FusionError", "OptionError", "OutputError", "version", "git_commit", "__version__",
 ]
@@ -264,20 +265,74 @@ def fuse(force, scan=None, name=None, detail_cycle=None, loops=None,
                                   detail_cycle or 0, list(loops or [])))
 
 
+class AuditRows(list):
+    """What audit() returns: one dict per specimen (its result.json with
+    species, plane, direction, factors, or "error"), and the batch as
+    tables: frame("summary") (summary.csv's columns), frame("groups") (per
+    factor level and group: specimens, mean, spread, 95% interval),
+    frame("differences") (between levels, with p); `groups` as
+    groups.json holds it (with the planning line and those left out)."""
+
+    KINDS = ("summary", "groups", "differences")
+
+    def __init__(self, rows, summary_csv, groups):
+        super().__init__(rows)
+        self.summary_csv = summary_csv
+        self.groups = groups
+
+    def frame(self, kind="summary"):
+        """A batch table ("summary", "groups" or "differences") as a pandas
+        DataFrame."""
+        if kind not in self.KINDS:
+            raise KeyError("wearscar: no table {!r} in an audit; it has {}"
+                           .format(kind, ", ".join(self.KINDS)))
+        try:
+            import pandas
+        except ImportError as e:
+            raise ImportError(
+                "wearscar: AuditRows.frame needs pandas (apt-get install "
+                "python3-pandas)") from e
+        if kind == "summary":
+            import io
+            return pandas.read_csv(io.StringIO(self.summary_csv))
+        records = []
+        for g in self.groups:
+            for item in g["levels" if kind == "groups" else "differences"]:
+                one = {"quantity": g["quantity"]}
+                for key, value in item.items():
+                    if key == "interval95":
+                        one["low95"], one["high95"] = value
+                    else:
+                        one[key] = value
+                records.append(one)
+        return pandas.DataFrame(records)
+
+
 def audit(folder, out=None, jobs=0, name_pattern=None, recursive=True,
-          figures=False, **options):
+          figures=False, factors=None, **options):
     """Pairs and analyses every specimen of a folder (or a manifest.csv)
-    as `wearscar audit` does, `jobs` at a time (0 = one per core). Returns
-    one dict per specimen (its result.json with species, plane, direction,
-    or "error"). With `out`, writes there what `wearscar audit --no-figures`
-    writes (a folder per specimen, summary.csv, .jsonl and .json,
-    report.html); with figures=True (or "svg", "png", "svg,png") the
-    figures too, as `wearscar audit --figure-format` draws them."""
-    rows = _wearscar._audit(_existing(folder), _args(options),
-                            name_pattern or "", recursive, jobs,
-                            _os.fspath(out) if out is not None else "",
-                            _figure_formats(figures))
-    return _json.loads(rows)
+    as `wearscar audit` does, `jobs` at a time (0 = one per core), and
+    compares its groups (`factors`, a list: those to compare by; default
+    every factor with two levels). Returns an AuditRows: one dict per
+    specimen (its result.json with species, plane, direction, factors, or
+    "error") and frame("summary"), frame("groups"), frame("differences").
+    With `out`, writes there what `wearscar audit --no-figures` writes (a
+    folder per specimen, summary.csv, .jsonl and .json, groups.csv,
+    report.html; the earlier specimens of an audit there are kept, as the
+    command keeps them); with figures=True (or "svg", "png", "svg,png")
+    the figures too, as `wearscar audit --figure-format` draws them."""
+    answer = _json.loads(_wearscar._audit(
+        _existing(folder), _args(options), name_pattern or "", recursive,
+        jobs, _os.fspath(out) if out is not None else "",
+        _figure_formats(figures), list(factors or [])))
+    if out is None:
+        return AuditRows(answer["rows"], answer["summary_csv"],
+                         answer["groups"])
+    with open(_os.path.join(_os.fspath(out), "summary.csv")) as f:
+        summary_csv = f.read()
+    with open(_os.path.join(_os.fspath(out), "groups.json")) as f:
+        groups = _json.load(f)
+    return AuditRows(answer["rows"], summary_csv, groups)
 
 
 def watch(path, poll=0.1, idle=60.0, until_cycles=None, steady_cycles=30,

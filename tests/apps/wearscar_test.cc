@@ -174,6 +174,12 @@ TEST(Cli, FuseWritesResultsAndFlagsTheElasticCase) {
                            "loop_viewer.json"}) {
     EXPECT_TRUE(std::filesystem::exists(dir + "/out/" + file)) << file;
   }
+  // The page an audit writes for a specimen: the headline first, the loop
+  // viewer's data embedded, no link to an index that is not there.
+  const std::string page = Slurp(dir + "/out/report.html");
+  EXPECT_NE(page.find("no mu to quote: not explained"), std::string::npos);
+  EXPECT_NE(page.find("class=\"viewer-data\""), std::string::npos);
+  EXPECT_EQ(page.find("all specimens</a>"), std::string::npos);
   // No temporary file left behind.
   for (const auto& e : std::filesystem::directory_iterator(dir + "/out")) {
     EXPECT_EQ(e.path().string().find(".tmp-"), std::string::npos) << e.path();

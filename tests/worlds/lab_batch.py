@@ -162,6 +162,21 @@ def main():
                for d in others]))
     check(mu["plan"]["replicates_per_group"] >= 2,
           "the next batch planned: " + mu["plan"]["said"])
+    methods = open(os.path.join(out, "methods.md")).read()
+    check("S = 10.19 N/mm" in methods and
+          "24 of 24 specimens gave a mu to quote" in methods and
+          "Groups (species, plane, direction)" in methods,
+          "methods.md says the spring, the specimens quoted and the groups")
+    # A German Excel's CSV: semicolons, decimal commas, the same numbers.
+    de = os.path.join(a.cache, "audit-de")
+    shutil.rmtree(de, ignore_errors=True)
+    audit(a.binary, lab, de, "--csv-locale", "de")
+    line = [l for l in open(os.path.join(de, "groups.csv")).read().splitlines()
+            if l.startswith("mu_to_quote;species;beech;")]
+    beech = level(groups, "mu_to_quote", "species", "beech")
+    check(line and abs(float(line[0].split(";")[4].replace(",", ".")) -
+                       beech["mean"]) < 1e-5,
+          "--csv-locale de: {}".format(line[:1]))
     # One specimen again, another spring, into the same folder.
     before = files_under(out)
     one = os.path.join(a.cache, "one")
@@ -178,7 +193,8 @@ def main():
                      not k.startswith(name + "/"))
     batch = {"summary.csv", "summary.json", "summary.jsonl", "groups.csv",
              "groups.json", "groups.tex", "group_differences.csv",
-             "report.html", ".wearscar-manifest", "parts/audit.json"}
+             "report.html", ".wearscar-manifest", "parts/audit.json",
+             "summary.xlsx", "groups.xlsx", "methods.md"}
     check(all(k in batch for k in changed),
           "no other specimen's file changed (changed: {})".format(changed))
     check(after.get(name + "/result.json") != before.get(name + "/result.json")

@@ -13,10 +13,12 @@
 #include <vector>
 
 #include "audit_parts.h"
+#include "methods.h"
 #include "wearscar/fusion/error.h"
 #include "wearscar/report/html_report.h"
 #include "wearscar/report/output_folder.h"
 #include "wearscar/report/test_folder.h"
+#include "wearscar/report/workbooks.h"
 
 namespace wearscar::report {
 namespace {
@@ -143,33 +145,43 @@ void RecordAuditOutputs(const std::string& out,
   RecordOutputs(out, "audit", entries, !sharded);
 }
 
-// summary.csv, summary.jsonl (one row per line) and summary.json; the
-// groups compared (groups.csv, group_differences.csv, groups.tex and
-// groups.json), which it returns.
+// summary.csv, summary.jsonl (one row per line), summary.json and
+// summary.xlsx; the groups compared (groups.csv, group_differences.csv,
+// groups.tex, groups.json and groups.xlsx), which it returns. The CSV in
+// the locale asked for.
 std::vector<fusion::GroupComparison> WriteSummaries(
     const std::string& out,
     const std::vector<ReportSection>& sections,
-    const fusion::GroupOptions& group_options) {
+    const AuditOptions& o) {
   std::vector<nlohmann::json> rows;
   std::string jsonl;
   for (const auto& sec : sections) {
     rows.push_back(sec.row);
     jsonl += sec.row.dump() + "\n";
   }
+  const std::string summary = fusion::SummaryCsv(rows, true);
   WriteTextAtomically((fs::path(out) / "summary.csv").string(),
-                      fusion::SummaryCsv(rows, true));
+                      LocaleCsv(summary, o.csv_locale));
   WriteTextAtomically((fs::path(out) / "summary.jsonl").string(), jsonl);
   WriteTextAtomically((fs::path(out) / "summary.json").string(),
                       nlohmann::json(rows).dump(2) + "\n");
-  auto groups = fusion::CompareGroups(rows, group_options);
+  auto groups = fusion::CompareGroups(rows, o.groups);
+  const std::string levels = fusion::GroupsCsv(groups),
+                    differences = fusion::GroupDifferencesCsv(groups);
   WriteTextAtomically((fs::path(out) / "groups.csv").string(),
-                      fusion::GroupsCsv(groups));
+                      LocaleCsv(levels, o.csv_locale));
   WriteTextAtomically((fs::path(out) / "group_differences.csv").string(),
-                      fusion::GroupDifferencesCsv(groups));
+                      LocaleCsv(differences, o.csv_locale));
   WriteTextAtomically((fs::path(out) / "groups.tex").string(),
                       fusion::GroupsLatex(groups));
   WriteTextAtomically((fs::path(out) / "groups.json").string(),
                       fusion::GroupsJson(groups).dump(2) + "\n");
+  WriteTextAtomically((fs::path(out) / "methods.md").string(),
+                      internal::MethodsText(rows, groups));
+  WriteWorkbook((fs::path(out) / "summary.xlsx").string(),
+                {{"summary", summary}});
+  WriteWorkbook((fs::path(out) / "groups.xlsx").string(),
+                {{"groups", levels}, {"differences", differences}});
   return groups;
 }
 
@@ -204,7 +216,7 @@ void WriteBatch(const std::string& out,
                 AuditResult* result) {
   WarnOfSharedInputs(out, specimens);
   const std::vector<ReportSection>& sections = *specimens;
-  const auto groups = WriteSummaries(out, sections, o.groups);
+  const auto groups = WriteSummaries(out, sections, o);
   if (o.figures)
     result->batch_figures = DrawAuditFigures(out, analysed, o.figure_formats);
   RecordAuditOutputs(out, sharded, sections, result->batch_figures, parts);

@@ -354,9 +354,10 @@ std::string RenderIndex(const std::string& out,
       "<p>{} specimens: {} not explained by wear-scar interaction, {} failed "
       "to analyse. mu-hat: the wear-scar coefficient of friction (Eq. 6) "
       "with the slope of the sliding path from the normal force (k = dP/dx / "
-      "S) and, with a scan, from the worn track's centreline. A specimen's "
-      "name opens its page: verdict, numbers, figures and its loops cycle by "
-      "cycle.</p>\n"
+      "S) and, with a scan, from the worn track (the sphere's path or its "
+      "centreline). A specimen's name opens its page: verdict, numbers, "
+      "figures and its loops cycle by cycle. <a href=\"#groups\">The groups "
+      "compared</a> follow the table.</p>\n"
       "<p class=\"filters\"><input class=\"filter\" id=\"filter-text\" "
       "type=\"search\" placeholder=\"filter: words in any column\" "
       "aria-label=\"filter the specimens\"> <select id=\"filter-verdict\" "
@@ -391,6 +392,23 @@ std::string RenderIndex(const std::string& out,
   h += kTableScript;
   h += internal::kImagesScript;
   return h + "</body></html>\n";
+}
+
+void WriteTestPage(const std::string& dir,
+                   const std::string& name,
+                   const nlohmann::json& result,
+                   const FigureSet& figures) {
+  ReportSection s;
+  s.name = name;
+  s.row = result;
+  s.figures = figures;
+  s.flagged = !result.value("verdict", nlohmann::json::object())
+                   .value("explained", true);
+  const fs::path viewer = fs::path(dir) / "loop_viewer.json";
+  std::error_code ec;
+  if (fs::exists(viewer, ec)) s.viewer = viewer.string();
+  internal::WriteSpecimenPage(
+      s, (fs::path(dir) / "report.html").string(), internal::SpecimenLinks{});
 }
 
 void WriteReport(const std::string& out,

@@ -351,7 +351,9 @@ std::string RenderSpecimenPage(const ReportSection& s,
                                const std::string& page_dir,
                                const SpecimenLinks& links) {
   std::string h = PageHead(s.name, At(s.row, {"provenance"}));
-  h += "<nav><a href=\"" + Escape(links.index) + "\">all specimens</a>";
+  h += "<nav>";
+  if (!links.index.empty())
+    h += "<a href=\"" + Escape(links.index) + "\">all specimens</a>";
   if (!links.previous.empty())
     h += "<a href=\"" + Escape(links.previous) +
          "\">previous: " + Escape(links.previous_name) + "</a>";

@@ -297,7 +297,8 @@ GroupComparison Compare(const std::vector<nlohmann::json>& rows,
   for (const nlohmann::json& row : rows) {
     const std::string name = row.value("specimen", std::string("?"));
     const nlohmann::json* v = Find(row, path);
-    if (!v || !v->is_number()) {
+    // NaN (no value) is a number to the JSON in memory, null once written.
+    if (!v || !v->is_number() || !std::isfinite(v->get<double>())) {
       const nlohmann::json* reason = Find(row, {"quote", "status"});
       c.left_out.push_back(fmt::format(
           "{} ({})",

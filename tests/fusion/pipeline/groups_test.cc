@@ -26,10 +26,10 @@ nlohmann::json Row(const std::string& name,
                         {"plane", plane},
                         {"direction", ""}};
   row["factors"] = {{"species", species}, {"plane", plane}, {"direction", ""}};
+  // NaN as the analysis holds it in memory (null once written).
   row["quote"] = {{"status", std::isfinite(mu) ? "explained" : "not explained"},
-                  {"mu", std::isfinite(mu) ? nlohmann::json(mu) : nullptr}};
-  row["wear"] = {{"specific_wear_rate_mm3_per_n_m",
-                  std::isfinite(wear) ? nlohmann::json(wear) : nullptr}};
+                  {"mu", mu}};
+  row["wear"] = {{"specific_wear_rate_mm3_per_n_m", wear}};
   return row;
 }
 

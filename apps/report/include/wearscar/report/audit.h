@@ -30,6 +30,9 @@ struct AuditOptions {
   // The batch's groups and factors compared (groups.csv, the report's
   // section), with the specimen as the unit.
   fusion::GroupOptions groups;
+  // The CSV tables' convention: "" (commas, decimal points) or "de"
+  // (semicolons, decimal commas: what a German Excel opens).
+  std::string csv_locale;
   bool figures = true;  // each specimen's and the batch's (gnuplot)
   FigureFormats figure_formats;
   bool diagnose = false;  // name the effects a flagged model misses

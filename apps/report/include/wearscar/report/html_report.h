@@ -34,6 +34,15 @@ void WriteReport(const std::string& out,
                  const FigureSet& batch_figures,
                  const std::vector<fusion::GroupComparison>& groups = {});
 
+// One test's page, <dir>/report.html, as an audit writes each specimen's
+// (its headline, verdict, numbers, warnings, the figures drawn beside it,
+// its loop viewer when <dir>/loop_viewer.json is there): what `fuse -o DIR`
+// writes. `result` is its result.json.
+void WriteTestPage(const std::string& dir,
+                   const std::string& name,
+                   const nlohmann::json& result,
+                   const FigureSet& figures);
+
 // The index's HTML (WriteReport writes it to <out>/report.html).
 std::string RenderIndex(
     const std::string& out,

@@ -1,0 +1,117 @@
+#include "methods.h"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+namespace wearscar::report::internal {
+namespace {
+
+const nlohmann::json* MethodsFind(const nlohmann::json& j,
+                                  std::initializer_list<const char*> path) {
+  const nlohmann::json* at = &j;
+  for (const char* key : path) {
+    if (!at->is_object() || !at->contains(key)) return nullptr;
+    at = &(*at)[key];
+  }
+  return at;
+}
+
+double MethodsNumberAt(const nlohmann::json& j,
+                       std::initializer_list<const char*> path) {
+  const nlohmann::json* v = MethodsFind(j, path);
+  return v && v->is_number() ? v->get<double>() : NAN;
+}
+
+// "10.19" or "5-25" over the rows.
+std::string Range(const std::vector<nlohmann::json>& rows,
+                  std::initializer_list<const char*> path,
+                  const char* format) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (const auto& row : rows) {
+    const double v = MethodsNumberAt(row, path);
+    if (!std::isfinite(v)) continue;
+    lo = std::min(lo, v);
+    hi = std::max(hi, v);
+  }
+  if (!std::isfinite(lo)) return "?";
+  const std::string a = fmt::format(fmt::runtime(format), lo);
+  const std::string b = fmt::format(fmt::runtime(format), hi);
+  return a == b ? a : a + "-" + b;
+}
+
+}  // namespace
+
+std::string MethodsText(const std::vector<nlohmann::json>& rows,
+                        const std::vector<fusion::GroupComparison>& groups) {
+  std::vector<nlohmann::json> done;
+  int quoted = 0, with_scan = 0, detected = 0;
+  std::set<std::string> versions;
+  for (const auto& row : rows) {
+    if (row.contains("error")) continue;
+    done.push_back(row);
+    const nlohmann::json* mu = MethodsFind(row, {"quote", "mu"});
+    quoted += mu && mu->is_number() && std::isfinite(mu->get<double>());
+    with_scan += MethodsFind(row, {"scan"}) != nullptr;
+    const nlohmann::json* d = MethodsFind(row, {"running_in", "detected"});
+    detected += d && d->is_boolean() && d->get<bool>();
+    const nlohmann::json* v =
+        MethodsFind(row, {"provenance", "wearscar_version"});
+    const nlohmann::json* c = MethodsFind(row, {"provenance", "git_commit"});
+    if (v && c && v->is_string() && c->is_string())
+      versions.insert(v->get<std::string>() + " (commit " +
+                      c->get<std::string>().substr(0, 12) + ")");
+  }
+  if (done.empty()) return "No specimen of this audit was analysed.\n";
+  std::string t = fmt::format(
+      "Friction coefficients were identified with wearscar {} by the "
+      "wear-scar interaction method (\"Identification of the coefficient of "
+      "sliding friction from an apparent non-Coulomb behavior between wood "
+      "and steel\"): in each cycle the coefficient mu-hat minimises the "
+      "misfit of Q = P (k + s mu) / (1 - s mu k) to the measured friction "
+      "force (the paper's Eq. 6), where k, the slope of the sliding path, "
+      "was estimated from the normal force through the loading spring, "
+      "k = (1/S) dP/dx with S = {} N/mm",
+      fmt::join(versions, ", "),
+      Range(done, {"options", "spring_used_n_per_mm"}, "{:.4g}"));
+  if (with_scan > 0) {
+    t += fmt::format(
+        ", and from the profilometer scan of the worn track ({} of {} "
+        "specimens; the path of a sphere of radius {} mm riding the track "
+        "or the track's centreline, whichever the loops agree with)",
+        with_scan,
+        done.size(),
+        Range(done, {"options", "scan", "sphere_radius_mm"}, "{:.3g}"));
+  }
+  t += fmt::format(
+      ". Running-in was {} ({} cycles); mu-hat was averaged over up to {} "
+      "cycles after it, with a 95% interval from the cycles' spread allowing "
+      "for their correlation. A test was judged explained when the misfit "
+      "stood at most {} above its noise floor, the profiles from the force "
+      "and the scan correlated at r >= {} and their amplitudes agreed within "
+      "a ratio of {}; {} of {} specimens gave a mu to quote.",
+      detected == static_cast<int>(done.size())
+          ? "detected in each test"
+          : fmt::format("detected in {} of {} tests", detected, done.size()),
+      Range(done, {"running_in", "cycles"}, "{:.0f}"),
+      Range(done, {"options", "scan", "compare_cycles"}, "{:.0f}"),
+      Range(done, {"options", "max_excess"}, "{:g}"),
+      Range(done, {"options", "min_correlation"}, "{:g}"),
+      Range(done, {"options", "max_amplitude_ratio"}, "{:g}"),
+      quoted,
+      done.size());
+  for (const auto& g : groups) {
+    if (g.quantity != "mu_to_quote" || !g.abstained.empty()) continue;
+    t += fmt::format(
+        " Groups ({}) were compared with the specimen as the unit (one "
+        "value per specimen); differences between levels by {}.",
+        fmt::join(g.factors, ", "),
+        g.test);
+  }
+  return "# Methods\n\n" + t + "\n";
+}
+
+}  // namespace wearscar::report::internal

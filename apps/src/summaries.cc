@@ -91,14 +91,17 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
   if (m.has_scan) {
     fit_line(!quoted_from_p);
     const auto& a = r.scan->alignment;
-    Say("  profiles ({} and the scan): r = {:.3f}, waviness r = {:.2f} "
-        "({:.1f}x its noise), amplitude ratio {:.2f}, shift {:.3f} mm{}{}\n",
+    Say("  profiles ({} and the scan): r = {:.3f}, {}, amplitude ratio "
+        "{:.2f}, shift {:.3f} mm{}{}\n",
         r.profile.FromFriction() ? "friction"
         : r.profile.FromDepth()  ? "depth"
                                  : "P/S",
         a.correlation,
-        a.waviness_correlation,
-        a.waviness_to_noise,
+        std::isfinite(a.waviness_correlation) && a.waviness_to_noise >= 1
+            ? fmt::format("waviness r = {:.2f} ({:.1f}x its noise)",
+                          a.waviness_correlation,
+                          a.waviness_to_noise)
+            : std::string("no waviness above the noise to compare"),
         a.amplitude_ratio,
         a.shift_mm,
         a.flipped ? " (the scan's x runs against the stroke's: flipped)" : "",

@@ -26,12 +26,16 @@ wait_for_a_cycle() {
   fail "no cycle reported into $1 within 60 s"
 }
 # The products of a watch (DIR $1) and of fuse (DIR $2): the same files, the
-# same bytes but for result.json's date.
+# same bytes but for result.json's and the page's date.
 same_products() {
   for f in "$2"/*; do
     name=$(basename "$f")
     [ -f "$1/$name" ] || fail "$1 lacks $name"
-    if [ "$name" = result.json ]; then
+    if [ "$name" = report.html ]; then  # the page says when it was made
+      undated() { sed -E 's/[0-9]{4}-[0-9]{2}-[0-9]{2}T[0-9:]{8}Z/DATE/g' "$1"; }
+      cmp -s <(undated "$f") <(undated "$1/$name") ||
+        fail "$1/report.html differs from fuse's: $(diff <(undated "$f") <(undated "$1/$name") | head -5)"
+    elif [ "$name" = result.json ]; then
       cmp -s <(grep -v '"date_utc"' "$f") <(grep -v '"date_utc"' "$1/$name") ||
         fail "$1/result.json differs from fuse's: $(diff <(grep -v date_utc "$f") <(grep -v date_utc "$1/$name") | head -5)"
     else

@@ -22,6 +22,7 @@ import os
 import shutil
 import subprocess
 import sys
+import tempfile
 
 CASES = [("B", "RT", "R"), ("B", "RT", "T"), ("B", "RL", "R"), ("B", "RL", "L"),
          ("S", "RT", "R"), ("S", "RT", "T"), ("S", "RL", "R"), ("S", "RL", "L")]
@@ -104,7 +105,10 @@ def main():
     here = os.path.dirname(os.path.abspath(__file__))
     p = argparse.ArgumentParser()
     p.add_argument("--binary", required=True)
-    p.add_argument("--cache", required=True)
+    p.add_argument("--cache", default=None,
+                   help="where the lab folder is kept (default: "
+                        "$XDG_CACHE_HOME/wearscar-worlds, by the simulator's "
+                        "hash); the audits go to a temporary folder")
     p.add_argument("--shared", default=os.path.join(here, "..", "..", "..",
                                                     "shared"))
     a = p.parse_args()
@@ -113,10 +117,23 @@ def main():
         print("skipped: {} is absent (the independent simulator lives in "
               "../shared/tools)".format(vtrib))
         return 77
+    digest = hashlib.sha256(open(vtrib, "rb").read()).hexdigest()[:16]
+    if a.cache is None:
+        root = os.environ.get("XDG_CACHE_HOME") or os.path.join(
+            os.path.expanduser("~"), ".cache")
+        a.cache = os.path.join(root, "wearscar-worlds", "lab_batch-" + digest)
     lab, paper = make_lab(vtrib, a.cache)
+    work = tempfile.mkdtemp(prefix="wearscar-lab-batch-")
+    try:
+        return judge(a, lab, paper, work)
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
+def judge(a, lab, paper, work):
     results = {}
     for style, folder in (("lab", lab), ("paper", paper)):
-        out = os.path.join(a.cache, "audit-" + style)
+        out = os.path.join(work, "audit-" + style)
         shutil.rmtree(out, ignore_errors=True)
         r = audit(a.binary, folder, out)
         check(r.returncode == 0, "{} naming: the audit ends with 0 ({})".format(
@@ -165,10 +182,12 @@ def main():
     methods = open(os.path.join(out, "methods.md")).read()
     check("S = 10.19 N/mm" in methods and
           "24 of 24 specimens gave a mu to quote" in methods and
-          "Groups (species, plane, direction)" in methods,
+          "Groups (species, plane, direction)" in methods and
+          "@article{zheng_wear_scar" in open(os.path.join(
+              out, "references.bib")).read(),
           "methods.md says the spring, the specimens quoted and the groups")
     # A German Excel's CSV: semicolons, decimal commas, the same numbers.
-    de = os.path.join(a.cache, "audit-de")
+    de = os.path.join(work, "audit-de")
     shutil.rmtree(de, ignore_errors=True)
     audit(a.binary, lab, de, "--csv-locale", "de")
     line = [l for l in open(os.path.join(de, "groups.csv")).read().splitlines()
@@ -177,9 +196,17 @@ def main():
     check(line and abs(float(line[0].split(";")[4].replace(",", ".")) -
                        beech["mean"]) < 1e-5,
           "--csv-locale de: {}".format(line[:1]))
+    # A common window of cycles for every specimen, when asked.
+    common = os.path.join(work, "audit-common")
+    audit(a.binary, lab, common, "--compare-first", "20", "--compare-last",
+          "39")
+    windows = {(row["comparison"]["first_cycle"], row["comparison"]["last_cycle"])
+               for row in json.load(open(os.path.join(common, "summary.json")))}
+    check(windows == {(20, 39)}, "--compare-first 20 --compare-last 39: "
+          "cycles 20-39 for every specimen ({})".format(sorted(windows)))
     # One specimen again, another spring, into the same folder.
     before = files_under(out)
-    one = os.path.join(a.cache, "one")
+    one = os.path.join(work, "one")
     shutil.rmtree(one, ignore_errors=True)
     os.makedirs(one)
     name = "Buche_RT-R_probe02"
@@ -194,7 +221,7 @@ def main():
     batch = {"summary.csv", "summary.json", "summary.jsonl", "groups.csv",
              "groups.json", "groups.tex", "group_differences.csv",
              "report.html", ".wearscar-manifest", "parts/audit.json",
-             "summary.xlsx", "groups.xlsx", "methods.md"}
+             "summary.xlsx", "groups.xlsx", "methods.md", "references.bib"}
     check(all(k in batch for k in changed),
           "no other specimen's file changed (changed: {})".format(changed))
     check(after.get(name + "/result.json") != before.get(name + "/result.json")

@@ -254,12 +254,27 @@ def diagnoses(world, full, tally):
     return jobs, one
 
 
+def world_cache(given, vtrib, study):
+    """The cache folder: given, or under the user's cache by the simulator's
+    hash (a changed simulator makes its tests again)."""
+    if given:
+        return given
+    with open(vtrib, "rb") as f:
+        digest = hashlib.sha256(f.read()).hexdigest()[:16]
+    root = os.environ.get("XDG_CACHE_HOME") or os.path.join(
+        os.path.expanduser("~"), ".cache")
+    return os.path.join(root, "wearscar-worlds", study + "-" + digest)
+
+
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--binary", required=True)
     ap.add_argument("--vtrib", default=os.path.join(here, "..", "..", "..", "shared", "tools", "vtrib.py"))
-    ap.add_argument("--cache", required=True)
+    ap.add_argument("--cache", default=None,
+                    help="where the simulated tests are kept (default: "
+                         "$XDG_CACHE_HOME/wearscar-worlds, by the simulator's "
+                         "own hash: a clean clone reuses them)")
     ap.add_argument("--full", action="store_true")
     ap.add_argument("--jobs", type=int, default=2)
     a = ap.parse_args()
@@ -271,6 +286,7 @@ def main():
     except ImportError:
         print("skipped: vtrib.py needs NumPy (Debian's python3-numpy)")
         return 77
+    a.cache = world_cache(a.cache, a.vtrib, "vtrib_study")
     os.makedirs(a.cache, exist_ok=True)
     world = World(os.path.abspath(a.vtrib), a.binary, a.cache, 40)
     cases = ALL_CASES if a.full else SUBSET_CASES

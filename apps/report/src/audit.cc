@@ -178,6 +178,8 @@ std::vector<fusion::GroupComparison> WriteSummaries(
                       fusion::GroupsJson(groups).dump(2) + "\n");
   WriteTextAtomically((fs::path(out) / "methods.md").string(),
                       internal::MethodsText(rows, groups));
+  WriteTextAtomically((fs::path(out) / "references.bib").string(),
+                      internal::References(rows));
   WriteWorkbook((fs::path(out) / "summary.xlsx").string(),
                 {{"summary", summary}});
   WriteWorkbook((fs::path(out) / "groups.xlsx").string(),

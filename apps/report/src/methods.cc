@@ -67,10 +67,10 @@ std::string MethodsText(const std::vector<nlohmann::json>& rows,
   }
   if (done.empty()) return "No specimen of this audit was analysed.\n";
   std::string t = fmt::format(
-      "Friction coefficients were identified with wearscar {} by the "
-      "wear-scar interaction method (\"Identification of the coefficient of "
-      "sliding friction from an apparent non-Coulomb behavior between wood "
-      "and steel\"): in each cycle the coefficient mu-hat minimises the "
+      "Friction coefficients were identified with wearscar {} "
+      "[@wearscar] by the wear-scar interaction method of Zheng, Cabboi and "
+      "van de Kuilen [@zheng_wear_scar]: in each cycle the coefficient mu-hat "
+      "minimises the "
       "misfit of Q = P (k + s mu) / (1 - s mu k) to the measured friction "
       "force (the paper's Eq. 6), where k, the slope of the sliding path, "
       "was estimated from the normal force through the loading spring, "
@@ -111,7 +111,37 @@ std::string MethodsText(const std::vector<nlohmann::json>& rows,
         fmt::join(g.factors, ", "),
         g.test);
   }
-  return "# Methods\n\n" + t + "\n";
+  return "# Methods\n\n" + t +
+         "\n\nThe references are in references.bib beside this file.\n";
+}
+
+std::string References(const std::vector<nlohmann::json>& rows) {
+  std::string version = "?", commit = "?", year = "?";
+  for (const auto& row : rows) {
+    const nlohmann::json* p = MethodsFind(row, {"provenance"});
+    if (!p || !p->is_object()) continue;
+    version = p->value("wearscar_version", version);
+    commit = p->value("git_commit", commit);
+    year = p->value("date_utc", std::string("????")).substr(0, 4);
+    break;
+  }
+  // The paper's journal, year and DOI are not in what the project holds:
+  // the entry says so rather than guess them.
+  return fmt::format(
+      "@article{{zheng_wear_scar,\n"
+      "  author = {{Zheng and Cabboi and {{van de Kuilen}}}},\n"
+      "  title = {{Identification of the coefficient of sliding friction from "
+      "an apparent non-{{C}}oulomb behavior between wood and steel}},\n"
+      "  note = {{Complete the journal, year and DOI from the published "
+      "version}}\n}}\n\n"
+      "@software{{wearscar,\n"
+      "  title = {{wearscar: the sliding friction coefficient of "
+      "reciprocating friction tests from the force record and the worn "
+      "track}},\n"
+      "  version = {{{}}},\n  note = {{git commit {}}},\n  year = {{{}}}\n}}\n",
+      version,
+      commit,
+      year);
 }
 
 }  // namespace wearscar::report::internal

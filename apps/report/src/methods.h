@@ -15,4 +15,7 @@ namespace wearscar::report::internal {
 std::string MethodsText(const std::vector<nlohmann::json>& rows,
                         const std::vector<fusion::GroupComparison>& groups);
 
+// references.bib: the method's paper and the wearscar build of `rows`.
+std::string References(const std::vector<nlohmann::json>& rows);
+
 }  // namespace wearscar::report::internal

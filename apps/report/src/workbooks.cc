@@ -9,6 +9,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <filesystem>
 
 #include "wearscar/report/output_folder.h"
@@ -95,6 +96,12 @@ void WriteWorkbook(const std::string& path, const std::vector<Sheet>& sheets) {
   lxw_workbook* book = workbook_new(staging.c_str());
   if (book == nullptr)
     throw OutputError(fmt::format("{}: cannot create the workbook", path));
+  // Dated as the results are (SOURCE_DATE_EPOCH when set: the same bytes
+  // for the same results), else now.
+  lxw_doc_properties properties = {};
+  if (const char* epoch = std::getenv("SOURCE_DATE_EPOCH"))
+    properties.created = static_cast<time_t>(std::strtoll(epoch, nullptr, 10));
+  workbook_set_properties(book, &properties);
   lxw_format* head = workbook_add_format(book);
   format_set_bold(head);
   for (const Sheet& sheet : sheets) {

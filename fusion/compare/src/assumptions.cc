@@ -165,13 +165,19 @@ std::vector<std::string> Assumptions(const force::ForceRecord& record,
         "friction (integrated from it, its errors are not a sensor's noise)");
   } else if (r.scan && r.mismatch.has_scan &&
              !o.verdict.IdentityCheckable(r.mismatch)) {
+    const double above = r.mismatch.waviness_to_noise;
     said.push_back(fmt::format(
-        "the scan's identity cannot be checked: the track's waviness (its "
-        "rings and texture) stands {:.1f}x above P/S's noise in variance, "
-        "below {:g}, so another specimen's track of the same case would fit "
-        "as well",
-        r.mismatch.waviness_to_noise,
-        o.verdict.min_waviness_to_noise));
+        "the scan's identity cannot be checked: {}, so another specimen's "
+        "track of the same case would fit as well (the number to quote does "
+        "not depend on it)",
+        std::isfinite(above) && above >= 1
+            ? fmt::format("the track's waviness (its rings and texture) "
+                          "stands only {:.1f}x above P/S's noise in variance "
+                          "(at least {:g} is needed)",
+                          above,
+                          o.verdict.min_waviness_to_noise)
+            : std::string("the track shows no waviness (rings, texture) "
+                          "above P/S's noise")));
   }
   return said;
 }

@@ -353,9 +353,11 @@ std::vector<std::string> DataWarnings(const ForceAnalysis& force,
       std::isfinite(force.k_signal_rms) &&
       force.k_noise_rms > force.k_signal_rms) {
     w.push_back(fmt::format(
-        "k from {} is dominated by noise: its noise {:.4f} exceeds the part "
-        "that repeats from cycle to cycle {:.4f} (rms); mu-hat and J with it "
-        "rest on the noise split",
+        "k from {} is mostly noise: its noise {:.4f} exceeds the part that "
+        "repeats from cycle to cycle, {:.4f} (rms); mu-hat is corrected for "
+        "the bias such noise brings and J is judged against its noise floor, "
+        "so the number to quote stands, but a scan's k is the better check "
+        "of it",
         r.force_slope_name,
         force.k_noise_rms,
         force.k_signal_rms));

@@ -7,26 +7,18 @@
 #include <cmath>
 #include <set>
 
+#include "html_page.h"
+
 namespace wearscar::report::internal {
 namespace {
 
-const nlohmann::json* MethodsFind(const nlohmann::json& j,
-                                  std::initializer_list<const char*> path) {
-  const nlohmann::json* at = &j;
-  for (const char* key : path) {
-    if (!at->is_object() || !at->contains(key)) return nullptr;
-    at = &(*at)[key];
-  }
-  return at;
-}
-
 double MethodsNumberAt(const nlohmann::json& j,
                        std::initializer_list<const char*> path) {
-  const nlohmann::json* v = MethodsFind(j, path);
-  return v && v->is_number() ? v->get<double>() : NAN;
+  const nlohmann::json v = At(j, path);
+  return v.is_number() ? v.get<double>() : NAN;
 }
 
-// "10.19" or "5-25" over the rows.
+// The values over the rows: "12.5", or "5-25" where they differ.
 std::string Range(const std::vector<nlohmann::json>& rows,
                   std::initializer_list<const char*> path,
                   const char* format) {
@@ -53,17 +45,15 @@ std::string MethodsText(const std::vector<nlohmann::json>& rows,
   for (const auto& row : rows) {
     if (row.contains("error")) continue;
     done.push_back(row);
-    const nlohmann::json* mu = MethodsFind(row, {"quote", "mu"});
-    quoted += mu && mu->is_number() && std::isfinite(mu->get<double>());
-    with_scan += MethodsFind(row, {"scan"}) != nullptr;
-    const nlohmann::json* d = MethodsFind(row, {"running_in", "detected"});
-    detected += d && d->is_boolean() && d->get<bool>();
-    const nlohmann::json* v =
-        MethodsFind(row, {"provenance", "wearscar_version"});
-    const nlohmann::json* c = MethodsFind(row, {"provenance", "git_commit"});
-    if (v && c && v->is_string() && c->is_string())
-      versions.insert(v->get<std::string>() + " (commit " +
-                      c->get<std::string>().substr(0, 12) + ")");
+    quoted += std::isfinite(MethodsNumberAt(row, {"quote", "mu"}));
+    with_scan += row.contains("scan");
+    const nlohmann::json d = At(row, {"running_in", "detected"});
+    detected += d.is_boolean() && d.get<bool>();
+    const nlohmann::json v = At(row, {"provenance", "wearscar_version"});
+    const nlohmann::json c = At(row, {"provenance", "git_commit"});
+    if (v.is_string() && c.is_string())
+      versions.insert(v.get<std::string>() + " (commit " +
+                      c.get<std::string>().substr(0, 12) + ")");
   }
   if (done.empty()) return "No specimen of this audit was analysed.\n";
   std::string t = fmt::format(
@@ -118,11 +108,11 @@ std::string MethodsText(const std::vector<nlohmann::json>& rows,
 std::string References(const std::vector<nlohmann::json>& rows) {
   std::string version = "?", commit = "?", year = "?";
   for (const auto& row : rows) {
-    const nlohmann::json* p = MethodsFind(row, {"provenance"});
-    if (!p || !p->is_object()) continue;
-    version = p->value("wearscar_version", version);
-    commit = p->value("git_commit", commit);
-    year = p->value("date_utc", std::string("????")).substr(0, 4);
+    const nlohmann::json p = At(row, {"provenance"});
+    if (!p.is_object()) continue;
+    version = p.value("wearscar_version", version);
+    commit = p.value("git_commit", commit);
+    year = p.value("date_utc", std::string("????")).substr(0, 4);
     break;
   }
   // The paper's journal, year and DOI are not in what the project holds:

@@ -6,7 +6,7 @@
 #include "summaries.h"
 #include "wearscar/fusion/batch.h"
 #include "wearscar/fusion/settings.h"
-#include "wearscar/report/test_folder.h"
+#include "wearscar/report/specimen_folder.h"
 
 namespace wearscar::app {
 namespace {

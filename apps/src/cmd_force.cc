@@ -11,7 +11,7 @@
 #include "wearscar/fusion/batch.h"
 #include "wearscar/fusion/settings.h"
 #include "wearscar/report/figures.h"
-#include "wearscar/report/test_folder.h"
+#include "wearscar/report/specimen_folder.h"
 
 namespace wearscar::app {
 namespace {

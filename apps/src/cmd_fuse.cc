@@ -8,7 +8,7 @@
 #include "wearscar/fusion/batch.h"
 #include "wearscar/fusion/settings.h"
 #include "wearscar/report/figures.h"
-#include "wearscar/report/test_folder.h"
+#include "wearscar/report/specimen_folder.h"
 #include "wearscar/scan/formats.h"
 
 namespace wearscar::app {

@@ -32,7 +32,7 @@
 #include "wearscar/report/audit.h"
 #include "wearscar/report/figures.h"
 #include "wearscar/report/output_folder.h"
-#include "wearscar/report/test_folder.h"
+#include "wearscar/report/specimen_folder.h"
 #include "wearscar/samples/simulation_settings.h"
 #include "wearscar/samples/virtual_tribometer.h"
 #include "wearscar/scan/read_scan.h"

@@ -451,8 +451,8 @@ TEST(Outputs, AnAuditRerunOfOneSpecimenKeepsTheRestAndReplaceDropsThem) {
   EXPECT_EQ(CountLines(Slurp(out + "/summary.csv")), 2);
 }
 
-TEST(Audit, FindsSpecimensInSubFoldersAndSaysWhatItLookedFor) {
-  const std::string dir = Simulated("tree", "--case B-RT-R --case S-TL-L");
+// A lab's tree of the simulated B-RT-R and S-TL-L in `dir`, beside it.
+std::string LabTree(const std::string& dir) {
   const std::string lab = dir + "-lab";
   fs::remove_all(lab);
   // lab/beech/B-RT-R.{force.csv,scan.gsf}: paired by name in a sub-folder;
@@ -467,6 +467,34 @@ TEST(Audit, FindsSpecimensInSubFoldersAndSaysWhatItLookedFor) {
                 lab + "/spruce/specimen7/surface.gsf");
   // lab/beech/extra_friction.csv: no scan of its name; the others have one.
   fs::copy_file(dir + "/S-TL-L.force.csv", lab + "/beech/extra_friction.csv");
+  return lab;
+}
+
+// extra_friction.csv is a copy of specimen7's force file: both say so,
+// naming the other, in the summary and in their result.json; B-RT-R,
+// whose files are its own, does not.
+void ExpectTheCopiesNameEachOther(const std::string& lab,
+                                  const std::string& summary) {
+  EXPECT_NE(summary.find("the force file is byte-identical to that of "
+                         "specimen7 (SHA-256 "),
+            std::string::npos)
+      << summary;
+  EXPECT_NE(summary.find("the force file is byte-identical to that of extra "
+                         "(SHA-256 "),
+            std::string::npos)
+      << summary;
+  const std::string copied =
+      ParseJson(Slurp(lab + "/audit/extra/result.json"))["warnings"].dump();
+  EXPECT_NE(copied.find("byte-identical to that of specimen7"),
+            std::string::npos)
+      << copied;
+  EXPECT_EQ(Slurp(lab + "/audit/B-RT-R/result.json").find("byte-identical"),
+            std::string::npos);
+}
+
+TEST(Audit, FindsSpecimensInSubFoldersAndSaysWhatItLookedFor) {
+  const std::string dir = Simulated("tree", "--case B-RT-R --case S-TL-L");
+  const std::string lab = LabTree(dir);
   const CommandResult dry = Wearscar("audit " + lab + " --dry-run");
   ASSERT_EQ(dry.status, 0) << dry.output;
   EXPECT_NE(dry.output.find("specimen7  spruce/specimen7/test.csv  "
@@ -503,24 +531,7 @@ TEST(Audit, FindsSpecimensInSubFoldersAndSaysWhatItLookedFor) {
             std::string::npos)
       << summary;
   EXPECT_TRUE(fs::exists(lab + "/audit/B-RT-R/result.json"));
-  // extra_friction.csv is a copy of specimen7's force file: both say so,
-  // naming the other, in the summary and in their result.json; B-RT-R,
-  // whose files are its own, does not.
-  EXPECT_NE(summary.find("the force file is byte-identical to that of "
-                         "specimen7 (SHA-256 "),
-            std::string::npos)
-      << summary;
-  EXPECT_NE(summary.find("the force file is byte-identical to that of extra "
-                         "(SHA-256 "),
-            std::string::npos)
-      << summary;
-  const std::string copied =
-      ParseJson(Slurp(lab + "/audit/extra/result.json"))["warnings"].dump();
-  EXPECT_NE(copied.find("byte-identical to that of specimen7"),
-            std::string::npos)
-      << copied;
-  EXPECT_EQ(Slurp(lab + "/audit/B-RT-R/result.json").find("byte-identical"),
-            std::string::npos);
+  ExpectTheCopiesNameEachOther(lab, summary);
   const nlohmann::json j =
       ParseJson(Slurp(lab + "/audit/specimen7/result.json"));
   EXPECT_EQ(j["provenance"]["inputs"][1]["path"],
@@ -611,6 +622,99 @@ TEST(Figures, FrictionAlongTheTrackIsShownBesideTheFrictionMap) {
       0u);
 }
 
+// The friction map is drawn from a float32 grid, one row of bins per
+// cycle (forward): the same numbers as friction_map.csv's forward rows.
+void ExpectTheMapsGridHoldsItsTable(const std::string& out) {
+  std::ifstream csv(out + "/friction_map.csv");
+  std::string row;
+  std::getline(csv, row);
+  std::vector<std::array<double, 4>> forward;  // cycle, x, raw, corrected
+  std::set<double> bins;
+  int map_cycles = 0;
+  while (std::getline(csv, row)) {
+    double c, d, x, raw, corrected;
+    ASSERT_EQ(
+        std::sscanf(
+            row.c_str(), "%lf,%lf,%lf,%lf,%lf", &c, &d, &x, &raw, &corrected),
+        5)
+        << row;
+    bins.insert(x);
+    map_cycles = std::max(map_cycles, static_cast<int>(c));
+    if (d > 0) forward.push_back({c, x, raw, corrected});
+  }
+  const std::string grid =
+      Slurp(out + "/figure-data/friction_map_corrected.f32");
+  ASSERT_EQ(grid.size(), 4 * bins.size() * map_cycles);
+  ASSERT_GT(forward.size(), 10u);
+  for (const auto& [c, x, raw, corrected] : forward) {
+    const size_t b = std::distance(bins.begin(), bins.find(x));
+    float v;
+    std::memcpy(
+        &v,
+        grid.data() + 4 * ((static_cast<size_t>(c) - 1) * bins.size() + b),
+        4);
+    EXPECT_NEAR(v, corrected, 1e-6 * std::abs(corrected) + 1e-9);
+  }
+}
+
+// Error bars: every cycle's mu-hat inside its 95% interval in cycles.csv,
+// drawn as a band on Fig. 13; the test's mean inside its own.
+void ExpectEachMuHatInsideItsInterval(const std::string& out,
+                                      const std::string& gp,
+                                      const nlohmann::json& j) {
+  EXPECT_NE(gp.find("'95% interval, k from P'"), std::string::npos);
+  std::ifstream table(out + "/cycles.csv");
+  std::string line;
+  std::getline(table, line);
+  std::vector<std::string> header;
+  for (std::stringstream h(line); std::getline(h, line, ',');)
+    header.push_back(line);
+  auto column = [&](const char* name) {
+    return std::find(header.begin(), header.end(), name) - header.begin();
+  };
+  const auto mu_col = column("mu_hat_force"),
+             low_col = column("mu_hat_force_low"),
+             high_col = column("mu_hat_force_high");
+  ASSERT_LT(high_col, static_cast<long>(header.size()));
+  int rows = 0;
+  for (std::string row; std::getline(table, row); ++rows) {
+    std::vector<double> v;
+    for (std::stringstream cells(row); std::getline(cells, line, ',');)
+      v.push_back(std::stod(line));
+    EXPECT_LT(v[low_col], v[mu_col]) << row;
+    EXPECT_GT(v[high_col], v[mu_col]) << row;
+    EXPECT_LT(v[high_col] - v[low_col], 0.01) << row;
+  }
+  EXPECT_GT(rows, 5);
+  const auto& mu = j["comparison"]["mu_hat_force"];
+  ASSERT_TRUE(mu["interval95"].is_array()) << mu.dump();
+  EXPECT_LT(mu["interval95"][0].get<double>(), mu["mean"].get<double>());
+  EXPECT_GT(mu["interval95"][1].get<double>(), mu["mean"].get<double>());
+  EXPECT_GT(mu["effective_cycles"].get<double>(), 1.0);
+  EXPECT_LE(mu["effective_cycles"].get<double>(), mu["count"].get<double>());
+}
+
+// The force command draws the force-side figures; scan draws the map.
+void ExpectForceAndScanCommandsDraw(const std::string& dir) {
+  ASSERT_EQ(
+      Wearscar("force " + dir + "/B-RT-R.force.csv -o " + dir + "/f").status,
+      0);
+  for (const char* f : {"fig05_q_envelope.svg",
+                        "fig07_loops.svg",
+                        "fig13_mu_hat.svg",
+                        "fig11_cost.svg"})
+    EXPECT_TRUE(fs::exists(dir + "/f/" + f)) << f;
+  EXPECT_FALSE(fs::exists(dir + "/f/fig08ab_scan_map.svg"));
+  EXPECT_FALSE(fs::exists(dir + "/f/fig05_q_envelope.png"));
+  ASSERT_EQ(
+      Wearscar("scan " + dir + "/B-RT-R.scan.gsf -o " + dir + "/s").status, 0);
+  EXPECT_TRUE(fs::exists(dir + "/s/scan_map.svg"));
+  const std::string scan_gp = FigureScripts(dir + "/s");
+  EXPECT_NE(scan_gp.find("cblabel 'height (um)'"), std::string::npos);
+  // A 1 mm scale bar on the 7.6 mm wide map.
+  EXPECT_NE(scan_gp.find("set label 1 '1 mm' at first"), std::string::npos);
+}
+
 // Figures that say what they show: the running-in marked, the minimum of
 // J(mu) marked at the fitted mu-hat, the offset of P/S stated, labels
 // drawn as written, the force command's and the scan command's figures.
@@ -647,40 +751,7 @@ TEST(Figures, SayWhatTheyShow) {
   EXPECT_NE(gp.find("E_d / (4 P delta_max)"), std::string::npos);
   // The friction map and the track's history: their tables and figures.
   EXPECT_TRUE(fs::exists(out + "/fig_friction_map.png"));
-  // The map is drawn from a float32 grid, one row of bins per cycle
-  // (forward): the same numbers as friction_map.csv's forward rows.
-  {
-    std::ifstream csv(out + "/friction_map.csv");
-    std::string row;
-    std::getline(csv, row);
-    std::vector<std::array<double, 4>> forward;  // cycle, x, raw, corrected
-    std::set<double> bins;
-    int map_cycles = 0;
-    while (std::getline(csv, row)) {
-      double c, d, x, raw, corrected;
-      ASSERT_EQ(
-          std::sscanf(
-              row.c_str(), "%lf,%lf,%lf,%lf,%lf", &c, &d, &x, &raw, &corrected),
-          5)
-          << row;
-      bins.insert(x);
-      map_cycles = std::max(map_cycles, static_cast<int>(c));
-      if (d > 0) forward.push_back({c, x, raw, corrected});
-    }
-    const std::string grid =
-        Slurp(out + "/figure-data/friction_map_corrected.f32");
-    ASSERT_EQ(grid.size(), 4 * bins.size() * map_cycles);
-    ASSERT_GT(forward.size(), 10u);
-    for (const auto& [c, x, raw, corrected] : forward) {
-      const size_t b = std::distance(bins.begin(), bins.find(x));
-      float v;
-      std::memcpy(
-          &v,
-          grid.data() + 4 * ((static_cast<size_t>(c) - 1) * bins.size() + b),
-          4);
-      EXPECT_NEAR(v, corrected, 1e-6 * std::abs(corrected) + 1e-9);
-    }
-  }
+  ExpectTheMapsGridHoldsItsTable(out);
   EXPECT_TRUE(fs::exists(out + "/fig_track_history.svg"));
   EXPECT_EQ(Slurp(out + "/friction_map.csv")
                 .rfind("cycle,direction,x_mm,mu_raw,mu_corrected,n\n1,1,", 0),
@@ -692,56 +763,8 @@ TEST(Figures, SayWhatTheyShow) {
   EXPECT_EQ(j["track_history"]["bin_mm"], 0.1);
   // LuGre says whether its fit is physical.
   EXPECT_TRUE(j["lugre"]["physically_plausible"].is_boolean());
-  // Error bars: every cycle's mu-hat inside its 95% interval in
-  // cycles.csv, drawn as a band on Fig. 13; the test's mean inside its own.
-  EXPECT_NE(gp.find("'95% interval, k from P'"), std::string::npos);
-  std::ifstream table(out + "/cycles.csv");
-  std::string line;
-  std::getline(table, line);
-  std::vector<std::string> header;
-  for (std::stringstream h(line); std::getline(h, line, ',');)
-    header.push_back(line);
-  auto column = [&](const char* name) {
-    return std::find(header.begin(), header.end(), name) - header.begin();
-  };
-  const auto mu_col = column("mu_hat_force"),
-             low_col = column("mu_hat_force_low"),
-             high_col = column("mu_hat_force_high");
-  ASSERT_LT(high_col, static_cast<long>(header.size()));
-  int rows = 0;
-  for (std::string row; std::getline(table, row); ++rows) {
-    std::vector<double> v;
-    for (std::stringstream cells(row); std::getline(cells, line, ',');)
-      v.push_back(std::stod(line));
-    EXPECT_LT(v[low_col], v[mu_col]) << row;
-    EXPECT_GT(v[high_col], v[mu_col]) << row;
-    EXPECT_LT(v[high_col] - v[low_col], 0.01) << row;
-  }
-  EXPECT_GT(rows, 5);
-  const auto& mu = j["comparison"]["mu_hat_force"];
-  ASSERT_TRUE(mu["interval95"].is_array()) << mu.dump();
-  EXPECT_LT(mu["interval95"][0].get<double>(), mu["mean"].get<double>());
-  EXPECT_GT(mu["interval95"][1].get<double>(), mu["mean"].get<double>());
-  EXPECT_GT(mu["effective_cycles"].get<double>(), 1.0);
-  EXPECT_LE(mu["effective_cycles"].get<double>(), mu["count"].get<double>());
-  // The force command draws the force-side figures; scan draws the map.
-  ASSERT_EQ(
-      Wearscar("force " + dir + "/B-RT-R.force.csv -o " + dir + "/f").status,
-      0);
-  for (const char* f : {"fig05_q_envelope.svg",
-                        "fig07_loops.svg",
-                        "fig13_mu_hat.svg",
-                        "fig11_cost.svg"})
-    EXPECT_TRUE(fs::exists(dir + "/f/" + f)) << f;
-  EXPECT_FALSE(fs::exists(dir + "/f/fig08ab_scan_map.svg"));
-  EXPECT_FALSE(fs::exists(dir + "/f/fig05_q_envelope.png"));
-  ASSERT_EQ(
-      Wearscar("scan " + dir + "/B-RT-R.scan.gsf -o " + dir + "/s").status, 0);
-  EXPECT_TRUE(fs::exists(dir + "/s/scan_map.svg"));
-  const std::string scan_gp = FigureScripts(dir + "/s");
-  EXPECT_NE(scan_gp.find("cblabel 'height (um)'"), std::string::npos);
-  // A 1 mm scale bar on the 7.6 mm wide map.
-  EXPECT_NE(scan_gp.find("set label 1 '1 mm' at first"), std::string::npos);
+  ExpectEachMuHatInsideItsInterval(out, gp, j);
+  ExpectForceAndScanCommandsDraw(dir);
 }
 
 // --scan-slope-history is recorded with the options and changes only the
@@ -761,6 +784,33 @@ TEST(Options, ScanSlopeHistoryIsRecordedAndMovesOnlyTheScanSide) {
             b["comparison"]["mu_hat_force"]["mean"]);
   EXPECT_NE(a["comparison"]["mu_hat_scan"]["mean"],
             b["comparison"]["mu_hat_scan"]["mean"]);
+}
+
+// No figure is embedded: each page shows the SVG files the audit drew
+// by their paths relative to the page, every one of them once.
+void ExpectEveryFigureShownOnce(const std::string& out) {
+  const std::string index = Slurp(out + "/report.html");
+  const std::string html = Slurp(out + "/B-RT-R/report.html");
+  EXPECT_EQ(index.find("data:image"), std::string::npos);
+  EXPECT_EQ(html.find("data:image"), std::string::npos);
+  std::set<std::string> drawn, shown;
+  for (const auto& e : fs::recursive_directory_iterator(out)) {
+    if (e.path().extension() == ".svg")
+      drawn.insert(fs::absolute(e.path()).lexically_normal().string());
+  }
+  const std::regex src(
+      "<img loading=\"lazy\" decoding=\"async\" alt=\"[^\"]*\" "
+      "src=\"([^\"]+)\">");
+  for (const std::string& page :
+       {std::string("report.html"), std::string("B-RT-R/report.html")}) {
+    const std::string text = Slurp(out + "/" + page);
+    const fs::path at = fs::absolute(fs::path(out) / page).parent_path();
+    for (std::sregex_iterator m(text.begin(), text.end(), src), end; m != end;
+         ++m)
+      shown.insert((at / (*m)[1].str()).lexically_normal().string());
+  }
+  EXPECT_EQ(shown, drawn);
+  EXPECT_GE(shown.size(), 14u);
 }
 
 // The report's numbers per specimen: mu-hat and J with both slopes side
@@ -825,28 +875,7 @@ TEST(Report, ShowsEachSpecimensNumbersAndWhereTheyCameFrom) {
   EXPECT_NE(index.find("<th>its 95% interval</th>"), std::string::npos);
   // The batch figure of wear against mu-hat, from its own table.
   EXPECT_TRUE(fs::exists(out + "/audit_wear_vs_mu.svg"));
-  // No figure is embedded: each page shows the SVG files the audit drew
-  // by their paths relative to the page, every one of them once.
-  EXPECT_EQ(index.find("data:image"), std::string::npos);
-  EXPECT_EQ(html.find("data:image"), std::string::npos);
-  std::set<std::string> drawn, shown;
-  for (const auto& e : fs::recursive_directory_iterator(out)) {
-    if (e.path().extension() == ".svg")
-      drawn.insert(fs::absolute(e.path()).lexically_normal().string());
-  }
-  const std::regex src(
-      "<img loading=\"lazy\" decoding=\"async\" alt=\"[^\"]*\" "
-      "src=\"([^\"]+)\">");
-  for (const std::string& page :
-       {std::string("report.html"), std::string("B-RT-R/report.html")}) {
-    const std::string text = Slurp(out + "/" + page);
-    const fs::path at = fs::absolute(fs::path(out) / page).parent_path();
-    for (std::sregex_iterator m(text.begin(), text.end(), src), end; m != end;
-         ++m)
-      shown.insert((at / (*m)[1].str()).lexically_normal().string());
-  }
-  EXPECT_EQ(shown, drawn);
-  EXPECT_GE(shown.size(), 14u);
+  ExpectEveryFigureShownOnce(out);
   const std::string wear = Slurp(out + "/wear_and_mu.csv");
   EXPECT_EQ(
       wear.rfind("specimen,mu_hat,mu_hat_sd,wear_rate_mm3_per_N_m,mu_hat_low,"
@@ -882,6 +911,48 @@ TEST(Figures, ADeadWeightsProfileIsNamedForItsChannel) {
   EXPECT_EQ(gp.find("from the spring"), std::string::npos);
 }
 
+// The simulated test's rows as an Anton Paar TRB linear export writes
+// them (tabs, decimal commas, the nominal load, depth in um), its
+// symbols in UTF-8 or Latin-1.
+std::string TrbExport(const std::string& dir, bool latin1) {
+  std::string line;
+  const std::string micro = latin1 ? "\xb5" : "\xc2\xb5";
+  const std::string degree = latin1 ? "\xb0" : "\xc2\xb0";
+  std::string text =
+      "Anton Paar TRB3\tLinear reciprocating\nSample\tB-RT-R\n\n";
+  text +=
+      "Time [s]\tDistance [m]\tLaps\tSequence ID\tCycle ID\tMax Linear "
+      "Speed [m/s]\tNominal Load [N]\t" +
+      micro + "\tLinear Position [mm]\tFriction Force [N]\tTemperature [" +
+      degree + "C]\tHumidity [%]\tPenetration Depth [" + micro + "m]\n";
+  std::ifstream rows(dir + "/B-RT-R.force.csv");
+  std::getline(rows, line);
+  double distance = 0, previous = NAN;
+  while (std::getline(rows, line)) {
+    double t, x, q, p, d;
+    if (std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%lf", &t, &x, &q, &p, &d) !=
+        5)
+      return "an unread row: " + line;
+    if (std::isfinite(previous)) distance += std::abs(x - previous) / 1000;
+    previous = x;
+    std::string row = fmt::format(
+        "{:.4f}\t{:.6f}\t{}\t1\t{}\t0.0179\t30\t{:.4f}\t{:.5f}\t{:.4f}\t23."
+        "1\t"
+        "45\t{:.3f}\n",
+        t,
+        distance,
+        static_cast<int>(t),
+        static_cast<int>(t),
+        q / 30,
+        x,
+        q,
+        1000 * d);
+    std::replace(row.begin(), row.end(), '.', ',');
+    text += row;
+  }
+  return text;
+}
+
 // An Anton Paar TRB linear export of a dead-weight test (its columns as
 // the instrument writes them: tab separated, decimal commas, the nominal
 // load as the only load, "µ" and "Penetration Depth [µm]" in UTF-8 or in
@@ -903,40 +974,7 @@ TEST(Rigs, AnAntonPaarTrbExportOfADeadWeightTestIsReadWithItsDepth) {
   ASSERT_EQ(line, "time_s,x_mm,Q_N,P_N,depth_mm");
   for (const bool latin1 : {false, true}) {
     SCOPED_TRACE(latin1 ? "Latin-1" : "UTF-8");
-    const std::string micro = latin1 ? "\xb5" : "\xc2\xb5";
-    const std::string degree = latin1 ? "\xb0" : "\xc2\xb0";
-    std::string text =
-        "Anton Paar TRB3\tLinear reciprocating\nSample\tB-RT-R\n\n";
-    text +=
-        "Time [s]\tDistance [m]\tLaps\tSequence ID\tCycle ID\tMax Linear "
-        "Speed [m/s]\tNominal Load [N]\t" +
-        micro + "\tLinear Position [mm]\tFriction Force [N]\tTemperature [" +
-        degree + "C]\tHumidity [%]\tPenetration Depth [" + micro + "m]\n";
-    std::ifstream rows(dir + "/B-RT-R.force.csv");
-    std::getline(rows, line);
-    double distance = 0, previous = NAN;
-    while (std::getline(rows, line)) {
-      double t, x, q, p, d;
-      ASSERT_EQ(
-          std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%lf", &t, &x, &q, &p, &d),
-          5);
-      if (std::isfinite(previous)) distance += std::abs(x - previous) / 1000;
-      previous = x;
-      std::string row = fmt::format(
-          "{:.4f}\t{:.6f}\t{}\t1\t{}\t0.0179\t30\t{:.4f}\t{:.5f}\t{:.4f}\t23."
-          "1\t"
-          "45\t{:.3f}\n",
-          t,
-          distance,
-          static_cast<int>(t),
-          static_cast<int>(t),
-          q / 30,
-          x,
-          q,
-          1000 * d);
-      std::replace(row.begin(), row.end(), '.', ',');
-      text += row;
-    }
+    const std::string text = TrbExport(dir, latin1);
     const std::string file =
         dir + (latin1 ? "/trb_latin1.txt" : "/trb_utf8.txt");
     std::ofstream(file) << text;

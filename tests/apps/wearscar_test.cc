@@ -151,6 +151,22 @@ TEST(Cli, ColumnsOptionMapsUnnamedColumnsAndRunningInIsReported) {
       << ri.output;
 }
 
+// J's square is split into shares that add up (to rounding) and match
+// the floor and excess printed beside them.
+void ExpectTheSplitOfJAddsUp(const std::string& output) {
+  const std::regex parts(
+      R"(J ([0-9.]+) \(of J\^2 ([0-9]+)% noise, floor ([0-9.]+), and ([0-9]+)% )"
+      R"(repeating misfit, excess ([0-9.]+)\))");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(output, m, parts)) << output;
+  const double noise_share = std::stod(m[2]), floor = std::stod(m[3]),
+               excess_share = std::stod(m[4]), excess = std::stod(m[5]);
+  EXPECT_NEAR(noise_share + excess_share, 100, 1);
+  EXPECT_NEAR(
+      noise_share, 100 * floor * floor / (floor * floor + excess * excess), 1);
+  EXPECT_GT(excess, 0.3);  // above the verdict's limit: not explained
+}
+
 TEST(Cli, FuseWritesResultsAndFlagsTheElasticCase) {
   const std::string dir = ::testing::TempDir() + "/cli-fuse";
   const CommandResult s =
@@ -207,20 +223,9 @@ TEST(Cli, FuseWritesResultsAndFlagsTheElasticCase) {
   EXPECT_NE(f.output.find("the spring displacement carries an elastic part"),
             std::string::npos)
       << f.output;
-  // J's square is split into shares that add up (to rounding) and match
-  // the floor and excess printed beside them; no coefficient is offered to
-  // quote when the verdict says the model misses an effect.
-  const std::regex parts(
-      R"(J ([0-9.]+) \(of J\^2 ([0-9]+)% noise, floor ([0-9.]+), and ([0-9]+)% )"
-      R"(repeating misfit, excess ([0-9.]+)\))");
-  std::smatch m;
-  ASSERT_TRUE(std::regex_search(f.output, m, parts)) << f.output;
-  const double noise_share = std::stod(m[2]), floor = std::stod(m[3]),
-               excess_share = std::stod(m[4]), excess = std::stod(m[5]);
-  EXPECT_NEAR(noise_share + excess_share, 100, 1);
-  EXPECT_NEAR(
-      noise_share, 100 * floor * floor / (floor * floor + excess * excess), 1);
-  EXPECT_GT(excess, 0.3);  // above the verdict's limit: not explained
+  ExpectTheSplitOfJAddsUp(f.output);
+  // No coefficient is offered to quote when the verdict says the model
+  // misses an effect.
   EXPECT_EQ(f.output.rfind("S-RL-R: no mu to quote: not explained by "
                            "wear-scar interaction, the model misses an effect",
                            0),
@@ -1178,44 +1183,89 @@ TEST(Audit, TheParallelRecipeMatchesASingleAudit) {
   EXPECT_EQ(sharded, single);
 }
 
-TEST(Audit, ReportRendersInHeadlessChromium) {
-  if (std::system("command -v chromium > /dev/null 2>&1") != 0) {
-    GTEST_SKIP() << "Debian's chromium is not installed (scripts/install-deps "
-                    "installs it)";
+// The audit's report as a browser shows it (headless Chromium): one
+// audit, read by each test below.
+class AuditInChromium : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    if (std::system("command -v chromium > /dev/null 2>&1") != 0) return;
+    out_ = ::testing::TempDir() + "/audit-out-browser";
+    std::filesystem::remove_all(out_);
+    Wearscar("audit " + AuditFolder("browser") + " --running-in 30 -o " + out_);
   }
-  const std::string out = ::testing::TempDir() + "/audit-out-browser";
-  std::filesystem::remove_all(out);
-  Wearscar("audit " + AuditFolder("browser") + " --running-in 30 -o " + out);
-  const std::string profile =
-      ::testing::TempDir() + "/chromium-profile-wearscar";
-  const auto cmd_at = [&](const std::string& window, const std::string& page) {
-    return "chromium --headless --no-sandbox --disable-gpu --disable-quic "
-           "--no-first-run "
-           "--disable-background-networking --disable-component-update "
-           "--disable-sync " +
-           window + " --user-data-dir=" + profile +
-           " --virtual-time-budget=10000 --dump-dom 'file://" + out + "/" +
-           page + "' 2>/dev/null";
-  };
-  // The index: every image (lazy ones loaded with ?images=all) decodes;
-  // the table's rows, the flagged and failed ones highlighted.
-  const std::string dom = Shell(cmd_at("", "report.html?images=all")).output;
-  const auto decoded = [](const std::string& page) {
+  void SetUp() override {
+    if (out_.empty()) {
+      GTEST_SKIP() << "Debian's chromium is not installed "
+                      "(scripts/install-deps installs it)";
+    }
+  }
+  // The page's DOM after its scripts ran, in a window of `window` (a
+  // --window-size argument or "").
+  static std::string Dom(const std::string& page,
+                         const std::string& window = "") {
+    const std::string profile =
+        ::testing::TempDir() + "/chromium-profile-wearscar";
+    return Shell(
+               "chromium --headless --no-sandbox --disable-gpu "
+               "--disable-quic --no-first-run "
+               "--disable-background-networking --disable-component-update "
+               "--disable-sync " +
+               window + " --user-data-dir=" + profile +
+               " --virtual-time-budget=10000 --dump-dom 'file://" + out_ + "/" +
+               page + "' 2>/dev/null")
+        .output;
+  }
+  // The images decoded and all of them, as the page counts them.
+  static std::pair<int, int> Decoded(const std::string& page) {
     const auto at = page.find("data-images-rendered=\"");
-    if (at == std::string::npos) return std::pair<int, int>(-1, -1);
+    if (at == std::string::npos) return {-1, -1};
     const std::string counts =
         page.substr(at + 22, page.find('"', at + 22) - at - 22);
-    return std::pair<int, int>(std::stoi(counts.substr(0, counts.find('/'))),
-                               std::stoi(counts.substr(counts.find('/') + 1)));
-  };
-  const auto [ok, all] = decoded(dom);
+    return {std::stoi(counts.substr(0, counts.find('/'))),
+            std::stoi(counts.substr(counts.find('/') + 1))};
+  }
+  static std::string out_;
+};
+
+std::string AuditInChromium::out_;
+
+// The values of the table's column headed `heading`, row by row (the
+// shown table: the part before the page's templates).
+std::vector<double> ColumnValues(const std::string& dom,
+                                 const std::string& heading) {
+  const std::string table = dom.substr(0, dom.find("<template"));
+  const size_t head = table.find("<thead>");
+  const std::string heads = table.substr(head, table.find("</thead>") - head);
+  int column = -1, k = 0;
+  for (size_t at = heads.find("<th"); at != std::string::npos;
+       at = heads.find("<th", at + 1), ++k)
+    if (heads.compare(heads.find('>', at) + 1, heading.size(), heading) == 0)
+      column = k;
+  std::vector<double> values;
+  if (column < 0) return values;
+  for (size_t at = table.find("<tbody>"); at != std::string::npos;
+       at = table.find("<tbody>", at + 1)) {
+    size_t cell = at;
+    for (int c = 0; c <= column; ++c) cell = table.find("<td", cell + 1);
+    cell = table.find('>', cell) + 1;
+    const std::string text = table.substr(cell, table.find('<', cell) - cell);
+    if (!text.empty()) values.push_back(std::stod(text));
+  }
+  return values;
+}
+
+// The index: every image (lazy ones loaded with ?images=all) decodes; the
+// table's rows, the flagged and failed ones highlighted, each one's
+// reason a row of its own under it.
+TEST_F(AuditInChromium, TheIndexDecodesItsImagesAndMarksItsRows) {
+  const std::string dom = Dom("report.html?images=all");
+  const auto [ok, all] = Decoded(dom);
   ASSERT_GE(all, 0) << dom.substr(0, 300);
   EXPECT_GE(all, 4);  // the batch figures
   EXPECT_EQ(ok, all);
   EXPECT_NE(dom.find("data-table-rows=\"4\""), std::string::npos);
   EXPECT_NE(dom.find("<tr class=\"flagged\">"), std::string::npos);
   EXPECT_NE(dom.find("<tr class=\"failed\">"), std::string::npos);
-  // A flagged or failed row's reason is a row of its own under it.
   EXPECT_TRUE(std::regex_search(
       dom,
       std::regex("<tr class=\"reason flagged\"><td colspan=\"[0-9]+\"><div>"
@@ -1224,59 +1274,37 @@ TEST(Audit, ReportRendersInHeadlessChromium) {
       dom,
       std::regex("<tr class=\"reason failed\"><td colspan=\"[0-9]+\"><div>"
                  "error: ")));
-  // Filtered and sorted from the page's address: the flagged specimen
-  // alone; every row by mu-hat, highest first (the table's own order is
-  // by name).
-  const std::string flagged =
-      Shell(cmd_at("", "report.html?verdict=flagged")).output;
+}
+
+// Filtered and sorted from the page's address: the flagged specimen
+// alone; by name; every row by mu-hat, highest first (the table's own
+// order is by name).
+TEST_F(AuditInChromium, TheAddressFiltersAndSortsTheTable) {
+  const std::string flagged = Dom("report.html?verdict=flagged");
   EXPECT_NE(flagged.find("data-table-rows=\"1\""), std::string::npos);
   EXPECT_NE(flagged.find("1-1 of 1 passing the filter (4 specimens)"),
             std::string::npos);
-  const std::string by_name = Shell(cmd_at("", "report.html?filter=S-")).output;
+  const std::string by_name = Dom("report.html?filter=S-");
   EXPECT_NE(by_name.find("data-table-rows=\"2\""), std::string::npos);
   const std::string sorted =
-      Shell(
-          cmd_at("", "report.html?sort=-mu-hat%20(k%20from%20P%20or%20depth)"))
-          .output;
-  std::vector<double> mu_hats;
-  const size_t table_end = sorted.find("<template");
-  const std::string shown_table = sorted.substr(0, table_end);
-  {
-    // mu-hat's column: its index among the headings.
-    const size_t head = shown_table.find("<thead>");
-    const std::string heads =
-        shown_table.substr(head, shown_table.find("</thead>") - head);
-    int column = -1, k = 0;
-    for (size_t at = heads.find("<th"); at != std::string::npos;
-         at = heads.find("<th", at + 1), ++k)
-      if (heads.compare(
-              heads.find('>', at) + 1, 26, "mu-hat (k from P or depth)") == 0)
-        column = k;
-    ASSERT_GT(column, 0);
-    for (size_t at = shown_table.find("<tbody>"); at != std::string::npos;
-         at = shown_table.find("<tbody>", at + 1)) {
-      size_t cell = at;
-      for (int c = 0; c <= column; ++c)
-        cell = shown_table.find("<td", cell + 1);
-      cell = shown_table.find('>', cell) + 1;
-      const std::string text =
-          shown_table.substr(cell, shown_table.find('<', cell) - cell);
-      if (!text.empty()) mu_hats.push_back(std::stod(text));
-    }
-  }
-  ASSERT_EQ(mu_hats.size(), 3u) << shown_table.substr(0, 2000);
+      Dom("report.html?sort=-mu-hat%20(k%20from%20P%20or%20depth)");
+  const std::vector<double> mu_hats =
+      ColumnValues(sorted, "mu-hat (k from P or depth)");
+  ASSERT_EQ(mu_hats.size(), 3u) << sorted.substr(0, 2000);
   EXPECT_TRUE(std::is_sorted(mu_hats.rbegin(), mu_hats.rend()));
-  // As a reader sees the index and a specimen's page on a laptop's and a
-  // desktop's screen: no horizontal scrolling of the page (the wide table
-  // scrolls in its box), every figure at least 900 px wide, no text under
-  // 14 px.
+}
+
+// As a reader sees the index and a specimen's page on a laptop's and a
+// desktop's screen: no horizontal scrolling of the page (the wide table
+// scrolls in its box), every figure at least 900 px wide, no text under
+// 14 px.
+TEST_F(AuditInChromium, ThePagesFitALaptopsAndADesktopsScreen) {
   for (const char* page :
        {"report.html?images=all", "B-RT-R/report.html?images=all"}) {
     for (const char* width : {"1280", "1920"}) {
       SCOPED_TRACE(std::string(page) + " at " + width);
       const std::string shown =
-          Shell(cmd_at(std::string("--window-size=") + width + ",1000", page))
-              .output;
+          Dom(page, std::string("--window-size=") + width + ",1000");
       const auto l = shown.find("data-layout=\"");
       ASSERT_NE(l, std::string::npos);
       std::istringstream in(
@@ -1288,17 +1316,18 @@ TEST(Audit, ReportRendersInHeadlessChromium) {
       EXPECT_GE(smallest, 14);
     }
   }
-  // Each analysed specimen's page, opened at cycle 12 (?cycle=12): its
-  // figures decode, its loop viewer draws that cycle's loop, model and map
-  // row, and says its mu-hat as the specimen's cycles.csv has it.
+}
+
+// Each analysed specimen's page, opened at cycle 12 (?cycle=12): its
+// figures decode, its loop viewer draws that cycle's loop, model and map
+// row, and says its mu-hat as the specimen's cycles.csv has it.
+TEST_F(AuditInChromium, ASpecimensPageOpensAtTheCycleAsked) {
   for (const char* name : {"B-RT-R", "S-RL-R", "S-TL-L"}) {
     SCOPED_TRACE(name);
     const std::string viewed =
-        Shell(
-            cmd_at("", std::string(name) + "/report.html?cycle=12&images=all"))
-            .output;
+        Dom(std::string(name) + "/report.html?cycle=12&images=all");
     EXPECT_NE(viewed.find("data-viewers=\"1\""), std::string::npos);
-    const auto [page_ok, page_all] = decoded(viewed);
+    const auto [page_ok, page_all] = Decoded(viewed);
     EXPECT_GT(page_all, 10);
     EXPECT_EQ(page_ok, page_all);
     const std::regex viewer(
@@ -1308,7 +1337,7 @@ TEST(Audit, ReportRendersInHeadlessChromium) {
     ASSERT_TRUE(std::regex_search(viewed, m, viewer));
     EXPECT_EQ(m[1], "12");
     EXPECT_GT(std::stoi(m[2]), 200);  // 2 x 2 lines of ~100 bins, 2 x 2 rows
-    std::ifstream cycles(out + "/" + name + "/cycles.csv");
+    std::ifstream cycles(out_ + "/" + name + "/cycles.csv");
     std::string line;
     for (int i = 0; i <= 12; ++i) std::getline(cycles, line);
     const std::string mu_hat =

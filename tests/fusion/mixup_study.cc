@@ -98,14 +98,15 @@ TEST(MixupStudy, AnotherSpecimensScanIsFlaggedOrSaidUncheckable) {
       checkable,
       missed,
       unsaid);
-  // Measured: 118 of 144 flagged, 2 of 64 checkable missed (chance
-  // look-alikes at r 0.89-0.90: the simulator's texture is 8 sinusoids,
-  // its rings of one mean width). With the waviness judged from r 0.6
-  // instead of 0.8, 108 and 12 (the ten more at r 0.63-0.70); without the
-  // track centre's check too, 104 and 16. Held near that, so that a
-  // weaker check fails.
-  EXPECT_GE(caught, 116);
-  EXPECT_LE(missed, 3);
+  // Measured: 144 of 144 flagged, 0 of 109 checkable by the waviness
+  // missed. With the centre judged by the track's outline alone (a move
+  // beyond 0.25 of its width; the sphere's reversals on the end walls not
+  // asked to agree on a smaller one), 130 and 3: this specimen's outline
+  // lies up to 0.13 of the width off where the stroke ran on this
+  // simulator (a depth trend along the stroke), so the outline alone
+  // cannot judge less. Held near that, so that a weaker check fails.
+  EXPECT_GE(caught, 140);
+  EXPECT_LE(missed, 1);
 }
 
 }  // namespace

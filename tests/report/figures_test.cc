@@ -23,7 +23,7 @@
 #include "report_helpers.h"
 #include "wearscar/fusion/fuse.h"
 #include "wearscar/report/html_report.h"
-#include "wearscar/report/test_folder.h"
+#include "wearscar/report/specimen_folder.h"
 
 namespace wearscar::report {
 namespace {

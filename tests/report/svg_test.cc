@@ -23,7 +23,7 @@
 #include "wearscar/fusion/fuse.h"
 #include "wearscar/report/audit.h"
 #include "wearscar/report/figures.h"
-#include "wearscar/report/test_folder.h"
+#include "wearscar/report/specimen_folder.h"
 #include "wearscar/scan/gsf.h"
 #include "wearscar/scan/read_scan.h"
 

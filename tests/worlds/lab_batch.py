@@ -131,6 +131,19 @@ def main():
 
 
 def judge(a, lab, paper, work):
+    results = naming(a, lab, paper, work)
+    out, rows = results["lab"]
+    groups = json.load(open(os.path.join(out, "groups.json")))
+    compare(groups, rows)
+    exports(a, lab, out, groups, work)
+    rerun(a, lab, out, work)
+    print("{} of the lines failed".format(len(failures)) if failures
+          else "every line holds")
+    return 1 if failures else 0
+
+
+def naming(a, lab, paper, work):
+    """Both namings pair every specimen and fill its factors."""
     results = {}
     for style, folder in (("lab", lab), ("paper", paper)):
         out = os.path.join(work, "audit-" + style)
@@ -149,8 +162,11 @@ def judge(a, lab, paper, work):
         want = {(SPECIES[s], pl, d) for s, pl, d in CASES}
         check(factors == want, "{} naming: species, plane and direction "
               "filled from the names ({})".format(style, sorted(factors)[:2]))
-    out, rows = results["lab"]
-    groups = json.load(open(os.path.join(out, "groups.json")))
+    return results
+
+
+def compare(groups, rows):
+    """The species' means and intervals, their difference, the plan."""
     mu = [g for g in groups if g["quantity"] == "mu_to_quote"][0]
     for code, species in SPECIES.items():
         values = [row["quote"]["mu"] for row in rows
@@ -179,6 +195,10 @@ def judge(a, lab, paper, work):
                for d in others]))
     check(mu["plan"]["replicates_per_group"] >= 2,
           "the next batch planned: " + mu["plan"]["said"])
+
+
+def exports(a, lab, out, groups, work):
+    """methods.md, a German Excel's CSV, a common window of cycles."""
     methods = open(os.path.join(out, "methods.md")).read()
     check("S = 10.19 N/mm" in methods and
           "24 of 24 specimens gave a mu to quote" in methods and
@@ -204,6 +224,11 @@ def judge(a, lab, paper, work):
                for row in json.load(open(os.path.join(common, "summary.json")))}
     check(windows == {(20, 39)}, "--compare-first 20 --compare-last 39: "
           "cycles 20-39 for every specimen ({})".format(sorted(windows)))
+
+
+def rerun(a, lab, out, work):
+    """One specimen again, another spring: only its files and the batch's
+    change."""
     # One specimen again, another spring, into the same folder.
     before = files_under(out)
     one = os.path.join(work, "one")
@@ -229,9 +254,6 @@ def judge(a, lab, paper, work):
           "its result and the groups changed")
     rows2 = json.load(open(os.path.join(out, "summary.json")))
     check(len(rows2) == 24, "the batch still holds 24 specimens")
-    print("{} of the lines failed".format(len(failures)) if failures
-          else "every line holds")
-    return 1 if failures else 0
 
 
 if __name__ == "__main__":

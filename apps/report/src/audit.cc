@@ -17,7 +17,7 @@
 #include "wearscar/fusion/error.h"
 #include "wearscar/report/html_report.h"
 #include "wearscar/report/output_folder.h"
-#include "wearscar/report/test_folder.h"
+#include "wearscar/report/specimen_folder.h"
 #include "wearscar/report/workbooks.h"
 
 namespace wearscar::report {

@@ -107,6 +107,29 @@ void CompareForceSide(const ForceAnalysis& force,
   r->method_difference = range.MethodDifference(ff, force);
 }
 
+// The stroke's centre in the scan against the sphere's reversals there
+// (MismatchReport::ends_offset_mm).
+void EndsOffset(const ForceAnalysis& force,
+                const ScanAnalysis& scan,
+                MismatchReport* r) {
+  const scan::TrackEnds& e = scan.ends;
+  const double stroke = force.cycles.x_max_mm - force.cycles.x_min_mm;
+  r->walls = e.low.Found() + e.high.Found();
+  double centre = NAN;
+  if (r->walls == 2) {
+    centre = 0.5 * (e.low.position_mm + e.high.position_mm);
+    r->ends_stroke_mm = e.high.position_mm - e.low.position_mm;
+  } else if (e.low.Found()) {
+    centre = e.low.position_mm + 0.5 * stroke;
+  } else if (e.high.Found()) {
+    centre = e.high.position_mm - 0.5 * stroke;
+  }
+  r->ends_offset_mm =
+      scan.alignment.ScanFromPlate(
+          0.5 * (force.cycles.x_min_mm + force.cycles.x_max_mm)) -
+      centre;
+}
+
 void CompareScanSide(const ForceAnalysis& force,
                      const ScanAnalysis& scan,
                      const CycleRange& range,
@@ -126,6 +149,7 @@ void CompareScanSide(const ForceAnalysis& force,
         scan.alignment.shift_mm +
         flip * 0.5 * (force.cycles.x_min_mm + force.cycles.x_max_mm);
   }
+  EndsOffset(force, scan, r);
   r->scan_pixel_mm = std::max(scan.levelled.dx_mm, scan.levelled.dy_mm);
   r->stroke_mm = force.cycles.stroke_mm;
   r->amplitude_ratio_low = scan.alignment.amplitude_ratio_low;

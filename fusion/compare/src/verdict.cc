@@ -29,7 +29,8 @@ bool VerdictOptions::IsValid(std::string* why) const {
   if (!(max_cost > 0) || !(max_cost_excess > 0) || !(max_amplitude_ratio > 0) ||
       !(min_correlation > -1) || !(max_method_difference > 0) ||
       !(min_waviness_to_noise > 0) || !(min_waviness_correlation > -1) ||
-      !(track_length_tolerance >= 0) || !(max_centre_offset > 0)) {
+      !(track_length_tolerance >= 0) || !(max_centre_offset > 0) ||
+      !(max_centre_offset_agreed > 0)) {
     if (why) *why = "verdict thresholds must be positive (correlation > -1)";
     return false;
   }
@@ -60,9 +61,15 @@ bool VerdictOptions::TrackLengthDiffers(const MismatchReport& r) const {
 bool VerdictOptions::TrackCentreMoved(const MismatchReport& r) const {
   // As the waviness, judged against P/S or a depth channel's profile (the
   // friction's, integrated, aligns less surely).
-  return r.has_scan && r.identity_judged && std::isfinite(r.centre_offset_mm) &&
-         r.track_width_mm > 0 &&
-         std::abs(r.centre_offset_mm) > max_centre_offset * r.track_width_mm;
+  if (!(r.has_scan && r.identity_judged && std::isfinite(r.centre_offset_mm) &&
+        r.track_width_mm > 0))
+    return false;
+  const double w = r.track_width_mm, outline = r.centre_offset_mm,
+               walls = r.ends_offset_mm;
+  if (std::abs(outline) > max_centre_offset * w) return true;
+  return std::isfinite(walls) && outline * walls > 0 &&
+         std::abs(outline) > max_centre_offset_agreed * w &&
+         std::abs(walls) > max_centre_offset_agreed * w;
 }
 
 bool DataWarningOptions::IsValid(std::string* why) const {
@@ -124,6 +131,18 @@ std::string TrackLengthText(const MismatchReport& r, const VerdictOptions& o) {
 }
 
 std::string CentreText(const MismatchReport& r, const VerdictOptions& o) {
+  if (std::abs(r.centre_offset_mm) <= o.max_centre_offset * r.track_width_mm)
+    return fmt::format(
+        "it matches P/S only with its track {:.2f} mm (its outline's "
+        "centre) and {:.2f} mm (the sphere's reversals on its end walls) "
+        "from where the stroke ran (limit {:g} of the track's width, {:.2f} "
+        "mm, where the two agree): its waviness (r = {:.2f}) lines up "
+        "elsewhere",
+        r.centre_offset_mm,
+        r.ends_offset_mm,
+        o.max_centre_offset_agreed,
+        o.max_centre_offset_agreed * r.track_width_mm,
+        r.waviness_correlation);
   return fmt::format(
       "it matches P/S only with its track's centre {:.2f} mm from the "
       "stroke's (limit {:g} of the track's width, {:.2f} mm): its waviness "

@@ -103,6 +103,33 @@ namespace {
 // samples; numeric differences would evaluate the cycle twice per
 // parameter), central differences for the others as Ceres takes them.
 //
+// The rows R with R'R = gram: gram = P' L D L' P (LDLT with pivoting), so
+// R = D^(1/2) L' P, D at least 0 (a gram); Eigen applies P to the right
+// as its transpose.
+Eigen::MatrixXd RootOfGram(const Eigen::MatrixXd& gram) {
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(gram);
+  const Eigen::VectorXd root = ldlt.vectorD().cwiseMax(0.0).cwiseSqrt();
+  const Eigen::MatrixXd lt = ldlt.matrixU();
+  return (root.asDiagonal() * lt) * ldlt.transpositionsP().transpose();
+}
+
+// The compressed rows [R_J R_r] as Ceres' residuals (R_r, the last column)
+// and each block's Jacobian (its columns from `offsets`).
+void WriteCompressed(const Eigen::MatrixXd& rows,
+                     const std::vector<int>& offsets,
+                     const std::vector<int>& sizes,
+                     double* residuals,
+                     double** jacobians) {
+  const Eigen::Index m = rows.rows(), last = rows.cols() - 1;
+  for (Eigen::Index k = 0; k < m; ++k) residuals[k] = rows(k, last);
+  for (size_t b = 0; b < sizes.size(); ++b) {
+    if (jacobians[b] == nullptr) continue;
+    for (Eigen::Index k = 0; k < m; ++k)
+      for (int j = 0; j < sizes[b]; ++j)
+        jacobians[b][k * sizes[b] + j] = rows(k, offsets[b] + j);
+  }
+}
+
 // A cycle of many samples is handed to Ceres compressed: for the residuals
 // r and their Jacobian J (n samples, P parameters), the P + 1 rows of R
 // with R'R = [J r]'[J r]. They give the solver the same cost r'r, gradient
@@ -293,20 +320,7 @@ class CycleCost : public ceres::CostFunction {
         for (size_t c = 0; c < col.size(); ++c)
           gram(col[a], col[c]) += value[a] * value[c];
     }
-    // gram = P' L D L' P (LDLT with pivoting), so R = D^(1/2) L' P, D at
-    // least 0 (a gram); Eigen applies P to the right as its transpose.
-    const Eigen::LDLT<Eigen::MatrixXd> ldlt(gram);
-    const Eigen::VectorXd root = ldlt.vectorD().cwiseMax(0.0).cwiseSqrt();
-    Eigen::MatrixXd lt = ldlt.matrixU();
-    Eigen::MatrixXd rows = root.asDiagonal() * lt;
-    rows = rows * ldlt.transpositionsP().transpose();
-    for (int k = 0; k < m; ++k) residuals[k] = rows(k, columns_);
-    for (size_t b = 0; b < sizes.size(); ++b) {
-      if (jacobians[b] == nullptr) continue;
-      for (int k = 0; k < m; ++k)
-        for (int j = 0; j < sizes[b]; ++j)
-          jacobians[b][k * sizes[b] + j] = rows(k, offsets_[b] + j);
-    }
+    WriteCompressed(RootOfGram(gram), offsets_, sizes, residuals, jacobians);
   }
   const Data* d_;
   const DiagCycle* c_;

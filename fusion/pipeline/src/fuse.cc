@@ -636,6 +636,11 @@ ScanAnalysis PrepareScan(scan::HeightMap map, const FuseOptions& options) {
   }
   s.centreline = scan::ExtractCentreline(map, s.track, options.profile);
   if (options.sphere.radius_mm > 0) {
+    scan::TrackEndOptions ends;
+    ends.sphere_radius_mm = options.sphere.radius_mm;
+    s.ends = scan::FitTrackEnds(s.centreline, ends);
+  }
+  if (options.sphere.radius_mm > 0) {
     scan::SpherePathOptions sphere = options.sphere;
     sphere.extend_mm = options.profile.extend_mm;
     s.profile = scan::SpherePath(map, s.track, sphere);

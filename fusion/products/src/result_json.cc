@@ -228,6 +228,11 @@ nlohmann::json ComparisonJson(const TestResult& r) {
     j["waviness_correlation"] = r.scan->alignment.waviness_correlation;
     j["waviness_to_noise"] = r.scan->alignment.waviness_to_noise;
     j["track_centre_offset_mm"] = m.centre_offset_mm;
+    j["reversals_offset_mm"] = m.ends_offset_mm;
+    j["reversals_stroke_mm"] = m.ends_stroke_mm;
+    j["reversal_walls"] = m.walls;
+    j["reversal_residuals"] = {r.scan->ends.low.residual_to_depth,
+                               r.scan->ends.high.residual_to_depth};
   }
   return j;
 }

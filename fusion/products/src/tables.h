@@ -7,8 +7,8 @@
 
 #include "wearscar/force/force_record.h"
 #include "wearscar/fusion/diagnose.h"
+#include "wearscar/fusion/result.h"
 #include "wearscar/fusion/tables.h"
-#include "wearscar/fusion/test_result.h"
 
 namespace wearscar::fusion::internal {
 

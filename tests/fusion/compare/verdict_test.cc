@@ -980,6 +980,27 @@ TEST(Verdict, AScanMatchedAwayFromWhereTheStrokeRanIsDoubted) {
   const VerdictOptions o;
   EXPECT_FALSE(o.TrackCentreMoved(r));
   EXPECT_EQ(Judge(r, o).scan_doubt, "");
+  // A smaller move is doubted only where the sphere's reversals on the
+  // end walls agree with the outline: moved the same way, beyond 0.05 of
+  // the width (0.08 mm) each.
+  r.centre_offset_mm = 0.12;
+  r.ends_offset_mm = 0.2;
+  EXPECT_TRUE(o.TrackCentreMoved(r));
+  EXPECT_NE(Judge(r, o).scan_doubt.find(
+                "its track 0.12 mm (its outline's centre) and 0.20 mm (the "
+                "sphere's reversals on its end walls) from where the stroke "
+                "ran (limit 0.05 of the track's width, 0.08 mm"),
+            std::string::npos)
+      << Judge(r, o).scan_doubt;
+  r.ends_offset_mm = -0.2;  // the other way: one estimate is wrong
+  EXPECT_FALSE(o.TrackCentreMoved(r));
+  r.ends_offset_mm = 0.05;  // the walls put it where the stroke ran
+  EXPECT_FALSE(o.TrackCentreMoved(r));
+  r.ends_offset_mm = NAN;  // no wall measured
+  EXPECT_FALSE(o.TrackCentreMoved(r));
+  r.centre_offset_mm = 0.06;  // the walls alone do not decide
+  r.ends_offset_mm = 0.5;
+  EXPECT_FALSE(o.TrackCentreMoved(r));
   r.centre_offset_mm = -0.5;  // 0.31 of the width
   EXPECT_TRUE(o.TrackCentreMoved(r));
   const Verdict v = Judge(r, o);

@@ -274,6 +274,27 @@ TEST(AnalyzeForce, LargeElasticPartRaisesJAboveThreshold) {
   EXPECT_GT(r.cost.mean, 0.4);
 }
 
+// The reverse direction on a thread of its own: the same split.
+void ExpectTheSameSplitThreaded(
+    const CycleBins &bins,
+    const std::vector<std::array<double, 2>> &total,
+    int sep,
+    const RepeatabilityOptions &o,
+    const std::vector<std::array<RepeatSplit, 2>> &split) {
+  const auto threaded = SplitRepeatable(bins, total, sep, o, true);
+  ASSERT_EQ(threaded.size(), split.size());
+  for (std::size_t i = 0; i < split.size(); ++i) {
+    for (int d = 0; d < 2; ++d) {
+      EXPECT_EQ(threaded[i][d].total, split[i][d].total);
+      EXPECT_TRUE(
+          threaded[i][d].repeat == split[i][d].repeat ||
+          (std::isnan(threaded[i][d].repeat) && std::isnan(split[i][d].repeat)))
+          << i << " " << d;
+      EXPECT_EQ(threaded[i][d].samples, split[i][d].samples);
+    }
+  }
+}
+
 // The noise split's template, slid along the cycles, is the template summed
 // afresh: for every cycle, the ends of the test included, its repeat is
 // the cycle's sums times the mean of the t nearest cycles at distance sep
@@ -310,19 +331,7 @@ TEST(SplitRepeatable, TheSlidTemplateIsTheTemplateSummedAfresh) {
       o.template_cycles = t;
       const auto split = SplitRepeatable(bins, total, sep, o);
       ASSERT_EQ(static_cast<int>(split.size()), n);
-      // The reverse direction on a thread of its own: the same split.
-      const auto threaded = SplitRepeatable(bins, total, sep, o, true);
-      ASSERT_EQ(threaded.size(), split.size());
-      for (std::size_t i = 0; i < split.size(); ++i) {
-        for (int d = 0; d < 2; ++d) {
-          EXPECT_EQ(threaded[i][d].total, split[i][d].total);
-          EXPECT_TRUE(threaded[i][d].repeat == split[i][d].repeat ||
-                      (std::isnan(threaded[i][d].repeat) &&
-                       std::isnan(split[i][d].repeat)))
-              << i << " " << d;
-          EXPECT_EQ(threaded[i][d].samples, split[i][d].samples);
-        }
-      }
+      ExpectTheSameSplitThreaded(bins, total, sep, o, split);
       for (int c = first; c <= last; ++c) {
         int left = t / 2, right = t - t / 2;
         const int room_left = std::max(0, c - sep - first + 1);

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "wearscar/fusion/test_result.h"
+#include "wearscar/fusion/result.h"
 
 namespace wearscar::fusion {
 

@@ -5,7 +5,7 @@
 #include <optional>
 
 #include "wearscar/force/force_record.h"
-#include "wearscar/fusion/test_result.h"
+#include "wearscar/fusion/result.h"
 
 namespace wearscar::fusion {
 

@@ -8,7 +8,7 @@
 #include "wearscar/force/force_record.h"
 #include "wearscar/fusion/analysis.h"
 #include "wearscar/fusion/fuse_options.h"
-#include "wearscar/fusion/test_result.h"
+#include "wearscar/fusion/result.h"
 
 namespace wearscar::fusion {
 

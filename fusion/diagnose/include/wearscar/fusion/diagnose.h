@@ -10,7 +10,7 @@
 #include "wearscar/force/periodic.h"
 #include "wearscar/fusion/effects.h"
 #include "wearscar/fusion/fit_mu.h"
-#include "wearscar/fusion/test_result.h"
+#include "wearscar/fusion/result.h"
 
 namespace wearscar::fusion {
 

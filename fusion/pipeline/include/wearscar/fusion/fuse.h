@@ -1,6 +1,6 @@
 #pragma once
 // The pipeline of one test: AnalyzeTest takes a force record and a scan
-// and returns everything (test_result.h) with the options it was given
+// and returns everything (result.h) with the options it was given
 // (fuse_options.h).
 
 #include <future>
@@ -10,7 +10,7 @@
 
 #include "wearscar/force/force_record.h"
 #include "wearscar/fusion/fuse_options.h"
-#include "wearscar/fusion/test_result.h"
+#include "wearscar/fusion/result.h"
 #include "wearscar/scan/height_map.h"
 #include "wearscar/scan/track.h"
 

@@ -11,8 +11,8 @@
 #include "wearscar/fusion/diagnose.h"
 #include "wearscar/fusion/map_analysis.h"
 #include "wearscar/fusion/provenance.h"
+#include "wearscar/fusion/result.h"
 #include "wearscar/fusion/tables.h"
-#include "wearscar/fusion/test_result.h"
 
 namespace wearscar::fusion {
 

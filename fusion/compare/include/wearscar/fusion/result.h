@@ -26,6 +26,7 @@
 #include "wearscar/scan/height_map.h"
 #include "wearscar/scan/level.h"
 #include "wearscar/scan/track.h"
+#include "wearscar/scan/track_ends.h"
 
 namespace wearscar::fusion {
 
@@ -84,6 +85,8 @@ struct ScanAnalysis {
   // FuseOptions::sphere.radius_mm 0): what is aligned and gives k_scan.
   scan::WearProfile profile;
   scan::WearProfile centreline;
+  // The sphere's reversals, from the centreline's end walls (FitTrackEnds).
+  scan::TrackEnds ends;
   // Whether the force side's path follows a rigid sphere's path on the
   // scanned surface or the centreline (a sphere that conforms to the
   // track), judged on the waviness (ChoosePath); `profile` is the one

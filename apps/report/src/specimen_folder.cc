@@ -1,4 +1,4 @@
-#include "wearscar/report/test_folder.h"
+#include "wearscar/report/specimen_folder.h"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>

@@ -1,7 +1,7 @@
 // The words a test's result says of itself: its headline and the names of
 // the force side's profile and slope.
 
-#include "wearscar/fusion/test_result.h"
+#include "wearscar/fusion/result.h"
 
 #include <fmt/format.h>
 

@@ -72,9 +72,8 @@ void RunForce(ForceArgs a) {
   }
   const OutputLock lock(a.out, OutputLock::kExclusive, BreakLock());
   StagedOutput stage(a.out, "force");
-  const fusion::TestProducts products =
-      report::WriteTestResults(stage.dir(), a.file, record, r, settings.fuse);
-  nlohmann::json summary = products.result;
+  fusion::TestProducts products =
+      report::WriteTestTables(stage.dir(), a.file, record, r, settings.fuse);
   report::FigureSet figs;
   if (!a.no_figures) {
     figs = report::DrawTestFigures(stage.dir(),
@@ -83,11 +82,11 @@ void RunForce(ForceArgs a) {
                                    settings.fuse,
                                    products,
                                    a.figure_formats);
-    if (!figs.missing.empty()) {
-      report::AddWarningToResult(stage.dir(), figs.message);
-      summary["warnings"].push_back(figs.message);
-    }
+    if (!figs.missing.empty())
+      products.result["warnings"].push_back(figs.message);
   }
+  report::WriteResult(stage.dir(), products);
+  const nlohmann::json& summary = products.result;
   const size_t written = stage.Commit();
   Say("wrote {} files to {}/\n", written, a.out);
   if (!a.no_figures) {

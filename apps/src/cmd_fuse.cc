@@ -52,18 +52,17 @@ void RunFuse(FuseArgs a) {
   // when the whole set is there.
   const OutputLock lock(a.out, OutputLock::kExclusive, BreakLock());
   StagedOutput stage(a.out, "fuse");
-  const fusion::TestProducts products = report::WriteTestResults(
+  fusion::TestProducts products = report::WriteTestTables(
       stage.dir(), name, record, r, settings.fuse, a.write);
-  nlohmann::json summary = products.result;
   report::FigureSet figs;
   if (!a.no_figures) {
     figs = report::DrawTestFigures(
         stage.dir(), name, r, settings.fuse, products, a.figure_formats);
-    if (!figs.missing.empty()) {
-      report::AddWarningToResult(stage.dir(), figs.message);
-      summary["warnings"].push_back(figs.message);
-    }
+    if (!figs.missing.empty())
+      products.result["warnings"].push_back(figs.message);
   }
+  report::WriteResult(stage.dir(), products);
+  const nlohmann::json& summary = products.result;
   // The page an audit writes for a specimen, for this test alone.
   report::WriteTestPage(stage.dir(), name, summary, figs);
   const size_t written = stage.Commit();

@@ -93,9 +93,7 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
     const auto& a = r.scan->alignment;
     Say("  profiles ({} and the scan): r = {:.3f}, {}, amplitude ratio "
         "{:.2f}, shift {:.3f} mm{}{}\n",
-        r.profile.FromFriction() ? "friction"
-        : r.profile.FromDepth()  ? "depth"
-                                 : "P/S",
+        r.profile.ShortProfileName(),
         a.correlation,
         std::isfinite(a.waviness_correlation) && a.waviness_to_noise >= 1
             ? fmt::format("waviness r = {:.2f} ({:.1f}x its noise)",
@@ -107,7 +105,7 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
         a.flipped ? " (the scan's x runs against the stroke's: flipped)" : "",
         std::isfinite(m.k_rms_difference)
             ? fmt::format(", RMS(k_{} - k_scan) {:.3f}",
-                          r.profile.FromDepth() ? "depth" : "P",
+                          r.profile.ShortChannelName(),
                           m.k_rms_difference)
             : std::string());
   }

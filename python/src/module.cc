@@ -148,23 +148,31 @@ struct TestOutput {
   // were or were not asked for).
   std::pair<std::vector<std::string>, std::string> Write(
       const std::string& dir, const std::string& figures) const {
-    report::EnsureDirectory(dir);
-    std::vector<std::string> written;
-    for (const auto& [file, text] : products.Files()) {
-      written.push_back((fs::path(dir) / file).string());
-      report::WriteTextAtomically(written.back(), text);
-    }
-    if (figures.empty()) return {written, ""};
     report::FigureFormats formats;
-    if (!report::FigureFormats::Parse(figures, &formats)) {
+    if (!figures.empty() && !report::FigureFormats::Parse(figures, &formats)) {
       throw OptionError(
           "write: figures: expected svg, png or svg,png; "
           "found '" +
           figures + "'");
     }
-    const report::FigureSet f =
-        report::DrawTestFigures(dir, name, *result, options, products, formats);
-    if (!f.missing.empty()) report::AddWarningToResult(dir, f.message);
+    report::EnsureDirectory(dir);
+    std::vector<std::string> written;
+    for (const auto& [file, text] : products.Files()) {
+      if (file == products.result_name) continue;  // last, with every warning
+      written.push_back((fs::path(dir) / file).string());
+      report::WriteTextAtomically(written.back(), text);
+    }
+    fusion::TestProducts with;  // result.json alone, its warnings added
+    with.result = products.result;
+    with.result_name = products.result_name;
+    report::FigureSet f;
+    if (!figures.empty()) {
+      f = report::DrawTestFigures(
+          dir, name, *result, options, products, formats);
+      if (!f.missing.empty()) with.result["warnings"].push_back(f.message);
+    }
+    report::WriteResult(dir, with);
+    written.push_back((fs::path(dir) / products.result_name).string());
     written.insert(written.end(), f.files.begin(), f.files.end());
     return {written, f.message};
   }

@@ -1189,9 +1189,21 @@ class AuditInChromium : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     if (std::system("command -v chromium > /dev/null 2>&1") != 0) return;
-    out_ = ::testing::TempDir() + "/audit-out-browser";
+    // Folders of this process's own: ctest runs each test in a process of
+    // its own, in parallel, and two Chromiums on one profile are one.
+    tag_ = "browser-" + std::to_string(getpid());
+    out_ = ::testing::TempDir() + "/audit-out-" + tag_;
     std::filesystem::remove_all(out_);
-    Wearscar("audit " + AuditFolder("browser") + " --running-in 30 -o " + out_);
+    Wearscar("audit " + AuditFolder(tag_) + " --running-in 30 -o " + out_);
+  }
+  static void TearDownTestSuite() {
+    if (out_.empty()) return;
+    std::filesystem::remove_all(out_);
+    std::filesystem::remove_all(::testing::TempDir() + "/audit-in-" + tag_);
+    std::filesystem::remove_all(Profile());
+  }
+  static std::string Profile() {
+    return ::testing::TempDir() + "/chromium-profile-" + tag_;
   }
   void SetUp() override {
     if (out_.empty()) {
@@ -1203,8 +1215,7 @@ class AuditInChromium : public ::testing::Test {
   // --window-size argument or "").
   static std::string Dom(const std::string& page,
                          const std::string& window = "") {
-    const std::string profile =
-        ::testing::TempDir() + "/chromium-profile-wearscar";
+    const std::string profile = Profile();
     return Shell(
                "chromium --headless --no-sandbox --disable-gpu "
                "--disable-quic --no-first-run "
@@ -1224,10 +1235,11 @@ class AuditInChromium : public ::testing::Test {
     return {std::stoi(counts.substr(0, counts.find('/'))),
             std::stoi(counts.substr(counts.find('/') + 1))};
   }
-  static std::string out_;
+  static std::string out_, tag_;
 };
 
 std::string AuditInChromium::out_;
+std::string AuditInChromium::tag_;
 
 // The values of the table's column headed `heading`, row by row (the
 // shown table: the part before the page's templates).

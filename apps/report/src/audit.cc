@@ -71,16 +71,14 @@ void AuditSpecimen(const AuditOptions& o,
         fusion::AnalyzeSpecimen(s, o.read_force, o.read_scan, o.fuse);
     const force::ForceRecord& record = a.record;
     const fusion::TestResult& r = a.result;
-    const fusion::TestProducts products =
-        WriteTestResults(dir, s.name, record, r, o.fuse);
-    nlohmann::json row = products.result;
+    fusion::TestProducts products =
+        WriteTestTables(dir, s.name, record, r, o.fuse);
     if (s.scan_expected) {
-      const std::string missing =
+      products.result["warnings"].push_back(
           "no scan paired, although other specimens of the batch have one (" +
-          s.no_scan + "); the verdict is the force side's alone";
-      AddWarningToResult(dir, missing);
-      row["warnings"].push_back(missing);
+          s.no_scan + "); the verdict is the force side's alone");
     }
+    nlohmann::json row = products.result;
     row.update(sec->row);
     row["scan_file"] = s.scan;
     row["pairing"] = s.Pairing();
@@ -98,9 +96,11 @@ void AuditSpecimen(const AuditOptions& o,
     }
     if (o.diagnose) AuditDiagnosis(o, s.name, dir, record, r, sec);
     if (!sec->figures.missing.empty()) {
-      AddWarningToResult(dir, sec->figures.message);
+      products.result["warnings"].push_back(sec->figures.message);
+      sec->row["warnings"].push_back(sec->figures.message);
       *figures_missing = true;
     }
+    WriteResult(dir, products);
     stage.Commit();
     // The report and the batch figures read the files where they are now.
     for (std::string& shown : sec->figures.shown) shown = stage.Final(shown);

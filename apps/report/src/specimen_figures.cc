@@ -35,9 +35,7 @@ std::string ForceSideK(const fusion::TestResult& r) {
 // The force side's profile in a key: "P/S" (the spring), "depth" (the
 // depth channel) or "friction profile" (a dead weight's friction).
 std::string ForceSideProfile(const fusion::TestResult& r) {
-  return r.profile.FromDepth()      ? "depth"
-         : r.profile.FromFriction() ? "friction profile"
-                                    : "P/S";
+  return r.profile.ShortProfileName();
 }
 
 Series Line(const char* table,

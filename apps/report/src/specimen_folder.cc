@@ -81,12 +81,12 @@ void WriteTables(const std::string& dir,
 
 }  // namespace
 
-fusion::TestProducts WriteTestResults(const std::string& dir,
-                                      const std::string& name,
-                                      const force::ForceRecord& record,
-                                      const fusion::TestResult& r,
-                                      const fusion::FuseOptions& o,
-                                      const fusion::ProductOptions& w) {
+fusion::TestProducts WriteTestTables(const std::string& dir,
+                                     const std::string& name,
+                                     const force::ForceRecord& record,
+                                     const fusion::TestResult& r,
+                                     const fusion::FuseOptions& o,
+                                     const fusion::ProductOptions& w) {
   EnsureDirectory(dir);
   // The inputs' checksums (the scan's, and the force file's unless the
   // record holds it) on a second core while the tables are made and
@@ -108,8 +108,22 @@ fusion::TestProducts WriteTestResults(const std::string& dir,
   if (provenance.valid()) {
     products.result["provenance"] = provenance.get().ToJson();
   }
+  return products;
+}
+
+void WriteResult(const std::string& dir, const fusion::TestProducts& products) {
   WriteTextAtomically((fs::path(dir) / products.result_name).string(),
                       products.ResultText());
+}
+
+fusion::TestProducts WriteTestResults(const std::string& dir,
+                                      const std::string& name,
+                                      const force::ForceRecord& record,
+                                      const fusion::TestResult& r,
+                                      const fusion::FuseOptions& o,
+                                      const fusion::ProductOptions& w) {
+  fusion::TestProducts products = WriteTestTables(dir, name, record, r, o, w);
+  WriteResult(dir, products);
   return products;
 }
 

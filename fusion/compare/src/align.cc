@@ -543,6 +543,63 @@ void Waviness(const std::vector<double>& fs,
           : NAN;
 }
 
+// The waviness's correlation (not corrected for noise) with the scan
+// shifted to `shift`, over the bins both directions slid.
+double WavinessAt(const ForceProfile& fp,
+                  const ScanGrid& g,
+                  int flip,
+                  double shift,
+                  int smooth,
+                  int window) {
+  std::vector<double> fs, hs;
+  for (Eigen::Index j = 0; j < fp.x_mm.size(); ++j) {
+    const double hv = Interp(g.h, g.s0, g.step, flip * fp.x_mm[j] + shift);
+    if (!std::isfinite(fp.forward_mm[j]) || !std::isfinite(fp.reverse_mm[j]) ||
+        !std::isfinite(fp.mean_mm[j]) || !std::isfinite(hv))
+      continue;
+    fs.push_back(fp.mean_mm[j]);
+    hs.push_back(hv);
+  }
+  const std::vector<double> f = HighPass(LowPass(fs, smooth), window),
+                            h = HighPass(LowPass(hs, smooth), window);
+  if (static_cast<int>(f.size()) < 4 * window) return NAN;
+  const Moments m = OverlapMoments(f, h, 0, 0);
+  return m.vf > 0 && m.vh > 0 ? m.cfh / std::sqrt(m.vf * m.vh) : NAN;
+}
+
+// Alignment::waviness_runner_up: the best waviness correlation more than
+// a window away from the best shift, corrected by the best's own factor
+// (the texture a twin would not share lowers it; its rings would not).
+void WavinessRunnerUp(const ForceProfile& fp,
+                      const ScanGrid& g,
+                      int flip,
+                      const AlignOptions& options,
+                      int smooth,
+                      int window,
+                      Alignment* best) {
+  const double at_best =
+      WavinessAt(fp, g, flip, best->shift_mm, smooth, window);
+  if (!(at_best > 0) || !std::isfinite(best->waviness_correlation)) return;
+  // As far as the profiles still overlap on min_overlap_fraction of the
+  // force profile: a ring period may exceed the alignment's search.
+  const double length = fp.x_mm[fp.x_mm.size() - 1] - fp.x_mm[0];
+  const double reach = std::max(options.max_shift_mm,
+                                (1 - options.min_overlap_fraction) * length);
+  const int shifts = static_cast<int>(std::floor(reach / g.step));
+  double top = -INFINITY, where = NAN;
+  for (int k = -shifts; k <= shifts; ++k) {
+    const double shift = best->shift_mm + k * g.step;
+    if (std::abs(shift - best->shift_mm) <= options.waviness_window_mm)
+      continue;
+    const double r = WavinessAt(fp, g, flip, shift, smooth, window);
+    if (r > top) top = r, where = shift;
+  }
+  if (!std::isfinite(top)) return;
+  best->waviness_runner_up =
+      std::min(1.0, top * best->waviness_correlation / at_best);
+  best->waviness_runner_up_shift_mm = where;
+}
+
 // Least-squares scale and offset, the amplitude ratio std(f) / std(h) with
 // f's variance less its noise, the noise-corrected correlation, and the
 // ratio's 95% interval by a delete-a-block jackknife over contiguous
@@ -596,6 +653,13 @@ void ScaleAndRatio(const ForceProfile& fp,
            points(options.waviness_shortest_mm),
            std::max(3, points(options.waviness_window_mm)),
            best);
+  WavinessRunnerUp(fp,
+                   g,
+                   flip,
+                   options,
+                   points(options.waviness_shortest_mm),
+                   std::max(3, points(options.waviness_window_mm)),
+                   best);
   if (n < 4 * blocks || !(all.vh > 0)) return;
   std::vector<double> r(blocks);
   double mean = 0;

@@ -139,6 +139,8 @@ void CompareScanSide(const ForceAnalysis& force,
   r->correlation_noise_corrected = scan.alignment.correlation_noise_corrected;
   r->waviness_correlation = scan.alignment.waviness_correlation;
   r->waviness_to_noise = scan.alignment.waviness_to_noise;
+  r->waviness_runner_up = scan.alignment.waviness_runner_up;
+  r->waviness_runner_up_shift_mm = scan.alignment.waviness_runner_up_shift_mm;
   r->amplitude_ratio = scan.alignment.amplitude_ratio;
   const scan::Track& t = scan.track;
   if (!t.manual && !t.reaches_edge && !t.low_confidence) {

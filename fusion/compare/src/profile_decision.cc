@@ -122,6 +122,27 @@ double ProfileSignificance(const ForceAnalysis& force) {
   return force.k_signal_rms / (force.k_noise_rms / std::sqrt(std::max(1.0, n)));
 }
 
+void ApplyProfile(const ProfileDecision& d, FrictionFitOptions* friction) {
+  friction->k_from_depth = d.FromDepth();
+  if (d.FromDepth()) friction->depth_sign = d.depth_sign;
+}
+
+PSlope ClassifyPSlope(double significance, const FuseOptions& options) {
+  if (!std::isfinite(significance)) return PSlope::kNotSplit;
+  return significance < options.dead_weight_significance ? PSlope::kNoise
+                                                         : PSlope::kVaries;
+}
+
+std::string PSlopeNoiseText(double significance) {
+  if (!std::isfinite(significance))
+    return "P's slope was not split into signal and noise (k per cycle), so "
+           "it is not shown to vary along the stroke beyond its noise";
+  return fmt::format(
+      "P does not vary along the stroke beyond its noise ({:.1f} standard "
+      "errors)",
+      significance);
+}
+
 namespace {
 
 std::string PSays(const ProfileDecision& d, ProfileEvidence* e) {
@@ -195,16 +216,15 @@ std::string FrictionReason(const ProfileDecision& d,
 ProfileSource AutoSource(ProfileEvidence* e,
                          const FuseOptions& o,
                          ProfileDecision* d) {
-  const double sig = d->p_slope_significance;
-  const bool p_varies = sig >= o.dead_weight_significance;
+  const PSlope p = ClassifyPSlope(d->p_slope_significance, o);
+  const bool p_varies = p == PSlope::kVaries;
   if (e->HasDepthChannel() && e->ForceSlopeFitted()) {
     if (p_varies) d->spring_depth_agreement = e->SpringDepthAgreement();
     if (!p_varies ||
         std::abs(d->spring_depth_agreement) < o.spring_depth_agreement)
       return ProfileSource::kDepth;
   }
-  if (!e->HasScan() || !std::isfinite(sig) || p_varies)
-    return ProfileSource::kSpring;
+  if (!e->HasScan() || p != PSlope::kNoise) return ProfileSource::kSpring;
   d->spring_amplitude_ratio = e->SpringPathRatio();
   d->ratio_against_friction = std::isfinite(d->spring_amplitude_ratio);
   if (!d->ratio_against_friction)

@@ -17,6 +17,14 @@ std::string ProfileDecision::SlopeName() const {
   return std::string("k from ") + ChannelName();
 }
 
+const char* ProfileDecision::ShortChannelName() const {
+  return FromDepth() ? "depth" : "P";
+}
+
+const char* ProfileDecision::ShortProfileName() const {
+  return FromDepth() ? "depth" : FromFriction() ? "friction profile" : "P/S";
+}
+
 std::string ProfileDecision::ProfileName() const {
   return FromDepth()      ? "the depth channel's profile"
          : FromFriction() ? "the profile from the friction"
@@ -53,16 +61,25 @@ std::vector<Premise> Premises(const TestResult& r) {
     id.state = !m.identity_judged       ? Premise::State::kNotChecked
                : v.IdentityCheckable(m) ? Premise::State::kHeld
                                         : Premise::State::kFailed;
-    id.evidence = m.identity_judged
-                      ? fmt::format(
-                            "the waviness stands {:.1f}x above its noise in "
-                            "variance (at least {:g}); it correlates at r = "
-                            "{:.2f} (at least {:.2f} for this specimen's scan)",
-                            m.waviness_to_noise,
-                            v.min_waviness_to_noise,
-                            m.waviness_correlation,
-                            v.min_waviness_correlation)
-                      : "not checked against the profile from the friction";
+    id.evidence =
+        m.identity_judged
+            ? fmt::format(
+                  "the waviness stands {:.1f}x above its noise in "
+                  "variance (at least {:g}); it correlates at r = "
+                  "{:.2f} (at least {:.2f} for this specimen's scan)",
+                  m.waviness_to_noise,
+                  v.min_waviness_to_noise,
+                  m.waviness_correlation,
+                  v.min_waviness_correlation) +
+                  (v.WavinessLinesUpTwice(m)
+                       ? fmt::format(", and at r = {:.2f} shifted {:.2f} mm "
+                                     "(only the track's place tells them "
+                                     "apart)",
+                                     m.waviness_runner_up,
+                                     m.waviness_runner_up_shift_mm -
+                                         r.scan->alignment.shift_mm)
+                       : std::string())
+            : "not checked against the profile from the friction";
     id.otherwise =
         "the scan's identity is not checked (the track's length and centre "
         "still are)";

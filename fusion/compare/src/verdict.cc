@@ -30,7 +30,7 @@ bool VerdictOptions::IsValid(std::string* why) const {
       !(min_correlation > -1) || !(max_method_difference > 0) ||
       !(min_waviness_to_noise > 0) || !(min_waviness_correlation > -1) ||
       !(track_length_tolerance >= 0) || !(max_centre_offset > 0) ||
-      !(max_centre_offset_agreed > 0)) {
+      !(max_centre_offset_agreed > 0) || !(min_waviness_twin > -1)) {
     if (why) *why = "verdict thresholds must be positive (correlation > -1)";
     return false;
   }
@@ -40,7 +40,8 @@ bool VerdictOptions::IsValid(std::string* why) const {
 bool VerdictOptions::IdentityCheckable(const MismatchReport& r) const {
   return r.has_scan && r.identity_judged &&
          r.waviness_to_noise >= min_waviness_to_noise &&
-         std::isfinite(r.waviness_correlation);
+         std::isfinite(r.waviness_correlation) &&
+         (!WavinessLinesUpTwice(r) || std::isfinite(r.centre_offset_mm));
 }
 
 bool VerdictOptions::ScanIsForeign(const MismatchReport& r) const {

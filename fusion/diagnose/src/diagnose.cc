@@ -14,6 +14,7 @@
 #include "wearscar/force/periodic.h"
 #include "wearscar/fusion/error.h"
 #include "wearscar/fusion/forward_model.h"
+#include "wearscar/fusion/profile_decision.h"
 #include "wearscar/support/interpolate.h"
 
 namespace wearscar::fusion {
@@ -681,15 +682,15 @@ Diagnosis DiagnoseTest(const force::ForceRecord& record,
     slope = &r.scan->slope;
   } else if (r.profile.FromSpring() &&
              r.profile.given == ProfileSource::kAuto && !r.scan &&
-             !(r.profile.p_slope_significance >=
-               r.options.dead_weight_significance)) {
+             ClassifyPSlope(r.profile.p_slope_significance, r.options) !=
+                 PSlope::kVaries) {
+    // (Not split, P's slope is not shown to vary either.)
     throw FusionError(fmt::format(
-        "P does not vary along the stroke beyond its noise ({:.1f} standard "
-        "errors): if the rig loads the ball with a dead weight, k from P is "
+        "{}: if the rig loads the ball with a dead weight, k from P is "
         "noise and every effect the diagnosis named would be fitted to it; "
         "give the track's scan or the depth channel (or --profile-from "
         "spring to diagnose with k from P regardless)",
-        r.profile.p_slope_significance));
+        PSlopeNoiseText(r.profile.p_slope_significance)));
   }
   Diagnosis d = Diagnose(record,
                          r.force.cycles,

@@ -10,7 +10,7 @@
 
 #include "wearscar/force/cycles.h"
 #include "wearscar/force/force_record.h"
-#include "wearscar/fusion/diagnose.h"
+#include "wearscar/fusion/diagnosis.h"
 #include "wearscar/fusion/effects.h"
 
 namespace wearscar::fusion::internal {

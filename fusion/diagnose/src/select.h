@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "diagnose_model.h"
-#include "wearscar/fusion/diagnose.h"
+#include "wearscar/fusion/diagnosis.h"
 #include "wearscar/fusion/effects.h"
 
 namespace wearscar::fusion::internal {

@@ -10,6 +10,7 @@
 #include <limits>
 #include <tuple>
 
+#include "pipeline_evidence.h"
 #include "wearscar/fusion/assumptions.h"
 #include "wearscar/fusion/compare_slopes.h"
 #include "wearscar/fusion/forward_model.h"
@@ -17,350 +18,13 @@
 #include "wearscar/support/check.h"
 
 namespace wearscar::fusion {
+
+using internal::AlignScan;
+using internal::FitScanSide;
+using internal::PipelineEvidence;
+using internal::ScanSlopeOverTheStroke;
+
 namespace {
-
-// Per cycle, the track's waviness from the spring over the final one, within
-// [0, max_scan_slope_scale]; 1 where the history has no value.
-std::vector<double> ScanSlopeScale(const TrackHistory& history,
-                                   const FuseOptions& options) {
-  std::vector<double> scale(history.waviness_sd_mm.size(), 1.0);
-  const double final_sd = history.final_waviness_sd_mm;
-  if (!(final_sd > 0)) return scale;
-  for (size_t c = 0; c < scale.size(); ++c) {
-    const double r = history.waviness_sd_mm[c] / final_sd;
-    if (std::isfinite(r))
-      scale[c] = std::clamp(r, 0.0, options.max_scan_slope_scale);
-  }
-  return scale;
-}
-
-// How closely an alignment's scan profile follows the force side's: the
-// waviness's correlation where it stands above its noise (what tells one
-// track from another), else the whole profiles'.
-double Follows(const Alignment& a, const VerdictOptions& v) {
-  return a.waviness_to_noise >= v.min_waviness_to_noise &&
-                 std::isfinite(a.waviness_correlation)
-             ? a.waviness_correlation
-             : a.correlation_noise_corrected;
-}
-
-// The premise that a rigid sphere of the radius given rides the scanned
-// track, checked on which path the force side follows: the sphere's (kept
-// unless the centreline follows it closer by more than `margin`) or the
-// centreline's (a sphere that conforms to the track: k from the
-// centreline, said).
-void ChoosePath(const FuseOptions& options, ScanAnalysis* s) {
-  Premise& p = s->rigid_sphere;
-  p.rule = "k from the scan";
-  p.statement = fmt::format(
-      "a rigid sphere of radius {:g} mm rides the scanned track (its path, "
-      "not the centreline, tilts the contact)",
-      options.sphere.radius_mm);
-  p.otherwise =
-      "k from the scan is the centreline's slope: the force side's path "
-      "follows the centreline, as a sphere that conforms to the track does";
-  if (options.sphere.radius_mm <= 0) {
-    p.evidence = "not checked: --sphere-radius 0 takes the centreline";
-    s->centreline_used = true;
-    return;
-  }
-  Alignment centre;
-  try {
-    centre = AlignProfiles(s->force_profile, s->centreline, options.align);
-  } catch (const FusionError&) {
-    p.state = Premise::State::kHeld;
-    p.evidence = "the centreline could not be aligned";
-    return;
-  }
-  constexpr double kMargin = 0.02;
-  const double sphere = Follows(s->alignment, options.verdict);
-  const double line = Follows(centre, options.verdict);
-  p.evidence = fmt::format(
-      "the force side's path follows the sphere's at r = {:.3f}, the "
-      "centreline at r = {:.3f} ({})",
-      sphere,
-      line,
-      s->alignment.waviness_to_noise >= options.verdict.min_waviness_to_noise
-          ? "the waviness, corrected for noise"
-          : "the whole profiles: the waviness is within its noise");
-  if (line > sphere + kMargin) {
-    p.state = Premise::State::kFailed;
-    s->profile = s->centreline;
-    s->alignment = centre;
-    s->centreline_used = true;
-  } else {
-    p.state = Premise::State::kHeld;
-    if (line > sphere - kMargin) s->centreline_alignment = centre;
-  }
-}
-
-// The force side's profile over the compared cycles (the last N, none of
-// the running-in) from `source`, aligned with the prepared scan's
-// sphere path or centreline (ChoosePath). Throws FusionError naming both
-// files when they cannot be aligned.
-ScanAnalysis AlignScan(const force::ForceRecord& record,
-                       const ForceAnalysis& force,
-                       ScanAnalysis s,
-                       const FuseOptions& options,
-                       ProfileSource source,
-                       double depth_sign) {
-  ForceProfileOptions fpo = options.force_profile;
-  const int nc = static_cast<int>(force.cycles.cycles.size());
-  if (fpo.first_cycle < 0 && nc > 0) {
-    fpo.first_cycle =
-        std::max(nc - fpo.cycles, std::min(force.running_in.cycles, nc - 1));
-    fpo.last_cycle = nc - 1;
-  }
-  s.force_profile =
-      source == ProfileSource::kFriction
-          ? ComputeFrictionProfile(record, force.cycles, fpo)
-      : source == ProfileSource::kDepth
-          ? ComputeDepthProfile(record, force.cycles, fpo, depth_sign)
-          : ComputeForceProfile(record,
-                                force.cycles,
-                                options.analysis.friction.slope.spring_n_per_mm,
-                                fpo);
-  try {
-    s.alignment = AlignProfiles(s.force_profile, s.profile, options.align);
-    ChoosePath(options, &s);
-  } catch (const FusionError& e) {
-    // Name both files and the figures that decide the overlap: a wrong
-    // pixel size shrinks the scan, a wrong x unit stretches the stroke.
-    const scan::HeightMap& map = s.levelled;
-    throw FusionError(fmt::format(
-        "{}: {} (the scan: {} x {} pixels of {:.4g} um, {:.3g} x {:.3g} mm, "
-        "track {:.3g} mm long; the stroke of {}: {:.3g} mm); check the scan's "
-        "pixel size and the force file's x unit",
-        map.metadata.source,
-        e.what(),
-        map.cols(),
-        map.rows(),
-        1e3 * map.dx_mm,
-        map.cols() * map.dx_mm,
-        map.rows() * map.dy_mm,
-        s.track.length_mm,
-        record.metadata.source,
-        force.cycles.stroke_mm));
-  }
-  return s;
-}
-
-// The scan's slope in plate coordinates over the stroke.
-PlateProfile ScanSlopeOverTheStroke(const force::ForceRecord& record,
-                                    const ForceAnalysis& force,
-                                    const FuseOptions& options,
-                                    const ScanAnalysis& s) {
-  // The sphere's excursion over the complete cycles bounds the sliding
-  // path: the scan beyond it is the groove's end walls.
-  double stroke_min = -std::numeric_limits<double>::infinity();
-  double stroke_max = std::numeric_limits<double>::infinity();
-  if (!force.cycles.cycles.empty()) {
-    // Isolated gaps in x are allowed: finite samples only.
-    std::tie(stroke_min, stroke_max) =
-        force::CyclesXRange(record.x_mm, force.cycles);
-  }
-  return ScanSlopeInPlate(
-      s.profile, s.alignment, options.scan_slope, stroke_min, stroke_max);
-}
-
-// mu-hat with the scan's slope (unless the force slope alone was asked
-// for). `history` (null unless options.scan_slope_history) scales the
-// scan's slope per cycle.
-void FitScanSide(const force::ForceRecord& record,
-                 const ForceAnalysis& force,
-                 const FuseOptions& options,
-                 const TrackHistory* history,
-                 ScanAnalysis* s) {
-  if (options.slopes == SlopeChoice::kForce) {
-    s->fit_scan.assign(force.cycles.cycles.size(), MuFit{});
-    for (auto& f : s->fit_scan) f.message = "not fitted (force slope only)";
-    return;
-  }
-  if (history != nullptr) s->slope_scale = ScanSlopeScale(*history, options);
-  // On both cores where the test has them (halves of the cycles).
-  FrictionFitOptions friction = options.analysis.friction;
-  if (options.parallel) friction.threads = std::max(friction.threads, 2);
-  s->fit_scan = FitFrictionPerCycle(record,
-                                    force.cycles,
-                                    SlopeSource::kScan,
-                                    friction,
-                                    &s->slope,
-                                    history ? &s->slope_scale : nullptr);
-}
-
-// The pipeline's figures for DecideProfile, each computed when first asked
-// for, and what the decision needed kept for the analysis after it: the
-// fit with k from P/S, the scan (prepared on another thread) and its
-// alignment with P/S. Where the decision will ask for that alignment
-// whatever it finds (a scan, no depth channel, the profile from the spring
-// or auto), it is made on the scan's thread as soon as the scan is ready.
-class PipelineEvidence : public ProfileEvidence {
- public:
-  PipelineEvidence(const force::ForceRecord& record,
-                   const ForceAnalysis& segmented,
-                   const AnalysisOptions& analysis,
-                   const FuseOptions& options,
-                   std::future<ScanAnalysis> prepared,
-                   std::shared_future<TrackHistory> history = {})
-      : record_(record),
-        segmented_(segmented),
-        analysis_(analysis),
-        options_(options),
-        has_scan_(prepared.valid()),
-        history_(std::move(history)) {
-    // (The scan's thread holds `this`.)
-    if (!has_scan_) return;
-    const bool spring_sure =
-        !record.has_depth() && (options.profile_from == ProfileSource::kAuto ||
-                                options.profile_from == ProfileSource::kSpring);
-    scan_side_ = std::async(
-        spring_sure && options.parallel ? std::launch::async
-                                        : std::launch::deferred,
-        [this, spring_sure, o = options, p = std::move(prepared)]() mutable {
-          ScanSide side;
-          try {
-            side.prepared = p.get();
-          } catch (...) {
-            side.scan_error = std::current_exception();
-            return side;
-          }
-          if (spring_sure) AlignWithSpring(o, &side);
-          return side;
-        });
-  }
-
-  PipelineEvidence(const PipelineEvidence&) = delete;
-  PipelineEvidence& operator=(const PipelineEvidence&) = delete;
-
-  bool HasDepthChannel() const override { return record_.has_depth(); }
-  std::string DepthColumn() const override {
-    const auto& names = record_.metadata.channel_names;
-    return names.size() > 4 ? names[4] : "depth";
-  }
-  bool DepthIsPenetration() const override {
-    return record_.metadata.depth_is_penetration;
-  }
-  bool HasScan() const override { return has_scan_; }
-  bool ForceSlopeFitted() const override { return analysis_.fit_force_slope; }
-  double PSlopeSignificance() override {
-    return ProfileSignificance(SpringFit());
-  }
-  int FittedCycles() override {
-    return static_cast<int>(SpringFit().fit_force.size());
-  }
-  int CorrelatedCycles() override { return SpringFit().correlated_cycles; }
-  double SpringDepthAgreement() override {
-    return fusion::SpringDepthAgreement(
-        record_, segmented_, analysis_.friction.slope.spring_n_per_mm);
-  }
-  double DepthAgreement() override {
-    return fusion::DepthAgreement(record_, segmented_);
-  }
-  double SpringPathRatio() override {
-    if (!history_.valid()) return NAN;
-    const ForceProfileOptions last = LastCycles();
-    return SpringOverFrictionPath(
-        history_.get(), last.first_cycle, last.last_cycle);
-  }
-  double SpringAmplitudeRatio() override {
-    const ScanSide& side = AlignedWithSpring();
-    return side.spring ? side.spring->alignment.amplitude_ratio : NAN;
-  }
-
-  // The force side fitted with k where the decision put it.
-  ForceAnalysis TakeForce(const AnalysisOptions& used) {
-    if (used.friction.k_from_depth) {
-      ForceAnalysis a = segmented_;
-      FitForceSide(record_, used, &a);
-      return a;
-    }
-    return std::move(SpringFit());
-  }
-
-  // The scan aligned with the decided profile; throws what its preparation
-  // or its alignment threw. Requires HasScan().
-  ScanAnalysis TakeAlignedScan(const ProfileDecision& d) {
-    if (d.FromSpring()) {
-      ScanSide& side = AlignedWithSpring();
-      if (side.align_error) std::rethrow_exception(side.align_error);
-      return std::move(*side.spring);
-    }
-    return AlignScan(
-        record_, segmented_, Prepared(), options_, d.used, d.depth_sign);
-  }
-
- private:
-  // The prepared scan, or what its reading or preparation threw; its
-  // alignment with P/S once made, or what that threw.
-  struct ScanSide {
-    std::optional<ScanAnalysis> prepared;
-    std::exception_ptr scan_error;
-    std::optional<ScanAnalysis> spring;
-    std::exception_ptr align_error;
-  };
-
-  // The last cycles after running-in, as AlignScan compares (at most
-  // ForceProfileOptions::cycles).
-  ForceProfileOptions LastCycles() const {
-    ForceProfileOptions o = options_.force_profile;
-    const int n = static_cast<int>(segmented_.cycles.cycles.size());
-    if (o.first_cycle < 0 && n > 0) {
-      o.first_cycle =
-          std::max(n - o.cycles, std::min(segmented_.running_in.cycles, n - 1));
-      o.last_cycle = n - 1;
-    }
-    return o;
-  }
-  ForceAnalysis& SpringFit() {
-    if (!spring_fit_) {
-      spring_fit_ = segmented_;
-      AnalysisOptions spring = analysis_;
-      spring.friction.k_from_depth = false;
-      FitForceSide(record_, spring, &*spring_fit_);
-    }
-    return *spring_fit_;
-  }
-  ScanSide& Side() {
-    if (!side_) side_ = scan_side_.get();
-    return *side_;
-  }
-  const ScanAnalysis& Prepared() {
-    const ScanSide& side = Side();
-    if (side.scan_error) std::rethrow_exception(side.scan_error);
-    return *side.prepared;
-  }
-  // (`options` the pipeline's as they were before the decision: the
-  // decision writes its choice into them while this may run.)
-  void AlignWithSpring(const FuseOptions& options, ScanSide* side) const {
-    if (side->spring || side->align_error) return;
-    try {
-      if (side->scan_error) std::rethrow_exception(side->scan_error);
-      side->spring = AlignScan(record_,
-                               segmented_,
-                               *side->prepared,
-                               options,
-                               ProfileSource::kSpring,
-                               1.0);
-    } catch (...) {
-      side->align_error = std::current_exception();
-    }
-  }
-  ScanSide& AlignedWithSpring() {
-    ScanSide& side = Side();
-    AlignWithSpring(options_, &side);
-    return side;
-  }
-
-  const force::ForceRecord& record_;
-  const ForceAnalysis& segmented_;
-  const AnalysisOptions& analysis_;
-  const FuseOptions& options_;
-  const bool has_scan_;
-  std::shared_future<TrackHistory> history_;
-  std::optional<ForceAnalysis> spring_fit_;
-  std::future<ScanSide> scan_side_;
-  std::optional<ScanSide> side_;
-};
 
 // A cycle asked for beyond the test's n complete cycles is refused, not
 // replaced (messages count cycles from 1, as every output does).
@@ -526,23 +190,20 @@ ScanSideBeside AddScanSide(const force::ForceRecord& record,
 // with a slope that is noise is no finding about the test.
 void JudgeWithoutASlope(const FuseOptions& options, TestResult* result) {
   const double sig = result->profile.p_slope_significance;
-  if (!(sig < options.dead_weight_significance)) return;
+  if (ClassifyPSlope(sig, options) != PSlope::kNoise) return;
   if (!result->verdict.explained) {
     result->verdict.not_judged = fmt::format(
-        "P does not vary along the stroke beyond its noise ({:.1f} "
-        "standard errors), so k from P is noise if the rig has no spring, "
-        "and nothing else gives the slope (no scan, no depth channel); "
-        "give the track's scan or the depth channel. What k from P missed: "
-        "{}",
-        sig,
+        "{}, so k from P is noise if the rig has no spring, and nothing "
+        "else gives the slope (no scan, no depth channel); give the track's "
+        "scan or the depth channel. What k from P missed: {}",
+        PSlopeNoiseText(sig),
         fmt::join(result->verdict.reasons, "; "));
   }
   result->warnings.push_back(fmt::format(
-      "P does not vary along the stroke beyond its noise ({:.1f} "
-      "standard errors): if the rig loads the ball with a dead weight, "
-      "k from P is noise; with a scan of the track the profile is taken "
-      "from the friction (--profile-from friction)",
-      sig));
+      "{}: if the rig loads the ball with a dead weight, k from P is noise; "
+      "with a scan of the track the profile is taken from the friction "
+      "(--profile-from friction)",
+      PSlopeNoiseText(sig)));
 }
 
 // The warnings of a test once judged: the data's, the file's stated
@@ -755,8 +416,7 @@ void AnalyzeDecided(const force::ForceRecord& record,
                     std::future<std::optional<LugreFit>> lugre,
                     TestResult* result) {
   const FuseOptions& o = result->options;
-  ao.friction.k_from_depth = o.analysis.friction.k_from_depth;
-  ao.friction.depth_sign = o.analysis.friction.depth_sign;
+  ApplyProfile(result->profile, &ao.friction);
   result->force = evidence->TakeForce(ao);
   const int n = static_cast<int>(result->force.cycles.cycles.size());
   RefuseCyclesBeyondTheTest(o, n);
@@ -929,10 +589,7 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
   PipelineEvidence evidence(
       record, segmented, ao, result.options, std::move(prepared_scan), history);
   result.profile = DecideProfile(&evidence, result.options);
-  FrictionFitOptions& friction = result.options.analysis.friction;
-  friction.k_from_depth = result.profile.FromDepth();
-  friction.depth_sign = result.profile.FromDepth() ? result.profile.depth_sign
-                                                   : friction.depth_sign;
+  ApplyProfile(result.profile, &result.options.analysis.friction);
   AnalyzeDecided(record,
                  &evidence,
                  ao,

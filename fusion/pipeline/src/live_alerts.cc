@@ -66,8 +66,7 @@ void LiveAnalysis::DecideSlope(bool may_switch) {
   FrictionFitOptions& friction = options_.analysis.friction;
   depth_decided_ = d.FromDepth();
   if (!may_switch || !d.FromDepth() || friction.k_from_depth) return;
-  friction.k_from_depth = true;
-  friction.depth_sign = d.depth_sign;
+  ApplyProfile(d, &friction);
   recent_fits_.clear();
   recent_energy_.clear();
   recent_mean_.clear();
@@ -258,21 +257,21 @@ void LiveAnalysis::UpdateVerdict() {
   }
   // As fuse's verdict without a scan: where P's slope is within its
   // noise, k from P is noise on a rig without a spring.
-  const bool noise = !v.explained && !options_.analysis.friction.k_from_depth &&
-                     p_significance_ < options_.dead_weight_significance;
+  const bool noise =
+      !v.explained && !options_.analysis.friction.k_from_depth &&
+      ClassifyPSlope(p_significance_, options_) == PSlope::kNoise;
   const int state = noise ? 2 : v.explained ? 1 : 0;
   verdict_text_ = fmt::format(
       "over cycles {}-{}{}: {}",
       n - k + 1,
       n,
       running_in_ended_ ? "" : " (running-in not seen to end yet)",
-      noise ? fmt::format("not judged: P does not vary along the stroke "
-                          "beyond its noise over the latest cycles ({:.1f} "
-                          "standard errors), so k from P is noise if the "
-                          "rig has no spring, and no depth channel gives "
-                          "the slope; `wearscar fuse` with the track's scan "
-                          "judges the test (what k from P missed: {})",
-                          p_significance_,
+      noise ? fmt::format("not judged: {} over the latest cycles, so k "
+                          "from P is noise if the rig has no spring, and no "
+                          "depth channel gives the slope; `wearscar fuse` "
+                          "with the track's scan judges the test (what k "
+                          "from P missed: {})",
+                          PSlopeNoiseText(p_significance_),
                           fmt::join(v.reasons, "; "))
             : v.Summary());
   if (state == verdict_state_) return;

@@ -4,8 +4,13 @@
 
 #include <algorithm>
 
+#include "scan_settings.h"
+
 namespace wearscar::fusion {
 namespace {
+
+using internal::ScanFileSettings;
+using internal::TrackSettings;
 
 using support::FlagSetting;
 using support::IntegerSetting;
@@ -561,99 +566,6 @@ std::vector<S> LevelSettings() {
   };
 }
 
-// Finding or placing the worn track, in any settings struct.
-template <class Target>
-std::vector<support::Setting<Target>> TrackSettings(
-    std::function<scan::TrackOptions&(Target&)> track) {
-  const char* g = "Scan";
-  auto manual = [g, track](const char* name, const char* help, auto member) {
-    auto s = NumberSetting<Target>(
-        name, g, help, -1e6, 1e6, [track, member](Target& t) -> double& {
-          return track(t).*member;
-        });
-    s.show = [](const Target&) { return std::string(); };
-    return s;
-  };
-  using O = scan::TrackOptions;
-  return {
-      NumberSetting<Target>(
-          "min-depth",
-          g,
-          "Track: least depth, mm",
-          1e-9,
-          100,
-          [track](Target& t) -> double& { return track(t).min_depth_mm; }),
-      NumberSetting<Target>(
-          "min-elongation",
-          g,
-          "Track: least length/width of the depression",
-          1,
-          1e3,
-          [track](Target& t) -> double& { return track(t).min_elongation; }),
-      manual("track-length",
-             "Track length, mm (manual placement; 0 = across the field)",
-             &O::manual_length_mm),
-      FlagSetting<Target>(
-          "manual-track",
-          g,
-          "Place the track by hand (--track-x, --track-y, --track-angle)",
-          [track](Target& t) -> bool& { return track(t).manual; }),
-      manual("track-angle",
-             "Track angle, degrees (manual placement)",
-             &O::angle_deg),
-      manual(
-          "track-x", "Track centre x, mm (manual placement)", &O::centre_x_mm),
-      manual(
-          "track-y", "Track centre y, mm (manual placement)", &O::centre_y_mm),
-  };
-}
-
-// Reading the height map, in any settings struct.
-template <class Target>
-std::vector<support::Setting<Target>> ScanFileSettings(
-    std::function<scan::ReadScanOptions&(Target&)> read) {
-  const char* g = "Scan";
-  return {
-      {"large-maps",
-       g,
-       "Raise the decompression limits for genuinely large maps (a member "
-       "up to 8 GiB, a file 16 GiB, any ratio)",
-       "",
-       ~0u,
-       [read](Target* t, const std::string& text) {
-         if (support::ParseFlag(text)) scan::AllowLargeMaps(&read(*t));
-       },
-       [](const Target&) { return std::string(); }},
-      NumberSetting<Target>(
-          "max-pixel-aspect",
-          g,
-          "Refuse scan pixels longer one way than this times the other "
-          "(raise it for genuinely unequal pitches)",
-          1,
-          1e6,
-          [read](Target& t) -> double& { return read(t).max_pixel_aspect; }),
-      IntegerSetting<Target>(
-          "measurement",
-          g,
-          ".zag measurement index",
-          0,
-          100000,
-          [read](Target& t) -> int& { return read(t).measurement_index; }),
-      NumberSetting<Target>(
-          "ascii-pitch",
-          g,
-          "ASCII matrix pixel size, mm",
-          0,
-          1e3,
-          [read](Target& t) -> double& { return read(t).ascii_pitch_mm; }),
-      TextSetting<Target>(
-          "ascii-unit",
-          g,
-          "ASCII matrix height unit",
-          [read](Target& t) -> std::string& { return read(t).ascii_z_unit; }),
-  };
-}
-
 std::vector<S> AllSettings() {
   std::vector<S> all;
   auto add = [&all](unsigned sections, std::vector<S> part) {
@@ -676,98 +588,7 @@ std::vector<S> AllSettings() {
   return all;
 }
 
-using M = MapSettings;
-
-// The map alone: levelling, spikes, centreline and cross-sections.
-std::vector<support::Setting<M>> MapAnalysisSettings() {
-  const char* g = "Scan";
-  auto a = [](M& m) -> MapAnalysisOptions& { return m.analysis; };
-  return {
-      IntegerSetting<M>(
-          "level-order",
-          g,
-          "Reference surface order (1-3)",
-          1,
-          3,
-          [a](M& m) -> int& { return a(m).level.polynomial_order; }),
-      NumberSetting<M>(
-          "ransac-threshold",
-          g,
-          "RANSAC inlier band, mm",
-          1e-9,
-          10,
-          [a](M& m) -> double& { return a(m).level.ransac_threshold_mm; }),
-      NumberSetting<M>(
-          "spike-threshold",
-          g,
-          "Spike height, mm",
-          1e-9,
-          100,
-          [a](M& m) -> double& { return a(m).spikes.threshold_mm; }),
-      NumberSetting<M>(
-          "band",
-          g,
-          "Centreline band width, mm",
-          0,
-          100,
-          [a](M& m) -> double& { return a(m).profile.band_width_mm; }),
-      NumberSetting<M>("step",
-                       g,
-                       "Centreline step, mm (0 = the pitch)",
-                       0,
-                       100,
-                       [a](M& m) -> double& { return a(m).profile.step_mm; }),
-      {"sections",
-       g,
-       "Cross-sections at these positions along the track from its centre, "
-       "mm (comma-separated; default -1/4, 0, +1/4 of its length)",
-       "NUMBERS",
-       ~0u,
-       [](M* m, const std::string& text) {
-         size_t start = 0;
-         while (start <= text.size()) {
-           const size_t comma = std::min(text.find(',', start), text.size());
-           m->analysis.sections_mm.push_back(support::ParseNumber(
-               text.substr(start, comma - start), -1e4, 1e4));
-           start = comma + 1;
-         }
-       },
-       [](const M&) { return std::string(); },
-       true},
-      NumberSetting<M>(
-          "section-half-width",
-          g,
-          "Cross-section half width, mm",
-          1e-6,
-          1e3,
-          [a](M& m) -> double& { return a(m).section_half_width_mm; }),
-  };
-}
-
 }  // namespace
-
-const std::vector<support::Setting<MapSettings>>& MapSettingList() {
-  static const std::vector<support::Setting<M>> list = [] {
-    std::vector<support::Setting<M>> all = ScanFileSettings<M>(
-        [](M& m) -> scan::ReadScanOptions& { return m.read_scan; });
-    for (auto& s : MapAnalysisSettings()) all.push_back(std::move(s));
-    for (auto& s : TrackSettings<M>(
-             [](M& m) -> scan::TrackOptions& { return m.analysis.track; }))
-      all.push_back(std::move(s));
-    return all;
-  }();
-  return list;
-}
-
-MapSettings MakeMapSettings(
-    const std::vector<std::pair<std::string, std::string>>& given) {
-  MapSettings m;
-  support::ApplySettings(MapSettingList(), given, &m);
-  std::string why;
-  if (!m.analysis.IsValid(&why) || !m.read_scan.IsValid(&why))
-    throw support::SettingFailed("", why);
-  return m;
-}
 
 const std::vector<support::Setting<TestSettings>>& TestSettingList() {
   static const std::vector<S> list = AllSettings();

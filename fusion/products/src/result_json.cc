@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "wearscar/fusion/effects.h"
+#include "wearscar/fusion/products.h"
 
 namespace wearscar::fusion {
 namespace {
@@ -231,8 +232,8 @@ nlohmann::json ComparisonJson(const TestResult& r) {
     j["reversals_offset_mm"] = m.ends_offset_mm;
     j["reversals_stroke_mm"] = m.ends_stroke_mm;
     j["reversal_walls"] = m.walls;
-    j["reversal_residuals"] = {r.scan->ends.low.residual_to_depth,
-                               r.scan->ends.high.residual_to_depth};
+    j["waviness_runner_up"] = m.waviness_runner_up;
+    j["waviness_runner_up_shift_mm"] = m.waviness_runner_up_shift_mm;
   }
   return j;
 }

@@ -5,8 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "wearscar/fusion/diagnose.h"
-#include "wearscar/fusion/products.h"
+#include "wearscar/fusion/diagnosis.h"
 
 namespace wearscar::fusion::internal {
 

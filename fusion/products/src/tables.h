@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "wearscar/force/force_record.h"
-#include "wearscar/fusion/diagnose.h"
+#include "wearscar/fusion/diagnosis.h"
 #include "wearscar/fusion/result.h"
 #include "wearscar/fusion/tables.h"
 

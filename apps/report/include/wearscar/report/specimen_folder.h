@@ -14,11 +14,24 @@
 
 namespace wearscar::report {
 
-// Writes the products of one test (fusion::MakeTestProducts) into `dir`,
-// each atomically, one table's text at a time on each of two threads (with
-// o.parallel), the inputs' checksums taken beside the writing (those the
-// record does not hold already); returns them (result.json's contents in
-// `result`; the figures draw from the tables).
+// Writes the tables and documents of one test (fusion::MakeTestProducts)
+// into `dir`, each atomically, one table's text at a time on each of two
+// threads (with o.parallel), the inputs' checksums taken beside the
+// writing (those the record does not hold already); returns them, with
+// result.json's contents in `result` but not yet written: the caller adds
+// what it learns after the tables (figures asked for and not drawn, a
+// scan not paired) and writes it once with WriteResult.
+fusion::TestProducts WriteTestTables(const std::string& dir,
+                                     const std::string& name,
+                                     const force::ForceRecord& record,
+                                     const fusion::TestResult& result,
+                                     const fusion::FuseOptions& options,
+                                     const fusion::ProductOptions& write = {});
+
+// result.json (products.result_name) in `dir`, atomically.
+void WriteResult(const std::string& dir, const fusion::TestProducts& products);
+
+// WriteTestTables then WriteResult: a test's folder with nothing to add.
 fusion::TestProducts WriteTestResults(const std::string& dir,
                                       const std::string& name,
                                       const force::ForceRecord& record,
@@ -26,8 +39,10 @@ fusion::TestProducts WriteTestResults(const std::string& dir,
                                       const fusion::FuseOptions& options,
                                       const fusion::ProductOptions& write = {});
 
-// Adds a warning to the result.json in `dir` (figures that were asked for
-// and not drawn are known only after it was written).
+// Adds a warning to the result.json in `dir`, for what is known only once
+// a whole batch is (an audit's inputs shared between specimens, whose
+// folders are complete by then); everything else is in the result before
+// it is written.
 void AddWarningToResult(const std::string& dir, const std::string& warning);
 
 // diagnosis.json, residual_map_before.csv / after.csv and (with figures)

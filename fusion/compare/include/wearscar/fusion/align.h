@@ -90,6 +90,15 @@ struct Alignment {
   // over that noise's: what tells this specimen's scan from another's.
   double waviness_correlation = std::numeric_limits<double>::quiet_NaN();
   double waviness_to_noise = std::numeric_limits<double>::quiet_NaN();
+  // The waviness's best correlation (corrected as waviness_correlation)
+  // with the scan shifted elsewhere: more than a waviness window from the
+  // best shift, as far as the profiles overlap on min_overlap_fraction.
+  // Rings of one width line up again a period away; where they do, another
+  // specimen whose rings fall a fraction of a period apart lines up as
+  // well as this one's (VerdictOptions::WavinessLinesUpTwice), and only
+  // the track's place against the stroke tells them apart.
+  double waviness_runner_up = std::numeric_limits<double>::quiet_NaN();
+  double waviness_runner_up_shift_mm = std::numeric_limits<double>::quiet_NaN();
   std::string message = "not run";
   // The search's outcome: shift, flip, correlation, scale, points.
   std::string BriefReport() const { return message; }

@@ -66,6 +66,24 @@ ProfileDecision DecideProfile(ProfileEvidence* evidence,
 // independent cycles); NaN without the split.
 double ProfileSignificance(const ForceAnalysis& force);
 
+// The fit's options as the decision says (k from the depth, with its
+// sign, or from P): the one place the decision reaches the fit; fuse and
+// watch apply it, the diagnosis reads the options the result records.
+void ApplyProfile(const ProfileDecision& decision,
+                  FrictionFitOptions* friction);
+
+// The rule "P's slope is noise", in one place for fuse, watch, the
+// diagnosis and the profile's choice: P's repeatable slope within
+// FuseOptions::dead_weight_significance standard errors of nothing
+// (kNoise), so on a rig that may load the ball with a dead weight k from
+// P is noise; kNotSplit where the slope was not split into signal and
+// noise (k per cycle), which each user treats as it must say.
+enum class PSlope { kVaries, kNoise, kNotSplit };
+PSlope ClassifyPSlope(double significance, const FuseOptions& options);
+// "P does not vary along the stroke beyond its noise (1.2 standard
+// errors)": the rule's words.
+std::string PSlopeNoiseText(double significance);
+
 // The correlation of the depth channel's profile with the friction's over
 // the last cycles after running-in (the signs as read); NaN when either
 // cannot be built. Reads only the cycles and the running-in of `force`.

@@ -69,6 +69,10 @@ struct ProfileDecision {
   // that fit is not judged); SlopeName() is "k from " that.
   const char* ChannelName() const;
   std::string SlopeName() const;
+  // The same in a key or a table's few letters: "P" or "depth"; the
+  // profile "P/S", "depth" or "friction profile".
+  const char* ShortChannelName() const;
+  const char* ShortProfileName() const;
   // The force side's profile as compared with the scan: "the spring
   // displacement", "the depth channel's profile", "the profile from the
   // friction".

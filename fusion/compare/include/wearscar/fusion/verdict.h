@@ -28,6 +28,9 @@ struct MismatchReport {
   // against P/S or the depth channel's profile, whose errors are their
   // noise (not the friction's profile, integrated from the friction).
   double waviness_correlation = 0.0, waviness_to_noise = 0.0;
+  // Alignment::waviness_runner_up and its shift: the waviness lining up
+  // elsewhere as well.
+  double waviness_runner_up = NAN, waviness_runner_up_shift_mm = NAN;
   bool identity_judged = false;
   // The worn track's length and width in the scan (NaN: placed by hand,
   // running off the scanned field, or found with low confidence),
@@ -152,7 +155,21 @@ struct VerdictOptions {
   // to 0.13.
   double max_centre_offset_agreed = 0.05;
   // Whether the scan's identity can be judged, and whether it fails.
+  // Checkable where the waviness stands above its noise and either lines
+  // up at one place only (its runner-up below min_waviness_correlation)
+  // or the track's place against the stroke is known (its outline in the
+  // field), which tells a twin lined up elsewhere.
   bool IdentityCheckable(const MismatchReport& r) const;
+  // The waviness lines up elsewhere too (rings of one width, a period
+  // away): at least this correlation there. There the texture a twin
+  // would not share and the shorter overlap lower it, so it stands below
+  // what a twin lined up at its own phase reaches (0.95 where this
+  // reached 0.82-0.90: the independent simulator's beech rings); a
+  // texture without rings reaches 0.57-0.62.
+  double min_waviness_twin = 0.8;
+  bool WavinessLinesUpTwice(const MismatchReport& r) const {
+    return r.waviness_runner_up >= min_waviness_twin;
+  }
   bool ScanIsForeign(const MismatchReport& r) const;
   bool TrackLengthDiffers(const MismatchReport& r) const;
   bool TrackCentreMoved(const MismatchReport& r) const;

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "wearscar/force/force_record.h"
-#include "wearscar/fusion/diagnose.h"
+#include "wearscar/fusion/diagnosis.h"
 #include "wearscar/fusion/map_analysis.h"
 #include "wearscar/fusion/provenance.h"
 #include "wearscar/fusion/result.h"

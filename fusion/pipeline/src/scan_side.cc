@@ -1,0 +1,189 @@
+// The scan side of the pipeline: the scan aligned with the force side's
+// profile (the sphere's path or the centreline, ChoosePath), its slope over
+// the stroke and mu-hat with it.
+
+#include "scan_side.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "wearscar/fusion/compare_slopes.h"
+#include "wearscar/fusion/forward_model.h"
+
+namespace wearscar::fusion::internal {
+namespace {
+
+// Per cycle, the track's waviness from the spring over the final one, within
+// [0, max_scan_slope_scale]; 1 where the history has no value.
+std::vector<double> ScanSlopeScale(const TrackHistory& history,
+                                   const FuseOptions& options) {
+  std::vector<double> scale(history.waviness_sd_mm.size(), 1.0);
+  const double final_sd = history.final_waviness_sd_mm;
+  if (!(final_sd > 0)) return scale;
+  for (size_t c = 0; c < scale.size(); ++c) {
+    const double r = history.waviness_sd_mm[c] / final_sd;
+    if (std::isfinite(r))
+      scale[c] = std::clamp(r, 0.0, options.max_scan_slope_scale);
+  }
+  return scale;
+}
+
+// How closely an alignment's scan profile follows the force side's: the
+// waviness's correlation where it stands above its noise (what tells one
+// track from another), else the whole profiles'.
+double Follows(const Alignment& a, const VerdictOptions& v) {
+  return a.waviness_to_noise >= v.min_waviness_to_noise &&
+                 std::isfinite(a.waviness_correlation)
+             ? a.waviness_correlation
+             : a.correlation_noise_corrected;
+}
+
+// The premise that a rigid sphere of the radius given rides the scanned
+// track, checked on which path the force side follows: the sphere's (kept
+// unless the centreline follows it closer by more than `margin`) or the
+// centreline's (a sphere that conforms to the track: k from the
+// centreline, said).
+void ChoosePath(const FuseOptions& options, ScanAnalysis* s) {
+  Premise& p = s->rigid_sphere;
+  p.rule = "k from the scan";
+  p.statement = fmt::format(
+      "a rigid sphere of radius {:g} mm rides the scanned track (its path, "
+      "not the centreline, tilts the contact)",
+      options.sphere.radius_mm);
+  p.otherwise =
+      "k from the scan is the centreline's slope: the force side's path "
+      "follows the centreline, as a sphere that conforms to the track does";
+  if (options.sphere.radius_mm <= 0) {
+    p.evidence = "not checked: --sphere-radius 0 takes the centreline";
+    s->centreline_used = true;
+    return;
+  }
+  Alignment centre;
+  try {
+    centre = AlignProfiles(s->force_profile, s->centreline, options.align);
+  } catch (const FusionError&) {
+    p.state = Premise::State::kHeld;
+    p.evidence = "the centreline could not be aligned";
+    return;
+  }
+  constexpr double kMargin = 0.02;
+  const double sphere = Follows(s->alignment, options.verdict);
+  const double line = Follows(centre, options.verdict);
+  p.evidence = fmt::format(
+      "the force side's path follows the sphere's at r = {:.3f}, the "
+      "centreline at r = {:.3f} ({})",
+      sphere,
+      line,
+      s->alignment.waviness_to_noise >= options.verdict.min_waviness_to_noise
+          ? "the waviness, corrected for noise"
+          : "the whole profiles: the waviness is within its noise");
+  if (line > sphere + kMargin) {
+    p.state = Premise::State::kFailed;
+    s->profile = s->centreline;
+    s->alignment = centre;
+    s->centreline_used = true;
+  } else {
+    p.state = Premise::State::kHeld;
+    if (line > sphere - kMargin) s->centreline_alignment = centre;
+  }
+}
+
+}  // namespace
+
+// The force side's profile over the compared cycles (the last N, none of
+// the running-in) from `source`, aligned with the prepared scan's
+// sphere path or centreline (ChoosePath). Throws FusionError naming both
+// files when they cannot be aligned.
+ScanAnalysis AlignScan(const force::ForceRecord& record,
+                       const ForceAnalysis& force,
+                       ScanAnalysis s,
+                       const FuseOptions& options,
+                       ProfileSource source,
+                       double depth_sign) {
+  ForceProfileOptions fpo = options.force_profile;
+  const int nc = static_cast<int>(force.cycles.cycles.size());
+  if (fpo.first_cycle < 0 && nc > 0) {
+    fpo.first_cycle =
+        std::max(nc - fpo.cycles, std::min(force.running_in.cycles, nc - 1));
+    fpo.last_cycle = nc - 1;
+  }
+  s.force_profile =
+      source == ProfileSource::kFriction
+          ? ComputeFrictionProfile(record, force.cycles, fpo)
+      : source == ProfileSource::kDepth
+          ? ComputeDepthProfile(record, force.cycles, fpo, depth_sign)
+          : ComputeForceProfile(record,
+                                force.cycles,
+                                options.analysis.friction.slope.spring_n_per_mm,
+                                fpo);
+  try {
+    s.alignment = AlignProfiles(s.force_profile, s.profile, options.align);
+    ChoosePath(options, &s);
+  } catch (const FusionError& e) {
+    // Name both files and the figures that decide the overlap: a wrong
+    // pixel size shrinks the scan, a wrong x unit stretches the stroke.
+    const scan::HeightMap& map = s.levelled;
+    throw FusionError(fmt::format(
+        "{}: {} (the scan: {} x {} pixels of {:.4g} um, {:.3g} x {:.3g} mm, "
+        "track {:.3g} mm long; the stroke of {}: {:.3g} mm); check the scan's "
+        "pixel size and the force file's x unit",
+        map.metadata.source,
+        e.what(),
+        map.cols(),
+        map.rows(),
+        1e3 * map.dx_mm,
+        map.cols() * map.dx_mm,
+        map.rows() * map.dy_mm,
+        s.track.length_mm,
+        record.metadata.source,
+        force.cycles.stroke_mm));
+  }
+  return s;
+}
+
+// The scan's slope in plate coordinates over the stroke.
+PlateProfile ScanSlopeOverTheStroke(const force::ForceRecord& record,
+                                    const ForceAnalysis& force,
+                                    const FuseOptions& options,
+                                    const ScanAnalysis& s) {
+  // The sphere's excursion over the complete cycles bounds the sliding
+  // path: the scan beyond it is the groove's end walls.
+  double stroke_min = -std::numeric_limits<double>::infinity();
+  double stroke_max = std::numeric_limits<double>::infinity();
+  if (!force.cycles.cycles.empty()) {
+    // Isolated gaps in x are allowed: finite samples only.
+    std::tie(stroke_min, stroke_max) =
+        force::CyclesXRange(record.x_mm, force.cycles);
+  }
+  return ScanSlopeInPlate(
+      s.profile, s.alignment, options.scan_slope, stroke_min, stroke_max);
+}
+
+// mu-hat with the scan's slope (unless the force slope alone was asked
+// for). `history` (null unless options.scan_slope_history) scales the
+// scan's slope per cycle.
+void FitScanSide(const force::ForceRecord& record,
+                 const ForceAnalysis& force,
+                 const FuseOptions& options,
+                 const TrackHistory* history,
+                 ScanAnalysis* s) {
+  if (options.slopes == SlopeChoice::kForce) {
+    s->fit_scan.assign(force.cycles.cycles.size(), MuFit{});
+    for (auto& f : s->fit_scan) f.message = "not fitted (force slope only)";
+    return;
+  }
+  if (history != nullptr) s->slope_scale = ScanSlopeScale(*history, options);
+  // On both cores where the test has them (halves of the cycles).
+  FrictionFitOptions friction = options.analysis.friction;
+  if (options.parallel) friction.threads = std::max(friction.threads, 2);
+  s->fit_scan = FitFrictionPerCycle(record,
+                                    force.cycles,
+                                    SlopeSource::kScan,
+                                    friction,
+                                    &s->slope,
+                                    history ? &s->slope_scale : nullptr);
+}
+}  // namespace wearscar::fusion::internal

@@ -7,7 +7,6 @@
 #include <numeric>
 #include <string>
 
-#include "wearscar/fusion/diagnose.h"
 #include "wearscar/support/interpolate.h"
 
 namespace wearscar::fusion {

@@ -9,7 +9,6 @@
 #include <string>
 #include <vector>
 
-#include "wearscar/fusion/settings.h"
 #include "wearscar/scan/read_scan.h"
 #include "wearscar/scan/track.h"
 #include "wearscar/support/settings.h"

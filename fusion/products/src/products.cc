@@ -8,7 +8,6 @@
 #include <filesystem>
 #include <future>
 
-#include "result_json.h"
 #include "tables.h"
 #include "wearscar/fusion/error.h"
 
@@ -17,7 +16,7 @@ namespace wearscar::fusion {
 std::vector<std::pair<std::string, std::string>> DiagnosisFiles(
     const std::string& name, const Diagnosis& d) {
   std::vector<std::pair<std::string, std::string>> files = {
-      {"diagnosis.json", internal::DiagnosisJson(name, d).dump(2) + "\n"},
+      {"diagnosis.json", DiagnosisJson(name, d).dump(2) + "\n"},
       {"residual_map_before.csv", internal::ResidualMapTable(d.before).ToCsv()},
       {"residual_map_after.csv", internal::ResidualMapTable(d.after).ToCsv()}};
   if (!d.along_track.empty()) {

@@ -1,12 +1,11 @@
 // result.json and diagnosis.json: every number of a test's summary, the
 // options that shaped it, and the diagnosis's steps.
 
-#include "result_json.h"
+#include "wearscar/fusion/result_json.h"
 
 #include <cmath>
 
 #include "wearscar/fusion/effects.h"
-#include "wearscar/fusion/products.h"
 
 namespace wearscar::fusion {
 namespace {
@@ -481,8 +480,6 @@ nlohmann::json ResultJson(const std::string& name,
   return j;
 }
 
-namespace internal {
-
 nlohmann::json DiagnosisJson(const std::string& name, const Diagnosis& d) {
   nlohmann::json j;
   j["specimen"] = name;
@@ -539,5 +536,4 @@ nlohmann::json DiagnosisJson(const std::string& name, const Diagnosis& d) {
   return j;
 }
 
-}  // namespace internal
 }  // namespace wearscar::fusion

@@ -20,23 +20,6 @@ double ShapeCorrelation(const AlongTrackFrictionShape& shape,
                         const Eigen::VectorXd& x_mm,
                         const Eigen::VectorXd& v);
 
-// The selection rule of one step. Of the candidates `tried`, sorted by
-// held-out J, the one the step keeps (its index) and why, when not the
-// best (words in *note); `before` is the held-out J before the step,
-// `residual` the residual's parts before it. Of candidates that explain
-// nearly as much (o.parsimony of the best one's held-out improvement), the
-// one with the fewest parameters: in a sine drive the speed is a function
-// of x, and a free shape along the track can mimic a speed dependence.
-// Then the residual's signature (sets each one's matches_signature): a
-// look-alike gives way to the best accepted candidate that removes the
-// dominating parity, unless its held-out gain is o.signature_margin times
-// that one's; with none, it is marked not accepted.
-size_t PickCandidate(std::vector<CandidateResult>* tried,
-                     double before,
-                     const ResidualParity& residual,
-                     const DiagnoseOptions& o,
-                     std::string* note);
-
 // Greedy forward selection of the effects that the wear-scar model misses.
 // `depth_mm` gives the groove depth along the plate coordinate (from the
 // scan); without it the force side's profile stands in. k comes from P/S,

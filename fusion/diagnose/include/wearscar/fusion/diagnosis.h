@@ -1,11 +1,13 @@
 #pragma once
 // What a diagnosis is asked (DiagnoseOptions) and what it holds (the
-// residual maps, the candidates tried, the effects named): the types the
-// diagnosis's own files, the products and the report read, apart from the
-// functions that make them (diagnose.h).
+// residual maps, the candidates tried, the effects named), with the rule
+// that picks a step's candidate: what the diagnosis's own files, the
+// products and the report read, apart from the functions that make a
+// diagnosis (diagnose.h).
 
 #include <Eigen/Core>
 #include <cmath>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -175,6 +177,23 @@ struct CandidateResult {
 struct ResidualParity {
   double odd_rms_n = 0.0, even_rms_n = 0.0;
 };
+
+// The selection rule of one step. Of the candidates `tried`, sorted by
+// held-out J, the one the step keeps (its index) and why, when not the
+// best (words in *note); `before` is the held-out J before the step,
+// `residual` the residual's parts before it. Of candidates that explain
+// nearly as much (o.parsimony of the best one's held-out improvement), the
+// one with the fewest parameters: in a sine drive the speed is a function
+// of x, and a free shape along the track can mimic a speed dependence.
+// Then the residual's signature (sets each one's matches_signature): a
+// look-alike gives way to the best accepted candidate that removes the
+// dominating parity, unless its held-out gain is o.signature_margin times
+// that one's; with none, it is marked not accepted.
+size_t PickCandidate(std::vector<CandidateResult>* tried,
+                     double before,
+                     const ResidualParity& residual,
+                     const DiagnoseOptions& o,
+                     std::string* note);
 
 struct DiagnosisStep {
   CandidateResult chosen;              // the candidate the step kept

@@ -12,6 +12,7 @@
 #include "wearscar/fusion/map_analysis.h"
 #include "wearscar/fusion/provenance.h"
 #include "wearscar/fusion/result.h"
+#include "wearscar/fusion/result_json.h"
 #include "wearscar/fusion/tables.h"
 
 namespace wearscar::fusion {
@@ -48,17 +49,6 @@ struct TestProducts {
   const Table* Find(std::string_view file) const;
 };
 
-// The summary of one test (result.json; also a row of an audit's table):
-// inputs, every option that shaped the analysis, running-in, statistics
-// after running-in, the comparison of the slopes, the scan's levelling,
-// track and alignment, LuGre, the verdict and the warnings.
-// With a provenance, its "provenance" too.
-nlohmann::json ResultJson(const std::string& name,
-                          const force::ForceRecord& record,
-                          const TestResult& result,
-                          const FuseOptions& options,
-                          const Provenance* provenance = nullptr);
-
 // The provenance of a test: this build, now, and the force and scan files
 // it was read from (those that are files). Throws FusionError naming a
 // file that cannot be read.
@@ -73,10 +63,6 @@ TestProducts MakeMapProducts(const std::string& file, const MapAnalysis& map);
 // stroke before and after (residual_map_before.csv, _after.csv).
 std::vector<std::pair<std::string, std::string>> DiagnosisFiles(
     const std::string& name, const Diagnosis& diagnosis);
-
-// The worn track and the levelling as JSON (result.json, scan.json).
-nlohmann::json TrackJson(const scan::Track& track);
-nlohmann::json LevelJson(const scan::LevelSummary& level);
 
 // The products of a test analysed by AnalyzeTest with `options`: its
 // tables (TestTableSchemas) and result.json, formatted from `result`

@@ -585,10 +585,13 @@ void WavinessRunnerUp(const ForceProfile& fp,
   const double length = fp.x_mm[fp.x_mm.size() - 1] - fp.x_mm[0];
   const double reach = std::max(options.max_shift_mm,
                                 (1 - options.min_overlap_fraction) * length);
-  const int shifts = static_cast<int>(std::floor(reach / g.step));
+  // Every other step: a ring's peak spans a contact's width, tenths of a
+  // millimetre.
+  const double step = 2 * g.step;
+  const int shifts = static_cast<int>(std::floor(reach / step));
   double top = -INFINITY, where = NAN;
   for (int k = -shifts; k <= shifts; ++k) {
-    const double shift = best->shift_mm + k * g.step;
+    const double shift = best->shift_mm + k * step;
     if (std::abs(shift - best->shift_mm) <= options.waviness_window_mm)
       continue;
     const double r = WavinessAt(fp, g, flip, shift, smooth, window);
@@ -653,13 +656,6 @@ void ScaleAndRatio(const ForceProfile& fp,
            points(options.waviness_shortest_mm),
            std::max(3, points(options.waviness_window_mm)),
            best);
-  WavinessRunnerUp(fp,
-                   g,
-                   flip,
-                   options,
-                   points(options.waviness_shortest_mm),
-                   std::max(3, points(options.waviness_window_mm)),
-                   best);
   if (n < 4 * blocks || !(all.vh > 0)) return;
   std::vector<double> r(blocks);
   double mean = 0;
@@ -680,6 +676,26 @@ void ScaleAndRatio(const ForceProfile& fp,
 }
 
 }  // namespace
+
+void FindWavinessRunnerUp(const ForceProfile& fp,
+                          const scan::WearProfile& sp,
+                          const AlignOptions& options,
+                          Alignment* a) {
+  if (sp.s_mm.size() < 3 || fp.x_mm.size() < 3) return;
+  const ScanGrid g = ResampleScan(sp, options.step_mm);
+  const Eigen::Index bins = fp.x_mm.size();
+  const double bin_mm = (fp.x_mm[bins - 1] - fp.x_mm[0]) / (bins - 1);
+  auto points = [bin_mm](double mm) {
+    return std::max(1, static_cast<int>(std::lround(mm / bin_mm)) | 1);
+  };
+  WavinessRunnerUp(fp,
+                   g,
+                   a->flipped ? -1 : 1,
+                   options,
+                   points(options.waviness_shortest_mm),
+                   std::max(3, points(options.waviness_window_mm)),
+                   a);
+}
 
 Alignment AlignProfiles(const ForceProfile& fp,
                         const scan::WearProfile& sp,

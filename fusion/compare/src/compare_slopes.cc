@@ -143,7 +143,7 @@ void CompareScanSide(const ForceAnalysis& force,
   r->waviness_runner_up_shift_mm = scan.alignment.waviness_runner_up_shift_mm;
   r->amplitude_ratio = scan.alignment.amplitude_ratio;
   const scan::Track& t = scan.track;
-  if (!t.manual && !t.reaches_edge && !t.low_confidence) {
+  if (t.PlaceKnown()) {
     r->track_length_mm = t.length_mm;
     r->track_width_mm = t.width_mm;
     const double flip = scan.alignment.flipped ? -1.0 : 1.0;

@@ -115,6 +115,11 @@ void LetTheLoopsChoose(const force::ForceRecord& record,
   if (!(line < sphere)) return;
   p.state = Premise::State::kFailed;
   s->profile = s->centreline;
+  // (In this tie the two paths' waviness is alike: the runner-up sought
+  // on the sphere's stands for both.)
+  c.alignment.waviness_runner_up = s->alignment.waviness_runner_up;
+  c.alignment.waviness_runner_up_shift_mm =
+      s->alignment.waviness_runner_up_shift_mm;
   s->alignment = c.alignment;
   s->slope = std::move(c.slope);
   s->fit_scan = std::move(c.fit_scan);

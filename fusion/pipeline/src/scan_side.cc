@@ -122,6 +122,11 @@ ScanAnalysis AlignScan(const force::ForceRecord& record,
   try {
     s.alignment = AlignProfiles(s.force_profile, s.profile, options.align);
     ChoosePath(options, &s);
+    // Where the track's place is not known, whether its waviness would
+    // tell a twin whose rings fall a fraction of a period apart.
+    if (!s.track.PlaceKnown())
+      FindWavinessRunnerUp(
+          s.force_profile, s.profile, options.align, &s.alignment);
   } catch (const FusionError& e) {
     // Name both files and the figures that decide the overlap: a wrong
     // pixel size shrinks the scan, a wrong x unit stretches the stroke.

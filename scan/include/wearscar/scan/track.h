@@ -34,6 +34,11 @@ struct Track {
   // Some of its pixels lie on the field's border: the track may run on
   // beyond the scan, its length and width being the field's.
   bool reaches_edge = false;
+  // Where the track lies is known from its outline: found (not placed by
+  // hand), with confidence, inside the field.
+  bool PlaceKnown() const {
+    return !manual && !reaches_edge && !low_confidence;
+  }
   std::string message = "not run";
   // How it was found (pixels, elongation, threshold, confidence) or placed.
   std::string BriefReport() const { return message; }

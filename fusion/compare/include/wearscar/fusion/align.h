@@ -92,7 +92,8 @@ struct Alignment {
   double waviness_to_noise = std::numeric_limits<double>::quiet_NaN();
   // The waviness's best correlation (corrected as waviness_correlation)
   // with the scan shifted elsewhere: more than a waviness window from the
-  // best shift, as far as the profiles overlap on min_overlap_fraction.
+  // best shift, as far as the profiles overlap on min_overlap_fraction
+  // (FindWavinessRunnerUp; NaN where not sought).
   // Rings of one width line up again a period away; where they do, another
   // specimen whose rings fall a fraction of a period apart lines up as
   // well as this one's (VerdictOptions::WavinessLinesUpTwice), and only
@@ -135,6 +136,14 @@ struct AlignOptions {
 Alignment AlignProfiles(const ForceProfile& force_profile,
                         const scan::WearProfile& scan_profile,
                         const AlignOptions& options = {});
+
+// Alignment::waviness_runner_up and its shift for an alignment made by
+// AlignProfiles of the same profiles (a search over every shift: asked
+// for only where the track's place against the stroke is not known).
+void FindWavinessRunnerUp(const ForceProfile& force_profile,
+                          const scan::WearProfile& scan_profile,
+                          const AlignOptions& options,
+                          Alignment* alignment);
 
 // Slope of the sliding path from the scan in plate coordinates,
 // k_scan(x) = dh/dx, with the chosen derivative (window in scan samples).

@@ -12,10 +12,8 @@ namespace {
 
 using internal::ScanFileSettings;
 using internal::TrackSettings;
-using support::FlagSetting;
 using support::IntegerSetting;
 using support::NumberSetting;
-using support::TextSetting;
 
 using M = MapSettings;
 

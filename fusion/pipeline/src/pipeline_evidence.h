@@ -124,14 +124,7 @@ class PipelineEvidence : public ProfileEvidence {
   // The last cycles after running-in, as AlignScan compares (at most
   // ForceProfileOptions::cycles).
   ForceProfileOptions LastCycles() const {
-    ForceProfileOptions o = options_.force_profile;
-    const int n = static_cast<int>(segmented_.cycles.cycles.size());
-    if (o.first_cycle < 0 && n > 0) {
-      o.first_cycle =
-          std::max(n - o.cycles, std::min(segmented_.running_in.cycles, n - 1));
-      o.last_cycle = n - 1;
-    }
-    return o;
+    return ComparedCycles(segmented_, options_);
   }
   ForceAnalysis& SpringFit() {
     if (!spring_fit_) {

@@ -97,19 +97,25 @@ void ChoosePath(const FuseOptions& options, ScanAnalysis* s) {
 // the running-in) from `source`, aligned with the prepared scan's
 // sphere path or centreline (ChoosePath). Throws FusionError naming both
 // files when they cannot be aligned.
+ForceProfileOptions ComparedCycles(const ForceAnalysis& force,
+                                   const FuseOptions& options) {
+  ForceProfileOptions o = options.force_profile;
+  const int n = static_cast<int>(force.cycles.cycles.size());
+  if (o.first_cycle < 0 && n > 0) {
+    o.first_cycle =
+        std::max(n - o.cycles, std::min(force.running_in.cycles, n - 1));
+    o.last_cycle = n - 1;
+  }
+  return o;
+}
+
 ScanAnalysis AlignScan(const force::ForceRecord& record,
                        const ForceAnalysis& force,
                        ScanAnalysis s,
                        const FuseOptions& options,
                        ProfileSource source,
                        double depth_sign) {
-  ForceProfileOptions fpo = options.force_profile;
-  const int nc = static_cast<int>(force.cycles.cycles.size());
-  if (fpo.first_cycle < 0 && nc > 0) {
-    fpo.first_cycle =
-        std::max(nc - fpo.cycles, std::min(force.running_in.cycles, nc - 1));
-    fpo.last_cycle = nc - 1;
-  }
+  const ForceProfileOptions fpo = ComparedCycles(force, options);
   s.force_profile =
       source == ProfileSource::kFriction
           ? ComputeFrictionProfile(record, force.cycles, fpo)

@@ -11,6 +11,11 @@
 
 namespace wearscar::fusion::internal {
 
+// The cycles the profiles are compared over: the last
+// ForceProfileOptions::cycles after running-in, unless a range was given.
+ForceProfileOptions ComparedCycles(const ForceAnalysis& force,
+                                   const FuseOptions& options);
+
 // The force side's profile over the compared cycles (the last N, none of
 // the running-in) from `source`, aligned with the prepared scan's sphere
 // path or centreline (ChoosePath: the premise that a rigid sphere rides

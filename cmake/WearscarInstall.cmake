@@ -1,6 +1,6 @@
 # Install rules and the exported package: find_package(wearscar) then link
 # wearscar::scan, wearscar::force, wearscar::fusion (with its parts
-# fusion_estimate, fusion_compare, diagnose, fusion_products),
+# fusion_estimate, fusion_compare, fusion_units, diagnose, fusion_products),
 # wearscar::report or wearscar::samples.
 include(CMakePackageConfigHelpers)
 
@@ -14,7 +14,8 @@ set_target_properties(wearscar_pcl PROPERTIES EXPORT_NAME pcl_deps)
 # pages and documentation), libwearscar-dev (headers, static libraries, the
 # CMake package) and python3-wearscar (python/CMakeLists.txt).
 install(TARGETS wearscar_support wearscar_scan wearscar_force
-                wearscar_fusion_estimate wearscar_fusion_compare wearscar_diagnose
+                wearscar_fusion_estimate wearscar_fusion_compare
+                wearscar_fusion_units wearscar_diagnose
                 wearscar_fusion_products wearscar_fusion
                 wearscar_report wearscar_samples wearscar_pcl
         EXPORT wearscarTargets
@@ -23,7 +24,8 @@ install(TARGETS wearscar_support wearscar_scan wearscar_force
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(TARGETS wearscar RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
         COMPONENT wearscar)
-foreach(module support scan force fusion/estimate fusion/compare fusion/diagnose
+foreach(module support scan force fusion/estimate fusion/compare fusion/units
+               fusion/diagnose
                fusion/products fusion/pipeline apps/report samples)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/${module}/include/
           DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} COMPONENT dev)

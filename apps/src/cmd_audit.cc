@@ -356,18 +356,16 @@ void AddAuditCommand(CLI::App& app) {
                 args->audit.batch.output_folders,
                 "Search the folders wearscar's analyses wrote too (fuse, "
                 "audit, ...; `wearscar simulate`'s are always searched)");
-  AddFigureOptions(cmd, &args->no_figures, &args->audit.figure_formats);
   cmd->add_flag(
       "--diagnose",
       args->audit.diagnose,
       "Also diagnose each specimen (named missing effects, residual maps)");
-  AddPrintModeOptions(cmd);
-  AddBreakLockOption(cmd);
-  AddSettingFlags(cmd,
-                  fusion::TestSettingList(),
-                  fusion::kFuseSettings,
-                  fusion::TestSettings{},
-                  &args->given);
+  AddTestCommandOptions(cmd,
+                        &args->no_figures,
+                        &args->audit.figure_formats,
+                        fusion::kFuseSettings,
+                        /*break_lock=*/true,
+                        &args->given);
   cmd->footer(
       "Examples:\n"
       "  wearscar audit lab/ -o audit\n"

@@ -109,14 +109,12 @@ void AddDiagnoseCommand(CLI::App& app) {
   cmd->add_option(
          "--profile-span", d.profile_span_mm, "Base slope smoothing span, mm")
       ->capture_default_str();
-  AddFigureOptions(cmd, &args->no_figures, &args->figure_formats);
-  AddPrintModeOptions(cmd);
-  AddBreakLockOption(cmd);
-  AddSettingFlags(cmd,
-                  fusion::TestSettingList(),
-                  fusion::kDiagnoseSettings,
-                  fusion::TestSettings{},
-                  &args->given);
+  AddTestCommandOptions(cmd,
+                        &args->no_figures,
+                        &args->figure_formats,
+                        fusion::kDiagnoseSettings,
+                        /*break_lock=*/true,
+                        &args->given);
   cmd->footer(
       "Examples:\n"
       "  wearscar diagnose S-RL-R.force.csv --scan S-RL-R.scan.gsf -o diag\n"

@@ -112,14 +112,12 @@ void AddForceCommand(CLI::App& app) {
                   "Force export, CSV/TSV/semicolon (positional or --force)")
       ->required();
   cmd->add_option("-o,--out", args->out, "Directory for the results");
-  AddFigureOptions(cmd, &args->no_figures, &args->figure_formats);
-  AddPrintModeOptions(cmd);
-  AddBreakLockOption(cmd);
-  AddSettingFlags(cmd,
-                  fusion::TestSettingList(),
-                  fusion::kForceCommandSettings,
-                  fusion::TestSettings{},
-                  &args->given);
+  AddTestCommandOptions(cmd,
+                        &args->no_figures,
+                        &args->figure_formats,
+                        fusion::kForceCommandSettings,
+                        /*break_lock=*/true,
+                        &args->given);
   std::string layouts = "Layouts read (told apart by the file itself):\n";
   for (const force::ForceLayout& l : force::ForceLayouts())
     layouts += fmt::format("  {:<11} {}\n", l.name, l.instruments);

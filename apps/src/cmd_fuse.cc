@@ -104,14 +104,12 @@ void AddFuseCommand(CLI::App& app) {
                   "Cycles (from 1) whose loops are exported (default: 1, 3, 11 "
                   "and the last)")
       ->check(CLI::PositiveNumber);
-  AddFigureOptions(cmd, &args->no_figures, &args->figure_formats);
-  AddPrintModeOptions(cmd);
-  AddBreakLockOption(cmd);
-  AddSettingFlags(cmd,
-                  fusion::TestSettingList(),
-                  fusion::kFuseSettings,
-                  fusion::TestSettings{},
-                  &args->given);
+  AddTestCommandOptions(cmd,
+                        &args->no_figures,
+                        &args->figure_formats,
+                        fusion::kFuseSettings,
+                        /*break_lock=*/true,
+                        &args->given);
   cmd->footer(
       "Examples:\n"
       "  wearscar fuse B-RT-R.force.csv --scan B-RT-R.zon -o out/B-RT-R\n"

@@ -483,13 +483,12 @@ void AddWatchCommand(CLI::App& app) {
                   "Serve the live page on 127.0.0.1 at this port (0: any "
                   "free one; default: no page)")
       ->check(CLI::Range(0, 65535));
-  AddFigureOptions(cmd, &args->no_figures, &args->figure_formats);
-  AddPrintModeOptions(cmd);
-  AddSettingFlags(cmd,
-                  fusion::TestSettingList(),
-                  fusion::kFuseSettings,
-                  fusion::TestSettings{},
-                  &args->given);
+  AddTestCommandOptions(cmd,
+                        &args->no_figures,
+                        &args->figure_formats,
+                        fusion::kFuseSettings,
+                        /*break_lock=*/false,
+                        &args->given);
   cmd->footer(
       "Examples:\n"
       "  wearscar watch running.csv -o out/T7 --port 0\n"

@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "commands.h"
+#include "wearscar/fusion/settings.h"
 
 namespace wearscar::app {
 
@@ -41,6 +42,19 @@ void AddPrintModeOptions(CLI::App* cmd) {
 
 void WithoutFigureData(fusion::FuseOptions* options) {
   options->friction_map.loop_bins = 0;
+}
+
+void AddTestCommandOptions(CLI::App* cmd,
+                           bool* no_figures,
+                           report::FigureFormats* formats,
+                           unsigned sections,
+                           bool break_lock,
+                           GivenSettings* given) {
+  AddFigureOptions(cmd, no_figures, formats);
+  AddPrintModeOptions(cmd);
+  if (break_lock) AddBreakLockOption(cmd);
+  AddSettingFlags(
+      cmd, fusion::TestSettingList(), sections, fusion::TestSettings{}, given);
 }
 
 void AddFigureOptions(CLI::App* cmd,

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "setting_flags.h"
 #include "usage_error.h"
 #include "wearscar/fusion/fuse_options.h"
 #include "wearscar/report/figures.h"
@@ -45,6 +46,17 @@ void AddFigureOptions(CLI::App* cmd,
                       bool* no_figures,
                       report::FigureFormats* formats,
                       const std::string& skip_help = "Skip the figures");
+
+// What every command that analyses a test adds after its own options:
+// --no-figures and --figure-format, --quiet and --json, --break-lock where
+// it writes a folder another run may hold, and the test's settings of
+// `sections` (fusion::TestSettingList) as flags into `given`.
+void AddTestCommandOptions(CLI::App* cmd,
+                           bool* no_figures,
+                           report::FigureFormats* formats,
+                           unsigned sections,
+                           bool break_lock,
+                           GivenSettings* given);
 
 // --no-figures: none of what only a figure draws is computed or written
 // either (the friction map's binned loops, loop_viewer.json: the report's

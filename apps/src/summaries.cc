@@ -115,9 +115,8 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
       Interval95(m.mu_mean),
       m.mu_energy.mean,
       Interval95(m.mu_energy));
-  if (r.lugre) {
-    Say("  LuGre, cycle {}: {}\n", r.detail_cycle + 1, r.lugre->BriefReport());
-  }
+  if (const fusion::LugreFit* lugre = r.units.Find<fusion::LugreFit>())
+    Say("  LuGre, cycle {}: {}\n", r.detail_cycle + 1, lugre->BriefReport());
   for (const auto& a : r.assumptions) Say("  assumed: {}\n", a);
   for (const auto& w : r.warnings) {
     if (CurrentPrintMode() == PrintMode::kText) {

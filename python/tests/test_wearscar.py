@@ -241,13 +241,13 @@ def test_result_write_draws_the_figures_of_wearscar_fuse(tmp_path):
                      if p.endswith((".png", ".svg")))
     by_command = sorted(p.name for p in (tmp_path / "cli").iterdir()
                         if p.suffix in (".png", ".svg"))
-    assert figures == by_command and len(figures) == 28  # 14 figures
+    assert figures == by_command and len(figures) == 30  # 15 figures
     for name in figures:
         head = (tmp_path / "py" / name).read_bytes()[:5]
         assert head == (b"\x89PNG\r" if name.endswith(".png") else b"<?xml")
     # figures=True: the command's default, SVG alone.
     svg = result.write(tmp_path / "svg", figures=True)
-    assert sum(p.endswith(".svg") for p in svg) == 14
+    assert sum(p.endswith(".svg") for p in svg) == 15
     assert not any(p.endswith(".png") for p in svg)
     with pytest.raises(wearscar.OptionError, match="expected svg, png"):
         result.write(tmp_path / "bad", figures="jpeg")

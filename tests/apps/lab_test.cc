@@ -725,7 +725,7 @@ TEST(Figures, SayWhatTheyShow) {
       "fuse " + dir + "/B-RT-R.force.csv --scan " + dir +
       "/B-RT-R.scan.gsf --running-in 7 --figure-format svg,png -o " + out);
   ASSERT_EQ(r.status, 0) << r.output;
-  EXPECT_NE(r.output.find("drew 14 figures (SVG and PNG)"), std::string::npos)
+  EXPECT_NE(r.output.find("drew 15 figures (SVG and PNG)"), std::string::npos)
       << r.output;
   const std::string gp = FigureScripts(out);
   // Running-in shaded on Figs. 5, 6, 13, 14 and 15, in both formats.

@@ -57,7 +57,7 @@ TEST(PeriodicLines, VerdictBlamesTheLineAndTheNotchClearsIt) {
   f.fit_lugre = false;
   const TestResult r = AnalyzeTest(t.record, t.scan, f);
   ASSERT_FALSE(r.verdict.explained);
-  ASSERT_EQ(r.periodic_lines.size(), 1u);
+  ASSERT_EQ(r.units.Get<std::vector<force::PeriodicLine>>().size(), 1u);
   bool said = false;
   for (const auto& reason : r.verdict.reasons)
     said =
@@ -66,7 +66,7 @@ TEST(PeriodicLines, VerdictBlamesTheLineAndTheNotchClearsIt) {
   f.notch_hz = {50.0};
   const TestResult n = AnalyzeTest(t.record, t.scan, f);
   EXPECT_TRUE(n.verdict.explained) << n.verdict.Summary();
-  EXPECT_TRUE(n.periodic_lines.empty());
+  EXPECT_TRUE(n.units.Get<std::vector<force::PeriodicLine>>().empty());
   EXPECT_NE(n.assumptions.back().find("notched (--notch)"), std::string::npos);
 }
 

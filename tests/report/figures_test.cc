@@ -278,7 +278,7 @@ TEST(FigureData, EachFigurePlotsNamedColumnsOfTheTestsTables) {
   if (!PlotterAvailable(&why)) GTEST_SKIP() << why;
   const DrawnTest d = DrawSimulatedTest("figure-data");
   ASSERT_TRUE(d.set.missing.empty()) << d.set.message;
-  EXPECT_EQ(d.set.shown.size(), 14u);
+  EXPECT_EQ(d.set.shown.size(), 15u);
   int checked = 0;
   for (const auto& e : fs::directory_iterator(d.dir / kFigureData)) {
     if (e.path().extension() != ".csv") continue;

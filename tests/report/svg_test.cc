@@ -204,7 +204,7 @@ void CheckFolder(const fs::path& dir, int expected_figures) {
 }
 
 // The paper's B-RT-R at full size (600 cycles at 2 kHz, a 1024 x 768
-// scan): its 14 figures.
+// scan): its 15 figures (the last the scan's shape per cycle, a unit's).
 TEST(SvgFigures, AFullSizeTestsFiguresAreReadable) {
   std::string why;
   if (!PlotterAvailable(&why)) GTEST_SKIP() << why;
@@ -219,7 +219,8 @@ TEST(SvgFigures, AFullSizeTestsFiguresAreReadable) {
   const FigureSet set =
       DrawTestFigures(dir.string(), "B-RT-R", r, options, products);
   ASSERT_TRUE(set.missing.empty()) << set.message;
-  CheckFolder(dir, 14);
+  CheckFolder(dir, 15);
+  EXPECT_TRUE(fs::exists(dir / "fig_scan_shape_history.svg"));
   fs::remove_all(dir);
 }
 
@@ -268,7 +269,7 @@ TEST(SvgFigures, AnAuditsFiguresAreReadable) {
   for (const std::string& c : cases) {
     SCOPED_TRACE(c);
     // The diagnosis adds its residual map and its direction split.
-    CheckFolder(out / c, c == "S-RL-R" ? 16 : 14);
+    CheckFolder(out / c, c == "S-RL-R" ? 17 : 15);
   }
   fs::remove_all(in);
   fs::remove_all(out);

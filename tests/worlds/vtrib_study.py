@@ -13,7 +13,10 @@ acceptance lines of the physical rules (docs/method.md, "Two worlds"):
 - S-RL-R with --elastic-gain 10: flagged and named elastic, or "cannot
   tell", never a confident wrong spring;
 - another specimen's scan of the same case: flagged where the waviness
-  stands above its noise (at least 95%).
+  stands above its noise (at least 95%);
+- the scan's shape per cycle: the first cycles' share of it about 1 where
+  the groove is there from the start, at most 0.7 where it grows from
+  nothing, between where half of it is there.
 
 Each line for three track histories: the groove there from the start (the
 default), grown from nothing (--grow 15), half of it there (--grow 15
@@ -113,9 +116,27 @@ def clean(world, cases, seeds, noises, tally, errors):
             tally.add("clean: screened", not r["verdict"]["screen"], what)
             if scan:
                 tally.add("clean: own scan doubted", not doubted(r), what)
+                shape(r, history, what, tally)
             if r["mu"] is not None:
                 errors.append((abs(r["mu"] - r["truth_mu"]), what))
     return [(c, h, n, s) for c in cases for h in HISTORIES for n in noises for s in seeds], one
+
+
+# The scan's shape per cycle (the scan_shape_history unit): the share of
+# the scanned shape in the first cycles' P/S by track history.
+SHAPE_FIRST = {"start": (0.8, 1.2), "grow": (0.0, 0.7), "half": (0.5, 0.95)}
+SHAPE_SEEN = {}  # history: the first cycles' shares measured
+
+
+def shape(r, history, what, tally):
+    s = r.get("scan_shape_history", {})
+    first, compared = s.get("first_cycles_factor"), s.get("compared_cycles_factor")
+    low, high = SHAPE_FIRST[history]
+    if first is not None:
+        SHAPE_SEEN.setdefault(history, []).append(first)
+    ok = first is not None and low <= first <= high and abs(compared - 1) <= 0.15
+    tally.add(f"scan shape: the first cycles' share told ({history}: {low}-{high})", ok,
+              f"{what}: first {first}, compared {compared}, {s.get('abstained', '')}")
 
 
 def springs(world, cases, seeds, noises, tally, errors):
@@ -315,6 +336,9 @@ def main():
         print(f"{verdict:6} {line}: {runs - bad} of {runs} (at most {allowed} may fail)")
         for n in notes[:6]:
             print(f"         {n}")
+    for history, seen in sorted(SHAPE_SEEN.items()):
+        print(f"scan shape, the first cycles' share ({history}, {len(seen)}): "
+              f"{min(seen):.2f}-{max(seen):.2f}")
     for label, errs, gate in (("clean cases", errors, True), ("wrong springs", spring_errors, False)):
         if not errs:
             continue

@@ -15,6 +15,7 @@
 #include "audit_parts.h"
 #include "methods.h"
 #include "wearscar/fusion/error.h"
+#include "wearscar/fusion/wear.h"
 #include "wearscar/report/html_report.h"
 #include "wearscar/report/output_folder.h"
 #include "wearscar/report/specimen_folder.h"
@@ -89,7 +90,7 @@ void AuditSpecimen(const AuditOptions& o,
                r.mismatch.mu_force_minus_mean,
                r.mismatch.mu_force_minus_energy,
                r.mismatch.mu_force,
-               r.wear.specific_rate_mm3_per_n_m};
+               r.units.Get<fusion::Wear>().specific_rate_mm3_per_n_m};
     if (o.figures) {
       sec->figures =
           DrawTestFigures(dir, s.name, r, o.fuse, products, o.figure_formats);

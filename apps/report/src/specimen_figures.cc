@@ -10,6 +10,7 @@
 
 #include "draw.h"
 #include "images.h"
+#include "wearscar/fusion/unit.h"
 #include "wearscar/report/figures.h"
 
 namespace wearscar::report {
@@ -290,23 +291,6 @@ std::vector<FigureSpec> DetailFigures(const std::string& name,
                "detail.csv", "x_mm", "Q_N", "measured", kMeasuredColour, 0.3)}),
   };
   AddCostMinima(r, minima, &f[1]);
-  if (r.lugre) {
-    f.push_back(Plot(
-        "fig17_lugre",
-        name + ": LuGre and wear-scar" + cycle + " (Fig. 17)",
-        "x (mm)",
-        "Q (N)",
-        "",
-        {Line("lugre.csv", "x_mm", "Q_N", "measured", kMeasuredColour),
-         Line("lugre.csv", "x_mm", "Q_lugre_N", "LuGre", kClassicColour, 2, 2),
-         Line("lugre.csv",
-              "x_mm",
-              "Q_wearscar_N",
-              "wear-scar",
-              kForceColour,
-              2,
-              4)}));
-  }
   return f;
 }
 
@@ -423,116 +407,57 @@ Image CycleGrid(const char* file,
   return im;
 }
 
-std::string GridRanges(const std::vector<double>& x_mm, int cycles) {
-  const double half = 0.5 * (x_mm[1] - x_mm[0]);
-  return fmt::format("set xrange [{}:{}]\nset yrange [0.5:{}]\n",
-                     x_mm.front() - half,
-                     x_mm.back() + half,
-                     cycles + 0.5);
-}
-
-// The friction map: mu along the stroke and over the cycles, raw (s Q / P)
-// above corrected for the slope; below them the track along the same x.
-void AddFrictionMap(const std::string& name,
-                    const fusion::TestResult& r,
-                    std::vector<FigureSpec>* figs) {
-  const auto& m = r.friction_map;
-  if (m.x_mm.size() < 2 || m.cycles < 1) return;
-  auto forward = [&m](const std::vector<double>& mu) {
-    return [&m, &mu](int c, size_t b) { return mu[m.Index(c, 0, b)]; };
-  };
-  const std::string ranges = GridRanges(m.x_mm, m.cycles) + "unset key\n";
-  FigureSpec fig{
-      "fig_friction_map",
-      name + ": friction map mu(x, cycle)",
-      {{fmt::format("raw: s Q / P (forward); its sd along x after running-in "
-                    "{:.4f}, corrected {:.4f} ({})",
-                    m.spatial_sd_raw,
-                    m.spatial_sd_corrected,
-                    std::isfinite(m.spatial_sd_noise)
-                        ? fmt::format("noise floor {:.4f}", m.spatial_sd_noise)
-                        : std::string("too few steady cycles for a noise "
-                                      "floor")),
-        "x (mm)",
-        "cycle",
-        ranges,
-        CycleGrid("friction_map_raw.f32", m.x_mm, m.cycles, forward(m.mu_raw)),
-        "mu (-)",
-        {}},
-       {"corrected for the slope: s (Q - P k) / (P + k Q) (forward)",
-        "x (mm)",
-        "cycle",
-        ranges,
-        CycleGrid("friction_map_corrected.f32",
-                  m.x_mm,
-                  m.cycles,
-                  forward(m.mu_corrected)),
-        "mu (-)",
-        {}}}};
-  if (r.scan) {
-    Series spring = Line("profiles.csv",
-                         "x_mm",
-                         "f_mean_mm",
-                         "-P/S (mean of both directions)",
-                         kForceColour);
-    Series scan = Line("profiles.csv",
-                       "x_mm",
-                       "h_scan_scaled_mm",
-                       "scan (aligned, scaled)",
-                       kScanColour,
-                       2.5);
-    spring.y_scale = scan.y_scale = -1;
-    fig.panels.push_back({"the track along x",
-                          "x (mm)",
-                          "height (mm)",
-                          "set autoscale y\nset key inside top right\n",
-                          {},
-                          "",
-                          {spring, scan}});
+// A unit's figure (fusion::UnitFigure) as the report draws it.
+const char* Colour(fusion::UnitSeries::Role role) {
+  using Role = fusion::UnitSeries::Role;
+  switch (role) {
+    case Role::kScan:
+      return kScanColour;
+    case Role::kMeasured:
+      return kMeasuredColour;
+    case Role::kClassic:
+      return kClassicColour;
+    case Role::kLimit:
+      return kLimitColour;
+    case Role::kForce:
+      break;
   }
-  figs->push_back(std::move(fig));
+  return kForceColour;
 }
 
-// The track's history from the spring: h(x, cycle) = P/S about its mean
-// (forward sliding) above, its waviness per cycle below.
-void AddTrackHistory(const std::string& name,
-                     const fusion::TestResult& r,
-                     std::vector<FigureSpec>* figs) {
-  const auto& h = r.track_history;
-  if (h.x_mm.size() < 2 || h.cycles < 2) return;
-  // Drawn from P/S: on a rig whose P does not follow the track (a dead
-  // weight: the depth channel or the friction used) it shows noise.
-  if (r.profile.FromDepth() || r.profile.FromFriction()) return;
-  figs->push_back(
-      {"fig_track_history",
-       fmt::format("{}: the track's history from the spring, h = P/S; "
-                   "waviness {:.4f} mm in cycle 1, {:.4f} mm at the end, "
-                   "steady from cycle {}",
-                   name,
-                   h.waviness_sd_mm.front(),
-                   h.final_waviness_sd_mm,
-                   h.steady_cycle + 1),
-       {{"h(x, cycle): P/S about its mean, forward sliding",
-         "x (mm)",
-         "cycle",
-         GridRanges(h.x_mm, h.cycles) + "unset key\n",
-         CycleGrid(
-             "track_history.f32",
-             h.x_mm,
-             h.cycles,
-             [&h](int c, size_t b) { return h.height_mm[h.Index(c, 0, b)]; }),
-         "h (mm)",
-         {}},
-        {"waviness: the sd of h along the stroke",
-         "cycle",
-         "waviness (mm)",
-         // From 0: a waviness that barely changes was autoscaled to a span
-         // below the labels' digits, which then repeated.
-         "set autoscale\nset yrange [0:*]\nunset colorbox\nunset key\n",
-         {},
-         "",
-         {Line(
-             "cycles.csv", "cycle", "waviness_sd_mm", "", kForceColour, 2)}}}});
+FigureSpec FromUnit(const fusion::UnitFigure& u) {
+  FigureSpec f{u.stem, u.title, {}};
+  for (const fusion::UnitPanel& p : u.panels) {
+    Panel panel{p.title, p.xlabel, p.ylabel, p.setup, {}, p.cblabel, {}};
+    if (p.grid && p.grid->x_mm.size() >= 2) {
+      const fusion::UnitGrid& g = *p.grid;
+      const size_t bins = g.x_mm.size();
+      panel.image = CycleGrid(
+          g.file.c_str(), g.x_mm, g.rows, [&g, bins](int c, size_t b) {
+            return g.values[static_cast<size_t>(c) * bins + b];
+          });
+    }
+    for (const fusion::UnitSeries& s : p.series) {
+      Series line = s.style == "points" ? Dots(s.table.c_str(),
+                                               s.x.c_str(),
+                                               s.y.c_str(),
+                                               s.title,
+                                               Colour(s.role))
+                                        : Line(s.table.c_str(),
+                                               s.x.c_str(),
+                                               s.y.c_str(),
+                                               s.title,
+                                               Colour(s.role),
+                                               s.width,
+                                               s.dash);
+      line.y_scale = s.y_scale;
+      line.select = s.select;
+      line.select_value = s.select_value;
+      panel.series.push_back(std::move(line));
+    }
+    f.panels.push_back(std::move(panel));
+  }
+  return f;
 }
 
 }  // namespace
@@ -602,8 +527,11 @@ FigureSet DrawTestFigures(const std::string& dir,
   for (FigureSpec& f : DetailFigures(name, r, &minima))
     figs.push_back(std::move(f));
   tables["minima"] = &minima;
-  AddFrictionMap(name, r, &figs);
-  AddTrackHistory(name, r, &figs);
+  // The analysis units' figures, in the registry's order.
+  for (const auto& [unit, result] : fusion::UnitsThatRan(r)) {
+    for (const fusion::UnitFigure& f : unit->FiguresErased(result, name, r))
+      figs.push_back(FromUnit(f));
+  }
   return internal::Draw(dir, figs, tables, formats);
 }
 

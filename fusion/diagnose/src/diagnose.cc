@@ -14,6 +14,7 @@
 #include "wearscar/force/periodic.h"
 #include "wearscar/fusion/error.h"
 #include "wearscar/fusion/forward_model.h"
+#include "wearscar/fusion/friction_map.h"
 #include "wearscar/fusion/profile_decision.h"
 #include "wearscar/support/interpolate.h"
 
@@ -606,7 +607,7 @@ namespace {
 // The friction map's steady pattern beside a(x) (AlongTrackFrictionShape),
 // relative to the mean mu-hat of the map's steady cycles.
 void AddMapPattern(const TestResult& r, AlongTrackFrictionShape* shape) {
-  const FrictionMap& m = r.friction_map;
+  const FrictionMap& m = r.units.Get<FrictionMap>();
   const size_t bins = m.x_mm.size();
   if (bins < 3 || m.steady_corrected.size() != 2 * bins) return;
   double sum = 0;

@@ -7,12 +7,9 @@
 
 namespace wearscar::fusion {
 
-Wear MeasureWear(const force::ForceRecord& record,
-                 const force::CycleSet& cycles,
-                 const std::optional<scan::Track>& track) {
-  WEARSCAR_CHECK(record.IsConsistent(), "MeasureWear needs one length");
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  Wear w;
+Sliding MeasureSliding(const force::ForceRecord& record,
+                       const force::CycleSet& cycles) {
+  WEARSCAR_CHECK(record.IsConsistent(), "MeasureSliding needs one length");
   double distance_mm = 0, load_sum = 0;
   long load_n = 0;
   for (const force::Cycle& c : cycles.cycles) {
@@ -27,8 +24,16 @@ Wear MeasureWear(const force::ForceRecord& record,
       }
     }
   }
-  w.sliding_distance_m = distance_mm * 1e-3;
-  w.normal_load_n = load_n > 0 ? load_sum / load_n : nan;
+  return {
+      load_n > 0 ? load_sum / load_n : std::numeric_limits<double>::quiet_NaN(),
+      distance_mm * 1e-3};
+}
+
+Wear WearOf(const Sliding& sliding, const std::optional<scan::Track>& track) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  Wear w;
+  w.normal_load_n = sliding.normal_load_n;
+  w.sliding_distance_m = sliding.sliding_distance_m;
   if (!track) {
     w.volume_mm3 = w.mean_depth_mm = w.max_depth_mm = w.width_mm = w.length_mm =
         w.specific_rate_mm3_per_n_m = nan;

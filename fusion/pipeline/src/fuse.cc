@@ -11,10 +11,12 @@
 #include <tuple>
 
 #include "pipeline_evidence.h"
+#include "wearscar/force/periodic.h"
 #include "wearscar/fusion/assumptions.h"
 #include "wearscar/fusion/compare_slopes.h"
 #include "wearscar/fusion/forward_model.h"
 #include "wearscar/fusion/profile_decision.h"
+#include "wearscar/fusion/unit.h"
 #include "wearscar/support/check.h"
 
 namespace wearscar::fusion {
@@ -72,12 +74,10 @@ CycleWindow QuotedWindow(const TestResult& r, const ScanAnalysis* scan) {
   return w;
 }
 
-// What the comparison and the wear take of the scan, made beside its fit:
-// k's RMS difference over the quoted cycles (where the force side's k is
-// judged) and the wear.
+// What the comparison takes of the scan, made beside its fit: k's RMS
+// difference over the quoted cycles (where the force side's k is judged).
 struct ScanSideBeside {
   std::optional<double> k_rms_difference;
-  std::optional<Wear> wear;
 };
 
 // Where the profiles follow both paths alike (ChoosePath), the loops
@@ -133,6 +133,7 @@ void LetTheLoopsChoose(const force::ForceRecord& record,
 // (unless the scan's slope alone was asked for).
 ScanSideBeside AddScanSide(const force::ForceRecord& record,
                            PipelineEvidence* evidence,
+                           const TrackHistory& track_history,
                            TestResult* result) {
   const FuseOptions& o = result->options;
   const ProfileDecision& d = result->profile;
@@ -143,31 +144,29 @@ ScanSideBeside AddScanSide(const force::ForceRecord& record,
     s.slope = ScanSlopeOverTheStroke(record, result->force, o, s);
     // The spring's history scales the scan's slope only where P is the
     // profile.
-    const TrackHistory* history = o.scan_slope_history && d.FromSpring()
-                                      ? &result->track_history
-                                      : nullptr;
+    const TrackHistory* history =
+        o.scan_slope_history && d.FromSpring() ? &track_history : nullptr;
     const bool fitted =
         s.centreline_alignment.has_value() && o.slopes != SlopeChoice::kForce;
     if (fitted) LetTheLoopsChoose(record, *result, history, &s);
-    // What needs the scan's slope and track, not its fit: beside the fit
-    // (which reads the slope, and writes only its fits and scale).
-    std::future<ScanSideBeside> made = std::async(
-        o.parallel ? std::launch::async : std::launch::deferred,
-        [&record, result, &s, &o] {
-          const CycleWindow w = QuotedWindow(*result, &s);
-          ScanSideBeside b;
-          if (result->profile.ForceSlopeJudged()) {
-            b.k_rms_difference = KRmsDifference(record,
-                                                result->force,
-                                                s.slope,
-                                                o.analysis.friction,
-                                                w.first,
-                                                w.last,
-                                                o.parallel);
-          }
-          b.wear = MeasureWear(record, result->force.cycles, s.track);
-          return b;
-        });
+    // What needs the scan's slope, not its fit: beside the fit (which
+    // reads the slope, and writes only its fits and scale).
+    std::future<ScanSideBeside> made =
+        std::async(o.parallel ? std::launch::async : std::launch::deferred,
+                   [&record, result, &s, &o] {
+                     const CycleWindow w = QuotedWindow(*result, &s);
+                     ScanSideBeside b;
+                     if (result->profile.ForceSlopeJudged()) {
+                       b.k_rms_difference = KRmsDifference(record,
+                                                           result->force,
+                                                           s.slope,
+                                                           o.analysis.friction,
+                                                           w.first,
+                                                           w.last,
+                                                           o.parallel);
+                     }
+                     return b;
+                   });
     if (!fitted) FitScanSide(record, result->force, o, history, &s);
     try {
       beside = made.get();
@@ -254,10 +253,10 @@ void Warn(const force::ForceRecord& record, TestResult* result) {
 
 // P/S against the path the friction shows (SpringCheck): the stiffness
 // and an elastic part. Only where k comes from P/S.
-SpringCheck CheckTheSpring(const TestResult& r) {
+SpringCheck CheckTheSpring(const TestResult& r, const TrackHistory& history) {
   if (!r.profile.FromSpring()) return {};
   const FuseOptions& o = r.options;
-  return CheckSpring(r.track_history,
+  return CheckSpring(history,
                      r.force.running_in.cycles,
                      r.window.first,
                      r.window.last,
@@ -265,10 +264,11 @@ SpringCheck CheckTheSpring(const TestResult& r) {
                      o.spring_check);
 }
 
-// The comparison of the slopes, the verdict, the warnings and the wear,
-// once both sides are analysed.
+// The comparison of the slopes, the verdict and the warnings, once both
+// sides are analysed.
 void CompareAndJudge(const force::ForceRecord& record,
                      const ScanSideBeside& beside,
+                     const TrackHistory& history,
                      TestResult* result) {
   const ScanAnalysis* scan = result->scan ? &*result->scan : nullptr;
   result->window = QuotedWindow(*result, scan);
@@ -281,12 +281,9 @@ void CompareAndJudge(const force::ForceRecord& record,
                                    last,
                                    result->options,
                                    beside.k_rms_difference);
-  result->mismatch.spring = CheckTheSpring(*result);
+  result->mismatch.spring = CheckTheSpring(*result, history);
   result->verdict = Judge(result->mismatch, result->options.verdict);
   Warn(record, result);
-  result->wear = scan && beside.wear
-                     ? *beside.wear
-                     : MeasureWear(record, result->force.cycles, std::nullopt);
 }
 
 }  // namespace
@@ -318,39 +315,6 @@ ScanAnalysis PrepareScan(scan::HeightMap map, const FuseOptions& options) {
 }
 
 namespace {
-
-// Periodic lines in Q and P that the drive (its rate from the cycles)
-// does not make.
-std::vector<force::PeriodicLine> FindLines(const force::ForceRecord& record,
-                                           const force::CycleSet& cycles) {
-  const auto& c = cycles.cycles;
-  if (c.size() < 2) return {};
-  const double span = record.time_s[c.back().reverse.end - 1] -
-                      record.time_s[c.front().forward.begin];
-  if (!(span > 0)) return {};
-  return force::FindPeriodicLines(record, static_cast<double>(c.size()) / span);
-}
-
-// The periodic lines found: a warning each, and a failed verdict says its
-// excess may come from them.
-void NoteLines(std::vector<force::PeriodicLine> lines, TestResult* result) {
-  result->periodic_lines = std::move(lines);
-  for (const force::PeriodicLine& l : result->periodic_lines) {
-    result->warnings.push_back(fmt::format(
-        "a periodic line at {} that the drive's motion does not make "
-        "(mains pick-up, a resonance): it corrupts P's slope and the "
-        "verdict; --notch {:.2f} removes it from Q and P",
-        l.Describe(),
-        l.frequency_hz));
-  }
-  if (!result->periodic_lines.empty() && !result->verdict.explained) {
-    result->verdict.reasons.push_back(fmt::format(
-        "the excess may come from the periodic line at {:.2f} Hz (see the "
-        "warnings; analyse again with --notch {:.2f})",
-        result->periodic_lines.front().frequency_hz,
-        result->periodic_lines.front().frequency_hz));
-  }
-}
 
 // AnalyzeTest on the record with the lines asked for removed, and it said.
 TestResult AnalyzeNotched(const force::ForceRecord& record,
@@ -385,59 +349,32 @@ AnalysisOptions ForceOptions(const FuseOptions& options) {
   return ao;
 }
 
-// The friction map on a thread of its own where the test has cores. Its k
-// is P/S's or the depth's: `options` by value, since the decision writes
-// its choice into the result's while a map made beside it runs.
-std::future<FrictionMap> StartFrictionMap(const force::ForceRecord& record,
-                                          const ForceAnalysis& force,
-                                          FuseOptions options) {
-  return std::async(
-      options.parallel ? std::launch::async : std::launch::deferred,
-      [&record, &force, o = std::move(options)] {
-        return ComputeFrictionMap(record,
-                                  force.cycles,
-                                  o.analysis.friction,
-                                  force.running_in.cycles,
-                                  o.friction_map);
-      });
-}
-
-// The cycle detailed: the one asked for, else the last.
-int DetailedCycle(const FuseOptions& options, int cycles) {
-  return options.detail_cycle >= 0 && options.detail_cycle < cycles
-             ? options.detail_cycle
-             : cycles - 1;
-}
-
 // After the profile's decision: the force side, then the scan side beside
-// the products that need only the force side, the comparison and verdict,
-// the lines and the detail cycle.
+// the units that need only the force side, the comparison and verdict,
+// the detail cycle and the units that read the whole result.
 void AnalyzeDecided(const force::ForceRecord& record,
                     PipelineEvidence* evidence,
                     AnalysisOptions ao,
-                    std::future<std::vector<force::PeriodicLine>> lines,
-                    std::future<FrictionMap> map,
                     std::shared_future<TrackHistory> history,
-                    std::future<std::optional<LugreFit>> lugre,
+                    UnitRunner* units,
                     TestResult* result) {
   const FuseOptions& o = result->options;
   ApplyProfile(result->profile, &ao.friction);
   result->force = evidence->TakeForce(ao);
   const int n = static_cast<int>(result->force.cycles.cycles.size());
   RefuseCyclesBeyondTheTest(o, n);
-  result->detail_cycle = DetailedCycle(o, n);
+  result->detail_cycle = o.DetailedCycle(n);
   // Nothing below changes result->force, which this thread reads. The
-  // friction map, unless it runs already, beside the scan side's fit (the
-  // cores share the threads out).
-  if (!map.valid()) map = StartFrictionMap(record, result->force, o);
+  // units that read the decided k (the friction map on a depth channel)
+  // beside the scan side's fit (the cores share the threads out).
+  units->Start(UnitStage::kDecided, result->force, o);
   // The track's history (before the scan: it may scale the scan's slope).
-  result->track_history = history.get();
+  const TrackHistory& track_history = history.get();
   ScanSideBeside beside;
-  if (evidence->HasScan()) beside = AddScanSide(record, evidence, result);
-  CompareAndJudge(record, beside, result);
-  NoteLines(lines.get(), result);
-  result->friction_map = map.get();
-  result->lugre = lugre.get();
+  if (evidence->HasScan())
+    beside = AddScanSide(record, evidence, track_history, result);
+  CompareAndJudge(record, beside, track_history, result);
+  units->Collect(&result->units);
   const ScanAnalysis* scan = result->scan ? &*result->scan : nullptr;
   const int dc = result->detail_cycle;
   result->detail = ComputeDetailCycle(
@@ -448,7 +385,10 @@ void AnalyzeDecided(const force::ForceRecord& record,
       o.cost_curve_points,
       scan && dc >= 0 && dc < n ? &scan->fit_scan[dc] : nullptr,
       scan ? &scan->slope : nullptr,
-      result->lugre ? &*result->lugre : nullptr);
+      result->units.Find<LugreFit>());
+  units->Start(UnitStage::kJudged, result->force, o, result);
+  units->Collect(&result->units);
+  SayWhatTheUnitsFound(result);
 }
 
 }  // namespace
@@ -553,56 +493,22 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
   // P/S, the depth's agreement, the scan's alignment) and the analysis
   // runs once with k where it put it.
   const ForceAnalysis segmented = SegmentForce(record, ao);
-  // The search for periodic lines needs only the record and the drive's
-  // rate: beside the rest, on a core of its own when there is one.
-  std::future<std::vector<force::PeriodicLine>> lines = std::async(
-      result.options.parallel ? std::launch::async : std::launch::deferred,
-      [&record, &segmented, find = result.options.find_periodic_lines] {
-        return find ? FindLines(record, segmented.cycles)
-                    : std::vector<force::PeriodicLine>();
-      });
-  // The track's history from the spring and the LuGre fit of the detail
-  // cycle need only the cycles and their options, which the decision does
-  // not change: beside it too.
-  const std::launch beside =
-      result.options.parallel ? std::launch::async : std::launch::deferred;
+  // The units that need only the record and its cycles (the periodic
+  // lines, LuGre on the detail cycle, the friction map without a depth
+  // channel) beside the rest, on cores of their own where there are.
+  UnitRunner units(record, result.options.parallel);
+  units.Start(UnitStage::kCycles, segmented, result.options);
+  // The track's history from the spring, a unit of those, is read by the
+  // decision, the scan's slope and the spring check before they are
+  // collected.
   std::shared_future<TrackHistory> history = std::async(
-      beside,
-      [&record,
-       &segmented,
-       spring = result.options.analysis.friction.slope.spring_n_per_mm,
-       options = result.options.track_history] {
-        return ComputeTrackHistory(record, segmented.cycles, spring, options);
-      });
-  std::future<std::optional<LugreFit>> lugre = std::async(
-      beside,
-      [&record,
-       &segmented,
-       detail = DetailedCycle(result.options,
-                              static_cast<int>(segmented.cycles.cycles.size())),
-       fit = result.options.fit_lugre,
-       options = result.options.lugre] {
-        return fit ? std::optional<LugreFit>(
-                         FitLugre(record, segmented.cycles, detail, options))
-                   : std::nullopt;
-      });
-  // The map's k is P/S's unless the decision puts it on a depth channel:
-  // without one, the map is made beside the decision.
-  std::future<FrictionMap> map;
-  if (!record.has_depth())
-    map = StartFrictionMap(record, segmented, result.options);
+      std::launch::deferred,
+      [&units] { return *units.Await<TrackHistory>("track_history"); });
   PipelineEvidence evidence(
       record, segmented, ao, result.options, std::move(prepared_scan), history);
   result.profile = DecideProfile(&evidence, result.options);
   ApplyProfile(result.profile, &result.options.analysis.friction);
-  AnalyzeDecided(record,
-                 &evidence,
-                 ao,
-                 std::move(lines),
-                 std::move(map),
-                 history,
-                 std::move(lugre),
-                 &result);
+  AnalyzeDecided(record, &evidence, ao, history, &units, &result);
   if (!evidence.HasScan())
     return AtTheFrictionsSpring(record, std::move(result));
   return result;

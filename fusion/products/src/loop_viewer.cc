@@ -9,6 +9,7 @@
 #include <string>
 
 #include "tables.h"
+#include "wearscar/fusion/friction_map.h"
 
 namespace wearscar::fusion::internal {
 namespace {
@@ -77,7 +78,7 @@ void AppendMapRows(const FrictionMap& m,
 }  // namespace
 
 std::string LoopViewerJson(const TestResult& r) {
-  const FrictionMap& m = r.friction_map;
+  const FrictionMap& m = r.units.Get<FrictionMap>();
   const size_t bins = m.loop_x_mm.size();
   const int n = m.cycles;
   const bool from_p = !r.force.fit_force.empty();

@@ -10,24 +10,9 @@
 
 #include "tables.h"
 #include "wearscar/fusion/error.h"
+#include "wearscar/fusion/unit.h"
 
 namespace wearscar::fusion {
-
-std::vector<std::pair<std::string, std::string>> DiagnosisFiles(
-    const std::string& name, const Diagnosis& d) {
-  std::vector<std::pair<std::string, std::string>> files = {
-      {"diagnosis.json", DiagnosisJson(name, d).dump(2) + "\n"},
-      {"residual_map_before.csv", internal::ResidualMapTable(d.before).ToCsv()},
-      {"residual_map_after.csv", internal::ResidualMapTable(d.after).ToCsv()}};
-  if (!d.along_track.empty()) {
-    files.emplace_back("friction_along_track.csv",
-                       internal::AlongTrackTable(d.along_track).ToCsv());
-    if (d.along_track.map_x_mm.size() > 0)
-      files.emplace_back("friction_map_along_track.csv",
-                         internal::MapPatternTable(d.along_track).ToCsv());
-  }
-  return files;
-}
 
 bool ProductOptions::IsValid(std::string* why) const {
   for (int c : loop_cycles) {
@@ -98,7 +83,7 @@ TestProducts MakeTestProducts(const std::string& name,
   // The loop viewer's text (the largest product) beside the tables, where
   // the friction map holds the loops it draws.
   std::future<std::string> viewer;
-  if (!r.friction_map.loop_x_mm.empty()) {
+  if (!r.units.Get<FrictionMap>().loop_x_mm.empty()) {
     viewer = std::async(o.parallel ? std::launch::async : std::launch::deferred,
                         [&r] { return internal::LoopViewerJson(r); });
   }
@@ -108,22 +93,24 @@ TestProducts MakeTestProducts(const std::string& name,
   };
   add("cycles.csv", internal::CycleTable(r));
   add("loops.csv", internal::LoopTable(record, r, p.loop_cycles));
-  add("friction_map.csv", internal::FrictionMapTable(r.friction_map));
-  add("track_history.csv", internal::TrackHistoryTable(r.track_history));
   add("detail.csv", internal::DetailTable(r.detail));
   add("cost_curve.csv", internal::CostCurveTable(r.detail));
   if (r.scan) {
     add("profiles.csv", internal::ProfileTable(*r.scan));
     add("centreline.csv", internal::CentrelineTable(r.scan->centreline));
   }
-  if (r.lugre) add("lugre.csv", internal::LugreTable(*r.lugre, r.detail));
+  // The analysis units' tables, in the registry's order.
+  for (const auto& [unit, result] : UnitsThatRan(r)) {
+    for (UnitTable& t : unit->TablesErased(result, record, r))
+      out.tables.emplace_back(std::move(t.file), std::move(t.table));
+  }
   if (viewer.valid())
     out.documents.emplace_back("loop_viewer.json", viewer.get());
   if (p.provenance) {
     const Provenance prov = TestProvenance(record, r);
-    out.result = ResultJson(name, record, r, o, &prov);
+    out.result = ResultJson(name, record, r, &prov);
   } else {
-    out.result = ResultJson(name, record, r, o);
+    out.result = ResultJson(name, record, r);
   }
   return out;
 }

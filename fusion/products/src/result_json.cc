@@ -5,19 +5,13 @@
 
 #include <cmath>
 
-#include "wearscar/fusion/effects.h"
+#include "wearscar/fusion/unit.h"
 
 namespace wearscar::fusion {
 namespace {
 
-double Nan() { return std::nan(""); }
-
 // Cycles are numbered from 1 in every output, as in the paper (0-based
 // inside the library); a cycle not set (-1) is null.
-std::vector<int> OneBased(std::vector<int> cycles) {
-  for (int& c : cycles) ++c;
-  return cycles;
-}
 nlohmann::json CycleNumber(int zero_based) {
   return zero_based >= 0 ? nlohmann::json(zero_based + 1) : nlohmann::json();
 }
@@ -126,19 +120,6 @@ nlohmann::json ScanOptionsJson(const FuseOptions& o) {
           {"scan_slope_history", o.scan_slope_history}};
 }
 
-// The track's size, the load and distance, and the specific wear rate
-// (null where there was no usable scan).
-nlohmann::json WearJson(const Wear& w) {
-  return {{"volume_mm3", w.volume_mm3},
-          {"mean_depth_mm", w.mean_depth_mm},
-          {"max_depth_mm", w.max_depth_mm},
-          {"width_mm", w.width_mm},
-          {"length_mm", w.length_mm},
-          {"normal_load_n", w.normal_load_n},
-          {"sliding_distance_m", w.sliding_distance_m},
-          {"specific_wear_rate_mm3_per_n_m", w.specific_rate_mm3_per_n_m}};
-}
-
 // The force file as read: layout, channels and their units.
 nlohmann::json ForceFileJson(const force::ForceMetadata& m) {
   return {{"layout", m.layout},
@@ -189,7 +170,12 @@ nlohmann::json ProfileJson(const ProfileDecision& d) {
 // What each rule rested on and how it fared on the data (Premises).
 nlohmann::json PremisesJson(const TestResult& r) {
   nlohmann::json premises = nlohmann::json::array();
-  for (const Premise& p : Premises(r)) {
+  std::vector<Premise> all = Premises(r);
+  for (const auto& [unit, result] : UnitsThatRan(r)) {
+    for (Premise& p : unit->PremisesErased(result, r))
+      all.push_back(std::move(p));
+  }
+  for (const Premise& p : all) {
     premises.push_back({{"rule", p.rule},
                         {"premise", p.statement},
                         {"state", p.StateName()},
@@ -258,118 +244,17 @@ nlohmann::json ScanJson(const ScanAnalysis& s) {
   return j;
 }
 
-nlohmann::json LugreJson(const TestResult& r) {
-  const auto& p = r.lugre->parameters;
-  return {{"cycle", CycleNumber(r.detail_cycle)},
-          {"sigma0_n_per_mm", p.sigma0_n_per_mm},
-          {"sigma1_n_s_per_mm", p.sigma1_n_s_per_mm},
-          {"sigma2_n_s_per_mm", p.sigma2_n_s_per_mm},
-          {"sigma2_negative", p.sigma2_n_s_per_mm < 0},
-          {"stribeck_speed_mm_s", p.stribeck_speed_mm_s},
-          {"F_c_N", p.coulomb_n},
-          {"F_s_N", p.static_n},
-          {"J", r.lugre->cost},
-          {"J_wearscar_same_cycle", r.force.fit_force[r.detail_cycle].cost},
-          {"converged", r.lugre->converged},
-          {"physically_plausible", r.lugre->physically_plausible},
-          {"message", r.lugre->message}};
-}
-
-// The friction map's settings and its spatial variation after running-in.
-nlohmann::json FrictionMapJson(const TestResult& r, const FuseOptions& o) {
-  return {
-      {"bin_mm", o.friction_map.bin_mm},
-      {"slope_polynomial_order",
-       o.friction_map.slope_polynomial_order != 0
-           ? o.friction_map.slope_polynomial_order
-           : o.analysis.friction.ensemble.polynomial_order},
-      {"slope_span_mm",
-       o.friction_map.slope_span_mm > 0 ? o.friction_map.slope_span_mm
-                                        : o.analysis.friction.ensemble.span_mm},
-      {"bins", r.friction_map.x_mm.size()},
-      {"loop_bins", r.friction_map.loop_x_mm.size()},
-      {"first_steady_cycle", r.friction_map.first_steady_cycle + 1},
-      {"spatial_sd_raw", r.friction_map.spatial_sd_raw},
-      {"spatial_sd_corrected", r.friction_map.spatial_sd_corrected},
-      {"spatial_sd_noise_floor", r.friction_map.spatial_sd_noise},
-      {"spatial_sd_excess", r.friction_map.spatial_sd_excess}};
-}
-
-// The track's history from the spring: its waviness from the first cycle
-// to the end.
-nlohmann::json TrackHistoryJson(const TestResult& r, const FuseOptions& o) {
-  const TrackHistory& h = r.track_history;
-  nlohmann::json j = {
-      {"bin_mm", o.track_history.bin_mm},
-      {"steady_from_cycle", h.cycles > 0 ? h.steady_cycle + 1 : 0},
-      {"final_waviness_sd_mm", h.final_waviness_sd_mm},
-      {"growth_per_cycle_mm", h.growth_per_cycle_mm},
-      {"first_waviness_sd_mm",
-       h.waviness_sd_mm.empty() ? Nan() : h.waviness_sd_mm.front()}};
-  if (r.scan) {
-    // The final state against the scan: the alignment's amplitude ratio
-    // (P/S over the compared cycles against the scanned profile).
-    j["final_vs_scan_amplitude_ratio"] = r.scan->alignment.amplitude_ratio;
+// Each analysis unit's section under its kind (a unit may have none), and
+// which ran and what each read.
+void AddUnitSections(const TestResult& r, nlohmann::json* j) {
+  (*j)["units"] = nlohmann::json::array();
+  for (const auto& [unit, result] : UnitsThatRan(r)) {
+    nlohmann::json section = unit->JsonErased(result, r);
+    if (!section.is_null()) (*j)[unit->Kind()] = std::move(section);
+    (*j)["units"].push_back({{"kind", unit->Kind()},
+                             {"what", unit->Spec().what},
+                             {"reads", unit->Spec().reads}});
   }
-  return j;
-}
-
-nlohmann::json MapJson(const ResidualMap& m) {
-  auto vec = [](const Eigen::VectorXd& v) {
-    return std::vector<double>(v.data(), v.data() + v.size());
-  };
-  auto row = [](const Eigen::MatrixXd& a, int r) {
-    std::vector<double> v;
-    for (Eigen::Index c = 0; c < a.cols(); ++c) v.push_back(a(r, c));
-    return v;
-  };
-  return {{"where", m.where},
-          {"mean_abs_r_N", m.mean_abs_n_all},
-          {"x_mm", vec(m.x_mm)},
-          {"forward_mean_abs_r_N", row(m.mean_abs_n, 0)},
-          {"reverse_mean_abs_r_N", row(m.mean_abs_n, 1)},
-          {"forward_mean_r_N", row(m.mean_n, 0)},
-          {"reverse_mean_r_N", row(m.mean_n, 1)},
-          {"from_reversal_mm", vec(m.from_reversal_mm)},
-          {"forward_by_reversal_mean_abs_r_N", row(m.reversal_mean_abs_n, 0)},
-          {"reverse_by_reversal_mean_abs_r_N", row(m.reversal_mean_abs_n, 1)},
-          {"block_first_cycle", OneBased(m.block_first_cycle)},
-          {"block_mean_abs_r_N", vec(m.block_mean_abs_n)},
-          {"direction_odd_r_N", vec(m.odd_n)},
-          {"direction_even_r_N", vec(m.even_n)},
-          {"direction_odd_rms_N", m.odd_rms_n},
-          {"direction_even_rms_N", m.even_rms_n},
-          {"repeatable_rms_N", m.repeatable_rms_n},
-          {"repeatable_z", m.repeatable_z}};
-}
-
-nlohmann::json CandidateJson(const CandidateResult& c) {
-  const Effect* e = FindEffect(c.effect);
-  return {{"effect", c.effect},
-          {"key",
-           e                                     ? e->Key()
-           : c.effect == "periodic interference" ? "periodic_interference"
-                                                 : ""},
-          // What its contribution does between the two directions
-          // (odd, even, mixed), beside the residual map's odd and even
-          // parts.
-          {"direction_parity", e ? ParityName(e->DirectionParity()) : "mixed"},
-          {"parameter_names", c.parameter_names},
-          {"parameters", c.parameters},
-          {"uncertainties", c.uncertainties},
-          {"heldout_J_before", c.heldout_before},
-          {"heldout_J_after", c.heldout_after},
-          {"relative_gain", c.relative_gain},
-          {"improved_fraction", c.improved_fraction},
-          {"delta_bic", c.delta_bic},
-          {"plausible", c.plausible},
-          {"contradicted_by", c.contradicted},
-          // What it removed of the residual map's odd and even parts, and
-          // whether that is the part dominating the residual.
-          {"removes_direction_odd_rms_N", c.odd_removed_n},
-          {"removes_direction_even_rms_N", c.even_removed_n},
-          {"matches_signature", c.matches_signature},
-          {"accepted", c.accepted}};
 }
 
 }  // namespace
@@ -404,7 +289,6 @@ nlohmann::json LevelJson(const scan::LevelSummary& l) {
 nlohmann::json ResultJson(const std::string& name,
                           const force::ForceRecord& record,
                           const TestResult& r,
-                          const FuseOptions& o,
                           const Provenance* provenance) {
   nlohmann::json j;
   j["specimen"] = name;
@@ -446,12 +330,9 @@ nlohmann::json ResultJson(const std::string& name,
                            {"mu_mean", Stat(r.force.mu_mean)},
                            {"mu_energy", Stat(r.force.mu_energy)}};
   j["comparison"] = ComparisonJson(r);
-  j["wear"] = WearJson(r.wear);
-  j["friction_map"] = FrictionMapJson(r, o);
-  j["track_history"] = TrackHistoryJson(r, o);
   j["premises"] = PremisesJson(r);
   if (r.scan) j["scan"] = ScanJson(*r.scan);
-  if (r.lugre) j["lugre"] = LugreJson(r);
+  AddUnitSections(r, &j);
   j["headline"] = Headline(r);
   const Quote quote = QuoteOf(r);
   j["quote"] = {{"status", quote.status},
@@ -477,62 +358,6 @@ nlohmann::json ResultJson(const std::string& name,
   j["warnings"] = warnings;
   j["assumptions"] = r.assumptions;
   if (provenance) j["provenance"] = provenance->ToJson();
-  return j;
-}
-
-nlohmann::json DiagnosisJson(const std::string& name, const Diagnosis& d) {
-  nlohmann::json j;
-  j["specimen"] = name;
-  std::vector<int> numbers;
-  for (int c : d.cycles) numbers.push_back(c + 1);
-  j["cycles"] = numbers;
-  j["slope_source"] = d.slope_source;
-  j["named"] = d.named;
-  j["heldout_J_initial"] = d.heldout_initial;
-  j["heldout_J_final"] = d.heldout_final;
-  j["message"] = d.message;
-  j["joint_fits"] = {{"solves", d.solves},
-                     {"not_converged", d.solves_not_converged}};
-  j["model"] = nlohmann::json::array();
-  for (const auto& c : d.model) j["model"].push_back(CandidateJson(c));
-  j["steps"] = nlohmann::json::array();
-  for (const auto& s : d.steps) {
-    nlohmann::json step = {{"chosen", CandidateJson(s.chosen)},
-                           {"note", s.note},
-                           {"tried", nlohmann::json::array()}};
-    for (const auto& c : s.tried) step["tried"].push_back(CandidateJson(c));
-    j["steps"].push_back(step);
-  }
-  j["unexplained"] = d.unexplained;
-  j["periodic_lines"] = nlohmann::json::array();
-  for (const auto& l : d.lines) {
-    j["periodic_lines"].push_back({{"frequency_Hz", l.frequency_hz},
-                                   {"Q_amplitude_N", l.q_amplitude_n},
-                                   {"P_amplitude_N", l.p_amplitude_n},
-                                   {"prominence", l.prominence},
-                                   {"drive_harmonic", l.drive_harmonic}});
-  }
-  j["notched_Hz"] = d.notched_hz > 0 ? nlohmann::json(d.notched_hz) : nullptr;
-  if (!d.along_track.empty()) {
-    const auto& a = d.along_track;
-    j["friction_along_track"] = {
-        {"x_mm",
-         std::vector<double>(a.x_mm.data(), a.x_mm.data() + a.x_mm.size())},
-        {"a", std::vector<double>(a.a.data(), a.a.data() + a.a.size())},
-        {"roughness_penalty", a.penalty},
-        {"r_with_groove_depth", a.correlation_depth},
-        {"r_with_depth_texture", a.correlation_texture},
-        {"r_with_friction_map", a.correlation_map}};
-  }
-  j["residual_map_before"] = MapJson(d.before);
-  j["residual_map_after"] = MapJson(d.after);
-  j["library"] = nlohmann::json::array();
-  for (const auto& e : EffectLibrary()) {
-    j["library"].push_back({{"name", e->Name()},
-                            {"key", e->Key()},
-                            {"formula", e->Formula()},
-                            {"parameters", e->ParameterNames()}});
-  }
   return j;
 }
 

@@ -6,15 +6,12 @@
 #include <vector>
 
 #include "wearscar/force/force_record.h"
-#include "wearscar/fusion/diagnosis.h"
 #include "wearscar/fusion/result.h"
 #include "wearscar/fusion/tables.h"
 
 namespace wearscar::fusion::internal {
 
 Table CycleTable(const TestResult& r);
-Table FrictionMapTable(const FrictionMap& m);
-Table TrackHistoryTable(const TrackHistory& h);
 // The samples of the cycles `loops` (0-based; empty: the first, third,
 // eleventh and last that exist).
 Table LoopTable(const force::ForceRecord& record,
@@ -27,10 +24,6 @@ Table CostCurveTable(const DetailCycle& d);
 Table ProfileTable(const ScanAnalysis& scan);
 // centreline.csv: the scan's centreline.
 Table CentrelineTable(const scan::WearProfile& profile);
-Table LugreTable(const LugreFit& lugre, const DetailCycle& d);
-Table ResidualMapTable(const ResidualMap& m);
-Table AlongTrackTable(const AlongTrackFrictionShape& a);  // diagnosis
-Table MapPatternTable(const AlongTrackFrictionShape& a);  // diagnosis
 // loop_viewer.json: each cycle's binned loop, the model's Q with its
 // mu-hat and the friction map's row (FrictionMap::loop_*), for the report.
 std::string LoopViewerJson(const TestResult& r);

@@ -757,18 +757,21 @@ TEST(AnalyzeTest, OnTheCallersThreadAloneGivesTheSameResult) {
     EXPECT_EQ(a.scan->fit_scan[c].mu_hat, b.scan->fit_scan[c].mu_hat) << c;
   }
   EXPECT_EQ(a.scan->alignment.shift_mm, b.scan->alignment.shift_mm);
-  ASSERT_EQ(a.friction_map.mu_corrected.size(),
-            b.friction_map.mu_corrected.size());
-  for (size_t i = 0; i < a.friction_map.mu_corrected.size(); ++i) {
-    const double p = a.friction_map.mu_corrected[i],
-                 q = b.friction_map.mu_corrected[i];
+  const FrictionMap& am = a.units.Get<FrictionMap>();
+  const FrictionMap& bm = b.units.Get<FrictionMap>();
+  ASSERT_GT(am.mu_corrected.size(), 0u);
+  ASSERT_EQ(am.mu_corrected.size(), bm.mu_corrected.size());
+  for (size_t i = 0; i < am.mu_corrected.size(); ++i) {
+    const double p = am.mu_corrected[i], q = bm.mu_corrected[i];
     EXPECT_TRUE(p == q || (std::isnan(p) && std::isnan(q))) << i;
   }
-  ASSERT_TRUE(a.lugre.has_value());
-  ASSERT_TRUE(b.lugre.has_value());
-  EXPECT_EQ(a.lugre->cost, b.lugre->cost);
+  const LugreFit* al = a.units.Find<LugreFit>();
+  const LugreFit* bl = b.units.Find<LugreFit>();
+  ASSERT_TRUE(al && bl);
+  EXPECT_EQ(al->cost, bl->cost);
   EXPECT_EQ(a.verdict.Summary(), b.verdict.Summary());
-  EXPECT_EQ(a.track_history.waviness_sd_mm, b.track_history.waviness_sd_mm);
+  EXPECT_EQ(a.units.Get<TrackHistory>().waviness_sd_mm,
+            b.units.Get<TrackHistory>().waviness_sd_mm);
   // k's rms difference, its second half of the compared cycles on a
   // thread of its own, summed in one thread's order.
   ASSERT_GE(a.mismatch.last_cycle - a.mismatch.first_cycle, 8);
@@ -1118,7 +1121,7 @@ TEST(SpringNotGiven, TheFilesStatedStiffnessIsUsedAndSaid) {
   EXPECT_TRUE(r.verdict.explained) << r.verdict.Summary();
   for (const std::string& w : r.warnings)
     EXPECT_EQ(w.find("the spring's stiffness"), std::string::npos) << w;
-  const nlohmann::json j = ResultJson("B-RT-R", t.record, r, NoLugre());
+  const nlohmann::json j = ResultJson("B-RT-R", t.record, r);
   EXPECT_DOUBLE_EQ(j["options"]["spring_n_per_mm"].get<double>(), 25.0);
   FuseOptions given = NoLugre();
   given.analysis.friction.slope.spring_n_per_mm = 20.0;

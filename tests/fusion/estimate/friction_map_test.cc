@@ -49,9 +49,9 @@ TEST(FrictionMap, NoNoiseFloorFromTooFewSteadyCycles) {
   FuseOptions options;
   options.analysis.running_in_cycles = 10;
   const TestResult r = AnalyzeTest(t.record, t.scan, options);
-  EXPECT_TRUE(std::isfinite(r.friction_map.spatial_sd_corrected));
-  EXPECT_TRUE(std::isnan(r.friction_map.spatial_sd_noise));
-  EXPECT_TRUE(std::isnan(r.friction_map.spatial_sd_excess));
+  EXPECT_TRUE(std::isfinite(r.units.Get<FrictionMap>().spatial_sd_corrected));
+  EXPECT_TRUE(std::isnan(r.units.Get<FrictionMap>().spatial_sd_noise));
+  EXPECT_TRUE(std::isnan(r.units.Get<FrictionMap>().spatial_sd_excess));
 }
 
 class CleanCase
@@ -69,7 +69,7 @@ class CleanCase
 TEST_P(CleanCase, CorrectedMapIsFlatRawMapFollowsTheTrack) {
   const auto [name, noise] = GetParam();
   const Mapped m = Simulate(name, noise);
-  const FrictionMap& f = m.result.friction_map;
+  const FrictionMap& f = m.result.units.Get<FrictionMap>();
   ASSERT_GT(f.x_mm.size(), 8u);
   EXPECT_LE(f.spatial_sd_corrected, 2.0 * f.spatial_sd_noise)
       << name << ": corrected " << f.spatial_sd_corrected << ", floor "
@@ -96,8 +96,9 @@ TEST(FrictionMap, TheFitsQuadraticLeavesTheFlanksInTheMap) {
   FuseOptions cubic = quadratic;
   cubic.friction_map.slope_polynomial_order = 3;
   const FrictionMap q =
-      AnalyzeTest(t.record, std::nullopt, quadratic).friction_map;
-  const FrictionMap c = AnalyzeTest(t.record, std::nullopt, cubic).friction_map;
+      AnalyzeTest(t.record, std::nullopt, quadratic).units.Get<FrictionMap>();
+  const FrictionMap c =
+      AnalyzeTest(t.record, std::nullopt, cubic).units.Get<FrictionMap>();
   EXPECT_GT(q.spatial_sd_corrected, 3 * q.spatial_sd_noise);
   EXPECT_LT(c.spatial_sd_corrected, 0.5 * q.spatial_sd_corrected);
 }
@@ -123,7 +124,7 @@ class VaryingCase : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(VaryingCase, MapRecoversTheAlongTrackPatternOfMu) {
   const Mapped m = Simulate(GetParam(), 1.0, 0.2);
-  const FrictionMap& f = m.result.friction_map;
+  const FrictionMap& f = m.result.units.Get<FrictionMap>();
   const auto& truth = m.test.truth;
   double mu_steady = 0;
   for (int c = f.first_steady_cycle; c < f.cycles; ++c)
@@ -191,7 +192,7 @@ INSTANTIATE_TEST_SUITE_P(CrossingRings,
 // stroke's Q is negative where the forward one is positive.
 TEST(FrictionMap, EachCyclesBinnedLoopMeetsTheModelWithItsMu) {
   const Mapped m = Simulate("B-RT-R", 1);
-  const FrictionMap& f = m.result.friction_map;
+  const FrictionMap& f = m.result.units.Get<FrictionMap>();
   ASSERT_EQ(f.loop_x_mm.size(), 100u);
   ASSERT_EQ(f.loop_q_n.size(), static_cast<size_t>(f.cycles) * 2 * 100);
   const int first = m.result.force.running_in.cycles;
@@ -230,7 +231,7 @@ TEST(FrictionMap, WithoutLoopsTheMapIsTheSame) {
                                               r.options.analysis.friction,
                                               r.force.running_in.cycles,
                                               o);
-  const FrictionMap& with = r.friction_map;
+  const FrictionMap& with = r.units.Get<FrictionMap>();
   ASSERT_FALSE(with.loop_q_n.empty());
   EXPECT_TRUE(none.loop_x_mm.empty());
   EXPECT_TRUE(none.loop_q_n.empty() && none.loop_p_n.empty() &&
@@ -286,7 +287,7 @@ class HistoryCase
 TEST_P(HistoryCase, WavinessFollowsTheTruthAfterRunningIn) {
   const auto [name, noise] = GetParam();
   const Mapped m = Simulate(name, noise);
-  const TrackHistory& h = m.result.track_history;
+  const TrackHistory& h = m.result.units.Get<TrackHistory>();
   const auto& truth = m.test.truth.waviness_sd_mm;
   ASSERT_EQ(h.waviness_sd_mm.size(), static_cast<size_t>(truth.size()));
   double worst = 0, mean = 0;

@@ -8,6 +8,7 @@
 
 #include "wearscar/force/force_record.h"
 #include "wearscar/fusion/diagnose.h"
+#include "wearscar/fusion/diagnosis_files.h"
 #include "wearscar/fusion/fuse.h"
 #include "wearscar/fusion/products.h"
 #include "wearscar/report/figures.h"

@@ -119,6 +119,12 @@ struct FuseOptions {
   bool fit_lugre = true;
   LugreOptions lugre;
   int detail_cycle = -1;  // cycle for LuGre and the detail outputs; -1 = last
+  // The cycle detailed (0-based) of a test of `cycles`: the one asked
+  // for, else the last.
+  int DetailedCycle(int cycles) const {
+    return detail_cycle >= 0 && detail_cycle < cycles ? detail_cycle
+                                                      : cycles - 1;
+  }
   // Points of J(mu) over the fit's mu interval on the detail cycle (paper
   // Fig. 11).
   int cost_curve_points = 201;

@@ -12,17 +12,13 @@
 #include <string>
 #include <vector>
 
-#include "wearscar/force/periodic.h"
 #include "wearscar/fusion/align.h"
 #include "wearscar/fusion/analysis.h"
 #include "wearscar/fusion/detail_cycle.h"
-#include "wearscar/fusion/friction_map.h"
 #include "wearscar/fusion/fuse_options.h"
-#include "wearscar/fusion/lugre.h"
 #include "wearscar/fusion/premise.h"
-#include "wearscar/fusion/track_history.h"
+#include "wearscar/fusion/unit_results.h"
 #include "wearscar/fusion/verdict.h"
-#include "wearscar/fusion/wear.h"
 #include "wearscar/scan/height_map.h"
 #include "wearscar/scan/level.h"
 #include "wearscar/scan/track.h"
@@ -135,8 +131,6 @@ struct TestResult {
   // How well the data carry the method (DataWarnings), and why a scan
   // given was not used (scan_skipped, also the first warning).
   std::vector<std::string> warnings;
-  // Periodic lines in Q and P the drive does not make (after any notch).
-  std::vector<force::PeriodicLine> periodic_lines;
   // What the result rests on that the files did not state, in words: the
   // spring's stiffness and where it came from, the slope the verdict
   // judges, the force file's layout and units (stated or guessed), the
@@ -147,19 +141,15 @@ struct TestResult {
   // A scan left out for want of a track: its levelled map, for the figure
   // that shows it (null otherwise).
   std::shared_ptr<const scan::HeightMap> unused_map;
-  // Track size, load, sliding distance and specific wear rate (the scan
-  // side NaN without a usable scan).
-  Wear wear;
-  // mu along the stroke per cycle and direction (force-side k), and its
-  // along-track variation after running-in.
-  FrictionMap friction_map;
-  // The force-side profile of every cycle, its waviness over the cycles.
-  TrackHistory track_history;
   int detail_cycle = 0;
-  std::optional<LugreFit> lugre;
   // The detail cycle's slopes, reconstructions, J(mu) and the wear-scar
   // model beside LuGre (paper Figs. 10-12, 17).
   DetailCycle detail;
+  // The analysis units' results by kind (unit.h: the periodic lines, the
+  // sliding and the wear, LuGre, the friction map, the track's history from
+  // the spring, the scan's shape per cycle): read by type,
+  // units.Find<FrictionMap>(); a unit that did not run has none.
+  UnitResults units;
 };
 
 // What the test's rules rested on and how each premise fared on its data

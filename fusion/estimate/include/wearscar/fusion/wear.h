@@ -23,11 +23,19 @@ struct Wear {
   double specific_rate_mm3_per_n_m = 0.0;
 };
 
-// From the complete cycles of `record` (the distance is the sum of every
+// The force side of the wear: the mean load and the sliding distance.
+struct Sliding {
+  double normal_load_n = 0.0;       // mean P over the complete cycles
+  double sliding_distance_m = 0.0;  // both halves of every complete cycle
+};
+
+// From the complete cycles of `record`: the distance is the sum of every
 // half cycle's travel from reversal to reversal, so sensor noise on x does
-// not lengthen it) and the track, when there is one.
-Wear MeasureWear(const force::ForceRecord& record,
-                 const force::CycleSet& cycles,
-                 const std::optional<scan::Track>& track);
+// not lengthen it.
+Sliding MeasureSliding(const force::ForceRecord& record,
+                       const force::CycleSet& cycles);
+
+// The wear from the sliding and the track, when there is one.
+Wear WearOf(const Sliding& sliding, const std::optional<scan::Track>& track);
 
 }  // namespace wearscar::fusion

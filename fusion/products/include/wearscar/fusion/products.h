@@ -8,7 +8,6 @@
 #include <vector>
 
 #include "wearscar/force/force_record.h"
-#include "wearscar/fusion/diagnosis.h"
 #include "wearscar/fusion/map_analysis.h"
 #include "wearscar/fusion/provenance.h"
 #include "wearscar/fusion/result.h"
@@ -57,12 +56,6 @@ Provenance TestProvenance(const force::ForceRecord& record,
 
 // scan.json and, with a track, centreline.csv and cross_sections.csv.
 TestProducts MakeMapProducts(const std::string& file, const MapAnalysis& map);
-
-// A diagnosis as files: diagnosis.json (steps, candidates, named effects,
-// residual maps, the effect library) and the residual maps along the
-// stroke before and after (residual_map_before.csv, _after.csv).
-std::vector<std::pair<std::string, std::string>> DiagnosisFiles(
-    const std::string& name, const Diagnosis& diagnosis);
 
 // The products of a test analysed by AnalyzeTest with `options`: its
 // tables (TestTableSchemas) and result.json, formatted from `result`

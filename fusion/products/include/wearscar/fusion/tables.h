@@ -4,36 +4,14 @@
 #include <string_view>
 #include <vector>
 
+#include "wearscar/fusion/table.h"
+
 namespace wearscar::fusion {
 
-// A table of numbers whose column names carry their units ("x_mm", "Q_N",
-// "mu_hat_force"); non-finite values are empty cells in CSV.
-struct Table {
-  Table() = default;
-  explicit Table(std::vector<std::string> column_names)
-      : columns(std::move(column_names)) {}
-  std::vector<std::string> columns;
-  std::vector<std::vector<double>> rows;
-
-  std::string ToCsv() const;
-  // Rows [first, last) of ToCsv's text, with the header when first is 0:
-  // the pieces of a large table, formatted apart, joined give ToCsv().
-  std::string ToCsv(std::size_t first, std::size_t last) const;
-  // The index of `name` among the columns, -1 when it is not one.
-  int ColumnIndex(std::string_view name) const;
-};
-
-// A table a test's products may hold: its file name, its columns and what
-// it is. Figures and other readers name columns from these lists.
-struct TableSchema {
-  std::string file;  // "detail.csv"
-  std::vector<std::string> columns;
-  std::string what;
-};
-
 // Every table of one test's products (MakeTestProducts), in the order
-// they are written; those that need a scan or LuGre are left out of a
-// test without.
+// they are written: the products' own, then the analysis units' (in the
+// registry's order); those that need a scan, or a unit that did not run,
+// are left out of a test without.
 const std::vector<TableSchema>& TestTableSchemas();
 
 // The columns of the table `file` of TestTableSchemas() (the residual

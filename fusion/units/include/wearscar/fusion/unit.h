@@ -1,0 +1,250 @@
+#pragma once
+// An analysis unit: one per-test analysis that declares, in one place,
+// what it reads, when it can run, the premises it rests on and what it
+// writes (its tables, its section of result.json, its figures, what it
+// says in the warnings). The pipeline runs the registry (AnalysisUnits) in
+// the order of its stages, beside the rest where the test has cores; the
+// products, the figures and result.json ask each unit that ran for its
+// part. TestResult::units holds their results by kind; nothing else knows
+// a unit. Adding an analysis: its files here, one line of registry.cc,
+// its tests and docs (docs/development.md, "Adding an analysis").
+
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "wearscar/force/force_record.h"
+#include "wearscar/fusion/premise.h"
+#include "wearscar/fusion/result.h"
+#include "wearscar/fusion/table.h"
+#include "wearscar/fusion/unit_results.h"
+
+namespace wearscar::fusion {
+
+// When a unit can run: what of the test exists by then.
+enum class UnitStage {
+  // The record and its cycles (running-in, the classic COFs; no slope
+  // fitted): beside the profile's decision.
+  kCycles,
+  // The force side analysed with k where the decision put it: beside the
+  // scan side.
+  kDecided,
+  // The whole result: the scan side, the comparison and the verdict.
+  kJudged,
+};
+
+// What a unit reads when it runs.
+struct UnitInput {
+  const force::ForceRecord& record;
+  // At kCycles the segmentation (cycles, running-in); later the decided
+  // force analysis.
+  const ForceAnalysis& force;
+  // The options as its stage has them: at kCycles the given ones (with a
+  // spring the file states), before the decision puts k.
+  const FuseOptions& options;
+  // At kJudged the result so far; null before.
+  const TestResult* judged;
+  // The results of the units it reads (UnitSpec::reads).
+  const UnitResults& units;
+};
+
+// A figure as data, drawn by the report (series of the unit's tables by
+// column name; a grid of values painted as an image).
+struct UnitSeries {
+  enum class Role { kForce, kScan, kMeasured, kClassic, kLimit };
+  UnitSeries(std::string table_name,
+             std::string x_column,
+             std::string y_column,
+             std::string key_title = "",
+             Role colour = Role::kForce,
+             double line_width = 1.5,
+             int line_dash = 1)
+      : table(std::move(table_name)),
+        x(std::move(x_column)),
+        y(std::move(y_column)),
+        title(std::move(key_title)),
+        role(colour),
+        width(line_width),
+        dash(line_dash) {}
+  std::string table, x, y;
+  std::string title;  // the key's entry; "" none
+  Role role = Role::kForce;
+  double width = 1.5;
+  int dash = 1;                 // 1 solid, 2 dashed
+  std::string style = "lines";  // or "points"
+  double y_scale = 1;
+  // Only the rows whose column `select` holds `select_value`.
+  std::string select;
+  double select_value = 0;
+};
+struct UnitGrid {
+  std::string file;  // the image's data file ("friction_map_raw.f32")
+  std::vector<double> x_mm;
+  int rows = 0;               // cycles, from 1
+  std::vector<float> values;  // row-major, rows x x_mm.size()
+};
+struct UnitPanel {
+  std::string title, xlabel, ylabel;
+  std::string setup;  // gnuplot commands before the plot (ranges)
+  std::optional<UnitGrid> grid;
+  std::string cblabel;
+  std::vector<UnitSeries> series;
+};
+struct UnitFigure {
+  std::string stem, title;
+  std::vector<UnitPanel> panels;
+};
+// A grid's panel setup: gnuplot's ranges of bins centred on x_mm over
+// cycles from 1.
+std::string GridRanges(const std::vector<double>& x_mm, int cycles);
+
+struct UnitTable {
+  std::string file;
+  Table table;
+};
+
+// What a unit declares about itself.
+struct UnitSpec {
+  const char* kind;  // result.json's key and the registry's name
+  const char* what;  // in a line (result.json "units", the docs)
+  // What it reads: "the record", "the cycles", "the decision", "the
+  // scan", "the verdict", or another unit's kind (run before it).
+  std::vector<std::string> reads;
+  // The tables it may write (TestTableSchemas lists them).
+  std::vector<TableSchema> tables;
+};
+
+class AnalysisUnit {
+ public:
+  virtual ~AnalysisUnit() = default;
+  virtual const UnitSpec& Spec() const = 0;
+  const char* Kind() const { return Spec().kind; }
+  // When it can run on `record` (a map whose k a depth channel may give
+  // waits for the decision; without one it runs beside it).
+  virtual UnitStage Stage(const force::ForceRecord& record) const = 0;
+  // Whether the options ask for it; a unit not wanted writes nothing.
+  virtual bool Wanted(const FuseOptions&) const { return true; }
+
+  // The typed interface through TypedUnit.
+  virtual std::shared_ptr<const void> RunErased(const UnitInput& in) const = 0;
+  virtual void Store(std::shared_ptr<const void> result,
+                     UnitResults* units) const = 0;
+  virtual void SayErased(const void* result, TestResult* r) const = 0;
+  virtual std::vector<Premise> PremisesErased(const void* result,
+                                              const TestResult& r) const = 0;
+  virtual nlohmann::json JsonErased(const void* result,
+                                    const TestResult& r) const = 0;
+  virtual std::vector<UnitTable> TablesErased(const void* result,
+                                              const force::ForceRecord& record,
+                                              const TestResult& r) const = 0;
+  virtual std::vector<UnitFigure> FiguresErased(const void* result,
+                                                const std::string& name,
+                                                const TestResult& r) const = 0;
+};
+
+// A unit whose result is an R: what each unit implements.
+template <typename R>
+class TypedUnit : public AnalysisUnit {
+ public:
+  virtual R Run(const UnitInput& in) const = 0;
+  // What the result says in the test's warnings and verdict (once the
+  // verdict is made).
+  virtual void Say(const R&, TestResult*) const {}
+  // The premises it rested on, each as checked (result.json premises).
+  virtual std::vector<Premise> Premises(const R&, const TestResult&) const {
+    return {};
+  }
+  virtual nlohmann::json Json(const R& result, const TestResult& r) const = 0;
+  virtual std::vector<UnitTable> Tables(const R&,
+                                        const force::ForceRecord&,
+                                        const TestResult&) const {
+    return {};
+  }
+  virtual std::vector<UnitFigure> Figures(const R&,
+                                          const std::string&,
+                                          const TestResult&) const {
+    return {};
+  }
+
+  std::shared_ptr<const void> RunErased(const UnitInput& in) const final {
+    return std::make_shared<const R>(Run(in));
+  }
+  void Store(std::shared_ptr<const void> result,
+             UnitResults* units) const final {
+    units->Put<R>(Kind(), std::static_pointer_cast<const R>(result));
+  }
+  void SayErased(const void* result, TestResult* r) const final {
+    Say(*static_cast<const R*>(result), r);
+  }
+  std::vector<Premise> PremisesErased(const void* result,
+                                      const TestResult& r) const final {
+    return Premises(*static_cast<const R*>(result), r);
+  }
+  nlohmann::json JsonErased(const void* result,
+                            const TestResult& r) const final {
+    return Json(*static_cast<const R*>(result), r);
+  }
+  std::vector<UnitTable> TablesErased(const void* result,
+                                      const force::ForceRecord& record,
+                                      const TestResult& r) const final {
+    return Tables(*static_cast<const R*>(result), record, r);
+  }
+  std::vector<UnitFigure> FiguresErased(const void* result,
+                                        const std::string& name,
+                                        const TestResult& r) const final {
+    return Figures(*static_cast<const R*>(result), name, r);
+  }
+};
+
+// Every unit, in the order they run within a stage and write their
+// products (registry.cc: one line each).
+const std::vector<const AnalysisUnit*>& AnalysisUnits();
+
+// The units that ran on `r`, each with its stored result, in the
+// registry's order.
+std::vector<std::pair<const AnalysisUnit*, const void*>> UnitsThatRan(
+    const TestResult& r);
+
+// Runs the registry's units stage by stage for one test: Start launches
+// the units of a stage (on threads of their own where `parallel`, else
+// when collected), Collect waits for every unit started and stores their
+// results. A unit waits for the units it reads. Destroying the runner
+// waits for what still runs, so it must not outlive what it was given.
+class UnitRunner {
+ public:
+  UnitRunner(const force::ForceRecord& record, bool parallel);
+  ~UnitRunner();
+  UnitRunner(const UnitRunner&) = delete;
+  UnitRunner& operator=(const UnitRunner&) = delete;
+
+  // `options` is copied: the decision may change the caller's while the
+  // units run. `force` and `judged` must live until Collect.
+  void Start(UnitStage stage,
+             const ForceAnalysis& force,
+             const FuseOptions& options,
+             const TestResult* judged = nullptr);
+  void Collect(UnitResults* units);
+  // The result of the unit `kind` (of type R) once it is done, waiting for
+  // it: for the pipeline's core where it reads a unit before the stage is
+  // collected (the track's history). Null when it was not started.
+  template <typename R>
+  std::shared_ptr<const R> Await(std::string_view kind) const {
+    return std::static_pointer_cast<const R>(AwaitErased(kind));
+  }
+
+ private:
+  std::shared_ptr<const void> AwaitErased(std::string_view kind) const;
+  struct Running;
+  const force::ForceRecord& record_;
+  bool parallel_;
+  std::vector<std::shared_ptr<Running>> running_;
+  UnitResults done_;
+};
+
+// What every unit that ran says in the warnings and the verdict, in the
+// registry's order (once the verdict is made).
+void SayWhatTheUnitsFound(TestResult* r);
+
+}  // namespace wearscar::fusion

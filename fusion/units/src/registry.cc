@@ -1,0 +1,31 @@
+// The registry of analysis units: one line per unit, in the order they
+// run within a stage and write their products (unit.h).
+
+#include <fmt/format.h>
+
+#include "units.h"
+
+namespace wearscar::fusion {
+
+const std::vector<const AnalysisUnit*>& AnalysisUnits() {
+  static const std::vector<const AnalysisUnit*> kUnits = {
+      &internal::PeriodicLinesAnalysis(),
+      &internal::SlidingAnalysis(),
+      &internal::LugreAnalysis(),
+      &internal::FrictionMapAnalysis(),
+      &internal::TrackHistoryAnalysis(),
+      &internal::ScanShapeAnalysis(),
+      &internal::WearAnalysis(),
+  };
+  return kUnits;
+}
+
+std::string GridRanges(const std::vector<double>& x_mm, int cycles) {
+  const double half = 0.5 * (x_mm[1] - x_mm[0]);
+  return fmt::format("set xrange [{}:{}]\nset yrange [0.5:{}]\n",
+                     x_mm.front() - half,
+                     x_mm.back() + half,
+                     cycles + 0.5);
+}
+
+}  // namespace wearscar::fusion

@@ -63,6 +63,14 @@ TEST_P(DiagnoseHiddenEffect, NamesItFirstAndShrinksTheGap) {
     EXPECT_GT(d.after.repeatable_z, DiagnoseOptions{}.unexplained_z)
         << d.after.where;
   }
+  // The effect named rests on no failed premise; where the channels show
+  // it directly (a lag's late turns, crosstalk in P), that premise held.
+  for (const Premise& p : d.model.front().premises) {
+    EXPECT_FALSE(p.Failed()) << p.statement << ": " << p.evidence;
+    if (h.same_law) {
+      EXPECT_TRUE(p.Held()) << p.statement << ": " << p.evidence;
+    }
+  }
   if (h.same_law) {
     const double fitted = d.model.front().parameters.front();
     EXPECT_NEAR(fitted, h.strength, 0.25 * std::abs(h.strength)) << d.message;
@@ -301,6 +309,45 @@ TEST(Effects, CrosstalkIsContradictedByAPThatDoesNotFollowTheDirection) {
             "");
   EXPECT_NE(crosstalk->Contradiction(&negative, DirectEvidence{0.0, 0.001}),
             "");
+}
+
+// Each candidate's premises, checked on its fit and the direct evidence:
+// a resistance fitted negative fails its physics; a lag the reversals'
+// turns do not show fails its direct premise; one the channels do not
+// measure is "not checked"; a candidate without such premises has none.
+TEST(Effects, EachCandidateSaysItsPremisesAsChecked) {
+  using State = Premise::State;
+  const Effect* ploughing = FindEffect("ploughing");
+  const Effect* lag = FindEffect("q_lag");
+  const Effect* asymmetry = FindEffect("asymmetry");
+  ASSERT_TRUE(ploughing && lag && asymmetry);
+  const DirectEvidence none;
+  const double resists = 1.5, pulls = -0.4;
+  std::vector<Premise> p = ploughing->CheckPremises(&resists, none);
+  ASSERT_EQ(p.size(), 1u);
+  EXPECT_EQ(p[0].state, State::kHeld);
+  p = ploughing->CheckPremises(&pulls, none);
+  ASSERT_EQ(p.size(), 1u);
+  EXPECT_EQ(p[0].state, State::kFailed);
+  EXPECT_NE(p[0].evidence.find("-0.4"), std::string::npos) << p[0].evidence;
+
+  const double tau = 0.003;
+  DirectEvidence turns;
+  turns.q_delay_s = 0.0029;
+  turns.q_delay_se_s = 0.0002;
+  turns.reversals = 80;
+  p = lag->CheckPremises(&tau, turns);
+  ASSERT_EQ(p.size(), 1u);
+  EXPECT_EQ(p[0].state, State::kHeld);
+  EXPECT_NE(p[0].evidence.find("2.90 +- 0.20 ms"), std::string::npos)
+      << p[0].evidence;
+  turns.q_delay_s = 0.0001;  // bands shift the loops, not the turns
+  p = lag->CheckPremises(&tau, turns);
+  EXPECT_EQ(p[0].state, State::kFailed);
+  EXPECT_EQ(p[0].evidence, lag->Contradiction(&tau, turns));
+  EXPECT_EQ(lag->CheckPremises(&tau, none)[0].state, State::kNotChecked);
+  const double a = 0.1;
+  EXPECT_TRUE(asymmetry->CheckPremises(&a, none).empty());
 }
 
 TEST(Diagnose, TwoHiddenEffectsAreBothNamed) {

@@ -16,7 +16,8 @@ acceptance lines of the physical rules (docs/method.md, "Two worlds"):
   stands above its noise (at least 95%);
 - the scan's shape per cycle: the first cycles' share of it about 1 where
   the groove is there from the start, at most 0.7 where it grows from
-  nothing, between where half of it is there.
+  nothing, between where half of it is there;
+- every result read: its lines agree (disagreements()).
 
 Each line for three track histories: the groove there from the start (the
 default), grown from nothing (--grow 15), half of it there (--grow 15
@@ -28,6 +29,7 @@ import argparse
 import hashlib
 import json
 import os
+import re
 import subprocess
 import sys
 import threading
@@ -47,6 +49,7 @@ class World:
     def __init__(self, vtrib, binary, cache, cycles):
         self.vtrib, self.binary, self.cache, self.cycles = vtrib, binary, cache, cycles
         self.locks, self.lock = {}, threading.Lock()
+        self.checked = []  # (what, its disagreements) of every result read
 
     def test(self, case, seed, noise, history, extra=()):
         """The folder of one simulated test (made once, kept in the cache)."""
@@ -84,7 +87,34 @@ class World:
         r["text"] = " ".join([r["headline"], r["verdict"]["summary"]] + r["warnings"])
         head = r["headline"]
         r["mu"] = float(head.split()[2]) if head.startswith("mu = ") else None
+        with self.lock:
+            self.checked.append((out, disagreements(r)))
         return r
+
+
+def disagreements(r):
+    """Lines of one result that contradict each other or that a reader
+    cannot use: the quote and the headline on whether mu is quoted, the
+    status and the verdict, nan or 0.0x inside a sentence, a line that says
+    mu is quoted under a headline with none, a spring both contradicted and
+    said to agree."""
+    found, q, verdict = [], r["quote"], r["verdict"]
+    quoted = q["mu"] is not None
+    if quoted != r["headline"].startswith("mu = "):
+        found.append("the quote and the headline disagree on whether mu is quoted")
+    if verdict["judged"] and (q["status"] in ("explained", "not settled")) != verdict["explained"]:
+        found.append(f"status {q['status']} beside a verdict explained={verdict['explained']}")
+    lines = [("headline", r["headline"]), ("verdict", verdict["summary"])]
+    lines += [("warning", w) for w in r["warnings"]] + [("assumption", a) for a in r["assumptions"]]
+    for kind, line in lines + [("reason", x) for x in verdict["reasons"]]:
+        if re.search(r"\bnan\b|\binf\b|\b0\.0x\b", line, re.I):
+            found.append(f"{kind}: {line[:120]}")
+        if not quoted and kind != "headline" and re.search(r"\bis quoted\b|\bquoted with\b", line):
+            found.append(f"{kind} says mu is quoted, the headline has none: {line[:120]}")
+    spring = r.get("spring", {})
+    if spring.get("contradicted") and any("the friction's path agrees" in a for a in r["assumptions"]):
+        found.append("the spring is contradicted and said to agree")
+    return found
 
 
 def doubted(r):
@@ -324,6 +354,9 @@ def main():
     with ThreadPoolExecutor(a.jobs) as pool:
         for jobs, one in studies:
             list(pool.map(one, jobs))
+    for out, found in world.checked:
+        tally.add("one result's lines agree (no nan, the quote as the headline)", not found,
+                  f"{out}: {'; '.join(found)}")
     # The acceptance: each line's allowed failures.
     limits = {"clean: screened": lambda runs: runs // 24,
               "clean: own scan doubted": lambda runs: runs // 100,

@@ -46,6 +46,17 @@ nlohmann::json MapJson(const ResidualMap& m) {
           {"repeatable_z", m.repeatable_z}};
 }
 
+nlohmann::json PremisesJson(const std::vector<Premise>& premises) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const Premise& p : premises) {
+    j.push_back({{"premise", p.statement},
+                 {"state", p.StateName()},
+                 {"evidence", p.evidence},
+                 {"otherwise", p.otherwise}});
+  }
+  return j;
+}
+
 nlohmann::json CandidateJson(const CandidateResult& c) {
   const Effect* e = FindEffect(c.effect);
   return {{"effect", c.effect},
@@ -67,6 +78,7 @@ nlohmann::json CandidateJson(const CandidateResult& c) {
           {"delta_bic", c.delta_bic},
           {"plausible", c.plausible},
           {"contradicted_by", c.contradicted},
+          {"premises", PremisesJson(c.premises)},
           // What it removed of the residual map's odd and even parts, and
           // whether that is the part dominating the residual.
           {"removes_direction_odd_rms_N", c.odd_removed_n},

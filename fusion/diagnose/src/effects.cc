@@ -26,6 +26,9 @@ class Ploughing : public Effect {
   std::vector<double> Lower() const override { return {-100.0}; }
   // A resistance: material pushed ahead never pulls the sphere on.
   bool Plausible(const double* p) const override { return p[0] >= 0; }
+  const char* PhysicsPremise() const override {
+    return "material pushed ahead resists the sliding (c_p >= 0)";
+  }
   std::vector<double> Upper() const override { return {100.0}; }
   void Apply(const double* p, EffectContext* c) const override {
     c->extra_n += p[0] * c->depth_mm;
@@ -68,6 +71,9 @@ class Viscous : public Effect {
   // A film sheared resists (c_v >= 0): a negative one would be friction
   // falling with speed, which is the Stribeck candidate's to claim.
   bool Plausible(const double* p) const override { return p[0] >= 0; }
+  const char* PhysicsPremise() const override {
+    return "a sheared film resists the sliding (c_v >= 0)";
+  }
   std::vector<double> Upper() const override { return {1.0}; }
   void Apply(const double* p, EffectContext* c) const override {
     c->extra_n += p[0] * c->speed_mm_s;
@@ -111,6 +117,22 @@ class TimeLag : public Effect {
   // turns show less than half of (by three standard errors) took another
   // effect's misfit (sharp friction bands shift the loops as a lag does,
   // but not the turns).
+  const char* DirectPremise() const override {
+    return "Q turns late at the reversals by at least half the fitted lag "
+           "(friction varying along the track shifts the loops, not the "
+           "turns)";
+  }
+  bool DirectlyMeasured(const DirectEvidence& e) const override {
+    return std::isfinite(e.q_delay_s) && std::isfinite(e.q_delay_se_s);
+  }
+  std::string DirectEvidenceText(const DirectEvidence& e) const override {
+    return fmt::format(
+        "Q turns at the reversals {:.2f} +- {:.2f} ms behind x (the median "
+        "over {} turns)",
+        1e3 * e.q_delay_s,
+        1e3 * e.q_delay_se_s,
+        e.reversals);
+  }
   std::string Contradiction(const double* p,
                             const DirectEvidence& e) const override {
     const double tau = p[0], seen = e.q_delay_s, se = e.q_delay_se_s;
@@ -147,6 +169,21 @@ class Crosstalk : public Effect {
   // P itself must follow the direction of sliding by c times Q's change:
   // a fit whose c the P channel shows less than half of (by three
   // standard errors) took another effect's misfit.
+  const char* DirectPremise() const override {
+    return "P itself follows the direction of sliding by at least half the "
+           "fitted share of Q's change (a spring presses alike both ways)";
+  }
+  bool DirectlyMeasured(const DirectEvidence& e) const override {
+    return std::isfinite(e.crosstalk_from_p) &&
+           std::isfinite(e.crosstalk_from_p_se);
+  }
+  std::string DirectEvidenceText(const DirectEvidence& e) const override {
+    return fmt::format(
+        "P follows the direction of sliding by c = {:.2g} +- {:.2g} of Q's "
+        "change",
+        e.crosstalk_from_p,
+        e.crosstalk_from_p_se);
+  }
   std::string Contradiction(const double* p,
                             const DirectEvidence& e) const override {
     const double c = p[0], seen = e.crosstalk_from_p;
@@ -181,6 +218,10 @@ class Hook : public Effect {
   // stroke's end, no pile-up's, and with a speed dependence it mimics a
   // peak after the reversal (adhesion grown at the dwell).
   bool Plausible(const double* p) const override { return p[0] >= 0; }
+  const char* PhysicsPremise() const override {
+    return "material piled up at the stroke's end resists the sliding "
+           "(H >= 0)";
+  }
   std::vector<double> Upper() const override { return {20.0, 3.0}; }
   void Apply(const double* p, EffectContext* c) const override {
     c->extra_n += p[0] * std::exp(-c->to_end_mm / p[1]);
@@ -361,6 +402,41 @@ std::unique_ptr<Effect> AlongTrackFrictionAt(std::vector<double> knots,
         "a shape's knots must increase strictly from 0 to 1, at least 3");
   }
   return std::make_unique<AlongTrack>(std::move(knots), edges);
+}
+
+std::vector<Premise> Effect::CheckPremises(const double* p,
+                                           const DirectEvidence& e) const {
+  using State = Premise::State;
+  std::vector<Premise> premises;
+  if (const char* physics = PhysicsPremise()) {
+    const bool held = Plausible(p);
+    premises.push_back(
+        {Name(),
+         physics,
+         held ? State::kHeld : State::kFailed,
+         fmt::format("fitted {} = {:.3g}", ParameterNames()[0], p[0]),
+         held ? "" : "not named: the fit took another effect's misfit"});
+  }
+  if (const char* direct = DirectPremise()) {
+    if (!DirectlyMeasured(e)) {
+      premises.push_back({Name(),
+                          direct,
+                          State::kNotChecked,
+                          "not measured by the channels",
+                          "named on the held-out gain alone"});
+    } else {
+      const std::string against = Contradiction(p, e);
+      premises.push_back({Name(),
+                          direct,
+                          against.empty() ? State::kHeld : State::kFailed,
+                          against.empty() ? DirectEvidenceText(e) : against,
+                          against.empty()
+                              ? ""
+                              : "not named: a look-alike of what Q's "
+                                "misfit holds"});
+    }
+  }
+  return premises;
 }
 
 const Effect* FindEffect(const std::string& name) {

@@ -121,7 +121,9 @@ CandidateResult TryEffect(const Data& data,
                          r.delta_bic < -o.bic_margin;
   r.plausible = e->Plausible(r.parameters.data());
   r.contradicted = e->Contradiction(r.parameters.data(), data.evidence);
-  r.accepted = r.accepted && r.plausible && r.contradicted.empty();
+  r.premises = e->CheckPremises(r.parameters.data(), data.evidence);
+  for (const Premise& premise : r.premises)
+    r.accepted = r.accepted && !premise.Failed();
   return r;
 }
 

@@ -13,6 +13,7 @@
 
 #include "wearscar/force/periodic.h"
 #include "wearscar/fusion/fit_mu.h"
+#include "wearscar/fusion/premise.h"
 
 namespace wearscar::fusion {
 
@@ -163,6 +164,9 @@ struct CandidateResult {
   // What the channels show against the fit (Effect::Contradiction), in
   // words; empty when nothing does.
   std::string contradicted;
+  // Its premises as checked (Effect::CheckPremises): a failed one keeps it
+  // from being named.
+  std::vector<Premise> premises;
   bool accepted = false;
   // What it removes of the residual's cycle-mean map along the stroke, by
   // direction parity (ResidualMap: rms before less rms after, N), and

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "wearscar/fusion/premise.h"
+
 namespace wearscar::fusion {
 
 // What a candidate effect sees of one gross-slip sample, and what it may
@@ -94,6 +96,24 @@ class Effect {
                                     const DirectEvidence& /*e*/) const {
     return {};
   }
+  // The premises its naming rests on beyond the held-out gain, in words:
+  // that the fitted parameters are its physics (checked by Plausible), and
+  // what the channels must show of it directly (checked by Contradiction
+  // where DirectlyMeasured); nullptr where it has none of that kind.
+  virtual const char* PhysicsPremise() const { return nullptr; }
+  virtual const char* DirectPremise() const { return nullptr; }
+  // Whether the channels measured what DirectPremise names, and what.
+  virtual bool DirectlyMeasured(const DirectEvidence& /*e*/) const {
+    return false;
+  }
+  virtual std::string DirectEvidenceText(const DirectEvidence& /*e*/) const {
+    return {};
+  }
+  // Those premises, each checked on the fitted parameters p and the direct
+  // evidence (a direct one not measured is "not checked"). A candidate
+  // with a failed premise is not named; diagnosis.json lists them.
+  std::vector<Premise> CheckPremises(const double* p,
+                                     const DirectEvidence& e) const;
   // Effects with many parameters (a shape) are held smooth by penalty
   // residuals added to the fit with a weight the diagnosis chooses by the
   // held-out cycles; `weight` multiplies the roughness terms.

@@ -65,6 +65,15 @@ def test_fuse_recovers_the_simulated_mu_per_cycle():
     assert np.all(cycles["mu_hat_force"] < high)
     lo, hi = result.summary["comparison"]["mu_hat_force"]["interval95"]
     assert lo < result.summary["comparison"]["mu_hat_force"]["mean"] < hi
+    # An analysis unit's table and section come through as the others do:
+    # the scanned shape grew during this record (the simulator's groove
+    # starts from nothing), about whole over the compared cycles.
+    shape = result.tables["scan_shape_history"]
+    assert list(shape["cycle"]) == list(cycles["cycle"])
+    section = result.summary["scan_shape_history"]
+    assert section["first_cycles_factor"] < 0.5
+    assert abs(section["compared_cycles_factor"] - 1) < 0.1
+    assert "scan_shape_history" in [u["kind"] for u in result.summary["units"]]
     history = wearscar.fuse(test.force, test.scan, running_in=20,
                             scan_slope_history=True)
     assert history.summary["options"]["scan"]["scan_slope_history"] is True

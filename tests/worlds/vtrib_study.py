@@ -165,7 +165,11 @@ def shape(r, history, what, tally):
     if first is not None:
         SHAPE_SEEN.setdefault(history, []).append(first)
     ok = first is not None and low <= first <= high and abs(compared - 1) <= 0.15
-    tally.add(f"scan shape: the first cycles' share told ({history}: {low}-{high})", ok,
+    # And said where the result is read, for the two clear histories.
+    said = {"start": "there from the first recorded cycle", "grow": "grew during the record"}
+    if history in said:
+        ok = ok and any(said[history] in a for a in r["assumptions"])
+    tally.add(f"scan shape: the first cycles' share told and said ({history}: {low}-{high})", ok,
               f"{what}: first {first}, compared {compared}, {s.get('abstained', '')}")
 
 

@@ -68,6 +68,29 @@ class ScanShapeUnit : public TypedUnit<ScanShapeHistory> {
     return UnitStage::kJudged;
   }
   ScanShapeHistory Run(const UnitInput& in) const override;
+  // The track's history said where the result is read: there from the
+  // first recorded cycle (at least half of the scanned shape from cycle 1
+  // on) or grown during the record.
+  void Say(const ScanShapeHistory& h, TestResult* r) const override {
+    if (!h.abstained.empty() || !std::isfinite(h.first_factor)) return;
+    if (h.half_cycle == 0) {
+      r->assumptions.push_back(fmt::format(
+          "the worn track was there from the first recorded cycle (a "
+          "pre-worn or resumed specimen, or a later block of a long test): "
+          "the first {} cycles' P/S hold {:.2f} of the scanned shape",
+          h.first_cycles,
+          h.first_factor));
+    } else {
+      r->assumptions.push_back(fmt::format(
+          "the worn track grew during the record: the first {} cycles' P/S "
+          "hold {:.2f} of the scanned shape{}",
+          h.first_cycles,
+          h.first_factor,
+          h.half_cycle > 0
+              ? fmt::format(", half of it from cycle {} on", h.half_cycle + 1)
+              : std::string()));
+    }
+  }
   std::vector<Premise> Premises(const ScanShapeHistory&,
                                 const TestResult& r) const override {
     return Checked(r);

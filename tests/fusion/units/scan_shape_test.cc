@@ -50,6 +50,10 @@ TEST(ScanShapeHistory, TellsAGrownGrooveFromOneThereAtTheStart) {
       EXPECT_LT(gh->first_factor, 0.5) << what;
       EXPECT_GT(gh->half_cycle, 0) << what;
       EXPECT_NEAR(gh->compared_factor, 1.0, 0.1) << what;
+      EXPECT_NE(g.assumptions.back().find("the worn track grew during the "
+                                          "record"),
+                std::string::npos)
+          << what << ": " << g.assumptions.back();
 
       const sim::SimulatedTest late = ShapeCase(name, noise, 300);
       const TestResult l = AnalyzeTest(late.record, late.scan, WithoutLugre());
@@ -58,6 +62,10 @@ TEST(ScanShapeHistory, TellsAGrownGrooveFromOneThereAtTheStart) {
       EXPECT_GT(lh.first_factor, 0.8) << what;
       EXPECT_EQ(lh.half_cycle, 0) << what;
       EXPECT_NEAR(lh.compared_factor, 1.0, 0.1) << what;
+      EXPECT_NE(l.assumptions.back().find(
+                    "the worn track was there from the first recorded cycle"),
+                std::string::npos)
+          << what << ": " << l.assumptions.back();
 
       const TestProducts p =
           MakeTestProducts(name, late.record, l, l.options, {{}, false});

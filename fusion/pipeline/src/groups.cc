@@ -160,55 +160,209 @@ std::string Interaction(const std::vector<Unit>& specimens,
       p);
 }
 
-// Main effects fitted by least squares (treatment coding, the first level
-// of each factor the reference): the differences between every two levels
-// of a factor, adjusted for the others, tested on the residual spread.
-// Returns false (the design does not identify the effects, or leaves too
-// few degrees of freedom) so that the caller falls back to Welch.
-bool LinearModel(const std::vector<Unit>& specimens,
-                 const std::vector<std::string>& factors,
-                 GroupComparison* c) {
-  const auto levels = LevelsOf(specimens, factors);
-  std::map<std::pair<std::string, std::string>, int> column;
-  int p = 1;
-  for (const std::string& f : factors)
-    for (size_t l = 1; l < levels.at(f).size(); ++l)
-      column[{f, levels.at(f)[l]}] = p++;
-  const int n = static_cast<int>(specimens.size());
-  if (n - p < 2) return false;
-  Eigen::MatrixXd x = Eigen::MatrixXd::Zero(n, p);
-  Eigen::VectorXd y(n);
-  for (int i = 0; i < n; ++i) {
-    x(i, 0) = 1;
-    y(i) = specimens[i].value;
-    for (const std::string& f : factors) {
-      const auto at = column.find({f, specimens[i].levels.at(f)});
-      if (at != column.end()) x(i, at->second) = 1;
+// A term of the linear model: the factors (indices into the factor list)
+// whose product it is; one factor: its main effect.
+using Term = std::vector<size_t>;
+
+// The terms of the model: the main effects, and with `interactions` the
+// product of every set of factors that is crossed among the specimens
+// (each combination of those factors' levels holds one; two factors:
+// a x b; three: the pairs crossed and the triple if crossed).
+std::vector<Term> Terms(
+    const std::vector<Unit>& specimens,
+    const std::vector<std::string>& factors,
+    const std::map<std::string, std::vector<std::string>>& levels,
+    bool interactions) {
+  std::vector<Term> terms;
+  for (size_t f = 0; f < factors.size(); ++f) terms.push_back({f});
+  if (!interactions || factors.size() > 8) return terms;
+  for (size_t size = 2; size <= factors.size(); ++size) {
+    for (unsigned mask = 0; mask < (1u << factors.size()); ++mask) {
+      if (static_cast<size_t>(__builtin_popcount(mask)) != size) continue;
+      Term t;
+      size_t combinations = 1;
+      for (size_t f = 0; f < factors.size(); ++f)
+        if (mask & (1u << f))
+          t.push_back(f), combinations *= levels.at(factors[f]).size();
+      std::set<std::string> seen;
+      for (const Unit& s : specimens) {
+        std::string key;
+        for (size_t f : t) key += s.levels.at(factors[f]) + "\x1f";
+        seen.insert(key);
+      }
+      if (seen.size() == combinations) terms.push_back(t);
     }
   }
+  return terms;
+}
+
+// The design matrix in sum-to-zero (effects) coding: a factor of L levels
+// gives L-1 columns, its level j < L-1 +1 in column j and its last level
+// -1 in each; an interaction's columns are the products of its factors'.
+// Then a level's main effect is its column's coefficient (the last level's
+// minus their sum), and the difference of two levels' effects is the
+// difference of their marginal means averaged evenly over the other
+// factors' levels, with or without the interactions in the model.
+struct Design {
+  Eigen::MatrixXd x;
+  std::vector<std::pair<int, int>> columns;  // per term: first, count
+};
+
+Design BuildDesign(
+    const std::vector<Unit>& specimens,
+    const std::vector<std::string>& factors,
+    const std::map<std::string, std::vector<std::string>>& levels,
+    const std::vector<Term>& terms) {
+  Design d;
+  int p = 1;
+  for (const Term& t : terms) {
+    int count = 1;
+    for (size_t f : t)
+      count *= static_cast<int>(levels.at(factors[f]).size()) - 1;
+    d.columns.push_back({p, count});
+    p += count;
+  }
+  const Eigen::Index n = static_cast<Eigen::Index>(specimens.size());
+  d.x = Eigen::MatrixXd::Zero(n, p);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    d.x(i, 0) = 1;
+    for (size_t k = 0; k < terms.size(); ++k) {
+      std::vector<double> v = {1.0};
+      for (size_t f : terms[k]) {
+        const auto& lv = levels.at(factors[f]);
+        const size_t at = static_cast<size_t>(
+            std::find(
+                lv.begin(), lv.end(), specimens[i].levels.at(factors[f])) -
+            lv.begin());
+        std::vector<double> coded(lv.size() - 1, 0.0);
+        for (size_t j = 0; j < coded.size(); ++j)
+          coded[j] = at == j ? 1.0 : at + 1 == lv.size() ? -1.0 : 0.0;
+        std::vector<double> product;
+        for (double a : v)
+          for (double b : coded) product.push_back(a * b);
+        v = std::move(product);
+      }
+      for (size_t j = 0; j < v.size(); ++j)
+        d.x(i, d.columns[k].first + static_cast<int>(j)) = v[j];
+    }
+  }
+  return d;
+}
+
+double ResidualSquares(const Eigen::MatrixXd& x, const Eigen::VectorXd& y) {
   const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(x);
-  if (qr.rank() < p) return false;
+  return (y - x * qr.solve(y)).squaredNorm();
+}
+
+// Each interaction term tested against the full model (the term's columns
+// dropped: its F on the residual spread); "" when none is in the model.
+std::string InteractionTests(const Design& d,
+                             const Eigen::VectorXd& y,
+                             const std::vector<std::string>& factors,
+                             const std::vector<Term>& terms,
+                             double rss,
+                             double df,
+                             GroupComparison* c) {
+  std::vector<std::string> said, interacting;
+  for (size_t k = 0; k < terms.size(); ++k) {
+    if (terms[k].size() < 2) continue;
+    const auto [first, count] = d.columns[k];
+    Eigen::MatrixXd reduced(d.x.rows(), d.x.cols() - count);
+    reduced << d.x.leftCols(first), d.x.rightCols(d.x.cols() - first - count);
+    TermTest t;
+    for (size_t f : terms[k])
+      t.term += (t.term.empty() ? "" : " x ") + factors[f];
+    t.df1 = count;
+    t.df2 = df;
+    t.f = ((ResidualSquares(reduced, y) - rss) / count) / (rss / df);
+    t.p = boost::math::cdf(boost::math::complement(
+        boost::math::fisher_f(t.df1, t.df2), std::max(t.f, 0.0)));
+    said.push_back(fmt::format("{} F = {:.3g}, p = {:.2g}", t.term, t.f, t.p));
+    if (t.p < 0.05) interacting.push_back(t.term);
+    c->interactions.push_back(t);
+  }
+  if (said.empty()) return "";
+  std::string s = fmt::format("; interactions: {}", fmt::join(said, "; "));
+  if (!interacting.empty())
+    s += fmt::format(
+        "; the factors interact ({}): each difference is an average over "
+        "the other factors' levels, and the groups' table says where it "
+        "holds",
+        fmt::join(interacting, ", "));
+  return s;
+}
+
+// The factors' effects fitted by least squares, with the interactions of
+// the factors crossed among the specimens (Terms) where the design
+// identifies them and leaves two degrees of freedom for the spread, else
+// main effects alone: the
+// differences between every two levels of a factor (their marginal means,
+// averaged evenly over the other factors' levels), tested on the residual
+// spread. Returns false (the design does not identify the effects, or
+// leaves too few degrees of freedom) so that the caller falls back to
+// Welch.
+bool LinearModel(const std::vector<Unit>& specimens,
+                 const std::vector<std::string>& factors,
+                 bool interactions,
+                 GroupComparison* c) {
+  const auto levels = LevelsOf(specimens, factors);
+  const std::vector<Term> terms =
+      Terms(specimens, factors, levels, interactions);
+  interactions = terms.size() > factors.size();
+  const Design design = BuildDesign(specimens, factors, levels, terms);
+  const Eigen::MatrixXd& x = design.x;
+  const int n = static_cast<int>(specimens.size());
+  const int p = static_cast<int>(x.cols());
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(x);
+  if (n - p < 2 || qr.rank() < p)  // main effects alone, or Welch
+    return interactions && LinearModel(specimens, factors, false, c);
+  Eigen::VectorXd y(n);
+  for (int i = 0; i < n; ++i) y(i) = specimens[i].value;
   const Eigen::VectorXd beta = qr.solve(y);
   const double df = n - p;
-  const double s2 = (y - x * beta).squaredNorm() / df;
+  const double rss = (y - x * beta).squaredNorm(), s2 = rss / df;
   const Eigen::MatrixXd cov = (x.transpose() * x).inverse() * s2;
+  std::vector<std::string> products;
+  for (const Term& t : terms) {
+    if (t.size() < 2) continue;
+    std::vector<std::string> names;
+    for (size_t f : t) names.push_back(factors[f]);
+    products.push_back(fmt::format("{}", fmt::join(names, " x ")));
+  }
+  const bool all =
+      products.size() == (size_t{1} << factors.size()) - factors.size() - 1;
   c->test = fmt::format(
-      "linear model of the specimens' values on {} (main effects; residual "
-      "spread {:.3g} on {} degrees of freedom){}",
-      fmt::join(factors, " + "),
+      "linear model of the specimens' values on {} ({}; residual spread "
+      "{:.3g} on {} degrees of freedom){}",
+      fmt::join(factors, all ? " * " : " + "),
+      !interactions ? std::string("main effects")
+      : all ? std::string("main effects and their interactions, the design "
+                          "crossed")
+            : fmt::format("main effects and the interactions of the factors "
+                          "crossed: {}",
+                          fmt::join(products, ", ")),
       std::sqrt(s2),
       n - p,
-      Interaction(specimens, factors, s2 * df, df));
+      interactions ? InteractionTests(design, y, factors, terms, rss, df, c)
+                   : Interaction(specimens, factors, rss, df));
   c->plan.sd_between = std::sqrt(s2);
-  for (const std::string& f : factors) {
-    const auto& lv = levels.at(f);
+  for (size_t f = 0; f < factors.size(); ++f) {
+    const auto& lv = levels.at(factors[f]);
+    const int first = design.columns[f].first;
+    // A level's main effect as a combination of the coefficients.
+    auto effect = [&](size_t l) {
+      Eigen::VectorXd w = Eigen::VectorXd::Zero(p);
+      if (l + 1 < lv.size())
+        w(first + static_cast<int>(l)) = 1;
+      else
+        w.segment(first, static_cast<int>(lv.size()) - 1).setConstant(-1);
+      return w;
+    };
     for (size_t a = 0; a < lv.size(); ++a) {
       for (size_t b = a + 1; b < lv.size(); ++b) {
-        Eigen::VectorXd w = Eigen::VectorXd::Zero(p);
-        if (a > 0) w(column.at({f, lv[a]})) = -1;
-        w(column.at({f, lv[b]})) = 1;
+        const Eigen::VectorXd w = effect(b) - effect(a);
         LevelDifference d;
-        d.factor = f;
+        d.factor = factors[f];
         d.level_a = lv[a];
         d.level_b = lv[b];
         d.test = "linear model";
@@ -361,7 +515,7 @@ GroupComparison Compare(const std::vector<nlohmann::json>& rows,
   if (factors.size() > 1)
     for (const auto& [cell, v] : cells)
       c.levels.push_back(Describe("group", cell, v));
-  if (factors.size() < 2 || !LinearModel(kept, factors, &c))
+  if (factors.size() < 2 || !LinearModel(kept, factors, true, &c))
     WelchDifferences(kept, factors, &c);
   if (quantity == "mu_to_quote") Plan(o, &c.plan);
   return c;
@@ -541,6 +695,13 @@ nlohmann::json GroupsJson(const std::vector<GroupComparison>& comparisons) {
                           {"test", c.test},
                           {"left_out", c.left_out},
                           {"abstained", c.abstained}};
+    one["interactions"] = nlohmann::json::array();
+    for (const TermTest& t : c.interactions)
+      one["interactions"].push_back({{"term", t.term},
+                                     {"f", t.f},
+                                     {"df", {t.df1, t.df2}},
+                                     {"p", t.p},
+                                     {"interacting", t.p < 0.05}});
     if (c.quantity == "mu_to_quote")
       one["plan"] = {{"sd_between_specimens", c.plan.sd_between},
                      {"difference", c.plan.difference},

@@ -12,9 +12,13 @@
 // Premises, checked and said: the specimens are independent replicates of
 // their group (one value each); the spread between specimens is about the
 // same in every group (the linear model's; Welch's test for one factor
-// does not need it); the factors act additively (main effects; an
-// interaction is not modelled, and the table says so).
+// does not need it). Where the design is crossed and replicated the model
+// holds the factors' interactions, each tested, and a level's effect is
+// its marginal mean averaged evenly over the other factors' levels;
+// otherwise the factors are taken to act additively (main effects), which
+// the groups' own means check (a lack-of-fit F test, said).
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -49,6 +53,13 @@ struct LevelDifference {
   bool Different() const { return p < 0.05; }
 };
 
+// An interaction of factors in the linear model, tested against the full
+// model (its columns dropped).
+struct TermTest {
+  std::string term;  // "species x plane"
+  double f = NAN, df1 = 0, df2 = 0, p = NAN;
+};
+
 struct ReplicatePlan {
   double sd_between = 0;  // the spread between specimens the plan uses
   double difference = 0, power = 0;
@@ -61,8 +72,9 @@ struct GroupComparison {
   std::vector<std::string> factors;
   std::vector<LevelStatistic> levels;  // per factor level, then per group
   std::vector<LevelDifference> differences;
-  std::vector<std::string> left_out;  // "name (why)"
-  std::string test;                   // how the differences were tested
+  std::vector<std::string> left_out;   // "name (why)"
+  std::string test;                    // how the differences were tested
+  std::vector<TermTest> interactions;  // where the model holds them
   std::string abstained;  // why nothing was compared ("" when it was)
   ReplicatePlan plan;     // mu only
 };

@@ -203,7 +203,8 @@ def exports(a, lab, out, groups, work):
     check("S = 10.19 N/mm" in methods and
           "24 of 24 specimens gave a mu to quote" in methods and
           "Groups (species, plane, direction)" in methods and
-          "@article{zheng_wear_scar" in open(os.path.join(
+          "@article{zheng_wear_scar,\n  author = {Zheng, Yi and Cabboi, "
+          "Alessandro and {van de Kuilen}, Jan-Willem}" in open(os.path.join(
               out, "references.bib")).read(),
           "methods.md says the spring, the specimens quoted and the groups")
     # A German Excel's CSV: semicolons, decimal commas, the same numbers.

@@ -115,11 +115,13 @@ std::string References(const std::vector<nlohmann::json>& rows) {
     year = p.value("date_utc", std::string("????")).substr(0, 4);
     break;
   }
-  // The paper's journal, year and DOI are not in what the project holds:
-  // the entry says so rather than guess them.
+  // The authors as the paper's contribution statement names them; its
+  // journal, year and DOI are not in what the project holds (its newest
+  // reference is of 2024): the entry says so rather than guess them.
   return fmt::format(
       "@article{{zheng_wear_scar,\n"
-      "  author = {{Zheng and Cabboi and {{van de Kuilen}}}},\n"
+      "  author = {{Zheng, Yi and Cabboi, Alessandro and {{van de Kuilen}}, "
+      "Jan-Willem}},\n"
       "  title = {{Identification of the coefficient of sliding friction from "
       "an apparent non-{{C}}oulomb behavior between wood and steel}},\n"
       "  note = {{Complete the journal, year and DOI from the published "

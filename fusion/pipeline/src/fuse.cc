@@ -501,9 +501,13 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
   // The track's history from the spring, a unit of those, is read by the
   // decision, the scan's slope and the spring check before they are
   // collected.
-  std::shared_future<TrackHistory> history = std::async(
-      std::launch::deferred,
-      [&units] { return *units.Await<TrackHistory>("track_history"); });
+  std::shared_future<TrackHistory> history =
+      std::async(std::launch::deferred, [&units] {
+        const auto h = units.Await<TrackHistory>("track_history");
+        WEARSCAR_CHECK(h != nullptr,
+                       "the track's history unit must run on every test");
+        return *h;
+      });
   PipelineEvidence evidence(
       record, segmented, ao, result.options, std::move(prepared_scan), history);
   result.profile = DecideProfile(&evidence, result.options);

@@ -91,9 +91,9 @@ class ScanShapeUnit : public TypedUnit<ScanShapeHistory> {
               : std::string()));
     }
   }
-  std::vector<Premise> Premises(const ScanShapeHistory&,
-                                const TestResult& r) const override {
-    return Checked(r);
+  std::vector<Premise> Premises(const ScanShapeHistory& h,
+                                const TestResult&) const override {
+    return h.premises;
   }
   nlohmann::json Json(const ScanShapeHistory& h,
                       const TestResult&) const override {
@@ -180,7 +180,8 @@ double MeanOver(const std::vector<double>& v, int first, int last) {
 ScanShapeHistory ScanShapeUnit::Run(const UnitInput& in) const {
   const TestResult& r = *in.judged;
   ScanShapeHistory out;
-  for (const Premise& p : Checked(r)) {
+  out.premises = Checked(r);
+  for (const Premise& p : out.premises) {
     if (p.Failed()) {
       out.abstained =
           fmt::format("{} ({}): {}", p.statement, p.evidence, p.otherwise);

@@ -3,22 +3,19 @@
 // or resumed specimen, a later block of a long test), and the second part
 // of a test cut in two, analysed alone.
 
+#include "common/histories.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <string>
 
-#include "common/simulated.h"
 #include "wearscar/fusion/fuse.h"
 
 namespace wearscar::fusion {
 namespace {
 
-FuseOptions Quiet() {
-  FuseOptions o;
-  o.fit_lugre = false;
-  return o;
-}
+FuseOptions Quiet() { return sim::WithoutLugre(); }
 
 double TruthOver(const sim::SimulatedTest& t, int first, int last) {
   double sum = 0;
@@ -33,11 +30,7 @@ double TruthOver(const sim::SimulatedTest& t, int first, int last) {
 TEST(TrackHistories, ARecordThatStartsLateKeepsTheRightSpring) {
   for (const char* name : {"B-RT-R", "S-RT-T", "S-RL-R"}) {
     for (double noise : {1.0, 2.0}) {
-      samples::SimulationOptions o = samples::PaperCase(name, false);
-      o.cycles = 60;
-      o.record_from_cycle = 300;
-      o.noise_scale = noise;
-      const sim::SimulatedTest t = sim::Simulate(o);
+      const sim::SimulatedTest t = sim::HistoryCase(name, noise, 300);
       for (bool scan : {false, true}) {
         const TestResult r = scan
                                  ? AnalyzeTest(t.record, t.scan, Quiet())

@@ -10,7 +10,7 @@
 
 #include <string>
 
-#include "common/simulated.h"
+#include "common/histories.h"
 #include "wearscar/fusion/fuse.h"
 #include "wearscar/fusion/products.h"
 #include "wearscar/fusion/scan_shape_history.h"
@@ -18,19 +18,7 @@
 namespace wearscar::fusion {
 namespace {
 
-FuseOptions WithoutLugre() {
-  FuseOptions o;
-  o.fit_lugre = false;
-  return o;
-}
-
-sim::SimulatedTest ShapeCase(const char* name, double noise, int record_from) {
-  samples::SimulationOptions o = samples::PaperCase(name, false);
-  o.cycles = 60;
-  o.record_from_cycle = record_from;
-  o.noise_scale = noise;
-  return sim::Simulate(o);
-}
+using sim::WithoutLugre;
 
 // The factor over the first cycles tells the two histories apart at noise
 // 1 and 2 on both woods; over the compared cycles it is about 1 (the scan
@@ -40,7 +28,7 @@ TEST(ScanShapeHistory, TellsAGrownGrooveFromOneThereAtTheStart) {
     for (double noise : {1.0, 2.0}) {
       const std::string what =
           std::string(name) + " noise " + std::to_string(noise);
-      const sim::SimulatedTest grown = ShapeCase(name, noise, 0);
+      const sim::SimulatedTest grown = sim::HistoryCase(name, noise, 0);
       const TestResult g =
           AnalyzeTest(grown.record, grown.scan, WithoutLugre());
       const ScanShapeHistory* gh = g.units.Find<ScanShapeHistory>();
@@ -55,7 +43,7 @@ TEST(ScanShapeHistory, TellsAGrownGrooveFromOneThereAtTheStart) {
                 std::string::npos)
           << what << ": " << g.assumptions.back();
 
-      const sim::SimulatedTest late = ShapeCase(name, noise, 300);
+      const sim::SimulatedTest late = sim::HistoryCase(name, noise, 300);
       const TestResult l = AnalyzeTest(late.record, late.scan, WithoutLugre());
       const ScanShapeHistory& lh = l.units.Get<ScanShapeHistory>();
       ASSERT_EQ(lh.abstained, "") << what;
@@ -105,8 +93,8 @@ TEST(ScanShapeHistory, AbstainsNamingThePremiseThatFailed) {
   EXPECT_TRUE(listed);
 
   // Another specimen's scan (another case's track): doubted, so abstained.
-  const sim::SimulatedTest own = ShapeCase("B-RT-R", 1.0, 0);
-  const sim::SimulatedTest other = ShapeCase("S-RT-T", 1.0, 0);
+  const sim::SimulatedTest own = sim::HistoryCase("B-RT-R", 1.0, 0);
+  const sim::SimulatedTest other = sim::HistoryCase("S-RT-T", 1.0, 0);
   const TestResult f = AnalyzeTest(own.record, other.scan, WithoutLugre());
   ASSERT_NE(f.verdict.scan_doubt, "");
   EXPECT_NE(f.units.Get<ScanShapeHistory>().abstained.find(

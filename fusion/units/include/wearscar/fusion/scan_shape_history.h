@@ -10,12 +10,16 @@
 #include <string>
 #include <vector>
 
+#include "wearscar/fusion/premise.h"
+
 namespace wearscar::fusion {
 
 struct ScanShapeHistory {
   // Why it was not computed, naming the premise that failed ("" when it
   // was).
   std::string abstained;
+  // Its premises as checked when it ran (result.json premises).
+  std::vector<Premise> premises;
   // Per cycle (0-based, every cycle of the track's history): the
   // least-squares factor of the scan's profile, scaled as P/S sees it
   // over the compared cycles, in the cycle's P/S about its mean (1: the

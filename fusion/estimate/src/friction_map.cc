@@ -284,6 +284,8 @@ FrictionMap ComputeFrictionMap(const force::ForceRecord& record,
     map_friction.ensemble.span_mm =
         std::max(options.slope_span_mm, 2 * map_friction.ensemble.bin_mm);
   }
+  m.slope_span_mm = map_friction.ensemble.span_mm;
+  m.slope_polynomial_order = map_friction.ensemble.polynomial_order;
   LoopSums loop;
   loop.count = static_cast<size_t>(options.loop_bins);
   loop.width = loop.count > 0 ? (hi - lo) / options.loop_bins : 0.0;

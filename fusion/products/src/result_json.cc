@@ -245,15 +245,21 @@ nlohmann::json ScanJson(const ScanAnalysis& s) {
 }
 
 // Each analysis unit's section under its kind (a unit may have none), and
-// which ran and what each read.
+// which ran, what each read and its choices as given and used.
 void AddUnitSections(const TestResult& r, nlohmann::json* j) {
   (*j)["units"] = nlohmann::json::array();
   for (const auto& [unit, result] : UnitsThatRan(r)) {
     nlohmann::json section = unit->JsonErased(result, r);
     if (!section.is_null()) (*j)[unit->Kind()] = std::move(section);
-    (*j)["units"].push_back({{"kind", unit->Kind()},
-                             {"what", unit->Spec().what},
-                             {"reads", unit->Spec().reads}});
+    nlohmann::json entry = {{"kind", unit->Kind()},
+                            {"what", unit->Spec().what},
+                            {"reads", unit->Spec().reads}};
+    for (const UnitChoice& c : unit->ChoicesErased(result, r)) {
+      entry["given"][c.name] = c.given;
+      entry["used"][c.name] = c.used;
+      if (!c.why.empty()) entry["why"][c.name] = c.why;
+    }
+    (*j)["units"].push_back(std::move(entry));
   }
 }
 

@@ -37,18 +37,34 @@ class FrictionMapUnit : public TypedUnit<FrictionMap> {
                               in.force.running_in.cycles,
                               in.options.friction_map);
   }
+  // The slope fit's span and order: the map's own where given (the span
+  // at least two of the fit's bins), else the force side's.
+  std::vector<UnitChoice> Choices(const FrictionMap& m,
+                                  const TestResult& r) const override {
+    const FrictionMapOptions& fm = r.options.friction_map;
+    const auto given = [](auto v) {
+      return v > 0 ? nlohmann::json(v) : nlohmann::json("the force side's");
+    };
+    const double bin = r.options.analysis.friction.ensemble.bin_mm;
+    return {
+        {"slope_span_mm",
+         given(fm.slope_span_mm),
+         m.slope_span_mm,
+         fm.slope_span_mm > 0 && m.slope_span_mm > fm.slope_span_mm
+             ? fmt::format("at least two of the slope fit's {:g} mm bins", bin)
+             : ""},
+        {"slope_polynomial_order",
+         given(fm.slope_polynomial_order),
+         m.slope_polynomial_order,
+         ""}};
+  }
   nlohmann::json Json(const FrictionMap& m,
                       const TestResult& r) const override {
     const FuseOptions& o = r.options;
     const FrictionMapOptions& fm = o.friction_map;
     return {{"bin_mm", fm.bin_mm},
-            {"slope_polynomial_order",
-             fm.slope_polynomial_order != 0
-                 ? fm.slope_polynomial_order
-                 : o.analysis.friction.ensemble.polynomial_order},
-            {"slope_span_mm",
-             fm.slope_span_mm > 0 ? fm.slope_span_mm
-                                  : o.analysis.friction.ensemble.span_mm},
+            {"slope_polynomial_order", m.slope_polynomial_order},
+            {"slope_span_mm", m.slope_span_mm},
             {"bins", m.x_mm.size()},
             {"loop_bins", m.loop_x_mm.size()},
             {"first_steady_cycle", m.first_steady_cycle + 1},

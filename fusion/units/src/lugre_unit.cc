@@ -32,6 +32,16 @@ class LugreUnit : public TypedUnit<LugreFit> {
                     in.options.DetailedCycle(n),
                     in.options.lugre);
   }
+  // The detail cycle: the last unless one is given (one beyond the test
+  // is refused, not replaced).
+  std::vector<UnitChoice> Choices(const LugreFit&,
+                                  const TestResult& r) const override {
+    const int given = r.options.detail_cycle;
+    return {{"detail_cycle",
+             given >= 0 ? nlohmann::json(given + 1) : nlohmann::json("last"),
+             r.detail_cycle + 1,
+             ""}};
+  }
   nlohmann::json Json(const LugreFit& lg, const TestResult& r) const override {
     const auto& p = lg.parameters;
     return {{"cycle", r.detail_cycle + 1},

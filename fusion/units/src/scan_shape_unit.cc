@@ -91,6 +91,19 @@ class ScanShapeUnit : public TypedUnit<ScanShapeHistory> {
               : std::string()));
     }
   }
+  // The first cycles pooled: the track history's pool, fewer where the
+  // record is shorter.
+  std::vector<UnitChoice> Choices(const ScanShapeHistory& h,
+                                  const TestResult& r) const override {
+    if (!h.abstained.empty()) return {};
+    const int given = r.options.track_history.pool_cycles;
+    return {{"first_cycles",
+             given,
+             h.first_cycles,
+             h.first_cycles < given
+                 ? fmt::format("the record has {} cycles", h.first_cycles)
+                 : ""}};
+  }
   std::vector<Premise> Premises(const ScanShapeHistory& h,
                                 const TestResult&) const override {
     return h.premises;

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
 #include <string>
 
 #include "common/histories.h"
@@ -101,6 +102,43 @@ TEST(ScanShapeHistory, AbstainsNamingThePremiseThatFailed) {
                 "the scan is this test's track"),
             std::string::npos)
       << f.units.Get<ScanShapeHistory>().abstained;
+}
+
+// Each unit records the choices the data may override as given and used
+// (result.json's "units"): the scan shape's first cycles on a record
+// shorter than its pool, the friction map's slope span below two of the
+// fit's bins, LuGre's detail cycle.
+TEST(Units, RecordTheirChoicesAsGivenAndUsed) {
+  const sim::SimulatedTest t = sim::HistoryCase("B-RT-R", 1.0, 300, 10);
+  FuseOptions o = sim::WithoutLugre();
+  o.fit_lugre = true;
+  o.detail_cycle = 4;
+  o.friction_map.slope_span_mm = 0.005;
+  const TestResult r = AnalyzeTest(t.record, t.scan, o);
+  const TestProducts p =
+      MakeTestProducts("B-RT-R", t.record, r, r.options, {{}, false});
+  std::map<std::string, nlohmann::json> units;
+  for (const nlohmann::json& u : p.result["units"]) units[u["kind"]] = u;
+  const int n = static_cast<int>(r.force.cycles.cycles.size());
+  ASSERT_LT(n, 15);
+  const nlohmann::json& shape = units.at("scan_shape_history");
+  EXPECT_EQ(shape["given"]["first_cycles"], 15);
+  EXPECT_EQ(shape["used"]["first_cycles"], n);
+  EXPECT_EQ(shape["why"]["first_cycles"],
+            "the record has " + std::to_string(n) + " cycles");
+  const nlohmann::json& map = units.at("friction_map");
+  EXPECT_EQ(map["given"]["slope_span_mm"], 0.005);
+  EXPECT_DOUBLE_EQ(map["used"]["slope_span_mm"].get<double>(), 0.02);
+  EXPECT_EQ(p.result["friction_map"]["slope_span_mm"],
+            map["used"]["slope_span_mm"]);
+  EXPECT_EQ(map["given"]["slope_polynomial_order"], 3);  // the map's own
+  EXPECT_EQ(map["used"]["slope_polynomial_order"], 3);
+  EXPECT_FALSE(map["why"].contains("slope_polynomial_order"));
+  const nlohmann::json& lugre = units.at("lugre");
+  EXPECT_EQ(lugre["given"]["detail_cycle"], 5);
+  EXPECT_EQ(lugre["used"]["detail_cycle"], 5);
+  EXPECT_FALSE(lugre.contains("why"));
+  EXPECT_FALSE(units.at("wear").contains("given"));
 }
 
 }  // namespace

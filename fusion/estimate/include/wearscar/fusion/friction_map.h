@@ -40,6 +40,10 @@ struct FrictionMapOptions {
 // effect is missing.
 struct FrictionMap {
   std::vector<double> x_mm;  // bin centres
+  // The slope fit's span and polynomial order the map used: the options',
+  // the span at least two of the fit's bins.
+  double slope_span_mm = 0.0;
+  int slope_polynomial_order = 0;
   int cycles = 0;
   // Per (cycle, direction, bin) at (cycle * 2 + direction) * bins + bin;
   // direction 0 forward, 1 reverse. NaN where the bin is empty.

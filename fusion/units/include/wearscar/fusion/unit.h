@@ -105,6 +105,17 @@ struct UnitTable {
   Table table;
 };
 
+// A choice a unit makes that the options give and the data may override,
+// recorded as given and as used (as Ceres' Solver::Summary records its
+// *_given and *_used): the detail cycle LuGre ran on, the slope span the
+// friction map's fit took, the first cycles the scan's shape was pooled
+// over. result.json's "units" lists them.
+struct UnitChoice {
+  std::string name;            // "detail_cycle"
+  nlohmann::json given, used;  // "last" or "default" where none was given
+  std::string why;             // why used differs from given ("" same)
+};
+
 // What a unit declares about itself.
 struct UnitSpec {
   const char* kind;  // result.json's key and the registry's name
@@ -134,6 +145,8 @@ class AnalysisUnit {
   virtual void SayErased(const void* result, TestResult* r) const = 0;
   virtual std::vector<Premise> PremisesErased(const void* result,
                                               const TestResult& r) const = 0;
+  virtual std::vector<UnitChoice> ChoicesErased(const void* result,
+                                                const TestResult& r) const = 0;
   virtual nlohmann::json JsonErased(const void* result,
                                     const TestResult& r) const = 0;
   virtual std::vector<UnitTable> TablesErased(const void* result,
@@ -154,6 +167,10 @@ class TypedUnit : public AnalysisUnit {
   virtual void Say(const R&, TestResult*) const {}
   // The premises it rested on, each as checked (result.json premises).
   virtual std::vector<Premise> Premises(const R&, const TestResult&) const {
+    return {};
+  }
+  // Its choices, as given and as used (UnitChoice).
+  virtual std::vector<UnitChoice> Choices(const R&, const TestResult&) const {
     return {};
   }
   virtual nlohmann::json Json(const R& result, const TestResult& r) const = 0;
@@ -181,6 +198,10 @@ class TypedUnit : public AnalysisUnit {
   std::vector<Premise> PremisesErased(const void* result,
                                       const TestResult& r) const final {
     return Premises(*static_cast<const R*>(result), r);
+  }
+  std::vector<UnitChoice> ChoicesErased(const void* result,
+                                        const TestResult& r) const final {
+    return Choices(*static_cast<const R*>(result), r);
   }
   nlohmann::json JsonErased(const void* result,
                             const TestResult& r) const final {

@@ -6,6 +6,7 @@
 
 #include "wearscar/force/read_force.h"
 #include "wearscar/fusion/fuse_options.h"
+#include "wearscar/fusion/fuse_settings.h"
 #include "wearscar/fusion/map_analysis.h"
 #include "wearscar/scan/read_scan.h"
 #include "wearscar/support/settings.h"
@@ -18,26 +19,6 @@ struct TestSettings {
   scan::ReadScanOptions read_scan;
   FuseOptions fuse;
 };
-
-// Which commands take a setting (Setting::sections): a command lists only
-// what it uses.
-enum SettingSection : unsigned {
-  kForceFileSettings = 1u << 0,  // columns, units, rate
-  kSlopeSettings = 1u << 1,      // spring, k estimate, stencil, running-in
-  kVerdictSettings = 1u << 2,    // the verdict's limits
-  kLugreSettings = 1u << 3,
-  kCompareSettings = 1u << 4,    // the slope choice, cycles compared
-  kScanFileSettings = 1u << 5,   // reading a scan
-  kLevelTrackSettings = 1u << 6  // levelling and the track of a scan
-};
-inline constexpr unsigned kForceCommandSettings =
-    kForceFileSettings | kSlopeSettings | kVerdictSettings | kLugreSettings;
-inline constexpr unsigned kFuseSettings = kForceCommandSettings |
-                                          kCompareSettings | kScanFileSettings |
-                                          kLevelTrackSettings;
-inline constexpr unsigned kDiagnoseSettings =
-    kForceFileSettings | kSlopeSettings | kScanFileSettings |
-    kLevelTrackSettings;
 
 // Every setting of a test as text: "spring" (--spring 8.5 on the command
 // line, spring=8.5 in Python), "running-in" (auto or a number of cycles),

@@ -84,7 +84,7 @@ TEST(SpringStudy, AWrongSpringIsSaidWithTheRigsStiffness) {
             Case(seed % 2 ? "S-RT-T" : "B-RT-R", noise, seed, rig));
         const TestResult r =
             AnalyzeTest(t.record, t.scan, Used(w.given ? used : 0));
-        const SpringCheck& c = r.mismatch.spring;
+        const SpringCheck& c = r.mismatch.Spring();
         const std::string what =
             fmt::format("noise {} seed {} rig {:.3g} used {:.3g} ({})",
                         noise,
@@ -133,7 +133,7 @@ TEST(SpringStudy, TheRightSpringIsNotQuestionedAndTheElasticPartIsNamed) {
         o.seed = 2000 + seed;
         const sim::SimulatedTest t = sim::Simulate(o);
         const TestResult r = AnalyzeTest(t.record, t.scan, Used(0));
-        const SpringCheck& c = r.mismatch.spring;
+        const SpringCheck& c = r.mismatch.Spring();
         const std::string what =
             fmt::format("{} noise {} seed {}", o.name, noise, seed);
         ++runs;

@@ -66,7 +66,7 @@ std::string SpringAssumption(const TestResult& r, const FuseOptions& o) {
                 "it",
                 s);
   // What P/S against the friction's path says of S (SpringCheck).
-  const SpringCheck& c = r.mismatch.spring;
+  const SpringCheck& c = r.mismatch.Spring();
   if (!o.spring_from_friction.empty()) {
   } else if (c.contradicted) {
     spring += fmt::format(
@@ -145,7 +145,7 @@ std::vector<std::string> Assumptions(const force::ForceRecord& record,
             "profile from the friction; k from P is not used"
       : o.slopes == SlopeChoice::kScan ? "mu-hat with k from the scan alone"
       : r.scan && !r.mismatch.JudgesForceSlope()
-          ? (r.mismatch.spring.undecided
+          ? (r.mismatch.Spring().undecided
                  ? "the verdict judges mu-hat with k from the scan: "
                    "P/S's amplitude is a spring's or an elastic "
                    "part's, which k from the scan needs neither of"

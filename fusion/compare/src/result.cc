@@ -43,11 +43,6 @@ std::vector<Premise> Premises(const TestResult& r) {
       "the profile is taken from the depth channel or the friction, and k "
       "from the scan is quoted";
   out.push_back(p);
-  const SpringCheck& c = r.mismatch.spring;
-  if (d.FromSpring() && !c.q_in_time.statement.empty())
-    out.push_back(c.q_in_time);
-  if (d.FromSpring() && !c.changing_groove.statement.empty())
-    out.push_back(c.changing_groove);
   if (r.scan) {
     out.push_back(r.scan->rigid_sphere);
     const MismatchReport& m = r.mismatch;
@@ -157,7 +152,7 @@ std::string Headline(const TestResult& r) {
           ? fmt::format(" (95%: {:.4f}-{:.4f})", mu.low, mu.high)
           : std::string();
   // A spring the scan contradicts is why the scan's k is quoted: said here.
-  const SpringCheck& spring = m.spring;
+  const SpringCheck& spring = m.Spring();
   const std::string source =
       from_p && !r.options.spring_from_friction.empty()
           ? fmt::format(

@@ -166,7 +166,7 @@ std::vector<std::string> ScanReasons(const MismatchReport& r,
   // says what P/S's amplitude is (a stiffness, an elastic part or either);
   // the scan's amplitude against P/S is a finding only without it (the
   // depth channel's profile).
-  if (!r.spring.judged && ratio_low > o.max_amplitude_ratio) {
+  if (!r.Spring().judged && ratio_low > o.max_amplitude_ratio) {
     reasons.push_back(fmt::format(
         "{} varies {:.2f}x as much as the scanned profile{} (limit {:.2f}): "
         "part of the normal displacement is not worn geometry",
@@ -311,8 +311,8 @@ Verdict Judge(const MismatchReport& r, const VerdictOptions& o) {
   }
   // An elastic part the track's growth splits off P/S: the physics, with
   // or without a scan.
-  if (r.spring.elastic)
-    v.reasons.push_back(r.spring.DescribeElastic(r.force_profile_name));
+  if (r.Spring().elastic)
+    v.reasons.push_back(r.Spring().DescribeElastic(r.force_profile_name));
   // The scan's criteria are judged only when the scan can be this test's:
   // a profile unlike P/S's while the force side alone passes is a doubt
   // about the scan (scan_doubt), not a verdict on the physics.
@@ -385,7 +385,7 @@ std::vector<std::string> DataWarnings(const ForceAnalysis& force,
   const double ratio_low = std::isfinite(r.amplitude_ratio_low)
                                ? r.amplitude_ratio_low
                                : r.amplitude_ratio;
-  const SpringCheck& spring = r.spring;
+  const SpringCheck& spring = r.Spring();
   if (spring.judged && !spring.elastic &&
       spring.elastic_share_low > o.elastic_share) {
     w.push_back(fmt::format(

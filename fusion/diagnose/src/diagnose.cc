@@ -537,7 +537,7 @@ namespace {
 // groove did not change, neither is tried: the data cannot tell them
 // apart.
 DiagnoseOptions WithTheSpringsEvidence(const TestResult& r, DiagnoseOptions o) {
-  const SpringCheck& c = r.mismatch.spring;
+  const SpringCheck& c = r.mismatch.Spring();
   if (!c.judged && c.q_in_time.Failed()) {
     o.ruled_out.push_back("spring");
     o.ruled_out.push_back("elastic");

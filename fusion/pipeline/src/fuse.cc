@@ -239,36 +239,14 @@ void Warn(const force::ForceRecord& record, TestResult* result) {
   if (scan != nullptr && scan->track.low_confidence)
     result->warnings.push_back("the scan's track: " + scan->track.message);
   result->assumptions = Assumptions(record, *result, options);
-  // A spring the data contradict, or one they cannot tell from an elastic
-  // part, is said first: it changes what is quoted.
-  const SpringCheck& spring = result->mismatch.spring;
-  if (spring.contradicted) {
-    result->warnings.insert(result->warnings.begin(),
-                            spring.Describe(SpringOrigin(options)));
-  } else if (spring.undecided) {
-    result->warnings.insert(result->warnings.begin(),
-                            spring.DescribeUndecided(SpringOrigin(options)));
-  }
 }
 
-// P/S against the path the friction shows (SpringCheck): the stiffness
-// and an elastic part. Only where k comes from P/S.
-SpringCheck CheckTheSpring(const TestResult& r, const TrackHistory& history) {
-  if (!r.profile.FromSpring()) return {};
-  const FuseOptions& o = r.options;
-  return CheckSpring(history,
-                     r.force.running_in.cycles,
-                     r.window.first,
-                     r.window.last,
-                     o.analysis.friction.slope.spring_n_per_mm,
-                     o.spring_check);
-}
-
-// The comparison of the slopes, the verdict and the warnings, once both
-// sides are analysed.
+// The comparison of the slopes, the units that read it (the spring
+// check), the verdict and the warnings, once both sides are analysed. The
+// units started before are collected with them.
 void CompareAndJudge(const force::ForceRecord& record,
                      const ScanSideBeside& beside,
-                     const TrackHistory& history,
+                     UnitRunner* units,
                      TestResult* result) {
   const ScanAnalysis* scan = result->scan ? &*result->scan : nullptr;
   result->window = QuotedWindow(*result, scan);
@@ -281,7 +259,9 @@ void CompareAndJudge(const force::ForceRecord& record,
                                    last,
                                    result->options,
                                    beside.k_rms_difference);
-  result->mismatch.spring = CheckTheSpring(*result, history);
+  units->Start(UnitStage::kCompared, result->force, result->options, result);
+  units->Collect(&result->units);
+  result->mismatch.spring_check = result->units.Share<SpringCheck>();
   result->verdict = Judge(result->mismatch, result->options.verdict);
   Warn(record, result);
 }
@@ -373,8 +353,7 @@ void AnalyzeDecided(const force::ForceRecord& record,
   ScanSideBeside beside;
   if (evidence->HasScan())
     beside = AddScanSide(record, evidence, track_history, result);
-  CompareAndJudge(record, beside, track_history, result);
-  units->Collect(&result->units);
+  CompareAndJudge(record, beside, units, result);
   const ScanAnalysis* scan = result->scan ? &*result->scan : nullptr;
   const int dc = result->detail_cycle;
   result->detail = ComputeDetailCycle(
@@ -452,7 +431,7 @@ namespace {
 // first pass's finding said first.
 TestResult AtTheFrictionsSpring(const force::ForceRecord& record,
                                 TestResult first) {
-  const SpringCheck& c = first.mismatch.spring;
+  const SpringCheck& c = first.mismatch.Spring();
   if (!(c.contradicted || c.undecided) ||
       !first.options.spring_from_friction.empty() ||
       !(c.ImpliedStiffness() > 0))

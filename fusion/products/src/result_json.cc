@@ -130,29 +130,6 @@ nlohmann::json ForceFileJson(const force::ForceMetadata& m) {
           {"normal_sign_flipped", m.normal_sign_flipped}};
 }
 
-// P/S against the friction's path (SpringCheck): the path ratio, and
-// where the groove's change decides them the stiffness and the elastic
-// share; its premise.
-nlohmann::json SpringJson(const SpringCheck& c) {
-  return {
-      {"judged", c.judged},
-      {"path_ratio", c.path_ratio},
-      {"path_ratio_interval", {c.path_ratio_low, c.path_ratio_high}},
-      {"growth", c.growth},
-      {"growth_to_noise", c.growth_to_noise},
-      {"elastic_share", c.elastic_share},
-      {"elastic_share_interval", {c.elastic_share_low, c.elastic_share_high}},
-      {"elastic", c.elastic},
-      {"stiffness_ratio", c.stiffness_ratio},
-      {"stiffness_ratio_interval",
-       {c.stiffness_ratio_low, c.stiffness_ratio_high}},
-      {"used_n_per_mm", c.used_n_per_mm},
-      {"implied_n_per_mm", c.ImpliedStiffness()},
-      {"implied_interval_n_per_mm", {c.ImpliedLow(), c.ImpliedHigh()}},
-      {"contradicted", c.contradicted},
-      {"undecided", c.undecided}};
-}
-
 // Where the force side's profile came from, given and used, and why.
 nlohmann::json ProfileJson(const ProfileDecision& d) {
   return {{"given", ProfileSourceName(d.given)},
@@ -347,7 +324,6 @@ nlohmann::json ResultJson(const std::string& name,
                 {"k_from", quote.k_from},
                 {"reason", quote.reason}};
   j["profile"] = ProfileJson(r.profile);
-  if (r.mismatch.spring.judged) j["spring"] = SpringJson(r.mismatch.spring);
   j["verdict"] = {
       {"explained", r.verdict.explained},
       {"judged_slope",

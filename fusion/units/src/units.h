@@ -16,5 +16,6 @@ const AnalysisUnit& ScanShapeAnalysis();      // scan_shape_unit.cc
 const AnalysisUnit& TrackHistoryAnalysis();   // track_history_unit.cc
 const AnalysisUnit& SlidingAnalysis();        // wear_unit.cc
 const AnalysisUnit& WearAnalysis();           // wear_unit.cc
+const AnalysisUnit& SpringCheckAnalysis();    // spring_check_unit.cc
 
 }  // namespace wearscar::fusion::internal

@@ -39,7 +39,7 @@ TEST(TrackHistories, ARecordThatStartsLateKeepsTheRightSpring) {
                                  std::to_string(noise) + (scan ? " scan" : "");
         EXPECT_TRUE(r.verdict.explained) << what << ": " << r.verdict.Summary();
         EXPECT_EQ(r.verdict.screen, "") << what;
-        const SpringCheck& c = r.mismatch.spring;
+        const SpringCheck& c = r.mismatch.Spring();
         EXPECT_FALSE(c.contradicted || c.undecided)
             << what << ": " << c.Describe("assumed");
         EXPECT_FALSE(c.elastic) << what;
@@ -66,7 +66,8 @@ TEST(TrackHistories, TheSecondPartOfACutTestAgreesWithTheWhole) {
   const TestResult w = AnalyzeTest(whole.record, std::nullopt, Quiet());
   const TestResult p = AnalyzeTest(part.record, std::nullopt, Quiet());
   EXPECT_TRUE(p.verdict.explained) << p.verdict.Summary();
-  EXPECT_FALSE(p.mismatch.spring.contradicted || p.mismatch.spring.undecided);
+  EXPECT_FALSE(p.mismatch.Spring().contradicted ||
+               p.mismatch.Spring().undecided);
   // The whole's per-cycle mu-hat over the part's compared cycles.
   const int first = p.window.first + 30, last = p.window.last + 30;
   std::vector<double> values, errors;

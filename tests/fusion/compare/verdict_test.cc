@@ -1038,7 +1038,7 @@ TEST(SpringCheck, TheRightSpringIsNotQuestionedOnGrowingTracks) {
     const TestResult r = AnalyzeTest(t.record, t.scan, NoLugre());
     ASSERT_TRUE(r.scan.has_value()) << o.name;
     EXPECT_LT(r.mismatch.amplitude_ratio, 1.0) << o.name;
-    const SpringCheck& c = r.mismatch.spring;
+    const SpringCheck& c = r.mismatch.Spring();
     EXPECT_FALSE(c.contradicted) << o.name;
     EXPECT_LT(c.growth, 0.9) << o.name;
     EXPECT_LE(c.ImpliedLow() / 1.03, o.spring_n_per_mm) << o.name;
@@ -1068,7 +1068,7 @@ TEST(SpringCheck, ADefaultSpringTheScanContradictsIsNamedNotBlamedOnPhysics) {
                                   "paper's rig), not given"),
             std::string::npos)
       << r.assumptions[0];
-  const SpringCheck& c = r.mismatch.spring;
+  const SpringCheck& c = r.mismatch.Spring();
   EXPECT_TRUE(c.contradicted);
   EXPECT_FALSE(c.elastic);
   EXPECT_NEAR(c.ImpliedStiffness(), 25.0, 1.25);

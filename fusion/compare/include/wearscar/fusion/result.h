@@ -152,9 +152,9 @@ struct TestResult {
   UnitResults units;
 };
 
-// What the test's rules rested on and how each premise fared on its data
-// (result.json premises): the profile's source, the spring check's split,
-// the sphere's path, the scan's identity, the screen.
+// What the core's rules rested on and how each premise fared on its data
+// (result.json premises, before the analysis units'): the profile's
+// source, the sphere's path, the scan's identity, the screen.
 std::vector<Premise> Premises(const TestResult& result);
 
 // The number to quote and its status, one home for every table (summary

@@ -41,6 +41,17 @@ class UnitResults {
     const R* r = Find<R>();
     return r ? *r : kNone;
   }
+  // The result of type R shared (null when its unit did not run): for a
+  // reader that keeps it beyond this container (the comparison keeps the
+  // spring check's).
+  template <typename R>
+  std::shared_ptr<const R> Share() const {
+    for (const Entry& e : entries_) {
+      if (e.type == std::type_index(typeid(R)))
+        return std::static_pointer_cast<const R>(e.result);
+    }
+    return nullptr;
+  }
   // The result stored under `kind` (null when its unit did not run): for
   // the unit itself, which knows its type.
   const void* Of(std::string_view kind) const;

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cmath>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -69,13 +70,21 @@ struct MismatchReport {
   double amplitude_ratio_low = 0.0, amplitude_ratio_high = 0.0;
   // Whether P/S is the path the friction shows at the stiffness used (k
   // from P only): an elastic part, a stiffness the data contradict, or
-  // one they cannot tell from an elastic part.
-  SpringCheck spring;
+  // one they cannot tell from an elastic part. The spring check's analysis
+  // unit (fusion/units) runs it on the comparison; this is its result,
+  // shared (null before it ran, or where it did not). Spring() reads it,
+  // an unjudged check where there is none.
+  std::shared_ptr<const SpringCheck> spring_check;
+  const SpringCheck& Spring() const {
+    static const SpringCheck kNone{};
+    return spring_check ? *spring_check : kNone;
+  }
   // mu-hat with the force side's k is what the verdict judges and the
   // headline quotes: fitted, and not scaled by a spring the data
   // contradict or cannot tell from an elastic part (then the scan's k is,
   // which needs neither).
   bool JudgesForceSlope() const {
+    const SpringCheck& spring = Spring();
     return cost_force.count > 0 &&
            !((spring.contradicted || spring.undecided) && cost_scan.count > 0);
   }

@@ -31,6 +31,10 @@ enum class UnitStage {
   // The force side analysed with k where the decision put it: beside the
   // scan side.
   kDecided,
+  // The two sides compared over the compared cycles (the result's window
+  // and mismatch), before the verdict, which reads what these units find
+  // (the spring check).
+  kCompared,
   // The whole result: the scan side, the comparison and the verdict.
   kJudged,
 };
@@ -44,7 +48,7 @@ struct UnitInput {
   // The options as its stage has them: at kCycles the given ones (with a
   // spring the file states), before the decision puts k.
   const FuseOptions& options;
-  // At kJudged the result so far; null before.
+  // At kCompared and kJudged the result so far; null before.
   const TestResult* judged;
   // The results of the units it reads (UnitSpec::reads).
   const UnitResults& units;

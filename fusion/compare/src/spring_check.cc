@@ -49,22 +49,33 @@ double SpringCheck::ImpliedHigh() const {
 }
 
 std::string SpringCheck::Describe(const std::string& how) const {
-  const bool split = changing_groove.Held();
+  if (UpperBoundOnly())
+    return fmt::format(
+        "the spring's stiffness appears to be at most {:.3g} N/mm (95%: "
+        "{:.3g}-{:.3g}), not the {:g} N/mm {}: P/S is the path the friction "
+        "shows times {:.2f}; cannot tell a spring of {:.3g} N/mm from a "
+        "softer one beside an elastic part (the sphere sinking further into "
+        "softer wood adds to P/S in the worn track's shape), and the groove "
+        "did not change during the record to split them; give --spring, or "
+        "record from the first contact",
+        ImpliedStiffness(),
+        ImpliedLow(),
+        ImpliedHigh(),
+        used_n_per_mm,
+        how,
+        StiffnessRatio(),
+        ImpliedStiffness());
   return fmt::format(
-      "the spring's stiffness appears to be {}{:.3g} N/mm (95%: "
+      "the spring's stiffness appears to be {:.3g} N/mm (95%: "
       "{:.3g}-{:.3g}), not the {:g} N/mm {}: P/S is the path the friction "
       "shows times {:.2f}{}; give --spring if the rig's is known",
-      split ? "" : "at most ",
       ImpliedStiffness(),
       ImpliedLow(),
       ImpliedHigh(),
       used_n_per_mm,
       how,
       StiffnessRatio(),
-      !split ? " (the groove did not change during the record, so an "
-               "elastic part is not split off; one would make the rig's "
-               "stiffness lower still)"
-      : SplitsTheStiffness()
+      SplitsTheStiffness()
           ? fmt::format(" as the groove grew, beside an elastic part that "
                         "does not follow the growth ({:.0f}% of the worn "
                         "track's profile)",

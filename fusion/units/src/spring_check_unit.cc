@@ -78,6 +78,7 @@ class SpringCheckUnit : public TypedUnit<SpringCheck> {
         {"used_n_per_mm", c.used_n_per_mm},
         {"implied_n_per_mm", c.ImpliedStiffness()},
         {"implied_interval_n_per_mm", {c.ImpliedLow(), c.ImpliedHigh()}},
+        {"implied_is_upper_bound", c.UpperBoundOnly()},
         {"contradicted", c.contradicted},
         {"undecided", c.undecided}};
   }

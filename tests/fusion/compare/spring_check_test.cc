@@ -141,6 +141,10 @@ TEST(SpringCheck, AScaleOfAGrowingGrooveIsTheStiffness) {
     EXPECT_NE(c.Describe("given").find("not the 10 N/mm given"),
               std::string::npos)
         << c.Describe("given");
+    // The growth decided it: a value, not a bound.
+    EXPECT_FALSE(c.UpperBoundOnly()) << ratio;
+    EXPECT_EQ(c.Describe("given").find("at most"), std::string::npos);
+    EXPECT_EQ(c.Describe("given").find("cannot tell"), std::string::npos);
   }
   const SpringCheck e = Check(Rig{2.0, 0.5, 0.0, 0.0003});
   EXPECT_TRUE(e.contradicted);
@@ -179,7 +183,14 @@ TEST(SpringCheck, AGrooveThereFromTheStartIsJudgedOnItsRatioAlone) {
   const SpringCheck soft = Check(Rig{0.5, 0.0, 1.0, 0.0003});
   EXPECT_TRUE(soft.contradicted);
   EXPECT_NEAR(soft.ImpliedStiffness(), 5.0, 0.2);
+  // Only bounded: an elastic part, which the unchanging groove cannot
+  // split off, would lower the stiffness further; said as such.
+  EXPECT_TRUE(soft.UpperBoundOnly());
   EXPECT_NE(soft.Describe("assumed").find("at most 5"), std::string::npos)
+      << soft.Describe("assumed");
+  EXPECT_NE(soft.Describe("assumed").find(
+                "cannot tell a spring of 5 N/mm from a softer one"),
+            std::string::npos)
       << soft.Describe("assumed");
 
   for (const Rig& r :

@@ -97,6 +97,13 @@ struct SpringCheck {
   // (the split's slope is the noisier), else the compared cycles' path
   // ratio rho (at most the stiffness; all of rho when undecided).
   bool SplitsTheStiffness() const;
+  // A contradicted spring whose stiffness is only bounded: without the
+  // groove's change an elastic part cannot be split off, and one would
+  // lower the stiffness further, so the path ratio gives its upper end
+  // (the stiffness cannot be told from a softer one beside an elastic part).
+  bool UpperBoundOnly() const {
+    return contradicted && !changing_groove.Held();
+  }
   double StiffnessRatio() const;
   double ImpliedStiffness() const;
   double ImpliedLow() const;

@@ -115,9 +115,11 @@ struct UnitTable {
 // friction map's fit took, the first cycles the scan's shape was pooled
 // over. result.json's "units" lists them.
 struct UnitChoice {
-  std::string name;            // "detail_cycle"
-  nlohmann::json given, used;  // "last" or "default" where none was given
-  std::string why;             // why used differs from given ("" same)
+  std::string name;  // "detail_cycle"
+  // Where none was given, `given` names what stands in for it ("last",
+  // "the force side's").
+  nlohmann::json given, used;
+  std::string why;  // why used differs from given ("" same)
 };
 
 // What a unit declares about itself.

@@ -71,7 +71,7 @@ TEST(MixupStudy, AnotherSpecimensScanIsFlaggedOrSaidUncheckable) {
           }
           ++foreign;
           caught += doubted;
-          const bool can = fuse.verdict.IdentityCheckable(r.mismatch);
+          const bool can = r.mismatch.Identity().checkable;
           checkable += can;
           if (can && !doubted) {
             ++missed;

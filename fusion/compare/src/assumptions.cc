@@ -159,38 +159,6 @@ std::vector<std::string> Assumptions(const force::ForceRecord& record,
   std::vector<std::string> said = {
       spring, slope, ReadAssumption(record.metadata), r.force.running_in.rule};
   if (r.scan) said.push_back(ScanPathAssumption(r, o));
-  if (r.scan && r.mismatch.has_scan && !r.mismatch.identity_judged) {
-    said.push_back(
-        "the scan's identity is not checked against the profile from the "
-        "friction (integrated from it, its errors are not a sensor's noise)");
-  } else if (r.scan && r.mismatch.has_scan &&
-             !o.verdict.IdentityCheckable(r.mismatch)) {
-    const MismatchReport& m = r.mismatch;
-    const double above = m.waviness_to_noise;
-    said.push_back(fmt::format(
-        "the scan's identity cannot be checked: {}, so another specimen's "
-        "track of the same case would fit as well (the number to quote does "
-        "not depend on it)",
-        above >= o.verdict.min_waviness_to_noise &&
-                o.verdict.WavinessLinesUpTwice(m)
-            ? fmt::format(
-                  "its waviness lines up at r = {:.2f} here and at r = "
-                  "{:.2f} {:.2f} mm away (rings of one width), and where its "
-                  "track lies against the stroke is not known (the track "
-                  "runs off the scanned field, was placed by hand or found "
-                  "with low confidence)",
-                  m.waviness_correlation,
-                  m.waviness_runner_up,
-                  m.waviness_runner_up_shift_mm - r.scan->alignment.shift_mm)
-        : std::isfinite(above) && above >= 1
-            ? fmt::format("the track's waviness (its rings and texture) "
-                          "stands only {:.1f}x above P/S's noise in variance "
-                          "(at least {:g} is needed)",
-                          above,
-                          o.verdict.min_waviness_to_noise)
-            : std::string("the track shows no waviness (rings, texture) "
-                          "above P/S's noise")));
-  }
   return said;
 }
 

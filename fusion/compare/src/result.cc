@@ -45,40 +45,6 @@ std::vector<Premise> Premises(const TestResult& r) {
   out.push_back(p);
   if (r.scan) {
     out.push_back(r.scan->rigid_sphere);
-    const MismatchReport& m = r.mismatch;
-    const VerdictOptions& v = r.options.verdict;
-    Premise id;
-    id.rule = "the scan's identity";
-    id.statement =
-        "the track's waviness (its rings and texture) stands above the "
-        "force profile's noise, so another specimen's track would not fit "
-        "as well";
-    id.state = !m.identity_judged       ? Premise::State::kNotChecked
-               : v.IdentityCheckable(m) ? Premise::State::kHeld
-                                        : Premise::State::kFailed;
-    id.evidence =
-        m.identity_judged
-            ? fmt::format(
-                  "the waviness stands {:.1f}x above its noise in "
-                  "variance (at least {:g}); it correlates at r = "
-                  "{:.2f} (at least {:.2f} for this specimen's scan)",
-                  m.waviness_to_noise,
-                  v.min_waviness_to_noise,
-                  m.waviness_correlation,
-                  v.min_waviness_correlation) +
-                  (v.WavinessLinesUpTwice(m)
-                       ? fmt::format(", and at r = {:.2f} shifted {:.2f} mm "
-                                     "(only the track's place tells them "
-                                     "apart)",
-                                     m.waviness_runner_up,
-                                     m.waviness_runner_up_shift_mm -
-                                         r.scan->alignment.shift_mm)
-                       : std::string())
-            : "not checked against the profile from the friction";
-    id.otherwise =
-        "the scan's identity is not checked (the track's length and centre "
-        "still are)";
-    out.push_back(id);
   }
   const CostSplit& split = r.mismatch.JudgesForceSlope()
                                ? r.mismatch.split_force

@@ -37,42 +37,6 @@ bool VerdictOptions::IsValid(std::string* why) const {
   return true;
 }
 
-bool VerdictOptions::IdentityCheckable(const MismatchReport& r) const {
-  return r.has_scan && r.identity_judged &&
-         r.waviness_to_noise >= min_waviness_to_noise &&
-         std::isfinite(r.waviness_correlation) &&
-         (!WavinessLinesUpTwice(r) || std::isfinite(r.centre_offset_mm));
-}
-
-bool VerdictOptions::ScanIsForeign(const MismatchReport& r) const {
-  return IdentityCheckable(r) &&
-         r.waviness_correlation < min_waviness_correlation;
-}
-
-bool VerdictOptions::TrackLengthDiffers(const MismatchReport& r) const {
-  if (!(r.has_scan && r.track_length_mm > 0 && r.stroke_mm > 0 &&
-        r.track_width_mm >= 0))
-    return false;
-  const double slack =
-      track_length_tolerance * r.stroke_mm + 2 * r.scan_pixel_mm;
-  return r.track_length_mm < r.stroke_mm - slack ||
-         r.track_length_mm > r.stroke_mm + r.track_width_mm + slack;
-}
-
-bool VerdictOptions::TrackCentreMoved(const MismatchReport& r) const {
-  // As the waviness, judged against P/S or a depth channel's profile (the
-  // friction's, integrated, aligns less surely).
-  if (!(r.has_scan && r.identity_judged && std::isfinite(r.centre_offset_mm) &&
-        r.track_width_mm > 0))
-    return false;
-  const double w = r.track_width_mm, outline = r.centre_offset_mm,
-               walls = r.ends_offset_mm;
-  if (std::abs(outline) > max_centre_offset * w) return true;
-  return std::isfinite(walls) && outline * walls > 0 &&
-         std::abs(outline) > max_centre_offset_agreed * w &&
-         std::abs(walls) > max_centre_offset_agreed * w;
-}
-
 bool DataWarningOptions::IsValid(std::string* why) const {
   if (min_samples_per_stroke < 0 ||
       !(max_fallback_fraction >= 0 && max_fallback_fraction <= 1) ||
@@ -105,55 +69,6 @@ std::string IntervalText(double low, double high, const char* format) {
                      high);
 }
 
-// The waviness of another specimen's track.
-std::string ForeignWaviness(const MismatchReport& r, const VerdictOptions& o) {
-  return fmt::format(
-      "the scan's waviness (its rings and texture, the groove's shape "
-      "removed) correlates with P/S's at r = {:.2f} (corrected for noise; "
-      "limit {:.2f}: this specimen's own scan leaves only what the model "
-      "misses of the sphere's path), although the whole profiles correlate "
-      "at r = {:.2f} (the groove's shape, common to every track of a case)",
-      r.waviness_correlation,
-      o.min_waviness_correlation,
-      r.correlation);
-}
-
-std::string TrackLengthText(const MismatchReport& r, const VerdictOptions& o) {
-  return fmt::format(
-      "its worn track is {:.2f} mm long, while this test's stroke of {:.2f} "
-      "mm wears one of {:.2f}-{:.2f} mm (the stroke and up to the track's "
-      "width beyond it; tolerance {:g}% of the stroke): another test's "
-      "track, or a wrong pixel size or x unit",
-      r.track_length_mm,
-      r.stroke_mm,
-      r.stroke_mm,
-      r.stroke_mm + r.track_width_mm,
-      100 * o.track_length_tolerance);
-}
-
-std::string CentreText(const MismatchReport& r, const VerdictOptions& o) {
-  if (std::abs(r.centre_offset_mm) <= o.max_centre_offset * r.track_width_mm)
-    return fmt::format(
-        "it matches P/S only with its track {:.2f} mm (its outline's "
-        "centre) and {:.2f} mm (the sphere's reversals on its end walls) "
-        "from where the stroke ran (limit {:g} of the track's width, {:.2f} "
-        "mm, where the two agree): its waviness (r = {:.2f}) lines up "
-        "elsewhere",
-        r.centre_offset_mm,
-        r.ends_offset_mm,
-        o.max_centre_offset_agreed,
-        o.max_centre_offset_agreed * r.track_width_mm,
-        r.waviness_correlation);
-  return fmt::format(
-      "it matches P/S only with its track's centre {:.2f} mm from the "
-      "stroke's (limit {:g} of the track's width, {:.2f} mm): its waviness "
-      "(r = {:.2f}) lines up elsewhere than where the stroke ran",
-      r.centre_offset_mm,
-      o.max_centre_offset,
-      o.max_centre_offset * r.track_width_mm,
-      r.waviness_correlation);
-}
-
 // The scan's criteria: the amplitude ratio and the profiles' correlation.
 std::vector<std::string> ScanReasons(const MismatchReport& r,
                                      const VerdictOptions& o) {
@@ -175,13 +90,8 @@ std::vector<std::string> ScanReasons(const MismatchReport& r,
         IntervalText(r.amplitude_ratio_low, r.amplitude_ratio_high, "{:.2f}"),
         o.max_amplitude_ratio));
   }
-  if (o.TrackLengthDiffers(r))
-    reasons.push_back("the scan may be another test's: " +
-                      TrackLengthText(r, o));
-  if (o.TrackCentreMoved(r))
-    reasons.push_back("the scan may be another specimen's: " +
-                      CentreText(r, o));
-  if (o.ScanIsForeign(r)) reasons.push_back(ForeignWaviness(r, o));
+  const std::vector<std::string> identity = r.Identity().Reasons();
+  reasons.insert(reasons.end(), identity.begin(), identity.end());
   if (r.correlation_noise_corrected < o.min_correlation) {
     reasons.push_back(fmt::format(
         "the aligned profiles correlate at r = {:.2f} ({:.2f} corrected for "
@@ -197,21 +107,14 @@ std::vector<std::string> ScanReasons(const MismatchReport& r,
 // the track's length first (another stroke), then where the track's
 // centre aligned and its waviness (another specimen), then the profiles'
 // correlation.
-std::string ScanDoubt(const MismatchReport& r,
-                      const VerdictOptions& o,
-                      bool foreign,
-                      bool other_length) {
+std::string ScanDoubt(const MismatchReport& r, const VerdictOptions& o) {
+  const ScanIdentity& id = r.Identity();
+  if (id.another_test || ((id.foreign || id.moved) &&
+                          r.correlation_noise_corrected >= o.min_correlation))
+    return id.Doubt();
   const char* judged =
       "; the verdict is judged on the force side (check that the scan is "
       "this specimen's)";
-  if (other_length)
-    return "the scan may belong to another test: " + TrackLengthText(r, o) +
-           "; the verdict is judged on the force side (check that the scan "
-           "is this test's)";
-  if (foreign && r.correlation_noise_corrected >= o.min_correlation)
-    return "the scan may belong to another specimen: " +
-           (o.TrackCentreMoved(r) ? CentreText(r, o) : ForeignWaviness(r, o)) +
-           judged;
   return fmt::format(
       "the scan may belong to another test: its profile correlates with P/S "
       "at r = {:.2f} ({:.2f} corrected) < {:.2f} while the force side alone "
@@ -317,17 +220,14 @@ Verdict Judge(const MismatchReport& r, const VerdictOptions& o) {
   // a profile unlike P/S's while the force side alone passes is a doubt
   // about the scan (scan_doubt), not a verdict on the physics.
   const std::vector<std::string> scan_reasons = ScanReasons(r, o);
-  const bool foreign = o.ScanIsForeign(r);
-  const bool other_length = o.TrackLengthDiffers(r);
-  const bool moved = o.TrackCentreMoved(r);
   const bool profiles_differ =
       r.has_scan && (r.correlation_noise_corrected < o.min_correlation ||
-                     foreign || other_length || moved);
+                     r.Identity().Doubted());
   const std::vector<std::string> method_reasons =
       MethodReasons(r, o, from_force, source.c_str());
   const bool force_side_passes = v.reasons.empty() && method_reasons.empty();
   if (profiles_differ && from_force && force_side_passes) {
-    v.scan_doubt = ScanDoubt(r, o, foreign || moved, other_length);
+    v.scan_doubt = ScanDoubt(r, o);
   } else {
     v.reasons.insert(v.reasons.end(), scan_reasons.begin(), scan_reasons.end());
   }

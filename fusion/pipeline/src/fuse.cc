@@ -262,6 +262,7 @@ void CompareAndJudge(const force::ForceRecord& record,
   units->Start(UnitStage::kCompared, result->force, result->options, result);
   units->Collect(&result->units);
   result->mismatch.spring_check = result->units.Share<SpringCheck>();
+  result->mismatch.scan_identity = result->units.Share<ScanIdentity>();
   result->verdict = Judge(result->mismatch, result->options.verdict);
   Warn(record, result);
 }

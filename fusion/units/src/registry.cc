@@ -14,6 +14,7 @@ const std::vector<const AnalysisUnit*>& AnalysisUnits() {
       &internal::LugreAnalysis(),
       &internal::FrictionMapAnalysis(),
       &internal::TrackHistoryAnalysis(),
+      &internal::ScanIdentityAnalysis(),
       &internal::SpringCheckAnalysis(),
       &internal::ScanShapeAnalysis(),
       &internal::WearAnalysis(),

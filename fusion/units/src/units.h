@@ -17,5 +17,6 @@ const AnalysisUnit& TrackHistoryAnalysis();   // track_history_unit.cc
 const AnalysisUnit& SlidingAnalysis();        // wear_unit.cc
 const AnalysisUnit& WearAnalysis();           // wear_unit.cc
 const AnalysisUnit& SpringCheckAnalysis();    // spring_check_unit.cc
+const AnalysisUnit& ScanIdentityAnalysis();   // scan_identity_unit.cc
 
 }  // namespace wearscar::fusion::internal

@@ -879,6 +879,17 @@ TEST(ScanOfAnotherSpecimen, ItsWavinessIsSaid) {
                 "the scan may belong to another specimen: ", 0),
             0u)
       << foreign.warnings.front();
+  // Decided once, by the scan identity's unit, which the verdict read.
+  const ScanIdentity* id = foreign.units.Find<ScanIdentity>();
+  ASSERT_NE(id, nullptr);
+  EXPECT_EQ(&foreign.mismatch.Identity(), id);
+  EXPECT_TRUE(id->checkable);
+  EXPECT_TRUE(id->foreign);
+  EXPECT_FALSE(id->another_test);
+  const ScanIdentity* own_id = mine.units.Find<ScanIdentity>();
+  ASSERT_NE(own_id, nullptr);
+  EXPECT_TRUE(own_id->judged);
+  EXPECT_FALSE(own_id->Doubted());
 }
 
 // The same specimen's track from a test of another stroke (8 mm, this
@@ -933,6 +944,13 @@ MismatchReport ScanThatPasses() {
   return r;
 }
 
+// The verdict on a report built by hand, with the scan's identity decided
+// on it first, as the pipeline's unit does before the verdict.
+Verdict JudgeWithIdentity(MismatchReport r, const VerdictOptions& o) {
+  r.scan_identity = std::make_shared<ScanIdentity>(JudgeScanIdentity(r, o));
+  return Judge(r, o);
+}
+
 // The scan's identity from the waviness: judged where it stands above the
 // noise; a correlation (corrected for both profiles' noise) below the
 // limit is another specimen's scan, said as a doubt while the force side
@@ -943,17 +961,17 @@ TEST(Verdict, AScanWhoseWavinessIsAnotherSpecimensIsDoubted) {
   MismatchReport r = ScanThatPasses();
   r.waviness_to_noise = 50;
   const VerdictOptions o;
-  EXPECT_TRUE(o.IdentityCheckable(r));
-  EXPECT_FALSE(o.ScanIsForeign(r));
-  EXPECT_EQ(Judge(r, o).scan_doubt, "");
+  EXPECT_TRUE(JudgeScanIdentity(r, o).checkable);
+  EXPECT_FALSE(JudgeScanIdentity(r, o).foreign);
+  EXPECT_EQ(JudgeWithIdentity(r, o).scan_doubt, "");
   r.waviness_correlation = 0.96;
   r.waviness_to_noise = 500;  // (1 - r^2) x 500 = 39 noise variances
-  EXPECT_FALSE(o.ScanIsForeign(r));
+  EXPECT_FALSE(JudgeScanIdentity(r, o).foreign);
   // Another specimen's of the same case: 0.83-0.86 on the independent
   // simulator (rings of one width align by a shift), up to 0.90 on ours.
   r.waviness_correlation = 0.9;
-  EXPECT_TRUE(o.ScanIsForeign(r));
-  const Verdict v = Judge(r, o);
+  EXPECT_TRUE(JudgeScanIdentity(r, o).foreign);
+  const Verdict v = JudgeWithIdentity(r, o);
   EXPECT_TRUE(v.explained);
   EXPECT_EQ(v.scan_doubt.rfind("the scan may belong to another specimen: "
                                "the scan's waviness",
@@ -963,11 +981,11 @@ TEST(Verdict, AScanWhoseWavinessIsAnotherSpecimensIsDoubted) {
   EXPECT_NE(v.scan_doubt.find("limit 0.92"), std::string::npos) << v.scan_doubt;
   r.waviness_correlation = 0.5;
   r.waviness_to_noise = 3;  // below 4: not judged
-  EXPECT_FALSE(o.IdentityCheckable(r));
-  EXPECT_FALSE(o.ScanIsForeign(r));
+  EXPECT_FALSE(JudgeScanIdentity(r, o).checkable);
+  EXPECT_FALSE(JudgeScanIdentity(r, o).foreign);
   r.waviness_to_noise = 50;
   r.identity_judged = false;  // the profile from the friction
-  EXPECT_FALSE(o.ScanIsForeign(r));
+  EXPECT_FALSE(JudgeScanIdentity(r, o).foreign);
 }
 
 // Another specimen's waviness can match P/S's, shifted: the alignment
@@ -981,32 +999,32 @@ TEST(Verdict, AScanMatchedAwayFromWhereTheStrokeRanIsDoubted) {
   r.track_width_mm = 1.6;
   r.centre_offset_mm = 0.3;  // 0.19 of the width
   const VerdictOptions o;
-  EXPECT_FALSE(o.TrackCentreMoved(r));
-  EXPECT_EQ(Judge(r, o).scan_doubt, "");
+  EXPECT_FALSE(JudgeScanIdentity(r, o).moved);
+  EXPECT_EQ(JudgeWithIdentity(r, o).scan_doubt, "");
   // A smaller move is doubted only where the sphere's reversals on the
   // end walls agree with the outline: moved the same way, beyond 0.05 of
   // the width (0.08 mm) each.
   r.centre_offset_mm = 0.12;
   r.ends_offset_mm = 0.2;
-  EXPECT_TRUE(o.TrackCentreMoved(r));
-  EXPECT_NE(Judge(r, o).scan_doubt.find(
+  EXPECT_TRUE(JudgeScanIdentity(r, o).moved);
+  EXPECT_NE(JudgeWithIdentity(r, o).scan_doubt.find(
                 "its track 0.12 mm (its outline's centre) and 0.20 mm (the "
                 "sphere's reversals on its end walls) from where the stroke "
                 "ran (limit 0.05 of the track's width, 0.08 mm"),
             std::string::npos)
-      << Judge(r, o).scan_doubt;
+      << JudgeWithIdentity(r, o).scan_doubt;
   r.ends_offset_mm = -0.2;  // the other way: one estimate is wrong
-  EXPECT_FALSE(o.TrackCentreMoved(r));
+  EXPECT_FALSE(JudgeScanIdentity(r, o).moved);
   r.ends_offset_mm = 0.05;  // the walls put it where the stroke ran
-  EXPECT_FALSE(o.TrackCentreMoved(r));
+  EXPECT_FALSE(JudgeScanIdentity(r, o).moved);
   r.ends_offset_mm = NAN;  // no wall measured
-  EXPECT_FALSE(o.TrackCentreMoved(r));
+  EXPECT_FALSE(JudgeScanIdentity(r, o).moved);
   r.centre_offset_mm = 0.06;  // the walls alone do not decide
   r.ends_offset_mm = 0.5;
-  EXPECT_FALSE(o.TrackCentreMoved(r));
+  EXPECT_FALSE(JudgeScanIdentity(r, o).moved);
   r.centre_offset_mm = -0.5;  // 0.31 of the width
-  EXPECT_TRUE(o.TrackCentreMoved(r));
-  const Verdict v = Judge(r, o);
+  EXPECT_TRUE(JudgeScanIdentity(r, o).moved);
+  const Verdict v = JudgeWithIdentity(r, o);
   EXPECT_TRUE(v.explained);
   EXPECT_EQ(v.scan_doubt.rfind("the scan may belong to another specimen: it "
                                "matches P/S only with its track's centre "
@@ -1015,10 +1033,10 @@ TEST(Verdict, AScanMatchedAwayFromWhereTheStrokeRanIsDoubted) {
             0u)
       << v.scan_doubt;
   r.identity_judged = false;  // the profile from the friction: not judged
-  EXPECT_FALSE(o.TrackCentreMoved(r));
+  EXPECT_FALSE(JudgeScanIdentity(r, o).moved);
   r.identity_judged = true;
   r.centre_offset_mm = NAN;  // the track runs off the field: not judged
-  EXPECT_FALSE(o.TrackCentreMoved(r));
+  EXPECT_FALSE(JudgeScanIdentity(r, o).moved);
 }
 
 // The bundled samples' tests (20 cycles at 500 Hz, 256 x 192 scans of

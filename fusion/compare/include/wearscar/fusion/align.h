@@ -96,7 +96,7 @@ struct Alignment {
   // (FindWavinessRunnerUp; NaN where not sought).
   // Rings of one width line up again a period away; where they do, another
   // specimen whose rings fall a fraction of a period apart lines up as
-  // well as this one's (VerdictOptions::WavinessLinesUpTwice), and only
+  // well as this one's (ScanIdentity::lines_up_twice), and only
   // the track's place against the stroke tells them apart.
   double waviness_runner_up = std::numeric_limits<double>::quiet_NaN();
   double waviness_runner_up_shift_mm = std::numeric_limits<double>::quiet_NaN();

@@ -7,6 +7,7 @@
 
 #include "wearscar/fusion/align.h"
 #include "wearscar/fusion/analysis.h"
+#include "wearscar/fusion/scan_identity.h"
 #include "wearscar/fusion/spring_check.h"
 
 namespace wearscar::fusion {
@@ -78,6 +79,15 @@ struct MismatchReport {
   const SpringCheck& Spring() const {
     static const SpringCheck kNone{};
     return spring_check ? *spring_check : kNone;
+  }
+  // Whether the scan is this test's and this specimen's: the scan
+  // identity's analysis unit (fusion/units) decides it on the comparison
+  // (JudgeScanIdentity); this is its result, shared (null before it ran
+  // or without a scan). Identity() reads it, nothing doubted where none.
+  std::shared_ptr<const ScanIdentity> scan_identity;
+  const ScanIdentity& Identity() const {
+    static const ScanIdentity kNone{};
+    return scan_identity ? *scan_identity : kNone;
   }
   // mu-hat with the force side's k is what the verdict judges and the
   // headline quotes: fitted, and not scaled by a spring the data
@@ -163,12 +173,11 @@ struct VerdictOptions {
   // trend along the stroke) the walls within 0.015, the outline off by up
   // to 0.13.
   double max_centre_offset_agreed = 0.05;
-  // Whether the scan's identity can be judged, and whether it fails.
-  // Checkable where the waviness stands above its noise and either lines
-  // up at one place only (its runner-up below min_waviness_correlation)
-  // or the track's place against the stroke is known (its outline in the
-  // field), which tells a twin lined up elsewhere.
-  bool IdentityCheckable(const MismatchReport& r) const;
+  // The scan's identity is judged by these (JudgeScanIdentity,
+  // scan_identity.h): checkable where the waviness stands above its noise
+  // and either lines up at one place only or the track's place against
+  // the stroke is known (its outline in the field), which tells a twin
+  // lined up elsewhere.
   // The waviness lines up elsewhere too (rings of one width, a period
   // away): at least this correlation there. There the texture a twin
   // would not share and the shorter overlap lower it, so it stands below
@@ -176,12 +185,6 @@ struct VerdictOptions {
   // reached 0.82-0.90: the independent simulator's beech rings); a
   // texture without rings reaches 0.57-0.62.
   double min_waviness_twin = 0.8;
-  bool WavinessLinesUpTwice(const MismatchReport& r) const {
-    return r.waviness_runner_up >= min_waviness_twin;
-  }
-  bool ScanIsForeign(const MismatchReport& r) const;
-  bool TrackLengthDiffers(const MismatchReport& r) const;
-  bool TrackCentreMoved(const MismatchReport& r) const;
   // |mu-hat - mu_energy| (energy method with delta_g). The mean method is
   // not judged: on a strongly wavy track mean|P (k + s mu)| exceeds mu P
   // even when the wear-scar model holds exactly, so its difference is

@@ -46,27 +46,6 @@ std::vector<Premise> Premises(const TestResult& r) {
   if (r.scan) {
     out.push_back(r.scan->rigid_sphere);
   }
-  const CostSplit& split = r.mismatch.JudgesForceSlope()
-                               ? r.mismatch.split_force
-                               : r.mismatch.split_scan;
-  Premise screen;
-  screen.rule = "the screen";
-  screen.statement =
-      "only a repeating misfit that changes sign with the motion biases "
-      "mu-hat; one the same in both directions acts as a slope and cancels";
-  screen.state = std::isfinite(split.odd_excess) ? Premise::State::kHeld
-                                                 : Premise::State::kNotChecked;
-  screen.evidence =
-      std::isfinite(split.odd_excess)
-          ? fmt::format(
-                "of J's excess {:.3f}, {:.3f} changes sign with the "
-                "motion (noise floor {:.3f})",
-                split.excess,
-                split.odd_excess,
-                split.floor)
-          : "the misfit was not split by direction";
-  screen.otherwise = "the whole excess is screened";
-  out.push_back(screen);
   return out;
 }
 

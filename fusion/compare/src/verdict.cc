@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "interval_text.h"
+
 namespace wearscar::fusion {
 
 const char* CostCriterionName(CostCriterion c) {
@@ -58,9 +60,8 @@ std::string Verdict::Summary() const {
   return s;
 }
 
-namespace {
+namespace internal {
 
-// "[0.012, 0.034]" or "" when there is no interval.
 std::string IntervalText(double low, double high, const char* format) {
   if (!std::isfinite(low) || !std::isfinite(high)) return "";
   return fmt::format(fmt::runtime(std::string(" (95% interval ") + format +
@@ -68,6 +69,12 @@ std::string IntervalText(double low, double high, const char* format) {
                      low,
                      high);
 }
+
+}  // namespace internal
+
+namespace {
+
+using internal::IntervalText;
 
 // The scan's criteria: the amplitude ratio and the profiles' correlation.
 std::vector<std::string> ScanReasons(const MismatchReport& r,
@@ -150,36 +157,6 @@ std::vector<std::string> MethodReasons(const MismatchReport& r,
                   r.mu_mean.mean)};
 }
 
-// The screen of an explained test: the loops repeat a misfit that acts as
-// friction does (changing sign with the motion) above their noise
-// (Verdict::screen), or "". Its premise: only such a misfit biases mu-hat;
-// one that acts as a slope does (the same in both directions: an elastic
-// part, a groove deepening over the compared cycles, a scaled k) cancels
-// between the directions, and the spring check and the scan judge it.
-std::string Screen(const CostSplit& split, const VerdictOptions& o) {
-  // The lower end of the excess's 95% interval, as the verdict's: a few
-  // cycles' excess is no repeating misfit yet.
-  const bool odd = std::isfinite(split.odd_excess);
-  const double value = odd ? split.odd_excess : split.excess;
-  const double low = odd ? split.odd_excess_low : split.excess_low;
-  const double high = odd ? split.odd_excess_high : split.excess_high;
-  const double excess = std::isfinite(low) ? low : value;
-  if (split.cycles == 0 || !(split.floor > 0) ||
-      !(excess >= o.screen_excess_to_floor * split.floor))
-    return "";
-  return fmt::format(
-      "the loops repeat a misfit above their noise that acts as friction "
-      "does, changing sign with the motion (J's excess {:.3f}{}, at least "
-      "{:.2f} of its noise floor {:.3f}; the screen's limit {:.2f}): an "
-      "effect the wear-scar model misses may bias mu-hat; `wearscar "
-      "diagnose` names it",
-      value,
-      IntervalText(low, high, "{:.3f}"),
-      excess / split.floor,
-      split.floor,
-      o.screen_excess_to_floor);
-}
-
 }  // namespace
 
 Verdict Judge(const MismatchReport& r, const VerdictOptions& o) {
@@ -236,7 +213,7 @@ Verdict Judge(const MismatchReport& r, const VerdictOptions& o) {
   v.explained = v.reasons.empty();
   // With the scan's k the excess holds the track's growth over the
   // compared cycles too (the scan shows the last one's): not screened.
-  if (v.explained && from_force) v.screen = Screen(split, o);
+  if (v.explained && from_force) v.screen = r.Screen().finding;
   return v;
 }
 

@@ -263,6 +263,7 @@ void CompareAndJudge(const force::ForceRecord& record,
   units->Collect(&result->units);
   result->mismatch.spring_check = result->units.Share<SpringCheck>();
   result->mismatch.scan_identity = result->units.Share<ScanIdentity>();
+  result->mismatch.screen = result->units.Share<ScreenFinding>();
   result->verdict = Judge(result->mismatch, result->options.verdict);
   Warn(record, result);
 }

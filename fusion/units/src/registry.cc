@@ -16,6 +16,7 @@ const std::vector<const AnalysisUnit*>& AnalysisUnits() {
       &internal::TrackHistoryAnalysis(),
       &internal::ScanIdentityAnalysis(),
       &internal::SpringCheckAnalysis(),
+      &internal::ScreenAnalysis(),
       &internal::ScanShapeAnalysis(),
       &internal::WearAnalysis(),
   };

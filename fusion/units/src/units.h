@@ -18,5 +18,6 @@ const AnalysisUnit& SlidingAnalysis();        // wear_unit.cc
 const AnalysisUnit& WearAnalysis();           // wear_unit.cc
 const AnalysisUnit& SpringCheckAnalysis();    // spring_check_unit.cc
 const AnalysisUnit& ScanIdentityAnalysis();   // scan_identity_unit.cc
+const AnalysisUnit& ScreenAnalysis();         // screen_unit.cc
 
 }  // namespace wearscar::fusion::internal

@@ -421,6 +421,13 @@ TEST(Screen, AnExplainedTestWithALibraryEffectIsNotSettled) {
     EXPECT_NE(r.verdict.screen.find("repeat a misfit above their noise"),
               std::string::npos)
         << effect;
+    // Decided by the screen's unit, which the verdict read.
+    const ScreenFinding* s = r.units.Find<ScreenFinding>();
+    ASSERT_NE(s, nullptr) << effect;
+    EXPECT_EQ(&r.mismatch.Screen(), s);
+    EXPECT_EQ(s->finding, r.verdict.screen);
+    EXPECT_TRUE(s->with_force_slope);
+    EXPECT_GE(s->excess_low, 0.3 * s->floor) << effect;
     const std::string headline = Headline(r);
     EXPECT_NE(headline.find("not settled"), std::string::npos) << headline;
     EXPECT_NE(headline.find("wearscar diagnose"), std::string::npos)
@@ -429,6 +436,49 @@ TEST(Screen, AnExplainedTestWithALibraryEffectIsNotSettled) {
               std::string::npos)
         << headline;
   }
+}
+
+// The screen on a report built by hand: the part of J's excess that
+// changes sign with the motion, judged on the lower end of its interval
+// against the floor; the part the same in both directions (a slope's
+// misfit) is not screened; nothing is screened with the scan's k, whose
+// excess holds the track's growth over the compared cycles.
+TEST(Screen, TheOddExcessOfTheForceSidesKAloneIsScreened) {
+  MismatchReport r;
+  r.cost_force.count = 20;
+  r.split_force.cycles = 20;
+  r.split_force.floor = 0.06;
+  r.split_force.excess = 0.05;
+  r.split_force.excess_low = 0.04;
+  r.split_force.excess_high = 0.06;
+  r.split_force.odd_excess = 0.03;
+  r.split_force.odd_excess_low = 0.02;  // 0.33 of the floor: at the limit
+  r.split_force.odd_excess_high = 0.04;
+  const VerdictOptions o;
+  ScreenFinding s = ScreenTheLoops(r, o);
+  EXPECT_TRUE(s.by_direction);
+  EXPECT_TRUE(s.premise.Held());
+  EXPECT_DOUBLE_EQ(s.excess, 0.03);
+  EXPECT_NE(s.finding.find("J's excess 0.030 (95% interval 0.020 to 0.040), "
+                           "at least 0.33 of its noise floor 0.060"),
+            std::string::npos)
+      << s.finding;
+  r.split_force.odd_excess_low = 0.01;  // the even part is larger: a slope's
+  EXPECT_EQ(ScreenTheLoops(r, o).finding, "");
+  r.split_force.odd_excess = NAN;  // not split by direction: all of it
+  s = ScreenTheLoops(r, o);
+  EXPECT_FALSE(s.premise.Held());
+  EXPECT_DOUBLE_EQ(s.excess, 0.05);
+  EXPECT_NE(s.finding, "");
+  // A spring the data contradict: the scan's k is judged, not screened.
+  auto spring = std::make_shared<SpringCheck>();
+  spring->contradicted = true;
+  r.spring_check = spring;
+  r.cost_scan.count = 20;
+  r.split_scan = r.split_force;
+  s = ScreenTheLoops(r, o);
+  EXPECT_FALSE(s.with_force_slope);
+  EXPECT_EQ(s.finding, "");
 }
 
 // The same cases on a rig that loads the ball with a dead weight (P

@@ -8,6 +8,7 @@
 #include "wearscar/fusion/align.h"
 #include "wearscar/fusion/analysis.h"
 #include "wearscar/fusion/scan_identity.h"
+#include "wearscar/fusion/screen.h"
 #include "wearscar/fusion/spring_check.h"
 
 namespace wearscar::fusion {
@@ -88,6 +89,14 @@ struct MismatchReport {
   const ScanIdentity& Identity() const {
     static const ScanIdentity kNone{};
     return scan_identity ? *scan_identity : kNone;
+  }
+  // The screen's finding (screen.h), decided by its unit before the
+  // verdict; shared (null before it ran). Screen() reads it, nothing
+  // screened where none.
+  std::shared_ptr<const ScreenFinding> screen;
+  const ScreenFinding& Screen() const {
+    static const ScreenFinding kNone{};
+    return screen ? *screen : kNone;
   }
   // mu-hat with the force side's k is what the verdict judges and the
   // headline quotes: fitted, and not scaled by a spring the data

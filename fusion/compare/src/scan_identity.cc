@@ -1,10 +1,12 @@
+// The rules that doubt a scan (scan_identity.h), decided once.
 #include "wearscar/fusion/scan_identity.h"
 
 #include <fmt/format.h>
 
 #include <cmath>
 
-#include "wearscar/fusion/verdict.h"
+#include "wearscar/fusion/mismatch.h"
+#include "wearscar/fusion/verdict_options.h"
 
 namespace wearscar::fusion {
 namespace {
@@ -101,6 +103,11 @@ std::string CentreText(const MismatchReport& r, const VerdictOptions& o) {
 }
 
 }  // namespace
+
+const ScanIdentity& MismatchReport::Identity() const {
+  static const ScanIdentity kNone{};
+  return scan_identity ? *scan_identity : kNone;
+}
 
 std::vector<std::string> ScanIdentity::Reasons() const {
   std::vector<std::string> out;

@@ -1,9 +1,11 @@
+// The screen of an explained test (screen.h), decided once.
 #include "wearscar/fusion/screen.h"
 
 #include <fmt/format.h>
 
 #include "interval_text.h"
-#include "wearscar/fusion/verdict.h"
+#include "wearscar/fusion/mismatch.h"
+#include "wearscar/fusion/verdict_options.h"
 
 namespace wearscar::fusion {
 namespace {
@@ -30,6 +32,11 @@ Premise ScreenPremise(const CostSplit& split) {
 }
 
 }  // namespace
+
+const ScreenFinding& MismatchReport::Screen() const {
+  static const ScreenFinding kNone{};
+  return screen ? *screen : kNone;
+}
 
 ScreenFinding ScreenTheLoops(const MismatchReport& r, const VerdictOptions& o) {
   ScreenFinding s;

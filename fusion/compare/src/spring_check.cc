@@ -49,43 +49,44 @@ double SpringCheck::ImpliedHigh() const {
 }
 
 std::string SpringCheck::Describe(const std::string& how) const {
-  if (UpperBoundOnly())
-    return fmt::format(
-        "the spring's stiffness appears to be at most {:.3g} N/mm (95%: "
-        "{:.3g}-{:.3g}), not the {:g} N/mm {}: P/S is the path the friction "
-        "shows times {:.2f}; cannot tell a spring of {:.3g} N/mm from a "
-        "softer one beside an elastic part (the sphere sinking further into "
-        "softer wood adds to P/S in the worn track's shape), and the groove "
-        "did not change during the record to split them; give --spring, or "
-        "record from the first contact",
-        ImpliedStiffness(),
-        ImpliedLow(),
-        ImpliedHigh(),
-        used_n_per_mm,
-        how,
-        StiffnessRatio(),
-        ImpliedStiffness());
+  // What the path ratio says of the stiffness, then how it was decided: a
+  // bound where the groove did not change, else the growth's split.
+  const std::string tail =
+      UpperBoundOnly()
+          ? fmt::format(
+                "; cannot tell a spring of {:.3g} N/mm from a softer one "
+                "beside an elastic part (the sphere sinking further into "
+                "softer wood adds to P/S in the worn track's shape), and the "
+                "groove did not change during the record to split them; give "
+                "--spring, or record from the first contact",
+                ImpliedStiffness())
+      : SplitsTheStiffness()
+          ? fmt::format(
+                " as the groove grew, beside an elastic part that "
+                "does not follow the growth ({:.0f}% of the worn "
+                "track's profile); give --spring if the rig's is "
+                "known",
+                100 * elastic_share)
+          : fmt::format(
+                " at the end of the record; the groove's growth "
+                "shows no elastic part beside it ({:.0f}%, 95% "
+                "{:.0f} to {:.0f}%); give --spring if the rig's is "
+                "known",
+                100 * elastic_share,
+                100 * elastic_share_low,
+                100 * elastic_share_high);
   return fmt::format(
-      "the spring's stiffness appears to be {:.3g} N/mm (95%: "
+      "the spring's stiffness appears to be {}{:.3g} N/mm (95%: "
       "{:.3g}-{:.3g}), not the {:g} N/mm {}: P/S is the path the friction "
-      "shows times {:.2f}{}; give --spring if the rig's is known",
+      "shows times {:.2f}{}",
+      UpperBoundOnly() ? "at most " : "",
       ImpliedStiffness(),
       ImpliedLow(),
       ImpliedHigh(),
       used_n_per_mm,
       how,
       StiffnessRatio(),
-      SplitsTheStiffness()
-          ? fmt::format(" as the groove grew, beside an elastic part that "
-                        "does not follow the growth ({:.0f}% of the worn "
-                        "track's profile)",
-                        100 * elastic_share)
-          : fmt::format(" at the end of the record; the groove's growth "
-                        "shows no elastic part beside it ({:.0f}%, 95% "
-                        "{:.0f} to {:.0f}%)",
-                        100 * elastic_share,
-                        100 * elastic_share_low,
-                        100 * elastic_share_high));
+      tail);
 }
 
 std::string SpringCheck::DescribeUndecided(const std::string& how) const {

@@ -202,7 +202,7 @@ void RunAudit(AuditArgs a) {
   if (a.no_figures) WithoutFigureData(&a.audit.fuse);
   std::vector<std::string> skipped;
   const std::vector<fusion::Specimen> mine =
-      fusion::FindSpecimens(a.input, batch, &skipped);
+      fusion::FindSpecimens(a.input, batch, &skipped, &a.audit.other_shards);
   if (!skipped.empty()) {
     Say("skipped {} folder{} wearscar's analyses wrote: {} "
         "(--include-output-folders searches them)\n",

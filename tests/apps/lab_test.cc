@@ -548,6 +548,49 @@ TEST(Audit, FindsSpecimensInSubFoldersAndSaysWhatItLookedFor) {
   EXPECT_NE(none.output.find("x3p, gsf"), std::string::npos) << none.output;
 }
 
+// Shards that do not merge: a copy in one shard and its original in the
+// other name each other in their result.json as each shard writes it
+// (the inputs shared are found before any specimen is analysed); the merge
+// then writes the batch's tables with the same warnings and leaves every
+// result.json as its shard wrote it.
+TEST(Audit, SharedInputsAreInTheResultAsItIsFirstWrittenInEveryShard) {
+  const std::string dir = Simulated("tree", "--case B-RT-R --case S-TL-L");
+  const std::string lab = LabTree(dir);
+  const std::string out = lab + "/audit";
+  for (const char* shard : {"1/2", "2/2"}) {
+    const CommandResult r = Wearscar("audit " + lab + " --shard " + shard +
+                                     " --no-merge --no-figures -o " + out);
+    ASSERT_EQ(r.status, 0) << r.output;
+  }
+  std::map<std::string, std::string> written;
+  for (const char* name : {"B-RT-R", "extra", "specimen7"})
+    written[name] = Slurp(out + "/" + name + "/result.json");
+  EXPECT_NE(written["extra"].find("byte-identical to that of specimen7"),
+            std::string::npos);
+  EXPECT_NE(written["specimen7"].find("byte-identical to that of extra"),
+            std::string::npos);
+  EXPECT_EQ(written["B-RT-R"].find("byte-identical"), std::string::npos);
+  const CommandResult merged = Wearscar("audit --merge " + out);
+  ASSERT_EQ(merged.status, 0) << merged.output;
+  ExpectTheCopiesNameEachOther(lab, Slurp(out + "/summary.csv"));
+  for (const auto& [name, before] : written)
+    EXPECT_EQ(Slurp(out + "/" + name + "/result.json"), before) << name;
+  // The copy analysed again alone (a manifest of it): its result.json names
+  // the original the batch keeps, whose own stays as it was written.
+  std::ofstream(lab + "/again.csv")
+      << "specimen,force\nextra," << lab << "/beech/extra_friction.csv\n";
+  std::error_code ec;
+  fs::remove(out + "/extra/result.json", ec);
+  const CommandResult again =
+      Wearscar("audit " + lab + "/again.csv --no-figures -o " + out);
+  ASSERT_EQ(again.status, 0) << again.output;
+  EXPECT_NE(Slurp(out + "/extra/result.json")
+                .find("byte-identical to that of specimen7"),
+            std::string::npos);
+  EXPECT_EQ(Slurp(out + "/specimen7/result.json"), written["specimen7"]);
+  ExpectTheCopiesNameEachOther(lab, Slurp(out + "/summary.csv"));
+}
+
 }  // namespace
 
 namespace {

@@ -59,6 +59,7 @@ void AuditDiagnosis(const AuditOptions& o,
 void AuditSpecimen(const AuditOptions& o,
                    const std::string& out,
                    const fusion::Specimen& s,
+                   const std::vector<std::string>& shared_inputs,
                    ReportSection* sec,
                    SpecimenSeries* series,
                    std::atomic<bool>* figures_missing) {
@@ -79,6 +80,8 @@ void AuditSpecimen(const AuditOptions& o,
           "no scan paired, although other specimens of the batch have one (" +
           s.no_scan + "); the verdict is the force side's alone");
     }
+    for (const std::string& w : shared_inputs)
+      products.result["warnings"].push_back(w);
     nlohmann::json row = products.result;
     row.update(sec->row);
     row["scan_file"] = s.scan;
@@ -188,20 +191,60 @@ std::vector<fusion::GroupComparison> WriteSummaries(
   return groups;
 }
 
-// Inputs shared by specimens (the same SHA-256): a warning in each one's
-// row and result.json, naming the others (fusion::SharedInputWarnings).
-void WarnOfSharedInputs(const std::string& out,
-                        std::vector<ReportSection>* sections) {
+// What an earlier audit wrote into `out`: its batch record, else the
+// parts its shards wrote; none when neither is there.
+std::optional<internal::Parts> EarlierBatch(const std::string& out) {
+  std::optional<internal::Parts> earlier = internal::ReadBatchRecord(out);
+  std::error_code ec;
+  if (!earlier && fs::exists(fs::path(out) / "parts", ec)) {
+    try {
+      earlier = internal::ReadParts(out);
+    } catch (const OutputError&) {  // no shard's part there either
+    }
+  }
+  return earlier;
+}
+
+// The inputs this run's specimens share with each other, with the other
+// shards' or with the earlier specimens the batch keeps, found before any
+// is analysed (fusion::SharedInputsBefore): each one's result.json is
+// written once, with them.
+std::map<std::string, std::vector<std::string>> SharedInputsOf(
+    const std::vector<fusion::Specimen>& mine,
+    const std::string& out,
+    const AuditOptions& o) {
+  std::vector<nlohmann::json> earlier;
+  if (!o.replace_batch && o.batch.shard_count <= 1) {
+    try {
+      if (auto batch = EarlierBatch(out))
+        for (const ReportSection& sec : batch->sections)
+          earlier.push_back(sec.row);
+    } catch (const std::exception&) {  // the batch's writing says why
+    }
+  }
+  return fusion::SharedInputsBefore(mine, o.other_shards, earlier);
+}
+
+// Inputs shared by specimens of the batch as written (the same SHA-256):
+// a warning in each one's row naming the others, where its result.json
+// did not have one for that input (fusion::SharedInputWarnings). Only a
+// specimen an earlier run analysed, kept beside a new one sharing its
+// file, lacks it there: its result.json stays as its run wrote it.
+void WarnOfSharedInputs(std::vector<ReportSection>* sections) {
   std::vector<nlohmann::json> rows;
   for (const ReportSection& sec : *sections) rows.push_back(sec.row);
   const auto warnings = fusion::SharedInputWarnings(rows);
   for (size_t i = 0; i < sections->size(); ++i) {
-    ReportSection& sec = (*sections)[i];
+    nlohmann::json& list = (*sections)[i].row["warnings"];
     for (const std::string& w : warnings[i]) {
-      nlohmann::json& list = sec.row["warnings"];
-      if (std::find(list.begin(), list.end(), w) != list.end()) continue;
-      list.push_back(w);
-      AddWarningToResult((fs::path(out) / sec.name).string(), w);
+      // ("the force file is byte-identical to that of ...": one per role.)
+      const std::string role = w.substr(0, w.find(" to that of "));
+      const bool said = std::any_of(
+          list.begin(), list.end(), [&role](const nlohmann::json& had) {
+            return had.is_string() &&
+                   had.get<std::string>().rfind(role + " to that of ", 0) == 0;
+          });
+      if (!said) list.push_back(w);
     }
   }
 }
@@ -217,7 +260,7 @@ void WriteBatch(const std::string& out,
                 const std::vector<SpecimenSeries>& analysed,
                 const std::vector<std::string>& parts,
                 AuditResult* result) {
-  WarnOfSharedInputs(out, specimens);
+  WarnOfSharedInputs(specimens);
   const std::vector<ReportSection>& sections = *specimens;
   const auto groups = WriteSummaries(out, sections, o);
   if (o.figures)
@@ -248,14 +291,8 @@ Batch WithEarlierSpecimens(const std::string& out,
                            const std::vector<ReportSection>& now,
                            const std::vector<SpecimenSeries>& now_series) {
   Batch b;
-  std::optional<internal::Parts> earlier = internal::ReadBatchRecord(out);
+  std::optional<internal::Parts> earlier = EarlierBatch(out);
   std::error_code ec;
-  if (!earlier && fs::exists(fs::path(out) / "parts", ec)) {
-    try {
-      earlier = internal::ReadParts(out);
-    } catch (const OutputError&) {  // no shard's part there either
-    }
-  }
   std::map<std::string, size_t> in_run;
   for (size_t i = 0; i < now.size(); ++i) in_run[now[i].name] = i;
   std::set<std::string> placed;
@@ -394,13 +431,17 @@ AuditResult Audit(const std::vector<fusion::Specimen>& specimens,
   AuditOptions worker_options = o;
   if (fusion::WorkersFillCores(specimens.size(), o.batch.jobs))
     worker_options.fuse.parallel = false;
+  const auto shared = SharedInputsOf(specimens, out, o);
+  static const std::vector<std::string> kNone;
   fusion::ForEachSpecimen(
       specimens.size(),
       o.batch.jobs,
       [&](size_t i) {
+        const auto found = shared.find(specimens[i].name);
         AuditSpecimen(worker_options,
                       out,
                       specimens[i],
+                      found == shared.end() ? kNone : found->second,
                       &result.specimens[i],
                       &series[i],
                       &figures_missing);

@@ -127,17 +127,6 @@ fusion::TestProducts WriteTestResults(const std::string& dir,
   return products;
 }
 
-void AddWarningToResult(const std::string& dir, const std::string& warning) {
-  const std::string path = (fs::path(dir) / "result.json").string();
-  std::ifstream in(path);
-  nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
-  if (j.is_discarded() || !j.is_object()) return;
-  for (const auto& w : j["warnings"])
-    if (w == warning) return;  // a merge again adds nothing
-  j["warnings"].push_back(warning);
-  WriteTextAtomically(path, j.dump(2) + "\n");
-}
-
 namespace {
 
 // a(x) beside what was measured along the track: above, the recovered

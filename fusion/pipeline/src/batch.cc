@@ -15,6 +15,7 @@
 #include <mutex>
 #include <optional>
 #include <regex>
+#include <set>
 #include <thread>
 
 #include "wearscar/force/layouts.h"
@@ -282,7 +283,8 @@ SpecimenAnalysis AnalyzeSpecimen(const Specimen& s,
 
 std::vector<Specimen> FindSpecimens(const std::string& input,
                                     const BatchOptions& options,
-                                    std::vector<std::string>* skipped) {
+                                    std::vector<std::string>* skipped,
+                                    std::vector<Specimen>* others) {
   std::vector<std::string> not_searched;
   std::string why;
   if (!options.IsValid(&why)) throw FusionError("batch options: " + why);
@@ -302,6 +304,8 @@ std::vector<Specimen> FindSpecimens(const std::string& input,
   for (size_t i = 0; i < all.size(); ++i) {
     if (static_cast<int>(i % options.shard_count) == options.shard_index - 1)
       mine.push_back(all[i]);
+    else if (others != nullptr)
+      others->push_back(all[i]);
   }
   if (skipped != nullptr) *skipped = not_searched;
   if (mine.empty() && all.empty() && fs::is_directory(input)) {
@@ -518,6 +522,68 @@ std::vector<std::vector<std::string>> SharedInputWarnings(
           key.second.substr(0, 12)));
     }
   }
+  return out;
+}
+
+std::map<std::string, std::vector<std::string>> SharedInputsBefore(
+    const std::vector<Specimen>& mine,
+    const std::vector<Specimen>& others,
+    const std::vector<nlohmann::json>& earlier) {
+  // Rows as SharedInputWarnings reads them: this run's first, then the
+  // other shards', then the earlier ones kept.
+  std::vector<nlohmann::json> rows;
+  std::set<std::string> analysed;
+  // (role, bytes) -> the inputs (row, its index) of that size.
+  std::map<std::pair<std::string, std::uintmax_t>,
+           std::vector<std::pair<size_t, size_t>>>
+      sized;
+  auto add = [&](const Specimen& s) {
+    analysed.insert(s.name);
+    nlohmann::json inputs = nlohmann::json::array();
+    for (auto [role, path] :
+         {std::pair<const char*, const std::string*>{"force", &s.force},
+          {"scan", &s.scan}}) {
+      std::error_code ec;
+      if (path->empty() || !fs::is_regular_file(*path, ec)) continue;
+      const std::uintmax_t bytes = fs::file_size(*path, ec);
+      if (ec) continue;
+      sized[{role, bytes}].push_back({rows.size(), inputs.size()});
+      inputs.push_back({{"role", role}, {"path", *path}, {"sha256", ""}});
+    }
+    rows.push_back(
+        {{"specimen", s.name}, {"provenance", {{"inputs", inputs}}}});
+  };
+  for (const Specimen& s : mine) add(s);
+  for (const Specimen& s : others) add(s);
+  for (const nlohmann::json& row : earlier) {
+    if (!row.is_object() || analysed.count(row.value("specimen", ""))) continue;
+    const nlohmann::json* inputs =
+        row.contains("provenance") ? &row["provenance"]["inputs"] : nullptr;
+    if (inputs == nullptr || !inputs->is_array()) continue;
+    for (size_t k = 0; k < inputs->size(); ++k) {
+      const nlohmann::json& in = (*inputs)[k];
+      if (in.contains("bytes") && in["bytes"].is_number_unsigned())
+        sized[{in.value("role", ""), in["bytes"].get<std::uintmax_t>()}]
+            .push_back({rows.size(), k});
+    }
+    rows.push_back(row);
+  }
+  // A file is read only where another input of its role has its size.
+  for (const auto& [key, at] : sized) {
+    if (at.size() < 2) continue;
+    for (const auto& [row, k] : at) {
+      nlohmann::json& in = rows[row]["provenance"]["inputs"][k];
+      if (!in.value("sha256", "").empty()) continue;
+      try {
+        in["sha256"] = Sha256OfFile(in.value("path", ""));
+      } catch (const std::exception&) {  // its analysis will say why
+      }
+    }
+  }
+  const auto warnings = SharedInputWarnings(rows);
+  std::map<std::string, std::vector<std::string>> out;
+  for (size_t i = 0; i < mine.size(); ++i)
+    if (!warnings[i].empty()) out[mine[i].name] = warnings[i];
   return out;
 }
 

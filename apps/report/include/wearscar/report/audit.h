@@ -48,6 +48,9 @@ struct AuditOptions {
   // this run's alone and removes what the earlier audit wrote for the
   // others.
   bool replace_batch = false;
+  // A shard's run: the batch's specimens the other shards analyse
+  // (FindSpecimens' `others`), whose inputs this shard's may share.
+  std::vector<fusion::Specimen> other_shards;
 
   // Every part valid (the batch's, the readers', the analysis's and, when
   // diagnosing, the diagnosis's); `why` names the first that is not.

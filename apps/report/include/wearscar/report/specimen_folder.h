@@ -40,12 +40,6 @@ fusion::TestProducts WriteTestResults(const std::string& dir,
                                       const fusion::FuseOptions& options,
                                       const fusion::ProductOptions& write = {});
 
-// Adds a warning to the result.json in `dir`, for what is known only once
-// a whole batch is (an audit's inputs shared between specimens, whose
-// folders are complete by then); everything else is in the result before
-// it is written.
-void AddWarningToResult(const std::string& dir, const std::string& warning);
-
 // diagnosis.json, residual_map_before.csv / after.csv and (with figures)
 // the diagnosis's figures (.svg / .png) in `dir`. Returns the figures to
 // show with their titles (FigureSet::shown, titles; empty when none was

@@ -63,10 +63,12 @@ std::vector<Specimen> ReadManifest(const std::string& path);
 // the input holds none.
 // `skipped`, when given, receives the folders not searched ("path (why)",
 // PairFolder); the error when none is found names them.
-std::vector<Specimen> FindSpecimens(
-    const std::string& input,
-    const BatchOptions& options,
-    std::vector<std::string>* skipped = nullptr);
+// `others`, when given, receives the batch's specimens the other shards
+// process (none unsharded).
+std::vector<Specimen> FindSpecimens(const std::string& input,
+                                    const BatchOptions& options,
+                                    std::vector<std::string>* skipped = nullptr,
+                                    std::vector<Specimen>* others = nullptr);
 
 // A specimen's files read and analysed.
 struct SpecimenAnalysis {
@@ -111,6 +113,19 @@ void ForEachSpecimen(size_t n,
 // empty where nothing is shared.
 std::vector<std::vector<std::string>> SharedInputWarnings(
     const std::vector<nlohmann::json>& rows);
+// The same warnings before any specimen is analysed, so that each one's
+// result.json is written once with them: for each specimen of `mine` (by
+// name) that shares an input with another of `mine`, of `others` (the
+// batch's specimens of the other shards) or of `earlier` (rows of
+// specimens an earlier run analysed that the batch keeps: their
+// provenance's size and SHA-256; rows of specimens in `mine` or `others`
+// are skipped). Only the files whose role and size another input has too
+// are read for their SHA-256; a file that cannot be read shares nothing
+// (its specimen's analysis says why).
+std::map<std::string, std::vector<std::string>> SharedInputsBefore(
+    const std::vector<Specimen>& mine,
+    const std::vector<Specimen>& others,
+    const std::vector<nlohmann::json>& earlier);
 
 // The batch table: one row per specimen from its result.json (ResultJson
 // with SpecimenIdentity, "error" when it failed), columns by path.

@@ -246,13 +246,17 @@ TestOutput Fuse(const py::object& force,
 // identity, or its error (nothing written).
 nlohmann::json AuditOne(const fusion::Specimen& s,
                         const fusion::TestSettings& a,
-                        const fusion::BatchOptions& batch) {
+                        const fusion::BatchOptions& batch,
+                        const std::vector<std::string>& shared_inputs) {
   nlohmann::json row = fusion::SpecimenIdentity(s, batch);
   try {
     const fusion::SpecimenAnalysis an =
         fusion::AnalyzeSpecimen(s, a.read_force, a.read_scan, a.fuse);
     nlohmann::json full =
         fusion::MakeTestProducts(s.name, an.record, an.result, a.fuse).result;
+    // The batch's warnings, as `wearscar audit` adds them.
+    if (s.scan_expected) full["warnings"].push_back(s.PairingWarning());
+    for (const std::string& w : shared_inputs) full["warnings"].push_back(w);
     full.update(row);
     return full;
   } catch (const std::exception& e) {
@@ -290,10 +294,18 @@ std::string Audit(const std::string& input,
     fusion::TestSettings worker_args = a;
     if (fusion::WorkersFillCores(specimens.size(), batch.jobs))
       worker_args.fuse.parallel = false;
+    const auto shared = fusion::SharedInputsBefore(specimens, {}, {});
+    const std::vector<std::string> kNone;
     fusion::ForEachSpecimen(
         specimens.size(),
         batch.jobs,
-        [&](size_t i) { rows[i] = AuditOne(specimens[i], worker_args, batch); },
+        [&](size_t i) {
+          const auto found = shared.find(specimens[i].name);
+          rows[i] = AuditOne(specimens[i],
+                             worker_args,
+                             batch,
+                             found == shared.end() ? kNone : found->second);
+        },
         [](long) {});
     fusion::GroupOptions g;
     g.factors = factors;

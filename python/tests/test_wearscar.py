@@ -339,6 +339,21 @@ def test_audit_of_the_bundled_samples(tmp_path):
         [r["comparison"]["mu_hat_force"]["mean"] for r in rows]
 
 
+def test_an_audit_in_memory_warns_as_the_command_does(tmp_path):
+    # A copy of one specimen's force file beside it, without a scan: its
+    # row and the original's name each other, and the copy's says that its
+    # scan is missing while others have one, as `wearscar audit` writes.
+    for suffix in (".force.csv", ".scan.gsf"):
+        shutil.copy(SAMPLES / ("B-RT-R" + suffix), tmp_path / ("B-RT-R" + suffix))
+    shutil.copy(SAMPLES / "B-RT-R.force.csv", tmp_path / "B-RL-R.force.csv")
+    rows = {r["specimen"]: r for r in wearscar.audit(tmp_path, jobs=2)}
+    copy, original = rows["B-RL-R"]["warnings"], rows["B-RT-R"]["warnings"]
+    assert any("force file is byte-identical to that of B-RT-R" in w for w in copy)
+    assert any("force file is byte-identical to that of B-RL-R" in w for w in original)
+    assert any(w.startswith("no scan paired, although other specimens") for w in copy)
+    assert not any("scan file is byte-identical" in w for w in original)
+
+
 def test_long_calls_release_the_gil():
     # Deterministic: with a switch interval far longer than the call, a
     # thread that holds the GIL through fuse lets no other Python run

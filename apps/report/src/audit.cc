@@ -75,11 +75,8 @@ void AuditSpecimen(const AuditOptions& o,
     const fusion::TestResult& r = a.result;
     fusion::TestProducts products =
         WriteTestTables(dir, s.name, record, r, o.fuse);
-    if (s.scan_expected) {
-      products.result["warnings"].push_back(
-          "no scan paired, although other specimens of the batch have one (" +
-          s.no_scan + "); the verdict is the force side's alone");
-    }
+    if (s.scan_expected)
+      products.result["warnings"].push_back(s.PairingWarning());
     for (const std::string& w : shared_inputs)
       products.result["warnings"].push_back(w);
     nlohmann::json row = products.result;

@@ -87,6 +87,12 @@ std::string Specimen::Pairing() const {
                          : "force only (no scan: " + no_scan + ")";
 }
 
+std::string Specimen::PairingWarning() const {
+  if (!scan_expected) return "";
+  return "no scan paired, although other specimens of the batch have one (" +
+         no_scan + "); the verdict is the force side's alone";
+}
+
 namespace {
 
 bool IsIn(const std::vector<std::string>& words, const std::string& w) {

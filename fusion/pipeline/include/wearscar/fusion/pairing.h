@@ -27,6 +27,10 @@ struct Specimen {
   // "force + scan" or "force only (no scan: <why>)": what the audit's line
   // and the summary's pairing column say.
   std::string Pairing() const;
+  // What an audit warns of its pairing where scan_expected ("no scan
+  // paired, although other specimens of the batch have one (<why>); ..."),
+  // else "".
+  std::string PairingWarning() const;
 };
 
 // The words that say which role a file plays, ignored when names are

@@ -18,6 +18,10 @@ inline Diagnosis DiagnoseSimulated(samples::SimulationOptions o,
   if (truth) *truth = t.truth;
   FuseOptions f;
   f.fit_lugre = false;
+  // Periodic lines kept, as `--notch none` keeps them: the diagnosis names
+  // the interference the analysis leaves (by default a line found is
+  // removed before the analysis, and there is nothing of it to name).
+  f.notch_found_lines = false;
   f.analysis.running_in_cycles = 100;
   f.analysis.slip = slip;
   const TestResult r = AnalyzeTest(t.record, t.scan, f);

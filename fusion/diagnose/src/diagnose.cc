@@ -666,13 +666,25 @@ Diagnosis DiagnoseTest(const force::ForceRecord& record,
     depth.x_mm = fp.x_mm;
     depth.k = -ScanHeightAtPlate(r.scan->profile, r.scan->alignment, fp.x_mm);
   }
-  if (!fuse.notch_hz.empty()) {
-    // The lines the analysis removed, removed here too.
+  // The lines the analysis removed (given, or found: the result's
+  // options), removed here too.
+  const std::vector<double>& removed =
+      fuse.notch_hz.empty() ? r.options.notch_hz : fuse.notch_hz;
+  if (!removed.empty()) {
     force::ForceRecord notched = record;
-    for (double f : fuse.notch_hz) force::NotchLine(&notched, f);
+    for (double f : removed) force::NotchLine(&notched, f);
     FuseOptions rest = fuse;
     rest.notch_hz.clear();
-    return DiagnoseTest(notched, r, rest, options);
+    TestResult without = r;
+    without.options.notch_hz.clear();
+    Diagnosis d = DiagnoseTest(notched, without, rest, options);
+    d.slope_source += fmt::format(
+        "; Q and P notched at {:.2f} Hz as the analysis's were ({})",
+        fmt::join(removed, ", "),
+        fuse.notch_hz.empty()
+            ? "lines found in the record; --notch none keeps them"
+            : "--notch");
+    return d;
   }
   // k where the analysis took it (its ProfileDecision, recorded with the
   // options it ran with): P/S, the depth channel with its sign, or on a

@@ -303,8 +303,9 @@ void LiveAnalysis::SeekPeriodicLines(int cycles_in_window) {
     lines_seen_hz_.push_back(line.frequency_hz);
     Raise("periodic",
           fmt::format("a periodic line in the forces over the last {} "
-                      "cycles: {} (interference the drive does not make: "
-                      "`wearscar diagnose` notches it)",
+                      "cycles: {} (interference the drive does not make; "
+                      "the live fits carry it, `wearscar fuse` and this "
+                      "watch's analysis of the finished file remove it)",
                       cycles_in_window,
                       line.Describe()));
   }

@@ -100,12 +100,15 @@ S NotchSetting(const char* group) {
           group,
           "Periodic lines to remove from Q and P before the analysis, Hz, "
           "comma-separated (mains pick-up: 50 or 60): a sinusoid fitted in "
-          "blocks of about 2 s and subtracted; lines the drive does not make "
-          "are warned about without it",
+          "blocks of about 2 s and subtracted. Without it, the lines found "
+          "that the drive does not make are removed, said first; 'none' "
+          "keeps them (warned about)",
           "TEXT",
           ~0u,
           [](T* t, const std::string& text) {
             t->fuse.notch_hz.clear();
+            t->fuse.notch_found_lines = text != "none";
+            if (text == "none") return;
             size_t at = 0;
             while (at <= text.size()) {
               const size_t comma = std::min(text.find(',', at), text.size());

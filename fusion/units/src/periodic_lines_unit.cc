@@ -3,6 +3,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include "units.h"
 #include "wearscar/force/periodic.h"
 
@@ -17,8 +19,9 @@ class PeriodicLinesUnit : public TypedUnit<Lines> {
     static const UnitSpec kSpec{
         "periodic_lines",
         "lines in the spectra of Q and P that the drive's rate does not "
-        "make, each a warning; a verdict not explained says its excess may "
-        "come from them",
+        "make: removed before the analysis (a second pass, said first), or "
+        "with --notch none each a warning, and a verdict not explained says "
+        "its excess may come from them",
         {"the record", "the cycles (the drive's rate)"},
         {}};
     return kSpec;
@@ -53,14 +56,21 @@ class PeriodicLinesUnit : public TypedUnit<Lines> {
           lines.front().frequency_hz));
     }
   }
-  nlohmann::json Json(const Lines& lines, const TestResult&) const override {
+  // The lines of the record as read: where they were removed before the
+  // analysis (found, or given with --notch), "removed" says so.
+  nlohmann::json Json(const Lines& lines, const TestResult& r) const override {
     nlohmann::json j = nlohmann::json::array();
+    const auto& notched = r.options.notch_hz;
     for (const force::PeriodicLine& l : lines) {
+      const bool removed =
+          std::find(notched.begin(), notched.end(), l.frequency_hz) !=
+          notched.end();
       j.push_back({{"frequency_Hz", l.frequency_hz},
                    {"Q_amplitude_N", l.q_amplitude_n},
                    {"P_amplitude_N", l.p_amplitude_n},
                    {"prominence", l.prominence},
-                   {"drive_harmonic", l.drive_harmonic}});
+                   {"drive_harmonic", l.drive_harmonic},
+                   {"removed", removed}});
     }
     return j;
   }

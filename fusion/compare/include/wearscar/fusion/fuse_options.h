@@ -137,9 +137,12 @@ struct FuseOptions {
   bool parallel = true;
   // Periodic lines removed from Q and P before the analysis (Hz; --notch),
   // each a sinusoid fitted in blocks (force::NotchLine), said in the
-  // assumptions. Lines the drive does not make are sought either way and
-  // warned about (force::FindPeriodicLines).
+  // assumptions. Lines the drive does not make are sought either way
+  // (force::FindPeriodicLines); without notch_hz, those found are removed
+  // (a second pass, said first in the warnings) unless notch_found_lines
+  // is false (--notch none), when they are warned about.
   std::vector<double> notch_hz;
+  bool notch_found_lines = true;
   bool find_periodic_lines = true;
 
   bool IsValid(std::string* why) const;

@@ -525,6 +525,31 @@ std::vector<std::vector<std::string>> SharedInputWarnings(
   return out;
 }
 
+namespace {
+
+// The SHA-256 of a file's first and last 64 KiB ("" where it cannot be
+// read): files that differ there differ.
+std::string EndsFingerprint(const std::string& path) {
+  constexpr std::streamoff kSpan = 64 * 1024;
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return "";
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  if (size < 0) return "";
+  Sha256 hash;
+  std::vector<char> bytes(static_cast<size_t>(kSpan));
+  for (const std::streamoff from :
+       {std::streamoff{0}, std::max<std::streamoff>(0, size - kSpan)}) {
+    in.seekg(from);
+    in.read(bytes.data(), std::min(kSpan, size - from));
+    hash.Update(bytes.data(), static_cast<size_t>(in.gcount()));
+    in.clear();
+  }
+  return hash.Hex();
+}
+
+}  // namespace
+
 std::map<std::string, std::vector<std::string>> SharedInputsBefore(
     const std::vector<Specimen>& mine,
     const std::vector<Specimen>& others,
@@ -568,17 +593,36 @@ std::map<std::string, std::vector<std::string>> SharedInputsBefore(
     }
     rows.push_back(row);
   }
-  // A file is read only where another input of its role has its size.
+  // A file is read whole only where another input of its role has its size
+  // and, among this batch's files (a scanner's exports of one field all
+  // have one size), its first and last 64 KiB; an earlier specimen's input
+  // of that size is known by its SHA-256 alone.
+  auto input = [&rows](const std::pair<size_t, size_t>& at) -> nlohmann::json& {
+    return rows[at.first]["provenance"]["inputs"][at.second];
+  };
+  auto hash_whole = [&input](const std::pair<size_t, size_t>& at) {
+    nlohmann::json& in = input(at);
+    if (!in.value("sha256", "").empty()) return;
+    try {
+      in["sha256"] = Sha256OfFile(in.value("path", ""));
+    } catch (const std::exception&) {  // its analysis will say why
+    }
+  };
   for (const auto& [key, at] : sized) {
     if (at.size() < 2) continue;
-    for (const auto& [row, k] : at) {
-      nlohmann::json& in = rows[row]["provenance"]["inputs"][k];
-      if (!in.value("sha256", "").empty()) continue;
-      try {
-        in["sha256"] = Sha256OfFile(in.value("path", ""));
-      } catch (const std::exception&) {  // its analysis will say why
-      }
+    const bool earlier_one = std::any_of(at.begin(), at.end(), [&](auto& a) {
+      return !input(a).value("sha256", "").empty();
+    });
+    if (earlier_one) {
+      for (const auto& a : at) hash_whole(a);
+      continue;
     }
+    std::map<std::string, std::vector<std::pair<size_t, size_t>>> ends;
+    for (const auto& a : at)
+      ends[EndsFingerprint(input(a).value("path", ""))].push_back(a);
+    for (const auto& [print, same] : ends)
+      if (!print.empty() && same.size() > 1)
+        for (const auto& a : same) hash_whole(a);
   }
   const auto warnings = SharedInputWarnings(rows);
   std::map<std::string, std::vector<std::string>> out;

@@ -8,6 +8,8 @@
 #include <string>
 
 #include "common/compress.h"
+#include "wearscar/fusion/batch.h"
+#include "wearscar/fusion/provenance.h"
 #include "wearscar/scan/gsf.h"
 
 namespace wearscar::fusion {
@@ -272,6 +274,62 @@ TEST(SpecimenName, LeavesOutRoleWordsAndTheirSeparators) {
   EXPECT_EQ(SpecimenName("Friction-oak 3.txt"), "oak 3");
   EXPECT_EQ(SpecimenName("force.csv"), "force");  // nothing else: the stem
   EXPECT_EQ(SpecimenName("sample_1.5N.csv"), "sample_1.5N");
+}
+
+// Inputs shared before any specimen is analysed: of three scans of one
+// size (a scanner's exports of one field), two byte-identical and one that
+// differs from them only in its middle, the copies name each other and the
+// third names none; an earlier specimen's input (its provenance's size and
+// SHA-256) is named too, and a row of a specimen analysed again is not.
+TEST_F(LabFolder, SharedInputsAreFoundBeforeTheAnalysisByContentNotSize) {
+  std::string bytes(300 * 1024, 'a');
+  auto write = [&](const std::string& name, const std::string& content) {
+    std::ofstream(dir_ + "/" + name, std::ios::binary) << content;
+    return dir_ + "/" + name;
+  };
+  auto specimen = [&](const std::string& name, const std::string& scan) {
+    Specimen s;
+    s.name = name;
+    s.force = write(name + ".csv", name);
+    s.scan = write(name + ".gsf", scan);
+    return s;
+  };
+  std::string middle = bytes;
+  middle[150 * 1024] = 'b';
+  const std::vector<Specimen> mine = {specimen("one", bytes),
+                                      specimen("two", bytes),
+                                      specimen("three", middle)};
+  auto found = SharedInputsBefore(mine, {}, {});
+  ASSERT_EQ(found.size(), 2u);
+  ASSERT_EQ(found["one"].size(), 1u);
+  EXPECT_EQ(found["one"][0].rfind("the scan file is byte-identical to that "
+                                  "of two (SHA-256 ",
+                                  0),
+            0u)
+      << found["one"][0];
+  EXPECT_EQ(found.count("three"), 0u);
+  // The third as an earlier run analysed it, under another name, beside a
+  // new copy of it; and a row of "one" (analysed again now) is not read.
+  const nlohmann::json earlier = {
+      {"specimen", "old"},
+      {"provenance",
+       {{"inputs",
+         {{{"role", "scan"},
+           {"bytes", middle.size()},
+           {"sha256", Sha256OfFile(dir_ + "/three.gsf")}}}}}}};
+  const nlohmann::json again = {
+      {"specimen", "one"},
+      {"provenance",
+       {{"inputs",
+         {{{"role", "scan"},
+           {"bytes", middle.size()},
+           {"sha256", Sha256OfFile(dir_ + "/three.gsf")}}}}}}};
+  found = SharedInputsBefore(
+      {specimen("four", middle), mine[0]}, {}, {earlier, again});
+  ASSERT_EQ(found["four"].size(), 1u);
+  EXPECT_NE(found["four"][0].find("byte-identical to that of old (SHA-256"),
+            std::string::npos)
+      << found["four"][0];
 }
 
 }  // namespace

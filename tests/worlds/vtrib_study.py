@@ -192,7 +192,8 @@ RIGS = {
     "Rtec export": (["--style", "rtec"], []), "Anton Paar TRB export": (["--style", "trb"], []),
     "scan turned over": (["--flip"], []),
 }
-SUBSET_RIGS = ["triangle drive at 500 Hz", "60 Hz pick-up", "25 N/mm, 5 mm", "Anton Paar TRB export"]
+SUBSET_RIGS = ["triangle drive at 500 Hz", "60 Hz pick-up", "25 N/mm, 5 mm", "Anton Paar TRB export",
+               "a 1.5 mm stroke"]
 
 
 def rigs(world, names, cases, noises, tally, errors):
@@ -473,7 +474,7 @@ def main():
                elastic(world, seeds, noises if a.full else [1], tally),
                foreign(world, cases, seeds, noises, tally, vtrib_module(a.vtrib)),
                rigs(world, list(RIGS) if a.full else SUBSET_RIGS,
-                    ["B-RT-R", "S-TL-L", "S-RT-R"] if a.full else ["B-RT-R"],
+                    ["B-RT-R", "S-TL-L", "S-RT-R"] if a.full else ["B-RT-R", "S-RT-R"],
                     noises if a.full else [1], tally, rig_errors),
                cut(world, seeds, noises if a.full else [1], tally),
                diagnoses(world, a.full, tally),

@@ -571,15 +571,17 @@ TemplateCycles TemplateOf(int c, int first, int last, int sep, int t) {
 
 namespace {
 
-// SplitRepeatable, or with `cross` each direction's template against the
-// other direction's values (CrossRepeatable).
+// SplitRepeatable, or with `parity` each direction's template against its
+// values less the other direction's at the same x, over the bins where
+// both slid in the cycle, each bin weighted by the fewer samples of the two
+// (ParityRepeatable).
 std::vector<std::array<RepeatSplit, 2>> Repeatable(
     const CycleBins& bins,
     const std::vector<std::array<double, 2>>* total,
     int min_separation,
     const RepeatabilityOptions& options,
     bool two_threads,
-    bool cross) {
+    bool parity) {
   const int first = bins.first_cycle(), last = bins.last_cycle();
   const int n = last - first + 1;
   std::vector<std::array<RepeatSplit, 2>> out(
@@ -615,14 +617,28 @@ std::vector<std::array<RepeatSplit, 2>> Repeatable(
         ++slides;
       }
       held = now;
-      const auto [value, count] = bins.Stored(c, cross ? -dir : dir);
+      const auto [value, count] = bins.Stored(c, dir);
       double product = 0.0;
       int samples = 0;
-      for (std::size_t b = 0; b < tpl.count.size(); ++b) {
-        if (count[b] == 0 || tpl.count[b] == 0) continue;
-        product +=
-            static_cast<double>(value[b]) * (tpl.value[b] / tpl.count[b]);
-        samples += count[b];
+      if (parity) {
+        const auto [other, other_count] = bins.Stored(c, -dir);
+        for (std::size_t b = 0; b < tpl.count.size(); ++b) {
+          if (count[b] == 0 || other_count[b] == 0 || tpl.count[b] == 0)
+            continue;
+          const int w = std::min<int>(count[b], other_count[b]);
+          product += w *
+                     (static_cast<double>(value[b]) / count[b] -
+                      static_cast<double>(other[b]) / other_count[b]) *
+                     (tpl.value[b] / tpl.count[b]);
+          samples += w;
+        }
+      } else {
+        for (std::size_t b = 0; b < tpl.count.size(); ++b) {
+          if (count[b] == 0 || tpl.count[b] == 0) continue;
+          product +=
+              static_cast<double>(value[b]) * (tpl.value[b] / tpl.count[b]);
+          samples += count[b];
+        }
       }
       r.repeat = product;
       r.samples = samples;
@@ -645,16 +661,16 @@ std::vector<std::array<RepeatSplit, 2>> SplitRepeatable(
     const RepeatabilityOptions& options,
     bool two_threads) {
   return Repeatable(
-      bins, &total, min_separation, options, two_threads, /*cross=*/false);
+      bins, &total, min_separation, options, two_threads, /*parity=*/false);
 }
 
-std::vector<std::array<RepeatSplit, 2>> CrossRepeatable(
+std::vector<std::array<RepeatSplit, 2>> ParityRepeatable(
     const CycleBins& bins,
     int min_separation,
     const RepeatabilityOptions& options,
     bool two_threads) {
   return Repeatable(
-      bins, nullptr, min_separation, options, two_threads, /*cross=*/true);
+      bins, nullptr, min_separation, options, two_threads, /*parity=*/true);
 }
 
 }  // namespace wearscar::fusion

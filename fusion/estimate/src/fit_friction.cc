@@ -46,18 +46,15 @@ void SplitCosts(const std::vector<std::array<RepeatSplit, 2>>& split,
 }
 
 // Each converged fit's repeating misfit that changes sign with the motion
-// (MuFit::repeat_odd_sq): the repeats less the cross repeats, over 4.
-void SplitParity(const std::vector<std::array<RepeatSplit, 2>>& same,
-                 const std::vector<std::array<RepeatSplit, 2>>& cross,
+// (MuFit::repeat_odd_sq): ParityRepeatable's two directions over 4.
+void SplitParity(const std::vector<std::array<RepeatSplit, 2>>& parity,
                  const std::vector<std::array<double, 2>>& q_total,
                  std::vector<MuFit>* fits) {
   for (size_t c = 0; c < fits->size(); ++c) {
     MuFit& f = (*fits)[c];
     const double qq = q_total[c][0] + q_total[c][1];
     if (!f.converged || !(qq > 0)) continue;
-    const double odd = (same[c][0].repeat + same[c][1].repeat -
-                        cross[c][0].repeat - cross[c][1].repeat) /
-                       4;
+    const double odd = (parity[c][0].repeat + parity[c][1].repeat) / 4;
     f.repeat_odd_sq = 2 * odd / qq;
   }
 }
@@ -260,8 +257,7 @@ std::vector<std::array<RepeatSplit, 2>> SplitNoise(
       fitter.misfit, fitter.misfit_total, shared, options.repeatability, two);
   SplitCosts(same, fitter.q_total, &out->cycles);
   SplitParity(
-      same,
-      CrossRepeatable(fitter.misfit, shared, options.repeatability, two),
+      ParityRepeatable(fitter.misfit, shared, options.repeatability, two),
       fitter.q_total,
       &out->cycles);
   if (k_split.valid()) k_split.get();

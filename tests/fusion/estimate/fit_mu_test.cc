@@ -375,5 +375,43 @@ TEST(SplitRepeatable, TheSlidTemplateIsTheTemplateSummedAfresh) {
   EXPECT_GT(none, 0);
 }
 
+// The direction split of what repeats: a misfit the same both ways (a
+// slope's) leaves no friction-like part, even where one direction slid
+// alone (the first 0.6 mm: the other still turning) and where the
+// directions' sample counts differ; one that changes sign with the motion
+// is found whole over the bins both slid in, 4 sum w o^2. Counted over the
+// bins one direction alone slid in, the even misfit read as odd there.
+TEST(ParityRepeatable, SplitsOnlyWhereBothDirectionsSlid) {
+  PlateGrid grid;
+  grid.bin_mm = 0.1;
+  grid.bins = 40;
+  const int first = 0, last = 29;
+  for (const double odd : {0.0, 0.5}) {
+    CycleBins bins(grid, first, last, /*with_x=*/false);
+    for (int c = first; c <= last; ++c) {
+      for (int dir : {+1, -1}) {
+        // Forward slides from 0.6 mm, with twice the reverse's samples.
+        const int per_bin = dir > 0 ? 4 : 2;
+        for (int b = dir > 0 ? 6 : 0; b < grid.bins; ++b) {
+          const double x = (b + 0.5) * grid.bin_mm;
+          for (int i = 0; i < per_bin; ++i)
+            bins.Add(c, dir, x, std::sin(x) + dir * odd * std::cos(x));
+        }
+      }
+    }
+    const auto parity = ParityRepeatable(bins, 1, RepeatabilityOptions{});
+    double expected = 0;
+    for (int b = 6; b < grid.bins; ++b) {
+      const double x = (b + 0.5) * grid.bin_mm;
+      expected += 2 * std::pow(odd * std::cos(x), 2);  // w = 2
+    }
+    for (int c = first; c <= last; ++c) {
+      const double sum = parity[c][0].repeat + parity[c][1].repeat;
+      EXPECT_NEAR(sum / 4, expected, 1e-4 + 1e-4 * expected)
+          << "odd " << odd << " cycle " << c;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace wearscar::fusion

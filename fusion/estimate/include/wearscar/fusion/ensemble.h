@@ -214,14 +214,17 @@ std::vector<std::array<RepeatSplit, 2>> SplitRepeatable(
     const RepeatabilityOptions& options,
     bool two_threads = false);
 
-// The same templates against the other direction's values: [d].repeat is
-// the other direction's values times direction d's template (total 0).
-// With a quantity v = e(x) + s o(x) (e the same in both directions, o
-// changing sign with the motion), SplitRepeatable's repeats less these,
-// over both directions, are 4 sum o^2 and their sum 4 sum e^2 (equal counts
-// per direction): what repeats splits into the part that acts as friction
-// does and the part that acts as a slope does.
-std::vector<std::array<RepeatSplit, 2>> CrossRepeatable(
+// The same templates against each direction's values less the other
+// direction's at the same x: [d].repeat = sum over the bins where both
+// directions slid in the cycle of w (m_d - m_other) T_d, m the cycle's
+// mean in the bin, T_d direction d's template, w the fewer samples of the
+// two (total 0). With a quantity v = e(x) + s o(x) (e the same in both
+// directions, o changing sign with the motion), the two directions' sum is
+// 4 sum w o^2: the part that acts as friction does. Bins one direction
+// alone slid in (near the reversals, where the other is still turning)
+// and unequal counts would count e there as o; they are left out and
+// weighted alike.
+std::vector<std::array<RepeatSplit, 2>> ParityRepeatable(
     const CycleBins& bins,
     int min_separation,
     const RepeatabilityOptions& options,

@@ -656,35 +656,17 @@ void AddMapPattern(const TestResult& r, AlongTrackFrictionShape* shape) {
 
 }  // namespace
 
-Diagnosis DiagnoseTest(const force::ForceRecord& record,
-                       const TestResult& r,
-                       const FuseOptions& fuse,
-                       const DiagnoseOptions& options) {
+namespace {
+
+// DiagnoseTest on the record as the analysis read it (its lines notched).
+Diagnosis DiagnoseAsAnalysed(const force::ForceRecord& record,
+                             const TestResult& r,
+                             const DiagnoseOptions& options) {
   PlateProfile depth;
   if (r.scan) {
     const auto& fp = r.scan->force_profile;
     depth.x_mm = fp.x_mm;
     depth.k = -ScanHeightAtPlate(r.scan->profile, r.scan->alignment, fp.x_mm);
-  }
-  // The lines the analysis removed (given, or found: the result's
-  // options), removed here too.
-  const std::vector<double>& removed =
-      fuse.notch_hz.empty() ? r.options.notch_hz : fuse.notch_hz;
-  if (!removed.empty()) {
-    force::ForceRecord notched = record;
-    for (double f : removed) force::NotchLine(&notched, f);
-    FuseOptions rest = fuse;
-    rest.notch_hz.clear();
-    TestResult without = r;
-    without.options.notch_hz.clear();
-    Diagnosis d = DiagnoseTest(notched, without, rest, options);
-    d.slope_source += fmt::format(
-        "; Q and P notched at {:.2f} Hz as the analysis's were ({})",
-        fmt::join(removed, ", "),
-        fuse.notch_hz.empty()
-            ? "lines found in the record; --notch none keeps them"
-            : "--notch");
-    return d;
   }
   // k where the analysis took it (its ProfileDecision, recorded with the
   // options it ran with): P/S, the depth channel with its sign, or on a
@@ -713,6 +695,29 @@ Diagnosis DiagnoseTest(const force::ForceRecord& record,
                          WithTheSpringsEvidence(r, options));
   SayTheSpring(friction.slope.spring_n_per_mm, &d);
   if (!d.along_track.empty()) AddMapPattern(r, &d.along_track);
+  return d;
+}
+
+}  // namespace
+
+Diagnosis DiagnoseTest(const force::ForceRecord& record,
+                       const TestResult& r,
+                       const FuseOptions& fuse,
+                       const DiagnoseOptions& options) {
+  // The lines the analysis removed (given, or found: the result's
+  // options), removed here too.
+  const std::vector<double>& removed =
+      fuse.notch_hz.empty() ? r.options.notch_hz : fuse.notch_hz;
+  if (removed.empty()) return DiagnoseAsAnalysed(record, r, options);
+  force::ForceRecord notched = record;
+  for (double f : removed) force::NotchLine(&notched, f);
+  Diagnosis d = DiagnoseAsAnalysed(notched, r, options);
+  d.slope_source +=
+      fmt::format("; Q and P notched at {:.2f} Hz as the analysis's were ({})",
+                  fmt::join(removed, ", "),
+                  fuse.notch_hz.empty()
+                      ? "lines found in the record; --notch none keeps them"
+                      : "--notch");
   return d;
 }
 

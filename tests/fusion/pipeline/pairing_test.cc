@@ -310,20 +310,15 @@ TEST_F(LabFolder, SharedInputsAreFoundBeforeTheAnalysisByContentNotSize) {
   EXPECT_EQ(found.count("three"), 0u);
   // The third as an earlier run analysed it, under another name, beside a
   // new copy of it; and a row of "one" (analysed again now) is not read.
-  const nlohmann::json earlier = {
-      {"specimen", "old"},
-      {"provenance",
-       {{"inputs",
-         {{{"role", "scan"},
-           {"bytes", middle.size()},
-           {"sha256", Sha256OfFile(dir_ + "/three.gsf")}}}}}}};
-  const nlohmann::json again = {
-      {"specimen", "one"},
-      {"provenance",
-       {{"inputs",
-         {{{"role", "scan"},
-           {"bytes", middle.size()},
-           {"sha256", Sha256OfFile(dir_ + "/three.gsf")}}}}}}};
+  auto row = [&](const std::string& name) -> nlohmann::json {
+    return {{"specimen", name},
+            {"provenance",
+             {{"inputs",
+               {{{"role", "scan"},
+                 {"bytes", middle.size()},
+                 {"sha256", Sha256OfFile(dir_ + "/three.gsf")}}}}}}};
+  };
+  const nlohmann::json earlier = row("old"), again = row("one");
   found = SharedInputsBefore(
       {specimen("four", middle), mine[0]}, {}, {earlier, again});
   ASSERT_EQ(found["four"].size(), 1u);

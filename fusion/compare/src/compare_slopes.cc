@@ -74,10 +74,10 @@ class CycleRange {
   }
   // mu-hat minus mu_energy with the slope the verdict judges.
   Interval MethodDifference(const std::vector<MuFit>& fits,
-                            const ForceAnalysis& force) const {
+                            const std::vector<force::CycleCof>& cof) const {
     std::vector<double> d(fits.size(), std::nan(""));
     for (int c = first_; c <= last_ && c < static_cast<int>(fits.size()); ++c) {
-      if (fits[c].converged) d[c] = fits[c].mu_hat - force.cof[c].mu_energy_g;
+      if (fits[c].converged) d[c] = fits[c].mu_hat - cof[c].mu_energy_g;
     }
     return MeanInterval(d, first_, last_);
   }
@@ -88,6 +88,7 @@ class CycleRange {
 };
 
 void CompareForceSide(const ForceAnalysis& force,
+                      const std::vector<force::CycleCof>& cof,
                       const CycleRange& range,
                       MismatchReport* r) {
   const auto& ff = force.fit_force;
@@ -99,12 +100,11 @@ void CompareForceSide(const ForceAnalysis& force,
   // The classic COFs' own noise is small against mu-hat's (they average
   // Q/P over whole half cycles): the differences carry mu-hat's errors.
   r->mu_force_minus_mean = range.WithErrors(
-      ff, shared, [&](int c) { return ff[c].mu_hat - force.cof[c].mu_mean; });
-  r->mu_force_minus_energy = range.WithErrors(ff, shared, [&](int c) {
-    return ff[c].mu_hat - force.cof[c].mu_energy_g;
-  });
+      ff, shared, [&](int c) { return ff[c].mu_hat - cof[c].mu_mean; });
+  r->mu_force_minus_energy = range.WithErrors(
+      ff, shared, [&](int c) { return ff[c].mu_hat - cof[c].mu_energy_g; });
   r->split_force = SplitCost(ff, r->first_cycle, r->last_cycle);
-  r->method_difference = range.MethodDifference(ff, force);
+  r->method_difference = range.MethodDifference(ff, cof);
 }
 
 // The stroke's centre in the scan against the sphere's reversals there
@@ -131,6 +131,7 @@ void EndsOffset(const ForceAnalysis& force,
 }
 
 void CompareScanSide(const ForceAnalysis& force,
+                     const std::vector<force::CycleCof>& cof,
                      const ScanAnalysis& scan,
                      const CycleRange& range,
                      MismatchReport* r) {
@@ -159,7 +160,7 @@ void CompareScanSide(const ForceAnalysis& force,
   const auto& fs = scan.fit_scan;
   r->split_scan = SplitCost(fs, r->first_cycle, r->last_cycle);
   if (r->cost_force.count == 0)
-    r->method_difference = range.MethodDifference(fs, force);
+    r->method_difference = range.MethodDifference(fs, cof);
   // One scan slope for every cycle: its errors are common to all.
   r->mu_scan =
       range.WithErrors(fs, range.Count(), [&](int c) { return fs[c].mu_hat; });
@@ -213,6 +214,7 @@ double KRmsDifference(const force::ForceRecord& record,
 
 MismatchReport CompareSlopes(const force::ForceRecord& record,
                              const ForceAnalysis& force,
+                             const ClassicCofs& classic,
                              const ScanAnalysis* scan,
                              const ProfileDecision& profile,
                              int first,
@@ -226,16 +228,17 @@ MismatchReport CompareSlopes(const force::ForceRecord& record,
   r.force_profile_name = profile.ProfileName();
   r.force_slope_judged = profile.ForceSlopeJudged();
   const CycleRange range(first, last);
-  r.mu_mean = range.Series([&](int c) { return force.cof[c].mu_mean; });
-  r.mu_energy = range.Series([&](int c) { return force.cof[c].mu_energy_g; });
+  const std::vector<force::CycleCof>& cof = classic.cycles;
+  r.mu_mean = range.Series([&](int c) { return cof[c].mu_mean; });
+  r.mu_energy = range.Series([&](int c) { return cof[c].mu_energy_g; });
   // Without a profile in P (a dead weight) its fits are not used.
   if (profile.ForceSlopeJudged()) {
-    CompareForceSide(force, range, &r);
+    CompareForceSide(force, cof, range, &r);
   } else {
-    r.method_difference = range.MethodDifference({}, force);
+    r.method_difference = range.MethodDifference({}, cof);
   }
   if (scan == nullptr) return r;
-  CompareScanSide(force, *scan, range, &r);
+  CompareScanSide(force, cof, *scan, range, &r);
   r.identity_judged = !profile.FromFriction();
   if (!profile.ForceSlopeJudged()) {
     r.k_rms_difference = std::nan("");

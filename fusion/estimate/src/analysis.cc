@@ -268,10 +268,10 @@ RunningIn DetectRunningIn(const std::vector<double>& v, double tolerance) {
   return r;
 }
 
-ForceAnalysis SegmentForce(const force::ForceRecord& record,
-                           const AnalysisOptions& options) {
+ForceAnalysis SegmentCycles(const force::ForceRecord& record,
+                            const AnalysisOptions& options) {
   WEARSCAR_CHECK(record.IsConsistent(),
-                 "SegmentForce needs channels of one length");
+                 "SegmentCycles needs channels of one length");
   std::string why;
   if (!options.IsValid(&why)) throw FusionError("analysis options: " + why);
   ForceAnalysis a;
@@ -281,9 +281,15 @@ ForceAnalysis SegmentForce(const force::ForceRecord& record,
   for (const auto& c : a.cycles.cycles) {
     a.slip_fallbacks += c.forward.slip_fallback + c.reverse.slip_fallback;
   }
-  a.cof = force::ComputeClassicCof(record, a.cycles);
+  return a;
+}
+
+void FindRunningIn(const force::ForceRecord& record,
+                   const AnalysisOptions& options,
+                   const ClassicCofs& cofs,
+                   ForceAnalysis* a) {
   // Running-in never swallows the whole test: keep at least the last half.
-  const int n = static_cast<int>(a.cycles.cycles.size());
+  const int n = static_cast<int>(a->cycles.cycles.size());
   if (options.running_in_cycles >= 0) {
     if (options.running_in_cycles > n / 2) {
       throw FusionError(fmt::format(
@@ -295,14 +301,23 @@ ForceAnalysis SegmentForce(const force::ForceRecord& record,
           n,
           n / 2));
     }
-    a.running_in.cycles = options.running_in_cycles;
-    a.running_in.rule =
-        fmt::format("running-in: {} cycles (given)", a.running_in.cycles);
+    a->running_in.cycles = options.running_in_cycles;
+    a->running_in.rule =
+        fmt::format("running-in: {} cycles (given)", a->running_in.cycles);
   } else {
     std::vector<double> friction;
-    for (const auto& c : a.cof) friction.push_back(c.mu_mean);
-    a.running_in = DetectRunningIn(friction, options.running_in_tolerance);
+    for (const auto& c : cofs.cycles) friction.push_back(c.mu_mean);
+    a->running_in = DetectRunningIn(friction, options.running_in_tolerance);
   }
+}
+
+ForceAnalysis SegmentForce(const force::ForceRecord& record,
+                           const AnalysisOptions& options) {
+  ForceAnalysis a = SegmentCycles(record, options);
+  FindRunningIn(record,
+                options,
+                ClassicCofs{force::ComputeClassicCof(record, a.cycles)},
+                &a);
   return a;
 }
 
@@ -325,19 +340,15 @@ void FitForceSide(const force::ForceRecord& record,
   }
   const int n = static_cast<int>(a->cycles.cycles.size());
   const int first = a->running_in.cycles;
-  std::vector<double> mu, se, j, mm, me;
+  std::vector<double> mu, se, j;
   for (int i = 0; i < n; ++i) {
     const bool ok = a->fit_force[i].converged;
     mu.push_back(ok ? a->fit_force[i].mu_hat : std::nan(""));
     se.push_back(ok ? a->fit_force[i].standard_error : std::nan(""));
     j.push_back(ok ? a->fit_force[i].cost : std::nan(""));
-    mm.push_back(a->cof[i].mu_mean);
-    me.push_back(a->cof[i].mu_energy_g);
   }
   a->mu_hat = SummariseWithErrors(mu, se, first, n - 1, a->correlated_cycles);
   a->cost = Summarise(j, first);
-  a->mu_mean = SummariseSeries(mm, first, n - 1);
-  a->mu_energy = SummariseSeries(me, first, n - 1);
 }
 
 ForceAnalysis AnalyzeForce(const force::ForceRecord& record,

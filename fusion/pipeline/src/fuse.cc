@@ -254,6 +254,7 @@ void CompareAndJudge(const force::ForceRecord& record,
   const int first = result->window.first, last = result->window.last;
   result->mismatch = CompareSlopes(record,
                                    result->force,
+                                   result->units.Get<ClassicCofs>(),
                                    scan,
                                    result->profile,
                                    first,
@@ -533,11 +534,19 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
   // the profile's decision then asks for what it needs (the fit with k from
   // P/S, the depth's agreement, the scan's alignment) and the analysis
   // runs once with k where it put it.
-  const ForceAnalysis segmented = SegmentForce(record, ao);
+  ForceAnalysis segmented = SegmentCycles(record, ao);
+  UnitRunner units(record, result.options.parallel);
+  // The units on the cycles alone (the classic COFs), collected first: the
+  // running-in is detected on the COFs' mean method.
+  units.Start(UnitStage::kSegmented, segmented, result.options);
+  units.Collect(&result.units);
+  const ClassicCofs* classic = result.units.Find<ClassicCofs>();
+  WEARSCAR_CHECK(classic != nullptr,
+                 "the classic COFs' unit must run on every test");
+  FindRunningIn(record, ao, *classic, &segmented);
   // The units that need only the record and its cycles (the periodic
   // lines, LuGre on the detail cycle, the friction map without a depth
   // channel) beside the rest, on cores of their own where there are.
-  UnitRunner units(record, result.options.parallel);
   units.Start(UnitStage::kCycles, segmented, result.options);
   // The track's history from the spring, a unit of those, is read by the
   // decision, the scan's slope and the spring check before they are

@@ -186,6 +186,7 @@ void LiveAnalysis::Analyse(std::vector<LiveCycle>* out) {
   o.running_in_cycles = 0;  // decided over the whole test (UpdateRunningIn)
   o.friction.narrow_ensemble_to_record = false;  // the template is kept
   ForceAnalysis a;
+  std::vector<force::CycleCof> cof;   // the classic COFs of the new cycles
   std::vector<CycleSamples> samples;  // per cycle, those fitted
   std::vector<char> fresh;            // per cycle, not reported before
   try {
@@ -206,7 +207,7 @@ void LiveAnalysis::Analyse(std::vector<LiveCycle>* out) {
       o.friction.k_from_depth = options_.analysis.friction.k_from_depth;
       o.friction.depth_sign = options_.analysis.friction.depth_sign;
     }
-    a.cof = NewCyclesCof(a.cycles, fresh);
+    cof = NewCyclesCof(a.cycles, fresh);
     o.friction.fit_cycle = fresh;
     o.friction.keep_samples = true;
     o.friction.split_noise = false;  // SplitNoise, against earlier windows
@@ -243,7 +244,7 @@ void LiveAnalysis::Analyse(std::vector<LiveCycle>* out) {
       shown = static_cast<int>(i);
       loop_.cycle = static_cast<int>(reported_.size()) + 1;
     }
-    Report(buffer_, a, static_cast<int>(i), out);
+    Report(buffer_, a, cof[i], static_cast<int>(i), out);
     last_end_s_ = buffer_.time_s[cycles[i].reverse.end - 1];
   }
   if (shown >= 0) ShowLoop(samples[shown], a.fit_force[shown].mu_hat);
@@ -452,6 +453,7 @@ void LiveAnalysis::KeepHistory() {
 
 void LiveAnalysis::Report(const force::ForceRecord& window,
                           const ForceAnalysis& a,
+                          const force::CycleCof& cof,
                           int i,
                           std::vector<LiveCycle>* out) {
   const MuFit& f = a.fit_force[i];
@@ -463,8 +465,8 @@ void LiveAnalysis::Report(const force::ForceRecord& window,
   const double half = 1.959964 * f.standard_error;
   c.mu_low = c.mu_hat - half;
   c.mu_high = c.mu_hat + half;
-  c.mu_mean = a.cof[i].mu_mean;
-  c.mu_energy = a.cof[i].mu_energy_g;
+  c.mu_mean = cof.mu_mean;
+  c.mu_energy = cof.mu_energy_g;
   c.cost = f.converged ? f.cost : kNaN;
   c.cost_floor = f.cost_floor;
   c.cost_excess = f.cost_excess;

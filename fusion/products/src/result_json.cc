@@ -16,16 +16,7 @@ nlohmann::json CycleNumber(int zero_based) {
   return zero_based >= 0 ? nlohmann::json(zero_based + 1) : nlohmann::json();
 }
 
-// mean, sd, count; with the mean's 95% interval and the effective number
-// of independent cycles where they were estimated.
-nlohmann::json Stat(const Statistic& s) {
-  nlohmann::json j = {{"mean", s.mean}, {"sd", s.sd}, {"count", s.count}};
-  if (std::isfinite(s.low)) {
-    j["interval95"] = {s.low, s.high};
-    j["effective_cycles"] = s.effective_count;
-  }
-  return j;
-}
+nlohmann::json Stat(const Statistic& s) { return StatisticJson(s); }
 
 nlohmann::json Split(const CostSplit& s) {
   return {{"J", s.cost},
@@ -221,13 +212,18 @@ nlohmann::json ScanJson(const ScanAnalysis& s) {
   return j;
 }
 
-// Each analysis unit's section under its kind (a unit may have none), and
+// Each analysis unit's section under its kind (a unit may have none, or
+// join an object of the core's: UnitSpec::json_section), and
 // which ran, what each read and its choices as given and used.
 void AddUnitSections(const TestResult& r, nlohmann::json* j) {
   (*j)["units"] = nlohmann::json::array();
   for (const auto& [unit, result] : UnitsThatRan(r)) {
     nlohmann::json section = unit->JsonErased(result, r);
-    if (!section.is_null()) (*j)[unit->Kind()] = std::move(section);
+    if (const char* within = unit->Spec().json_section) {
+      for (auto& [key, value] : section.items()) (*j)[within][key] = value;
+    } else if (!section.is_null()) {
+      (*j)[unit->Kind()] = std::move(section);
+    }
     nlohmann::json entry = {{"kind", unit->Kind()},
                             {"what", unit->Spec().what},
                             {"reads", unit->Spec().reads}};
@@ -309,9 +305,7 @@ nlohmann::json ResultJson(const std::string& name,
                 {"noise_from_ensemble_halves", r.force.k_ensemble_noise_rms},
                 {"mu_hat_bias_removed", r.force.k_noise_correction}};
   j["after_running_in"] = {{"mu_hat", Stat(r.force.mu_hat)},
-                           {"J", Stat(r.force.cost)},
-                           {"mu_mean", Stat(r.force.mu_mean)},
-                           {"mu_energy", Stat(r.force.mu_energy)}};
+                           {"J", Stat(r.force.cost)}};
   j["comparison"] = ComparisonJson(r);
   j["premises"] = PremisesJson(r);
   if (r.scan) j["scan"] = ScanJson(*r.scan);

@@ -8,7 +8,6 @@
 #include <limits>
 
 #include "wearscar/fusion/align.h"
-#include "wearscar/fusion/track_history.h"
 #include "wearscar/fusion/unit.h"
 #include "wearscar/support/check.h"
 #include "wearscar/support/numbers.h"
@@ -25,6 +24,77 @@ constexpr double kZ95 = 1.96;
 
 double Number(int v) { return static_cast<double>(v); }
 
+// cycles.csv's columns that the core writes (the mu fits, running-in):
+// the units' go in between (WithUnitColumns).
+const std::vector<std::string>& CoreCycleColumns() {
+  static const std::vector<std::string> kColumns = {"cycle",
+                                                    "mu_hat_force",
+                                                    "J_force",
+                                                    "J_force_floor",
+                                                    "J_force_excess",
+                                                    "mu_hat_scan",
+                                                    "J_scan",
+                                                    "J_scan_floor",
+                                                    "J_scan_excess",
+                                                    "samples",
+                                                    "running_in",
+                                                    "slip_fallback",
+                                                    "mu_hat_force_low",
+                                                    "mu_hat_force_high",
+                                                    "mu_hat_scan_low",
+                                                    "mu_hat_scan_high"};
+  return kColumns;
+}
+
+// The units' columns of the core's table `file` (UnitSpec::columns), each
+// set after its anchor, in the registry's order.
+template <typename Each>
+void ForEachUnitColumns(std::string_view file, Each each) {
+  for (const AnalysisUnit* unit : AnalysisUnits()) {
+    for (const UnitColumns& c : unit->Spec().columns) {
+      if (c.table == file) each(*unit, c);
+    }
+  }
+}
+
+std::ptrdiff_t After(const std::vector<std::string>& columns,
+                     const UnitColumns& c) {
+  const auto at = std::find(columns.begin(), columns.end(), c.after);
+  WEARSCAR_CHECK(at != columns.end(),
+                 "a unit's columns follow a column of the table");
+  return at - columns.begin() + 1;
+}
+
+std::vector<std::string> WithUnitColumns(std::string_view file,
+                                         std::vector<std::string> columns) {
+  ForEachUnitColumns(file, [&](const AnalysisUnit&, const UnitColumns& c) {
+    columns.insert(
+        columns.begin() + After(columns, c), c.names.begin(), c.names.end());
+  });
+  return columns;
+}
+
+// The core's rows of `file` with the units' columns set in, each empty
+// where its unit did not run.
+void AddUnitColumns(const TestResult& r, std::string_view file, Table* t) {
+  ForEachUnitColumns(file, [&](const AnalysisUnit& unit, const UnitColumns& c) {
+    const void* result = r.units.Of(unit.Kind());
+    const auto values = result ? unit.ColumnsErased(result, c, r)
+                               : std::vector<std::vector<double>>();
+    const std::ptrdiff_t at = After(t->columns, c);
+    t->columns.insert(t->columns.begin() + at, c.names.begin(), c.names.end());
+    for (size_t i = 0; i < t->rows.size(); ++i) {
+      const bool has = i < values.size() && values[i].size() == c.names.size();
+      std::vector<double>& row = t->rows[i];
+      if (has) {
+        row.insert(row.begin() + at, values[i].begin(), values[i].end());
+      } else {
+        row.insert(row.begin() + at, c.names.size(), kNaN);
+      }
+    }
+  });
+}
+
 }  // namespace
 
 const std::vector<std::string>& CycleColumns() {
@@ -35,36 +105,7 @@ const std::vector<TableSchema>& TestTableSchemas() {
   static const std::vector<TableSchema> kSchemas = [] {
     std::vector<TableSchema> all = {
         {"cycles.csv",
-         {"cycle",
-          "mu_hat_force",
-          "J_force",
-          "J_force_floor",
-          "J_force_excess",
-          "mu_hat_scan",
-          "J_scan",
-          "J_scan_floor",
-          "J_scan_excess",
-          "samples",
-          "mu_mean",
-          "mu_energy_max",
-          "mu_energy_g",
-          "E_d_Nmm",
-          "delta_max_mm",
-          "delta_g_mm",
-          "P_mean_N",
-          "Q_max_N",
-          "Q_min_N",
-          "P_max_N",
-          "P_min_N",
-          "P_range_N",
-          "QP_correlation",
-          "running_in",
-          "slip_fallback",
-          "waviness_sd_mm",
-          "mu_hat_force_low",
-          "mu_hat_force_high",
-          "mu_hat_scan_low",
-          "mu_hat_scan_high"},
+         WithUnitColumns("cycles.csv", CoreCycleColumns()),
          "one row per cycle: mu-hat with each slope, J and its parts, the "
          "classic COFs, envelopes, running-in"},
         {"loops.csv",
@@ -120,12 +161,9 @@ namespace internal {
 
 Table CycleTable(const TestResult& r) {
   const auto& cycles = r.force.cycles.cycles;
-  // The waviness per cycle from the track's history (a unit's result).
-  const TrackHistory& history = r.units.Get<TrackHistory>();
-  Table t(TableColumns("cycles.csv"));
+  Table t(CoreCycleColumns());
   for (size_t c = 0; c < cycles.size(); ++c) {
     const auto& f = r.force.fit_force[c];
-    const auto& cof = r.force.cof[c];
     const MuFit* s = r.scan ? &r.scan->fit_scan[c] : nullptr;
     const bool fok = f.converged, sok = s && s->converged;
     t.rows.push_back(
@@ -139,28 +177,17 @@ Table CycleTable(const TestResult& r) {
          sok ? s->cost_floor : kNaN,
          sok ? s->cost_excess : kNaN,
          Number(f.samples),
-         cof.mu_mean,
-         cof.mu_energy_max,
-         cof.mu_energy_g,
-         cof.dissipated_energy_nmm,
-         cof.delta_max_mm,
-         cof.delta_g_mm,
-         cof.mean_normal_n,
-         cof.q_max_n,
-         cof.q_min_n,
-         cof.p_max_n,
-         cof.p_min_n,
-         cof.p_range_n,
-         cof.qp_correlation,
          static_cast<int>(c) < r.force.running_in.cycles ? 1.0 : 0.0,
          Number(cycles[c].forward.slip_fallback +
                 cycles[c].reverse.slip_fallback),
-         c < history.waviness_sd_mm.size() ? history.waviness_sd_mm[c] : kNaN,
          fok ? f.mu_hat - kZ95 * f.standard_error : kNaN,
          fok ? f.mu_hat + kZ95 * f.standard_error : kNaN,
          sok ? s->mu_hat - kZ95 * s->standard_error : kNaN,
          sok ? s->mu_hat + kZ95 * s->standard_error : kNaN});
   }
+  AddUnitColumns(r, "cycles.csv", &t);
+  WEARSCAR_CHECK(t.columns == TableColumns("cycles.csv"),
+                 "cycles.csv's columns as its schema declares");
   return t;
 }
 

@@ -3,12 +3,15 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
 #include "units.h"
 
 namespace wearscar::fusion {
 
 const std::vector<const AnalysisUnit*>& AnalysisUnits() {
   static const std::vector<const AnalysisUnit*> kUnits = {
+      &internal::ClassicCofsAnalysis(),
       &internal::PeriodicLinesAnalysis(),
       &internal::SlidingAnalysis(),
       &internal::LugreAnalysis(),
@@ -21,6 +24,15 @@ const std::vector<const AnalysisUnit*>& AnalysisUnits() {
       &internal::WearAnalysis(),
   };
   return kUnits;
+}
+
+nlohmann::json StatisticJson(const Statistic& s) {
+  nlohmann::json j = {{"mean", s.mean}, {"sd", s.sd}, {"count", s.count}};
+  if (std::isfinite(s.low)) {
+    j["interval95"] = {s.low, s.high};
+    j["effective_cycles"] = s.effective_count;
+  }
+  return j;
 }
 
 std::string GridRanges(const std::vector<double>& x_mm, int cycles) {

@@ -25,7 +25,8 @@ class TrackHistoryUnit : public TypedUnit<TrackHistory> {
         {{"track_history.csv",
           {"cycle", "direction", "x_mm", "h_mm"},
           "the track's height from the spring, P/S about its mean, per "
-          "cycle"}}};
+          "cycle"}},
+        {{"cycles.csv", "slip_fallback", {"waviness_sd_mm"}}}};
     return kSpec;
   }
   UnitStage Stage(const force::ForceRecord&) const override {
@@ -71,6 +72,16 @@ class TrackHistoryUnit : public TypedUnit<TrackHistory> {
       }
     }
     return {{"track_history.csv", std::move(t)}};
+  }
+  // Its waviness per cycle beside the cycle's mu-hat.
+  std::vector<std::vector<double>> Columns(const TrackHistory& h,
+                                           const UnitColumns&,
+                                           const TestResult& r) const override {
+    std::vector<std::vector<double>> rows;
+    for (size_t c = 0; c < r.force.cycles.cycles.size(); ++c)
+      rows.push_back(
+          {c < h.waviness_sd_mm.size() ? h.waviness_sd_mm[c] : std::nan("")});
+    return rows;
   }
   std::vector<UnitFigure> Figures(const TrackHistory& h,
                                   const std::string& name,

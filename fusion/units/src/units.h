@@ -9,6 +9,7 @@
 
 namespace wearscar::fusion::internal {
 
+const AnalysisUnit& ClassicCofsAnalysis();    // classic_cofs_unit.cc
 const AnalysisUnit& PeriodicLinesAnalysis();  // periodic_lines_unit.cc
 const AnalysisUnit& LugreAnalysis();          // lugre_unit.cc
 const AnalysisUnit& FrictionMapAnalysis();    // friction_map_unit.cc

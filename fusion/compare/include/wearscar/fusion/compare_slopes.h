@@ -12,10 +12,12 @@ namespace wearscar::fusion {
 // The mismatch over cycles [first, last] with the profile as decided:
 // mu-hat with the force side's k only where it is judged (P/S or the
 // depth, not the friction's circular profile); the scan's side when
-// `scan` is given, with KRmsDifference computed here unless given.
+// `scan` is given, with KRmsDifference computed here unless given; the
+// classic methods from `classic` (the unit "classic_cofs").
 MismatchReport CompareSlopes(
     const force::ForceRecord& record,
     const ForceAnalysis& force,
+    const ClassicCofs& classic,
     const ScanAnalysis* scan,
     const ProfileDecision& profile,
     int first,

@@ -125,12 +125,19 @@ struct RunningIn {
 RunningIn DetectRunningIn(const std::vector<double>& friction_per_cycle,
                           double tolerance);
 
+// The classic COFs per cycle (force::ComputeClassicCof): the result of the
+// analysis unit "classic_cofs", from whose mean method the running-in is
+// detected (FindRunningIn) and from which the comparison takes the classic
+// methods' difference to mu-hat.
+struct ClassicCofs {
+  std::vector<force::CycleCof> cycles;
+};
+
 struct ForceAnalysis {
   force::CycleSet cycles;
-  std::vector<force::CycleCof> cof;
   std::vector<MuFit> fit_force;  // mu-hat with k from the force channel
   RunningIn running_in;
-  Statistic mu_hat, cost, mu_mean, mu_energy;
+  Statistic mu_hat, cost;
   // Successive cycles whose mu-hat errors are correlated through the
   // force-side slope (ForceSlopes::SharedCycles).
   int correlated_cycles = 1;
@@ -148,24 +155,35 @@ struct ForceAnalysis {
   double k_noise_correction = 0.0;
 };
 
-// The force side's stages that need no slope: cycles, gross slip, the
-// classic COFs and the running-in (from the mean COF). Throws
-// force::ForceError for records that cannot be segmented, FusionError for a
-// running-in longer than half the test. Requires record.IsConsistent().
+// The force side's stages that need no slope nor the classic COFs: cycles
+// and gross slip; the running-in is not set. Throws force::ForceError for
+// records that cannot be segmented. Requires record.IsConsistent().
+ForceAnalysis SegmentCycles(const force::ForceRecord& record,
+                            const AnalysisOptions& options);
+
+// The running-in of a segmented record: given (options.running_in_cycles;
+// FusionError when longer than half the test) or detected on the classic
+// COFs' mean method (DetectRunningIn).
+void FindRunningIn(const force::ForceRecord& record,
+                   const AnalysisOptions& options,
+                   const ClassicCofs& cofs,
+                   ForceAnalysis* analysis);
+
+// SegmentCycles, the classic COFs and FindRunningIn, for a caller that runs
+// no analysis units (the pipeline runs the COFs' unit between the two).
 ForceAnalysis SegmentForce(const force::ForceRecord& record,
                            const AnalysisOptions& options);
 
 // mu-hat per cycle with the force side's slope (options.friction: P/S or
-// the depth channel) on a segmented record, and the statistics after
+// the depth channel) on a segmented record, and its statistics after
 // running-in.
 void FitForceSide(const force::ForceRecord& record,
                   const AnalysisOptions& options,
                   ForceAnalysis* analysis);
 
-// SegmentForce, then FitForceSide: segments, finds gross slip, computes the
-// classic COFs and fits mu-hat per
-// cycle with the force-side slope. Throws force::ForceError for records that
-// cannot be segmented.
+// SegmentForce, then FitForceSide: segments, finds gross slip and the
+// running-in, and fits mu-hat per cycle with the force-side slope. Throws
+// force::ForceError for records that cannot be segmented.
 // Requires record.IsConsistent().
 ForceAnalysis AnalyzeForce(const force::ForceRecord& record,
                            const AnalysisOptions& options);

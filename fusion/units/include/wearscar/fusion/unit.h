@@ -25,8 +25,11 @@ namespace wearscar::fusion {
 
 // When a unit can run: what of the test exists by then.
 enum class UnitStage {
-  // The record and its cycles (running-in, the classic COFs; no slope
-  // fitted): beside the profile's decision.
+  // The record's cycles and gross slip, before the running-in, which the
+  // pipeline then detects on what these units find (the classic COFs).
+  kSegmented,
+  // The record, its cycles and the running-in (no slope fitted): beside
+  // the profile's decision.
   kCycles,
   // The force side analysed with k where the decision put it: beside the
   // scan side.
@@ -42,8 +45,8 @@ enum class UnitStage {
 // What a unit reads when it runs.
 struct UnitInput {
   const force::ForceRecord& record;
-  // At kCycles the segmentation (cycles, running-in); later the decided
-  // force analysis.
+  // At kSegmented the cycles and gross slip, at kCycles the running-in
+  // too; later the decided force analysis.
   const ForceAnalysis& force;
   // The options as its stage has them: at kCycles the given ones (with a
   // spring the file states), before the decision puts k.
@@ -100,6 +103,11 @@ struct UnitFigure {
   std::string stem, title;
   std::vector<UnitPanel> panels;
 };
+// A statistic in result.json: mean, sd, count; with the mean's 95%
+// interval and the effective number of independent cycles where they were
+// estimated.
+nlohmann::json StatisticJson(const Statistic& s);
+
 // A grid's panel setup: gnuplot's ranges of bins centred on x_mm over
 // cycles from 1.
 std::string GridRanges(const std::vector<double>& x_mm, int cycles);
@@ -122,6 +130,15 @@ struct UnitChoice {
   std::string why;  // why used differs from given ("" same)
 };
 
+// Columns a unit adds to a table of the pipeline's core (cycles.csv: one
+// row per cycle), set after the column `after` there, so the table reads
+// as one whoever computed its columns.
+struct UnitColumns {
+  std::string table;  // "cycles.csv"
+  std::string after;  // a column of the core's, or of a unit's before it
+  std::vector<std::string> names;
+};
+
 // What a unit declares about itself.
 struct UnitSpec {
   const char* kind;  // result.json's key and the registry's name
@@ -131,6 +148,11 @@ struct UnitSpec {
   std::vector<std::string> reads;
   // The tables it may write (TestTableSchemas lists them).
   std::vector<TableSchema> tables;
+  // The columns it adds to the core's tables (empty where it did not run).
+  std::vector<UnitColumns> columns = {};
+  // The result.json object its Json joins, where its figures stood before
+  // they were a unit's ("after_running_in"); null: its own, under its kind.
+  const char* json_section = nullptr;
 };
 
 class AnalysisUnit {
@@ -158,6 +180,10 @@ class AnalysisUnit {
   virtual std::vector<UnitTable> TablesErased(const void* result,
                                               const force::ForceRecord& record,
                                               const TestResult& r) const = 0;
+  virtual std::vector<std::vector<double>> ColumnsErased(
+      const void* result,
+      const UnitColumns& columns,
+      const TestResult& r) const = 0;
   virtual std::vector<UnitFigure> FiguresErased(const void* result,
                                                 const std::string& name,
                                                 const TestResult& r) const = 0;
@@ -183,6 +209,13 @@ class TypedUnit : public AnalysisUnit {
   virtual std::vector<UnitTable> Tables(const R&,
                                         const force::ForceRecord&,
                                         const TestResult&) const {
+    return {};
+  }
+  // The values of `columns` (one of UnitSpec::columns), a row of
+  // columns.names.size() values for each row of the core's table.
+  virtual std::vector<std::vector<double>> Columns(const R&,
+                                                   const UnitColumns&,
+                                                   const TestResult&) const {
     return {};
   }
   virtual std::vector<UnitFigure> Figures(const R&,
@@ -217,6 +250,12 @@ class TypedUnit : public AnalysisUnit {
                                       const force::ForceRecord& record,
                                       const TestResult& r) const final {
     return Tables(*static_cast<const R*>(result), record, r);
+  }
+  std::vector<std::vector<double>> ColumnsErased(
+      const void* result,
+      const UnitColumns& columns,
+      const TestResult& r) const final {
+    return Columns(*static_cast<const R*>(result), columns, r);
   }
   std::vector<UnitFigure> FiguresErased(const void* result,
                                         const std::string& name,

@@ -10,6 +10,8 @@
 #include <cmath>
 #include <vector>
 
+#include "wearscar/fusion/scan_identity.h"
+
 namespace wearscar::fusion {
 
 std::string SpringOrigin(const FuseOptions& o) {
@@ -159,6 +161,25 @@ std::vector<std::string> Assumptions(const force::ForceRecord& record,
   std::vector<std::string> said = {
       spring, slope, ReadAssumption(record.metadata), r.force.running_in.rule};
   if (r.scan) said.push_back(ScanPathAssumption(r, o));
+  if (r.scan && ShortStrokesTrack(r.scan->track,
+                                  r.force.cycles.stroke_mm,
+                                  r.mismatch.scan_pixel_mm,
+                                  o.track,
+                                  o.verdict)) {
+    const scan::Track& t = r.scan->track;
+    said.push_back(fmt::format(
+        "the scan's track is taken as the wear track although it is only "
+        "{:.1f} times as long as wide (below {:g} a track may be texture): its "
+        "length, "
+        "{:.2f} mm, is what the stroke of {:.2f} mm wears with the track's "
+        "width, {:.2f} mm, beside it (a short stroke); its outline does not "
+        "place it",
+        t.elongation,
+        o.track.confident_elongation,
+        t.length_mm,
+        r.force.cycles.stroke_mm,
+        t.width_mm));
+  }
   return said;
 }
 

@@ -30,13 +30,13 @@ bool Foreign(const MismatchReport& r, const VerdictOptions& o) {
 }
 
 bool TrackLengthDiffers(const MismatchReport& r, const VerdictOptions& o) {
-  if (!(r.has_scan && r.track_length_mm > 0 && r.stroke_mm > 0 &&
-        r.track_width_mm >= 0))
-    return false;
-  const double slack =
-      o.track_length_tolerance * r.stroke_mm + 2 * r.scan_pixel_mm;
-  return r.track_length_mm < r.stroke_mm - slack ||
-         r.track_length_mm > r.stroke_mm + r.track_width_mm + slack;
+  return r.has_scan && r.track_length_mm > 0 && r.stroke_mm > 0 &&
+         r.track_width_mm >= 0 &&
+         !TrackLengthFitsStroke(r.track_length_mm,
+                                r.track_width_mm,
+                                r.stroke_mm,
+                                r.scan_pixel_mm,
+                                o);
 }
 
 bool TrackCentreMoved(const MismatchReport& r, const VerdictOptions& o) {
@@ -130,6 +130,27 @@ std::string ScanIdentity::Doubt() const {
            "; the verdict is judged on the force side (check that the scan "
            "is this specimen's)";
   return "";
+}
+
+bool TrackLengthFitsStroke(double length_mm,
+                           double width_mm,
+                           double stroke_mm,
+                           double pixel_mm,
+                           const VerdictOptions& o) {
+  const double slack = o.track_length_tolerance * stroke_mm + 2 * pixel_mm;
+  return length_mm >= stroke_mm - slack &&
+         length_mm <= stroke_mm + width_mm + slack;
+}
+
+bool ShortStrokesTrack(const scan::Track& t,
+                       double stroke_mm,
+                       double pixel_mm,
+                       const scan::TrackOptions& track,
+                       const VerdictOptions& o) {
+  return t.low_confidence && !t.manual && !t.reaches_edge &&
+         t.depth_to_roughness >= track.confident_depth_to_roughness &&
+         stroke_mm > 0 && t.width_mm > 0 &&
+         TrackLengthFitsStroke(t.length_mm, t.width_mm, stroke_mm, pixel_mm, o);
 }
 
 ScanIdentity JudgeScanIdentity(const MismatchReport& r,

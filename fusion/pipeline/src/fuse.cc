@@ -17,6 +17,7 @@
 #include "wearscar/fusion/compare_slopes.h"
 #include "wearscar/fusion/forward_model.h"
 #include "wearscar/fusion/profile_decision.h"
+#include "wearscar/fusion/scan_identity.h"
 #include "wearscar/fusion/unit.h"
 #include "wearscar/support/check.h"
 
@@ -237,7 +238,13 @@ void Warn(const force::ForceRecord& record, TestResult* result) {
   if (scan_doubted)
     result->warnings.insert(result->warnings.begin(),
                             result->verdict.scan_doubt);
-  if (scan != nullptr && scan->track.low_confidence)
+  // (A short stroke's track is said among the assumptions.)
+  if (scan != nullptr && scan->track.low_confidence &&
+      !ShortStrokesTrack(scan->track,
+                         result->force.cycles.stroke_mm,
+                         result->mismatch.scan_pixel_mm,
+                         options.track,
+                         options.verdict))
     result->warnings.push_back("the scan's track: " + scan->track.message);
   result->assumptions = Assumptions(record, *result, options);
 }

@@ -189,12 +189,18 @@ void LiveAnalysis::Analyse(std::vector<LiveCycle>* out) {
   std::vector<force::CycleCof> cof;   // the classic COFs of the new cycles
   std::vector<CycleSamples> samples;  // per cycle, those fitted
   std::vector<char> fresh;            // per cycle, not reported before
+  force::ForceRecord notched;         // the window without its lines
   try {
     // SegmentForce's segmentation and gross slip over the window; the
     // COFs and fits of the new cycles alone.
     a.cycles = SegmentWindow(o);
     if (a.cycles.cycles.empty()) return;
     fresh = NewCycles(a.cycles);
+    period_s_ = WindowPeriod(a.cycles);
+    // Lines the drive does not make, sought before the new cycles are
+    // fitted and removed from them (WithoutLines).
+    SeekPeriodicLines(static_cast<int>(a.cycles.cycles.size()));
+    const force::ForceRecord& window = WithoutLines(&notched);
     // Where k comes from, decided before the cycles that reach the first
     // verdict are fitted, and taken from a depth channel when a later
     // decision found it gives the slope P does not.
@@ -207,7 +213,7 @@ void LiveAnalysis::Analyse(std::vector<LiveCycle>* out) {
       o.friction.k_from_depth = options_.analysis.friction.k_from_depth;
       o.friction.depth_sign = options_.analysis.friction.depth_sign;
     }
-    cof = NewCyclesCof(a.cycles, fresh);
+    cof = NewCyclesCof(window, a.cycles, fresh);
     o.friction.fit_cycle = fresh;
     o.friction.keep_samples = true;
     o.friction.split_noise = false;  // SplitNoise, against earlier windows
@@ -216,7 +222,7 @@ void LiveAnalysis::Analyse(std::vector<LiveCycle>* out) {
         k_noise_estimates_.empty() || n - k_noise_at_ >= kKNoiseEvery;
     if (!estimate) o.friction.k_noise_variance = MeanOf(k_noise_estimates_);
     FrictionFits fits =
-        FitFriction(buffer_, a.cycles, SlopeSource::kForce, o.friction);
+        FitFriction(window, a.cycles, SlopeSource::kForce, o.friction);
     if (estimate && std::isfinite(fits.k_ensemble_noise_rms)) {
       k_noise_estimates_.push_back(fits.k_ensemble_noise_rms *
                                    fits.k_ensemble_noise_rms);
@@ -234,7 +240,6 @@ void LiveAnalysis::Analyse(std::vector<LiveCycle>* out) {
   const auto& cycles = a.cycles.cycles;
   const bool first = stroke_mm_ <= 0;
   stroke_mm_ = a.cycles.stroke_mm;
-  period_s_ = WindowPeriod(a.cycles);
   int shown = -1;  // the loop shown: the latest new cycle's that converged
   for (size_t i = 0; i < cycles.size(); ++i) {
     if (!fresh[i]) continue;
@@ -244,11 +249,14 @@ void LiveAnalysis::Analyse(std::vector<LiveCycle>* out) {
       shown = static_cast<int>(i);
       loop_.cycle = static_cast<int>(reported_.size()) + 1;
     }
-    Report(buffer_, a, cof[i], static_cast<int>(i), out);
+    Report(notched.size() > 0 ? notched : buffer_,
+           a,
+           cof[i],
+           static_cast<int>(i),
+           out);
     last_end_s_ = buffer_.time_s[cycles[i].reverse.end - 1];
   }
   if (shown >= 0) ShowLoop(samples[shown], a.fit_force[shown].mu_hat);
-  SeekPeriodicLines(static_cast<int>(cycles.size()));
   KeepLatestCycles(a);
   KeepHistory();
   if (first) {
@@ -308,14 +316,16 @@ std::vector<char> LiveAnalysis::NewCycles(const force::CycleSet& set) const {
 
 // The classic COFs of the new cycles (default values for the others).
 std::vector<force::CycleCof> LiveAnalysis::NewCyclesCof(
-    const force::CycleSet& set, const std::vector<char>& fresh) const {
+    const force::ForceRecord& window,
+    const force::CycleSet& set,
+    const std::vector<char>& fresh) const {
   force::CycleSet only = set;
   only.cycles.clear();
   for (size_t c = 0; c < set.cycles.size(); ++c) {
     if (fresh[c]) only.cycles.push_back(set.cycles[c]);
   }
   const std::vector<force::CycleCof> some =
-      force::ComputeClassicCof(buffer_, only);
+      force::ComputeClassicCof(window, only);
   std::vector<force::CycleCof> all(set.cycles.size());
   for (size_t c = 0, k = 0; c < set.cycles.size(); ++c) {
     if (fresh[c]) all[c] = some[k++];

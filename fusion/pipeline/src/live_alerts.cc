@@ -283,32 +283,69 @@ void LiveAnalysis::UpdateVerdict() {
       state == 1);
 }
 
-// Over the window (the drive's rate from its cycles), every periodic_every
-// cycles: a line at a frequency not seen before (0.5 Hz apart) is said.
+// What becomes of a line found after `reported` cycles: removed from the
+// cycles fitted after it, as fuse removes it, or kept (--notch).
+std::string LiveAnalysis::LineHandling(int reported) const {
+  if (!options_.notch_hz.empty())
+    return ": the live fits carry it (--notch names the lines removed)";
+  if (!options_.notch_found_lines)
+    return ": the live fits carry it (--notch none)";
+  if (reported == 0)
+    return ", removed from Q and P before the cycles are fitted, as "
+           "`wearscar fuse` removes it (--notch none keeps it)";
+  return fmt::format(
+      ", removed from Q and P before the cycles from {} on are fitted, as "
+      "`wearscar fuse` removes it (the {} before carry it; --notch none "
+      "keeps it)",
+      reported + 1,
+      reported);
+}
+
+// Over the window (the drive's rate from its cycles), as soon as it holds
+// three cycles and then every periodic_every cycles, before the new
+// cycles are fitted: a line found is said once and, as fuse removes it
+// (FuseOptions::notch_found_lines), taken out of the cycles fitted from
+// then on (WithoutLines), at the frequency the latest (longest) window
+// finds; the cycles reported before it carry it.
 void LiveAnalysis::SeekPeriodicLines(int cycles_in_window) {
   const int n = static_cast<int>(reported_.size());
-  if (n - lines_sought_at_ < live_.periodic_every || !(period_s_ > 0) ||
-      cycles_in_window < 3)
+  if (!(period_s_ > 0) || cycles_in_window < 3 ||
+      (lines_sought_at_ >= 0 && n - lines_sought_at_ < live_.periodic_every))
     return;
   lines_sought_at_ = n;
   force::PeriodicLineOptions o;
   o.power_of_two = true;  // the window's length varies: one plan for all
   for (const force::PeriodicLine& line :
        force::FindPeriodicLines(buffer_, 1.0 / period_s_, o)) {
-    const bool seen = std::any_of(
+    const auto seen = std::find_if(
         lines_seen_hz_.begin(), lines_seen_hz_.end(), [&](double f) {
           return std::abs(f - line.frequency_hz) < 0.5;
         });
-    if (seen) continue;
+    if (seen != lines_seen_hz_.end()) {
+      *seen = line.frequency_hz;
+      continue;
+    }
     lines_seen_hz_.push_back(line.frequency_hz);
     Raise("periodic",
           fmt::format("a periodic line in the forces over the last {} "
-                      "cycles: {} (interference the drive does not make; "
-                      "the live fits carry it, `wearscar fuse` and this "
-                      "watch's analysis of the finished file remove it)",
+                      "cycles: {} (interference the drive does not make){}",
                       cycles_in_window,
-                      line.Describe()));
+                      line.Describe(),
+                      LineHandling(n)));
   }
+}
+
+const force::ForceRecord& LiveAnalysis::WithoutLines(
+    force::ForceRecord* copy) const {
+  // As fuse: the lines given, or else those found.
+  const std::vector<double>& lines =
+      !options_.notch_hz.empty()   ? options_.notch_hz
+      : options_.notch_found_lines ? lines_seen_hz_
+                                   : options_.notch_hz;
+  if (lines.empty()) return buffer_;
+  *copy = buffer_;
+  for (const double f : lines) force::NotchLine(copy, f);
+  return *copy;
 }
 
 void LiveAnalysis::UpdateDepth(const LiveCycle& c) {

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "wearscar/scan/track.h"
+
 namespace wearscar::fusion {
 
 struct MismatchReport;
@@ -43,5 +45,24 @@ struct ScanIdentity {
 
 ScanIdentity JudgeScanIdentity(const MismatchReport& r,
                                const VerdictOptions& o);
+
+// The track's length is what this test's stroke wears: at least the
+// stroke, at most the stroke and the track's width beside it, within
+// VerdictOptions::track_length_tolerance of the stroke and two pixels.
+bool TrackLengthFitsStroke(double length_mm,
+                           double width_mm,
+                           double stroke_mm,
+                           double pixel_mm,
+                           const VerdictOptions& o);
+
+// A track found with low confidence for its elongation alone (deep above
+// the roughness) whose length this test's stroke wears: a short stroke's
+// track, only its width longer than the stroke, not texture. Its outline
+// still does not place it (scan::Track::PlaceKnown).
+bool ShortStrokesTrack(const scan::Track& t,
+                       double stroke_mm,
+                       double pixel_mm,
+                       const scan::TrackOptions& track,
+                       const VerdictOptions& o);
 
 }  // namespace wearscar::fusion

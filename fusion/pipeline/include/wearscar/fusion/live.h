@@ -175,7 +175,13 @@ class LiveAnalysis {
   double WindowPeriod(const force::CycleSet& set) const;
   std::vector<char> NewCycles(const force::CycleSet& set) const;
   std::vector<force::CycleCof> NewCyclesCof(
-      const force::CycleSet& set, const std::vector<char>& fresh) const;
+      const force::ForceRecord& window,
+      const force::CycleSet& set,
+      const std::vector<char>& fresh) const;
+  // The window with the lines fuse would remove taken out of Q and P
+  // (the given --notch lines, and those found unless --notch none), in
+  // `copy`; the window itself where there are none.
+  const force::ForceRecord& WithoutLines(force::ForceRecord* copy) const;
   void SplitNoise(const CycleSamples& s,
                   const FrictionFitOptions& friction,
                   MuFit* f);
@@ -185,6 +191,7 @@ class LiveAnalysis {
   void UpdateVerdict();
   void UpdateDepth(const LiveCycle& c);
   void SeekPeriodicLines(int cycles_in_window);
+  std::string LineHandling(int reported) const;
   void AddMapRow(const force::ForceRecord& window,
                  const force::Cycle& cycle,
                  int number);
@@ -244,7 +251,7 @@ class LiveAnalysis {
   int k_noise_at_ = 0;  // reported cycles at the last estimate
   double misfit_x0_mm_ = 0.0;
   int misfit_bins_ = 0;
-  int lines_sought_at_ = 0;  // reported cycles then
+  int lines_sought_at_ = -1;  // reported cycles then; -1 not yet
   std::vector<double> lines_seen_hz_;
   // The latest decision_cycles cycles' rows (and a few more), for the
   // profile's decision, and P's slope's significance then.

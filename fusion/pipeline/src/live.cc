@@ -201,18 +201,7 @@ void LiveAnalysis::Analyse(std::vector<LiveCycle>* out) {
     // fitted and removed from them (WithoutLines).
     SeekPeriodicLines(static_cast<int>(a.cycles.cycles.size()));
     const force::ForceRecord& window = WithoutLines(&notched);
-    // Where k comes from, decided before the cycles that reach the first
-    // verdict are fitted, and taken from a depth channel when a later
-    // decision found it gives the slope P does not.
-    const int reach =
-        static_cast<int>(reported_.size()) +
-        static_cast<int>(std::count(fresh.begin(), fresh.end(), 1));
-    if ((decided_at_ < 0 && reach >= std::min(20, live_.verdict_cycles)) ||
-        (depth_decided_ && !options_.analysis.friction.k_from_depth)) {
-      DecideSlope(true);
-      o.friction.k_from_depth = options_.analysis.friction.k_from_depth;
-      o.friction.depth_sign = options_.analysis.friction.depth_sign;
-    }
+    DecideSlopeBefore(fresh, &o.friction);
     cof = NewCyclesCof(window, a.cycles, fresh);
     o.friction.fit_cycle = fresh;
     o.friction.keep_samples = true;
@@ -264,6 +253,21 @@ void LiveAnalysis::Analyse(std::vector<LiveCycle>* out) {
     seeking_min_ = true;
     extreme_set_ = false;
     CycleCompleted(buffer_.x_mm.data() + cut_, buffer_.size() - cut_);
+  }
+}
+
+// Where k comes from, decided before the cycles that reach the first
+// verdict are fitted, and taken from a depth channel when a later decision
+// found it gives the slope P does not.
+void LiveAnalysis::DecideSlopeBefore(const std::vector<char>& fresh,
+                                     FrictionFitOptions* friction) {
+  const int reach = static_cast<int>(reported_.size()) +
+                    static_cast<int>(std::count(fresh.begin(), fresh.end(), 1));
+  if ((decided_at_ < 0 && reach >= std::min(20, live_.verdict_cycles)) ||
+      (depth_decided_ && !options_.analysis.friction.k_from_depth)) {
+    DecideSlope(true);
+    friction->k_from_depth = options_.analysis.friction.k_from_depth;
+    friction->depth_sign = options_.analysis.friction.depth_sign;
   }
 }
 

@@ -197,6 +197,8 @@ class LiveAnalysis {
                  int number);
   void Raise(const std::string& kind, std::string message, bool good = false);
   void DecideSlope(bool may_switch);
+  void DecideSlopeBefore(const std::vector<char>& fresh,
+                         FrictionFitOptions* friction);
   void KeepHistory();
   force::ForceRecord LatestRows() const;  // history_ joined
 

@@ -53,7 +53,7 @@ void RunForce(ForceArgs a) {
         "QP_corr");
     for (int c = 0; c < n; ++c) {
       if (!(c < 3 || c >= n - 3 || c % every == 0)) continue;
-      const auto& f = r.force.fit_force[c];
+      const auto& f = r.ForceFits().cycles.at(c);
       const auto& cof = r.units.Get<fusion::ClassicCofs>().cycles.at(c);
       Say("  {:>5} {:>8.4f} {:>7.3f} {:>8.4f} {:>9.4f} {:>9.3f} {:>8.2f}{}\n",
           c + 1,

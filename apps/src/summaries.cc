@@ -37,14 +37,14 @@ void SayEveryCycleAfterRunningIn(const fusion::TestResult& r) {
   const auto& m = r.mismatch;
   const int after = r.force.running_in.cycles;
   const int n = static_cast<int>(r.force.cycles.cycles.size());
-  if (!m.JudgesForceSlope() || r.force.mu_hat.count == 0 ||
+  if (!m.JudgesForceSlope() || r.ForceFits().mu_hat.count == 0 ||
       (m.first_cycle == after && m.last_cycle == n - 1))
     return;
   Say("  every cycle after running-in ({}-{}): mu-hat {:.4f} {}\n",
       after + 1,
       n,
-      r.force.mu_hat.mean,
-      Interval95(r.force.mu_hat));
+      r.ForceFits().mu_hat.mean,
+      Interval95(r.ForceFits().mu_hat));
 }
 
 }  // namespace
@@ -73,7 +73,7 @@ void PrintSummary(const std::string& name, const fusion::TestResult& r) {
         mu.sd,
         from_p ? CostText(m.cost_force.mean, m.split_force)
                : CostText(m.cost_scan.mean, m.split_scan));
-    if (from_p) Say("    {}\n", r.force.slope_estimate);
+    if (from_p) Say("    {}\n", r.ForceFits().slope_estimate);
   };
   const bool quoted_from_p = m.JudgesForceSlope() || !m.has_scan;
   Say("{}: {}\n  {} cycles, compared over cycles {}-{} ({}); {}\n",

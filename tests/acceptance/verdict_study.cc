@@ -86,8 +86,9 @@ Outcome Run(const Job& job, int cycles) {
     std::vector<double> ef, es;
     for (int c = first; c < cycles; ++c) {
       const double mu = t.truth.mu_per_cycle[c];
-      ef.push_back(std::abs(r.force.fit_force[c].mu_hat - mu));
-      if (r.scan) es.push_back(std::abs(r.scan->fit_scan[c].mu_hat - mu));
+      ef.push_back(std::abs(r.ForceFits().cycles[c].mu_hat - mu));
+      if (r.scan)
+        es.push_back(std::abs(r.ScanSlopeFits().cycles[c].mu_hat - mu));
     }
     if (with_scan) {
       out.mu_error_scan = Median(es);
@@ -291,7 +292,7 @@ int OneCase(const std::string& name,
         m.method_difference.mean,
         m.method_difference.low,
         m.method_difference.high,
-        r.force.slope_estimate,
+        r.ForceFits().slope_estimate,
         r.verdict.Summary());
     for (const auto& w : r.warnings) fmt::print("  warning: {}\n", w);
   }

@@ -206,11 +206,12 @@ TEST(VirtualTribometer, PaperProcedureRecoversMuOnCleanData) {
     a.friction.slope.window = 10;
     a.friction.slope.min_span_mm = 0;
     a.running_in_cycles = 50;
-    const fusion::ForceAnalysis fa = fusion::AnalyzeForce(t.record, a);
-    ASSERT_EQ(fa.fit_force.size(), 100u);
+    const fusion::ForceFitted fa = fusion::AnalyzeForce(t.record, a);
+    ASSERT_EQ(fa.fits.cycles.size(), 100u);
     std::vector<double> err;
     for (int c = 50; c < 100; ++c)
-      err.push_back(std::abs(fa.fit_force[c].mu_hat - t.truth.mu_per_cycle[c]));
+      err.push_back(
+          std::abs(fa.fits.cycles[c].mu_hat - t.truth.mu_per_cycle[c]));
     std::nth_element(err.begin(), err.begin() + 25, err.end());
     EXPECT_LT(err[25], 0.005) << name;
     EXPECT_LT(*std::max_element(err.begin(), err.end()), 0.01) << name;
@@ -243,9 +244,9 @@ TEST(VirtualTribometer, SensorNoiseIsCalibratedToThePapersJ) {
       a.slip.central_fraction_only = true;
       a.slip.fallback_central_fraction = 0.8;
       a.running_in_cycles = 100;
-      const fusion::ForceAnalysis fa = fusion::AnalyzeForce(t.record, a);
-      ASSERT_EQ(fa.fit_force.size(), 600u);
-      const double j = fa.fit_force[598].cost;  // the 599th cycle
+      const fusion::ForceFitted fa = fusion::AnalyzeForce(t.record, a);
+      ASSERT_EQ(fa.fits.cycles.size(), 600u);
+      const double j = fa.fits.cycles[598].cost;  // the 599th cycle
       RecordProperty(std::string(e.name) + "_J599_noise" +
                          std::to_string(static_cast<int>(noise)),
                      std::to_string(j));

@@ -250,10 +250,11 @@ void AddCostMinima(const fusion::TestResult& r,
         fig11->panels[0].series.push_back(s);
       };
   const int dc = r.detail_cycle;
-  if (dc >= 0 && dc < static_cast<int>(r.force.fit_force.size()))
-    point(r.force.fit_force[dc], 0, "P", 7);
-  if (r.scan && dc >= 0 && dc < static_cast<int>(r.scan->fit_scan.size()))
-    point(r.scan->fit_scan[dc], 1, "scan", 5);
+  if (dc >= 0 && dc < static_cast<int>(r.ForceFits().cycles.size()))
+    point(r.ForceFits().cycles[dc], 0, "P", 7);
+  const std::vector<fusion::MuFit>& scan_fits = r.ScanSlopeFits().cycles;
+  if (r.scan && dc >= 0 && dc < static_cast<int>(scan_fits.size()))
+    point(scan_fits[dc], 1, "scan", 5);
 }
 
 // Figs. 10-12 and 17 on the detail cycle.

@@ -87,12 +87,12 @@ class CycleRange {
   int first_, last_;
 };
 
-void CompareForceSide(const ForceAnalysis& force,
+void CompareForceSide(const SlopeFits& fits,
                       const std::vector<force::CycleCof>& cof,
                       const CycleRange& range,
                       MismatchReport* r) {
-  const auto& ff = force.fit_force;
-  const int shared = force.correlated_cycles;
+  const auto& ff = fits.cycles;
+  const int shared = fits.correlated_cycles;
   r->mu_force =
       range.WithErrors(ff, shared, [&](int c) { return ff[c].mu_hat; });
   r->cost_force = range.Stat(
@@ -133,6 +133,7 @@ void EndsOffset(const ForceAnalysis& force,
 void CompareScanSide(const ForceAnalysis& force,
                      const std::vector<force::CycleCof>& cof,
                      const ScanAnalysis& scan,
+                     const std::vector<MuFit>& fs,
                      const CycleRange& range,
                      MismatchReport* r) {
   r->has_scan = true;
@@ -157,7 +158,6 @@ void CompareScanSide(const ForceAnalysis& force,
   r->stroke_mm = force.cycles.stroke_mm;
   r->amplitude_ratio_low = scan.alignment.amplitude_ratio_low;
   r->amplitude_ratio_high = scan.alignment.amplitude_ratio_high;
-  const auto& fs = scan.fit_scan;
   r->split_scan = SplitCost(fs, r->first_cycle, r->last_cycle);
   if (r->cost_force.count == 0)
     r->method_difference = range.MethodDifference(fs, cof);
@@ -214,8 +214,10 @@ double KRmsDifference(const force::ForceRecord& record,
 
 MismatchReport CompareSlopes(const force::ForceRecord& record,
                              const ForceAnalysis& force,
+                             const SlopeFits& fits,
                              const ClassicCofs& classic,
                              const ScanAnalysis* scan,
+                             const ScanFits& scan_fits,
                              const ProfileDecision& profile,
                              int first,
                              int last,
@@ -233,12 +235,12 @@ MismatchReport CompareSlopes(const force::ForceRecord& record,
   r.mu_energy = range.Series([&](int c) { return cof[c].mu_energy_g; });
   // Without a profile in P (a dead weight) its fits are not used.
   if (profile.ForceSlopeJudged()) {
-    CompareForceSide(force, cof, range, &r);
+    CompareForceSide(fits, cof, range, &r);
   } else {
     r.method_difference = range.MethodDifference({}, cof);
   }
   if (scan == nullptr) return r;
-  CompareScanSide(force, cof, *scan, range, &r);
+  CompareScanSide(force, cof, *scan, scan_fits.cycles, range, &r);
   r.identity_judged = !profile.FromFriction();
   if (!profile.ForceSlopeJudged()) {
     r.k_rms_difference = std::nan("");

@@ -3,6 +3,7 @@
 
 #include "wearscar/fusion/fuse_options.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -27,6 +28,13 @@ bool CheckAgreements(const FuseOptions& o, std::string* why) {
 }
 
 }  // namespace
+
+AnalysisOptions FuseOptions::ForceSide() const {
+  AnalysisOptions ao = analysis;
+  ao.fit_force_slope = slopes != SlopeChoice::kScan;
+  if (parallel) ao.friction.threads = std::max(ao.friction.threads, 2);
+  return ao;
+}
 
 bool FuseOptions::IsValid(std::string* why) const {
   for (double f : notch_hz) {

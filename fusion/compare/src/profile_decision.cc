@@ -114,8 +114,8 @@ double SpringDepthAgreement(const force::ForceRecord& record,
 
 // The ensemble's neighbouring cycles share their noise: the root of the
 // independent cycles.
-double ProfileSignificance(const ForceAnalysis& force) {
-  const double n = static_cast<double>(force.fit_force.size()) /
+double ProfileSignificance(const SlopeFits& force) {
+  const double n = static_cast<double>(force.cycles.size()) /
                    std::max(1, force.correlated_cycles);
   if (!(force.k_noise_rms > 0) || !std::isfinite(force.k_signal_rms) || n < 2)
     return NAN;

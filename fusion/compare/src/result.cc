@@ -31,22 +31,38 @@ std::string ProfileDecision::ProfileName() const {
                           : "the spring displacement";
 }
 
-std::vector<Premise> Premises(const TestResult& r) {
-  std::vector<Premise> out;
-  const ProfileDecision& d = r.profile;
-  Premise p;
-  p.rule = "the profile's source";
-  p.statement = "P follows the sphere's height through the loading spring";
-  p.state = d.FromSpring() ? Premise::State::kHeld : Premise::State::kFailed;
-  p.evidence = d.reason;
-  p.otherwise =
-      "the profile is taken from the depth channel or the friction, and k "
-      "from the scan is quoted";
-  out.push_back(p);
-  if (r.scan) {
-    out.push_back(r.scan->rigid_sphere);
+const SlopeFits& TestResult::ForceFits() const {
+  static const SlopeFits kNone{};
+  if (const DepthFits* d = units.Find<DepthFits>()) return *d;
+  if (const SpringFits* s = units.Find<SpringFits>()) return *s;
+  return kNone;
+}
+
+const ScanFits& TestResult::ScanSlopeFits() const {
+  return units.Get<ScanFits>();
+}
+
+CycleWindow QuotedWindow(const TestResult& r, const ScanAnalysis* scan) {
+  const int n = static_cast<int>(r.force.cycles.cycles.size());
+  const ForceProfileOptions& given = r.options.force_profile;
+  const int running_in = r.force.running_in.cycles;
+  CycleWindow w{running_in, n - 1, ""};
+  if (given.first_cycle >= 0) {
+    w.first = given.first_cycle;
+    w.last = given.last_cycle >= 0 ? given.last_cycle : n - 1;
+    w.why = "as given";
+  } else {
+    if (scan) {
+      w.first = scan->force_profile.first_cycle;
+      w.last = scan->force_profile.last_cycle;
+    }
+    w.why = w.first > running_in ? fmt::format("the last {} after running-in",
+                                               w.last - w.first + 1)
+            : running_in > 0     ? "every cycle after running-in"
+                                 : "every cycle: no running-in";
+    if (scan) w.why += ", whose track the scan shows";
   }
-  return out;
+  return w;
 }
 
 Quote QuoteOf(const TestResult& r) {

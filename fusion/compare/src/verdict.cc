@@ -218,6 +218,7 @@ Verdict Judge(const MismatchReport& r, const VerdictOptions& o) {
 }
 
 std::vector<std::string> DataWarnings(const ForceAnalysis& force,
+                                      const SlopeFits& fits,
                                       const MismatchReport& r,
                                       const DataWarningOptions& o) {
   std::vector<std::string> w;
@@ -246,9 +247,9 @@ std::vector<std::string> DataWarnings(const ForceAnalysis& force,
           static_cast<long>(halves)));
     }
   }
-  if (r.force_slope_judged && std::isfinite(force.k_noise_rms) &&
-      std::isfinite(force.k_signal_rms) &&
-      force.k_noise_rms > force.k_signal_rms) {
+  if (r.force_slope_judged && std::isfinite(fits.k_noise_rms) &&
+      std::isfinite(fits.k_signal_rms) &&
+      fits.k_noise_rms > fits.k_signal_rms) {
     w.push_back(fmt::format(
         "k from {} is mostly noise: its noise {:.4f} exceeds the part that "
         "repeats from cycle to cycle, {:.4f} (rms); mu-hat is corrected for "
@@ -256,8 +257,8 @@ std::vector<std::string> DataWarnings(const ForceAnalysis& force,
         "so the number to quote stands, but a scan's k is the better check "
         "of it",
         r.force_slope_name,
-        force.k_noise_rms,
-        force.k_signal_rms));
+        fits.k_noise_rms,
+        fits.k_signal_rms));
   }
   const double ratio_low = std::isfinite(r.amplitude_ratio_low)
                                ? r.amplitude_ratio_low

@@ -610,12 +610,12 @@ void AddMapPattern(const TestResult& r, AlongTrackFrictionShape* shape) {
   const FrictionMap& m = r.units.Get<FrictionMap>();
   const size_t bins = m.x_mm.size();
   if (bins < 3 || m.steady_corrected.size() != 2 * bins) return;
+  const std::vector<MuFit>& fits = r.ForceFits().cycles;
   double sum = 0;
   int n = 0;
-  for (size_t c = static_cast<size_t>(m.first_steady_cycle);
-       c < r.force.fit_force.size();
+  for (size_t c = static_cast<size_t>(m.first_steady_cycle); c < fits.size();
        ++c) {
-    if (r.force.fit_force[c].converged) sum += r.force.fit_force[c].mu_hat, ++n;
+    if (fits[c].converged) sum += fits[c].mu_hat, ++n;
   }
   if (n == 0 || !(sum > 0)) return;
   const double mu = sum / n;

@@ -321,40 +321,43 @@ ForceAnalysis SegmentForce(const force::ForceRecord& record,
   return a;
 }
 
-void FitForceSide(const force::ForceRecord& record,
-                  const AnalysisOptions& options,
-                  ForceAnalysis* a) {
+SlopeFits FitForceSide(const force::ForceRecord& record,
+                       const AnalysisOptions& options,
+                       const ForceAnalysis& segmented) {
+  SlopeFits a;
   if (options.fit_force_slope) {
-    FrictionFits fits =
-        FitFriction(record, a->cycles, SlopeSource::kForce, options.friction);
-    a->fit_force = std::move(fits.cycles);
-    a->slope_estimate = std::move(fits.slope);
-    a->k_signal_rms = fits.k_signal_rms;
-    a->k_noise_rms = fits.k_noise_rms;
-    a->k_ensemble_noise_rms = fits.k_ensemble_noise_rms;
-    a->k_noise_correction = fits.k_noise_correction;
-    a->correlated_cycles = fits.correlated_cycles;
+    FrictionFits fits = FitFriction(
+        record, segmented.cycles, SlopeSource::kForce, options.friction);
+    a.cycles = std::move(fits.cycles);
+    a.slope_estimate = std::move(fits.slope);
+    a.k_signal_rms = fits.k_signal_rms;
+    a.k_noise_rms = fits.k_noise_rms;
+    a.k_ensemble_noise_rms = fits.k_ensemble_noise_rms;
+    a.k_noise_correction = fits.k_noise_correction;
+    a.correlated_cycles = fits.correlated_cycles;
   } else {
-    a->fit_force.assign(a->cycles.cycles.size(), MuFit{});
-    for (auto& f : a->fit_force) f.message = "not fitted (scan slope only)";
+    a.cycles.assign(segmented.cycles.cycles.size(), MuFit{});
+    for (auto& f : a.cycles) f.message = "not fitted (scan slope only)";
   }
-  const int n = static_cast<int>(a->cycles.cycles.size());
-  const int first = a->running_in.cycles;
+  const int n = static_cast<int>(segmented.cycles.cycles.size());
+  const int first = segmented.running_in.cycles;
   std::vector<double> mu, se, j;
   for (int i = 0; i < n; ++i) {
-    const bool ok = a->fit_force[i].converged;
-    mu.push_back(ok ? a->fit_force[i].mu_hat : std::nan(""));
-    se.push_back(ok ? a->fit_force[i].standard_error : std::nan(""));
-    j.push_back(ok ? a->fit_force[i].cost : std::nan(""));
+    const bool ok = a.cycles[i].converged;
+    mu.push_back(ok ? a.cycles[i].mu_hat : std::nan(""));
+    se.push_back(ok ? a.cycles[i].standard_error : std::nan(""));
+    j.push_back(ok ? a.cycles[i].cost : std::nan(""));
   }
-  a->mu_hat = SummariseWithErrors(mu, se, first, n - 1, a->correlated_cycles);
-  a->cost = Summarise(j, first);
+  a.mu_hat = SummariseWithErrors(mu, se, first, n - 1, a.correlated_cycles);
+  a.cost = Summarise(j, first);
+  return a;
 }
 
-ForceAnalysis AnalyzeForce(const force::ForceRecord& record,
-                           const AnalysisOptions& options) {
-  ForceAnalysis a = SegmentForce(record, options);
-  FitForceSide(record, options, &a);
+ForceFitted AnalyzeForce(const force::ForceRecord& record,
+                         const AnalysisOptions& options) {
+  ForceFitted a;
+  static_cast<ForceAnalysis&>(a) = SegmentForce(record, options);
+  a.fits = FitForceSide(record, options, a);
   return a;
 }
 

@@ -81,6 +81,7 @@ Eigen::VectorXd ModelAlongTrace(const force::ForceRecord& record,
 
 DetailCycle ComputeDetailCycle(const force::ForceRecord& record,
                                const ForceAnalysis& force,
+                               const SlopeFits& force_fits,
                                const FrictionFitOptions& options,
                                int cycle,
                                int cost_points,
@@ -93,7 +94,7 @@ DetailCycle ComputeDetailCycle(const force::ForceRecord& record,
   d.cycle = cycle;
   const ForceSlopes force_slopes(record, force.cycles, options, cycle, cycle);
   const CycleSamples kf = force_slopes.Gather(cycle);
-  const double mu_force = force.fit_force[cycle].mu_hat;
+  const double mu_force = force_fits.cycles[cycle].mu_hat;
   const double mu_scan = fit_scan ? fit_scan->mu_hat : kNaN;
   FillSamples(kf, mu_force, mu_scan, scan_slope, &d);
   d.cost_mu = Eigen::VectorXd::LinSpaced(

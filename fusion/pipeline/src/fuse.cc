@@ -24,9 +24,9 @@
 namespace wearscar::fusion {
 
 using internal::AlignScan;
-using internal::FitScanSide;
 using internal::PipelineEvidence;
 using internal::ScanSlopeOverTheStroke;
+using internal::SpringFitsFuture;
 
 namespace {
 
@@ -49,33 +49,6 @@ void RefuseCyclesBeyondTheTest(const FuseOptions& options, int n) {
   }
 }
 
-// The cycles quoted and compared: a range given; with a scan the force
-// profile's (the last cycles after running-in: the scan shows the track
-// after the last cycle, so the cycles nearest it); else every cycle after
-// running-in.
-CycleWindow QuotedWindow(const TestResult& r, const ScanAnalysis* scan) {
-  const int n = static_cast<int>(r.force.cycles.cycles.size());
-  const ForceProfileOptions& given = r.options.force_profile;
-  const int running_in = r.force.running_in.cycles;
-  CycleWindow w{running_in, n - 1, ""};
-  if (given.first_cycle >= 0) {
-    w.first = given.first_cycle;
-    w.last = given.last_cycle >= 0 ? given.last_cycle : n - 1;
-    w.why = "as given";
-  } else {
-    if (scan) {
-      w.first = scan->force_profile.first_cycle;
-      w.last = scan->force_profile.last_cycle;
-    }
-    w.why = w.first > running_in ? fmt::format("the last {} after running-in",
-                                               w.last - w.first + 1)
-            : running_in > 0     ? "every cycle after running-in"
-                                 : "every cycle: no running-in";
-    if (scan) w.why += ", whose track the scan shows";
-  }
-  return w;
-}
-
 // What the comparison takes of the scan, made beside its fit: k's RMS
 // difference over the quoted cycles (where the force side's k is judged).
 struct ScanSideBeside {
@@ -83,59 +56,40 @@ struct ScanSideBeside {
 };
 
 // Where the profiles follow both paths alike (ChoosePath), the loops
-// decide: mu-hat is fitted with each path's slope, and the one whose J
-// over the quoted cycles is the lower kept (the tilt that reproduces Q).
-void LetTheLoopsChoose(const force::ForceRecord& record,
-                       const TestResult& result,
-                       const TrackHistory* history,
-                       ScanAnalysis* s) {
-  const FuseOptions& o = result.options;
-  ScanAnalysis c;
-  c.profile = s->centreline;
-  c.alignment = *s->centreline_alignment;
-  c.slope = ScanSlopeOverTheStroke(record, result.force, o, c);
-  FitScanSide(record, result.force, o, history, s);
-  FitScanSide(record, result.force, o, history, &c);
-  const CycleWindow w = QuotedWindow(result, s);
-  auto mean_j = [&w](const std::vector<MuFit>& fits) {
-    double sum = 0;
-    int n = 0;
-    for (int k = w.first; k <= w.last && k < static_cast<int>(fits.size());
-         ++k) {
-      if (fits[k].converged) sum += fits[k].cost, ++n;
-    }
-    return n > 0 ? sum / n : INFINITY;
-  };
-  const double sphere = mean_j(s->fit_scan), line = mean_j(c.fit_scan);
+// decide: the scan's fit (the unit "mu_fit_scan") fitted mu-hat with each
+// path's slope and kept the one whose J over the quoted cycles is the
+// lower (the tilt that reproduces Q); the scan side takes that path.
+void TakeThePathTheLoopsChose(const ScanFits& fits, ScanAnalysis* s) {
   Premise& p = s->rigid_sphere;
   p.evidence += fmt::format(
       "; the profiles follow both alike, so the loops decide: J {:.3f} with "
       "the sphere's path, {:.3f} with the centreline",
-      sphere,
-      line);
+      fits.j_sphere,
+      fits.j_centreline);
+  if (fits.centreline) {
+    p.state = Premise::State::kFailed;
+    s->profile = s->centreline;
+    // (In this tie the two paths' waviness is alike: the runner-up sought
+    // on the sphere's stands for both.)
+    Alignment c = *s->centreline_alignment;
+    c.waviness_runner_up = s->alignment.waviness_runner_up;
+    c.waviness_runner_up_shift_mm = s->alignment.waviness_runner_up_shift_mm;
+    s->alignment = c;
+    s->slope = std::move(*s->centreline_slope);
+    s->centreline_used = true;
+  }
   s->centreline_alignment.reset();
-  if (!(line < sphere)) return;
-  p.state = Premise::State::kFailed;
-  s->profile = s->centreline;
-  // (In this tie the two paths' waviness is alike: the runner-up sought
-  // on the sphere's stands for both.)
-  c.alignment.waviness_runner_up = s->alignment.waviness_runner_up;
-  c.alignment.waviness_runner_up_shift_mm =
-      s->alignment.waviness_runner_up_shift_mm;
-  s->alignment = c.alignment;
-  s->slope = std::move(c.slope);
-  s->fit_scan = std::move(c.fit_scan);
-  s->slope_scale = std::move(c.slope_scale);
-  s->centreline_used = true;
+  s->centreline_slope.reset();
 }
 
-// The scan side aligned with the decided profile, or why it was not used:
-// a scan that cannot serve (no track, no overlap with the stroke) does not
-// lose the test; the force side stands, with a warning that says why
-// (unless the scan's slope alone was asked for).
+// The scan side aligned with the decided profile and its slope, mu-hat
+// with it (the unit "mu_fit_scan", beside k's RMS difference), or why it
+// was not used: a scan that cannot serve (no track, no overlap with the
+// stroke) does not lose the test; the force side stands, with a warning
+// that says why (unless the scan's slope alone was asked for).
 ScanSideBeside AddScanSide(const force::ForceRecord& record,
                            PipelineEvidence* evidence,
-                           const TrackHistory& track_history,
+                           UnitRunner* units,
                            TestResult* result) {
   const FuseOptions& o = result->options;
   const ProfileDecision& d = result->profile;
@@ -144,40 +98,40 @@ ScanSideBeside AddScanSide(const force::ForceRecord& record,
   try {
     ScanAnalysis s = evidence->TakeAlignedScan(d);
     s.slope = ScanSlopeOverTheStroke(record, result->force, o, s);
-    // The spring's history scales the scan's slope only where P is the
-    // profile.
-    const TrackHistory* history =
-        o.scan_slope_history && d.FromSpring() ? &track_history : nullptr;
-    const bool fitted =
+    const bool tie =
         s.centreline_alignment.has_value() && o.slopes != SlopeChoice::kForce;
-    if (fitted) LetTheLoopsChoose(record, *result, history, &s);
+    if (tie) {
+      ScanAnalysis c;
+      c.profile = s.centreline;
+      c.alignment = *s.centreline_alignment;
+      s.centreline_slope = ScanSlopeOverTheStroke(record, result->force, o, c);
+    }
+    result->scan = std::move(s);
+    units->Start(UnitStage::kScanned, result->force, o, result);
+    if (tie) {
+      units->CollectOne("mu_fit_scan", &result->units);
+      TakeThePathTheLoopsChose(result->units.Get<ScanFits>(), &*result->scan);
+    }
     // What needs the scan's slope, not its fit: beside the fit (which
-    // reads the slope, and writes only its fits and scale).
-    std::future<ScanSideBeside> made =
-        std::async(o.parallel ? std::launch::async : std::launch::deferred,
-                   [&record, result, &s, &o] {
-                     const CycleWindow w = QuotedWindow(*result, &s);
-                     ScanSideBeside b;
-                     if (result->profile.ForceSlopeJudged()) {
-                       b.k_rms_difference = KRmsDifference(record,
-                                                           result->force,
-                                                           s.slope,
-                                                           o.analysis.friction,
-                                                           w.first,
-                                                           w.last,
-                                                           o.parallel);
-                     }
-                     return b;
-                   });
-    if (!fitted) FitScanSide(record, result->force, o, history, &s);
+    // reads the scan side and writes nothing of it).
     try {
-      beside = made.get();
+      if (result->profile.ForceSlopeJudged()) {
+        const CycleWindow w = QuotedWindow(*result, &*result->scan);
+        beside.k_rms_difference = KRmsDifference(record,
+                                                 result->force,
+                                                 result->scan->slope,
+                                                 o.analysis.friction,
+                                                 w.first,
+                                                 w.last,
+                                                 o.parallel);
+      }
     } catch (...) {
       beside_error = std::current_exception();  // not the scan's failing
     }
-    result->scan = std::move(s);
+    units->CollectOne("mu_fit_scan", &result->units);
   } catch (const std::exception& e) {
     if (o.slopes == SlopeChoice::kScan) throw;
+    result->scan.reset();
     if (const auto* no_track = dynamic_cast<const NoTrackInMap*>(&e))
       result->unused_map = no_track->levelled;
     result->scan_skipped = fmt::format(
@@ -223,7 +177,8 @@ void Warn(const force::ForceRecord& record, TestResult* result) {
   const bool scan_doubted = !result->verdict.scan_doubt.empty();
   MismatchReport judged = result->mismatch;
   judged.has_scan = judged.has_scan && !scan_doubted;
-  result->warnings = DataWarnings(result->force, judged, options.warnings);
+  result->warnings = DataWarnings(
+      result->force, result->ForceFits(), judged, options.warnings);
   if (result->profile.FromSpring() && !scan &&
       options.profile_from == ProfileSource::kAuto)
     JudgeWithoutASlope(options, result);
@@ -261,8 +216,10 @@ void CompareAndJudge(const force::ForceRecord& record,
   const int first = result->window.first, last = result->window.last;
   result->mismatch = CompareSlopes(record,
                                    result->force,
+                                   result->ForceFits(),
                                    result->units.Get<ClassicCofs>(),
                                    scan,
+                                   result->ScanSlopeFits(),
                                    result->profile,
                                    first,
                                    last,
@@ -382,50 +339,45 @@ std::optional<TestResult> WithoutTheLinesFound(
   return r;
 }
 
-// The force side's options as this test's analysis runs them.
-AnalysisOptions ForceOptions(const FuseOptions& options) {
-  AnalysisOptions ao = options.analysis;
-  ao.fit_force_slope = options.slopes != SlopeChoice::kScan;
-  // The force side's fit on both cores where this test has them (its
-  // second half of the cycles beside the first; the same fits).
-  if (options.parallel) ao.friction.threads = std::max(ao.friction.threads, 2);
-  return ao;
-}
-
 // After the profile's decision: the force side, then the scan side beside
 // the units that need only the force side, the comparison and verdict,
 // the detail cycle and the units that read the whole result.
 void AnalyzeDecided(const force::ForceRecord& record,
                     PipelineEvidence* evidence,
-                    AnalysisOptions ao,
-                    std::shared_future<TrackHistory> history,
+                    const ForceAnalysis& segmented,
                     UnitRunner* units,
                     TestResult* result) {
   const FuseOptions& o = result->options;
-  ApplyProfile(result->profile, &ao.friction);
-  result->force = evidence->TakeForce(ao);
+  result->force = segmented;
   const int n = static_cast<int>(result->force.cycles.cycles.size());
   RefuseCyclesBeyondTheTest(o, n);
   result->detail_cycle = o.DetailedCycle(n);
   // Nothing below changes result->force, which this thread reads. The
-  // units that read the decided k (the friction map on a depth channel)
-  // beside the scan side's fit (the cores share the threads out).
+  // units that read the decided k (the fits with the depth channel's, the
+  // friction map on a depth channel) beside the scan side's fit (the cores
+  // share the threads out).
   units->Start(UnitStage::kDecided, result->force, o);
-  // The track's history (before the scan: it may scale the scan's slope).
-  const TrackHistory& track_history = history.get();
+  // The force side's fits with k where the decision put it (and P/S's,
+  // which it read), stored before the comparison reads them.
+  units->CollectOne("mu_fit_spring", &result->units);
+  units->CollectOne("mu_fit_depth", &result->units);
   ScanSideBeside beside;
   if (evidence->HasScan())
-    beside = AddScanSide(record, evidence, track_history, result);
+    beside = AddScanSide(record, evidence, units, result);
   CompareAndJudge(record, beside, units, result);
   const ScanAnalysis* scan = result->scan ? &*result->scan : nullptr;
+  const std::vector<MuFit>& scan_fits = result->ScanSlopeFits().cycles;
   const int dc = result->detail_cycle;
   result->detail = ComputeDetailCycle(
       record,
       result->force,
+      result->ForceFits(),
       o.analysis.friction,
       dc,
       o.cost_curve_points,
-      scan && dc >= 0 && dc < n ? &scan->fit_scan[dc] : nullptr,
+      scan && dc >= 0 && dc < static_cast<int>(scan_fits.size())
+          ? &scan_fits[dc]
+          : nullptr,
       scan ? &scan->slope : nullptr,
       result->units.Find<LugreFit>());
   units->Start(UnitStage::kJudged, result->force, o, result);
@@ -462,7 +414,7 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
 ProfileDecision DecideForceProfile(const force::ForceRecord& record,
                                    const FuseOptions& given) {
   const FuseOptions options = WithStatedSpring(given, record);
-  const AnalysisOptions ao = ForceOptions(options);
+  const AnalysisOptions ao = options.ForceSide();
   const ForceAnalysis segmented = SegmentForce(record, ao);
   PipelineEvidence evidence(
       record, segmented, ao, options, std::future<ScanAnalysis>());
@@ -536,7 +488,7 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
   if (result.options.slopes == SlopeChoice::kScan && !prepared_scan.valid())
     throw FusionError("mu-hat with the scan slope only, but no scan given");
   result.scan_file = scan_file;
-  const AnalysisOptions ao = ForceOptions(result.options);
+  const AnalysisOptions ao = result.options.ForceSide();
   // Cycles, gross slip, the classic COFs and the running-in need no slope;
   // the profile's decision then asks for what it needs (the fit with k from
   // P/S, the depth's agreement, the scan's alignment) and the analysis
@@ -556,8 +508,7 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
   // channel) beside the rest, on cores of their own where there are.
   units.Start(UnitStage::kCycles, segmented, result.options);
   // The track's history from the spring, a unit of those, is read by the
-  // decision, the scan's slope and the spring check before they are
-  // collected.
+  // decision before they are collected.
   std::shared_future<TrackHistory> history =
       std::async(std::launch::deferred, [&units] {
         const auto h = units.Await<TrackHistory>("track_history");
@@ -565,11 +516,23 @@ TestResult AnalyzeTest(const force::ForceRecord& record,
                        "the track's history unit must run on every test");
         return *h;
       });
-  PipelineEvidence evidence(
-      record, segmented, ao, result.options, std::move(prepared_scan), history);
+  // So are the fits with k from P/S (P's slope's significance).
+  const SpringFitsFuture spring = std::async(std::launch::deferred, [&] {
+    auto f = units.Await<SpringFits>("mu_fit_spring");
+    if (!f) f = result.units.Share<SpringFits>();  // collected already
+    WEARSCAR_CHECK(f != nullptr, "the fits with k from P/S must run");
+    return f;
+  });
+  PipelineEvidence evidence(record,
+                            segmented,
+                            ao,
+                            result.options,
+                            std::move(prepared_scan),
+                            history,
+                            spring);
   result.profile = DecideProfile(&evidence, result.options);
   ApplyProfile(result.profile, &result.options.analysis.friction);
-  AnalyzeDecided(record, &evidence, ao, history, &units, &result);
+  AnalyzeDecided(record, &evidence, segmented, &units, &result);
   if (auto notched = WithoutTheLinesFound(record, shared_scan, given, result))
     return std::move(*notched);
   if (!evidence.HasScan())

@@ -186,6 +186,7 @@ void LiveAnalysis::Analyse(std::vector<LiveCycle>* out) {
   o.running_in_cycles = 0;  // decided over the whole test (UpdateRunningIn)
   o.friction.narrow_ensemble_to_record = false;  // the template is kept
   ForceAnalysis a;
+  std::vector<MuFit> fitted;          // mu-hat per cycle of the window
   std::vector<force::CycleCof> cof;   // the classic COFs of the new cycles
   std::vector<CycleSamples> samples;  // per cycle, those fitted
   std::vector<char> fresh;            // per cycle, not reported before
@@ -219,7 +220,7 @@ void LiveAnalysis::Analyse(std::vector<LiveCycle>* out) {
         k_noise_estimates_.pop_front();
       k_noise_at_ = n;
     }
-    a.fit_force = std::move(fits.cycles);
+    fitted = std::move(fits.cycles);
     samples = std::move(fits.samples);
   } catch (const force::ForceError&) {
     return;  // too few cycles yet
@@ -232,7 +233,7 @@ void LiveAnalysis::Analyse(std::vector<LiveCycle>* out) {
   int shown = -1;  // the loop shown: the latest new cycle's that converged
   for (size_t i = 0; i < cycles.size(); ++i) {
     if (!fresh[i]) continue;
-    MuFit& f = a.fit_force[i];
+    MuFit& f = fitted[i];
     if (f.converged) {
       SplitNoise(samples[i], o.friction, &f);
       shown = static_cast<int>(i);
@@ -240,12 +241,13 @@ void LiveAnalysis::Analyse(std::vector<LiveCycle>* out) {
     }
     Report(notched.size() > 0 ? notched : buffer_,
            a,
+           f,
            cof[i],
            static_cast<int>(i),
            out);
     last_end_s_ = buffer_.time_s[cycles[i].reverse.end - 1];
   }
-  if (shown >= 0) ShowLoop(samples[shown], a.fit_force[shown].mu_hat);
+  if (shown >= 0) ShowLoop(samples[shown], fitted[shown].mu_hat);
   KeepLatestCycles(a);
   KeepHistory();
   if (first) {
@@ -467,10 +469,10 @@ void LiveAnalysis::KeepHistory() {
 
 void LiveAnalysis::Report(const force::ForceRecord& window,
                           const ForceAnalysis& a,
+                          const MuFit& f,
                           const force::CycleCof& cof,
                           int i,
                           std::vector<LiveCycle>* out) {
-  const MuFit& f = a.fit_force[i];
   const force::Cycle& cycle = a.cycles.cycles[i];
   LiveCycle c;
   c.cycle = static_cast<int>(reported_.size()) + 1;

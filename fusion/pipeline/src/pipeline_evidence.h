@@ -16,6 +16,10 @@ namespace wearscar::fusion::internal {
 // alignment with P/S. Where the decision will ask for that alignment
 // whatever it finds (a scan, no depth channel, the profile from the spring
 // or auto), it is made on the scan's thread as soon as the scan is ready.
+// The fits with k from P/S as the pipeline's unit makes them (UnitRunner:
+// mu_fit_spring), awaited where the decision asks for them.
+using SpringFitsFuture = std::shared_future<std::shared_ptr<const SpringFits>>;
+
 class PipelineEvidence : public ProfileEvidence {
  public:
   PipelineEvidence(const force::ForceRecord& record,
@@ -23,13 +27,15 @@ class PipelineEvidence : public ProfileEvidence {
                    const AnalysisOptions& analysis,
                    const FuseOptions& options,
                    std::future<ScanAnalysis> prepared,
-                   std::shared_future<TrackHistory> history = {})
+                   std::shared_future<TrackHistory> history = {},
+                   SpringFitsFuture spring_fits = {})
       : record_(record),
         segmented_(segmented),
         analysis_(analysis),
         options_(options),
         has_scan_(prepared.valid()),
-        history_(std::move(history)) {
+        history_(std::move(history)),
+        spring_fits_(std::move(spring_fits)) {
     // (The scan's thread holds `this`.)
     if (!has_scan_) return;
     const bool spring_sure =
@@ -68,7 +74,7 @@ class PipelineEvidence : public ProfileEvidence {
     return ProfileSignificance(SpringFit());
   }
   int FittedCycles() override {
-    return static_cast<int>(SpringFit().fit_force.size());
+    return static_cast<int>(SpringFit().cycles.size());
   }
   int CorrelatedCycles() override { return SpringFit().correlated_cycles; }
   double SpringDepthAgreement() override {
@@ -87,16 +93,6 @@ class PipelineEvidence : public ProfileEvidence {
   double SpringAmplitudeRatio() override {
     const ScanSide& side = AlignedWithSpring();
     return side.spring ? side.spring->alignment.amplitude_ratio : NAN;
-  }
-
-  // The force side fitted with k where the decision put it.
-  ForceAnalysis TakeForce(const AnalysisOptions& used) {
-    if (used.friction.k_from_depth) {
-      ForceAnalysis a = segmented_;
-      FitForceSide(record_, used, &a);
-      return a;
-    }
-    return std::move(SpringFit());
   }
 
   // The scan aligned with the decided profile; throws what its preparation
@@ -126,12 +122,14 @@ class PipelineEvidence : public ProfileEvidence {
   ForceProfileOptions LastCycles() const {
     return ComparedCycles(segmented_, options_);
   }
-  ForceAnalysis& SpringFit() {
+  // The fits with k from P/S: the unit's where the pipeline runs it, else
+  // made here (DecideForceProfile).
+  const SlopeFits& SpringFit() {
+    if (spring_fits_.valid()) return *spring_fits_.get();
     if (!spring_fit_) {
-      spring_fit_ = segmented_;
       AnalysisOptions spring = analysis_;
       spring.friction.k_from_depth = false;
-      FitForceSide(record_, spring, &*spring_fit_);
+      spring_fit_ = FitForceSide(record_, spring, segmented_);
     }
     return *spring_fit_;
   }
@@ -172,7 +170,8 @@ class PipelineEvidence : public ProfileEvidence {
   const FuseOptions& options_;
   const bool has_scan_;
   std::shared_future<TrackHistory> history_;
-  std::optional<ForceAnalysis> spring_fit_;
+  SpringFitsFuture spring_fits_;
+  std::optional<SlopeFits> spring_fit_;
   std::future<ScanSide> scan_side_;
   std::optional<ScanSide> side_;
 };

@@ -1,6 +1,6 @@
 // The scan side of the pipeline: the scan aligned with the force side's
-// profile (the sphere's path or the centreline, ChoosePath), its slope over
-// the stroke and mu-hat with it.
+// profile (the sphere's path or the centreline, ChoosePath) and its slope
+// over the stroke (mu-hat with it: the unit "mu_fit_scan").
 
 #include "scan_side.h"
 
@@ -15,21 +15,6 @@
 
 namespace wearscar::fusion::internal {
 namespace {
-
-// Per cycle, the track's waviness from the spring over the final one, within
-// [0, max_scan_slope_scale]; 1 where the history has no value.
-std::vector<double> ScanSlopeScale(const TrackHistory& history,
-                                   const FuseOptions& options) {
-  std::vector<double> scale(history.waviness_sd_mm.size(), 1.0);
-  const double final_sd = history.final_waviness_sd_mm;
-  if (!(final_sd > 0)) return scale;
-  for (size_t c = 0; c < scale.size(); ++c) {
-    const double r = history.waviness_sd_mm[c] / final_sd;
-    if (std::isfinite(r))
-      scale[c] = std::clamp(r, 0.0, options.max_scan_slope_scale);
-  }
-  return scale;
-}
 
 // How closely an alignment's scan profile follows the force side's: the
 // waviness's correlation where it stands above its noise (what tells one
@@ -173,28 +158,4 @@ PlateProfile ScanSlopeOverTheStroke(const force::ForceRecord& record,
       s.profile, s.alignment, options.scan_slope, stroke_min, stroke_max);
 }
 
-// mu-hat with the scan's slope (unless the force slope alone was asked
-// for). `history` (null unless options.scan_slope_history) scales the
-// scan's slope per cycle.
-void FitScanSide(const force::ForceRecord& record,
-                 const ForceAnalysis& force,
-                 const FuseOptions& options,
-                 const TrackHistory* history,
-                 ScanAnalysis* s) {
-  if (options.slopes == SlopeChoice::kForce) {
-    s->fit_scan.assign(force.cycles.cycles.size(), MuFit{});
-    for (auto& f : s->fit_scan) f.message = "not fitted (force slope only)";
-    return;
-  }
-  if (history != nullptr) s->slope_scale = ScanSlopeScale(*history, options);
-  // On both cores where the test has them (halves of the cycles).
-  FrictionFitOptions friction = options.analysis.friction;
-  if (options.parallel) friction.threads = std::max(friction.threads, 2);
-  s->fit_scan = FitFrictionPerCycle(record,
-                                    force.cycles,
-                                    SlopeSource::kScan,
-                                    friction,
-                                    &s->slope,
-                                    history ? &s->slope_scale : nullptr);
-}
 }  // namespace wearscar::fusion::internal

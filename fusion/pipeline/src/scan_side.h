@@ -1,6 +1,6 @@
 #pragma once
 // The scan side of the pipeline (scan_side.cc): the scan aligned with the
-// force side's profile, its slope over the stroke and mu-hat with it.
+// force side's profile and its slope over the stroke.
 
 #include <future>
 
@@ -33,14 +33,5 @@ PlateProfile ScanSlopeOverTheStroke(const force::ForceRecord& record,
                                     const ForceAnalysis& force,
                                     const FuseOptions& options,
                                     const ScanAnalysis& s);
-
-// mu-hat with the scan's slope (unless the force slope alone was asked
-// for). `history` (null unless options.scan_slope_history) scales the
-// scan's slope per cycle.
-void FitScanSide(const force::ForceRecord& record,
-                 const ForceAnalysis& force,
-                 const FuseOptions& options,
-                 const TrackHistory* history,
-                 ScanAnalysis* s);
 
 }  // namespace wearscar::fusion::internal

@@ -81,10 +81,10 @@ std::string LoopViewerJson(const TestResult& r) {
   const FrictionMap& m = r.units.Get<FrictionMap>();
   const size_t bins = m.loop_x_mm.size();
   const int n = m.cycles;
-  const bool from_p = !r.force.fit_force.empty();
+  const std::vector<MuFit>& force_fits = r.ForceFits().cycles;
+  const bool from_p = !force_fits.empty();
   const std::vector<MuFit>& fits =
-      from_p ? r.force.fit_force
-             : (r.scan ? r.scan->fit_scan : r.force.fit_force);
+      from_p ? force_fits : (r.scan ? r.ScanSlopeFits().cycles : force_fits);
   const int stride = std::max(1, (n + kMostCycles - 1) / kMostCycles);
   std::vector<int> shown;
   for (int c = 0; c < n; c += stride) shown.push_back(c);

@@ -135,10 +135,11 @@ nlohmann::json ProfileJson(const ProfileDecision& d) {
            d.spring_amplitude_ratio}};
 }
 
-// What each rule rested on and how it fared on the data (Premises).
+// What each rule rested on and how it fared on the data: each analysis
+// unit's premises, in the registry's order.
 nlohmann::json PremisesJson(const TestResult& r) {
   nlohmann::json premises = nlohmann::json::array();
-  std::vector<Premise> all = Premises(r);
+  std::vector<Premise> all;
   for (const auto& [unit, result] : UnitsThatRan(r)) {
     for (Premise& p : unit->PremisesErased(result, r))
       all.push_back(std::move(p));
@@ -192,7 +193,7 @@ nlohmann::json ComparisonJson(const TestResult& r) {
 }
 
 // The scan side: levelling, spikes, track, alignment.
-nlohmann::json ScanJson(const ScanAnalysis& s) {
+nlohmann::json ScanJson(const ScanAnalysis& s, const ScanFits& fits) {
   const auto& t = s.track;
   const auto& a = s.alignment;
   nlohmann::json j = {{"level", LevelJson(s.level)},
@@ -208,7 +209,7 @@ nlohmann::json ScanJson(const ScanAnalysis& s) {
                         {"amplitude_ratio", a.amplitude_ratio},
                         {"overlap_samples", a.overlap_samples}}}};
   // --scan-slope-history: the factor on the scan's slope per cycle.
-  if (!s.slope_scale.empty()) j["slope_scale"] = s.slope_scale;
+  if (!fits.slope_scale.empty()) j["slope_scale"] = fits.slope_scale;
   return j;
 }
 
@@ -299,16 +300,16 @@ nlohmann::json ResultJson(const std::string& name,
       {"tolerance", r.force.running_in.tolerance},
       {"steady_slope_per_cycle", r.force.running_in.steady_slope},
       {"rule", r.force.running_in.rule}};
-  j["slope_estimate"] = r.force.slope_estimate;
-  j["k_rms"] = {{"repeatable", r.force.k_signal_rms},
-                {"noise", r.force.k_noise_rms},
-                {"noise_from_ensemble_halves", r.force.k_ensemble_noise_rms},
-                {"mu_hat_bias_removed", r.force.k_noise_correction}};
-  j["after_running_in"] = {{"mu_hat", Stat(r.force.mu_hat)},
-                           {"J", Stat(r.force.cost)}};
+  const SlopeFits& f = r.ForceFits();
+  j["slope_estimate"] = f.slope_estimate;
+  j["k_rms"] = {{"repeatable", f.k_signal_rms},
+                {"noise", f.k_noise_rms},
+                {"noise_from_ensemble_halves", f.k_ensemble_noise_rms},
+                {"mu_hat_bias_removed", f.k_noise_correction}};
+  j["after_running_in"] = {{"mu_hat", Stat(f.mu_hat)}, {"J", Stat(f.cost)}};
   j["comparison"] = ComparisonJson(r);
   j["premises"] = PremisesJson(r);
-  if (r.scan) j["scan"] = ScanJson(*r.scan);
+  if (r.scan) j["scan"] = ScanJson(*r.scan, r.ScanSlopeFits());
   AddUnitSections(r, &j);
   j["headline"] = Headline(r);
   const Quote quote = QuoteOf(r);

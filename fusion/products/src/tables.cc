@@ -162,9 +162,13 @@ namespace internal {
 Table CycleTable(const TestResult& r) {
   const auto& cycles = r.force.cycles.cycles;
   Table t(CoreCycleColumns());
+  // (A fit that did not run leaves its columns empty.)
+  const std::vector<MuFit>& force_fits = r.ForceFits().cycles;
+  const std::vector<MuFit>& scan_fits = r.ScanSlopeFits().cycles;
+  const MuFit none;
   for (size_t c = 0; c < cycles.size(); ++c) {
-    const auto& f = r.force.fit_force[c];
-    const MuFit* s = r.scan ? &r.scan->fit_scan[c] : nullptr;
+    const MuFit& f = c < force_fits.size() ? force_fits[c] : none;
+    const MuFit* s = c < scan_fits.size() ? &scan_fits[c] : nullptr;
     const bool fok = f.converged, sok = s && s->converged;
     t.rows.push_back(
         {Number(static_cast<int>(c) + 1),

@@ -44,19 +44,20 @@ class LugreUnit : public TypedUnit<LugreFit> {
   }
   nlohmann::json Json(const LugreFit& lg, const TestResult& r) const override {
     const auto& p = lg.parameters;
-    return {{"cycle", r.detail_cycle + 1},
-            {"sigma0_n_per_mm", p.sigma0_n_per_mm},
-            {"sigma1_n_s_per_mm", p.sigma1_n_s_per_mm},
-            {"sigma2_n_s_per_mm", p.sigma2_n_s_per_mm},
-            {"sigma2_negative", p.sigma2_n_s_per_mm < 0},
-            {"stribeck_speed_mm_s", p.stribeck_speed_mm_s},
-            {"F_c_N", p.coulomb_n},
-            {"F_s_N", p.static_n},
-            {"J", lg.cost},
-            {"J_wearscar_same_cycle", r.force.fit_force[r.detail_cycle].cost},
-            {"converged", lg.converged},
-            {"physically_plausible", lg.physically_plausible},
-            {"message", lg.message}};
+    return {
+        {"cycle", r.detail_cycle + 1},
+        {"sigma0_n_per_mm", p.sigma0_n_per_mm},
+        {"sigma1_n_s_per_mm", p.sigma1_n_s_per_mm},
+        {"sigma2_n_s_per_mm", p.sigma2_n_s_per_mm},
+        {"sigma2_negative", p.sigma2_n_s_per_mm < 0},
+        {"stribeck_speed_mm_s", p.stribeck_speed_mm_s},
+        {"F_c_N", p.coulomb_n},
+        {"F_s_N", p.static_n},
+        {"J", lg.cost},
+        {"J_wearscar_same_cycle", r.ForceFits().cycles[r.detail_cycle].cost},
+        {"converged", lg.converged},
+        {"physically_plausible", lg.physically_plausible},
+        {"message", lg.message}};
   }
   // The wear-scar model describes gross slip only (NaN elsewhere).
   std::vector<UnitTable> Tables(const LugreFit& lg,

@@ -12,6 +12,9 @@ namespace wearscar::fusion {
 const std::vector<const AnalysisUnit*>& AnalysisUnits() {
   static const std::vector<const AnalysisUnit*> kUnits = {
       &internal::ClassicCofsAnalysis(),
+      &internal::SpringFitAnalysis(),
+      &internal::DepthFitAnalysis(),
+      &internal::ScanFitAnalysis(),
       &internal::PeriodicLinesAnalysis(),
       &internal::SlidingAnalysis(),
       &internal::LugreAnalysis(),

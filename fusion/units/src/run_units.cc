@@ -62,6 +62,20 @@ void UnitRunner::Collect(UnitResults* units) {
   running_.clear();
 }
 
+bool UnitRunner::CollectOne(std::string_view kind, UnitResults* units) {
+  const auto it =
+      std::find_if(running_.begin(), running_.end(), [&](const auto& r) {
+        return kind == r->unit->Kind();
+      });
+  if (it == running_.end()) return false;
+  const std::shared_ptr<Running> r = *it;
+  r->result.wait();
+  running_.erase(it);
+  r->unit->Store(r->result.get(), units);
+  r->unit->Store(r->result.get(), &done_);
+  return true;
+}
+
 std::shared_ptr<const void> UnitRunner::AwaitErased(
     std::string_view kind) const {
   for (const auto& r : running_) {

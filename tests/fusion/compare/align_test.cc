@@ -145,13 +145,13 @@ TEST_P(FullSizeAccuracy, MuHatWithEitherSlopeAndAlignmentMatchTheTruth) {
   const TestResult r = AnalyzeTest(t.record, t.scan, f);
   ASSERT_TRUE(r.scan.has_value());
   const int first = r.force.running_in.cycles;
-  ASSERT_EQ(static_cast<int>(r.force.fit_force.size()), o.cycles);
+  ASSERT_EQ(static_cast<int>(r.ForceFits().cycles.size()), o.cycles);
   std::vector<double> ef, es;
   for (int c = first; c < o.cycles; ++c) {
     ef.push_back(
-        std::abs(r.force.fit_force[c].mu_hat - t.truth.mu_per_cycle[c]));
+        std::abs(r.ForceFits().cycles[c].mu_hat - t.truth.mu_per_cycle[c]));
     es.push_back(
-        std::abs(r.scan->fit_scan[c].mu_hat - t.truth.mu_per_cycle[c]));
+        std::abs(r.ScanSlopeFits().cycles[c].mu_hat - t.truth.mu_per_cycle[c]));
   }
   auto median = [](std::vector<double> v) {
     std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());

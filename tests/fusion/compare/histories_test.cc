@@ -71,12 +71,12 @@ TEST(TrackHistories, TheSecondPartOfACutTestAgreesWithTheWhole) {
   // The whole's per-cycle mu-hat over the part's compared cycles.
   const int first = p.window.first + 30, last = p.window.last + 30;
   std::vector<double> values, errors;
-  for (const MuFit& f : w.force.fit_force) {
+  for (const MuFit& f : w.ForceFits().cycles) {
     values.push_back(f.mu_hat);
     errors.push_back(f.standard_error);
   }
   const Statistic same = SummariseWithErrors(
-      values, errors, first, last, w.force.correlated_cycles);
+      values, errors, first, last, w.ForceFits().correlated_cycles);
   ASSERT_TRUE(std::isfinite(same.low)) << same.mean;
   EXPECT_GE(p.mismatch.mu_force.mean, same.low);
   EXPECT_LE(p.mismatch.mu_force.mean, same.high);

@@ -768,9 +768,9 @@ TEST(DataWarnings, GrossSlipByTheFallbackOnMostHalfCycles) {
   }
   MismatchReport m;
   a.slip_fallbacks = 40;
-  EXPECT_TRUE(DataWarnings(a, m).empty());
+  EXPECT_TRUE(DataWarnings(a, SlopeFits{}, m).empty());
   a.slip_fallbacks = 41;
-  const auto w = DataWarnings(a, m);
+  const auto w = DataWarnings(a, SlopeFits{}, m);
   ASSERT_EQ(w.size(), 1u);
   EXPECT_EQ(w[0],
             "gross slip was found by the central-fraction fallback on 41 of "
@@ -800,11 +800,14 @@ TEST(AnalyzeTest, OnTheCallersThreadAloneGivesTheSameResult) {
   const TestResult b = AnalyzeTest(t.record, t.scan, alone);
   ASSERT_TRUE(a.scan.has_value());
   ASSERT_TRUE(b.scan.has_value());
-  ASSERT_EQ(a.force.fit_force.size(), 40u);
-  ASSERT_EQ(b.force.fit_force.size(), 40u);
+  ASSERT_EQ(a.ForceFits().cycles.size(), 40u);
+  ASSERT_EQ(b.ForceFits().cycles.size(), 40u);
   for (size_t c = 0; c < 40; ++c) {
-    EXPECT_EQ(a.force.fit_force[c].mu_hat, b.force.fit_force[c].mu_hat) << c;
-    EXPECT_EQ(a.scan->fit_scan[c].mu_hat, b.scan->fit_scan[c].mu_hat) << c;
+    EXPECT_EQ(a.ForceFits().cycles[c].mu_hat, b.ForceFits().cycles[c].mu_hat)
+        << c;
+    EXPECT_EQ(a.ScanSlopeFits().cycles[c].mu_hat,
+              b.ScanSlopeFits().cycles[c].mu_hat)
+        << c;
   }
   EXPECT_EQ(a.scan->alignment.shift_mm, b.scan->alignment.shift_mm);
   const FrictionMap& am = a.units.Get<FrictionMap>();
@@ -863,7 +866,7 @@ TEST(ScanThatCannotServe, LeavesTheForceSideStandingAndSaysWhy) {
         "mu-hat and the verdict rest on k from P alone"}) {
     EXPECT_NE(w.find(part), std::string::npos) << part << "\n" << w;
   }
-  EXPECT_EQ(r.force.fit_force.size(), 40u);
+  EXPECT_EQ(r.ForceFits().cycles.size(), 40u);
   // With the scan's slope alone asked for, it is an error.
   f.slopes = SlopeChoice::kScan;
   EXPECT_THROW(AnalyzeTest(t.record, t.scan, f), FusionError);

@@ -195,7 +195,7 @@ TEST(KNoiseBias, IsRemovedFromMuHat) {
       double error = 0;
       int n = 0;
       for (int c = r.mismatch.first_cycle; c <= r.mismatch.last_cycle; ++c) {
-        const MuFit& f = r.force.fit_force[c];
+        const MuFit& f = r.ForceFits().cycles[c];
         if (!f.converged) continue;
         error += f.mu_hat - t.truth.mu_per_cycle[c];
         ++n;
@@ -205,7 +205,7 @@ TEST(KNoiseBias, IsRemovedFromMuHat) {
       (correct ? with : without) += error / seeds;
       if (correct) {
         spread += error * error / seeds;
-        removed += r.force.k_noise_correction / seeds;
+        removed += r.ForceFits().k_noise_correction / seeds;
       }
     }
   }
@@ -229,8 +229,8 @@ TEST(KNoiseBias, NoiseFromTheEnsemblesHalvesFollowsTheSensorNoise) {
     FuseOptions fo;
     fo.fit_lugre = false;
     const TestResult r = AnalyzeTest(t.record, std::nullopt, fo);
-    halves[i] = r.force.k_ensemble_noise_rms;
-    split[i] = r.force.k_noise_rms;
+    halves[i] = r.ForceFits().k_ensemble_noise_rms;
+    split[i] = r.ForceFits().k_noise_rms;
   }
   RecordProperty("halves_noise1", std::to_string(halves[0]));
   RecordProperty("halves_noise2", std::to_string(halves[1]));
@@ -261,7 +261,7 @@ TEST_P(Coverage, PerTestIntervalHoldsTheTruth) {
     double truth = 0;
     int n = 0;
     for (int c = m.first_cycle; c <= m.last_cycle; ++c) {
-      const MuFit& f = r.force.fit_force[c];
+      const MuFit& f = r.ForceFits().cycles[c];
       if (!f.converged) continue;
       const double mu = t.truth.mu_per_cycle[c];
       truth += mu;

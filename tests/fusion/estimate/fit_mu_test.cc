@@ -122,15 +122,15 @@ TEST(AnalyzeForce, RecoversSimulatedMuPerCycleOnBeechRtR) {
   const sim::SimulatedTest t = sim::Simulate(o);
   AnalysisOptions a;
   a.running_in_cycles = 30;
-  const ForceAnalysis r = AnalyzeForce(t.record, a);
+  const ForceFitted r = AnalyzeForce(t.record, a);
   ASSERT_EQ(r.cycles.cycles.size(), 80u);
   double worst = 0;
   for (int c = 30; c < 80; ++c) {
-    worst = std::max(worst,
-                     std::abs(r.fit_force[c].mu_hat - t.truth.mu_per_cycle[c]));
+    worst = std::max(
+        worst, std::abs(r.fits.cycles[c].mu_hat - t.truth.mu_per_cycle[c]));
   }
   EXPECT_LT(worst, 0.004);
-  EXPECT_LT(r.cost.mean, 0.4);  // explained (paper's threshold)
+  EXPECT_LT(r.fits.cost.mean, 0.4);  // explained (paper's threshold)
 }
 
 // A simulated case of `cycles` cycles, segmented with its gross slip, for
@@ -260,7 +260,7 @@ TEST(RunningIn, DetectedOnTheSimulatorNearTheTrueTransient) {
   samples::SimulationOptions o = samples::PaperCase("B-RT-R");
   o.cycles = 200;
   o.scan_cols = o.scan_rows = 32;
-  const ForceAnalysis r =
+  const ForceFitted r =
       AnalyzeForce(sim::Simulate(o).record, AnalysisOptions{});
   EXPECT_TRUE(r.running_in.detected);
   EXPECT_NEAR(r.running_in.cycles, 62, 12) << r.running_in.rule;
@@ -269,9 +269,9 @@ TEST(RunningIn, DetectedOnTheSimulatorNearTheTrueTransient) {
 TEST(AnalyzeForce, LargeElasticPartRaisesJAboveThreshold) {
   samples::SimulationOptions o = samples::PaperCase("S-RL-R");
   o.cycles = 80;
-  const ForceAnalysis r =
+  const ForceFitted r =
       AnalyzeForce(sim::Simulate(o).record, AnalysisOptions{});
-  EXPECT_GT(r.cost.mean, 0.4);
+  EXPECT_GT(r.fits.cost.mean, 0.4);
 }
 
 // The reverse direction on a thread of its own: the same split.

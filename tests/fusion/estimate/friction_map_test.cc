@@ -332,12 +332,12 @@ TEST(ScanSlopeHistory, TakesTheTracksGrowthOutOfTheScanSideMuHat) {
       fo.scan_slope_history = history == 1;
       const TestResult r = AnalyzeTest(t.record, t.scan, fo);
       ASSERT_TRUE(r.scan.has_value());
-      EXPECT_EQ(r.scan->slope_scale.size(),
+      EXPECT_EQ(r.ScanSlopeFits().slope_scale.size(),
                 history ? r.force.cycles.cycles.size() : 0u);
       const int first = r.force.running_in.cycles;
       ASSERT_GT(first, 10);
-      for (size_t c = 0; c < r.scan->fit_scan.size(); ++c) {
-        const MuFit& f = r.scan->fit_scan[c];
+      for (size_t c = 0; c < r.ScanSlopeFits().cycles.size(); ++c) {
+        const MuFit& f = r.ScanSlopeFits().cycles[c];
         ASSERT_TRUE(f.converged) << c;
         const int part = static_cast<int>(c) < first ? 0 : 1;
         const double e = f.mu_hat - t.truth.mu_per_cycle[c];
@@ -346,8 +346,8 @@ TEST(ScanSlopeHistory, TakesTheTracksGrowthOutOfTheScanSideMuHat) {
       }
       if (history) {
         // Early cycles slid on a shallower track: factors below 1.
-        EXPECT_LT(r.scan->slope_scale.front(), 0.5);
-        EXPECT_NEAR(r.scan->slope_scale.back(), 1.0, 0.1);
+        EXPECT_LT(r.ScanSlopeFits().slope_scale.front(), 0.5);
+        EXPECT_NEAR(r.ScanSlopeFits().slope_scale.back(), 1.0, 0.1);
       }
     }
   }

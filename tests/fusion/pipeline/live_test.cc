@@ -77,7 +77,7 @@ const LiveEvent* Find(const std::vector<LiveEvent>& events,
 
 TEST(LiveAnalysis, EachCycleOnceWithTheWholeTestsNumbers) {
   const sim::SimulatedTest t = RunningTest("B-RT-R", 80, 1000);
-  const ForceAnalysis whole = AnalyzeForce(t.record, FuseOptions{}.analysis);
+  const ForceFitted whole = AnalyzeForce(t.record, FuseOptions{}.analysis);
   const std::vector<force::CycleCof> cof =
       force::ComputeClassicCof(t.record, whole.cycles);
   const Followed f = Follow(t.record, 357);
@@ -99,12 +99,12 @@ TEST(LiveAnalysis, EachCycleOnceWithTheWholeTestsNumbers) {
   int n = 0;
   for (size_t c = whole.running_in.cycles; c < f.cycles.size(); ++c) {
     sum += f.cycles[c].mu_hat;
-    const double d = f.cycles[c].mu_hat - whole.fit_force[c].mu_hat;
+    const double d = f.cycles[c].mu_hat - whole.fits.cycles[c].mu_hat;
     diff2 += d * d;
     ++n;
   }
-  EXPECT_NEAR(sum / n, whole.mu_hat.mean, 0.001);
-  EXPECT_LT(std::sqrt(diff2 / n), 3 * whole.mu_hat.sd + 1e-4);
+  EXPECT_NEAR(sum / n, whole.fits.mu_hat.mean, 0.001);
+  EXPECT_LT(std::sqrt(diff2 / n), 3 * whole.fits.mu_hat.sd + 1e-4);
   // J's split from the cycles' own template (the misfits of earlier cycles
   // as reported, the ensemble's width and more before), once there is one:
   // the same share of J in its noise floor as the whole test's (J itself
@@ -121,8 +121,8 @@ TEST(LiveAnalysis, EachCycleOnceWithTheWholeTestsNumbers) {
     ASSERT_TRUE(std::isfinite(l.cost_floor)) << "cycle " << c + 1;
     live_floor += l.cost_floor;
     live_j += l.cost;
-    whole_floor += whole.fit_force[c].cost_floor;
-    whole_j += whole.fit_force[c].cost;
+    whole_floor += whole.fits.cycles[c].cost_floor;
+    whole_j += whole.fits.cycles[c].cost;
   }
   EXPECT_NEAR(live_floor / live_j, whole_floor / whole_j, 0.05);
   // The samples held stay within the window, however long the test.

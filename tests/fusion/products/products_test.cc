@@ -135,7 +135,7 @@ TEST(Provenance, TheChecksumTakenWhileReadingIsTheFilesOwn) {
     EXPECT_EQ(p.inputs[0].sha256, sum);
     EXPECT_EQ(p.inputs[0].bytes, std::filesystem::file_size(path));
   }
-  EXPECT_EQ(a.result.force.mu_hat.mean, b.result.force.mu_hat.mean);
+  EXPECT_EQ(a.result.ForceFits().mu_hat.mean, b.result.ForceFits().mu_hat.mean);
   std::remove(path.c_str());
 }
 
@@ -165,10 +165,11 @@ TEST(Provenance, AScanReadAfterTheChecksumChangesNothing) {
   EXPECT_EQ(a.record.metadata.sha256, b.record.metadata.sha256);
   ASSERT_TRUE(a.result.scan.has_value());
   ASSERT_TRUE(b.result.scan.has_value());
-  ASSERT_EQ(a.result.scan->fit_scan.size(), b.result.scan->fit_scan.size());
-  for (size_t c = 0; c < a.result.scan->fit_scan.size(); ++c)
-    EXPECT_EQ(a.result.scan->fit_scan[c].mu_hat,
-              b.result.scan->fit_scan[c].mu_hat);
+  ASSERT_EQ(a.result.ScanSlopeFits().cycles.size(),
+            b.result.ScanSlopeFits().cycles.size());
+  for (size_t c = 0; c < a.result.ScanSlopeFits().cycles.size(); ++c)
+    EXPECT_EQ(a.result.ScanSlopeFits().cycles[c].mu_hat,
+              b.result.ScanSlopeFits().cycles[c].mu_hat);
   auto error_of = [&](const Specimen& x) {
     try {
       AnalyzeSpecimen(x, {}, {}, threads);

@@ -90,6 +90,7 @@ TEST(ClassicCofs, TheCoreReadsTheUnitAndTheProductsPlaceItsColumns) {
   without.units = UnitResults();
   without.units.Put<TrackHistory>("track_history",
                                   r.units.Share<TrackHistory>());
+  without.units.Put<SpringFits>("mu_fit_spring", r.units.Share<SpringFits>());
   const TestProducts q =
       MakeTestProducts("B-RT-R", t.record, without, r.options, {{}, false});
   const Table* bare = q.Find("cycles.csv");

@@ -13,12 +13,16 @@ namespace wearscar::fusion {
 // mu-hat with the force side's k only where it is judged (P/S or the
 // depth, not the friction's circular profile); the scan's side when
 // `scan` is given, with KRmsDifference computed here unless given; the
-// classic methods from `classic` (the unit "classic_cofs").
+// force side's mu-hat from `fits`, the scan's from `scan_fits`, the classic
+// methods from `classic` (the units "mu_fit_spring" or "mu_fit_depth",
+// "mu_fit_scan" and "classic_cofs").
 MismatchReport CompareSlopes(
     const force::ForceRecord& record,
     const ForceAnalysis& force,
+    const SlopeFits& fits,
     const ClassicCofs& classic,
     const ScanAnalysis* scan,
+    const ScanFits& scan_fits,
     const ProfileDecision& profile,
     int first,
     int last,

@@ -146,6 +146,10 @@ struct FuseOptions {
   bool find_periodic_lines = true;
 
   bool IsValid(std::string* why) const;
+  // The force side's analysis options: `analysis`, the force slope fitted
+  // unless the scan's alone was asked for, on both cores where `parallel`
+  // (its second half of the cycles beside the first; the same fits).
+  AnalysisOptions ForceSide() const;
 };
 
 }  // namespace wearscar::fusion

@@ -64,7 +64,7 @@ ProfileDecision DecideProfile(ProfileEvidence* evidence,
 // How far P's repeatable slope is from nothing, in its standard errors
 // (the k split's repeatable rms against its noise over the root of the
 // independent cycles); NaN without the split.
-double ProfileSignificance(const ForceAnalysis& force);
+double ProfileSignificance(const SlopeFits& force);
 
 // The fit's options as the decision says (k from the depth, with its
 // sign, or from P): the one place the decision reaches the fit; fuse and

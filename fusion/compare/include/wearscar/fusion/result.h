@@ -94,16 +94,30 @@ struct ScanAnalysis {
   Premise rigid_sphere;
   bool centreline_used = false;
   // Where the profiles leave the choice open (both followed alike), the
-  // centreline's alignment, for the loops to decide (AddScanSide).
+  // centreline's alignment and slope, for the loops to decide (the scan's
+  // fit, ScanFits::centreline; cleared once they have).
   std::optional<Alignment> centreline_alignment;
+  std::optional<PlateProfile> centreline_slope;
   // P/S, the depth channel's or the friction's (TestResult::profile.used).
   ForceProfile force_profile;
   Alignment alignment;
-  PlateProfile slope;           // k_scan in plate coordinates
-  std::vector<MuFit> fit_scan;  // mu-hat per cycle with k from the scan
+  PlateProfile slope;  // k_scan in plate coordinates
+};
+
+// mu-hat per cycle with k from the scan: the result of the analysis unit
+// "mu_fit_scan" (TestResult::ScanSlopeFits).
+struct ScanFits {
+  std::vector<MuFit> cycles;  // one per cycle ("not fitted" where not)
   // Per cycle, the factor on the scan's slope (FuseOptions::
   // scan_slope_history); empty when the slope was used as scanned.
   std::vector<double> slope_scale;
+  // Where the profiles left the path open (ScanAnalysis::centreline_slope),
+  // mu-hat was fitted with both and the lower mean J over the quoted
+  // cycles kept (the tilt that reproduces Q): whether the centreline's, and
+  // both J.
+  bool centreline = false;
+  double j_sphere = std::numeric_limits<double>::quiet_NaN();
+  double j_centreline = std::numeric_limits<double>::quiet_NaN();
 };
 
 // The cycles the result quotes and compares (mu-hat's mean, J, the
@@ -150,12 +164,22 @@ struct TestResult {
   // the spring, the scan's shape per cycle): read by type,
   // units.Find<FrictionMap>(); a unit that did not run has none.
   UnitResults units;
+
+  // The force side's mu-hat per cycle with k where the profile's decision
+  // put it: the depth channel's fits where it took them, else P/S's (the
+  // units "mu_fit_depth" and "mu_fit_spring"); empty before they are
+  // stored.
+  const SlopeFits& ForceFits() const;
+  // mu-hat per cycle with k from the scan (the unit "mu_fit_scan"); empty
+  // without a scan.
+  const ScanFits& ScanSlopeFits() const;
 };
 
-// What the core's rules rested on and how each premise fared on its data
-// (result.json premises, before the analysis units'): the profile's
-// source, the sphere's path, the scan's identity, the screen.
-std::vector<Premise> Premises(const TestResult& result);
+// The cycles quoted and compared: a range given; with a scan the force
+// profile's (the last cycles after running-in: the scan shows the track
+// after the last cycle, so the cycles nearest it); else every cycle after
+// running-in.
+CycleWindow QuotedWindow(const TestResult& r, const ScanAnalysis* scan);
 
 // The number to quote and its status, one home for every table (summary
 // rows, result.json "quote", the report's filter, Python's Result): the

@@ -56,9 +56,11 @@ Verdict Judge(const MismatchReport& report, const VerdictOptions& options = {});
 
 // Warnings on how well the data can carry the method: too few samples per
 // stroke for the slope, gross slip found by the fallback on most half
-// cycles, k dominated by noise, an elastic part. One sentence each, with the
+// cycles, k dominated by noise (in the force side's `fits`), an elastic
+// part. One sentence each, with the
 // figure and the limit.
 std::vector<std::string> DataWarnings(const ForceAnalysis& force,
+                                      const SlopeFits& fits,
                                       const MismatchReport& report,
                                       const DataWarningOptions& options = {});
 

@@ -133,17 +133,27 @@ struct ClassicCofs {
   std::vector<force::CycleCof> cycles;
 };
 
+// The force side's record segmented: its cycles with their gross slip and
+// the running-in.
 struct ForceAnalysis {
   force::CycleSet cycles;
-  std::vector<MuFit> fit_force;  // mu-hat with k from the force channel
   RunningIn running_in;
-  Statistic mu_hat, cost;
+  int slip_fallbacks = 0;  // half cycles where the central fallback was used
+};
+
+// mu-hat per cycle with one slope source of the force side, and its
+// figures after running-in: the results of the analysis units
+// "mu_fit_spring" (k from P/S, SpringFits) and "mu_fit_depth" (k from the
+// depth channel, DepthFits), TestResult::ForceFits the one the profile's
+// decision took.
+struct SlopeFits {
+  std::vector<MuFit> cycles;  // one per cycle ("not fitted" where not)
+  Statistic mu_hat, cost;     // after running-in
   // Successive cycles whose mu-hat errors are correlated through the
   // force-side slope (ForceSlopes::SharedCycles).
   int correlated_cycles = 1;
-  int slip_fallbacks = 0;  // half cycles where the central fallback was used
-  // How the force side's k was estimated (FrictionFits::slope) and the
-  // root mean square of its repeatable part and of its noise.
+  // How k was estimated (FrictionFits::slope) and the root mean square of
+  // its repeatable part and of its noise.
   std::string slope_estimate;
   double k_signal_rms = MuFit::kNotComputed;
   double k_noise_rms = MuFit::kNotComputed;
@@ -154,6 +164,8 @@ struct ForceAnalysis {
   double k_ensemble_noise_rms = MuFit::kNotComputed;
   double k_noise_correction = 0.0;
 };
+struct SpringFits : SlopeFits {};
+struct DepthFits : SlopeFits {};
 
 // The force side's stages that need no slope nor the classic COFs: cycles
 // and gross slip; the running-in is not set. Throws force::ForceError for
@@ -176,17 +188,22 @@ ForceAnalysis SegmentForce(const force::ForceRecord& record,
 
 // mu-hat per cycle with the force side's slope (options.friction: P/S or
 // the depth channel) on a segmented record, and its statistics after
-// running-in.
-void FitForceSide(const force::ForceRecord& record,
-                  const AnalysisOptions& options,
-                  ForceAnalysis* analysis);
+// running-in ("not fitted" where options.fit_force_slope is off).
+SlopeFits FitForceSide(const force::ForceRecord& record,
+                       const AnalysisOptions& options,
+                       const ForceAnalysis& segmented);
 
-// SegmentForce, then FitForceSide: segments, finds gross slip and the
-// running-in, and fits mu-hat per cycle with the force-side slope. Throws
-// force::ForceError for records that cannot be segmented.
-// Requires record.IsConsistent().
-ForceAnalysis AnalyzeForce(const force::ForceRecord& record,
-                           const AnalysisOptions& options);
+// A record segmented and fitted with the force side's slope.
+struct ForceFitted : ForceAnalysis {
+  SlopeFits fits;
+};
+
+// SegmentForce, then FitForceSide, for a caller that runs no analysis
+// units: segments, finds gross slip and the running-in, and fits mu-hat per
+// cycle with the force-side slope. Throws force::ForceError for records
+// that cannot be segmented. Requires record.IsConsistent().
+ForceFitted AnalyzeForce(const force::ForceRecord& record,
+                         const AnalysisOptions& options);
 
 // Mean and sd of values[i] over i >= first where finite.
 Statistic Summarise(const std::vector<double>& values, int first);

@@ -29,10 +29,12 @@ struct DetailCycle {
 };
 
 // The detail of `cycle` from the analysis already done: mu-hat of each
-// side (`fit_scan` and `scan_slope` null without a scan), `lugre` null
-// when it was not fitted; `cost_points` points of J(mu).
+// side (the force side's in `force_fits` (`fit_scan` and `scan_slope` null
+// without a scan), `lugre` null when it was not fitted; `cost_points` points of
+// J(mu).
 DetailCycle ComputeDetailCycle(const force::ForceRecord& record,
                                const ForceAnalysis& force,
+                               const SlopeFits& force_fits,
                                const FrictionFitOptions& options,
                                int cycle,
                                int cost_points,

@@ -167,6 +167,7 @@ class LiveAnalysis {
   void Analyse(std::vector<LiveCycle>* out);
   void Report(const force::ForceRecord& window,
               const ForceAnalysis& a,
+              const MuFit& f,
               const force::CycleCof& cof,
               int i,
               std::vector<LiveCycle>* out);

@@ -34,6 +34,9 @@ enum class UnitStage {
   // The force side analysed with k where the decision put it: beside the
   // scan side.
   kDecided,
+  // The scan aligned with the decided profile and its slope over the
+  // stroke (the result so far holds it; the sides not yet compared).
+  kScanned,
   // The two sides compared over the compared cycles (the result's window
   // and mismatch), before the verdict, which reads what these units find
   // (the spring check).
@@ -51,7 +54,7 @@ struct UnitInput {
   // The options as its stage has them: at kCycles the given ones (with a
   // spring the file states), before the decision puts k.
   const FuseOptions& options;
-  // At kCompared and kJudged the result so far; null before.
+  // From kScanned on the result so far; null before.
   const TestResult* judged;
   // The results of the units it reads (UnitSpec::reads).
   const UnitResults& units;
@@ -292,6 +295,11 @@ class UnitRunner {
              const FuseOptions& options,
              const TestResult* judged = nullptr);
   void Collect(UnitResults* units);
+  // Waits for the unit `kind` started before and stores its result now,
+  // in `units` and for the units started after: for the core, which reads
+  // the force side's fits before the stage is collected. False where it
+  // was not started.
+  bool CollectOne(std::string_view kind, UnitResults* units);
   // The result of the unit `kind` (of type R) once it is done, waiting for
   // it: for the pipeline's core where it reads a unit before the stage is
   // collected (the track's history). Null when it was not started.

@@ -82,6 +82,28 @@ void TakeThePathTheLoopsChose(const ScanFits& fits, ScanAnalysis* s) {
   s->centreline_slope.reset();
 }
 
+// k's RMS difference over the quoted cycles where the force side's k is
+// judged, on a thread of its own where the test has cores.
+std::future<ScanSideBeside> BesideTheScansFit(const force::ForceRecord& record,
+                                              const TestResult& result) {
+  return std::async(
+      result.options.parallel ? std::launch::async : std::launch::deferred,
+      [&record, &result] {
+        ScanSideBeside b;
+        if (!result.profile.ForceSlopeJudged()) return b;
+        const FuseOptions& o = result.options;
+        const CycleWindow w = QuotedWindow(result, &*result.scan);
+        b.k_rms_difference = KRmsDifference(record,
+                                            result.force,
+                                            result.scan->slope,
+                                            o.analysis.friction,
+                                            w.first,
+                                            w.last,
+                                            o.parallel);
+        return b;
+      });
+}
+
 // The scan side aligned with the decided profile and its slope, mu-hat
 // with it (the unit "mu_fit_scan", beside k's RMS difference), or why it
 // was not used: a scan that cannot serve (no track, no overlap with the
@@ -112,23 +134,21 @@ ScanSideBeside AddScanSide(const force::ForceRecord& record,
       units->CollectOne("mu_fit_scan", &result->units);
       TakeThePathTheLoopsChose(result->units.Get<ScanFits>(), &*result->scan);
     }
-    // What needs the scan's slope, not its fit: beside the fit (which
-    // reads the scan side and writes nothing of it).
+    // What needs the scan's slope, not its fit, beside the fit (which runs
+    // here, reads the scan side and writes nothing of it).
+    std::future<ScanSideBeside> made = BesideTheScansFit(record, *result);
+    std::exception_ptr fit_error;
     try {
-      if (result->profile.ForceSlopeJudged()) {
-        const CycleWindow w = QuotedWindow(*result, &*result->scan);
-        beside.k_rms_difference = KRmsDifference(record,
-                                                 result->force,
-                                                 result->scan->slope,
-                                                 o.analysis.friction,
-                                                 w.first,
-                                                 w.last,
-                                                 o.parallel);
-      }
+      units->CollectOne("mu_fit_scan", &result->units);
+    } catch (...) {
+      fit_error = std::current_exception();
+    }
+    try {
+      beside = made.get();
     } catch (...) {
       beside_error = std::current_exception();  // not the scan's failing
     }
-    units->CollectOne("mu_fit_scan", &result->units);
+    if (fit_error) std::rethrow_exception(fit_error);
   } catch (const std::exception& e) {
     if (o.slopes == SlopeChoice::kScan) throw;
     result->scan.reset();

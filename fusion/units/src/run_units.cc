@@ -40,8 +40,9 @@ void UnitRunner::Start(UnitStage stage,
     auto running = std::make_shared<Running>();
     running->unit = unit;
     running->options = copied;
+    const bool own_thread = parallel_ && !unit->SharesItsOwnWork();
     running->result = std::async(
-        parallel_ ? std::launch::async : std::launch::deferred,
+        own_thread ? std::launch::async : std::launch::deferred,
         [this, unit, reads, &force, copied, judged, seen = done_]() mutable {
           for (const auto& r : reads) r->unit->Store(r->result.get(), &seen);
           const UnitInput in{record_, force, *copied, judged, seen};

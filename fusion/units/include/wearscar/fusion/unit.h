@@ -168,6 +168,10 @@ class AnalysisUnit {
   virtual UnitStage Stage(const force::ForceRecord& record) const = 0;
   // Whether the options ask for it; a unit not wanted writes nothing.
   virtual bool Wanted(const FuseOptions&) const { return true; }
+  // A unit that shares its own work out over the cores (the mu fits:
+  // halves of the cycles) runs on the thread that awaits or collects it,
+  // not on one of its own (which bought no core and cost a fresh heap).
+  virtual bool SharesItsOwnWork() const { return false; }
 
   // The typed interface through TypedUnit.
   virtual std::shared_ptr<const void> RunErased(const UnitInput& in) const = 0;

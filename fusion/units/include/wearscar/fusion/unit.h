@@ -168,10 +168,12 @@ class AnalysisUnit {
   virtual UnitStage Stage(const force::ForceRecord& record) const = 0;
   // Whether the options ask for it; a unit not wanted writes nothing.
   virtual bool Wanted(const FuseOptions&) const { return true; }
-  // A unit that shares its own work out over the cores (the mu fits:
-  // halves of the cycles) runs on the thread that awaits or collects it,
-  // not on one of its own (which bought no core and cost a fresh heap).
-  virtual bool SharesItsOwnWork() const { return false; }
+  // A unit that would gain no core on a thread of its own runs on the
+  // thread that awaits or collects it: one that shares its work out over
+  // the cores itself (the mu fits: halves of the cycles), or one the
+  // pipeline waits for as soon as it starts (the classic COFs, which the
+  // running-in needs). A thread of its own cost a fresh heap.
+  virtual bool RunsWhereCollected() const { return false; }
 
   // The typed interface through TypedUnit.
   virtual std::shared_ptr<const void> RunErased(const UnitInput& in) const = 0;

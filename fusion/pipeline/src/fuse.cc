@@ -361,7 +361,7 @@ std::optional<TestResult> WithoutTheLinesFound(
 
 // After the profile's decision: the force side, then the scan side beside
 // the units that need only the force side, the comparison and verdict,
-// the detail cycle and the units that read the whole result.
+// and the units that read the whole result (the detail cycle among them).
 void AnalyzeDecided(const force::ForceRecord& record,
                     PipelineEvidence* evidence,
                     const ForceAnalysis& segmented,
@@ -385,21 +385,6 @@ void AnalyzeDecided(const force::ForceRecord& record,
   if (evidence->HasScan())
     beside = AddScanSide(record, evidence, units, result);
   CompareAndJudge(record, beside, units, result);
-  const ScanAnalysis* scan = result->scan ? &*result->scan : nullptr;
-  const std::vector<MuFit>& scan_fits = result->ScanSlopeFits().cycles;
-  const int dc = result->detail_cycle;
-  result->detail = ComputeDetailCycle(
-      record,
-      result->force,
-      result->ForceFits(),
-      o.analysis.friction,
-      dc,
-      o.cost_curve_points,
-      scan && dc >= 0 && dc < static_cast<int>(scan_fits.size())
-          ? &scan_fits[dc]
-          : nullptr,
-      scan ? &scan->slope : nullptr,
-      result->units.Find<LugreFit>());
   units->Start(UnitStage::kJudged, result->force, o, result);
   units->Collect(&result->units);
   SayWhatTheUnitsFound(result);

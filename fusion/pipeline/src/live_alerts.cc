@@ -246,8 +246,10 @@ void LiveAnalysis::UpdateVerdict() {
   r.mu_mean = Summarise(mean, 0);
   r.split_force = SplitCost(fits, 0, k - 1);
   r.method_difference = MeanInterval(diff, 0, k - 1);
-  r.force_slope_name =
-      options_.analysis.friction.k_from_depth ? "the depth" : "P";
+  ProfileDecision used;  // the channel's name as fuse says it
+  used.used = options_.analysis.friction.k_from_depth ? ProfileSource::kDepth
+                                                      : ProfileSource::kSpring;
+  r.force_slope_name = used.ChannelName();
   const Verdict v = Judge(r, options_.verdict);
   if (!v.explained && !options_.analysis.friction.k_from_depth) {
     // P's significance now; a depth channel that gives the slope P does

@@ -93,8 +93,6 @@ TestProducts MakeTestProducts(const std::string& name,
   };
   add("cycles.csv", internal::CycleTable(r));
   add("loops.csv", internal::LoopTable(record, r, p.loop_cycles));
-  add("detail.csv", internal::DetailTable(r.detail));
-  add("cost_curve.csv", internal::CostCurveTable(r.detail));
   if (r.scan) {
     add("profiles.csv", internal::ProfileTable(*r.scan));
     add("centreline.csv", internal::CentrelineTable(r.scan->centreline));

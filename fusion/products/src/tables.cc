@@ -111,21 +111,6 @@ const std::vector<TableSchema>& TestTableSchemas() {
         {"loops.csv",
          {"cycle", "time_s", "x_mm", "Q_N", "P_N"},
          "the samples of a few cycles' hysteresis loops"},
-        {"detail.csv",
-         {"cycle",
-          "direction",
-          "x_mm",
-          "Q_N",
-          "P_N",
-          "k_force",
-          "k_scan",
-          "Q_model_force_N",
-          "Q_model_scan_N"},
-         "the detail cycle's gross-slip samples, both slopes, Q reconstructed "
-         "with each"},
-        {"cost_curve.csv",
-         {"mu", "J_force", "J_scan"},
-         "J(mu) on the detail cycle with each slope"},
         {"profiles.csv",
          {"x_mm",
           "f_forward_mm",
@@ -216,29 +201,6 @@ Table LoopTable(const force::ForceRecord& record,
     }
   }
   return l;
-}
-
-Table DetailTable(const DetailCycle& d) {
-  Table t(TableColumns("detail.csv"));
-  for (Eigen::Index i = 0; i < d.x_mm.size(); ++i) {
-    t.rows.push_back({Number(d.cycle + 1),
-                      d.direction[i],
-                      d.x_mm[i],
-                      d.q_n[i],
-                      d.p_n[i],
-                      d.k_force[i],
-                      d.k_scan[i],
-                      d.q_model_force_n[i],
-                      d.q_model_scan_n[i]});
-  }
-  return t;
-}
-
-Table CostCurveTable(const DetailCycle& d) {
-  Table t(TableColumns("cost_curve.csv"));
-  for (Eigen::Index i = 0; i < d.cost_mu.size(); ++i)
-    t.rows.push_back({d.cost_mu[i], d.cost_force[i], d.cost_scan[i]});
-  return t;
 }
 
 Table ProfileTable(const ScanAnalysis& scan) {

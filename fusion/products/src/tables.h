@@ -17,8 +17,6 @@ Table CycleTable(const TestResult& r);
 Table LoopTable(const force::ForceRecord& record,
                 const TestResult& r,
                 std::vector<int> loops);
-Table DetailTable(const DetailCycle& d);
-Table CostCurveTable(const DetailCycle& d);
 // profiles.csv: the force side's profiles and the aligned scan profile
 // along the plate.
 Table ProfileTable(const ScanAnalysis& scan);

@@ -63,7 +63,7 @@ class LugreUnit : public TypedUnit<LugreFit> {
   std::vector<UnitTable> Tables(const LugreFit& lg,
                                 const force::ForceRecord&,
                                 const TestResult& r) const override {
-    const DetailCycle& d = r.detail;
+    const DetailCycle& d = r.units.Get<DetailCycle>();
     WEARSCAR_CHECK(d.lugre_q_wearscar_n.size() == lg.time_s.size(),
                    "the detail cycle holds the model along LuGre's trace");
     Table t(Spec().tables[0].columns);

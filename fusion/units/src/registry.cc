@@ -25,6 +25,7 @@ const std::vector<const AnalysisUnit*>& AnalysisUnits() {
       &internal::ScreenAnalysis(),
       &internal::ScanShapeAnalysis(),
       &internal::WearAnalysis(),
+      &internal::DetailCycleAnalysis(),
   };
   return kUnits;
 }

@@ -13,6 +13,7 @@ const AnalysisUnit& ClassicCofsAnalysis();    // classic_cofs_unit.cc
 const AnalysisUnit& SpringFitAnalysis();      // mu_fit_unit.cc
 const AnalysisUnit& DepthFitAnalysis();       // mu_fit_unit.cc
 const AnalysisUnit& ScanFitAnalysis();        // mu_fit_unit.cc
+const AnalysisUnit& DetailCycleAnalysis();    // detail_cycle_unit.cc
 const AnalysisUnit& PeriodicLinesAnalysis();  // periodic_lines_unit.cc
 const AnalysisUnit& LugreAnalysis();          // lugre_unit.cc
 const AnalysisUnit& FrictionMapAnalysis();    // friction_map_unit.cc

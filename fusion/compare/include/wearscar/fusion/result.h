@@ -155,10 +155,8 @@ struct TestResult {
   // A scan left out for want of a track: its levelled map, for the figure
   // that shows it (null otherwise).
   std::shared_ptr<const scan::HeightMap> unused_map;
+  // The cycle shown in detail (the unit "detail_cycle"; LuGre's).
   int detail_cycle = 0;
-  // The detail cycle's slopes, reconstructions, J(mu) and the wear-scar
-  // model beside LuGre (paper Figs. 10-12, 17).
-  DetailCycle detail;
   // The analysis units' results by kind (unit.h: the periodic lines, the
   // sliding and the wear, LuGre, the friction map, the track's history from
   // the spring, the scan's shape per cycle): read by type,

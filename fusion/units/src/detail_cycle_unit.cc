@@ -41,6 +41,9 @@ class DetailCycleUnit : public TypedUnit<DetailCycle> {
   UnitStage Stage(const force::ForceRecord&) const override {
     return UnitStage::kJudged;
   }
+  // On the pipeline's thread, which waits for the judged units meanwhile
+  // (as before it was a unit: a thread of its own cost a fresh heap).
+  bool RunsWhereCollected() const override { return true; }
   DetailCycle Run(const UnitInput& in) const override {
     const TestResult& r = *in.judged;
     const std::vector<MuFit>& scan_fits = r.ScanSlopeFits().cycles;

@@ -172,7 +172,9 @@ class AnalysisUnit {
   // thread that awaits or collects it: one that shares its work out over
   // the cores itself (the mu fits: halves of the cycles), or one the
   // pipeline waits for as soon as it starts (the classic COFs, which the
-  // running-in needs). A thread of its own cost a fresh heap.
+  // running-in needs), or one whose collector would only wait (the detail
+  // cycle, collected with the last stage). A thread of its own cost a
+  // fresh heap.
   virtual bool RunsWhereCollected() const { return false; }
 
   // The typed interface through TypedUnit.

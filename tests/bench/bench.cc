@@ -416,8 +416,7 @@ void BM_FitForceSide600Cycles(benchmark::State& state) {
   fusion::AnalysisOptions o;
   const fusion::ForceAnalysis segmented = fusion::SegmentForce(r, o);
   for (auto _ : state) {
-    fusion::ForceAnalysis a = segmented;
-    fusion::FitForceSide(r, o, &a);
+    const fusion::SlopeFits a = fusion::FitForceSide(r, o, segmented);
     benchmark::DoNotOptimize(a.mu_hat.mean);
   }
 }

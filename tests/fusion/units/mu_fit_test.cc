@@ -64,10 +64,12 @@ TEST(MuFitUnits, EachSlopeSourceIsAUnitTheComparisonAndProductsRead) {
   const int f = cycles->ColumnIndex("mu_hat_force");
   const int s = cycles->ColumnIndex("mu_hat_scan");
   for (int c = 0; c < n; ++c) {
-    if (spring->cycles[c].converged)
+    if (spring->cycles[c].converged) {
       EXPECT_EQ(cycles->rows[c][f], spring->cycles[c].mu_hat) << c;
-    if (scan->cycles[c].converged)
+    }
+    if (scan->cycles[c].converged) {
       EXPECT_EQ(cycles->rows[c][s], scan->cycles[c].mu_hat) << c;
+    }
   }
   const std::set<std::string> kinds = UnitsListed(p);
   EXPECT_TRUE(kinds.count("mu_fit_spring"));

@@ -554,7 +554,8 @@ TEST(Audit, FindsSpecimensInSubFoldersAndSaysWhatItLookedFor) {
 // then writes the batch's tables with the same warnings and leaves every
 // result.json as its shard wrote it.
 TEST(Audit, SharedInputsAreInTheResultAsItIsFirstWrittenInEveryShard) {
-  const std::string dir = Simulated("tree", "--case B-RT-R --case S-TL-L");
+  // A folder of its own: ctest runs the tests beside each other.
+  const std::string dir = Simulated("shards", "--case B-RT-R --case S-TL-L");
   const std::string lab = LabTree(dir);
   const std::string out = lab + "/audit";
   for (const char* shard : {"1/2", "2/2"}) {

@@ -484,7 +484,7 @@ FigureSet DrawTestFigures(const std::string& dir,
     tables["track_outline"] = &outline;
     FigureSpec map{"fig08ab_scan_map",
                    name + ": levelled scan, detected track (Fig. 8a-b)",
-                   {MapPanel(r.scan->levelled, &r.scan->track)}};
+                   {MapPanel(r.scan->Levelled(), &r.scan->track)}};
     Series fwd = Line("profiles.csv",
                       "x_mm",
                       "f_forward_mm",

@@ -154,7 +154,7 @@ void CompareScanSide(const ForceAnalysis& force,
         flip * 0.5 * (force.cycles.x_min_mm + force.cycles.x_max_mm);
   }
   EndsOffset(force, scan, r);
-  r->scan_pixel_mm = std::max(scan.levelled.dx_mm, scan.levelled.dy_mm);
+  r->scan_pixel_mm = std::max(scan.Levelled().dx_mm, scan.Levelled().dy_mm);
   r->stroke_mm = force.cycles.stroke_mm;
   r->amplitude_ratio_low = scan.alignment.amplitude_ratio_low;
   r->amplitude_ratio_high = scan.alignment.amplitude_ratio_high;

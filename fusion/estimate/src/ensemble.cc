@@ -571,21 +571,22 @@ TemplateCycles TemplateOf(int c, int first, int last, int sep, int t) {
 
 namespace {
 
-// SplitRepeatable, or with `parity` each direction's template against its
-// values less the other direction's at the same x, over the bins where
-// both slid in the cycle, each bin weighted by the fewer samples of the two
-// (ParityRepeatable).
-std::vector<std::array<RepeatSplit, 2>> Repeatable(
-    const CycleBins& bins,
-    const std::vector<std::array<double, 2>>* total,
-    int min_separation,
-    const RepeatabilityOptions& options,
-    bool two_threads,
-    bool parity) {
+// SplitRepeatable's split into `same` and ParityRepeatable's into `parity`
+// (either may be null), from one pass of the templates: each direction's
+// template against its values, and against its values less the other
+// direction's at the same x over the bins where both slid in the cycle,
+// each bin weighted by the fewer samples of the two.
+void Repeatable(const CycleBins& bins,
+                const std::vector<std::array<double, 2>>* total,
+                int min_separation,
+                const RepeatabilityOptions& options,
+                bool two_threads,
+                std::vector<std::array<RepeatSplit, 2>>* same,
+                std::vector<std::array<RepeatSplit, 2>>* parity) {
   const int first = bins.first_cycle(), last = bins.last_cycle();
-  const int n = last - first + 1;
-  std::vector<std::array<RepeatSplit, 2>> out(
-      static_cast<std::size_t>(std::max(n, 0)));
+  const auto n = static_cast<std::size_t>(std::max(last - first + 1, 0));
+  if (same) same->assign(n, {});
+  if (parity) parity->assign(n, {});
   const int sep = std::max(1, min_separation);
   const auto split = [&](int d) {
     const int dir = d == 0 ? +1 : -1;
@@ -597,12 +598,15 @@ std::vector<std::array<RepeatSplit, 2>> Repeatable(
     TemplateCycles held;
     int slides = kTemplateSlides;
     for (int c = first; c <= last; ++c) {
-      RepeatSplit& r = out[static_cast<std::size_t>(c - first)][d];
-      if (total) r.total = (*total)[static_cast<std::size_t>(c - first)][d];
+      const auto i = static_cast<std::size_t>(c - first);
+      RepeatSplit* r = same ? &(*same)[i][d] : nullptr;
+      RepeatSplit* p = parity ? &(*parity)[i][d] : nullptr;
+      if (r && total) r->total = (*total)[i][d];
       const TemplateCycles now =
           TemplateOf(c, first, last, sep, options.template_cycles);
       if (now.hi < now.lo) {
-        r.repeat = std::nan("");
+        if (r) r->repeat = std::nan("");
+        if (p) p->repeat = std::nan("");
         continue;
       }
       if (slides >= kTemplateSlides) {
@@ -618,38 +622,31 @@ std::vector<std::array<RepeatSplit, 2>> Repeatable(
       }
       held = now;
       const auto [value, count] = bins.Stored(c, dir);
-      double product = 0.0;
-      int samples = 0;
-      if (parity) {
-        const auto [other, other_count] = bins.Stored(c, -dir);
-        for (std::size_t b = 0; b < tpl.count.size(); ++b) {
-          if (count[b] == 0 || other_count[b] == 0 || tpl.count[b] == 0)
-            continue;
-          const int w = std::min<int>(count[b], other_count[b]);
-          product += w *
-                     (static_cast<double>(value[b]) / count[b] -
-                      static_cast<double>(other[b]) / other_count[b]) *
-                     (tpl.value[b] / tpl.count[b]);
-          samples += w;
-        }
-      } else {
-        for (std::size_t b = 0; b < tpl.count.size(); ++b) {
-          if (count[b] == 0 || tpl.count[b] == 0) continue;
-          product +=
-              static_cast<double>(value[b]) * (tpl.value[b] / tpl.count[b]);
-          samples += count[b];
-        }
+      const auto [other, other_count] = bins.Stored(c, -dir);
+      double product = 0.0, odd = 0.0;
+      int samples = 0, odd_samples = 0;
+      for (std::size_t b = 0; b < tpl.count.size(); ++b) {
+        if (count[b] == 0 || tpl.count[b] == 0) continue;
+        const double mean = tpl.value[b] / tpl.count[b];
+        product += static_cast<double>(value[b]) * mean;
+        samples += count[b];
+        if (!p || other_count[b] == 0) continue;
+        const int w = std::min<int>(count[b], other_count[b]);
+        odd += w *
+               (static_cast<double>(value[b]) / count[b] -
+                static_cast<double>(other[b]) / other_count[b]) *
+               mean;
+        odd_samples += w;
       }
-      r.repeat = product;
-      r.samples = samples;
+      if (r) r->repeat = product, r->samples = samples;
+      if (p) p->repeat = odd, p->samples = odd_samples;
     }
   };
-  // (The directions share nothing but `out`'s disjoint halves.)
+  // (The directions share nothing but the outputs' disjoint halves.)
   std::future<void> reverse = std::async(
       two_threads ? std::launch::async : std::launch::deferred, split, 1);
   split(0);
   reverse.get();
-  return out;
 }
 
 }  // namespace
@@ -659,9 +656,11 @@ std::vector<std::array<RepeatSplit, 2>> SplitRepeatable(
     const std::vector<std::array<double, 2>>& total,
     int min_separation,
     const RepeatabilityOptions& options,
-    bool two_threads) {
-  return Repeatable(
-      bins, &total, min_separation, options, two_threads, /*parity=*/false);
+    bool two_threads,
+    std::vector<std::array<RepeatSplit, 2>>* parity) {
+  std::vector<std::array<RepeatSplit, 2>> out;
+  Repeatable(bins, &total, min_separation, options, two_threads, &out, parity);
+  return out;
 }
 
 std::vector<std::array<RepeatSplit, 2>> ParityRepeatable(
@@ -669,8 +668,10 @@ std::vector<std::array<RepeatSplit, 2>> ParityRepeatable(
     int min_separation,
     const RepeatabilityOptions& options,
     bool two_threads) {
-  return Repeatable(
-      bins, nullptr, min_separation, options, two_threads, /*parity=*/true);
+  std::vector<std::array<RepeatSplit, 2>> out;
+  Repeatable(
+      bins, nullptr, min_separation, options, two_threads, nullptr, &out);
+  return out;
 }
 
 }  // namespace wearscar::fusion

@@ -253,13 +253,16 @@ std::vector<std::array<RepeatSplit, 2>> SplitNoise(
           fitter.slope, fitter.k_total, shared, options.repeatability, two);
     });
   }
-  const std::vector<std::array<RepeatSplit, 2>> same = SplitRepeatable(
-      fitter.misfit, fitter.misfit_total, shared, options.repeatability, two);
+  std::vector<std::array<RepeatSplit, 2>> parity;
+  const std::vector<std::array<RepeatSplit, 2>> same =
+      SplitRepeatable(fitter.misfit,
+                      fitter.misfit_total,
+                      shared,
+                      options.repeatability,
+                      two,
+                      &parity);
   SplitCosts(same, fitter.q_total, &out->cycles);
-  SplitParity(
-      ParityRepeatable(fitter.misfit, shared, options.repeatability, two),
-      fitter.q_total,
-      &out->cycles);
+  SplitParity(parity, fitter.q_total, &out->cycles);
   if (k_split.valid()) k_split.get();
   return split_k;
 }

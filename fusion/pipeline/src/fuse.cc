@@ -205,7 +205,7 @@ void Warn(const force::ForceRecord& record, TestResult* result) {
   for (std::string& w : StatedButNotFound(record, result->force))
     result->warnings.push_back(std::move(w));
   if (scan != nullptr) {
-    for (const std::string& w : scan->levelled.metadata.warnings)
+    for (const std::string& w : scan->Levelled().metadata.warnings)
       result->warnings.push_back("the scan: " + w);
   }
   if (!result->scan_skipped.empty())
@@ -278,7 +278,7 @@ ScanAnalysis PrepareScan(scan::HeightMap map, const FuseOptions& options) {
   } else {
     s.profile = s.centreline;
   }
-  s.levelled = std::move(map);
+  s.levelled = std::make_shared<const scan::HeightMap>(std::move(map));
   return s;
 }
 

@@ -121,7 +121,7 @@ ScanAnalysis AlignScan(const force::ForceRecord& record,
   } catch (const FusionError& e) {
     // Name both files and the figures that decide the overlap: a wrong
     // pixel size shrinks the scan, a wrong x unit stretches the stroke.
-    const scan::HeightMap& map = s.levelled;
+    const scan::HeightMap& map = s.Levelled();
     throw FusionError(fmt::format(
         "{}: {} (the scan: {} x {} pixels of {:.4g} um, {:.3g} x {:.3g} mm, "
         "track {:.3g} mm long; the stroke of {}: {:.3g} mm); check the scan's "

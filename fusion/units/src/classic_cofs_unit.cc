@@ -47,7 +47,6 @@ class ClassicCofsUnit : public TypedUnit<ClassicCofs> {
   UnitStage Stage(const force::ForceRecord&) const override {
     return UnitStage::kSegmented;
   }
-  bool RunsWhereCollected() const override { return true; }
   ClassicCofs Run(const UnitInput& in) const override {
     return {force::ComputeClassicCof(in.record, in.force.cycles)};
   }

@@ -41,9 +41,6 @@ class DetailCycleUnit : public TypedUnit<DetailCycle> {
   UnitStage Stage(const force::ForceRecord&) const override {
     return UnitStage::kJudged;
   }
-  // On the pipeline's thread, which waits for the judged units meanwhile
-  // (as before it was a unit: a thread of its own cost a fresh heap).
-  bool RunsWhereCollected() const override { return true; }
   DetailCycle Run(const UnitInput& in) const override {
     const TestResult& r = *in.judged;
     const std::vector<MuFit>& scan_fits = r.ScanSlopeFits().cycles;
@@ -81,7 +78,8 @@ class DetailCycleUnit : public TypedUnit<DetailCycle> {
     Table c(Spec().tables[1].columns);
     for (Eigen::Index i = 0; i < d.cost_mu.size(); ++i)
       c.rows.push_back({d.cost_mu[i], d.cost_force[i], d.cost_scan[i]});
-    return {{"detail.csv", std::move(t)}, {"cost_curve.csv", std::move(c)}};
+    return MovedList(UnitTable{"detail.csv", std::move(t)},
+                     UnitTable{"cost_curve.csv", std::move(c)});
   }
 };
 

@@ -30,6 +30,7 @@ class FrictionMapUnit : public TypedUnit<FrictionMap> {
   UnitStage Stage(const force::ForceRecord& record) const override {
     return record.has_depth() ? UnitStage::kDecided : UnitStage::kCycles;
   }
+  bool WorthAThread() const override { return true; }
   FrictionMap Run(const UnitInput& in) const override {
     return ComputeFrictionMap(in.record,
                               in.force.cycles,
@@ -92,7 +93,7 @@ class FrictionMapUnit : public TypedUnit<FrictionMap> {
         }
       }
     }
-    return {{"friction_map.csv", std::move(t)}};
+    return MovedList(UnitTable{"friction_map.csv", std::move(t)});
   }
   std::vector<UnitFigure> Figures(const FrictionMap& m,
                                   const std::string& name,
@@ -162,7 +163,7 @@ std::vector<UnitFigure> FrictionMapUnit::Figures(const FrictionMap& m,
                           "",
                           {spring, scan}});
   }
-  return {std::move(fig)};
+  return MovedList(std::move(fig));
 }
 
 }  // namespace

@@ -24,6 +24,7 @@ class LugreUnit : public TypedUnit<LugreFit> {
   UnitStage Stage(const force::ForceRecord&) const override {
     return UnitStage::kCycles;
   }
+  bool WorthAThread() const override { return true; }
   bool Wanted(const FuseOptions& o) const override { return o.fit_lugre; }
   LugreFit Run(const UnitInput& in) const override {
     const int n = static_cast<int>(in.force.cycles.cycles.size());
@@ -74,7 +75,7 @@ class LugreUnit : public TypedUnit<LugreFit> {
                         lg.q_lugre_n[i],
                         d.lugre_q_wearscar_n[i]});
     }
-    return {{"lugre.csv", std::move(t)}};
+    return MovedList(UnitTable{"lugre.csv", std::move(t)});
   }
   std::vector<UnitFigure> Figures(const LugreFit&,
                                   const std::string& name,

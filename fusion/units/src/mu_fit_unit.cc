@@ -33,7 +33,6 @@ class MuFitUnit : public TypedUnit<R> {
   bool Wanted(const FuseOptions& o) const override {
     return !from_depth_ || o.analysis.friction.k_from_depth;
   }
-  bool RunsWhereCollected() const override { return true; }
   R Run(const UnitInput& in) const override {
     AnalysisOptions ao = in.options.ForceSide();
     ao.friction.k_from_depth = from_depth_;
@@ -98,7 +97,6 @@ class ScanFitUnit : public TypedUnit<ScanFits> {
   UnitStage Stage(const force::ForceRecord&) const override {
     return UnitStage::kScanned;
   }
-  bool RunsWhereCollected() const override { return true; }
   ScanFits Run(const UnitInput& in) const override {
     const TestResult& r = *in.judged;
     const ScanAnalysis& s = *r.scan;

@@ -29,6 +29,7 @@ class PeriodicLinesUnit : public TypedUnit<Lines> {
   UnitStage Stage(const force::ForceRecord&) const override {
     return UnitStage::kCycles;
   }
+  bool WorthAThread() const override { return true; }
   // Sought unless asked not to (result.json then lists none).
   Lines Run(const UnitInput& in) const override {
     const auto& c = in.force.cycles.cycles;

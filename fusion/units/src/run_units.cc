@@ -40,7 +40,7 @@ void UnitRunner::Start(UnitStage stage,
     auto running = std::make_shared<Running>();
     running->unit = unit;
     running->options = copied;
-    const bool own_thread = parallel_ && !unit->RunsWhereCollected();
+    const bool own_thread = parallel_ && unit->WorthAThread();
     running->result = std::async(
         own_thread ? std::launch::async : std::launch::deferred,
         [this, unit, reads, &force, copied, judged, seen = done_]() mutable {

@@ -126,7 +126,7 @@ class ScanShapeUnit : public TypedUnit<ScanShapeHistory> {
     for (size_t c = 0; c < h.factor.size(); ++c)
       t.rows.push_back(
           {static_cast<double>(c + 1), h.factor[c], h.correlation[c]});
-    return {{"scan_shape_history.csv", std::move(t)}};
+    return MovedList(UnitTable{"scan_shape_history.csv", std::move(t)});
   }
   std::vector<UnitFigure> Figures(const ScanShapeHistory& h,
                                   const std::string& name,

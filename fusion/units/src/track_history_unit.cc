@@ -32,6 +32,7 @@ class TrackHistoryUnit : public TypedUnit<TrackHistory> {
   UnitStage Stage(const force::ForceRecord&) const override {
     return UnitStage::kCycles;
   }
+  bool WorthAThread() const override { return true; }
   TrackHistory Run(const UnitInput& in) const override {
     return ComputeTrackHistory(
         in.record,
@@ -71,7 +72,7 @@ class TrackHistoryUnit : public TypedUnit<TrackHistory> {
         }
       }
     }
-    return {{"track_history.csv", std::move(t)}};
+    return MovedList(UnitTable{"track_history.csv", std::move(t)});
   }
   // Its waviness per cycle beside the cycle's mu-hat.
   std::vector<std::vector<double>> Columns(const TrackHistory& h,

@@ -410,6 +410,23 @@ TEST(ParityRepeatable, SplitsOnlyWhereBothDirectionsSlid) {
       EXPECT_NEAR(sum / 4, expected, 1e-4 + 1e-4 * expected)
           << "odd " << odd << " cycle " << c;
     }
+    // SplitRepeatable gives the parity split from the same pass, each split
+    // to the bit as its own call gives it.
+    std::vector<std::array<RepeatSplit, 2>> together;
+    const std::vector<std::array<double, 2>> total(last - first + 1,
+                                                   {1.0, 1.0});
+    const auto same = SplitRepeatable(
+        bins, total, 1, RepeatabilityOptions{}, true, &together);
+    const auto alone = SplitRepeatable(bins, total, 1, RepeatabilityOptions{});
+    ASSERT_EQ(together.size(), parity.size());
+    for (int c = first; c <= last; ++c) {
+      for (int d = 0; d < 2; ++d) {
+        EXPECT_EQ(together[c][d].repeat, parity[c][d].repeat) << c;
+        EXPECT_EQ(together[c][d].samples, parity[c][d].samples) << c;
+        EXPECT_EQ(same[c][d].repeat, alone[c][d].repeat) << c;
+        EXPECT_EQ(same[c][d].samples, alone[c][d].samples) << c;
+      }
+    }
   }
 }
 

@@ -77,7 +77,11 @@ struct ProfileDecision {
 
 // The scan side of one test.
 struct ScanAnalysis {
-  scan::HeightMap levelled;  // after levelling and spike removal (for figures)
+  // After levelling and spike removal (the figures draw it). Shared: a
+  // test analysed twice (the lines found removed) keeps one map, not a
+  // copy per pass.
+  std::shared_ptr<const scan::HeightMap> levelled;
+  const scan::HeightMap& Levelled() const { return *levelled; }
   scan::LevelSummary level;
   int spikes_removed = 0;
   scan::Track track;

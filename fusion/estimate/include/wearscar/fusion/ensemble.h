@@ -206,13 +206,15 @@ struct RepeatSplit {
 // samples), returns the split. Cycles within `min_separation` - 1 of the
 // cycle judged are not in its template (min_separation 1: all others).
 // With `two_threads` the reverse direction on a thread of its own (the
-// same split).
+// same split). With `parity`, ParityRepeatable's split into it too, from
+// the same templates (one pass, the same values as its own).
 std::vector<std::array<RepeatSplit, 2>> SplitRepeatable(
     const CycleBins& bins,
     const std::vector<std::array<double, 2>>& total,
     int min_separation,
     const RepeatabilityOptions& options,
-    bool two_threads = false);
+    bool two_threads = false,
+    std::vector<std::array<RepeatSplit, 2>>* parity = nullptr);
 
 // The same templates against each direction's values less the other
 // direction's at the same x: [d].repeat = sum over the bins where both

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "wearscar/force/force_record.h"
@@ -120,6 +121,18 @@ struct UnitTable {
   Table table;
 };
 
+// What a unit makes (its tables, its figures) as a list, each moved in: a
+// braced list copies them (an initializer_list's elements are const), and
+// a table of 100 000 rows copied doubles its memory for the while.
+template <typename T, typename... More>
+std::vector<T> MovedList(T first, More... more) {
+  std::vector<T> out;
+  out.reserve(1 + sizeof...(more));
+  out.push_back(std::move(first));
+  (out.push_back(std::move(more)), ...);
+  return out;
+}
+
 // A choice a unit makes that the options give and the data may override,
 // recorded as given and as used (as Ceres' Solver::Summary records its
 // *_given and *_used): the detail cycle LuGre ran on, the slope span the
@@ -168,14 +181,15 @@ class AnalysisUnit {
   virtual UnitStage Stage(const force::ForceRecord& record) const = 0;
   // Whether the options ask for it; a unit not wanted writes nothing.
   virtual bool Wanted(const FuseOptions&) const { return true; }
-  // A unit that would gain no core on a thread of its own runs on the
-  // thread that awaits or collects it: one that shares its work out over
-  // the cores itself (the mu fits: halves of the cycles), or one the
-  // pipeline waits for as soon as it starts (the classic COFs, which the
-  // running-in needs), or one whose collector would only wait (the detail
-  // cycle, collected with the last stage). A thread of its own cost a
-  // fresh heap.
-  virtual bool RunsWhereCollected() const { return false; }
+  // Whether it gains a core on a thread of its own: a unit whose work
+  // takes milliseconds and whose result nothing awaits at once (the
+  // periodic lines, LuGre, the friction map, the track's history, beside
+  // the profile's decision). Every other runs on the thread that awaits or
+  // collects it: one that shares its work out over the cores itself (the
+  // mu fits), one awaited as soon as it starts (the classic COFs), one
+  // that takes a fraction of a millisecond (the checks on the comparison).
+  // A thread costs its start, a fresh heap and its stack's pages.
+  virtual bool WorthAThread() const { return false; }
 
   // The typed interface through TypedUnit.
   virtual std::shared_ptr<const void> RunErased(const UnitInput& in) const = 0;

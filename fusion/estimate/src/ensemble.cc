@@ -569,23 +569,20 @@ TemplateCycles TemplateOf(int c, int first, int last, int sep, int t) {
 
 }  // namespace
 
-namespace {
-
-// SplitRepeatable's split into `same` and ParityRepeatable's into `parity`
-// (either may be null), from one pass of the templates: each direction's
-// template against its values, and against its values less the other
+// One pass of the templates: each direction's template against its
+// values, and (with `parity`) against its values less the other
 // direction's at the same x over the bins where both slid in the cycle,
 // each bin weighted by the fewer samples of the two.
-void Repeatable(const CycleBins& bins,
-                const std::vector<std::array<double, 2>>* total,
-                int min_separation,
-                const RepeatabilityOptions& options,
-                bool two_threads,
-                std::vector<std::array<RepeatSplit, 2>>* same,
-                std::vector<std::array<RepeatSplit, 2>>* parity) {
+std::vector<std::array<RepeatSplit, 2>> SplitRepeatable(
+    const CycleBins& bins,
+    const std::vector<std::array<double, 2>>& total,
+    int min_separation,
+    const RepeatabilityOptions& options,
+    bool two_threads,
+    std::vector<std::array<RepeatSplit, 2>>* parity) {
   const int first = bins.first_cycle(), last = bins.last_cycle();
   const auto n = static_cast<std::size_t>(std::max(last - first + 1, 0));
-  if (same) same->assign(n, {});
+  std::vector<std::array<RepeatSplit, 2>> same(n);
   if (parity) parity->assign(n, {});
   const int sep = std::max(1, min_separation);
   const auto split = [&](int d) {
@@ -599,13 +596,13 @@ void Repeatable(const CycleBins& bins,
     int slides = kTemplateSlides;
     for (int c = first; c <= last; ++c) {
       const auto i = static_cast<std::size_t>(c - first);
-      RepeatSplit* r = same ? &(*same)[i][d] : nullptr;
+      RepeatSplit& r = same[i][d];
       RepeatSplit* p = parity ? &(*parity)[i][d] : nullptr;
-      if (r && total) r->total = (*total)[i][d];
+      r.total = total[i][d];
       const TemplateCycles now =
           TemplateOf(c, first, last, sep, options.template_cycles);
       if (now.hi < now.lo) {
-        if (r) r->repeat = std::nan("");
+        r.repeat = std::nan("");
         if (p) p->repeat = std::nan("");
         continue;
       }
@@ -638,7 +635,7 @@ void Repeatable(const CycleBins& bins,
                mean;
         odd_samples += w;
       }
-      if (r) r->repeat = product, r->samples = samples;
+      r.repeat = product, r.samples = samples;
       if (p) p->repeat = odd, p->samples = odd_samples;
     }
   };
@@ -647,31 +644,7 @@ void Repeatable(const CycleBins& bins,
       two_threads ? std::launch::async : std::launch::deferred, split, 1);
   split(0);
   reverse.get();
-}
-
-}  // namespace
-
-std::vector<std::array<RepeatSplit, 2>> SplitRepeatable(
-    const CycleBins& bins,
-    const std::vector<std::array<double, 2>>& total,
-    int min_separation,
-    const RepeatabilityOptions& options,
-    bool two_threads,
-    std::vector<std::array<RepeatSplit, 2>>* parity) {
-  std::vector<std::array<RepeatSplit, 2>> out;
-  Repeatable(bins, &total, min_separation, options, two_threads, &out, parity);
-  return out;
-}
-
-std::vector<std::array<RepeatSplit, 2>> ParityRepeatable(
-    const CycleBins& bins,
-    int min_separation,
-    const RepeatabilityOptions& options,
-    bool two_threads) {
-  std::vector<std::array<RepeatSplit, 2>> out;
-  Repeatable(
-      bins, nullptr, min_separation, options, two_threads, nullptr, &out);
-  return out;
+  return same;
 }
 
 }  // namespace wearscar::fusion

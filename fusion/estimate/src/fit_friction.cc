@@ -46,7 +46,8 @@ void SplitCosts(const std::vector<std::array<RepeatSplit, 2>>& split,
 }
 
 // Each converged fit's repeating misfit that changes sign with the motion
-// (MuFit::repeat_odd_sq): ParityRepeatable's two directions over 4.
+// (MuFit::repeat_odd_sq): the direction split's (SplitRepeatable's
+// `parity`) two directions over 4.
 void SplitParity(const std::vector<std::array<RepeatSplit, 2>>& parity,
                  const std::vector<std::array<double, 2>>& q_total,
                  std::vector<MuFit>* fits) {

@@ -206,18 +206,11 @@ struct RepeatSplit {
 // samples), returns the split. Cycles within `min_separation` - 1 of the
 // cycle judged are not in its template (min_separation 1: all others).
 // With `two_threads` the reverse direction on a thread of its own (the
-// same split). With `parity`, ParityRepeatable's split into it too, from
-// the same templates (one pass, the same values as its own).
-std::vector<std::array<RepeatSplit, 2>> SplitRepeatable(
-    const CycleBins& bins,
-    const std::vector<std::array<double, 2>>& total,
-    int min_separation,
-    const RepeatabilityOptions& options,
-    bool two_threads = false,
-    std::vector<std::array<RepeatSplit, 2>>* parity = nullptr);
-
-// The same templates against each direction's values less the other
-// direction's at the same x: [d].repeat = sum over the bins where both
+// same split).
+//
+// With `parity`, the direction split too, from the same pass of the
+// templates: each direction's template against its values less the other
+// direction's at the same x, [d].repeat = sum over the bins where both
 // directions slid in the cycle of w (m_d - m_other) T_d, m the cycle's
 // mean in the bin, T_d direction d's template, w the fewer samples of the
 // two (total 0). With a quantity v = e(x) + s o(x) (e the same in both
@@ -226,10 +219,12 @@ std::vector<std::array<RepeatSplit, 2>> SplitRepeatable(
 // alone slid in (near the reversals, where the other is still turning)
 // and unequal counts would count e there as o; they are left out and
 // weighted alike.
-std::vector<std::array<RepeatSplit, 2>> ParityRepeatable(
+std::vector<std::array<RepeatSplit, 2>> SplitRepeatable(
     const CycleBins& bins,
+    const std::vector<std::array<double, 2>>& total,
     int min_separation,
     const RepeatabilityOptions& options,
-    bool two_threads = false);
+    bool two_threads = false,
+    std::vector<std::array<RepeatSplit, 2>>* parity = nullptr);
 
 }  // namespace wearscar::fusion

@@ -75,7 +75,7 @@ struct MuFit {
   double cost_floor = kNotComputed;
   double cost_excess = kNotComputed;
   // Of repeat_sq (per direction, the two averaged), the part that changes
-  // sign with the motion, as friction does (ParityRepeatable): the part
+  // sign with the motion, as friction does (SplitRepeatable's parity): the part
   // that can bias mu-hat; the rest acts as a slope does and cancels
   // between the directions.
   double repeat_odd_sq = kNotComputed;
